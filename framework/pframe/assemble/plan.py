@@ -1,0 +1,284 @@
+"""The plan: everything the kernel needs as numpy arrays, and what it may leave out.
+
+Arrays that differ between variants of a sweep carry a leading batch axis ``B``; the topology
+(which DOFs a storey or contact joins, which law it uses) is shared by the batch.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
+from pframe.errors import InputError
+from pframe.model.expand import Expanded
+from pframe.peers.scene import PeerScene
+
+DAMPING_STIFFNESS = {"initial": 0, "current": 1, "committed": 2}
+
+
+@dataclass(frozen=True)
+class LawGroup:
+    """Elements of one law: their indices, packed parameters and initial state."""
+
+    law: type
+    index: np.ndarray  # (g,) element indices
+    params: np.ndarray  # (B, g, n_params)
+    state: np.ndarray  # (B, g, n_state)
+
+
+@dataclass(frozen=True)
+class Plan:
+    """A scene as flat arrays, DOFs numbered for a narrow band. See ``docs/theory.md``."""
+
+    node_names: tuple[str, ...]  # in declaration order (as written in the YAML)
+    node_dof: np.ndarray  # (n,) DOF number of each declared node
+    story_names: tuple[str, ...]
+    contact_names: tuple[str, ...]
+    buildings: tuple[str, ...]
+    steps: int
+    bandwidth: int
+    gamma: float
+    beta: float
+    tolerance: float
+    absolute_tolerance: float
+    max_iterations: int
+    dt: np.ndarray  # (B,)
+    mass: np.ndarray  # (B, n) kg
+    mass_damping: np.ndarray  # (B, n) a0 m (N s/m)
+    story_dofs: np.ndarray  # (s, 2), -1 = ground
+    story_k0: np.ndarray  # (B, s) initial stiffness (N/m)
+    story_beta: np.ndarray  # (B, s) stiffness-proportional damping coefficient a1 (s)
+    story_damping_stiffness: np.ndarray  # (s,) 0 initial, 1 current, 2 committed
+    story_groups: tuple[LawGroup, ...]
+    contact_dofs: np.ndarray  # (c, 2) [left, right]
+    contact_gap: np.ndarray  # (B, c) m
+    contact_groups: tuple[LawGroup, ...]
+    ground_acceleration: np.ndarray  # (B, steps + 1) m/s^2
+    initial_displacement: np.ndarray  # (B, n)
+    initial_velocity: np.ndarray  # (B, n)
+    history: tuple[tuple[str, int], ...]  # (quantity, every)
+    envelope: tuple[str, ...]
+
+    @property
+    def batch(self) -> int:
+        return self.mass.shape[0]
+
+    @property
+    def n_dof(self) -> int:
+        return self.mass.shape[1]
+
+    @property
+    def linear(self) -> bool:
+        """No contacts, only linear storeys and constant damping: one solve per step."""
+        return (
+            not self.contact_groups
+            and all(g.law.linear for g in self.story_groups)
+            and not np.any(self.story_damping_stiffness)
+        )
+
+    @property
+    def times(self) -> np.ndarray:
+        return np.arange(self.steps + 1) * self.dt[0]
+
+
+def _initial_tangent(law, packed) -> float:
+    params = np.asarray(packed, dtype=float)
+    state = np.zeros(len(law.state_names))
+    return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
+
+
+def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
+    """a0 m per DOF and a1 per storey, fitted per building on its fixed-base modes."""
+    a0 = np.zeros(n)
+    a1 = np.zeros(len(ex.stories))
+    for b, name in enumerate(ex.buildings):
+        damping = ex.damping[b]
+        if damping.ratio == 0.0:
+            continue
+        nodes = np.flatnonzero(ex.node_building == b)
+        local = {node: i for i, node in enumerate(nodes)}
+        stiffness = np.zeros((len(nodes), len(nodes)))
+        for s in np.flatnonzero(ex.story_building == b):
+            low, up = ex.stories[s].nodes
+            iu = local[up]
+            stiffness[iu, iu] += k0[s]
+            if low >= 0:
+                il = local[low]
+                stiffness[il, il] += k0[s]
+                stiffness[il, iu] -= k0[s]
+                stiffness[iu, il] -= k0[s]
+        scale = 1.0 / np.sqrt(ex.masses[nodes])
+        omega = np.sqrt(np.clip(np.linalg.eigvalsh(stiffness * np.outer(scale, scale)), 0, None))
+        modes = damping.modes
+        if max(modes) > len(nodes):
+            if len(nodes) == 1 and modes == (1, 2):
+                modes = (1, 1)  # a one-storey building has one mode: fit the ratio there
+            else:
+                raise InputError(f"building {name!r} has {len(nodes)} modes; damping modes "
+                                 f"{list(damping.modes)} cannot be fitted")
+        wi, wj = omega[modes[0] - 1], omega[modes[1] - 1]
+        if wi + wj == 0.0:
+            raise InputError(f"building {name!r} has no stiffness to fit Rayleigh damping to "
+                             "(add storeys or set damping ratio 0)")
+        a0[dof_of_node[nodes]] = 2.0 * damping.ratio * wi * wj / (wi + wj)
+        a1[ex.story_building == b] = 2.0 * damping.ratio / (wi + wj)
+    return a0, a1
+
+
+def _groups(elements, n_batch_values):
+    """Group elements by law; params stacked over the batch from ``n_batch_values``."""
+    laws: dict[type, list[int]] = {}
+    for i, element in enumerate(elements):
+        laws.setdefault(element.law, []).append(i)
+    groups = []
+    for law, index in laws.items():
+        params = np.array([[values[i] for i in index] for values in n_batch_values], dtype=float)
+        state = np.zeros((params.shape[0], len(index), len(law.state_names)))
+        state[:] = np.asarray(law.initial_state(), dtype=float)
+        groups.append(LawGroup(law, np.array(index, dtype=np.int64), params, state))
+    return tuple(groups)
+
+
+def _structure(ex: Expanded):
+    return (
+        ex.node_names,
+        tuple((e.name, e.nodes, e.law) for e in ex.stories),
+        tuple((e.name, e.nodes, e.law) for e in ex.contacts),
+        ex.steps,
+        ex.gamma,
+        ex.beta,
+        ex.recorders,
+        tuple(d.stiffness for d in ex.damping),
+    )
+
+
+def assemble(expanded: Expanded) -> Plan:
+    """A plan for one scene (a batch of one)."""
+    return assemble_batch([expanded])
+
+
+def assemble_batch(variants: list[Expanded]) -> Plan:
+    """A plan for variants of one scene that differ only in numbers (masses, stiffnesses,
+    gaps, law parameters, excitation, dt), not in topology, laws, steps or recorders."""
+    first = variants[0]
+    for i, ex in enumerate(variants[1:], start=1):
+        if _structure(ex) != _structure(first):
+            raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps or "
+                             "recorders; a batch may vary numbers only")
+    n = len(first.node_names)
+    edges = [e.nodes for e in first.stories] + [e.nodes for e in first.contacts]
+    order = reverse_cuthill_mckee(n, edges)
+    dof_of_node = np.empty(n, dtype=np.int64)
+    dof_of_node[order] = np.arange(n)
+
+    def dofs(elements):
+        out = np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
+                       dtype=np.int64)
+        return out.reshape(len(elements), 2)
+
+    k0 = np.array([[_initial_tangent(e.law, e.packed) for e in ex.stories] for ex in variants])
+    k0 = k0.reshape(len(variants), len(first.stories))
+    mass_damping, story_beta = [], []
+    for b, ex in enumerate(variants):
+        a0, a1 = _rayleigh(ex, k0[b], dof_of_node, n)
+        mass_damping.append(a0 * ex.masses[order])
+        story_beta.append(a1)
+
+    history: dict[str, int] = {}
+    envelope: list[str] = []
+    for rec in first.recorders:
+        for q in rec.quantities:
+            if rec.kind == "history":
+                if q in history and history[q] != rec.every:
+                    raise InputError(f"{q} is recorded twice with different 'every' "
+                                     f"({history[q]} and {rec.every})")
+                history[q] = rec.every
+            elif q not in envelope:
+                envelope.append(q)
+    if not first.contacts:
+        history = {q: k for q, k in history.items() if not q.startswith("contact_")}
+        envelope = [q for q in envelope if not q.startswith("contact_")]
+
+    damping_codes = np.array(
+        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building],
+        dtype=np.int64,
+    )
+    return Plan(
+        node_names=first.node_names,
+        node_dof=dof_of_node,
+        story_names=tuple(e.name for e in first.stories),
+        contact_names=tuple(e.name for e in first.contacts),
+        buildings=first.buildings,
+        steps=first.steps,
+        bandwidth=int(bandwidth(edges, dof_of_node)),
+        gamma=first.gamma,
+        beta=first.beta,
+        tolerance=first.tolerance,
+        absolute_tolerance=first.absolute_tolerance,
+        max_iterations=first.max_iterations,
+        dt=np.array([ex.dt for ex in variants]),
+        mass=np.array([ex.masses[order] for ex in variants]),
+        mass_damping=np.array(mass_damping),
+        story_dofs=dofs(first.stories),
+        story_k0=k0,
+        story_beta=np.array(story_beta).reshape(len(variants), len(first.stories)),
+        story_damping_stiffness=damping_codes,
+        story_groups=_groups(first.stories, [[e.packed for e in ex.stories] for ex in variants]),
+        contact_dofs=dofs(first.contacts),
+        contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
+            len(variants), len(first.contacts)),
+        contact_groups=_groups(first.contacts,
+                               [[e.packed for e in ex.contacts] for ex in variants]),
+        ground_acceleration=np.array([ex.ground_acceleration for ex in variants]),
+        initial_displacement=np.array([ex.initial_displacement[order] for ex in variants]),
+        initial_velocity=np.array([ex.initial_velocity[order] for ex in variants]),
+        history=tuple(history.items()),
+        envelope=tuple(envelope),
+    )
+
+
+def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
+    """The scene of one batch member for peer programs (linear contacts only)."""
+    materials = []
+    for group in plan.story_groups:
+        for j, i in enumerate(group.index):
+            p = group.params[member, j]
+            materials.append((i, ("elastic", p[0]) if group.law.name == "elastic"
+                              else ("bilinear", p[0], p[1], p[2])))
+    materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
+    stiffness = np.zeros(len(plan.contact_names))
+    for group in plan.contact_groups:
+        if group.law.name != "linear":
+            raise InputError("the OpenSees peer takes linear contacts only")
+        stiffness[group.index] = group.params[member, :, 0]
+    rayleigh = []
+    names = [""] * plan.n_dof
+    for name, dof in zip(plan.node_names, plan.node_dof):
+        names[dof] = name
+    building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
+    story_building = building_of_node[plan.story_dofs[:, 1]]
+    for b in range(len(plan.buildings)):
+        nodes = np.flatnonzero(building_of_node == b)
+        stories = np.flatnonzero(story_building == b)
+        alpha = float(plan.mass_damping[member, nodes[0]] / plan.mass[member, nodes[0]])
+        beta = float(plan.story_beta[member, stories[0]]) if len(stories) else 0.0
+        rayleigh.append((alpha, beta, nodes, stories))
+    return PeerScene(
+        node_names=names,
+        masses=plan.mass[member].copy(),
+        story_nodes=plan.story_dofs.copy(),
+        story_names=list(plan.story_names),
+        story_materials=materials,
+        contact_nodes=plan.contact_dofs.copy(),
+        contact_names=list(plan.contact_names),
+        contact_gaps=plan.contact_gap[member].copy(),
+        contact_stiffness=stiffness,
+        rayleigh=rayleigh,
+        ground_acceleration=plan.ground_acceleration[member].copy(),
+        dt=float(plan.dt[member]),
+        steps=plan.steps,
+        tolerance=plan.absolute_tolerance or 1e-12,
+        max_iterations=plan.max_iterations,
+    )

@@ -1,0 +1,81 @@
+"""Reading ground-acceleration records: two-column text files and PEER NGA ``.AT2`` files."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+
+G = 9.80665  # standard gravity (m/s^2): PEER records are in g
+
+
+def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:
+    lines = text.splitlines()
+    if len(lines) < 5:
+        raise ValueError(f"{name}: a PEER .AT2 file has 4 header lines then values; "
+                         f"this one has {len(lines)} lines")
+    header = lines[3]
+    npts = re.search(r"NPTS\s*=\s*(\d+)", header, re.I)
+    dt = re.search(r"DT\s*=\s*([0-9.eE+-]+)", header, re.I)
+    if not (npts and dt):
+        numbers = re.findall(r"[0-9.eE+-]+", header)
+        if len(numbers) < 2:
+            raise ValueError(f"{name}, line 4: expected 'NPTS= n, DT= dt' (PEER NGA header), "
+                             f"got {header.strip()!r}")
+        n, step = int(float(numbers[0])), float(numbers[1])
+    else:
+        n, step = int(npts.group(1)), float(dt.group(1))
+    try:
+        values = np.array(" ".join(lines[4:]).replace(",", " ").split(), dtype=float)
+    except ValueError as exc:
+        raise ValueError(f"{name}: a value after the header is not a number ({exc})") from None
+    if step <= 0 or n < 2:
+        raise ValueError(f"{name}, line 4: NPTS must be >= 2 and DT > 0, got {n} and {step}")
+    if values.size < n:
+        raise ValueError(f"{name}: header says NPTS={n} but {values.size} values follow")
+    return np.arange(n) * step, values[:n]
+
+
+def _read_columns(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:
+    rows = []
+    for number, line in enumerate(text.splitlines(), start=1):
+        stripped = line.split("#", 1)[0].replace(",", " ").strip()
+        if not stripped:
+            continue
+        parts = stripped.split()
+        try:
+            values = [float(p) for p in parts]
+        except ValueError:
+            if not rows:  # a header line before the data
+                continue
+            raise ValueError(f"{name}, line {number}: expected two numbers (time, "
+                             f"acceleration), got {line.strip()!r}") from None
+        if len(values) != 2:
+            raise ValueError(f"{name}, line {number}: expected two columns (time, "
+                             f"acceleration), got {len(values)}")
+        rows.append(values)
+    if len(rows) < 2:
+        raise ValueError(f"{name}: expected at least two rows of (time, acceleration)")
+    data = np.array(rows)
+    if np.any(np.diff(data[:, 0]) <= 0):
+        raise ValueError(f"{name}: times must increase strictly")
+    return data[:, 0], data[:, 1]
+
+
+def read_record(path: str | Path, format: str = "auto", units: str | None = None):
+    """Times (s) and ground accelerations (m/s^2) of a record file.
+
+    ``format`` is ``columns`` (time, acceleration per line), ``at2`` (PEER NGA) or ``auto``
+    (by the file suffix). ``units`` defaults to g for AT2 files and m/s^2 otherwise.
+    Raises ``ValueError`` with the file and line on malformed input, ``FileNotFoundError``.
+    """
+    path = Path(path)
+    text = path.read_text(encoding="utf-8", errors="replace")
+    is_at2 = format == "at2" or (format == "auto" and path.suffix.lower() == ".at2")
+    times, acc = (_read_at2 if is_at2 else _read_columns)(text, str(path))
+    if not np.all(np.isfinite(acc)):
+        raise ValueError(f"{path}: the record holds a value that is not finite")
+    if (units or ("g" if is_at2 else "m/s2")) == "g":
+        acc = acc * G
+    return times, acc

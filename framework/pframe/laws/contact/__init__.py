@@ -1,0 +1,1 @@
+"""Built-in contact laws (compression positive, deformation = penetration)."""

@@ -1,0 +1,34 @@
+"""Hertz contact: F = k delta^1.5 for delta > 0, elastic (restitution 1).
+
+``stiffness`` is k in N/m^1.5.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws.params import LawParams, Positive
+from pframe.laws.registry import Law, contact_law
+
+
+@contact_law("hertz")
+class Hertz(Law):
+    class Params(LawParams):
+        law: Literal["hertz"]
+        stiffness: Positive = Field(description="Hertz stiffness k (N/m^1.5).")
+
+    param_names = ("stiffness",)
+
+    @classmethod
+    def pack(cls, params, context=None):
+        return (float(params.stiffness),)
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            return 0.0, 0.0, 0.0
+        root = math.sqrt(deformation)
+        return params[0] * deformation * root, 1.5 * params[0] * root, 0.0

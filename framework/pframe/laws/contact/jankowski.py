@@ -1,0 +1,49 @@
+"""Nonlinear viscoelastic contact, Jankowski (2005).
+
+F = beta delta^1.5 + c delta_dot during approach (delta_dot > 0), F = beta delta^1.5 in
+restitution, with c = 2 zeta sqrt(beta sqrt(delta) m1 m2 / (m1 + m2)) and
+zeta = 9 sqrt(5) / 2 * (1 - e^2) / (e (e (9 pi - 16) + 16)).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws.params import LawParams, Positive, Restitution
+from pframe.laws.registry import Law, contact_law
+
+
+def jankowski_zeta(e: float) -> float:
+    """Damping ratio of Jankowski's law for restitution e."""
+    return 4.5 * math.sqrt(5.0) * (1.0 - e * e) / (e * (e * (9.0 * math.pi - 16.0) + 16.0))
+
+
+@contact_law("jankowski")
+class Jankowski(Law):
+    class Params(LawParams):
+        law: Literal["jankowski"]
+        stiffness: Positive = Field(description="Impact stiffness beta (N/m^1.5).")
+        restitution: Restitution
+
+    param_names = ("stiffness", "zeta", "effective_mass")
+
+    @classmethod
+    def pack(cls, params, context=None):
+        return (float(params.stiffness), jankowski_zeta(params.restitution),
+                context.effective_mass)
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            return 0.0, 0.0, 0.0
+        beta = params[0]
+        root = math.sqrt(deformation)
+        spring = beta * deformation * root
+        dspring = 1.5 * beta * root
+        if rate <= 0.0:
+            return spring, dspring, 0.0
+        c = 2.0 * params[1] * math.sqrt(beta * root * params[2])
+        return spring + c * rate, dspring + 0.25 * c * rate / deformation, c

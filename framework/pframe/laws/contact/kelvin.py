@@ -1,0 +1,45 @@
+"""Kelvin (linear spring-dashpot) contact, Anagnostopoulos (1988).
+
+F = k delta + c delta_dot while delta > 0, with c = 2 zeta sqrt(k m1 m2 / (m1 + m2)) and
+zeta = -ln e / sqrt(pi^2 + ln^2 e). With ``keep_tension: true`` the force may turn negative
+during rebound (the drawback the paper shows in its Figure 6); by default the force is
+clipped at zero, which makes the real restitution somewhat higher than e.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws.params import ContactStiffness, Restitution, kelvin_damping_ratio
+from pframe.laws.registry import Law, contact_law
+
+
+@contact_law("kelvin")
+class Kelvin(Law):
+    class Params(ContactStiffness):
+        law: Literal["kelvin"]
+        restitution: Restitution
+        keep_tension: bool = Field(
+            False, description="Keep the tensile force in rebound (no clipping at zero)."
+        )
+
+    param_names = ("stiffness", "damping", "keep_tension")
+
+    @classmethod
+    def pack(cls, params, context=None):
+        k = params.resolve_stiffness(context)
+        zeta = kelvin_damping_ratio(params.restitution)
+        c = 2.0 * zeta * math.sqrt(k * context.effective_mass)
+        return (k, c, 1.0 if params.keep_tension else 0.0)
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            return 0.0, 0.0, 0.0
+        f = params[0] * deformation + params[1] * rate
+        if f < 0.0 and params[2] == 0.0:
+            return 0.0, 0.0, 0.0
+        return f, params[0], params[1]

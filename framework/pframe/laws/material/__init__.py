@@ -1,0 +1,1 @@
+"""Built-in storey materials (force-drift laws of shear springs)."""

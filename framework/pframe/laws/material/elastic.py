@@ -1,0 +1,28 @@
+"""Linear elastic storey: V = k drift."""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws.params import LawParams, Positive
+from pframe.laws.registry import Law, material
+
+
+@material("elastic")
+class Elastic(Law):
+    class Params(LawParams):
+        material: Literal["elastic"]
+        stiffness: Positive = Field(description="Storey stiffness k (N/m).")
+
+    param_names = ("stiffness",)
+    linear = True
+
+    @classmethod
+    def pack(cls, params, context=None):
+        return (float(params.stiffness),)
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        return params[0] * deformation, params[0], 0.0

@@ -1,0 +1,72 @@
+"""Pydantic building blocks shared by the laws' ``Params`` models."""
+
+from __future__ import annotations
+
+import math
+from typing import Annotated
+
+from pydantic import BaseModel, ConfigDict, Field, model_validator
+
+from pframe.errors import InputError
+
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+Restitution = Annotated[
+    float,
+    Field(gt=0, le=1, description="Coefficient of restitution e, in (0, 1]."),
+]
+
+
+class LawParams(BaseModel):
+    """Base of every law's parameters: frozen, unknown fields rejected."""
+
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class ContactStiffness(LawParams):
+    """A linear contact spring given by stiffness, contact frequency or frequency ratio.
+
+    The contact frequency is w_bar = sqrt(k (m1 + m2) / (m1 m2)) with m1, m2 the masses of
+    the two colliding nodes (Wu et al. 2021, eq. 8); ``frequency_ratio`` is w_bar / w_p, the
+    paper's Pi_wcon, and needs a sine excitation.
+    """
+
+    stiffness: Positive | None = Field(None, description="Contact stiffness k (N/m).")
+    frequency: Positive | None = Field(
+        None, description="Contact frequency w_bar = sqrt(k (m1+m2)/(m1 m2)) (rad/s)."
+    )
+    frequency_ratio: Positive | None = Field(
+        None, description="w_bar / w_p, the paper's Pi_wcon (needs a sine excitation)."
+    )
+
+    @model_validator(mode="after")
+    def _exactly_one(self):
+        given = [n for n in ("stiffness", "frequency", "frequency_ratio") if getattr(self, n)]
+        if len(given) != 1:
+            raise ValueError(
+                "give exactly one of stiffness (N/m), frequency (rad/s) or frequency_ratio "
+                f"(Pi_wcon); got {', '.join(given) or 'none'}"
+            )
+        return self
+
+    def resolve_stiffness(self, context) -> float:
+        """Stiffness k (N/m) from whichever of the three forms was given."""
+        if self.stiffness is not None:
+            return float(self.stiffness)
+        if self.frequency is not None:
+            w = self.frequency
+        else:
+            if context is None or context.excitation_frequency is None:
+                raise InputError(
+                    "frequency_ratio needs a sine excitation (it is w_bar / w_p); give "
+                    "stiffness or frequency instead"
+                )
+            w = self.frequency_ratio * context.excitation_frequency
+        return w * w * context.effective_mass
+
+
+def kelvin_damping_ratio(e: float) -> float:
+    """zeta = -ln e / sqrt(pi^2 + ln^2 e) (Anagnostopoulos 1988); 0 for e = 1."""
+    if e >= 1.0:
+        return 0.0
+    ln_e = math.log(e)
+    return -ln_e / math.sqrt(math.pi**2 + ln_e**2)

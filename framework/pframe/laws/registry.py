@@ -1,0 +1,190 @@
+"""Registry of material and contact laws.
+
+A law is a small class (see :class:`Law`): a pydantic ``Params`` model for what the YAML says,
+``pack`` turning those parameters into a flat tuple of floats, a fixed number of state
+variables, and a pure scalar ``force`` function that numba compiles into the kernel.
+Registering is one decorator for a built-in law and one entry point for a third-party law;
+a name registered twice is an error, never a silent override.
+"""
+
+from __future__ import annotations
+
+import importlib
+from dataclasses import dataclass
+from importlib.metadata import entry_points
+from typing import ClassVar
+
+from pydantic import BaseModel
+
+from pframe.errors import InputError
+
+CONTACT_GROUP = "pframe.contact_laws"
+MATERIAL_GROUP = "pframe.materials"
+
+_BUILTIN_MODULES = {
+    "contact": (
+        "pframe.laws.contact.linear",
+        "pframe.laws.contact.kelvin",
+        "pframe.laws.contact.improved_kelvin",
+        "pframe.laws.contact.hertz",
+        "pframe.laws.contact.hertzdamp",
+        "pframe.laws.contact.jankowski",
+    ),
+    "material": (
+        "pframe.laws.material.elastic",
+        "pframe.laws.material.bilinear",
+    ),
+}
+_GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}
+_registered: dict[str, dict[str, type[Law]]] = {"contact": {}, "material": {}}
+_builtin_names_by_kind: dict[str, frozenset[str]] = {}
+
+
+@dataclass(frozen=True)
+class ContactContext:
+    """What a contact law may need from the scene to turn its parameters into numbers.
+
+    Attributes
+    ----------
+    mass_left, mass_right : float
+        Lumped masses of the two colliding nodes (kg).
+    excitation_frequency : float or None
+        Circular frequency w_p of a sine excitation (rad/s); None for a record.
+    """
+
+    mass_left: float
+    mass_right: float
+    excitation_frequency: float | None = None
+
+    @property
+    def effective_mass(self) -> float:
+        """m1 m2 / (m1 + m2) (kg); a node of infinite mass would give m1."""
+        return self.mass_left * self.mass_right / (self.mass_left + self.mass_right)
+
+
+class Law:
+    """Base of every material and contact law.
+
+    Subclasses set the class attributes and write ``force`` as plain Python arithmetic on
+    floats and 1-D float arrays (numba compiles it; no Python objects, no allocation)::
+
+        force(params, committed, trial, deformation, rate) -> (f, df_ddeformation, df_drate)
+
+    ``params`` holds ``pack``'s numbers, ``committed`` the state of the last accepted step
+    (read only), ``trial`` receives the state for this deformation (the kernel copies it to
+    ``committed`` when the step is accepted). For a contact, ``deformation`` is the
+    penetration u_left - u_right - gap (m, positive when closed) and ``f`` is compression
+    positive (N); for a storey material it is the drift (m) and ``f`` the storey shear (N).
+    """
+
+    kind: ClassVar[str]
+    name: ClassVar[str]
+    Params: ClassVar[type[BaseModel]]
+    param_names: ClassVar[tuple[str, ...]]
+    state_names: ClassVar[tuple[str, ...]] = ()
+    #: True when force = params-only constant tangent x deformation (no Newton needed).
+    linear: ClassVar[bool] = False
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):  # pragma: no cover - interface
+        raise NotImplementedError
+
+    @classmethod
+    def pack(cls, params: BaseModel, context: ContactContext | None = None) -> tuple[float, ...]:
+        """Numbers for the kernel, in the order of ``param_names``."""
+        raise NotImplementedError
+
+    @classmethod
+    def initial_state(cls) -> tuple[float, ...]:
+        return (0.0,) * len(cls.state_names)
+
+
+def _register(kind: str, name: str):
+    def decorate(cls: type[Law]) -> type[Law]:
+        table = _registered[kind]
+        if name in table and table[name] is not cls:
+            raise ValueError(f"{kind} law {name!r} is registered twice")
+        cls.kind = kind
+        cls.name = name
+        table[name] = cls
+        return cls
+
+    return decorate
+
+
+def contact_law(name: str):
+    """Class decorator registering a contact law under ``name`` (the YAML ``law:`` value)."""
+    return _register("contact", name)
+
+
+def material(name: str):
+    """Class decorator registering a storey material under ``name`` (YAML ``material:``)."""
+    return _register("material", name)
+
+
+def _load_builtins(kind: str) -> None:
+    if kind not in _builtin_names_by_kind:
+        for module in _BUILTIN_MODULES[kind]:
+            importlib.import_module(module)
+        _builtin_names_by_kind[kind] = frozenset(_registered[kind])
+
+
+def _builtin_names(kind: str) -> list[str]:
+    _load_builtins(kind)
+    return sorted(_builtin_names_by_kind[kind])
+
+
+def _entry_points(kind: str):
+    found = {}
+    for ep in entry_points(group=_GROUPS[kind]):
+        if ep.name in found or ep.name in _builtin_names(kind):
+            raise InputError(
+                f"{kind} law {ep.name!r} is defined twice (entry point {ep.value!r} in group "
+                f"{_GROUPS[kind]} and {'another plug-in' if ep.name in found else 'pframe'}); "
+                "uninstall one of them or rename it"
+            )
+        found[ep.name] = ep
+    return found
+
+
+def available_names(kind: str) -> list[str]:
+    """Built-in names and installed plug-in names (without importing the plug-ins)."""
+    return sorted(set(_builtin_names(kind)) | set(_entry_points(kind)))
+
+
+def get_law(kind: str, name: str) -> type[Law]:
+    """The law class registered as ``name``, loading a plug-in entry point if needed."""
+    _load_builtins(kind)
+    table = _registered[kind]
+    if name in table:
+        return table[name]
+    plugins = _entry_points(kind)
+    if name not in plugins:
+        known = ", ".join(available_names(kind))
+        what = "contact law" if kind == "contact" else "material"
+        raise InputError(f"unknown {what} {name!r}; known: {known}")
+    try:
+        cls = plugins[name].load()
+    except Exception as exc:  # a broken plug-in is the user's to fix: say which one
+        raise InputError(
+            f"{kind} law {name!r} from entry point {plugins[name].value!r} "
+            f"(group {_GROUPS[kind]}) failed to import: {exc}"
+        ) from None
+    if not (isinstance(cls, type) and issubclass(cls, Law)):
+        raise InputError(
+            f"entry point {name!r} in group {_GROUPS[kind]} must name a pframe.laws.Law "
+            f"subclass, got {cls!r}"
+        )
+    return _register(kind, name)(cls)
+
+
+def all_contact_laws() -> tuple[type[Law], ...]:
+    """Every built-in contact law, in registration order (tests run over this tuple)."""
+    _load_builtins("contact")
+    return tuple(_registered["contact"][n] for n in _builtin_names("contact"))
+
+
+def all_materials() -> tuple[type[Law], ...]:
+    """Every built-in storey material."""
+    _load_builtins("material")
+    return tuple(_registered["material"][n] for n in _builtin_names("material"))

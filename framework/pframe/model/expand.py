@@ -1,0 +1,210 @@
+"""From a validated scene to resolved elements: building shorthand expanded, names resolved to
+indices, law parameters packed into numbers. Every problem is reported at its YAML path."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.excitation import ground_acceleration, read_record
+from pframe.laws import ContactContext, get_law
+from pframe.model.load import ModelError
+
+
+@dataclass(frozen=True)
+class Element:
+    """A storey or contact resolved to node indices (-1 = ground) and packed numbers."""
+
+    name: str
+    nodes: tuple[int, int]
+    law: type
+    packed: tuple[float, ...]
+    gap: float = 0.0
+
+
+@dataclass(frozen=True)
+class Expanded:
+    """A scene resolved to numbers, in declaration order (no DOF numbering yet)."""
+
+    buildings: tuple[str, ...]
+    node_names: tuple[str, ...]
+    node_building: np.ndarray  # (n,) index into buildings
+    masses: np.ndarray  # (n,) kg
+    stories: tuple[Element, ...]
+    story_building: np.ndarray  # (s,)
+    contacts: tuple[Element, ...]
+    damping: tuple  # Rayleigh definition per building
+    ground_acceleration: np.ndarray  # (steps + 1,) m/s^2
+    initial_displacement: np.ndarray
+    initial_velocity: np.ndarray
+    dt: float
+    steps: int
+    gamma: float
+    beta: float
+    tolerance: float
+    absolute_tolerance: float
+    max_iterations: int
+    recorders: tuple
+
+
+def _per_storey(value, n: int, path):
+    if isinstance(value, list):
+        if len(value) != n:
+            raise ModelError(path, f"expected one value per storey ({n}), got {len(value)}")
+        return value
+    return [value] * n
+
+
+def _building_nodes(scene, nodes, stories, damping):
+    """Expand the building shorthand into (name, mass, path) nodes and storeys."""
+    for b, building in enumerate(scene.buildings):
+        path = ("buildings", b)
+        lists = {"mass": building.mass} | {
+            k: v for k, v in building.story.model_dump().items() if isinstance(v, list)
+        }
+        lengths = {k: len(v) for k, v in lists.items() if isinstance(v, list)}
+        n = building.floors or (max(lengths.values()) if lengths else None)
+        if n is None:
+            raise ModelError(path, "give floors (the number of storeys) or per-floor lists")
+        masses = _per_storey(building.mass, n, path + ("mass",))
+        fields = {
+            key: _per_storey(value, n, path + ("story", key)) if key != "material" else value
+            for key, value in building.story.model_dump().items()
+        }
+        law = get_law("material", building.story.material)
+        damping[building.name] = building.damping
+        for i in range(n):
+            name = f"{building.name}/{i + 1}"
+            nodes.append((name, masses[i], path + ("name",)))
+            raw = {k: (v if k == "material" else v[i]) for k, v in fields.items()}
+            raw = {k: v for k, v in raw.items() if v is not None}
+            try:
+                params = law.Params.model_validate(raw)
+            except Exception as exc:
+                msg = str(exc).splitlines()[-1].strip() if "\n" in str(exc) else str(exc)
+                raise ModelError(path + ("story",), f"storey {i + 1}: {msg}") from None
+            lower = "ground" if i == 0 else f"{building.name}/{i}"
+            stories.append((name, (lower, name), law, params, path + ("story",)))
+
+
+def expand(scene, base_dir: Path | str = ".") -> Expanded:
+    """Resolve a validated scene; raises :class:`ModelError` with the YAML path of a problem."""
+    nodes: list = []
+    stories: list = []
+    damping: dict = {}
+    if len({b.name for b in scene.buildings}) != len(scene.buildings):
+        seen = set()
+        for b, building in enumerate(scene.buildings):
+            if building.name in seen:
+                raise ModelError(("buildings", b, "name"),
+                                 f"building {building.name!r} is defined twice")
+            seen.add(building.name)
+    _building_nodes(scene, nodes, stories, damping)
+    for i, node in enumerate(scene.nodes):
+        nodes.append((node.name, node.mass, ("nodes", i, "name")))
+    index: dict[str, int] = {}
+    for i, (name, _, path) in enumerate(nodes):
+        if name in index:
+            raise ModelError(path, f"node {name!r} is defined twice (building shorthand and "
+                                   "nodes, or twice in nodes)")
+        index[name] = i
+    building_of = [name.split("/")[0] for name, _, _ in nodes]
+    buildings = tuple(dict.fromkeys(building_of))
+
+    def node_index(name, path):
+        if name not in index:
+            raise ModelError(path, f"no node named {name!r}; nodes are "
+                                   f"{', '.join(list(index)[:12])}{' ...' if len(index) > 12 else ''}")
+        return index[name]
+
+    for s, story in enumerate(scene.stories):
+        law = get_law("material", story.material)
+        params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
+        stories.append((story.name or story.nodes[1], story.nodes, law, params, ("stories", s)))
+
+    story_elements, story_building, seen = [], [], {}
+    for name, (lower, upper), law, params, path in stories:
+        up = node_index(upper, path + ("nodes", 1))
+        low = -1 if lower == "ground" else node_index(lower, path + ("nodes", 0))
+        if low >= 0 and building_of[low] != building_of[up]:
+            raise ModelError(path + ("nodes",), f"a storey joins floors of one building; "
+                                                f"{lower!r} and {upper!r} are in two")
+        if low == up:
+            raise ModelError(path + ("nodes",), "a storey needs two different nodes")
+        if name in seen:
+            raise ModelError(path, f"storey name {name!r} is used twice")
+        seen[name] = True
+        story_elements.append(Element(name, (low, up), law, tuple(map(float, law.pack(params)))))
+        story_building.append(buildings.index(building_of[up]))
+
+    excitation_frequency = None
+    if scene.excitation is not None and scene.excitation.kind == "sine":
+        excitation_frequency = scene.excitation.frequency
+    masses = np.array([m for _, m, _ in nodes], dtype=float)
+    contacts, seen = [], {}
+    for c, contact in enumerate(scene.contacts):
+        path = ("contacts", c)
+        left = node_index(contact.nodes[0], path + ("nodes", 0))
+        right = node_index(contact.nodes[1], path + ("nodes", 1))
+        if building_of[left] == building_of[right]:
+            raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
+                                                f"buildings; both nodes are in {building_of[left]!r}")
+        name = contact.name or f"{contact.nodes[0]}-{contact.nodes[1]}"
+        if name in seen:
+            raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
+        seen[name] = True
+        law = get_law("contact", contact.law)
+        params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
+        context = ContactContext(masses[left], masses[right], excitation_frequency)
+        try:
+            packed = tuple(map(float, law.pack(params, context)))
+        except InputError as exc:
+            raise ModelError(path, str(exc)) from None
+        contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
+
+    analysis = scene.analysis
+    steps = int(round(analysis.duration / analysis.dt))
+    if steps < 1:
+        raise ModelError(("analysis", "duration"), f"duration {analysis.duration} s is shorter "
+                                                   f"than one step dt = {analysis.dt} s")
+    times = np.arange(steps + 1) * analysis.dt
+    record = None
+    if scene.excitation is not None and scene.excitation.kind == "record":
+        file = Path(base_dir) / scene.excitation.file
+        try:
+            record = read_record(file, scene.excitation.format, scene.excitation.units)
+        except FileNotFoundError:
+            raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
+        except (ValueError, OSError) as exc:
+            raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
+    ag = ground_acceleration(scene.excitation, times, record)
+
+    u0, v0 = np.zeros(len(nodes)), np.zeros(len(nodes))
+    for field, target in (("displacement", u0), ("velocity", v0)):
+        for name, value in getattr(scene.initial_conditions, field).items():
+            target[node_index(name, ("initial_conditions", field, name))] = value
+
+    return Expanded(
+        buildings=buildings,
+        node_names=tuple(name for name, _, _ in nodes),
+        node_building=np.array([buildings.index(b) for b in building_of], dtype=np.int64),
+        masses=masses,
+        stories=tuple(story_elements),
+        story_building=np.array(story_building, dtype=np.int64),
+        contacts=tuple(contacts),
+        damping=tuple(damping.get(b) or scene.damping for b in buildings),
+        ground_acceleration=ag,
+        initial_displacement=u0,
+        initial_velocity=v0,
+        dt=float(analysis.dt),
+        steps=steps,
+        gamma=analysis.integrator.gamma,
+        beta=analysis.integrator.beta,
+        tolerance=analysis.newton.tolerance,
+        absolute_tolerance=analysis.newton.absolute_tolerance,
+        max_iterations=analysis.newton.max_iterations,
+        recorders=tuple(scene.recorders),
+    )

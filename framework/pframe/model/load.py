@@ -1,0 +1,178 @@
+"""Reading a scene from YAML, with the line of every value kept for error messages."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+from pydantic import ValidationError
+
+from pframe.errors import InputError
+from pframe.laws.registry import available_names
+
+Path_ = tuple  # a path into the YAML data: keys and list indices
+
+
+class ModelError(Exception):
+    """A problem found at ``path`` of the YAML data (mapped to a line by the loader)."""
+
+    def __init__(self, path: Path_, message: str):
+        super().__init__(message)
+        self.path = tuple(path)
+        self.message = message
+
+
+@dataclass(frozen=True)
+class LoadedScene:
+    """A validated scene with where it came from."""
+
+    scene: object
+    text: str
+    source: str
+    base_dir: Path
+    lines: dict = field(repr=False)
+    expanded: object = field(repr=False, default=None)
+
+    def where(self, path: Path_) -> str:
+        return _where(self.source, self.lines, path)
+
+
+def _dotted(path: Path_) -> str:
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out or "(top level)"
+
+
+def _where(source: str, lines: dict, path: Path_) -> str:
+    path = tuple(path)
+    for cut in range(len(path), -1, -1):
+        if path[:cut] in lines:
+            return f"{source}, line {lines[path[:cut]]}, {_dotted(path)}"
+    return f"{source}, {_dotted(path)}"
+
+
+def _compose(text: str, source: str):
+    loader = yaml.SafeLoader(text)
+    try:
+        root = loader.get_single_node()
+        lines: dict = {}
+
+        def convert(node, path):
+            lines.setdefault(path, node.start_mark.line + 1)
+            if isinstance(node, yaml.MappingNode):
+                out = {}
+                for key_node, value_node in node.value:
+                    key = loader.construct_object(key_node, deep=True)
+                    if key in out:
+                        raise InputError(
+                            f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
+                            f"appears twice in {_dotted(path)}; each key may be given once"
+                        )
+                    lines[path + (key,)] = key_node.start_mark.line + 1
+                    out[key] = convert(value_node, path + (key,))
+                return out
+            if isinstance(node, yaml.SequenceNode):
+                return [convert(item, path + (i,)) for i, item in enumerate(node.value)]
+            return loader.construct_object(node, deep=True)
+
+        data = convert(root, ()) if root is not None else None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        line = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or str(exc)
+        raise InputError(f"{source}{line}: not valid YAML: {problem}") from None
+    finally:
+        loader.dispose()
+    return data, lines
+
+
+def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
+    """Law names the scene uses that are not built in; unknown names are reported here."""
+    wanted = {"contact": set(), "material": set()}
+    places = []
+    for i, c in enumerate(data.get("contacts") or []):
+        if isinstance(c, dict) and isinstance(c.get("law"), str):
+            places.append(("contact", c["law"], ("contacts", i, "law")))
+    for i, s in enumerate(data.get("stories") or []):
+        if isinstance(s, dict) and isinstance(s.get("material"), str):
+            places.append(("material", s["material"], ("stories", i, "material")))
+    for i, b in enumerate(data.get("buildings") or []):
+        story = b.get("story") if isinstance(b, dict) else None
+        if isinstance(story, dict) and isinstance(story.get("material"), str):
+            places.append(("material", story["material"], ("buildings", i, "story", "material")))
+    for kind, name, path in places:
+        known = available_names(kind)
+        if name not in known:
+            what = "contact law" if kind == "contact" else "material"
+            raise InputError(
+                f"{_where(source, lines, path)}: unknown {what} {name!r}; "
+                f"known: {', '.join(known)}"
+            )
+        wanted[kind].add(name)
+    from pframe.laws.registry import _builtin_names
+
+    return tuple(
+        tuple(sorted(wanted[k] - set(_builtin_names(k)))) for k in ("contact", "material")
+    )
+
+
+def _format_validation(exc: ValidationError, data, lines: dict, source: str) -> str:
+    messages = []
+    for err in exc.errors(include_url=False):
+        path, node = [], data
+        for part in err["loc"]:
+            if isinstance(node, dict) and part in node:
+                node = node[part]
+                path.append(part)
+            elif isinstance(node, list) and isinstance(part, int) and part < len(node):
+                node = node[part]
+                path.append(part)
+            elif err["type"] == "missing" and part == err["loc"][-1]:
+                path.append(part)
+        msg = err["msg"].removeprefix("Value error, ")
+        if err["type"] == "missing":
+            msg = "this field is required"
+        elif err["type"] == "extra_forbidden":
+            msg = "unknown field (check the spelling; see the YAML reference)"
+        elif "input" in err and not isinstance(err["input"], (dict, list)):
+            msg += f" (got {err['input']!r})"
+        messages.append(f"{_where(source, lines, path)}: {msg}")
+    more = f" ({len(messages) - 3} more problems not shown)" if len(messages) > 3 else ""
+    return "; ".join(messages[:3]) + more
+
+
+def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = None) -> LoadedScene:
+    """Validate a scene given as YAML text; raise :class:`InputError` naming the line."""
+    from pframe.model.expand import expand
+    from pframe.model.scene import scene_class
+
+    data, lines = _compose(text, source)
+    if not isinstance(data, dict):
+        raise InputError(f"{source}: a scene is a YAML mapping (keys such as buildings, "
+                         "contacts, excitation, analysis); this file holds "
+                         f"{'nothing' if data is None else type(data).__name__}")
+    plugins = _plugin_names(data, lines, source)
+    try:
+        scene = scene_class(*plugins).model_validate(data)
+    except ValidationError as exc:
+        raise InputError(_format_validation(exc, data, lines, source)) from None
+    base_dir = Path(base_dir or ".")
+    try:
+        expanded = expand(scene, base_dir)
+    except ModelError as exc:
+        raise InputError(f"{_where(source, lines, exc.path)}: {exc.message}") from None
+    return LoadedScene(scene, text, source, base_dir, lines, expanded)
+
+
+def load_scene(path: str | Path) -> LoadedScene:
+    """Read and validate a scene file."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such model file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read the model file: {exc}") from None
+    return parse_scene(text, str(path), path.parent)

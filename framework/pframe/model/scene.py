@@ -1,0 +1,225 @@
+"""The scene: buildings (or generic nodes and storeys), contacts, excitation, analysis, recorders.
+
+Every model is frozen and rejects unknown fields. Storeys and contacts are tagged unions on
+``material`` and ``law``; the union is built from the law registry, so a law from a plug-in
+package is validated exactly like a built-in one (:func:`scene_class`).
+"""
+
+
+import functools
+from typing import Annotated, Literal, Union
+
+from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
+
+from pframe.laws import get_law
+from pframe.laws.registry import _builtin_names
+
+Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
+NodeName = Annotated[
+    str,
+    Field(
+        pattern=r"^[A-Za-z0-9_.-]+/[A-Za-z0-9_.-]+$",
+        description="'<building>/<floor>', e.g. 'A/1' for the first floor above ground of A.",
+    ),
+]
+BuildingName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
+QUANTITIES = (
+    "displacement",
+    "velocity",
+    "acceleration",
+    "story_drift",
+    "story_force",
+    "contact_force",
+    "contact_penetration",
+    "ground_acceleration",
+)
+Quantity = Literal[QUANTITIES]
+
+
+class Base(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class Node(Base):
+    """A floor: one lateral degree of freedom with a lumped mass."""
+
+    name: NodeName
+    mass: Positive = Field(description="Lumped floor mass (kg).")
+
+
+class StoryBase(Base):
+    """A storey shear spring between two nodes, or a node and the ground."""
+
+    nodes: tuple[str, NodeName] = Field(
+        description="[lower, upper]: 'ground' or a node name, then the node above it."
+    )
+    name: str | None = Field(None, description="Defaults to the upper node's name.")
+
+
+class ContactBase(Base):
+    """A compression-only contact element across the gap between two buildings."""
+
+    name: str | None = Field(None, description="Defaults to '<left>-<right>'.")
+    nodes: tuple[NodeName, NodeName] = Field(
+        description="[left, right]: penetration = u_left - u_right - gap."
+    )
+    gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
+
+
+class Rayleigh(Base):
+    """Rayleigh damping of one building, fitted on that building alone (fixed base)."""
+
+    ratio: float = Field(0.05, ge=0, lt=1, description="Damping ratio on both fitted modes.")
+    modes: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = Field(
+        (1, 2), description="The two modes (1-based) the ratio is fitted to."
+    )
+    stiffness: Literal["initial", "current", "committed"] = Field(
+        "initial", description="Stiffness of the beta K term (as OpenSees betaKinit/K/Kcomm)."
+    )
+
+
+class Sine(Base):
+    """Ground acceleration a_p sin(w_p t), optionally limited to some cycles or a duration."""
+
+    kind: Literal["sine"]
+    amplitude: float = Field(allow_inf_nan=False, description="a_p (m/s^2).")
+    frequency: Positive = Field(description="Circular frequency w_p (rad/s).")
+    cycles: Positive | None = Field(None, description="Number of cycles, then zero.")
+    duration: Positive | None = Field(None, description="Duration (s), then zero.")
+
+    @model_validator(mode="after")
+    def _not_both(self):
+        if self.cycles is not None and self.duration is not None:
+            raise ValueError("give cycles or duration, not both")
+        return self
+
+
+class Record(Base):
+    """A recorded ground acceleration read from a file (path relative to the YAML file)."""
+
+    kind: Literal["record"]
+    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file.")
+    format: Literal["auto", "columns", "at2"] = "auto"
+    units: Literal["m/s2", "g"] | None = Field(
+        None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
+    )
+    scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
+
+
+class Newmark(Base):
+    """Newmark's method (gamma, beta); default average acceleration."""
+
+    type: Literal["newmark"] = "newmark"
+    gamma: float = Field(0.5, ge=0.5, le=1.0)
+    beta: float = Field(0.25, gt=0, le=0.5)
+
+
+class Newton(Base):
+    """Full Newton-Raphson iterations (skipped for a linear scene)."""
+
+    tolerance: float = Field(
+        1e-12, gt=0, description="Converged when |du| <= tolerance |u| + absolute_tolerance."
+    )
+    absolute_tolerance: float = Field(0.0, ge=0, description="(m)")
+    max_iterations: int = Field(50, ge=1)
+
+
+class Analysis(Base):
+    integrator: Newmark = Newmark()
+    dt: Positive = Field(description="Time step (s).")
+    duration: Positive = Field(description="Analysed time (s).")
+    newton: Newton = Newton()
+
+
+class History(Base):
+    """Record quantities at every ``every``-th step (and at t = 0)."""
+
+    kind: Literal["history"]
+    quantities: list[Quantity] = Field(min_length=1)
+    every: int = Field(1, ge=1)
+
+
+class Envelope(Base):
+    """Record only the peak absolute value of each quantity over the run."""
+
+    kind: Literal["envelope"]
+    quantities: list[Quantity] = Field(min_length=1)
+
+
+class InitialConditions(Base):
+    displacement: dict[NodeName, float] = Field(default_factory=dict, description="(m)")
+    velocity: dict[NodeName, float] = Field(default_factory=dict, description="(m/s)")
+
+
+def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:
+    """A variant of a material's Params whose numeric fields also take one value per storey."""
+    fields = {}
+    for name, info in params_model.model_fields.items():
+        annotation = info.annotation
+        if name != discriminator and annotation in (float, int, float | None):
+            annotation = Union[annotation, list[annotation]]  # noqa: UP007
+        fields[name] = (annotation, info)
+    return create_model(
+        f"{params_model.__qualname__.split('.')[0]}Storeys",
+        __config__=ConfigDict(extra="forbid", frozen=True),
+        __doc__=f"Storey properties ({discriminator} {params_model.model_fields[discriminator].annotation}); "
+        "a list gives one value per storey, bottom up.",
+        **fields,
+    )
+
+
+def _union(models: list[type[BaseModel]], tag: str):
+    if len(models) == 1:
+        return models[0]
+    return Annotated[Union[tuple(models)], Field(discriminator=tag)]  # noqa: UP007
+
+
+@functools.lru_cache(maxsize=None)
+def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] = ()):
+    """The Scene model for the built-in laws plus the named plug-in laws."""
+    material_names = sorted(set(_builtin_names("material")) | set(materials))
+    contact_names = sorted(set(_builtin_names("contact")) | set(contact_laws))
+    material_params = [get_law("material", n).Params for n in material_names]
+    contact_params = [get_law("contact", n).Params for n in contact_names]
+
+    story_models = [
+        create_model(f"Story_{n}", __base__=(StoryBase, p))
+        for n, p in zip(material_names, material_params)
+    ]
+    contact_models = [
+        create_model(f"Contact_{n}", __base__=(ContactBase, p))
+        for n, p in zip(contact_names, contact_params)
+    ]
+    storey_models = [_broadcast(p, "material") for p in material_params]
+
+    class Building(Base):
+        """Shorthand for one shear building: floors 1..n above ground, storey i below floor i."""
+
+        name: BuildingName
+        floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
+        mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
+        story: _union(storey_models, "material") = Field(description="Storey properties.")
+        damping: Rayleigh | None = Field(None, description="Defaults to the scene's damping.")
+
+    class Scene(Base):
+        """A scene of adjacent buildings that may pound into each other."""
+
+        title: str = ""
+        buildings: list[Building] = Field(default_factory=list)
+        nodes: list[Node] = Field(default_factory=list)
+        stories: list[_union(story_models, "material")] = Field(default_factory=list)
+        contacts: list[_union(contact_models, "law")] = Field(default_factory=list)
+        damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
+        excitation: Annotated[Union[Sine, Record], Field(discriminator="kind")] | None = None  # noqa: UP007
+        initial_conditions: InitialConditions = InitialConditions()
+        analysis: Analysis
+        recorders: list[Annotated[Union[History, Envelope], Field(discriminator="kind")]] = Field(  # noqa: UP007
+            default_factory=lambda: [
+                Envelope(kind="envelope", quantities=["displacement", "story_drift", "contact_force"])
+            ]
+        )
+
+    return Scene
+
+
+Scene = scene_class()

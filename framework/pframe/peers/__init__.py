@@ -1,0 +1,1 @@
+"""Independent implementations pframe is checked against (OpenSeesPy, in the ``peers`` extra)."""

@@ -1,0 +1,294 @@
+"""OpenSeesPy peer: the same scene built from stock OpenSees components.
+
+The peer serves two purposes: an independent check of pframe's kernel and a speed benchmark.
+:func:`script_text` writes a self-contained OpenSeesPy script (it never imports pframe), so
+the model can be rerun, inspected or timed without pframe installed; :func:`run` executes that
+same text in this process and returns its histories.
+
+Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node):
+
+* storeys: ``zeroLength`` with ``Elastic`` or ``Steel01`` (``b = alpha``, no isotropic
+  hardening) from the lower to the upper node, so the element deformation is the drift;
+* contacts: ``zeroLength`` from the left to the right node with ``ElasticPPGap(k, -huge, -gap)``;
+  its deformation ``u_right - u_left`` falls below ``-gap`` exactly when
+  ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
+  compression force;
+* Rayleigh damping: ``alpha_m`` on the building's nodes, ``beta_k`` on the initial stiffness of
+  its storeys (``-doRayleigh 1``); contacts are undamped;
+* ground motion: ``Path`` series sampled at ``n dt`` driving a ``UniformExcitation``
+  (load ``-m a_g`` in relative coordinates); Newmark average acceleration, Newton iterations
+  with a ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and binary recorders.
+"""
+
+from __future__ import annotations
+
+import base64
+import os
+import pprint
+import tempfile
+
+import numpy as np
+
+from pframe.peers.scene import PeerScene
+
+_IMPORT_HINT = (
+    'OpenSeesPy is not importable: install the peers extra (pip install "pframe[peers]") '
+    "and the system BLAS/LAPACK (apt-get install libblas3 liblapack3)"
+)
+_WIDTH = 100  # line length of the generated script
+
+# Code of the generated script after its data block. It is a plain string so that the
+# script stays runnable on its own; ``run`` executes exactly this text.
+_BODY = '''
+HUGE_FY = 1.0e30  # ElasticPPGap yield force: contacts must never yield
+
+
+def build():
+    """Create the model in the OpenSees domain; return storey and contact element tags."""
+    n = len(MASSES)
+    ground = n + 1
+    ops.wipe()
+    ops.model("basic", "-ndm", 1, "-ndf", 1)
+    for i, m in enumerate(MASSES):
+        ops.node(i + 1, 0.0)
+        ops.mass(i + 1, m)
+    ops.node(ground, 0.0)
+    ops.fix(ground, 1)
+
+    stories = []
+    for j, ((lower, upper), mat) in enumerate(zip(STORY_NODES, STORY_MATERIALS, strict=True)):
+        tag = j + 1
+        if mat[0] == "elastic":
+            ops.uniaxialMaterial("Elastic", tag, mat[1])
+        else:
+            _, k, fy, alpha = mat
+            ops.uniaxialMaterial("Steel01", tag, fy, k, alpha)
+        # zeroLength deformation is u_j - u_i: lower -> upper makes it the drift.
+        # Without -doRayleigh the element ignores the region's damping factors.
+        i_node = ground if lower < 0 else lower + 1
+        ops.element("zeroLength", tag, i_node, upper + 1, "-mat", tag, "-dir", 1,
+                    "-doRayleigh", 1)
+        stories.append(tag)
+
+    contacts = []
+    for j, ((left, right), gap, k) in enumerate(
+            zip(CONTACT_NODES, CONTACT_GAPS, CONTACT_STIFFNESS, strict=True)):
+        tag = len(stories) + j + 1
+        # left -> right: deformation u_right - u_left drops below -gap when the floors
+        # overlap, where ElasticPPGap (negative Fy and gap) gives stress k (defo + gap) < 0.
+        ops.uniaxialMaterial("ElasticPPGap", tag, k, -HUGE_FY, -gap, 0.0)
+        ops.element("zeroLength", tag, left + 1, right + 1, "-mat", tag, "-dir", 1)
+        contacts.append(tag)
+
+    for b, (alpha_m, beta_k, nodes, story_ids) in enumerate(RAYLEIGH):
+        # The "Only" flags matter: a -node region also takes every element whose nodes
+        # are all listed, an -ele region takes the elements' nodes, and each region
+        # overwrites all four factors of everything it holds.
+        if alpha_m != 0.0 and len(nodes) > 0:
+            ops.region(2 * b + 1, "-nodeOnly", *[i + 1 for i in nodes],
+                       "-rayleigh", alpha_m, 0.0, 0.0, 0.0)
+        if beta_k != 0.0 and len(story_ids) > 0:
+            ops.region(2 * b + 2, "-eleOnly", *[stories[j] for j in story_ids],
+                       "-rayleigh", 0.0, 0.0, beta_k, 0.0)
+
+    # Path -dt puts AG[n] at t = n dt but returns 0 from its last sample on (and the
+    # accumulated time may land a hair past it): repeat the last value.
+    ag = [float(a) for a in AG]
+    ops.timeSeries("Path", 1, "-dt", DT, "-values", *ag, ag[-1])
+    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    # OpenSees starts from zero acceleration; equilibrium at rest asks for -a_g(0).
+    if ag[0] != 0.0:
+        for i in range(n):
+            ops.setNodeAccel(i + 1, 1, -ag[0], "-commit")
+    return stories, contacts
+
+
+def _read_binary(path, columns):
+    """Rows of a ``-binary`` recorder: ``columns`` native doubles then a newline byte."""
+    row = np.dtype([("values", "f8", (columns,)), ("eol", "u1")])
+    size = os.path.getsize(path)
+    if size % row.itemsize:
+        raise RuntimeError(f"unexpected recorder layout in {path}")
+    data = np.fromfile(path, dtype=row)
+    if not np.all(data["eol"] == 10):
+        raise RuntimeError(f"unexpected recorder layout in {path}")
+    return data["values"]
+
+
+def simulate(workdir):
+    """Build, run one ``analyze(STEPS, DT)`` and return the histories (row 0 is t = 0)."""
+    stories, contacts = build()
+    nodes = list(range(1, len(MASSES) + 1))
+    recorders = {
+        "displacement": ("Node", nodes, ("-node", *nodes, "-dof", 1, "disp")),
+        "velocity": ("Node", nodes, ("-node", *nodes, "-dof", 1, "vel")),
+        "story_force": ("Element", stories, ("-ele", *stories, "basicForce")),
+        "contact_force": ("Element", contacts, ("-ele", *contacts, "basicForce")),
+    }
+    for name, (kind, tags, args) in recorders.items():
+        if tags:
+            path = os.path.join(workdir, name + ".bin")
+            ops.recorder(kind, "-binary", path, "-time", *args)
+
+    ops.constraints("Plain")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", TOL, MAX_ITER)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+
+    start = time.perf_counter()
+    status = ops.analyze(STEPS, DT)
+    seconds = time.perf_counter() - start
+    reached = ops.getTime()
+    ops.wipe()  # closes (flushes) the recorders
+    if status != 0:
+        raise RuntimeError(f"OpenSees analyze failed (status {status}) at t = {reached}")
+
+    result = {"time": np.arange(STEPS + 1) * DT, "analyze_seconds": seconds}
+    for name, (_, tags, _) in recorders.items():
+        history = np.zeros((STEPS + 1, len(tags)))
+        if tags:
+            rows = _read_binary(os.path.join(workdir, name + ".bin"), len(tags) + 1)
+            if rows.shape[0] != STEPS:
+                raise RuntimeError(f"{name}: {rows.shape[0]} recorded steps, not {STEPS}")
+            result["time"][1:] = rows[:, 0]
+            history[1:] = rows[:, 1:]
+        result[name] = history
+    # the gap material is negative in compression; 0.0 - x also avoids -0.0
+    result["contact_force"] = 0.0 - result["contact_force"]
+    return result
+
+
+if __name__ == "__main__":
+    with tempfile.TemporaryDirectory() as tmp:
+        result = simulate(tmp)
+    print(f"analyze({STEPS}, {DT!r}): {result['analyze_seconds']:.4f} s")
+    if OUT_NPZ is not None:
+        np.savez(OUT_NPZ, **result)
+'''
+
+
+def _data_block(scene: PeerScene, out_npz: str | None) -> str:
+    """Python assignments holding the scene; ``repr`` of floats round-trips exactly."""
+    if len(scene.masses) != len(scene.node_names):
+        raise ValueError("masses and node_names differ in length")
+    ag = np.ascontiguousarray(scene.ground_acceleration, dtype="<f8")
+    if ag.shape != (scene.steps + 1,):
+        raise ValueError(f"ground_acceleration must have steps + 1 = {scene.steps + 1} samples")
+    materials = []
+    for mat in scene.story_materials:
+        if mat[0] == "elastic":
+            materials.append(("elastic", float(mat[1])))
+        elif mat[0] == "bilinear":
+            materials.append(("bilinear", *(float(v) for v in mat[1:4])))
+        else:
+            raise ValueError(f"unknown storey material {mat[0]!r}")
+    rayleigh = [
+        (float(am), float(bk), [int(i) for i in nodes], [int(j) for j in stories])
+        for am, bk, nodes, stories in scene.rayleigh
+    ]
+    values = {
+        "MASSES": [float(m) for m in scene.masses],
+        "STORY_NODES": np.asarray(scene.story_nodes, dtype=int).reshape(-1, 2).tolist(),
+        "STORY_MATERIALS": materials,
+        "CONTACT_NODES": np.asarray(scene.contact_nodes, dtype=int).reshape(-1, 2).tolist(),
+        "CONTACT_GAPS": [float(g) for g in scene.contact_gaps],
+        "CONTACT_STIFFNESS": [float(k) for k in scene.contact_stiffness],
+        "RAYLEIGH": rayleigh,  # (alpha_m, beta_k on initial stiffness, DOFs, storeys)
+        "DT": float(scene.dt),
+        "STEPS": int(scene.steps),
+        "TOL": float(scene.tolerance),
+        "MAX_ITER": int(scene.max_iterations),
+        "OUT_NPZ": out_npz,
+    }
+    lines = [
+        f"{name} = {pprint.pformat(value, width=_WIDTH - len(name) - 3, compact=True)}"
+        for name, value in values.items()
+    ]
+    # base64 keeps a long record compact and bit-exact
+    text = base64.b64encode(ag.tobytes()).decode("ascii")
+    chunks = "\n".join(f'        "{text[i : i + 88]}"' for i in range(0, len(text), 88))
+    lines.append(
+        f'AG = np.frombuffer(\n    base64.b64decode(\n{chunks}\n    ),\n    dtype="<f8",\n)'
+    )
+    return "\n".join(lines) + "\n"
+
+
+def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
+    """Return a self-contained OpenSeesPy script for ``scene``.
+
+    Parameters
+    ----------
+    scene : PeerScene
+        The scene to model.
+    out_npz : str, optional
+        Where the script, run as ``__main__``, saves ``time``, ``displacement (steps+1, n)``,
+        ``velocity (steps+1, n)``, ``story_force (steps+1, s)`` (material force, without the
+        Rayleigh part), ``contact_force (steps+1, c)`` (compression positive) and
+        ``analyze_seconds``. Nothing is saved when omitted.
+
+    Returns
+    -------
+    str
+        Python source importing only the standard library, numpy and ``openseespy``. It
+        defines ``build()`` and ``simulate(workdir) -> dict`` and times one
+        ``ops.analyze(steps, dt)`` call.
+    """
+    header = (
+        '"""OpenSeesPy model of one pounding scene, written by pframe.peers.opensees."""\n\n'
+        "import base64\nimport os\nimport tempfile\nimport time\n\n"
+        "import numpy as np\nimport openseespy.opensees as ops\n\n"
+    )
+    return header + _data_block(scene, out_npz) + _BODY
+
+
+def _require_openseespy() -> None:
+    """Import openseespy now, turning any failure into an actionable message."""
+    try:
+        import openseespy.opensees  # noqa: F401
+    except Exception as exc:  # a missing liblapack surfaces as ImportError or OSError
+        raise RuntimeError(_IMPORT_HINT) from exc
+
+
+def run(scene: PeerScene, workdir: str | None = None) -> dict:
+    """Run ``scene`` with OpenSeesPy in this process.
+
+    Parameters
+    ----------
+    scene : PeerScene
+        The scene to simulate.
+    workdir : str, optional
+        Directory kept with the script (``opensees_peer.py``) and the recorder files;
+        a temporary directory, removed afterwards, when omitted.
+
+    Returns
+    -------
+    dict
+        ``time`` (as accumulated by OpenSees), ``displacement`` and ``velocity`` (relative to
+        the ground, ``(steps + 1, n)``), ``story_force`` (material force, without the Rayleigh
+        part, ``(steps + 1, s)``), ``contact_force`` (compression positive, ``(steps + 1, c)``);
+        row 0 is the state at rest. ``analyze_seconds`` times the single ``analyze`` call.
+
+    Raises
+    ------
+    RuntimeError
+        If OpenSeesPy cannot be imported or the analysis does not converge.
+
+    Notes
+    -----
+    The script starts with ``ops.wipe()``: any other OpenSees model in this process is lost.
+    """
+    _require_openseespy()
+    text = script_text(scene)
+    with tempfile.TemporaryDirectory(prefix="pframe-opensees-") as tmp:
+        base = tmp if workdir is None else os.fspath(workdir)
+        os.makedirs(base, exist_ok=True)
+        path = os.path.join(base, "opensees_peer.py")
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        namespace = {"__name__": "pframe_opensees_peer", "__file__": path}
+        # exec of the very text written above, so the file on disk is what ran
+        exec(compile(text, path, "exec"), namespace)
+        return namespace["simulate"](base)
