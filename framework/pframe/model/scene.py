@@ -118,7 +118,7 @@ class Newton(Base):
     """Full Newton-Raphson iterations (skipped for a linear scene)."""
 
     tolerance: float = Field(
-        1e-12, gt=0, description="Converged when |du| <= tolerance |u| + absolute_tolerance."
+        1e-14, gt=0, description="Converged when |du| <= tolerance |u| + absolute_tolerance."
     )
     absolute_tolerance: float = Field(0.0, ge=0, description="(m)")
     max_iterations: int = Field(50, ge=1)
