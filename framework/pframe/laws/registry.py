@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import importlib
 from dataclasses import dataclass
-from importlib.metadata import entry_points
 from typing import ClassVar
 
 from pydantic import BaseModel
@@ -135,6 +134,8 @@ def _builtin_names(kind: str) -> list[str]:
 
 
 def _entry_points(kind: str):
+    from importlib.metadata import entry_points  # slow to import: only when a plug-in is named
+
     found = {}
     for ep in entry_points(group=_GROUPS[kind]):
         if ep.name in found or ep.name in _builtin_names(kind):

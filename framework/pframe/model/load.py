@@ -102,7 +102,11 @@ def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
         story = b.get("story") if isinstance(b, dict) else None
         if isinstance(story, dict) and isinstance(story.get("material"), str):
             places.append(("material", story["material"], ("buildings", i, "story", "material")))
+    from pframe.laws.registry import _builtin_names
+
     for kind, name, path in places:
+        if name in _builtin_names(kind):
+            continue
         known = available_names(kind)
         if name not in known:
             what = "contact law" if kind == "contact" else "material"
@@ -111,8 +115,6 @@ def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
                 f"known: {', '.join(known)}"
             )
         wanted[kind].add(name)
-    from pframe.laws.registry import _builtin_names
-
     return tuple(
         tuple(sorted(wanted[k] - set(_builtin_names(k)))) for k in ("contact", "material")
     )

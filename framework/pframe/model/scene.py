@@ -174,7 +174,7 @@ def _union(models: list[type[BaseModel]], tag: str):
     return Annotated[Union[tuple(models)], Field(discriminator=tag)]  # noqa: UP007
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] = ()):
     """The Scene model for the built-in laws plus the named plug-in laws."""
     material_names = sorted(set(_builtin_names("material")) | set(materials))
