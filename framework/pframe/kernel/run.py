@@ -16,10 +16,10 @@ from pframe.kernel.codegen import (
     Structure,
     argument_names,
 )
+from pframe.quantities import QUANTITIES
 
-_WIDTH = {"displacement": "n", "velocity": "n", "acceleration": "n", "story_drift": "s",
-          "story_force": "s", "contact_force": "c", "contact_penetration": "c",
-          "ground_acceleration": None}
+_WIDTH = {q: {"node": "n", "story": "s", "contact": "c", None: None}[dim]
+          for q, (dim, _, _) in QUANTITIES.items()}
 
 
 @dataclass

@@ -13,6 +13,7 @@ from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
 from pframe.laws import get_law
 from pframe.laws.registry import _builtin_names
+from pframe.quantities import QUANTITIES as _QUANTITIES
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NodeName = Annotated[
@@ -23,16 +24,7 @@ NodeName = Annotated[
     ),
 ]
 BuildingName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
-QUANTITIES = (
-    "displacement",
-    "velocity",
-    "acceleration",
-    "story_drift",
-    "story_force",
-    "contact_force",
-    "contact_penetration",
-    "ground_acceleration",
-)
+QUANTITIES = tuple(_QUANTITIES)
 Quantity = Literal[QUANTITIES]
 
 

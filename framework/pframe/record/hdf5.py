@@ -16,20 +16,10 @@ import h5py
 import numpy as np
 
 import pframe
+from pframe.quantities import QUANTITIES
 
-UNITS = {
-    "displacement": ("m", "floor displacement relative to the ground"),
-    "velocity": ("m/s", "floor velocity relative to the ground"),
-    "acceleration": ("m/s^2", "floor acceleration relative to the ground"),
-    "story_drift": ("m", "storey drift (upper minus lower floor displacement)"),
-    "story_force": ("N", "storey shear force of the material (damping excluded)"),
-    "contact_force": ("N", "contact force, compression positive"),
-    "contact_penetration": ("m", "contact penetration (0 while the gap is open)"),
-    "ground_acceleration": ("m/s^2", "ground acceleration"),
-}
-DIMENSION = {"displacement": "node", "velocity": "node", "acceleration": "node",
-             "story_drift": "story", "story_force": "story", "contact_force": "contact",
-             "contact_penetration": "contact", "ground_acceleration": None}
+UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
+DIMENSION = {q: dim for q, (dim, _, _) in QUANTITIES.items()}
 ENERGY_TERMS = ("input", "kinetic", "damping", "storeys", "contacts", "initial_kinetic")
 
 

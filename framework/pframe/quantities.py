@@ -1,0 +1,13 @@
+"""The quantities a recorder can ask for: dimension, units and meaning (pure data)."""
+
+#: name -> (dimension it runs along besides time, units, long name)
+QUANTITIES = {
+    "displacement": ("node", "m", "floor displacement relative to the ground"),
+    "velocity": ("node", "m/s", "floor velocity relative to the ground"),
+    "acceleration": ("node", "m/s^2", "floor acceleration relative to the ground"),
+    "story_drift": ("story", "m", "storey drift (upper minus lower floor displacement)"),
+    "story_force": ("story", "N", "storey shear force of the material (damping excluded)"),
+    "contact_force": ("contact", "N", "contact force, compression positive"),
+    "contact_penetration": ("contact", "m", "contact penetration (0 while the gap is open)"),
+    "ground_acceleration": (None, "m/s^2", "ground acceleration"),
+}
