@@ -19,7 +19,7 @@ def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:
     npts = re.search(r"NPTS\s*=\s*(\d+)", header, re.I)
     dt = re.search(r"DT\s*=\s*([0-9.eE+-]+)", header, re.I)
     if not (npts and dt):
-        numbers = re.findall(r"[0-9.eE+-]+", header)
+        numbers = re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", header)
         if len(numbers) < 2:
             raise ValueError(f"{name}, line 4: expected 'NPTS= n, DT= dt' (PEER NGA header), "
                              f"got {header.strip()!r}")

@@ -13,7 +13,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from pframe.errors import PframeError
+from pframe.errors import InputError, PframeError
 from pframe.kernel.codegen import Structure, generate
 
 _loaded: dict[str, object] = {}
@@ -59,7 +59,7 @@ def diagnose(structure: Structure, error: Exception) -> PframeError:
                 numba.njit(signature)(law.force)
             except Exception as exc:  # numba raises many types; any of them means 'cannot'
                 first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-                return PframeError(
+                return InputError(
                     f"{kind} {law.name!r} ({law.__module__}.{law.__qualname__}) cannot be "
                     f"compiled by numba: {first}. A law's force() must use only float "
                     "arithmetic, math functions and its 1-D float arrays (see docs/contact-laws.md)."

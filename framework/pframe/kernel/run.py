@@ -22,6 +22,10 @@ _WIDTH = {q: {"node": "n", "story": "s", "contact": "c", None: None}[dim]
           for q, (dim, _, _) in QUANTITIES.items()}
 
 
+#: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
+MAX_SPLIT = 10
+
+
 @dataclass
 class Result:
     """What a run produced, batch axis first. Node columns are in DOF order."""
@@ -33,6 +37,7 @@ class Result:
     energy: np.ndarray = None  # (B, 6) input, kinetic, damping, story, contact, kinetic0
     status: np.ndarray = None  # (B, 4) code, state index, element kind, element index
     iterations: np.ndarray = None  # (B,) Newton solves
+    substeps: np.ndarray = None  # (B,) steps that had to be split into sub-steps
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0
 
@@ -63,7 +68,8 @@ class Result:
         else:
             dof_names = {int(d): nm for nm, d in zip(plan.node_names, plan.node_dof)}
             where = f"node {dof_names.get(index, index)}"
-        why = {NOT_CONVERGED: f"Newton did not converge in {plan.max_iterations} iterations",
+        why = {NOT_CONVERGED: f"Newton did not converge in {plan.max_iterations} iterations "
+                              f"(nor in 2^{MAX_SPLIT} sub-steps)",
                NOT_FINITE: "a force became NaN or infinite",
                NOT_DEFINITE: "the effective stiffness is not positive definite"}[code]
         return f"{why} at t = {t:.6g} s (step {state}) at {where}"
@@ -86,6 +92,7 @@ def _arrays(plan, structure: Structure):
         "cforce_c": np.zeros((B, c)), "cpen_c": np.full((B, c), -1.0),
         "impacts": np.zeros((B, c), dtype=np.int64), "energy": np.zeros((B, 6)),
         "status": np.zeros((B, 4), dtype=np.int64), "iterations": np.zeros(B, dtype=np.int64),
+        "substeps": np.zeros(B, dtype=np.int64), "max_split": MAX_SPLIT,
     }
     for prefix, groups in (("s", plan.story_groups), ("c", plan.contact_groups)):
         for g, group in enumerate(groups):
@@ -154,6 +161,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25) -> Result:
         energy=arrays["energy"],
         status=arrays["status"],
         iterations=arrays["iterations"],
+        substeps=arrays["substeps"],
         solve_seconds=solve,
         compile_seconds=compile_seconds,
     )

@@ -110,7 +110,7 @@ class Newton(Base):
     """Full Newton-Raphson iterations (skipped for a linear scene)."""
 
     tolerance: float = Field(
-        1e-14, gt=0, description="Converged when |du| <= tolerance |u| + absolute_tolerance."
+        1e-12, gt=0, description="Converged when |du| <= tolerance |u| + absolute_tolerance."
     )
     absolute_tolerance: float = Field(0.0, ge=0, description="(m)")
     max_iterations: int = Field(50, ge=1)
@@ -144,18 +144,25 @@ class InitialConditions(Base):
 
 
 def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:
-    """A variant of a material's Params whose numeric fields also take one value per storey."""
+    """A variant of a material's Params whose numeric fields also take one value per storey.
+
+    Each value keeps its own constraints (a list item is checked like a scalar); the model
+    validators of the material (such as 'yield_drift or yield_force') run per storey later.
+    """
     fields = {}
     for name, info in params_model.model_fields.items():
-        annotation = info.annotation
-        if name != discriminator and annotation in (float, int, float | None):
-            annotation = Union[annotation, list[annotation]]  # noqa: UP007
-        fields[name] = (annotation, info)
+        if name == discriminator or info.annotation in (bool, str):
+            fields[name] = (info.annotation, info)
+            continue
+        item = Annotated[(info.annotation, *info.metadata)] if info.metadata else info.annotation
+        default = ... if info.is_required() else info.default
+        fields[name] = (Union[item, list[item]], Field(default, description=info.description))  # noqa: UP007
+    tag = params_model.model_fields[discriminator].annotation
     return create_model(
         f"{params_model.__qualname__.split('.')[0]}Storeys",
         __config__=ConfigDict(extra="forbid", frozen=True),
-        __doc__=f"Storey properties ({discriminator} {params_model.model_fields[discriminator].annotation}); "
-        "a list gives one value per storey, bottom up.",
+        __doc__=f"Storey properties ({discriminator} {tag}); a list gives one value per storey, "
+        "bottom up.",
         **fields,
     )
 

@@ -1,0 +1,152 @@
+"""Shared helpers for the physics tests: scene builders (YAML text) and run shortcuts.
+
+Scenes are written as JSON, which is valid YAML and prints floats with ``repr`` (exact
+round trip), so every number a test uses is the number the kernel sees.
+
+Kernels are compiled once per *structure* (laws in use and recorded quantities) and cached on
+disk, so the builders share a few recorder sets (:data:`RECORDERS`, :data:`FREE_RECORDERS`)
+to keep the number of distinct kernels, and the test time, small.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pframe.assemble import assemble, assemble_batch
+from pframe.kernel import simulate
+from pframe.model import load_scene, parse_scene
+
+REPO = Path(__file__).resolve().parents[1]
+WU2021 = REPO / "models" / "wu2021-eq14.yaml"
+
+#: The recorders of models/wu2021-eq14.yaml: scenes recording these share its kernels.
+RECORDERS = [
+    {"kind": "history",
+     "quantities": ["displacement", "velocity", "story_force", "story_drift", "contact_force"]},
+    {"kind": "envelope", "quantities": ["displacement", "story_drift", "contact_force"]},
+]
+#: For scenes of free masses (no storeys): velocities and the contact force.
+FREE_RECORDERS = [
+    {"kind": "history", "quantities": ["displacement", "velocity", "contact_force"]},
+]
+
+
+def scene_text(**scene) -> str:
+    """YAML text (JSON flavour) of a scene given as keyword arguments."""
+    scene.setdefault("recorders", RECORDERS)
+    return json.dumps(scene)
+
+
+def analysis(dt: float, duration: float, **newton) -> dict:
+    """Newmark average acceleration (gamma 1/2, beta 1/4) with a tight Newton tolerance."""
+    out = {"integrator": {"type": "newmark", "gamma": 0.5, "beta": 0.25},
+           "dt": dt, "duration": duration}
+    if newton:
+        out["newton"] = newton
+    return out
+
+
+def building(name: str, floors: int, mass, story: dict, damping: dict | None = None) -> dict:
+    out = {"name": name, "floors": floors, "mass": mass, "story": story}
+    if damping is not None:
+        out["damping"] = damping
+    return out
+
+
+def sdof_text(mass: float, stiffness: float, zeta: float, excitation: dict | None,
+              dt: float, duration: float, story: dict | None = None) -> str:
+    """One building, one storey: m u'' + c u' + f(u) = -m a_g (relative coordinates)."""
+    story = story or {"material": "elastic", "stiffness": stiffness}
+    scene = {
+        "buildings": [building("A", 1, mass, story)],
+        "damping": {"ratio": zeta, "modes": [1, 1]},
+        "analysis": analysis(dt, duration),
+    }
+    if excitation is not None:
+        scene["excitation"] = excitation
+    return scene_text(**scene)
+
+
+def two_free_masses_text(m1: float, m2: float, contact: dict, v1: float, v2: float,
+                         dt: float, duration: float, gap: float = 0.0) -> str:
+    """Two storey-less masses L/1 and R/1 joined by one contact (by default of gap 0, so
+    touching at t = 0), no damping, no excitation: a pure impact, u_L = u_R = 0 and
+    v_L = v1, v_R = v2 at t = 0."""
+    contact = {"name": "c", "nodes": ["L/1", "R/1"], "gap": gap} | contact
+    return scene_text(
+        nodes=[{"name": "L/1", "mass": m1}, {"name": "R/1", "mass": m2}],
+        contacts=[contact],
+        damping={"ratio": 0.0},
+        initial_conditions={"velocity": {"L/1": v1, "R/1": v2}},
+        analysis=analysis(dt, duration),
+        recorders=FREE_RECORDERS,
+    )
+
+
+def run_text(text: str, base_dir: Path | None = None):
+    """Parse, assemble (batch of one) and simulate: (plan, result)."""
+    loaded = parse_scene(text, base_dir=base_dir)
+    plan = assemble(loaded.expanded)
+    return plan, simulate(plan)
+
+
+def run_batch(texts: list[str]):
+    plan = assemble_batch([parse_scene(t).expanded for t in texts])
+    return plan, simulate(plan)
+
+
+def node_history(plan, result, quantity: str, node: str, member: int = 0) -> np.ndarray:
+    """History of a node quantity (node columns are in DOF order: plan.node_dof maps)."""
+    column = plan.node_dof[plan.node_names.index(node)]
+    return result.history[quantity][member, :, column]
+
+
+def element_history(plan, result, quantity: str, name: str, member: int = 0) -> np.ndarray:
+    """History of a storey or contact quantity (columns in declaration order)."""
+    names = plan.contact_names if quantity.startswith("contact_") else plan.story_names
+    return result.history[quantity][member, :, names.index(name)]
+
+
+def fit_sine(t: np.ndarray, u: np.ndarray, w: float) -> complex:
+    """Least-squares a, b of u = a sin(w t) + b cos(w t) (plus a constant), as a + i b, so that
+    u = Im((a + i b) e^{i w t})."""
+    design = np.column_stack([np.sin(w * t), np.cos(w * t), np.ones_like(t)])
+    (a, b, _), *_ = np.linalg.lstsq(design, u, rcond=None)
+    return complex(a, b)
+
+
+def observed_order(errors) -> np.ndarray:
+    """log2 of the ratio of errors at successive halvings of dt."""
+    errors = np.asarray(errors, dtype=float)
+    return np.log2(errors[:-1] / errors[1:])
+
+
+def hunt_crossley_restitution(chi: float) -> float:
+    """The exact restitution of F = k delta^n (1 + chi delta'/v0): the root e of
+    chi (1 + e) = ln((1 + chi) / (1 - chi e)) in (0, 1] (any exponent n; from
+    m w dw / (1 + chi w / v0) = -k delta^n d delta integrated over one contact)."""
+    from scipy.optimize import brentq
+
+    def g(e):
+        return chi * (1.0 + e) - math.log((1.0 + chi) / (1.0 - chi * e))
+
+    upper = min(1.0, (1.0 / chi) * (1.0 - 1e-15)) if chi > 0 else 1.0
+    return brentq(g, 1e-9, upper, xtol=1e-15, rtol=4 * np.finfo(float).eps)
+
+
+@pytest.fixture(scope="session")
+def wu2021_text() -> str:
+    return WU2021.read_text(encoding="utf-8")
+
+
+@pytest.fixture(scope="session")
+def wu2021_run():
+    """The paper's example as shipped (improved Kelvin contacts): (loaded, plan, result)."""
+    loaded = load_scene(WU2021)
+    plan = assemble(loaded.expanded)
+    return loaded, plan, simulate(plan)

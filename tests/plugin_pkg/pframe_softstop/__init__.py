@@ -1,0 +1,61 @@
+"""A third-party contact law for pframe, used by tests/test_plugin.py.
+
+``SoftStop`` is a cubic-stiffening compression-only spring,
+F = k delta (1 + (delta / delta_ref)^2) for delta > 0. ``Broken`` is a law whose force()
+numba cannot compile (it formats a string), to check the error message.
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws import Law
+from pframe.laws.params import LawParams, Positive
+
+
+class SoftStop(Law):
+    """F = k delta (1 + (delta / delta_ref)^2) for delta > 0, zero otherwise."""
+
+    class Params(LawParams):
+        law: Literal["softstop"]
+        stiffness: Positive = Field(description="Initial contact stiffness k (N/m).")
+        reference_penetration: Positive = Field(
+            description="Penetration delta_ref (m) at which the stiffness has doubled."
+        )
+
+    param_names = ("stiffness", "reference_penetration")
+
+    @classmethod
+    def pack(cls, params, context=None):
+        return (float(params.stiffness), float(params.reference_penetration))
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            return 0.0, 0.0, 0.0
+        k = params[0]
+        x = deformation / params[1]
+        return k * deformation * (1.0 + x * x), k * (1.0 + 3.0 * x * x), 0.0
+
+
+class Broken(Law):
+    """A law numba cannot compile: force() formats a Python string."""
+
+    class Params(LawParams):
+        law: Literal["broken"]
+        stiffness: Positive = Field(description="Contact stiffness k (N/m).")
+
+    param_names = ("stiffness",)
+
+    @classmethod
+    def pack(cls, params, context=None):
+        return (float(params.stiffness),)
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        label = "penetration %s m" % deformation  # noqa: UP031 - numba cannot compile this
+        if deformation <= 0.0 or not label:
+            return 0.0, 0.0, 0.0
+        return params[0] * deformation, params[0], 0.0

@@ -1,0 +1,179 @@
+"""The ``pframe`` command: solve (complete and stopped-early runs), validate, schema --check.
+
+The HDF5 file is read back with xarray (engine h5netcdf), as a user would. The scene has the
+structure of models/wu2021-eq14.yaml (bilinear storeys, improved Kelvin contacts, the same
+recorders), so it reuses that scene's compiled kernel.
+"""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import pframe
+from pframe.cli import main
+
+REPO = Path(__file__).resolve().parents[1]
+SCHEMA = REPO / "schemas" / "model.schema.json"
+
+SCENE = """\
+title: two 2-storey buildings pounding at the top
+buildings:
+  - name: A
+    floors: 2
+    mass: 1000.0
+    story: {material: bilinear, stiffness: 4.0e5, yield_drift: 0.02, alpha: 0.1}
+  - name: B
+    floors: 2
+    mass: 2000.0
+    story: {material: bilinear, stiffness: 8.0e6, yield_drift: 0.03, alpha: 0.1}
+contacts:
+  - {name: top, nodes: [A/2, B/2], gap: 0.001, law: improved_kelvin, stiffness: 1.0e7,
+     restitution: 0.5}
+excitation: {kind: sine, amplitude: 3.0, frequency: 6.0}
+analysis:
+  dt: 0.001
+  duration: 1.0
+recorders:
+  - kind: history
+    quantities: [displacement, velocity, story_force, story_drift, contact_force]
+  - kind: envelope
+    quantities: [displacement, story_drift, contact_force]
+"""
+#: One Newton iteration cannot follow the first impact: the run stops part way.
+FAILING = SCENE.replace("  duration: 1.0\n", "  duration: 1.0\n  newton: {max_iterations: 1}\n")
+NODES = ["A/1", "A/2", "B/1", "B/2"]
+UNITS = {"displacement": "m", "velocity": "m/s", "story_force": "N", "story_drift": "m",
+         "contact_force": "N"}
+STATUS = re.compile(r"at t = ([0-9.e+-]+) s \(step (\d+)\) at (node|storey|contact) ([^\s;]+)")
+
+
+@pytest.fixture
+def scene_file(tmp_path):
+    path = tmp_path / "scene.yaml"
+    path.write_text(SCENE, encoding="utf-8")
+    return path
+
+
+def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
+    out = tmp_path / "result.h5"
+    assert main(["solve", str(scene_file), "-o", str(out)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    assert "status: completed" in captured.out and str(out) in captured.out
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert list(ds["node"].values) == NODES
+        assert list(ds["story"].values) == NODES
+        assert list(ds["contact"].values) == ["top"]
+        assert ds.sizes["time"] == 1001
+        np.testing.assert_allclose(ds["time"].values, np.arange(1001) * 0.001, rtol=1e-12)
+        assert ds["time"].attrs["units"] == "s"
+        for name, units in UNITS.items():
+            dim = {"displacement": "node", "velocity": "node",
+                   "contact_force": "contact"}.get(name, "story")
+            assert ds[name].dims == ("time", dim)
+            assert ds[name].attrs["units"] == units
+            assert ds[name].attrs["long_name"]
+            assert np.all(np.isfinite(ds[name].values))
+        for name in ("displacement", "story_drift", "contact_force"):
+            peak = ds[f"peak_{name}"]
+            assert peak.dims == (ds[name].dims[1],)
+            assert peak.attrs["units"] == UNITS[name]
+            np.testing.assert_allclose(peak.values, np.abs(ds[name]).max("time").values,
+                                       rtol=1e-14)
+        assert ds["impact_count"].dims == ("contact",)
+        assert int(ds["impact_count"].sel(contact="top")) >= 1
+        assert float(ds["contact_force"].max()) > 0.0
+
+        attrs = ds.attrs
+        assert attrs["input_yaml"] == SCENE
+        assert attrs["pframe_version"] == pframe.__version__
+        assert attrs["dt"] == 0.001
+        assert attrs["steps"] == 1000
+        assert attrs["steps_completed"] == 1000
+        assert isinstance(attrs["solve_seconds"], (float, np.floating))
+        assert attrs["solve_seconds"] >= 0.0
+        assert attrs["status"] == "completed"
+        assert attrs["complete"] == 1
+        assert 0.0 <= attrs["energy_balance_error"] < 1e-9
+
+
+def test_run_that_stops_early_is_written_and_marked(tmp_path, capsys):
+    model = tmp_path / "failing.yaml"
+    model.write_text(FAILING, encoding="utf-8")
+    out = tmp_path / "failing.h5"
+    assert main(["solve", str(model), "-o", str(out)]) == 1
+    err = capsys.readouterr().err
+    assert "Traceback" not in err
+    assert "stopped early" in err and "marked incomplete" in err and str(out) in err
+    match = STATUS.search(err)
+    assert match, err
+    t, step, kind, element = float(match[1]), int(match[2]), match[3], match[4]
+    assert 0 < step < 1000
+    assert t == pytest.approx(step * 0.001)
+    assert element in {"node": NODES, "storey": NODES, "contact": ["top"]}[kind]
+
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        attrs = ds.attrs
+        assert attrs["complete"] == 0
+        assert "Newton did not converge" in attrs["status"]
+        assert match[0] in attrs["status"]  # the same time, step and element as on stderr
+        assert attrs["steps"] == 1000
+        assert attrs["steps_completed"] == step - 1
+        assert attrs["input_yaml"] == FAILING
+        assert ds.sizes["time"] == step  # states t = 0 .. (step - 1) dt
+        for name in UNITS:
+            assert np.all(np.isfinite(ds[name].values))
+
+
+def test_validate_prints_valid(scene_file, capsys):
+    assert main(["validate", str(scene_file)]) == 0
+    captured = capsys.readouterr()
+    assert captured.err == ""
+    assert captured.out.startswith(f"{scene_file}: valid;")
+    assert "4 nodes in 2 buildings, 4 storeys, 1 contacts, 1000 steps" in captured.out
+
+
+def test_console_script_runs(scene_file):
+    script = Path(sys.executable).with_name("pframe")
+    command = [str(script)] if script.exists() else [sys.executable, "-m", "pframe.cli"]
+    version = subprocess.run(command + ["--version"], capture_output=True, text=True,
+                             timeout=120)
+    assert version.returncode == 0 and version.stdout.strip() == f"pframe {pframe.__version__}"
+    run = subprocess.run(command + ["validate", str(scene_file)], capture_output=True,
+                         text=True, timeout=120)
+    assert run.returncode == 0 and ": valid;" in run.stdout
+
+
+def test_schema_check_passes_on_the_committed_schema(monkeypatch, capsys):
+    monkeypatch.chdir(REPO)
+    assert main(["schema", "--check"]) == 0, capsys.readouterr().err
+    assert "up to date" in capsys.readouterr().out
+
+
+def test_schema_check_fails_on_a_stale_or_missing_copy(tmp_path, capsys):
+    fresh = tmp_path / "fresh.json"
+    assert main(["schema", "-o", str(fresh)]) == 0
+    assert fresh.read_bytes() == SCHEMA.read_bytes()
+    assert main(["schema", "--check", "-o", str(fresh)]) == 0
+    capsys.readouterr()
+
+    stale = tmp_path / "stale.json"
+    stale.write_text(SCHEMA.read_text(encoding="utf-8").replace(
+        '"title": "pframe scene"', '"title": "pframe scene (old)"'), encoding="utf-8")
+    assert stale.read_bytes() != SCHEMA.read_bytes()
+    before = stale.read_bytes()
+    assert main(["schema", "--check", "-o", str(stale)]) == 1
+    err = capsys.readouterr().err
+    assert "stale" in err and str(stale) in err
+    assert stale.read_bytes() == before  # --check never writes
+
+    missing = tmp_path / "missing.json"
+    assert main(["schema", "--check", "-o", str(missing)]) == 1
+    assert not missing.exists()
