@@ -20,17 +20,21 @@ class _Progress:
 
     def __init__(self, stream):
         self.stream = stream
-        self.start = time.perf_counter()
+        self.first = None  # (time, steps) at the first report: compilation is before it
         self.shown = False
 
     def __call__(self, done: int, total: int):
-        elapsed = time.perf_counter() - self.start
+        now = time.perf_counter()
+        if self.first is None:
+            self.first = (now, done)
+            return
+        elapsed = now - self.first[0]
         if elapsed < 1.0 and not self.shown:
             return
         self.shown = True
         width = 30
         filled = int(width * done / total)
-        rate = done / elapsed
+        rate = (done - self.first[1]) / elapsed
         left = (total - done) / rate if rate > 0 else 0.0
         self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {done}/{total} steps, "
                           f"{rate:,.0f} steps/s, {left:.0f} s left ")

@@ -67,7 +67,10 @@ class Structure:
         for law in self.story_laws + self.contact_laws:
             parts.append(f"{law.__module__}.{law.__qualname__}")
             parts.append(inspect.getsource(law.force))
-        parts.append(inspect.getsource(inspect.getmodule(generate)))
+        from pframe import __version__
+        from pframe.kernel import banded
+
+        parts += [__version__, inspect.getsource(banded), inspect.getsource(inspect.getmodule(generate))]
         return hashlib.sha256("\n".join(parts).encode()).hexdigest()[:20]
 
 
@@ -335,6 +338,10 @@ def generate(st: Structure) -> str:
     _commit(w, st)
     w().dedent()  # parts
     w(f"if not failed or status[b, 0] == {NOT_FINITE} or split == max_split or k == 0:").indent()
+    w("if failed and split > 0:").indent()  # leave the state of the last completed step
+    for name in saved:
+        w(f"{name}[b] = save_{name}")
+    w().dedent()
     w("break").dedent()
     w("if split == 0:").indent()
     w("substeps[b] += 1")

@@ -7,7 +7,7 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 
 
 import functools
-from typing import Annotated, Literal, Union
+from typing import Annotated, Literal, Union, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
 
@@ -91,7 +91,8 @@ class Record(Base):
 
     kind: Literal["record"]
     file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file.")
-    format: Literal["auto", "columns", "at2"] = "auto"
+    format: Literal["auto", "columns", "at2"] = Field(
+        "auto", description="File format; auto: .AT2 suffix for PEER, else two columns.")
     units: Literal["m/s2", "g"] | None = Field(
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )
@@ -102,8 +103,8 @@ class Newmark(Base):
     """Newmark's method (gamma, beta); default average acceleration."""
 
     type: Literal["newmark"] = "newmark"
-    gamma: float = Field(0.5, ge=0.5, le=1.0)
-    beta: float = Field(0.25, gt=0, le=0.5)
+    gamma: float = Field(0.5, ge=0.5, le=1.0, description="Newmark gamma (1/2: no numerical damping).")
+    beta: float = Field(0.25, gt=0, le=0.5, description="Newmark beta (1/4: average acceleration).")
 
 
 class Newton(Base):
@@ -113,32 +114,36 @@ class Newton(Base):
         1e-12, gt=0, description="Converged when |du| <= tolerance |u| + absolute_tolerance."
     )
     absolute_tolerance: float = Field(0.0, ge=0, description="(m)")
-    max_iterations: int = Field(50, ge=1)
+    max_iterations: int = Field(50, ge=1, description="Newton iterations before a step is split.")
 
 
 class Analysis(Base):
-    integrator: Newmark = Newmark()
+    """Time integration: integrator, step, duration and Newton settings."""
+
+    integrator: Newmark = Field(Newmark(), description="The time integrator.")
     dt: Positive = Field(description="Time step (s).")
     duration: Positive = Field(description="Analysed time (s).")
-    newton: Newton = Newton()
+    newton: Newton = Field(Newton(), description="Newton-Raphson settings (nonlinear scenes).")
 
 
 class History(Base):
     """Record quantities at every ``every``-th step (and at t = 0)."""
 
     kind: Literal["history"]
-    quantities: list[Quantity] = Field(min_length=1)
-    every: int = Field(1, ge=1)
+    quantities: list[Quantity] = Field(min_length=1, description="What to record.")
+    every: int = Field(1, ge=1, description="Record every k-th step (and t = 0).")
 
 
 class Envelope(Base):
     """Record only the peak absolute value of each quantity over the run."""
 
     kind: Literal["envelope"]
-    quantities: list[Quantity] = Field(min_length=1)
+    quantities: list[Quantity] = Field(min_length=1, description="What to record peaks of.")
 
 
 class InitialConditions(Base):
+    """Displacements and velocities relative to the ground at t = 0 (default: at rest)."""
+
     displacement: dict[NodeName, float] = Field(default_factory=dict, description="(m)")
     velocity: dict[NodeName, float] = Field(default_factory=dict, description="(m/s)")
 
@@ -157,11 +162,11 @@ def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseMo
         item = Annotated[(info.annotation, *info.metadata)] if info.metadata else info.annotation
         default = ... if info.is_required() else info.default
         fields[name] = (Union[item, list[item]], Field(default, description=info.description))  # noqa: UP007
-    tag = params_model.model_fields[discriminator].annotation
+    tag = get_args(params_model.model_fields[discriminator].annotation)[0]
     return create_model(
         f"{params_model.__qualname__.split('.')[0]}Storeys",
         __config__=ConfigDict(extra="forbid", frozen=True),
-        __doc__=f"Storey properties ({discriminator} {tag}); a list gives one value per storey, "
+        __doc__=f"Storey properties ({discriminator}: {tag}); a list gives one value per storey, "
         "bottom up.",
         **fields,
     )
@@ -203,14 +208,18 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""
 
-        title: str = ""
-        buildings: list[Building] = Field(default_factory=list)
-        nodes: list[Node] = Field(default_factory=list)
-        stories: list[_union(story_models, "material")] = Field(default_factory=list)
-        contacts: list[_union(contact_models, "law")] = Field(default_factory=list)
+        title: str = Field("", description="A title copied into the result file.")
+        buildings: list[Building] = Field(default_factory=list, description="Shear buildings.")
+        nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes.")
+        stories: list[_union(story_models, "material")] = Field(
+            default_factory=list, description="Generic storeys between nodes.")
+        contacts: list[_union(contact_models, "law")] = Field(
+            default_factory=list, description="Contact elements between buildings.")
         damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
-        excitation: Annotated[Union[Sine, Record], Field(discriminator="kind")] | None = None  # noqa: UP007
-        initial_conditions: InitialConditions = InitialConditions()
+        excitation: Annotated[Union[Sine, Record], Field(discriminator="kind")] | None = Field(  # noqa: UP007
+            None, description="Ground motion (none: free vibration from initial conditions).")
+        initial_conditions: InitialConditions = Field(
+            InitialConditions(), description="State at t = 0 (default: at rest).")
         analysis: Analysis
         recorders: list[Annotated[Union[History, Envelope], Field(discriminator="kind")]] = Field(  # noqa: UP007
             default_factory=lambda: [

@@ -50,12 +50,14 @@ def _write(f: h5py.File, result, loaded, member: int):
     f.attrs["source"] = str(loaded.source)
     f.attrs["input_yaml"] = loaded.text
     f.attrs["pframe_version"] = pframe.__version__
-    f.attrs["integrator"] = f"newmark(gamma={plan.gamma}, beta={plan.beta}) with Newton"
+    f.attrs["integrator"] = (f"newmark(gamma={plan.gamma}, beta={plan.beta}) "
+                             + ("linear: one solve per step" if plan.linear else "with full Newton"))
     f.attrs["dt"] = float(plan.dt[member])
     f.attrs["steps"] = int(plan.steps)
     f.attrs["steps_completed"] = int(done - 1)
     f.attrs["solve_seconds"] = float(result.solve_seconds)
     f.attrs["newton_solves"] = int(result.iterations[member])
+    f.attrs["split_steps"] = int(result.substeps[member])
     f.attrs["status"] = result.describe_failure(member)
     f.attrs["complete"] = np.int8(result.completed(member))
     f.attrs["energy_balance_error"] = float(result.energy_error(member))
