@@ -2,140 +2,17 @@
 
 Exit codes: 0 success, 1 a run that stopped early (results written, marked incomplete),
 2 bad input (model, record file, arguments or output path), with a one-paragraph message and
-no traceback.
+no traceback. Sub-commands live in :mod:`pframe.commands`, one module each.
 """
 
 from __future__ import annotations
 
 import argparse
+import importlib
 import sys
-import time
-from pathlib import Path
 
+from pframe.commands import COMMANDS
 from pframe.errors import InputError, PframeError
-
-
-class _Progress:
-    """A progress bar on a terminal, shown only when a run lasts more than a second."""
-
-    def __init__(self, stream):
-        self.stream = stream
-        self.first = None  # (time, steps) at the first report: compilation is before it
-        self.shown = False
-
-    def __call__(self, done: int, total: int):
-        now = time.perf_counter()
-        if self.first is None:
-            self.first = (now, done)
-            return
-        elapsed = now - self.first[0]
-        if elapsed < 1.0 and not self.shown:
-            return
-        self.shown = True
-        width = 30
-        filled = int(width * done / total)
-        rate = (done - self.first[1]) / elapsed
-        left = (total - done) / rate if rate > 0 else 0.0
-        self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {done}/{total} steps, "
-                          f"{rate:,.0f} steps/s, {left:.0f} s left ")
-        self.stream.flush()
-
-    def close(self):
-        if self.shown:
-            self.stream.write("\n")
-
-
-def _solve(args) -> int:
-    from pframe.model import load_scene
-
-    loaded = load_scene(args.model)
-    out = Path(args.output) if args.output else Path(Path(args.model).stem + ".h5")
-    if out.exists() and not args.overwrite:
-        raise InputError(f"{out}: the output file exists; pass --overwrite to replace it, or "
-                         "choose another name with -o")
-    if not out.parent.exists():
-        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
-
-    from pframe.assemble import assemble
-    from pframe.kernel import simulate
-    from pframe.record import write_result
-
-    plan = assemble(loaded.expanded)
-    progress = _Progress(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
-    try:
-        result = simulate(plan, progress=progress)
-    finally:
-        if progress is not None:
-            progress.close()
-    write_result(out, result, loaded)
-    if not args.quiet:
-        _summary(loaded, plan, result, out)
-    if not result.completed():
-        print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
-              f"{out} holds the {result.states_done() - 1} steps computed, marked incomplete",
-              file=sys.stderr)
-        return 1
-    return 0
-
-
-def _summary(loaded, plan, result, out: Path):
-    import numpy as np
-
-    dt = float(plan.dt[0])
-    print(f"{loaded.source}: {plan.steps} steps of dt = {dt:.4g} s ({plan.steps * dt:.4g} s), "
-          f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
-          f"{len(plan.contact_names)} contacts")
-    peaks = {}
-    for q in ("displacement", "story_drift", "contact_force"):
-        if q in result.envelope:
-            peaks[q] = result.envelope[q][0]
-        elif q in result.history:
-            peaks[q] = np.nanmax(np.abs(result.history[q][0]), axis=0)
-    if "displacement" in peaks:
-        values = peaks["displacement"][plan.node_dof]
-        for b in plan.buildings:
-            idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
-            top = max(idx, key=lambda i: values[i])
-            print(f"  building {b}: peak displacement {values[top]:.4g} m at {plan.node_names[top]}")
-    if "story_drift" in peaks:
-        s = int(np.argmax(peaks["story_drift"]))
-        print(f"  peak storey drift {peaks['story_drift'][s]:.4g} m at {plan.story_names[s]}")
-    for c, name in enumerate(plan.contact_names):
-        force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
-        print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
-    print(f"  status: {result.describe_failure()}; energy balance error "
-          f"{result.energy_error():.2e}")
-    print(f"  solve {result.solve_seconds:.3f} s ({result.iterations[0]} Newton solves), "
-          f"kernel compile/load {result.compile_seconds:.2f} s; wrote {out}")
-
-
-def _validate(args) -> int:
-    from pframe.model import load_scene
-
-    loaded = load_scene(args.model)
-    ex = loaded.expanded
-    print(f"{loaded.source}: valid; {len(ex.node_names)} nodes in {len(ex.buildings)} buildings, "
-          f"{len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps")
-    return 0
-
-
-def _schema(args) -> int:
-    from pframe.schema import schema_text
-
-    path = Path(args.output)
-    text = schema_text()
-    if args.check:
-        current = path.read_text(encoding="utf-8") if path.exists() else None
-        if current != text:
-            print(f"pframe: {path} is stale or missing; run 'pframe schema' and commit it",
-                  file=sys.stderr)
-            return 1
-        print(f"{path} is up to date")
-        return 0
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text, encoding="utf-8")
-    print(f"wrote {path}")
-    return 0
 
 
 def parser() -> argparse.ArgumentParser:
@@ -145,19 +22,8 @@ def parser() -> argparse.ArgumentParser:
         prog="pframe", description="Earthquake-induced pounding of adjacent inelastic buildings.")
     top.add_argument("--version", action="version", version=f"pframe {__version__}")
     sub = top.add_subparsers(dest="command", required=True)
-    solve = sub.add_parser("solve", help="run a scene and write its results to HDF5")
-    solve.add_argument("model", help="scene file (YAML)")
-    solve.add_argument("-o", "--output", help="result file (default: MODEL's name with .h5)")
-    solve.add_argument("--overwrite", action="store_true", help="replace an existing output")
-    solve.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
-    solve.set_defaults(run=_solve)
-    validate = sub.add_parser("validate", help="check a scene file without running it")
-    validate.add_argument("model")
-    validate.set_defaults(run=_validate)
-    schema = sub.add_parser("schema", help="write the JSON Schema of scene files")
-    schema.add_argument("--check", action="store_true", help="fail if the file is stale")
-    schema.add_argument("-o", "--output", default="schemas/model.schema.json")
-    schema.set_defaults(run=_schema)
+    for name in COMMANDS:
+        importlib.import_module(f"pframe.commands.{name}").register(sub)
     return top
 
 

@@ -240,7 +240,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
-    """The scene of one batch member for peer programs (linear contacts only)."""
+    """The scene of one batch member for peer programs: linear contacts, start at rest,
+    Rayleigh on the initial stiffness (what the OpenSees peer models)."""
+    if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
+        raise InputError("the OpenSees peer starts from rest; remove initial_conditions")
+    if np.any(plan.story_damping_stiffness):
+        raise InputError("the OpenSees peer damps on the initial stiffness only")
     materials = []
     for group in plan.story_groups:
         for j, i in enumerate(group.index):

@@ -1,0 +1,112 @@
+"""``pframe solve MODEL.yaml``: run a scene and write its results to HDF5."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from pframe.errors import InputError
+
+
+class _Progress:
+    """A progress bar on a terminal, shown only when a run lasts more than a second."""
+
+    def __init__(self, stream):
+        self.stream = stream
+        self.first = None  # (time, steps) at the first report: compilation is before it
+        self.shown = False
+
+    def __call__(self, done: int, total: int):
+        now = time.perf_counter()
+        if self.first is None:
+            self.first = (now, done)
+            return
+        elapsed = now - self.first[0]
+        if elapsed < 1.0 and not self.shown:
+            return
+        self.shown = True
+        width = 30
+        filled = int(width * done / total)
+        rate = (done - self.first[1]) / elapsed
+        left = (total - done) / rate if rate > 0 else 0.0
+        self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {done}/{total} steps, "
+                          f"{rate:,.0f} steps/s, {left:.0f} s left ")
+        self.stream.flush()
+
+    def close(self):
+        if self.shown:
+            self.stream.write("\n")
+
+
+def _solve(args) -> int:
+    from pframe.model import load_scene
+
+    loaded = load_scene(args.model)
+    out = Path(args.output) if args.output else Path(Path(args.model).stem + ".h5")
+    if out.exists() and not args.overwrite:
+        raise InputError(f"{out}: the output file exists; pass --overwrite to replace it, or "
+                         "choose another name with -o")
+    if not out.parent.exists():
+        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+
+    from pframe.assemble import assemble
+    from pframe.kernel import simulate
+    from pframe.record import write_result
+
+    plan = assemble(loaded.expanded)
+    progress = _Progress(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
+    try:
+        result = simulate(plan, progress=progress)
+    finally:
+        if progress is not None:
+            progress.close()
+    write_result(out, result, loaded)
+    if not args.quiet:
+        _summary(loaded, plan, result, out)
+    if not result.completed():
+        print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
+              f"{out} holds the {result.states_done() - 1} steps computed, marked incomplete",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
+def _summary(loaded, plan, result, out: Path):
+    import numpy as np
+
+    dt = float(plan.dt[0])
+    print(f"{loaded.source}: {plan.steps} steps of dt = {dt:.4g} s ({plan.steps * dt:.4g} s), "
+          f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
+          f"{len(plan.contact_names)} contacts")
+    peaks = {}
+    for q in ("displacement", "story_drift", "contact_force"):
+        if q in result.envelope:
+            peaks[q] = result.envelope[q][0]
+        elif q in result.history:
+            peaks[q] = np.nanmax(np.abs(result.history[q][0]), axis=0)
+    if "displacement" in peaks:
+        values = peaks["displacement"][plan.node_dof]
+        for b in plan.buildings:
+            idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
+            top = max(idx, key=lambda i: values[i])
+            print(f"  building {b}: peak displacement {values[top]:.4g} m at {plan.node_names[top]}")
+    if "story_drift" in peaks:
+        s = int(np.argmax(peaks["story_drift"]))
+        print(f"  peak storey drift {peaks['story_drift'][s]:.4g} m at {plan.story_names[s]}")
+    for c, name in enumerate(plan.contact_names):
+        force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
+        print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
+    print(f"  status: {result.describe_failure()}; energy balance error "
+          f"{result.energy_error():.2e}")
+    print(f"  solve {result.solve_seconds:.3f} s ({result.iterations[0]} Newton solves), "
+          f"kernel compile/load {result.compile_seconds:.2f} s; wrote {out}")
+
+
+def register(sub) -> None:
+    solve = sub.add_parser("solve", help="run a scene and write its results to HDF5")
+    solve.add_argument("model", help="scene file (YAML)")
+    solve.add_argument("-o", "--output", help="result file (default: MODEL's name with .h5)")
+    solve.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    solve.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    solve.set_defaults(run=_solve)
