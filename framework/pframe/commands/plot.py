@@ -1,0 +1,60 @@
+"""``pframe plot OUT.h5``: the paper's figures (histories and hysteresis loops) of a result.
+
+matplotlib is imported only when this command runs, with the Agg backend, so the command works
+on servers without a display and the other commands never load it.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def _plot(args) -> int:
+    try:
+        import matplotlib
+    except ImportError:
+        matplotlib = None
+    if matplotlib is not None:
+        # before any figure is made: no display is needed, and none is opened
+        matplotlib.use("Agg")
+    from pframe.plot import figures, output_paths, save
+
+    output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
+    output_paths(output, ["check"])  # a bad name or folder fails before the drawing
+    say = (lambda text: None) if args.quiet else (
+        lambda text: print(f"pframe: {args.result}: {text}", file=sys.stderr))
+    time_range = tuple(args.time_range) if args.time_range else None
+    figs = figures(args.result, kind=args.kind, levels=args.story, time_range=time_range,
+                   dimensionless=args.dimensionless, report=say)
+    written = save(figs, output, title=f"pframe plot {args.result}")
+    if not args.quiet:
+        levels = ", ".join(figs)
+        print(f"{args.result}: {len(figs)} figure{'s' if len(figs) > 1 else ''} "
+              f"(level{'s' if len(figs) > 1 else ''} {levels}); wrote "
+              + ", ".join(str(p) for p in written))
+    return 0
+
+
+def register(sub) -> None:
+    plot = sub.add_parser(
+        "plot", help="draw a result's histories and hysteresis loops (PNG or PDF)",
+        description="Draw the paper's figures from a result file: one figure per floor level "
+                    "with (a) displacement, (b) pounding force and (c) velocity histories of "
+                    "the buildings' floors at that level and (d), (e) the hysteresis loops of "
+                    "their storeys. Needs matplotlib (pip install \"pframe[plot]\").")
+    plot.add_argument("result", help="result file written by pframe solve (.h5)")
+    plot.add_argument("-o", "--output", metavar="FIGURE",
+                      help="FIGURE.pdf (one page per level) or FIGURE.png (FIGURE-<level>.png "
+                           "for several levels); default: RESULT's name with .pdf")
+    plot.add_argument("--kind", choices=("all", "histories", "hysteresis"), default="all",
+                      help="panels to draw (default: all)")
+    plot.add_argument("--story", action="append", metavar="N",
+                      help="draw floor level N only (repeat for several; default: every level)")
+    plot.add_argument("--time-range", nargs=2, type=float, metavar=("START", "END"),
+                      help="draw START <= t <= END only (s, or tau with --dimensionless)")
+    plot.add_argument("--dimensionless", action="store_true",
+                      help="draw the paper's tau, x = X / l_e, ... scaled by the scene's sine "
+                           "excitation (a file written dimensionless is drawn so anyway)")
+    plot.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    plot.set_defaults(run=_plot)

@@ -1,0 +1,271 @@
+"""One figure per floor level, as in Figures 3 to 5 of Wu et al. (2021).
+
+Panels, lettered as in the paper so that a figure and its caption can be read side by side:
+
+- (a) displacement histories of every building's floor at the level;
+- (b) pounding force histories of the contacts at the level;
+- (c) velocity histories of the floors;
+- (d), (e), ... hysteresis loops (storey shear against storey drift) of each building's storey
+  below the level, left to right.
+
+Histories are stacked on the left with one time axis, the loops on the right. A panel whose
+history the file lacks is left out (:func:`notes` says which); the letters of the others stay.
+Figures are :class:`matplotlib.figure.Figure` objects made without pyplot, so they need no
+display and hold no global state.
+"""
+
+from __future__ import annotations
+
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.plot.data import Result, read_result
+from pframe.plot.scales import axis_label, reference_scales
+
+KINDS = ("all", "histories", "hysteresis")
+#: (letter, quantity, title) of the history panels, top to bottom
+HISTORY_PANELS = (("a", "displacement", "displacement histories"),
+                  ("b", "contact_force", "pounding force histories"),
+                  ("c", "velocity", "velocity histories"))
+BUILDING_COLOURS = ("C0", "C3", "C2", "C1", "C4", "C5")
+CONTACT_COLOURS = ("k", "C7", "C8", "C9")
+
+
+def matplotlib_figure():
+    """The :class:`~matplotlib.figure.Figure` class, or a clear error when matplotlib is absent."""
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        raise InputError(
+            f"plot draws with matplotlib, which is not installed in this Python "
+            f"({sys.executable}). Install pframe's plot extra into the same environment with "
+            'pip install "pframe[plot]" (pip keeps the pframe you have and adds matplotlib; '
+            'from a clone of the repository, pip install -e ".[plot]" does the same) and run '
+            "the command again.") from None
+    return Figure
+
+
+def _uses(kind: str, quantity: str) -> bool:
+    hysteresis = quantity in ("story_drift", "story_force")
+    return kind == "all" or (kind == "hysteresis") == hysteresis
+
+
+def notes(result: Result, kind: str = "all") -> list[str]:
+    """Why panels of ``kind`` are left out, and other things a reader of the figures should
+    know (an incomplete run, storeys or contacts without a level)."""
+    out = []
+    missing = [q for q in ("displacement", "contact_force", "velocity")
+               if _uses(kind, q) and q not in result.histories]
+    for letter, quantity, _ in HISTORY_PANELS:
+        if quantity not in missing:
+            continue
+        if quantity == "contact_force" and not result.has_contacts:
+            out.append("the scene has no contacts: no pounding force panel (b)")
+        else:
+            out.append(f"the file has no {quantity} history: panel ({letter}) left out")
+    if _uses(kind, "story_force"):
+        lacking = [q for q in ("story_drift", "story_force") if q not in result.histories]
+        if not result.has_stories:
+            out.append("the scene has no storeys: no hysteresis panels")
+        elif lacking:
+            out.append(f"the file has no {' and no '.join(lacking)} history: hysteresis "
+                       "panels (d), (e) left out")
+    out.extend(result.dropped)
+    for name in result.levels.unplaced:
+        out.append(f"{name!r}: its floor level is not known (see docs/plotting.md), not drawn")
+    if not result.complete:
+        out.append(f"the run stopped early ({result.status}); the figures show what was computed")
+    return out
+
+
+def _level_content(result: Result, level: str, kind: str):
+    """The history panels ``[(letter, quantity, title, names)]`` and loop panels
+    ``[(letter, building, storey)]`` of one level."""
+    levels = result.levels
+    histories = []
+    if kind != "hysteresis":
+        for letter, quantity, title in HISTORY_PANELS:
+            if quantity not in result.histories:
+                continue
+            if quantity == "contact_force":
+                names = levels.contacts.get(level, [])
+            else:
+                names = list(levels.nodes.get(level, {}).values())
+            if names:
+                histories.append((letter, quantity, title, names))
+    loops = []
+    if kind != "histories" and {"story_drift", "story_force"} <= result.histories.keys():
+        stories = levels.stories.get(level, {})
+        for building in levels.buildings:
+            if building in stories:
+                loops.append((chr(ord("d") + len(loops)), building, stories[building]))
+    return histories, loops
+
+
+def _building_colour(result: Result, building: str) -> str:
+    """A building keeps its colour in every panel and figure, so left and right read alike."""
+    return BUILDING_COLOURS[result.levels.buildings.index(building) % len(BUILDING_COLOURS)]
+
+
+def _on_common_time(drift, force, story: str):
+    """Drift and force of one storey at the same times: the coarser of the two strides."""
+    x, y = drift.column(story), force.column(story)
+    if drift.time.shape == force.time.shape and np.array_equal(drift.time, force.time):
+        return x, y
+    if drift.time.size < force.time.size:
+        return x, np.interp(drift.time, force.time, y)
+    return np.interp(force.time, drift.time, x), y
+
+
+def _tidy(ax):
+    ax.grid(True, alpha=0.3, linewidth=0.6)
+    # keep tick labels short: forces in N reach 1e5 in the paper's example
+    ax.ticklabel_format(axis="both", style="sci", scilimits=(-3, 4))
+    ax.tick_params(labelsize=8)
+
+
+def draw_level(result: Result, level: str, kind: str = "all"):
+    """The figure of one floor level, or None when it has nothing of ``kind`` to show.
+
+    Each axes carries a label for programs reading the figure: the quantity of a history
+    panel (``displacement``, ``contact_force``, ``velocity``) or ``hysteresis <storey>``;
+    each line is labelled with its node, contact or storey name.
+    """
+    Figure = matplotlib_figure()
+    histories, loops = _level_content(result, level, kind)
+    if not histories and not loops:
+        return None
+    rows = max(len(histories), len(loops))
+    if not histories:
+        size = (3.6 * len(loops) + 0.6, 3.6)
+    elif not loops:
+        size = (8.0, 2.3 * rows + 0.9)
+    else:
+        size = (10.5, 2.3 * rows + 0.9)
+    fig = Figure(figsize=size, layout="constrained")
+    if histories and loops:
+        outer = fig.add_gridspec(1, 2, width_ratios=(1.75, 1.0))
+        left = outer[0].subgridspec(len(histories), 1)
+        right = outer[1].subgridspec(len(loops), 1)
+    elif histories:
+        left, right = fig.add_gridspec(len(histories), 1), None
+    else:
+        left, right = None, fig.add_gridspec(1, len(loops))
+
+    first = None
+    for i, (letter, quantity, title, names) in enumerate(histories):
+        ax = fig.add_subplot(left[i, 0], sharex=first)
+        first = first or ax
+        history = result.histories[quantity]
+        for j, name in enumerate(names):
+            colour = (CONTACT_COLOURS[j % len(CONTACT_COLOURS)] if quantity == "contact_force"
+                      else _building_colour(result, name.split("/", 1)[0]))
+            ax.plot(history.time, history.column(name), label=name, linewidth=0.8, color=colour)
+        ax.set_label(quantity)
+        ax.set_title(f"({letter}) {title}", loc="left", fontsize=9)
+        ax.set_ylabel(axis_label(quantity, history.units), fontsize=8)
+        # above the axes, beside the title: inside, it would hide the peaks it is about
+        ax.legend(fontsize=7, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=len(names),
+                  frameon=False, borderaxespad=0.1, handlelength=1.5)
+        _tidy(ax)
+        if i == len(histories) - 1:
+            ax.set_xlabel(axis_label("time", history.time_units), fontsize=8)
+        else:
+            ax.tick_params(labelbottom=False)
+
+    drift, force = result.histories.get("story_drift"), result.histories.get("story_force")
+    for i, (letter, building, story) in enumerate(loops):
+        ax = fig.add_subplot(right[i, 0] if histories else right[0, i])
+        x, y = _on_common_time(drift, force, story)
+        ax.plot(x, y, linewidth=0.7, label=story, color=_building_colour(result, building))
+        ax.set_label(f"hysteresis {story}")
+        ax.set_title(f"({letter}) hysteresis, storey {story} (building {building})",
+                     loc="left", fontsize=9)
+        ax.set_xlabel(axis_label("story_drift", drift.units), fontsize=8)
+        ax.set_ylabel(axis_label("story_force", force.units), fontsize=8)
+        _tidy(ax)
+
+    heading = f"{result.title}: level {level}"
+    if not result.complete:
+        heading += " (run stopped early)"
+    fig.suptitle(heading, fontsize=10)
+    if result.reference is not None:
+        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize=7)
+    return fig
+
+
+def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | None = None,
+            dimensionless: bool = False) -> Result:
+    """Read a result file and apply ``dimensionless`` then ``time_range`` (in the units of the
+    time axis drawn: s, or tau when dimensionless)."""
+    result = source if isinstance(source, Result) else read_result(source)
+    if dimensionless and not result.is_dimensionless:
+        result = result.dimensionless(reference_scales(result.input_yaml, str(result.path)))
+    if time_range is not None:
+        result = result.window(*time_range)
+    return result
+
+
+def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
+            time_range: tuple[float, float] | None = None, dimensionless: bool = False,
+            report: Callable[[str], None] | None = None) -> dict:
+    """The paper's figures of a result file, one per floor level.
+
+    Parameters
+    ----------
+    source : str, Path or Result
+        A result file of ``pframe solve`` (or one already read with :func:`prepare`).
+    kind : {"all", "histories", "hysteresis"}
+        All panels, the histories (a)-(c) only, or the hysteresis loops only.
+    levels : sequence of str or int, optional
+        The floor levels to draw (default: every level with something to draw).
+    time_range : (float, float), optional
+        Draw ``start <= t <= stop`` only, in the units of the time axis drawn.
+    dimensionless : bool
+        Draw the paper's dimensionless variables (tau, x = X / l_e, ...), scaled by the
+        scene's sine excitation; a file written dimensionless is drawn so in any case.
+    report : callable, optional
+        Called with each note on panels left out (see :func:`notes`).
+
+    Returns
+    -------
+    dict
+        ``level -> matplotlib.figure.Figure``, in level order.
+
+    Raises
+    ------
+    InputError
+        Unreadable file, unknown level or kind, or nothing to plot.
+    """
+    if kind not in KINDS:
+        raise InputError(f"unknown kind {kind!r}; choose one of {', '.join(KINDS)}")
+    matplotlib_figure()
+    result = prepare(source, time_range=time_range, dimensionless=dimensionless)
+    found = notes(result, kind)
+    order = result.levels.order
+    if levels is not None:
+        levels = [str(level) for level in levels]
+        unknown = [level for level in levels if level not in order]
+        if unknown:
+            raise InputError(f"{result.path}: no floor level {', '.join(unknown)}; "
+                             f"the levels are {', '.join(order)}")
+    figs = {}
+    for level in levels if levels is not None else order:
+        fig = draw_level(result, level, kind)
+        if fig is not None:
+            figs[level] = fig
+    if not figs:
+        where = f" at level {', '.join(levels)}" if levels is not None else ""
+        why = "; ".join(found) or "no history of a node, storey or contact"
+        raise InputError(
+            f"{result.path}: nothing to plot for --kind {kind}{where}: {why}. The figures draw "
+            "the histories of displacement, velocity, contact_force, story_drift and "
+            "story_force: list them in a recorder of kind history and solve again.")
+    if report is not None:
+        for note in found:
+            report(note)
+    return figs

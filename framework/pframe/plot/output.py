@@ -1,0 +1,66 @@
+"""Write figures to PNG or PDF.
+
+PDF: one file, one page per figure (floor level). PNG: one image per figure; when there are
+several, ``FIGURE-<level>.png`` beside the name given (``eq14.png`` gives ``eq14-1.png``,
+``eq14-2.png``, ...), and the name itself when there is one.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pframe.errors import InputError
+
+FORMATS = (".png", ".pdf")
+#: pixels per inch of PNG images: legible at 100 % on a screen, small enough for docs
+PNG_DPI = 100
+
+
+def output_paths(output: str | Path, levels) -> list[Path]:
+    """The files :func:`save` writes for figures of ``levels`` (checks the name and folder)."""
+    output = Path(output)
+    suffix = output.suffix.lower()
+    if suffix not in FORMATS:
+        raise InputError(f"{output}: the figure name must end in .png or .pdf (the format is "
+                         "taken from it)")
+    if not output.parent.exists():
+        raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
+    levels = list(levels)
+    if suffix == ".pdf" or len(levels) == 1:
+        return [output]
+    return [output.with_name(f"{output.stem}-{level}{output.suffix}") for level in levels]
+
+
+def save(figs: dict, output: str | Path, title: str | None = None) -> list[Path]:
+    """Write ``level -> Figure`` to ``output`` (.png or .pdf); existing files are replaced.
+
+    Parameters
+    ----------
+    figs : dict
+        Figures by level, as :func:`pframe.plot.figures` returns them.
+    output : str or Path
+        The figure file; its suffix chooses the format (rules in the module docstring).
+    title : str, optional
+        The PDF's document title.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    import pframe
+
+    paths = output_paths(output, figs)
+    if paths[0].suffix.lower() == ".pdf":
+        from matplotlib.backends.backend_pdf import PdfPages
+
+        metadata = {"Creator": f"pframe {pframe.__version__} (pframe plot)"}
+        if title:
+            metadata["Title"] = title
+        with PdfPages(paths[0], metadata=metadata) as pdf:
+            for fig in figs.values():
+                pdf.savefig(fig)
+        return paths
+    for path, fig in zip(paths, figs.values()):
+        fig.savefig(path, dpi=PNG_DPI)
+    return paths
