@@ -188,6 +188,8 @@ def draw_level(result: Result, level: str, kind: str = "all"):
         ax.set_xlabel(axis_label("story_drift", drift.units), fontsize=8)
         ax.set_ylabel(axis_label("story_force", force.units), fontsize=8)
         _tidy(ax)
+        # a loop panel is narrow: the default ticks of a drift in m run into each other
+        ax.locator_params(axis="x", nbins=5)
 
     heading = f"{result.title}: level {level}"
     if not result.complete:
