@@ -6,10 +6,12 @@ Arrays that differ between variants of a sweep carry a leading batch axis ``B``;
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
+from pframe.assemble import stability
 from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.model.expand import Expanded
@@ -39,8 +41,8 @@ class Plan:
     buildings: tuple[str, ...]
     steps: int
     bandwidth: int
-    gamma: float
-    beta: float
+    integrator: object  # pframe.integrators.Coefficients
+    integrator_name: str
     tolerance: float
     absolute_tolerance: float
     max_iterations: int
@@ -60,6 +62,17 @@ class Plan:
     initial_velocity: np.ndarray  # (B, n)
     history: tuple[tuple[str, int], ...]  # (quantity, every)
     envelope: tuple[str, ...]
+    cd_parts: np.ndarray = None  # (B,) central-difference sub-steps per step
+    event_parts: np.ndarray = None  # (B,) event-aware sub-steps per step while in contact
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def gamma(self) -> float:
+        return self.integrator.gamma
+
+    @property
+    def beta(self) -> float:
+        return self.integrator.beta
 
     @property
     def batch(self) -> int:
@@ -147,8 +160,7 @@ def _structure(ex: Expanded):
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
         tuple((e.name, e.nodes, e.law) for e in ex.contacts),
         ex.steps,
-        ex.gamma,
-        ex.beta,
+        ex.integrator,
         ex.recorders,
         tuple(d.stiffness for d in ex.damping),
     )
@@ -205,7 +217,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building],
         dtype=np.int64,
     )
-    return Plan(
+    plan = Plan(
         node_names=first.node_names,
         node_dof=dof_of_node,
         story_names=tuple(e.name for e in first.stories),
@@ -213,8 +225,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         buildings=first.buildings,
         steps=first.steps,
         bandwidth=int(bandwidth(edges, dof_of_node)),
-        gamma=first.gamma,
-        beta=first.beta,
+        integrator=first.integrator.coefficients(),
+        integrator_name=first.integrator.describe(),
         tolerance=first.tolerance,
         absolute_tolerance=first.absolute_tolerance,
         max_iterations=first.max_iterations,
@@ -237,6 +249,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         history=tuple(history.items()),
         envelope=tuple(envelope),
     )
+    cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
+    return dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts,
+                               warnings=warnings)
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:

@@ -55,6 +55,8 @@ def _solve(args) -> int:
     from pframe.record import write_result
 
     plan = assemble(loaded.expanded)
+    for warning in plan.warnings:
+        print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     progress = _Progress(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
     try:
         result = simulate(plan, progress=progress)

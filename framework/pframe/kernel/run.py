@@ -12,6 +12,7 @@ from pframe.kernel.codegen import (
     NOT_CONVERGED,
     NOT_DEFINITE,
     NOT_FINITE,
+    NOT_STABLE,
     STORY,
     Structure,
     argument_names,
@@ -71,7 +72,9 @@ class Result:
         why = {NOT_CONVERGED: f"Newton did not converge in {plan.max_iterations} iterations "
                               f"(nor in 2^{MAX_SPLIT} sub-steps)",
                NOT_FINITE: "a force became NaN or infinite",
-               NOT_DEFINITE: "the effective stiffness is not positive definite"}[code]
+               NOT_DEFINITE: "the effective stiffness is not positive definite",
+               NOT_STABLE: "the run diverged (the numerics created more energy than the "
+                           "excitation put in)"}[code]
         return f"{why} at t = {t:.6g} s (step {state}) at {where}"
 
 
@@ -80,7 +83,9 @@ def _arrays(plan, structure: Structure):
     s, c = len(plan.story_names), len(plan.contact_names)
     sizes = {"n": n, "s": s, "c": c}
     a = {
-        "dt": plan.dt, "gamma": plan.gamma, "beta": plan.beta, "tol": plan.tolerance,
+        "dt": plan.dt, "gamma": plan.integrator.gamma, "beta": plan.integrator.beta,
+        "alpha_m": plan.integrator.alpha_m, "alpha_f": plan.integrator.alpha_f,
+        "tol": plan.tolerance,
         "atol": plan.absolute_tolerance, "max_iter": plan.max_iterations, "bw": plan.bandwidth,
         "mass": plan.mass, "mdamp": plan.mass_damping, "story_dofs": plan.story_dofs,
         "k0": plan.story_k0, "sbeta": plan.story_beta, "dmode": plan.story_damping_stiffness,
@@ -93,6 +98,9 @@ def _arrays(plan, structure: Structure):
         "impacts": np.zeros((B, c), dtype=np.int64), "energy": np.zeros((B, 6)),
         "status": np.zeros((B, 4), dtype=np.int64), "iterations": np.zeros(B, dtype=np.int64),
         "substeps": np.zeros(B, dtype=np.int64), "max_split": MAX_SPLIT,
+        "cd_parts": plan.cd_parts if plan.cd_parts is not None else np.ones(B, dtype=np.int64),
+        "event_parts": (plan.event_parts if plan.event_parts is not None
+                        else np.ones(B, dtype=np.int64)),
     }
     for prefix, groups in (("s", plan.story_groups), ("c", plan.contact_groups)):
         for g, group in enumerate(groups):

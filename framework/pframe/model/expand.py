@@ -42,8 +42,7 @@ class Expanded:
     initial_velocity: np.ndarray
     dt: float
     steps: int
-    gamma: float
-    beta: float
+    integrator: object  # the integrator's definition (pframe.integrators)
     tolerance: float
     absolute_tolerance: float
     max_iterations: int
@@ -201,8 +200,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         initial_velocity=v0,
         dt=float(analysis.dt),
         steps=steps,
-        gamma=analysis.integrator.gamma,
-        beta=analysis.integrator.beta,
+        integrator=analysis.integrator,
         tolerance=analysis.newton.tolerance,
         absolute_tolerance=analysis.newton.absolute_tolerance,
         max_iterations=analysis.newton.max_iterations,

@@ -9,8 +9,9 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 import functools
 from typing import Annotated, Literal, Union, get_args
 
-from pydantic import BaseModel, ConfigDict, Field, create_model, model_validator
+from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, create_model, model_validator
 
+from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import _builtin_names
 from pframe.quantities import QUANTITIES as _QUANTITIES
@@ -99,12 +100,21 @@ class Record(Base):
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
 
 
-class Newmark(Base):
-    """Newmark's method (gamma, beta); default average acceleration."""
+def _integrator_tag(value):
+    if isinstance(value, dict):
+        return value.get("type", "newmark")
+    return getattr(value, "type", None)
 
-    type: Literal["newmark"] = "newmark"
-    gamma: float = Field(0.5, ge=0.5, le=1.0, description="Newmark gamma (1/2: no numerical damping).")
-    beta: float = Field(0.25, gt=0, le=0.5, description="Newmark beta (1/4: average acceleration).")
+
+Integrator = Annotated[
+    Union[  # noqa: UP007
+        Annotated[Newmark, Tag("newmark")],
+        Annotated[HHT, Tag("hht")],
+        Annotated[GeneralizedAlpha, Tag("generalized_alpha")],
+        Annotated[CentralDifference, Tag("central_difference")],
+    ],
+    Discriminator(_integrator_tag),
+]
 
 
 class Newton(Base):
@@ -120,7 +130,8 @@ class Newton(Base):
 class Analysis(Base):
     """Time integration: integrator, step, duration and Newton settings."""
 
-    integrator: Newmark = Field(Newmark(), description="The time integrator.")
+    integrator: Integrator = Field(Newmark(), description="The time integrator (type: newmark, "
+                                   "hht, generalized_alpha or central_difference).")
     dt: Positive = Field(description="Time step (s).")
     duration: Positive = Field(description="Analysed time (s).")
     newton: Newton = Field(Newton(), description="Newton-Raphson settings (nonlinear scenes).")

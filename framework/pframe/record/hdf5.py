@@ -50,8 +50,11 @@ def _write(f: h5py.File, result, loaded, member: int):
     f.attrs["source"] = str(loaded.source)
     f.attrs["input_yaml"] = loaded.text
     f.attrs["pframe_version"] = pframe.__version__
-    f.attrs["integrator"] = (f"newmark(gamma={plan.gamma}, beta={plan.beta}) "
-                             + ("linear: one solve per step" if plan.linear else "with full Newton"))
+    f.attrs["integrator"] = plan.integrator_name + (
+        "" if plan.integrator.explicit
+        else (", linear: one solve per step" if plan.linear else ", full Newton")
+        + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
+    f.attrs["warnings"] = "\n".join(plan.warnings)
     f.attrs["dt"] = float(plan.dt[member])
     f.attrs["steps"] = int(plan.steps)
     f.attrs["steps_completed"] = int(done - 1)

@@ -1,0 +1,117 @@
+"""Stability and resolution checks made before a run.
+
+The highest frequency of the scene with its contacts closed bounds the explicit step
+(central difference: dt < 2 / w_max); the shortest contact period tells whether an implicit
+step resolves an impact (pframe warns below about 20 steps per contact period).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pframe.errors import InputError
+
+#: steps per contact period below which an implicit run is warned about
+STEPS_PER_CONTACT = 20
+#: force exponent of the power-law contact laws (F ~ k delta^n); others are linear (n = 1)
+_EXPONENT = {"hertz": 1.5, "hertzdamp": 1.5, "jankowski": 1.5}
+
+
+def reference_velocity(ground_acceleration: np.ndarray, dt: float, initial_velocity) -> float:
+    """A generous closing velocity for sizing power-law contacts: ten times the peak ground
+    velocity (structures amplify it) or the largest initial velocity difference."""
+    ground_velocity = np.cumsum(ground_acceleration) * dt
+    peak = 10.0 * float(np.max(np.abs(ground_velocity))) if ground_velocity.size else 0.0
+    spread = float(np.ptp(initial_velocity)) if np.size(initial_velocity) else 0.0
+    return max(peak, spread, 1e-12)
+
+
+def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: float) -> float:
+    """Linear stiffness equivalent to a contact law: k itself for a linear spring; for
+    F = k delta^n the tangent n k delta^(n-1) at the penetration an impact at ``velocity``
+    reaches (energy: m v^2 / 2 = k delta^(n+1) / (n + 1))."""
+    exponent = getattr(law, "exponent", _EXPONENT.get(law.name, 1.0))
+    if "exponent" in law.param_names:
+        exponent = float(params[law.param_names.index("exponent")])
+    k = float(params[0])
+    if exponent == 1.0:
+        return k
+    depth = (0.5 * (exponent + 1.0) * effective_mass * velocity**2 / k) ** (1.0 / (exponent + 1.0))
+    return exponent * k * depth ** (exponent - 1.0)
+
+
+def _stiffness_matrix(plan, member: int, velocity: float) -> tuple[np.ndarray, np.ndarray]:
+    n = plan.n_dof
+    K = np.zeros((n, n))
+
+    def add(i, j, k):
+        K[j, j] += k
+        if i >= 0:
+            K[i, i] += k
+            K[i, j] -= k
+            K[j, i] -= k
+
+    for s, (lo, up) in enumerate(plan.story_dofs):
+        add(lo, up, plan.story_k0[member, s])
+    periods = np.full(len(plan.contact_names), np.inf)
+    mass = plan.mass[member]
+    for group in plan.contact_groups:
+        for j, c in enumerate(group.index):
+            left, right = plan.contact_dofs[c]
+            m_eff = mass[left] * mass[right] / (mass[left] + mass[right])
+            k = contact_stiffness(group.law, group.params[member, j], m_eff, velocity)
+            add(left, right, k)
+            periods[c] = 2.0 * math.pi * math.sqrt(m_eff / k)
+    return K, periods
+
+
+def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
+    """w_max (rad/s) of the scene with every contact closed, and each contact's period (s)."""
+    velocity = reference_velocity(plan.ground_acceleration[member], float(plan.dt[member]),
+                                  plan.initial_velocity[member])
+    K, periods = _stiffness_matrix(plan, member, velocity)
+    scale = 1.0 / np.sqrt(plan.mass[member])
+    if plan.n_dof <= 2000:
+        top = float(np.linalg.eigvalsh(K * np.outer(scale, scale))[-1])
+    else:  # Gershgorin bound: cheap and safe for large scenes
+        A = np.abs(K * np.outer(scale, scale))
+        top = float(np.max(A.sum(axis=1)))
+    return math.sqrt(max(top, 0.0)), periods
+
+
+def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
+    """Sub-step counts for central difference and for event-aware contact phases, and
+    warnings; raises :class:`InputError` for an explicit step above its limit."""
+    batch = plan.batch
+    cd_parts = np.ones(batch, dtype=np.int64)
+    event_parts = np.ones(batch, dtype=np.int64)
+    warnings: list[str] = []
+    explicit = plan.integrator.explicit
+    if not explicit and not plan.contact_names:
+        return cd_parts, event_parts, ()
+    for b in range(batch):
+        dt = float(plan.dt[b])
+        w_max, periods = highest_frequency(plan, b)
+        if explicit and w_max > 0:
+            limit = 2.0 * integrator_params.safety / w_max
+            if dt > limit:
+                if integrator_params.substeps != "auto":
+                    raise InputError(
+                        f"dt = {dt:.4g} s is above the central-difference stability limit "
+                        f"{integrator_params.safety:g} x 2 / w_max = {limit:.4g} s (w_max = "
+                        f"{w_max:.4g} rad/s with the contacts closed); use dt <= {limit:.4g} s "
+                        "or 'substeps: auto' on the integrator, or an implicit integrator")
+                cd_parts[b] = math.ceil(dt / limit)
+        if np.isfinite(periods).any():
+            shortest = float(np.min(periods))
+            steps = shortest / dt
+            event_parts[b] = max(1, math.ceil(STEPS_PER_CONTACT / steps))
+            if not explicit and steps < STEPS_PER_CONTACT and not plan.integrator.events and b == 0:
+                warnings.append(
+                    f"dt = {dt:.4g} s resolves the shortest contact period ({shortest:.4g} s) "
+                    f"with {steps:.1f} steps, fewer than {STEPS_PER_CONTACT}: impacts may be "
+                    f"inaccurate; use dt <= {shortest / STEPS_PER_CONTACT:.4g} s or "
+                    "'events: true' on the integrator")
+    return cd_parts, event_parts, tuple(warnings)
