@@ -155,6 +155,10 @@ def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = Non
         raise InputError(f"{source}: a scene is a YAML mapping (keys such as buildings, "
                          "contacts, excitation, analysis); this file holds "
                          f"{'nothing' if data is None else type(data).__name__}")
+    if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
+        from pframe.nondim.pi_form import expand_pi_data
+
+        data = expand_pi_data(data, lines, source)
     plugins = _plugin_names(data, lines, source)
     try:
         scene = scene_class(*plugins).model_validate(data)
@@ -165,6 +169,13 @@ def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = Non
         expanded = expand(scene, base_dir)
     except ModelError as exc:
         raise InputError(f"{_where(source, lines, exc.path)}: {exc.message}") from None
+    if scene.output.units == "dimensionless":  # fail now, not after the run
+        from pframe.nondim.scene_variables import reference_scales
+
+        try:
+            reference_scales(scene, expanded)
+        except InputError as exc:
+            raise InputError(f"{_where(source, lines, ('output',))}: {exc}") from None
     return LoadedScene(scene, text, source, base_dir, lines, expanded)
 
 

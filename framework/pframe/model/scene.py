@@ -159,6 +159,24 @@ class InitialConditions(Base):
     velocity: dict[NodeName, float] = Field(default_factory=dict, description="(m/s)")
 
 
+class OutputScales(Base):
+    """Reference scales of dimensionless output (Wu et al. 2021, eq. 6)."""
+
+    m_b: Positive = Field(description="Reference mass m_b (kg).")
+    a_p: Positive = Field(description="Reference acceleration a_p (m/s^2).")
+    w_p: Positive = Field(description="Reference circular frequency w_p (rad/s).")
+
+
+class Output(Base):
+    """Units of the result file: SI, or dimensionless (tau = w_p t, x = X / l_e, l_e = a_p /
+    w_p^2, force / (m_b a_p); see docs/dimensional-analysis.md)."""
+
+    units: Literal["SI", "dimensionless"] = Field("SI", description="SI or dimensionless.")
+    scales: OutputScales | None = Field(
+        None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
+        "of the second building and the excitation's amplitude and frequency.")
+
+
 def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:
     """A variant of a material's Params whose numeric fields also take one value per storey.
 
@@ -237,6 +255,7 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
                 Envelope(kind="envelope", quantities=["displacement", "story_drift", "contact_force"])
             ]
         )
+        output: Output = Field(Output(), description="Units of the result file.")
 
     return Scene
 

@@ -16,6 +16,7 @@ import h5py
 import numpy as np
 
 import pframe
+from pframe.nondim.output import output_units
 from pframe.quantities import QUANTITIES
 
 UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
@@ -43,6 +44,7 @@ def _variable(f: h5py.File, name: str, data, dims: tuple[str, ...], units: str, 
 def _write(f: h5py.File, result, loaded, member: int):
     plan = result.plan
     done = result.states_done(member)
+    convert = output_units(loaded.scene, loaded.expanded)  # SI, or dimensionless (pframe.nondim)
     dof = plan.node_dof  # DOF column of each declared node
     text = h5py.string_dtype()
     f.attrs["Conventions"] = "CF-1.8"
@@ -65,15 +67,17 @@ def _write(f: h5py.File, result, loaded, member: int):
     f.attrs["complete"] = np.int8(result.completed(member))
     f.attrs["energy_balance_error"] = float(result.energy_error(member))
     for term, value in zip(ENERGY_TERMS, result.energy[member]):
-        f.attrs[f"energy_{term}"] = float(value)
+        f.attrs[f"energy_{term}"] = float(convert.energy(value))
+    for key, value in convert.attributes(float(plan.dt[member])).items():
+        f.attrs[key] = value
 
     strides = sorted({every for _, every in plan.history})
     time_dims = {}
     for every in strides:
         dim = "time" if every == strides[0] else f"time_every_{every}"
         rows = (done - 1) // every + 1
-        _coordinate(f, dim, np.arange(rows) * every * float(plan.dt[member]), units="s",
-                    long_name="time", axis="T")
+        values, units, long_name = convert.time(np.arange(rows) * every * float(plan.dt[member]))
+        _coordinate(f, dim, values, units=units, long_name=long_name, axis="T")
         time_dims[every] = (dim, rows)
     _coordinate(f, "node", np.array(plan.node_names, dtype=object).astype(text),
                 long_name="floor node (building/floor)")
@@ -91,12 +95,12 @@ def _write(f: h5py.File, result, loaded, member: int):
         dim, rows = time_dims[every]
         data = columns(q, result.history[q][member][:rows])
         dims = (dim,) if DIMENSION[q] is None else (dim, DIMENSION[q])
-        _variable(f, q, data, dims, *UNITS[q])
+        data, units, long_name = convert.variable(data, *UNITS[q])
+        _variable(f, q, data, dims, units, long_name)
     for q, peak in result.envelope.items():
-        units, long_name = UNITS[q]
+        data, units, long_name = convert.variable(np.asarray(columns(q, peak[member])), *UNITS[q])
         dims = () if DIMENSION[q] is None else (DIMENSION[q],)
-        _variable(f, f"peak_{q}", np.asarray(columns(q, peak[member])), dims, units,
-                  f"peak absolute {long_name}")
+        _variable(f, f"peak_{q}", data, dims, units, f"peak absolute {long_name}")
     if plan.contact_names:
         dset = _variable(f, "impact_count", result.impacts[member].astype(np.int32),
                          ("contact",), "1", "number of impacts (contact onsets)")

@@ -1,0 +1,57 @@
+"""``pframe expand MODEL.yaml``: the dimensional scene a Pi-form scene stands for."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from pframe.errors import InputError
+
+
+def expanded_text(path: Path) -> str | None:
+    """The dimensional YAML of a Pi-form scene file; None for a dimensional scene."""
+    from pframe.model import load_scene
+    from pframe.model.load import _compose
+    from pframe.nondim.emit import dump_scene
+    from pframe.nondim.pi_form import expand_pi_data, is_pi_form
+
+    loaded = load_scene(path)  # validates both forms, with line numbers
+    data, lines = _compose(loaded.text, str(path))
+    if not is_pi_form(data):
+        return None
+    expanded = expand_pi_data(data, lines, str(path))
+    s = expanded["output"]["scales"]
+    header = [
+        f"Expanded from the Pi-form scene {path} by 'pframe expand'.",
+        f"Reference scales: m_b = {s['m_b']!r} kg, a_p = {s['a_p']!r} m/s^2, "
+        f"w_p = {s['w_p']!r} rad/s; l_e = a_p / w_p^2 = {s['a_p'] / s['w_p'] ** 2!r} m.",
+        "m_a = Pi_m m_b, K_a = Pi_k m_b w_p^2, K_b = Pi_mu K_a, u_y = Pi_uy l_e, d = Pi_d l_e,",
+        "contact frequency_ratio = Pi_wcon, dt = dtau / w_p, duration = tau / w_p.",
+    ]
+    return dump_scene(expanded, header, "../schemas/model.schema.json")
+
+
+def _expand(args) -> int:
+    path = Path(args.model)
+    text = expanded_text(path)
+    if text is None:
+        print(f"pframe: {path} is a dimensional scene already; printed unchanged",
+              file=sys.stderr)
+        text = path.read_text(encoding="utf-8")
+    if args.output:
+        out = Path(args.output)
+        if out.exists() and not args.overwrite:
+            raise InputError(f"{out}: the output file exists; pass --overwrite to replace it")
+        out.write_text(text, encoding="utf-8")
+        print(f"wrote {out}")
+    else:
+        sys.stdout.write(text)
+    return 0
+
+
+def register(sub) -> None:
+    expand = sub.add_parser("expand", help="print the dimensional scene of a Pi-form scene")
+    expand.add_argument("model", help="scene file in Pi form (YAML with a 'pi:' mapping)")
+    expand.add_argument("-o", "--output", help="write the YAML here instead of printing it")
+    expand.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    expand.set_defaults(run=_expand)

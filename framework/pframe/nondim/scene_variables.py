@@ -1,0 +1,398 @@
+"""The governing variables of any scene, read from its definitions.
+
+Wu et al. (2021), eq. (10), lists 13 variables for two uniform buildings under a sine:
+``m_a, m_b, K_a, mu, u_ya, u_yb, xi, alpha, w_bar, e, d, a_p, w_p``. pframe lists the same
+kind of variables for any scene:
+
+- per building (tag ``a``, ``b``, ``c``, ... in the order of the YAML: the paper's left ``a``
+  and right ``b``): floor masses ``m``, storey stiffnesses ``K``, and the material's other
+  parameters (bilinear: yield drift ``u_y``, post-yield ratio ``alpha``); the Rayleigh
+  damping ratio ``xi``;
+- per contact: the contact frequency ``w_bar = sqrt(k (m1 + m2) / (m1 m2))`` of a linear
+  spring (or the stiffness ``k_h`` in N/m^1.5 of a Hertz-type law), restitution ``e`` and gap
+  ``d``;
+- the excitation: a sine's amplitude ``a_p`` and circular frequency ``w_p`` (and its duration
+  ``t_p`` when limited in time). For a record, ``a_p`` is its peak ground acceleration and
+  ``w_p = 2 pi / T_m`` with ``T_m`` the mean period of Rathje, Abrahamson & Bray (1998),
+  ``T_m = sum(C_i^2 / f_i) / sum(C_i^2)`` over the Fourier amplitudes ``C_i`` of
+  0.25-20 Hz: a robust central period of a broadband motion that has no single pulse;
+- non-zero initial displacements ``u0`` and velocities ``v0``.
+
+Values that are equal are one variable: within a building when every storey has the same
+value (``K_a`` rather than ``K_a1, K_a2, K_a3``), and across the scene for the ratios and
+contact properties (one ``alpha``, ``xi``, ``w_bar``, ``e``, ``d`` when all agree). Masses,
+stiffnesses and yield drifts stay per building, as in the paper, even when two buildings
+agree (the HUST frames have ``Pi_m = Pi_mu = 1``).
+
+Storey counts, contact levels, laws, damping modes and the analysis settings are discrete or
+numerical parameters: :func:`scene_pi` reports them beside the groups.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from fractions import Fraction
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.nondim.buckingham import Group, Variable, check_groups, pi_groups
+from pframe.nondim.dimensions import QUANTITY, Dimension
+from pframe.nondim.fields import law_field_dimension
+
+_SI = {QUANTITY[q]: u for q, u in (
+    ("dimensionless", "1"), ("mass", "kg"), ("length", "m"), ("time", "s"),
+    ("frequency", "rad/s"), ("velocity", "m/s"), ("acceleration", "m/s^2"), ("force", "N"),
+    ("stiffness", "N/m"), ("hertz_stiffness", "N/m^1.5"))}
+
+
+def si_units(dimension: Dimension) -> str:
+    if dimension in _SI:
+        return _SI[dimension]
+    return " ".join(f"{u}^{x}" if x != 1 else u
+                    for u, x in zip(("kg", "m", "s"), dimension.exponents) if x)
+
+
+def _tag(index: int) -> str:
+    """The paper's building letters: a (left), b (right), then c, d, ..."""
+    return chr(ord("a") + index) if index < 26 else f"x{index + 1}_"
+
+
+def _join(root: str, suffix: str) -> str:
+    if not suffix:
+        return root
+    return f"{root}{suffix}" if "_" in root or suffix.startswith("[") else f"{root}_{suffix}"
+
+
+def _same(values) -> bool:
+    first = values[0]
+    return all(math.isclose(v, first, rel_tol=1e-12, abs_tol=0.0) for v in values)
+
+
+# ---------------------------------------------------------------------------------------------
+# raw values per element
+# ---------------------------------------------------------------------------------------------
+
+def _material_values(law, packed) -> dict[str, tuple[Dimension, float]]:
+    """root -> (dimension, value) of one storey; the bilinear yield drift is f_y / k."""
+    if law.name == "elastic":
+        return {"K": (QUANTITY["stiffness"], packed[0])}
+    if law.name == "bilinear":
+        k, fy, alpha = packed
+        return {"K": (QUANTITY["stiffness"], k), "u_y": (QUANTITY["length"], fy / k),
+                "alpha": (QUANTITY["dimensionless"], alpha)}
+    return {("K" if p == "stiffness" else p): (law_field_dimension("material", law.name, p), v)
+            for p, v in zip(law.param_names, packed)}
+
+
+def _contact_values(contact, element, masses) -> dict[str, tuple[Dimension, float]]:
+    law = element.law
+    left, right = element.nodes
+    out = {}
+    if law.name in ("linear", "kelvin", "improved_kelvin"):
+        m_eff = masses[left] * masses[right] / (masses[left] + masses[right])
+        out["w_bar"] = (QUANTITY["frequency"], math.sqrt(element.packed[0] / m_eff))
+    elif law.name in ("hertz", "hertzdamp", "jankowski"):
+        out["k_h"] = (QUANTITY["hertz_stiffness"], element.packed[0])
+    else:
+        for p, v in zip(law.param_names, element.packed):
+            out[p] = (law_field_dimension("contact", law.name, p), v)
+    if getattr(contact, "restitution", None) is not None:
+        out["e"] = (QUANTITY["dimensionless"], float(contact.restitution))
+    out["d"] = (QUANTITY["length"], element.gap)
+    return out
+
+
+def mean_period_frequency(acceleration: np.ndarray, dt: float) -> float:
+    """``2 pi / T_m`` (rad/s), ``T_m`` the mean period of Rathje et al. (1998), 0.25-20 Hz."""
+    amplitude = np.abs(np.fft.rfft(acceleration))
+    f = np.fft.rfftfreq(len(acceleration), dt)
+    band = (f >= 0.25) & (f <= 20.0)
+    if not np.any(band & (amplitude > 0)):
+        band = f > 0
+    c2 = amplitude[band] ** 2
+    if not np.any(c2 > 0):
+        raise InputError("the record is zero on the analysis time grid: it has no frequency")
+    return 2.0 * math.pi * float(np.sum(c2) / np.sum(c2 / f[band]))
+
+
+def excitation_scales(scene, expanded) -> dict[str, float] | None:
+    """``{"a_p": ..., "w_p": ...}`` of the scene's excitation; None without one."""
+    excitation = scene.excitation
+    if excitation is None:
+        return None
+    if excitation.kind == "sine":
+        return {"a_p": abs(float(excitation.amplitude)), "w_p": float(excitation.frequency)}
+    ag = expanded.ground_acceleration
+    return {"a_p": float(np.max(np.abs(ag))), "w_p": mean_period_frequency(ag, expanded.dt)}
+
+
+def reference_building(expanded) -> int:
+    """The building whose floor mass is the mass scale: b (the second) if there is one."""
+    return 1 if len(expanded.buildings) > 1 else 0
+
+
+def reference_scales(scene, expanded) -> dict[str, float]:
+    """``m_b``, ``a_p``, ``w_p`` for dimensionless output: ``output.scales`` if given, else the
+    first floor mass of building b and the excitation's scales.
+
+    Raises
+    ------
+    InputError
+        For a scene without excitation and without ``output.scales``.
+    """
+    given = getattr(getattr(scene, "output", None), "scales", None)
+    if given is not None:
+        return {"m_b": given.m_b, "a_p": given.a_p, "w_p": given.w_p}
+    excitation = excitation_scales(scene, expanded)
+    if excitation is None or excitation["a_p"] == 0.0:
+        raise InputError("dimensionless output needs reference scales: the scene has no "
+                         "excitation to take a_p and w_p from; give output.scales "
+                         "{m_b, a_p, w_p}")
+    first = int(np.flatnonzero(expanded.node_building == reference_building(expanded))[0])
+    return {"m_b": float(expanded.masses[first])} | excitation
+
+
+# ---------------------------------------------------------------------------------------------
+# variables
+# ---------------------------------------------------------------------------------------------
+
+@dataclass
+class _Collector:
+    """Variables in order, with the group naming role of each."""
+
+    variables: list = field(default_factory=list)
+    roles: dict = field(default_factory=dict)  # variable name -> (root, suffix)
+
+    def add(self, root: str, suffix: str, dimension: Dimension, value: float, what: str):
+        name = _join(root, suffix)
+        self.variables.append(Variable(name, dimension, float(value), what, si_units(dimension)))
+        self.roles[name] = (root, suffix)
+
+
+_RANK = {"m": 0, "K": 1, "u_y": 2, "xi": 3, "alpha": 4, "w_bar": 6, "k_h": 6, "e": 7, "d": 8,
+         "a_p": 9, "w_p": 9, "t_p": 9, "u0": 10, "v0": 10}
+_PER_BUILDING = ("m", "K", "u_y")  # kept per building even when buildings agree
+_WHAT = {"m": "floor mass", "K": "storey stiffness", "u_y": "yield drift",
+         "alpha": "post-yield stiffness ratio", "xi": "Rayleigh damping ratio",
+         "w_bar": "contact frequency sqrt(k (m1 + m2) / (m1 m2))",
+         "k_h": "Hertz contact stiffness", "e": "coefficient of restitution", "d": "gap"}
+
+
+def _add_per_building(out: _Collector, root, per_building, buildings, scene_wide: bool):
+    """``per_building[b]`` = list of (label, (dimension, value)) for building b's storeys."""
+    present = [b for b, values in enumerate(per_building) if values]
+    if not present:
+        return
+    every = [v for b in present for _, (_, v) in per_building[b]]
+    dimension = per_building[present[0]][0][1][0]
+    what = _WHAT.get(root, root)
+    if scene_wide and _same(every):
+        scope = "every building" if root == "xi" else "every storey"
+        out.add(root, "", dimension, every[0], f"{what} ({scope})")
+        return
+    for b in present:
+        values = per_building[b]
+        if _same([v for _, (_, v) in values]):
+            out.add(root, _tag(b), dimension, values[0][1][1], f"{what} of {buildings[b]}")
+        else:
+            for label, (dim, v) in values:
+                out.add(root, f"{_tag(b)}{label}", dim, v, f"{what} of {buildings[b]}/{label}")
+
+
+def scene_variables(scene, expanded) -> tuple[list[Variable], dict]:
+    """The governing variables of a validated scene and their naming roles.
+
+    Parameters
+    ----------
+    scene, expanded
+        ``LoadedScene.scene`` and ``LoadedScene.expanded``.
+
+    Returns
+    -------
+    variables : list of Variable
+    roles : dict
+        variable name -> (root, suffix), used to name the Pi groups.
+    """
+    out = _Collector()
+    names = expanded.buildings
+    n_b = len(names)
+    masses = [[] for _ in range(n_b)]
+    for i, b in enumerate(expanded.node_building):
+        masses[b].append((str(len(masses[b]) + 1), (QUANTITY["mass"], expanded.masses[i])))
+    _add_per_building(out, "m", masses, names, scene_wide=False)
+
+    storeys: dict[str, list] = {}
+    counts = [0] * n_b
+    for element, b in zip(expanded.stories, expanded.story_building):
+        counts[b] += 1
+        for root, value in _material_values(element.law, element.packed).items():
+            storeys.setdefault(root, [[] for _ in range(n_b)])[b].append((str(counts[b]), value))
+    for root, per_building in storeys.items():
+        _add_per_building(out, root, per_building, names, scene_wide=root not in _PER_BUILDING)
+
+    ratios = [[("", (QUANTITY["dimensionless"], float(d.ratio)))] for d in expanded.damping]
+    _add_per_building(out, "xi", ratios, names, scene_wide=True)
+
+    contacts: dict[str, list] = {}
+    for contact, element in zip(scene.contacts, expanded.contacts):
+        for root, value in _contact_values(contact, element, expanded.masses).items():
+            contacts.setdefault(root, []).append((element.name, value))
+    for root, values in contacts.items():
+        if _same([v for _, (_, v) in values]):
+            dim, v = values[0][1]
+            out.add(root, "", dim, v, f"{_WHAT.get(root, root)} (every contact)")
+        else:
+            for name, (dim, v) in values:
+                out.add(root, f"[{name}]", dim, v, f"{_WHAT.get(root, root)} of {name}")
+
+    excitation = excitation_scales(scene, expanded)
+    if excitation is not None:
+        kind = "sine amplitude" if scene.excitation.kind == "sine" else "peak ground acceleration"
+        out.add("a_p", "", QUANTITY["acceleration"], excitation["a_p"], kind)
+        what = ("sine circular frequency" if scene.excitation.kind == "sine"
+                else "2 pi / T_m, T_m the record's mean period (Rathje et al. 1998)")
+        out.add("w_p", "", QUANTITY["frequency"], excitation["w_p"], what)
+        if scene.excitation.kind == "sine" and scene.excitation.duration is not None:
+            out.add("t_p", "", QUANTITY["time"], scene.excitation.duration, "sine duration")
+    for key, root, dim in (("displacement", "u0", "length"), ("velocity", "v0", "velocity")):
+        for node, value in getattr(scene.initial_conditions, key).items():
+            if value:
+                out.add(root, f"[{node}]", QUANTITY[dim], value, f"initial {key} of {node}")
+    # the order of the paper's eq. (10); a stable sort keeps buildings and contacts in order
+    variables = sorted(out.variables, key=lambda v: _RANK.get(out.roles[v.name][0], 5))
+    return variables, out.roles
+
+
+# ---------------------------------------------------------------------------------------------
+# groups
+# ---------------------------------------------------------------------------------------------
+
+def _group_name(root: str, suffix: str) -> str:
+    short = {"u_y": "uy", "w_bar": "wcon", "k_h": "kh", "K": "k"}.get(root, root)
+    return "Pi_" + _join(short, suffix) if short != "uy" else f"Pi_uy{suffix}"
+
+
+def paper_groups(variables: list[Variable], roles: dict, repeating: list[str]) -> list[Group]:
+    """The Pi groups named as in Wu et al. (2021): canonical Buckingham groups on
+    ``(m_b, a_p, w_p)``, except that every storey stiffness after the first is expressed
+    relative to it (``Pi_mu = K_b / K_a``) rather than to ``m_b w_p^2``."""
+    canonical = pi_groups(variables, repeating)
+    by_var = {g.exponents[0][0]: g for g in canonical}
+    stiffness = [v.name for v in variables if roles[v.name][0] == "K"]
+    masses = [v.name for v in variables if roles[v.name][0] == "m" and v.name not in repeating]
+    others = stiffness[1:]
+    groups = []
+    for v in variables:
+        if v.name in repeating:
+            continue
+        root, suffix = roles[v.name]
+        g = by_var[v.name]
+        description = f"{v.description}: {v.name}"
+        if root == "K" and v.name != stiffness[0]:
+            name = "Pi_mu" if len(others) == 1 else _join("Pi_mu", suffix)
+            g = Group(name, ((v.name, Fraction(1)), (stiffness[0], Fraction(-1))), description)
+        elif root == "K":
+            g = Group("Pi_k", g.exponents, description)
+        elif root == "m":
+            g = Group("Pi_m" if len(masses) == 1 else _join("Pi_m", suffix), g.exponents,
+                      description)
+        else:
+            g = Group(_group_name(root, suffix), g.exponents, description)
+        groups.append(g)
+    return groups
+
+
+@dataclass(frozen=True)
+class PiReport:
+    """The Pi analysis of one scene (what ``pframe pi`` prints)."""
+
+    variables: tuple[Variable, ...]
+    repeating: tuple[str, ...]
+    groups: tuple[Group, ...]
+    values: dict
+    discrete: tuple[str, ...]
+    numerics: dict
+    notes: tuple[str, ...]
+
+    def as_dict(self) -> dict:
+        return {
+            "dimensions": ["M", "L", "T"],
+            "variables": [{"name": v.name, "dimension": str(v.dimension), "units": v.units,
+                           "value": v.value, "description": v.description}
+                          for v in self.variables],
+            "repeating": list(self.repeating),
+            "groups": [{"name": g.name, "formula": g.formula(), "value": self.values[g.name],
+                        "exponents": {n: str(x) for n, x in g.exponents},
+                        "description": g.description} for g in self.groups],
+            "discrete": list(self.discrete),
+            "numerics": self.numerics,
+            "notes": list(self.notes),
+        }
+
+
+def _discrete(scene, expanded) -> list[str]:
+    out = []
+    for b, name in enumerate(expanded.buildings):
+        laws = sorted({e.law.name for e, sb in zip(expanded.stories, expanded.story_building)
+                       if sb == b})
+        floors = int(np.sum(expanded.node_building == b))
+        out.append(f"building {_tag(b)} = {name}: {floors} floors, "
+                   f"{sum(1 for sb in expanded.story_building if sb == b)} storeys "
+                   f"({', '.join(laws) or 'none'})")
+    for contact, element in zip(scene.contacts, expanded.contacts):
+        left, right = (expanded.node_names[i] for i in element.nodes)
+        extra = ", keep_tension" if getattr(contact, "keep_tension", False) else ""
+        out.append(f"contact {element.name}: {left} - {right} ({element.law.name}{extra})")
+    modes = {tuple(d.modes) for d in expanded.damping}
+    stiff = {d.stiffness for d in expanded.damping}
+    out.append(f"Rayleigh damping on modes {'; '.join(' and '.join(map(str, m)) for m in sorted(modes))}"
+               f" ({', '.join(sorted(stiff))} stiffness)")
+    if scene.excitation is not None and scene.excitation.kind == "sine":
+        cycles = scene.excitation.cycles
+        out.append("sine excitation" + (f", {cycles:g} cycles" if cycles else ""))
+    elif scene.excitation is not None:
+        out.append(f"record excitation {scene.excitation.file}")
+    return out
+
+
+def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
+    """Variables, Pi groups (names, formulas, values) and discrete parameters of a scene.
+
+    With the default repeating variables (the reference floor mass ``m_b``, ``a_p``,
+    ``w_p``) the groups carry the paper's names (:func:`paper_groups`); with others they are
+    the canonical Buckingham groups ``Pi_<variable>``.
+
+    Raises
+    ------
+    InputError
+        For a scene without excitation and no repeating variables given, or repeating
+        variables that cannot serve (:class:`~pframe.nondim.buckingham.DimensionalAnalysisError`).
+    """
+    variables, roles = scene_variables(scene, expanded)
+    by_name = {v.name: v for v in variables}
+    default = repeating is None
+    if default:
+        if "a_p" not in by_name:
+            raise InputError("the scene has no excitation, so there is no default a_p, w_p; "
+                             "choose repeating variables among " + ", ".join(by_name))
+        ref = reference_building(expanded)
+        mass = next(v.name for v in variables
+                    if roles[v.name][0] == "m" and roles[v.name][1].startswith(_tag(ref)))
+        repeating = [mass, "a_p", "w_p"]
+    groups = (paper_groups(variables, roles, repeating) if default
+              else pi_groups(variables, repeating))
+    check_groups(variables, groups)
+    values = {g.name: g.value({v.name: v.value for v in variables}) for g in groups}
+    numerics = {"dt": expanded.dt, "duration": expanded.dt * expanded.steps}
+    notes = []
+    if "w_p" in by_name:
+        w = by_name["w_p"].value
+        numerics |= {"dtau": w * expanded.dt, "tau": w * expanded.dt * expanded.steps}
+        if scene.excitation.kind == "record":
+            notes.append(f"record: a_p = PGA = {by_name['a_p'].value:.6g} m/s^2, w_p = 2 pi / T_m "
+                         f"= {w:.6g} rad/s (T_m = {2 * math.pi / w:.4g} s, mean period of "
+                         "Rathje et al. 1998 over 0.25-20 Hz)")
+    return PiReport(tuple(variables), tuple(repeating), tuple(groups), values,
+                    tuple(_discrete(scene, expanded)), numerics, tuple(notes))
