@@ -35,7 +35,8 @@ class Result:
     history: dict = field(default_factory=dict)  # quantity -> (B, rows, width)
     envelope: dict = field(default_factory=dict)  # quantity -> (B, width)
     impacts: np.ndarray = None  # (B, c)
-    energy: np.ndarray = None  # (B, 6) input, kinetic, damping, story, contact, kinetic0
+    energy: np.ndarray = None  # (B, 8) input, kinetic, damping, story, contact, kinetic0,
+    # |input| accumulated, initial mechanical energy
     status: np.ndarray = None  # (B, 4) code, state index, element kind, element index
     iterations: np.ndarray = None  # (B,) Newton solves
     substeps: np.ndarray = None  # (B,) steps that had to be split into sub-steps
@@ -52,7 +53,7 @@ class Result:
     def energy_error(self, b: int = 0) -> float:
         """|W_input - (dE_kinetic + W_damping + W_storeys + W_contacts)| relative to the
         largest energy term of the run."""
-        w_in, kin, damp, story, contact, kin0 = self.energy[b]
+        w_in, kin, damp, story, contact, kin0 = self.energy[b, :6]
         scale = max(abs(w_in), kin + kin0 + abs(damp) + abs(story) + abs(contact), 1e-300)
         return abs(w_in - (kin - kin0 + damp + story + contact)) / scale
 
@@ -95,7 +96,7 @@ def _arrays(plan, structure: Structure):
         "A": np.zeros((B, n)), "drift_c": np.zeros((B, s)), "sforce_c": np.zeros((B, s)),
         "sdamp_c": np.zeros((B, s)), "stan_c": plan.story_k0.copy(),
         "cforce_c": np.zeros((B, c)), "cpen_c": np.full((B, c), -1.0),
-        "impacts": np.zeros((B, c), dtype=np.int64), "energy": np.zeros((B, 6)),
+        "impacts": np.zeros((B, c), dtype=np.int64), "energy": np.zeros((B, 8)),
         "status": np.zeros((B, 4), dtype=np.int64), "iterations": np.zeros(B, dtype=np.int64),
         "substeps": np.zeros(B, dtype=np.int64), "max_split": MAX_SPLIT,
         "cd_parts": plan.cd_parts if plan.cd_parts is not None else np.ones(B, dtype=np.int64),
