@@ -1,0 +1,7 @@
+"""``python -m pframe.reference MODEL.yaml``: see :mod:`pframe.reference.study`."""
+
+import sys
+
+from pframe.reference.study import main
+
+sys.exit(main())

@@ -1,0 +1,79 @@
+"""Ground acceleration a_g(t) as a function of continuous time, with its breakpoints.
+
+The integrator restarts at every breakpoint (a kink or jump of a_g), so that no step straddles
+one: a Runge-Kutta step across a kink of the forcing loses its order and its error estimate.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Ground:
+    """a_g(t) (m/s^2) for scalar or array t, smooth between ``breakpoints`` (s)."""
+
+    function: object
+    breakpoints: np.ndarray = field(default_factory=lambda: np.empty(0))
+    description: str = "user function"
+
+    def __call__(self, t):
+        return self.function(t)
+
+
+def sampled(times: np.ndarray, values: np.ndarray) -> Ground:
+    """Linear interpolation of samples (what the kernel's sub-steps use); a breakpoint at
+    every sample, zero outside the samples."""
+    times = np.asarray(times, dtype=float)
+    values = np.asarray(values, dtype=float)
+    if not np.any(values):
+        return Ground(lambda t: np.zeros(np.shape(t)), np.empty(0), "none")
+
+    def function(t):
+        return np.interp(t, times, values, left=0.0, right=0.0)
+
+    return Ground(function, times, "samples, interpolated linearly")
+
+
+def sine(amplitude: float, frequency: float, end: float = np.inf) -> Ground:
+    """a_p sin(w_p t) until ``end`` (s), then zero (the kernel's samples: ``t <= end``)."""
+    limit = end * (1.0 + 1e-12) if np.isfinite(end) else np.inf
+
+    def function(t):
+        if np.ndim(t) == 0:  # the integrator's calls: keep them cheap
+            return amplitude * math.sin(frequency * t) if t <= limit else 0.0
+        t = np.asarray(t, dtype=float)
+        return np.where(t <= limit, amplitude * np.sin(frequency * t), 0.0)
+
+    breaks = np.array([limit]) if np.isfinite(limit) else np.empty(0)
+    return Ground(function, breaks, f"{amplitude:g} sin({frequency:g} t)")
+
+
+def of_scene(loaded) -> Ground:
+    """The ground motion a scene defines, in continuous time: the exact sine of a sine
+    excitation (with its cut-off), the record interpolated linearly between its own samples
+    (breakpoints at the record's times), zero without excitation. This is what the kernel
+    converges to as dt -> 0, whereas the plan's samples change with dt."""
+    from pframe.excitation import read_record
+
+    excitation = loaded.scene.excitation
+    if excitation is None:
+        return Ground(lambda t: np.zeros(np.shape(t)), np.empty(0), "none")
+    if excitation.kind == "sine":
+        end = np.inf
+        if excitation.cycles is not None:
+            end = excitation.cycles * 2.0 * np.pi / excitation.frequency
+        elif excitation.duration is not None:
+            end = excitation.duration
+        return sine(excitation.amplitude, excitation.frequency, end)
+    t, a = read_record(loaded.base_dir / excitation.file, excitation.format, excitation.units)
+    t = np.asarray(t, dtype=float)
+    a = excitation.scale * np.asarray(a, dtype=float)
+
+    def function(x):
+        return np.interp(x, t, a, left=0.0, right=0.0)
+
+    return Ground(function, t, f"record {excitation.file}")
