@@ -536,3 +536,32 @@ def test_scaling_a_record_in_time_is_refused(tmp_path):
         scale_scene(data, similitude({"length": "1/16", "modulus": 1, "acceleration": 1}))
     same_time = similitude({"length": "1/16", "time": 1, "mass": "1/2"})
     assert scale_scene(data, same_time)["excitation"]["scale"] == pytest.approx(2 / 16)
+
+
+# ---------------------------------------------------------------------------------------------
+# docs/dimensional-analysis.md
+# ---------------------------------------------------------------------------------------------
+
+DOC = REPO / "docs" / "dimensional-analysis.md"
+
+
+@pytest.mark.parametrize("marker, argv", [
+    ("pi-output", ["pi", "models/wu2021-eq14.yaml"]),
+    ("scale-output", ["scale", "--length", "1/16", "--modulus", "1", "--acceleration", "1"]),
+])
+def test_the_page_shows_what_the_commands_print(marker, argv, capsys, monkeypatch):
+    monkeypatch.chdir(REPO)
+    text = DOC.read_text(encoding="utf-8")
+    block = text.split(f"<!-- BEGIN {marker} -->\n")[1].split(f"<!-- END {marker} -->")[0]
+    assert main(argv) == 0
+    assert block == f"```text\n{capsys.readouterr().out}```\n"
+
+
+def test_the_page_lists_every_key_of_pi_form_scenes():
+    from pframe.nondim.pi_form import PiBuilding, PiContacts, PiNumbers, PiScene, Scales
+
+    text = DOC.read_text(encoding="utf-8")
+    for model in (PiScene, PiNumbers, PiBuilding, PiContacts, Scales):
+        for field in model.model_fields:
+            assert f"`{field}`" in text, f"{model.__name__}.{field} is not documented"
+    assert "`dt_tau`" in text and "`tau`" in text

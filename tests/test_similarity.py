@@ -71,6 +71,8 @@ def _run(text: str, path: Path) -> dict:
         out["impact_count"] = f["impact_count"][()]
         out["attrs"] = {k: f.attrs[k] for k in f.attrs if k.startswith("energy_")}
         out["units"] = {name: f[name].attrs.get("units") for name in f}
+        out["labels"] = {k: f.attrs[k] for k in f.attrs
+                         if k.startswith(("scale_", "units_system", "nondimensional", "dtau"))}
     return out
 
 
@@ -79,7 +81,7 @@ def _differences(a: dict, b: dict) -> dict[str, float]:
     assert a.keys() == b.keys()
     out = {}
     for name in a:
-        if name in ("attrs", "units", "impact_count"):
+        if name in ("attrs", "units", "labels", "impact_count"):
             continue
         scale = max(np.max(np.abs(a[name])), 1e-300)
         out[name] = float(np.max(np.abs(a[name] - b[name]))) / scale
@@ -137,6 +139,19 @@ def test_similar_scenes_with_kelvin_contacts_agree_less_closely(reference, tmp_p
     print("similarity (Kelvin): " + ", ".join(f"{k} {v:.1e}" for k, v in differences.items()))
     assert max(differences.values()) < 1e-4
     assert max(v for k, v in differences.items() if k.startswith("peak_")) < 1e-6
+
+
+def test_dimensionless_files_say_so(reference):
+    """tau = w_p t over 0 .. 50, every variable of units "1", the scales in the attributes."""
+    ref = reference["improved_kelvin"]
+    assert ref["time"][-1] == pytest.approx(50.0, rel=1e-12)
+    assert set(ref["units"].values()) <= {"1", None}
+    labels = ref["labels"]
+    assert labels["units_system"] == "dimensionless"
+    assert labels["scale_m_b"] == 1000.0 and labels["scale_a_p"] == 9.81
+    assert labels["scale_l_e"] == pytest.approx(9.81 / (2 * math.pi) ** 2, rel=1e-15)
+    assert labels["dtau"] == pytest.approx(0.001, rel=1e-12)
+    assert "x = X / l_e" in labels["nondimensional_scales"]
 
 
 def test_a_scaled_dimensional_scene_gives_the_pi_scenes_file(reference, tmp_path):

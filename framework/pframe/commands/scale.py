@@ -31,7 +31,7 @@ def _table(sim) -> list[str]:
     rows = sim.rows()
     chosen = ", ".join(f"{name} {value}" for name, value in sim.chosen)
     out = [f"similitude S = model / prototype, from {chosen}",
-           f"  {'quantity':<13}{'symbol':<7}{'dimension':<14}{'ratio':<16}{'value':<13}"]
+           f"  {'quantity':<13}{'symbol':<7}{'dimension':<14}{'ratio':<16}value"]
     for r in rows:
         how = "chosen" if r["status"] == "chosen" else f"implied: {r['formula']}"
         out.append(f"  {r['quantity']:<13}{r['symbol']:<7}{r['dimension']:<14}{r['ratio']:<16}"
