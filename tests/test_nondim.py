@@ -565,3 +565,14 @@ def test_the_page_lists_every_key_of_pi_form_scenes():
         for field in model.model_fields:
             assert f"`{field}`" in text, f"{model.__name__}.{field} is not documented"
     assert "`dt_tau`" in text and "`tau`" in text
+
+
+def test_nondim_imports_neither_numba_nor_h5py():
+    """pframe.nondim reads definitions and returns definitions: no kernel, no HDF5."""
+    import subprocess
+    import sys
+
+    code = "import sys, pframe.nondim; print('numba' in sys.modules, 'h5py' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=120, check=True).stdout
+    assert out.split() == ["False", "False"]

@@ -6,7 +6,8 @@ numba nor h5py).
 
 - :mod:`~pframe.nondim.dimensions`: exact M, L, T exponents; the quantities pframe uses.
 - :mod:`~pframe.nondim.buckingham`: Pi groups from a dimension matrix (exact Gauss-Jordan).
-- :mod:`~pframe.nondim.scene_variables`: the governing variables and Pi groups of any scene.
+- :mod:`~pframe.nondim.scene_variables`: the governing variables of any scene.
+- :mod:`~pframe.nondim.scene_pi`: their Pi groups with the paper's names (``pframe pi``).
 - :mod:`~pframe.nondim.pi_form`: scenes written in Pi numbers, expanded to dimensional ones.
 - :mod:`~pframe.nondim.similitude`: scale ratios of scale models; scaling a scene.
 - :mod:`~pframe.nondim.output`: dimensionless result files.
@@ -23,7 +24,8 @@ from pframe.nondim.buckingham import (
 from pframe.nondim.dimensions import QUANTITY, Dimension, parse_units
 from pframe.nondim.output import OutputUnits, output_units
 from pframe.nondim.pi_form import PiScene, expand_pi, is_pi_form
-from pframe.nondim.scene_variables import PiReport, reference_scales, scene_pi, scene_variables
+from pframe.nondim.scene_pi import PiReport, scene_pi
+from pframe.nondim.scene_variables import reference_scales, scene_variables
 from pframe.nondim.similitude import Ratio, Similitude, SimilitudeError, scale_scene, similitude
 
 __all__ = [

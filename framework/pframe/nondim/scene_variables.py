@@ -25,19 +25,18 @@ stiffnesses and yield drifts stay per building, as in the paper, even when two b
 agree (the HUST frames have ``Pi_m = Pi_mu = 1``).
 
 Storey counts, contact levels, laws, damping modes and the analysis settings are discrete or
-numerical parameters: :func:`scene_pi` reports them beside the groups.
+numerical parameters: :func:`pframe.nondim.scene_pi.scene_pi` reports them beside the groups.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from fractions import Fraction
 
 import numpy as np
 
 from pframe.errors import InputError
-from pframe.nondim.buckingham import Group, Variable, check_groups, pi_groups
+from pframe.nondim.buckingham import Variable
 from pframe.nondim.dimensions import QUANTITY, Dimension
 from pframe.nondim.fields import law_field_dimension
 
@@ -54,12 +53,12 @@ def si_units(dimension: Dimension) -> str:
                     for u, x in zip(("kg", "m", "s"), dimension.exponents) if x)
 
 
-def _tag(index: int) -> str:
+def building_tag(index: int) -> str:
     """The paper's building letters: a (left), b (right), then c, d, ..."""
     return chr(ord("a") + index) if index < 26 else f"x{index + 1}_"
 
 
-def _join(root: str, suffix: str) -> str:
+def join_suffix(root: str, suffix: str) -> str:
     if not suffix:
         return root
     return f"{root}{suffix}" if "_" in root or suffix.startswith("[") else f"{root}_{suffix}"
@@ -166,7 +165,7 @@ class _Collector:
     roles: dict = field(default_factory=dict)  # variable name -> (root, suffix)
 
     def add(self, root: str, suffix: str, dimension: Dimension, value: float, what: str):
-        name = _join(root, suffix)
+        name = join_suffix(root, suffix)
         self.variables.append(Variable(name, dimension, float(value), what, si_units(dimension)))
         self.roles[name] = (root, suffix)
 
@@ -195,10 +194,10 @@ def _add_per_building(out: _Collector, root, per_building, buildings, scene_wide
     for b in present:
         values = per_building[b]
         if _same([v for _, (_, v) in values]):
-            out.add(root, _tag(b), dimension, values[0][1][1], f"{what} of {buildings[b]}")
+            out.add(root, building_tag(b), dimension, values[0][1][1], f"{what} of {buildings[b]}")
         else:
             for label, (dim, v) in values:
-                out.add(root, f"{_tag(b)}{label}", dim, v, f"{what} of {buildings[b]}/{label}")
+                out.add(root, f"{building_tag(b)}{label}", dim, v, f"{what} of {buildings[b]}/{label}")
 
 
 def scene_variables(scene, expanded) -> tuple[list[Variable], dict]:
@@ -263,136 +262,3 @@ def scene_variables(scene, expanded) -> tuple[list[Variable], dict]:
     # the order of the paper's eq. (10); a stable sort keeps buildings and contacts in order
     variables = sorted(out.variables, key=lambda v: _RANK.get(out.roles[v.name][0], 5))
     return variables, out.roles
-
-
-# ---------------------------------------------------------------------------------------------
-# groups
-# ---------------------------------------------------------------------------------------------
-
-def _group_name(root: str, suffix: str) -> str:
-    short = {"u_y": "uy", "w_bar": "wcon", "k_h": "kh", "K": "k"}.get(root, root)
-    return "Pi_" + _join(short, suffix) if short != "uy" else f"Pi_uy{suffix}"
-
-
-def paper_groups(variables: list[Variable], roles: dict, repeating: list[str]) -> list[Group]:
-    """The Pi groups named as in Wu et al. (2021): canonical Buckingham groups on
-    ``(m_b, a_p, w_p)``, except that every storey stiffness after the first is expressed
-    relative to it (``Pi_mu = K_b / K_a``) rather than to ``m_b w_p^2``."""
-    canonical = pi_groups(variables, repeating)
-    by_var = {g.exponents[0][0]: g for g in canonical}
-    stiffness = [v.name for v in variables if roles[v.name][0] == "K"]
-    masses = [v.name for v in variables if roles[v.name][0] == "m" and v.name not in repeating]
-    others = stiffness[1:]
-    groups = []
-    for v in variables:
-        if v.name in repeating:
-            continue
-        root, suffix = roles[v.name]
-        g = by_var[v.name]
-        description = f"{v.description}: {v.name}"
-        if root == "K" and v.name != stiffness[0]:
-            name = "Pi_mu" if len(others) == 1 else _join("Pi_mu", suffix)
-            g = Group(name, ((v.name, Fraction(1)), (stiffness[0], Fraction(-1))), description)
-        elif root == "K":
-            g = Group("Pi_k", g.exponents, description)
-        elif root == "m":
-            g = Group("Pi_m" if len(masses) == 1 else _join("Pi_m", suffix), g.exponents,
-                      description)
-        else:
-            g = Group(_group_name(root, suffix), g.exponents, description)
-        groups.append(g)
-    return groups
-
-
-@dataclass(frozen=True)
-class PiReport:
-    """The Pi analysis of one scene (what ``pframe pi`` prints)."""
-
-    variables: tuple[Variable, ...]
-    repeating: tuple[str, ...]
-    groups: tuple[Group, ...]
-    values: dict
-    discrete: tuple[str, ...]
-    numerics: dict
-    notes: tuple[str, ...]
-
-    def as_dict(self) -> dict:
-        return {
-            "dimensions": ["M", "L", "T"],
-            "variables": [{"name": v.name, "dimension": str(v.dimension), "units": v.units,
-                           "value": v.value, "description": v.description}
-                          for v in self.variables],
-            "repeating": list(self.repeating),
-            "groups": [{"name": g.name, "formula": g.formula(), "value": self.values[g.name],
-                        "exponents": {n: str(x) for n, x in g.exponents},
-                        "description": g.description} for g in self.groups],
-            "discrete": list(self.discrete),
-            "numerics": self.numerics,
-            "notes": list(self.notes),
-        }
-
-
-def _discrete(scene, expanded) -> list[str]:
-    out = []
-    for b, name in enumerate(expanded.buildings):
-        laws = sorted({e.law.name for e, sb in zip(expanded.stories, expanded.story_building)
-                       if sb == b})
-        floors = int(np.sum(expanded.node_building == b))
-        out.append(f"building {_tag(b)} = {name}: {floors} floors, "
-                   f"{sum(1 for sb in expanded.story_building if sb == b)} storeys "
-                   f"({', '.join(laws) or 'none'})")
-    for contact, element in zip(scene.contacts, expanded.contacts):
-        left, right = (expanded.node_names[i] for i in element.nodes)
-        extra = ", keep_tension" if getattr(contact, "keep_tension", False) else ""
-        out.append(f"contact {element.name}: {left} - {right} ({element.law.name}{extra})")
-    modes = {tuple(d.modes) for d in expanded.damping}
-    stiff = {d.stiffness for d in expanded.damping}
-    out.append(f"Rayleigh damping on modes {'; '.join(' and '.join(map(str, m)) for m in sorted(modes))}"
-               f" ({', '.join(sorted(stiff))} stiffness)")
-    if scene.excitation is not None and scene.excitation.kind == "sine":
-        cycles = scene.excitation.cycles
-        out.append("sine excitation" + (f", {cycles:g} cycles" if cycles else ""))
-    elif scene.excitation is not None:
-        out.append(f"record excitation {scene.excitation.file}")
-    return out
-
-
-def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
-    """Variables, Pi groups (names, formulas, values) and discrete parameters of a scene.
-
-    With the default repeating variables (the reference floor mass ``m_b``, ``a_p``,
-    ``w_p``) the groups carry the paper's names (:func:`paper_groups`); with others they are
-    the canonical Buckingham groups ``Pi_<variable>``.
-
-    Raises
-    ------
-    InputError
-        For a scene without excitation and no repeating variables given, or repeating
-        variables that cannot serve (:class:`~pframe.nondim.buckingham.DimensionalAnalysisError`).
-    """
-    variables, roles = scene_variables(scene, expanded)
-    by_name = {v.name: v for v in variables}
-    default = repeating is None
-    if default:
-        if "a_p" not in by_name:
-            raise InputError("the scene has no excitation, so there is no default a_p, w_p; "
-                             "choose repeating variables among " + ", ".join(by_name))
-        ref = reference_building(expanded)
-        mass = next(v.name for v in variables
-                    if roles[v.name][0] == "m" and roles[v.name][1].startswith(_tag(ref)))
-        repeating = [mass, "a_p", "w_p"]
-    groups = (paper_groups(variables, roles, repeating) if default
-              else pi_groups(variables, repeating))
-    check_groups(variables, groups)
-    values = {g.name: g.value({v.name: v.value for v in variables}) for g in groups}
-    numerics = {"dt": expanded.dt, "duration": expanded.dt * expanded.steps}
-    notes = []
-    if "w_p" in by_name:
-        w = by_name["w_p"].value
-        numerics |= {"dtau": w * expanded.dt, "tau": w * expanded.dt * expanded.steps}
-        if scene.excitation.kind == "record":
-            notes.append(f"record: a_p = PGA = {by_name['a_p'].value:.6g} m/s^2, w_p = 2 pi / T_m "
-                         f"= {w:.6g} rad/s (T_m = {2 * math.pi / w:.4g} s, mean period of "
-                         "Rathje et al. 1998 over 0.25-20 Hz)")
-    return PiReport(tuple(variables), tuple(repeating), tuple(groups), values,
-                    tuple(_discrete(scene, expanded)), numerics, tuple(notes))
