@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -22,6 +24,9 @@ from pframe.quantities import QUANTITIES
 _WIDTH = {q: {"node": "n", "story": "s", "contact": "c", None: None}[dim]
           for q, (dim, _, _) in QUANTITIES.items()}
 
+
+#: kernel arguments without a batch axis (topology shared by all variants)
+_SHARED = {"story_dofs", "dmode", "contact_dofs"}
 
 #: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
 MAX_SPLIT = 10
@@ -121,11 +126,20 @@ def _arrays(plan, structure: Structure):
     return a
 
 
-def simulate(plan, progress=None, chunk_seconds: float = 0.25) -> Result:
+def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
+    """Contiguous slices of the batch for the threads: several per thread, for balance."""
+    threads = threads or os.cpu_count() or 1
+    count = min(batch, 1 if threads == 1 else 4 * threads)
+    edges = np.linspace(0, batch, count + 1).round().astype(int)
+    return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+
+
+def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None) -> Result:
     """Integrate every member of the plan's batch over all its steps.
 
     ``progress(done, total)`` is called between chunks when given; without it the whole run
     is one kernel call after the first state (which also compiles or loads the kernel).
+    A batch runs in ``threads`` threads (default: one per CPU).
     """
     from pframe.kernel.build import diagnose, kernel_for
 
@@ -133,10 +147,24 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25) -> Result:
     kernel = kernel_for(structure)
     arrays = _arrays(plan, structure)
     names = argument_names(structure)
+    batched = {name for name in names
+               if isinstance(arrays.get(name), np.ndarray) and arrays[name].ndim >= 1
+               and name not in _SHARED and not name.startswith(("sx", "cx"))}
+
+    pieces = _pieces(plan.batch, threads)
+    pool = ThreadPoolExecutor(len(pieces)) if len(pieces) > 1 else None
 
     def call(begin, end):
         arrays["begin"], arrays["end"] = begin, end
-        kernel(*[arrays[name] for name in names])
+        if pool is None:
+            kernel(*[arrays[name] for name in names])
+            return
+        # The kernel releases the GIL (nogil): contiguous slices of the batch run in threads,
+        # each variant on its own, so one slow variant never holds up the others' iterations.
+        futures = [pool.submit(kernel, *[arrays[name][lo:hi] if name in batched else arrays[name]
+                                         for name in names]) for lo, hi in pieces]
+        for future in futures:
+            future.result()
 
     total = plan.steps + 1
     start = time.perf_counter()
@@ -162,6 +190,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25) -> Result:
         done = end
         if np.all(arrays["status"][:, 0] != 0):
             break
+    if pool is not None:
+        pool.shutdown()
     return Result(
         plan=plan,
         history={q: arrays[f"h_{q}"] for q, _ in plan.history},
