@@ -1,0 +1,184 @@
+"""``pframe sweep SWEEP.yaml``: run every variant of a parametric study into one labelled file."""
+
+from __future__ import annotations
+
+import sys
+import time
+from pathlib import Path
+
+from pframe.errors import InputError
+
+
+class _Progress:
+    """Variants done, rate and time left: a bar on a terminal, a plain line every ``every``
+    seconds (and at the end) otherwise."""
+
+    def __init__(self, stream, tty: bool, every: float = 10.0):
+        self.stream = stream
+        self.tty = tty
+        self.every = every
+        self.start = None  # (time, variants done) when this run started computing
+        self.last_line = 0.0
+        self.shown = False
+
+    def __call__(self, done: int, total: int, failed: int):
+        now = time.perf_counter()
+        if self.start is None:
+            self.start = (now, done)
+            self.last_line = now
+            if done:
+                self._write(f"resuming: {done} of {total} variants already done", now, newline=True)
+            return
+        elapsed = now - self.start[0]
+        rate = (done - self.start[1]) / elapsed if elapsed > 0 else 0.0
+        left = (total - done) / rate if rate > 0 else float("nan")
+        failures = f" ({failed} failed)" if failed else ""
+        text = (f"{done}/{total} variants{failures}, {rate:,.2f} variants/s, "
+                + (f"{left:.0f} s left" if done < total else f"{elapsed:.1f} s"))
+        if self.tty:
+            width = 30
+            filled = int(width * done / total)
+            self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {text} ")
+            self.stream.flush()
+            self.shown = True
+        elif done == total or now - self.last_line >= self.every:
+            self._write(text, now, newline=True)
+
+    def _write(self, text, now, newline):
+        self.last_line = now
+        if self.tty and self.shown:
+            self.stream.write("\n")
+            self.shown = False
+        self.stream.write(f"pframe sweep: {text}\n" if newline else text)
+        self.stream.flush()
+
+    def close(self):
+        if self.tty and self.shown:
+            self.stream.write("\n")
+            self.stream.flush()
+
+
+def _existing_digest(path: Path) -> str | None:
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            value = f.attrs.get("sweep_digest")
+    except OSError:
+        return None
+    return value.decode() if isinstance(value, bytes) else (str(value) if value is not None else None)
+
+
+def _show_variant(definition, index: int) -> int:
+    import yaml
+
+    from pframe.sweep import parse
+    from pframe.sweep.variants import variant_data
+
+    spec = parse(definition)
+    if not 0 <= index < spec.count:
+        raise InputError(f"--variant {index}: the sweep has variants 0 to {spec.count - 1}")
+    paths = {key: path for _, _, key, path in definition.records}
+    data = variant_data(spec, index, record_path=lambda key: paths[key])
+    print(f"# variant {index} of {definition.source}: {spec.describe(index)}")
+    print(f"# base scene: {definition.base_source or '(inline)'}; record files as absolute paths")
+    sys.stdout.write(yaml.safe_dump(data, sort_keys=False))
+    return 0
+
+
+def _sweep(args) -> int:
+    from pframe.sweep import load_sweep, parse
+
+    definition = load_sweep(args.sweep, chunk=args.chunk)
+    if args.variant is not None:
+        return _show_variant(definition, args.variant)
+    if args.threads is not None and args.threads < 1:
+        raise InputError(f"--threads {args.threads}: give at least 1")
+    spec = parse(definition)
+    out = Path(args.output) if args.output else Path(Path(args.sweep).stem + ".h5")
+    if not out.parent.exists():
+        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    from pframe.sweep.store import parts_folder
+
+    if out.exists() and not parts_folder(out).exists():
+        if _existing_digest(out) == definition.digest and not args.overwrite:
+            if not args.quiet:
+                print(f"{out}: already holds this sweep, complete; nothing to do "
+                      "(--overwrite runs it again)")
+            return 0
+        if not args.overwrite:
+            raise InputError(f"{out}: the output file exists; pass --overwrite to replace it, "
+                             "or choose another name with -o")
+
+    from pframe.sweep import run_sweep
+
+    say = (lambda text: None) if args.quiet else (lambda text: print(text, file=sys.stderr))
+    axes = ", ".join(f"{a.name}: {len(a.values)}" for a in spec.axes)
+    where = f" on the Dask cluster at {args.scheduler}" if args.scheduler else ""
+    say(f"pframe sweep: {args.sweep}: {spec.count} variants ({spec.model.combine} of {axes}) "
+        f"in {spec.chunks} chunks of up to {definition.chunk}{where}")
+    progress = None if args.quiet else _Progress(sys.stderr, sys.stderr.isatty())
+    try:
+        run = run_sweep(definition, out, restart=args.overwrite, threads=args.threads,
+                        scheduler=args.scheduler, progress=progress)
+    except KeyboardInterrupt:
+        if progress is not None:
+            progress.close()
+        print(f"pframe: interrupted; the finished chunks are kept in {parts_folder(out)}: run "
+              "the same command to continue", file=sys.stderr)
+        return 130
+    finally:
+        if progress is not None:
+            progress.close()
+    if not args.quiet:
+        _summary(run, spec)
+    if run.failed:
+        first = ", ".join(f"variant {i} ({spec.describe(i)}): {why}" for i, why in run.failed[:3])
+        more = f" and {len(run.failed) - 3} more" if len(run.failed) > 3 else ""
+        print(f"pframe: {args.sweep}: {len(run.failed)} of {run.count} variants failed "
+              f"(marked in {out}: complete = 0, status says why): {first}{more}", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _summary(run, spec):
+    resumed = f", {run.resumed_chunks} of them from an earlier run" if run.resumed_chunks else ""
+    print(f"{spec.definition.source}: {run.count} variants in {run.chunks} chunks{resumed}; "
+          f"{run.count - len(run.failed)} completed, {len(run.failed)} failed")
+    if run.variant_steps:
+        computing = max(run.wall_seconds - run.compile_seconds, 1e-9)
+        print(f"  {run.wall_seconds:.2f} s wall, of which kernel compile/load "
+              f"{run.compile_seconds:.2f} s; {run.variant_steps:,} variant-steps in "
+              f"{computing:.2f} s: {computing / run.variant_steps * 1e9:,.0f} ns per "
+              f"variant-step (kernel time summed over threads {run.solve_seconds:.2f} s); "
+              f"wrote {run.output}")
+    else:
+        print(f"  {run.wall_seconds:.2f} s; wrote {run.output}")
+
+
+def register(sub) -> None:
+    sweep = sub.add_parser(
+        "sweep", help="run the variants of a parametric study into one labelled result file",
+        description="Run every variant of a sweep file (a base scene and the numbers to vary: "
+                    "gaps, yield drifts, excitations, Pi numbers, record files) as batches of "
+                    "the compiled kernel, and write one netCDF4-compatible file whose "
+                    "dimensions are the sweep axes. Finished chunks are kept beside the output "
+                    "(OUT.h5.parts/): a sweep that was stopped continues where it stopped when "
+                    "the same command is run again. See docs/sweeps.md.")
+    sweep.add_argument("sweep", help="sweep file (YAML)")
+    sweep.add_argument("-o", "--output", help="result file (default: SWEEP's name with .h5)")
+    sweep.add_argument("--overwrite", action="store_true",
+                       help="replace an existing output, and discard finished chunks of a "
+                            "different sweep")
+    sweep.add_argument("--chunk", type=int, metavar="N",
+                       help="variants per chunk (default: the sweep file's chunk, else 64)")
+    sweep.add_argument("--threads", type=int, metavar="N",
+                       help="threads on this machine (default: one per CPU)")
+    sweep.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                       help="run the chunks on this Dask distributed scheduler's workers "
+                            '(needs pip install "pframe[cluster]")')
+    sweep.add_argument("--variant", type=int, metavar="I",
+                       help="print variant I's scene (YAML for pframe solve) and exit")
+    sweep.add_argument("-q", "--quiet", action="store_true",
+                       help="print nothing but errors (no progress)")
+    sweep.set_defaults(run=_sweep)

@@ -1,0 +1,264 @@
+"""One chunk of a sweep: its variants validated, assembled into one batch and run by the kernel.
+
+:func:`run_chunk` is a pure function of the sweep definition and the chunk's index; it returns
+plain numpy arrays (no pickled objects), so the same chunk computed in this process, in another
+thread or on a cluster worker gives the same arrays, and they can be saved as they are.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.quantities import QUANTITIES
+from pframe.sweep.definition import RESPONSES
+from pframe.sweep.spec import Spec, parse, topology
+
+#: per-variant bookkeeping kept beside the responses
+STATUS_FIELDS = ("complete", "status", "steps_completed", "energy_balance_error",
+                 "newton_solves", "split_steps")
+TOPOLOGY_CHANGED = ("the variant differs from the base scene in topology (nodes, storeys, "
+                    "contacts, laws, integrator, number of steps) or in a setting its batch "
+                    "shares (Newton tolerances and iterations); a sweep varies numbers that "
+                    "each variant may have on its own")
+#: a variant that never ran (its scene is invalid) holds this in its integer responses
+MISSING_COUNT = -1
+
+
+def _yield_drift(plan, member: int) -> np.ndarray:
+    """Yield drift of each storey: f_y / k of a law with ``stiffness`` and ``yield_force``
+    parameters (bilinear), its ``yield_drift`` parameter, or NaN (an elastic storey)."""
+    out = np.full(len(plan.story_names), np.nan)
+    for group in plan.story_groups:
+        names = group.law.param_names
+        params = group.params[member]
+        if "yield_force" in names and "stiffness" in names:
+            values = params[:, names.index("yield_force")] / params[:, names.index("stiffness")]
+        elif "yield_drift" in names:
+            values = params[:, names.index("yield_drift")]
+        else:
+            continue
+        out[group.index] = values
+    return out
+
+
+def _buildings(plan) -> tuple[np.ndarray, np.ndarray]:
+    """Building index of each declared node and of each storey."""
+    node_building = np.array([plan.buildings.index(name.split("/")[0])
+                              for name in plan.node_names], dtype=np.int64)
+    building_of_dof = np.empty(plan.n_dof, dtype=np.int64)
+    building_of_dof[plan.node_dof] = node_building
+    return node_building, building_of_dof[plan.story_dofs[:, 1]]
+
+
+def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarray:
+    out = np.full(count, np.nan)
+    for b in range(count):
+        mine = values[owner == b]
+        if mine.size and not np.all(np.isnan(mine)):
+            out[b] = np.nanmax(mine)
+    return out
+
+
+def responses_of(spec: Spec, plan, result, member: int, convert) -> dict[str, np.ndarray]:
+    """The kept responses of one batch member, in the units of the result file."""
+    def peak(q):
+        data = result.envelope[q][member]
+        if QUANTITIES[q][0] == "node":
+            data = data[plan.node_dof]
+        return convert.variable(np.asarray(data, dtype=float), QUANTITIES[q][1], "")[0]
+
+    node_building, story_building = _buildings(plan)
+    nb = len(plan.buildings)
+    out = {}
+    for name in spec.responses:
+        entity = RESPONSES[name]
+        if entity in ("contact",) and not plan.contact_names:
+            continue
+        if entity == "story" and not plan.story_names:
+            continue
+        if name == "impact_count":
+            out[name] = result.impacts[member].astype(np.int32)
+        elif name == "ductility":
+            out[name] = result.envelope["story_drift"][member] / _yield_drift(plan, member)
+        elif name == "building_peak_displacement":
+            out[name] = _per_building(peak("displacement"), node_building, nb)
+        elif name == "building_peak_story_drift":
+            out[name] = _per_building(peak("story_drift"), story_building, nb)
+        elif name == "building_peak_ductility":
+            ductility = result.envelope["story_drift"][member] / _yield_drift(plan, member)
+            out[name] = _per_building(ductility, story_building, nb)
+        else:
+            out[name] = peak(name[len("peak_"):])
+    return out
+
+
+def _histories_of(plan, result, member: int, convert) -> dict[str, np.ndarray]:
+    out = {}
+    for q, _ in plan.history:
+        data = result.history[q][member]
+        if QUANTITIES[q][0] == "node":
+            data = data[:, plan.node_dof]
+        out[q] = convert.variable(np.asarray(data, dtype=float), QUANTITIES[q][1], "")[0]
+    return out
+
+
+def layout(spec: Spec, expanded) -> dict[str, tuple]:
+    """The shape of each array one variant contributes (besides the sweep dimensions), from
+    the base scene: responses along their entity, histories along time and entity."""
+    sizes = {"node": len(expanded.node_names), "story": len(expanded.stories),
+             "contact": len(expanded.contacts), "building": len(expanded.buildings)}
+    out = {}
+    for name in spec.responses:
+        entity = RESPONSES[name]
+        if entity is None:
+            out[name] = ()
+        elif sizes[entity]:
+            out[name] = (sizes[entity],)
+    for q in spec.model.keep.histories:
+        entity = QUANTITIES[q][0]
+        if entity == "contact" and not sizes["contact"]:
+            continue
+        rows = expanded.steps // spec.model.keep.every + 1
+        out[q] = (rows,) if entity is None else (rows, sizes[entity])
+    return out
+
+
+def _placeholder(name: str, shape: tuple):
+    if name == "impact_count":
+        return np.full(shape, MISSING_COUNT, dtype=np.int32)
+    return np.full(shape, np.nan)
+
+
+def _not_run(shapes: dict, reason: str) -> dict:
+    row = {name: _placeholder(name, shape) for name, shape in shapes.items()}
+    row.update(complete=np.int8(0), status=f"invalid scene: {reason}",
+               steps_completed=np.int32(0), energy_balance_error=np.nan,
+               newton_solves=np.int64(0), split_steps=np.int64(0), scales=np.full(3, np.nan),
+               dt=np.nan)
+    return row
+
+
+def _assemble(spec: Spec, loaded: dict, rows: dict, shapes: dict):
+    """The batch of the valid variants. A variant that assembly refuses (an explicit step
+    above its stability limit) is found alone and recorded as not run; the others go on."""
+    from pframe.assemble import assemble, assemble_batch
+
+    members = sorted(loaded)
+    expanded = {i: dataclasses.replace(loaded[i].expanded, recorders=spec.recorders)
+                for i in members}
+    if not members:
+        return [], None
+    try:
+        return members, assemble_batch([expanded[i] for i in members])
+    except InputError:
+        pass
+    good = []
+    for i in members:
+        try:
+            assemble(expanded[i])
+            good.append(i)
+        except InputError as exc:
+            rows[i] = _not_run(shapes, str(exc))
+    return good, (assemble_batch([expanded[i] for i in good]) if good else None)
+
+
+def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.ndarray]:
+    """Run chunk ``chunk`` of a sweep; return its arrays, one row per variant.
+
+    Keys: each kept response (``peak_displacement`` ...) and history, the
+    :data:`STATUS_FIELDS`, ``scales`` (m_b, a_p, w_p of dimensionless output, NaN for SI),
+    ``dt``, ``warnings``, and ``solve_seconds`` / ``compile_seconds`` (this computation's
+    timing, which the result file leaves out). A variant whose scene is invalid is not run:
+    NaN (-1 for counts) and its reason in ``status``.
+    """
+    from pframe.kernel import simulate
+    from pframe.nondim.output import output_units
+    from pframe.sweep.variants import load_variant, materialise, variant_data
+
+    spec = parse(definition)
+    folder = materialise(definition)
+    reference, shapes = _reference(definition)
+    loaded, rows = {}, {}
+    for index in spec.chunk_range(chunk):
+        try:
+            scene = load_variant(variant_data(spec, index), spec.base_lines, spec.base_where,
+                                 folder)
+            if topology(scene.expanded, spec.recorders) != reference:
+                raise InputError(TOPOLOGY_CHANGED)
+            loaded[index] = scene
+        except InputError as exc:
+            rows[index] = _not_run(shapes, str(exc).replace(str(folder) + "/", ""))
+
+    solve_seconds = compile_seconds = 0.0
+    warnings: list[str] = []
+    members, plan = _assemble(spec, loaded, rows, shapes)
+    if members:
+        warnings = list(plan.warnings)
+        result = simulate(plan, threads=threads)
+        solve_seconds, compile_seconds = result.solve_seconds, result.compile_seconds
+        for member, index in enumerate(members):
+            convert = output_units(loaded[index].scene, loaded[index].expanded)
+            values = responses_of(spec, plan, result, member, convert)
+            values.update(_histories_of(plan, result, member, convert))
+            values.update(
+                complete=np.int8(result.completed(member)),
+                status=result.describe_failure(member),
+                steps_completed=np.int32(result.states_done(member) - 1),
+                energy_balance_error=float(result.energy_error(member)),
+                newton_solves=np.int64(result.iterations[member]),
+                split_steps=np.int64(result.substeps[member]),
+                scales=(np.array([convert.scales[k] for k in ("m_b", "a_p", "w_p")], dtype=float)
+                        if convert.dimensionless else np.full(3, np.nan)),
+                dt=float(plan.dt[member]),
+            )
+            rows[index] = values
+
+    ordered = [rows[i] for i in spec.chunk_range(chunk)]
+    arrays = {key: np.array([row[key] for row in ordered]) for key in ordered[0]}
+    arrays["status"] = np.array([row["status"] for row in ordered], dtype=str)
+    arrays["warnings"] = np.array(warnings, dtype=str)
+    arrays["solve_seconds"] = np.float64(solve_seconds)
+    arrays["compile_seconds"] = np.float64(compile_seconds)
+    return arrays
+
+
+def _reference(definition) -> tuple[tuple, dict]:
+    """The topology every variant must share and the shapes of a variant's arrays, both from
+    the base scene (cached per definition)."""
+    cached = _references.get(definition.digest)
+    if cached is None:
+        from pframe.sweep.spec import variant_data_base
+        from pframe.sweep.variants import load_variant, materialise
+
+        spec = parse(definition)
+        base = load_variant(variant_data_base(spec), spec.base_lines, spec.base_where,
+                            materialise(definition))
+        cached = (topology(base.expanded, spec.recorders), layout(spec, base.expanded))
+        _references[definition.digest] = cached
+    return cached
+
+
+_references: dict[str, tuple] = {}
+
+
+def warm_up(definition) -> float:
+    """Compile (or load from the on-disk cache) the sweep's kernel with a one-step run of the
+    base scene, so that threads running chunks side by side never compile it twice. Returns
+    the seconds it took."""
+    from pframe.assemble import assemble
+    from pframe.kernel import simulate
+    from pframe.sweep.spec import variant_data_base
+    from pframe.sweep.variants import load_variant, materialise
+
+    spec = parse(definition)
+    start = time.perf_counter()
+    base = load_variant(variant_data_base(spec), spec.base_lines, spec.base_where,
+                        materialise(definition))
+    expanded = dataclasses.replace(base.expanded, recorders=spec.recorders, steps=1,
+                                   ground_acceleration=base.expanded.ground_acceleration[:2])
+    simulate(assemble(expanded), threads=1)
+    return time.perf_counter() - start

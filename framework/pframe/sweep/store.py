@@ -1,0 +1,145 @@
+"""Finished chunks on disk, beside the result file: ``OUT.h5.parts/chunk-00012.npz``.
+
+Each chunk is written under a temporary name and renamed when complete (an ``os.replace``), so
+a chunk file either holds a whole chunk or does not exist, whenever the process is killed. A
+manifest names the sweep (its definition's digest); a second run of the same sweep takes up the
+chunks it finds, and a different sweep is refused rather than mixed in. A lock keeps two
+processes from writing one folder.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import shutil
+from pathlib import Path
+
+import numpy as np
+
+from pframe.errors import InputError
+
+MANIFEST = "sweep.json"
+_CHUNK = re.compile(r"^chunk-(\d{5,})\.npz$")
+
+
+def parts_folder(output: Path) -> Path:
+    return output.with_name(output.name + ".parts")
+
+
+class Parts:
+    """The folder of finished chunks of one sweep's result file."""
+
+    def __init__(self, output: Path, definition, spec):
+        self.output = Path(output)
+        self.folder = parts_folder(self.output)
+        self.definition = definition
+        self.spec = spec
+        self._lock = None
+
+    def _manifest(self) -> dict:
+        import pframe
+
+        return {"sweep_digest": self.definition.digest, "source": self.definition.source,
+                "variants": self.spec.count, "chunk": self.definition.chunk,
+                "chunks": self.spec.chunks, "pframe_version": pframe.__version__}
+
+    def open(self, restart: bool = False) -> set[int]:
+        """Lock the folder (creating it) and return the chunks already finished.
+
+        A folder of another sweep is an error unless ``restart``, which empties it.
+        """
+        if self.folder.exists() and not self.folder.is_dir():
+            raise InputError(f"{self.folder}: exists and is not a folder; pframe sweep keeps "
+                             "its finished chunks there")
+        if self.folder.is_dir():
+            found = self._read_manifest()
+            if found is None or found.get("sweep_digest") != self.definition.digest:
+                if not restart:
+                    what = (f"chunks of another sweep ({found.get('source', '?')}, "
+                            f"{found.get('variants', '?')} variants)" if found else
+                            "no readable manifest")
+                    raise InputError(
+                        f"{self.folder}: holds {what}; the sweep, its base scene, its record "
+                        "files, the chunk size or pframe's version have changed since those "
+                        "chunks were computed. Pass --overwrite to discard them and start "
+                        "again, or choose another output name with -o")
+                self._take_lock()
+                self._clear()
+        self.folder.mkdir(parents=True, exist_ok=True)
+        self._take_lock()
+        self._write_atomic(self.folder / MANIFEST,
+                           json.dumps(self._manifest(), indent=1).encode())
+        return self.finished()
+
+    def _read_manifest(self) -> dict | None:
+        try:
+            return json.loads((self.folder / MANIFEST).read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            return None
+
+    def _take_lock(self):
+        if self._lock is not None:
+            return
+        try:
+            import fcntl
+        except ImportError:  # not on POSIX: no lock, as before
+            return
+        self.folder.mkdir(parents=True, exist_ok=True)
+        handle = open(self.folder / "lock", "a+b")  # noqa: SIM115 (held until close)
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            handle.close()
+            raise InputError(f"{self.folder}: another pframe sweep is writing this output "
+                             "now; wait for it, or choose another name with -o") from None
+        self._lock = handle
+
+    def _clear(self):
+        for path in self.folder.iterdir():
+            if path.name != "lock":
+                path.unlink()
+
+    def finished(self) -> set[int]:
+        done = set()
+        for path in self.folder.iterdir():
+            match = _CHUNK.match(path.name)
+            if match and int(match.group(1)) < self.spec.chunks:
+                done.add(int(match.group(1)))
+        return done
+
+    def path(self, chunk: int) -> Path:
+        return self.folder / f"chunk-{chunk:05d}.npz"
+
+    @staticmethod
+    def _write_atomic(path: Path, payload: bytes | None = None, arrays: dict | None = None):
+        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+        try:
+            with open(tmp, "wb") as handle:
+                if arrays is not None:
+                    np.savez(handle, **arrays)
+                else:
+                    handle.write(payload)
+                handle.flush()
+                os.fsync(handle.fileno())
+            os.replace(tmp, path)
+        finally:
+            if tmp.exists():
+                tmp.unlink()
+
+    def save(self, chunk: int, arrays: dict) -> None:
+        self._write_atomic(self.path(chunk), arrays=arrays)
+
+    def load(self, chunk: int) -> dict:
+        with np.load(self.path(chunk), allow_pickle=False) as data:
+            return {key: data[key] for key in data.files}
+
+    def close(self):
+        if self._lock is not None:
+            self._lock.close()
+            self._lock = None
+
+    def remove(self):
+        """Delete the folder (after the result file is complete)."""
+        self.close()
+        shutil.rmtree(self.folder, ignore_errors=True)

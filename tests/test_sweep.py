@@ -1,0 +1,344 @@
+"""Sweeps: a batch of variants equals the variants run one by one, the result file is a labelled
+N-D array, a failing variant spoils nothing else, and bad sweep files are refused with the
+line, axis and value at fault.
+
+Every sweep here runs the laws of models/wu2021-eq14.yaml (bilinear storeys, improved Kelvin
+contacts) with the sweeps' default envelopes, so they share one kernel (compiled once);
+the histories test records what tests/conftest.py's RECORDERS do, which shares that kernel.
+"""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import sys
+from pathlib import Path
+
+import h5py
+import numpy as np
+import pytest
+import yaml
+
+from pframe.assemble import assemble
+from pframe.cli import main
+from pframe.errors import InputError
+from pframe.kernel import simulate
+from pframe.model import parse_scene
+from pframe.model.load import _compose
+from pframe.sweep import load_sweep, parse, parse_sweep, run_sweep
+from pframe.sweep.variants import load_variant
+
+REPO = Path(__file__).resolve().parents[1]
+
+#: 2 + 2 floors, 7,500 steps; GAP and RESTITUTION are what the sweeps vary
+BASE = """\
+title: sweep test scene
+buildings:
+  - {name: A, floors: 2, mass: 250.0,
+     story: {material: bilinear, stiffness: 197392.088, yield_drift: 0.0248, alpha: 0.1}}
+  - {name: B, floors: 2, mass: [1000.0, 800.0],
+     story: {material: bilinear, stiffness: 1973920.88, yield_drift: 0.0149, alpha: 0.1}}
+contacts:
+  - {name: floor-1, nodes: [A/1, B/1], gap: 0.01, law: improved_kelvin, stiffness: 2.0e+7,
+     restitution: 0.4}
+  - {name: floor-2, nodes: [A/2, B/2], gap: 0.01, law: improved_kelvin, stiffness: 2.0e+7,
+     restitution: 0.6}
+damping: {ratio: 0.05, modes: [1, 2]}
+excitation: {kind: sine, amplitude: 9.81, frequency: 6.283185307179586}
+analysis:
+  integrator: {type: newmark, gamma: 0.5, beta: 0.25}
+  dt: 2.0e-4
+  duration: 1.5
+"""
+
+#: gap x restitution, 3 x 2 variants in chunks of 4 and 2
+GRID = """\
+base: base.yaml
+axes:
+  - {name: gap, path: contacts.*.gap, values: [0.0, 0.004, 0.02], units: m}
+  - {name: restitution, path: contacts.floor-2.restitution, linspace: [0.4, 0.8, 2]}
+chunk: 4
+"""
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    path = tmp_path_factory.mktemp("sweep")
+    (path / "base.yaml").write_text(BASE, encoding="utf-8")
+    (path / "grid.yaml").write_text(GRID, encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def grid(folder):
+    out = folder / "grid.h5"
+    assert main(["sweep", str(folder / "grid.yaml"), "-o", str(out), "-q"]) == 0
+    return out
+
+
+def _single(definition, index: int, recorders=None):
+    """Variant ``index`` as its own scene: the text ``pframe sweep --variant`` prints, parsed
+    by the scene loader, assembled alone and run (with the scene's recorders, or these)."""
+    from pframe.sweep.variants import variant_data
+
+    spec = parse(definition)
+    paths = {key: path for _, _, key, path in definition.records}
+    text = yaml.safe_dump(variant_data(spec, index, record_path=lambda key: paths[key]))
+    expanded = parse_scene(text, base_dir=definition.base_dir).expanded
+    if recorders is not None:
+        expanded = dataclasses.replace(expanded, recorders=recorders)
+    plan = assemble(expanded)
+    return plan, simulate(plan)
+
+
+def test_sweep_file_is_a_labelled_array(grid):
+    xr = pytest.importorskip("xarray")
+    with xr.open_dataset(grid, engine="h5netcdf") as ds:
+        assert ds.peak_contact_force.dims == ("gap", "restitution", "contact")
+        assert ds.peak_displacement.dims == ("gap", "restitution", "node")
+        assert ds.ductility.dims == ("gap", "restitution", "story")
+        assert list(ds.gap.values) == [0.0, 0.004, 0.02]
+        assert list(ds.restitution.values) == [0.4, 0.8]
+        assert ds.gap.attrs["units"] == "m"
+        assert list(ds.contact.values) == ["floor-1", "floor-2"]
+        assert list(ds.node.values) == ["A/1", "A/2", "B/1", "B/2"]
+        assert ds.peak_contact_force.attrs["units"] == "N"
+        assert ds.attrs["sweep_axes"] == "gap restitution"
+        assert ds.attrs["variants"] == 6 and ds.attrs["variants_failed"] == 0
+        assert (ds.complete == 1).all() and (ds.status == "completed").all()
+        assert (ds.steps_completed == 7500).all()
+        assert float(ds.energy_balance_error.max()) < 1e-8
+        force = ds.peak_contact_force.sel(contact="floor-2")
+        assert float(force.sel(gap=0.0).min()) > 0  # floor-2 pounds with the gap closed
+        assert float(ds.peak_contact_force.sel(gap=0.02).max()) == 0.0
+        assert int(ds.impact_count.sel(gap=0.0).sum()) > int(ds.impact_count.sel(gap=0.004).sum())
+        # floor-2's restitution changes what happens after its first impact
+        assert not np.allclose(ds.peak_displacement.sel(gap=0.0, restitution=0.4),
+                               ds.peak_displacement.sel(gap=0.0, restitution=0.8), rtol=1e-6)
+        ductility = ds.ductility.values
+        drift = ds.peak_story_drift.values
+        assert np.allclose(ductility[..., :2], drift[..., :2] / 0.0248, rtol=1e-12)
+        assert np.allclose(ductility[..., 2:], drift[..., 2:] / 0.0149, rtol=1e-12)
+
+
+def test_batch_equals_single_runs(folder, grid):
+    """Each variant of the sweep file holds, bit for bit, what its own scene gives when loaded
+    from text and run alone (a batch of one): the sweep's batching, chunking, threading and
+    data road through the loader change no number."""
+    definition = load_sweep(folder / "grid.yaml")
+    spec = parse(definition)
+    with h5py.File(grid, "r") as f:
+        for index in range(spec.count):
+            position = np.unravel_index(index, spec.shape)
+            plan, single = _single(definition, index)
+            assert single.completed(0)
+            dof = plan.node_dof
+            assert np.array_equal(f["peak_displacement"][position],
+                                  single.envelope["displacement"][0][dof])
+            assert np.array_equal(f["peak_story_drift"][position],
+                                  single.envelope["story_drift"][0])
+            assert np.array_equal(f["peak_contact_force"][position],
+                                  single.envelope["contact_force"][0])
+            assert np.array_equal(f["impact_count"][position], single.impacts[0])
+            assert f["newton_solves"][position] == single.iterations[0]
+            assert f["energy_balance_error"][position] == single.energy_error(0)
+
+
+def test_variant_road_equals_the_scene_loader():
+    """The sweep validates variants from YAML data composed once; for every shipped model it
+    gives the scene pframe.model.parse_scene gives from the text."""
+    for model in sorted((REPO / "models").glob("*.yaml")):
+        text = model.read_text(encoding="utf-8")
+        data, lines = _compose(text, str(model))
+        mine = load_variant(copy.deepcopy(data), lines, str(model), model.parent)
+        theirs = parse_scene(text, str(model), model.parent)
+        assert mine.scene == theirs.scene, model.name
+        a, b = mine.expanded, theirs.expanded
+        for field in a.__dataclass_fields__:
+            x, y = getattr(a, field), getattr(b, field)
+            if isinstance(x, np.ndarray):
+                assert np.array_equal(x, y), (model.name, field)
+            else:
+                assert x == y, (model.name, field)
+
+
+def test_a_failing_variant_does_not_spoil_its_chunk(folder, tmp_path):
+    """Newmark linear acceleration is stable only below dt = sqrt(12) / w_max: the variant with
+    a very stiff building B diverges and is marked failed with its reason; the other variants of
+    its chunk complete with the numbers of their own runs. The command exits with 1."""
+    (tmp_path / "base.yaml").write_text(
+        BASE.replace("beta: 0.25", "beta: 0.16666666666666666"), encoding="utf-8")
+    (tmp_path / "fail.yaml").write_text(
+        "base: base.yaml\n"
+        "axes:\n"
+        "  - {name: stiffness, path: buildings.B.story.stiffness,\n"
+        "     values: [1973920.88, 1.0e+12, 3.0e+6]}\n", encoding="utf-8")
+    out = tmp_path / "fail.h5"
+    assert main(["sweep", str(tmp_path / "fail.yaml"), "-o", str(out), "-q"]) == 1
+    definition = load_sweep(tmp_path / "fail.yaml")
+    with h5py.File(out, "r") as f:
+        assert f["complete"][...].tolist() == [1, 0, 1]
+        status = f["status"].asstr()[...]
+        assert status[0] == status[2] == "completed"
+        assert "diverged" in status[1] and "step" in status[1]
+        assert 0 < f["steps_completed"][1] < 7500
+        assert f.attrs["variants_failed"] == 1
+        for index in (0, 2):
+            plan, single = _single(definition, index)
+            assert np.array_equal(f["peak_displacement"][index],
+                                  single.envelope["displacement"][0][plan.node_dof])
+            assert np.array_equal(f["impact_count"][index], single.impacts[0])
+
+
+def test_histories_when_asked(folder):
+    """keep.histories adds (axes, time, entity) variables at the stride asked."""
+    text = (GRID.replace("chunk: 4", "chunk: 3")
+            + "keep:\n  histories: [displacement, velocity, story_force, story_drift, "
+              "contact_force]\n  every: 10\n")
+    (folder / "histories.yaml").write_text(text, encoding="utf-8")
+    out = folder / "histories.h5"
+    definition = load_sweep(folder / "histories.yaml")
+    run = run_sweep(definition, out)
+    assert run.completed
+    with h5py.File(out, "r") as f:
+        assert f["displacement"].shape == (3, 2, 751, 4)
+        assert f["contact_force"].shape == (3, 2, 751, 2)
+        assert f["time"][1] == pytest.approx(10 * 2.0e-4)
+        plan, single = _single(definition, 5, parse(definition).recorders)
+        assert np.array_equal(f["displacement"][2, 1],
+                              single.history["displacement"][0][:, plan.node_dof])
+        assert np.array_equal(f["contact_force"][2, 1], single.history["contact_force"][0])
+        assert np.array_equal(f["peak_displacement"][2, 1],
+                              single.envelope["displacement"][0][plan.node_dof])
+
+
+def test_zip_and_records_axis(tmp_path):
+    """combine: zip gives one dimension 'variant' with the axes as coordinates along it; a
+    records axis takes file names (relative to the sweep file), and the definition carries
+    the files' contents, so the run needs them no more once the sweep is loaded."""
+    t = np.arange(0, 1.6, 0.01)
+    for name, scale in (("one.txt", 1.0), ("two.txt", 2.5)):
+        rows = np.column_stack([t, scale * 9.81 * np.sin(2 * np.pi * t)])
+        np.savetxt(tmp_path / name, rows)
+    base = BASE.replace("excitation: {kind: sine, amplitude: 9.81, frequency: 6.283185307179586}",
+                        "excitation: {kind: record, file: one.txt}")
+    (tmp_path / "base.yaml").write_text(base, encoding="utf-8")
+    (tmp_path / "records.yaml").write_text(
+        "base: base.yaml\n"
+        "combine: zip\n"
+        "axes:\n"
+        "  - {name: record, path: excitation.file, values: [one.txt, two.txt, two.txt]}\n"
+        "  - {name: gap, path: contacts.*.gap, values: [0.01, 0.01, 0.03]}\n", encoding="utf-8")
+    definition = load_sweep(tmp_path / "records.yaml")
+    (tmp_path / "one.txt").unlink()
+    (tmp_path / "two.txt").unlink()
+    out = tmp_path / "records.h5"
+    assert run_sweep(definition, out).completed
+    xr = pytest.importorskip("xarray")
+    with xr.open_dataset(out, engine="h5netcdf") as ds:
+        assert ds.peak_displacement.dims == ("variant", "node")
+        assert list(ds.record.values) == ["one.txt", "two.txt", "two.txt"]
+        assert list(ds.gap.values) == [0.01, 0.01, 0.03]
+        peaks = ds.peak_displacement.values
+        assert peaks[1].max() > 1.5 * peaks[0].max()  # 2.5 times the shaking
+        assert not np.array_equal(peaks[1], peaks[2])
+
+
+def test_pi_form_base_and_dimensionless_output(tmp_path):
+    """A Pi-form base scene: an axis over pi.Pi_d, and the file dimensionless like the base's."""
+    text = (REPO / "models" / "wu2021-eq14-pi.yaml").read_text(encoding="utf-8")
+    text = text.replace("tau: 50", "tau: 5")
+    (tmp_path / "pi.yaml").write_text(text, encoding="utf-8")
+    (tmp_path / "sweep.yaml").write_text(
+        "base: pi.yaml\n"
+        "axes: [{name: Pi_d, path: pi.Pi_d, values: [0.0, 5.0]}]\n"
+        "keep: {envelopes: [building_peak_displacement, building_peak_ductility, "
+        "peak_contact_force]}\n", encoding="utf-8")
+    out = tmp_path / "pi.h5"
+    assert run_sweep(load_sweep(tmp_path / "sweep.yaml"), out).completed
+    with h5py.File(out, "r") as f:
+        assert f.attrs["units_system"] == "dimensionless"
+        assert f["building_peak_displacement"].attrs["units"] == "1"
+        assert [b.decode() for b in f["building"][...]] == ["A", "B"]
+        assert f["peak_contact_force"][1].max() == 0.0  # a gap of 5 l_e: no pounding
+        assert f["peak_contact_force"][0].max() > 0.0
+        assert "peak_displacement" not in f
+
+
+# ---------------------------------------------------------------------------------------------
+# bad sweep files
+# ---------------------------------------------------------------------------------------------
+
+def _error(folder, text: str) -> str:
+    with pytest.raises(InputError) as info:
+        parse_sweep(text, "bad.yaml", folder)
+    return str(info.value)
+
+
+@pytest.mark.parametrize("text, expected", [
+    ("base: base.yaml\naxes:\n  - {name: gap, path: contacts.floor-9.gap, values: [0.1]}\n",
+     ["bad.yaml, line 3", "no item named 'floor-9'", "floor-1, floor-2"]),
+    ("base: base.yaml\naxes:\n  - {name: gap, path: contacts.*.law, values: [0.1]}\n",
+     ["bad.yaml, line 3", "not a number"]),
+    ("base: base.yaml\naxes:\n  - {name: gap, path: contacts.*.gap, values: [0.1, -0.2]}\n",
+     ["bad.yaml, line 3", "axis 'gap'", "gap=-0.2", "base.yaml, line 8, contacts[0].gap",
+      "greater than or equal to 0"]),
+    ("base: base.yaml\naxes:\n  - {name: n, path: buildings.A.floors, values: [2, 3]}\n",
+     ["axis 'n'", "n=3", "topology"]),
+    ("base: base.yaml\naxes:\n  - {name: tol, path: analysis.dt, values: [2.0e-4, 1.0e-4]}\n",
+     ["axis 'tol'", "number of steps"]),
+    ("base: base.yaml\ncombine: zip\naxes:\n  - {name: a, path: contacts.*.gap, values: [0.1]}\n"
+     "  - {name: b, path: damping.ratio, values: [0.01, 0.02]}\n",
+     ["bad.yaml, line 2", "equal lengths"]),
+    ("base: base.yaml\naxes:\n  - {name: node, path: contacts.*.gap, values: [0.1]}\n",
+     ["bad.yaml, line 3", "taken by the result file"]),
+    ("base: base.yaml\naxes:\n  - {name: gap, path: contacts.*.gap, linspace: [0, 1, 3],\n"
+     "     values: [1]}\n", ["bad.yaml, line 3", "exactly one of values, linspace"]),
+    ("base: missing.yaml\naxes:\n  - {name: gap, path: contacts.*.gap, values: [0.1]}\n",
+     ["bad.yaml, line 1", "base scene", "not found"]),
+])
+def test_bad_sweeps_are_refused_with_line_and_axis(folder, text, expected):
+    message = _error(folder, text)
+    for part in expected:
+        assert part in message, message
+
+
+def test_sweep_cli_refusals(folder, grid, tmp_path, capsys):
+    """An existing output is replaced only with --overwrite (a complete file of the same
+    sweep is left as it is); --variant prints a scene that pframe solve reads."""
+    sweep = str(folder / "grid.yaml")
+    assert main(["sweep", sweep, "-o", str(grid)]) == 0
+    assert "already holds this sweep" in capsys.readouterr().out
+    other = tmp_path / "other.h5"
+    other.write_bytes(b"not a sweep")
+    assert main(["sweep", sweep, "-o", str(other), "-q"]) == 2
+    assert "--overwrite" in capsys.readouterr().err
+    assert main(["sweep", sweep, "--variant", "5"]) == 0
+    printed = capsys.readouterr().out
+    assert "restitution=0.8" in printed
+    scene = parse_scene(printed, base_dir=folder)
+    assert [c.gap for c in scene.scene.contacts] == [0.02, 0.02]
+    assert main(["sweep", sweep, "--variant", "6"]) == 2
+
+
+def test_resume_refuses_chunks_of_another_sweep(folder, tmp_path, capsys):
+    out = tmp_path / "grid.h5"
+    parts = tmp_path / "grid.h5.parts"
+    parts.mkdir()
+    (parts / "sweep.json").write_text('{"sweep_digest": "0", "source": "x.yaml", "variants": 9}')
+    assert main(["sweep", str(folder / "grid.yaml"), "-o", str(out), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "chunks of another sweep (x.yaml, 9 variants)" in err and "--overwrite" in err
+    assert not out.exists()
+
+
+def test_default_sweep_imports_no_dask(folder, tmp_path):
+    import subprocess
+
+    code = ("import sys; from pframe.cli import main; "
+            f"rc = main(['sweep', {str(folder / 'grid.yaml')!r}, '-o', "
+            f"{str(tmp_path / 'x.h5')!r}, '-q']); "
+            "print(rc, 'dask' in sys.modules or 'distributed' in sys.modules)")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=600)
+    assert done.stdout.split() == ["0", "False"], done.stderr
