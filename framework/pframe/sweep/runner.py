@@ -23,6 +23,9 @@ from pframe.sweep.output import write_sweep
 from pframe.sweep.spec import SweepDefinition, parse
 from pframe.sweep.store import Parts
 
+#: how long to try reaching a Dask scheduler before giving up
+CONNECT_TIMEOUT = "20s"
+
 
 @dataclass
 class SweepRun:
@@ -128,7 +131,7 @@ def _on_cluster(definition, todo, address: str, started, finish, run: SweepRun):
                          'cluster extra (pip install "pframe[cluster]") or run without '
                          "--scheduler") from None
     try:
-        client = Client(address, timeout="20s")
+        client = Client(address, timeout=CONNECT_TIMEOUT)
     except (OSError, TimeoutError) as exc:
         raise InputError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc}); "
                          "start one with 'dask scheduler' and give its address as "

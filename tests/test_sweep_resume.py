@@ -1,0 +1,87 @@
+"""Nothing lost: a sweep killed with SIGKILL part way and started again with the same command
+continues from its finished chunks and ends with the very file an uninterrupted run writes.
+
+The sweeps share the kernel of tests/test_sweep.py (same laws, default envelopes).
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+from test_sweep import BASE  # noqa: E402
+
+from pframe.cli import main
+
+#: 12 variants of 20,000 steps, one per chunk, on one thread: long enough to be killed midway
+SWEEP = """\
+base: base.yaml
+axes:
+  - {name: gap, path: contacts.*.gap, linspace: [0.0, 0.022, 12], units: m}
+  - {name: restitution, path: contacts.floor-2.restitution, values: [0.5]}
+chunk: 1
+"""
+CHUNKS = 12
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    path = tmp_path_factory.mktemp("resume")
+    (path / "base.yaml").write_text(BASE.replace("duration: 1.5", "duration: 4.0"),
+                                    encoding="utf-8")
+    (path / "sweep.yaml").write_text(SWEEP, encoding="utf-8")
+    return path
+
+
+def _command(folder: Path, out: str) -> list[str]:
+    return [sys.executable, "-c", "import sys; from pframe.cli import main; sys.exit(main())",
+            "sweep", "sweep.yaml", "-o", out, "--threads", "1", "-q"]
+
+
+def _kill_after(folder: Path, out: str, chunks: int) -> int:
+    """Start the sweep, SIGKILL it as soon as ``chunks`` chunk files exist in total; return
+    how many there are then."""
+    parts = folder / f"{out}.parts"
+    process = subprocess.Popen(_command(folder, out), cwd=folder, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 600
+        while time.monotonic() < deadline:
+            if parts.is_dir() and len(list(parts.glob("chunk-*.npz"))) >= chunks:
+                break
+            if process.poll() is not None:
+                pytest.fail(f"the sweep ended before it could be killed: "
+                            f"{process.stderr.read().decode()}")
+            time.sleep(0.002)
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+    assert process.returncode == -signal.SIGKILL
+    return len(list(parts.glob("chunk-*.npz")))
+
+
+def test_kill_and_resume_gives_the_same_file(folder, monkeypatch):
+    whole = folder / "whole.h5"
+    done = subprocess.run(_command(folder, whole.name), cwd=folder, capture_output=True,
+                          text=True, timeout=900)
+    assert done.returncode == 0, done.stderr
+
+    first = _kill_after(folder, "resumed.h5", 1)
+    assert 1 <= first < CHUNKS
+    assert not (folder / "resumed.h5").exists()
+    second = _kill_after(folder, "resumed.h5", first + 2)  # continues, killed again
+    assert first < second < CHUNKS, (first, second)
+    assert not (folder / "resumed.h5").exists()
+
+    monkeypatch.chdir(folder)
+    assert main(["sweep", "sweep.yaml", "-o", "resumed.h5", "-q"]) == 0
+    assert not (folder / "resumed.h5.parts").exists()
+    assert (folder / "resumed.h5").read_bytes() == whole.read_bytes()
