@@ -342,3 +342,26 @@ def test_default_sweep_imports_no_dask(folder, tmp_path):
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           timeout=600)
     assert done.stdout.split() == ["0", "False"], done.stderr
+
+
+def test_plot_draws_a_response_spectrum(grid, tmp_path, capsys):
+    """pframe plot on a sweep file: a response against one axis, one curve per contact (the
+    response's entity) or per value of another axis."""
+    pytest.importorskip("matplotlib")
+    figure = tmp_path / "spectrum.png"
+    assert main(["plot", str(grid), "-o", str(figure), "--response", "peak_contact_force"]) == 0
+    assert figure.stat().st_size > 10_000
+    assert "largest over restitution" in capsys.readouterr().out
+    from pframe.plot.spectrum import spectrum
+
+    fig, notes = spectrum(grid, response="peak_contact_force", curves="restitution",
+                          at={"contact": "floor-2"})
+    ax = fig.axes[0]
+    assert [line.get_label() for line in ax.get_lines()] == ["restitution = 0.4",
+                                                             "restitution = 0.8"]
+    assert notes == ["contact = floor-2"]
+    with h5py.File(grid, "r") as f:
+        expected = f["peak_contact_force"][:, 1, 1]
+    assert np.array_equal(ax.get_lines()[1].get_ydata(), expected)
+    assert main(["plot", str(grid), "-o", str(figure), "--x", "nothing"]) == 2
+    assert "not a swept axis" in capsys.readouterr().err

@@ -19,9 +19,12 @@ def _plot(args) -> int:
         # before any figure is made: no display is needed, and none is opened
         matplotlib.use("Agg")
     from pframe.plot import figures, output_paths, save
+    from pframe.plot.spectrum import is_sweep
 
     output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
+    if is_sweep(args.result):
+        return _plot_sweep(args, output)
     say = (lambda text: None) if args.quiet else (
         lambda text: print(f"pframe: {args.result}: {text}", file=sys.stderr))
     time_range = tuple(args.time_range) if args.time_range else None
@@ -32,6 +35,28 @@ def _plot(args) -> int:
         levels = ", ".join(figs)
         print(f"{args.result}: {len(figs)} figure{'s' if len(figs) > 1 else ''} "
               f"(level{'s' if len(figs) > 1 else ''} {levels}); wrote "
+              + ", ".join(str(p) for p in written))
+    return 0
+
+
+def _plot_sweep(args, output: Path) -> int:
+    """A sweep file (pframe sweep): one response-spectrum figure."""
+    from pframe.errors import InputError
+    from pframe.plot import save
+    from pframe.plot.spectrum import spectrum
+
+    at = {}
+    for item in args.at or []:
+        key, sep, value = item.partition("=")
+        if not sep:
+            raise InputError(f"--at {item}: write DIMENSION=VALUE, e.g. --at contact=floor-1")
+        at[key.strip()] = value.strip()
+    fig, notes = spectrum(args.result, response=args.response, x=args.x, curves=args.curves,
+                          at=at)
+    written = save({"spectrum": fig}, output, title=f"pframe plot {args.result}")
+    if not args.quiet:
+        print(f"{args.result}: response spectrum ({fig.axes[0].get_label().split()[-1]}"
+              + (f"; {', '.join(notes)}" if notes else "") + "); wrote "
               + ", ".join(str(p) for p in written))
     return 0
 
@@ -56,5 +81,18 @@ def register(sub) -> None:
     plot.add_argument("--dimensionless", action="store_true",
                       help="draw the paper's tau, x = X / l_e, ... scaled by the scene's sine "
                            "excitation (a file written dimensionless is drawn so anyway)")
+    sweep = plot.add_argument_group(
+        "sweep files", "A file written by pframe sweep gives one response spectrum: a response "
+        "against a swept axis, one curve per building (contact, storey, node) or per value of "
+        "another axis; other dimensions are fixed with --at or reduced to their largest value.")
+    sweep.add_argument("--response", metavar="VARIABLE",
+                       help="the response to draw (default: building_peak_displacement, or "
+                            "the first the file holds)")
+    sweep.add_argument("--x", metavar="AXIS", help="swept axis along x (default: the first)")
+    sweep.add_argument("--curves", metavar="DIMENSION",
+                       help="one curve per value of this dimension (default: the response's "
+                            "building, contact, storey or node)")
+    sweep.add_argument("--at", action="append", metavar="DIMENSION=VALUE",
+                       help="fix a dimension at a value (repeatable), e.g. --at contact=floor-1")
     plot.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     plot.set_defaults(run=_plot)
