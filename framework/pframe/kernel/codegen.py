@@ -476,8 +476,11 @@ def _nonlinear_body(w: _Writer, st: Structure):
     w("parts = 1 << split", "failed = False", "for part in range(parts):").indent()
     if st.events:
         w("pos = part / parts", "stop = (part + 1) / parts", "while pos < stop:").indent()
+        # while a contact is closed, sub-steps of 1 / event_parts of the step (a sliver
+        # left before the step end joins the last one)
         w("f_try = stop", "for e in range(nc):", "    if cpen_c[b, e] > 0.0:",
-          "        f_try = min(stop, pos + (stop - pos) / event_parts[b])", "        break")
+          "        piece = 1.0 / (parts * event_parts[b])",
+          "        if pos + 1.01 * piece < stop:", "            f_try = pos + piece", "        break")
     else:
         w("pos = part / parts", "f_try = (part + 1) / parts")
     w("hs = (f_try - pos) * h")
