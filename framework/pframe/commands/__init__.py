@@ -7,4 +7,4 @@ stays fast and a command never pays for another's imports.
 """
 
 #: sub-command modules, in the order ``pframe --help`` lists them
-COMMANDS = ("solve", "validate", "schema", "pi", "expand", "scale", "plot", "sweep")
+COMMANDS = ("solve", "validate", "schema", "pi", "expand", "scale", "plot", "accuracy", "sweep")
