@@ -365,3 +365,23 @@ def test_plot_draws_a_response_spectrum(grid, tmp_path, capsys):
     assert np.array_equal(ax.get_lines()[1].get_ydata(), expected)
     assert main(["plot", str(grid), "-o", str(figure), "--x", "nothing"]) == 2
     assert "not a swept axis" in capsys.readouterr().err
+
+
+def test_sweep_blocks_of_the_docs_are_sweeps():
+    """Every sweep (a yaml block with axes) in docs/sweeps.md passes the sweep model, and the
+    whole loader when its files exist; the Pi-spectrum block is the shipped example's."""
+    import re
+
+    from pframe.sweep import SweepFile
+
+    page = (REPO / "docs" / "sweeps.md").read_text(encoding="utf-8")
+    blocks = [b for b in re.findall(r"^```yaml\n(.*?)^```", page, re.M | re.S)
+              if "axes" in (yaml.safe_load(b) or {})]
+    assert len(blocks) >= 3
+    example = REPO / "models" / "sweeps" / "wu2021-pi-d.yaml"
+    assert yaml.safe_load(blocks[0]) == yaml.safe_load(example.read_text(encoding="utf-8"))
+    for block in blocks[1:]:
+        data = yaml.safe_load(block)
+        SweepFile.model_validate(data)
+        if (REPO / "docs" / data["base"]).exists() and "excitation.file" not in block:
+            parse_sweep(block, "docs/sweeps.md", REPO / "docs")
