@@ -29,6 +29,7 @@ import dataclasses
 import os
 import platform
 import re
+import resource
 import shlex
 import subprocess
 import sys
@@ -80,7 +81,8 @@ def _model(path: Path, steps: int | None, folder: Path) -> Path:
     return out
 
 
-def _pframe(sweep: Path, out: Path, threads: int | None) -> tuple[float, str, list[str]]:
+def _pframe(sweep: Path, out: Path, threads: int | None) -> tuple[float, float, str, list[str]]:
+    """(wall seconds, CPU seconds of the process, its report, the command)."""
     command = [str(Path(sys.executable).with_name("pframe")), "sweep", str(sweep), "-o",
                str(out), "--overwrite"]
     if not Path(command[0]).exists():
@@ -88,16 +90,20 @@ def _pframe(sweep: Path, out: Path, threads: int | None) -> tuple[float, str, li
                                              "sys.exit(main())"]
     if threads:
         command += ["--threads", str(threads)]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     done = subprocess.run(command, capture_output=True, text=True)
     seconds = time.perf_counter() - start
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     if done.returncode != 0:
         raise SystemExit(f"{shlex.join(command)} failed:\n{done.stderr}")
-    return seconds, done.stdout, command
+    return seconds, cpu, done.stdout, command
 
 
-def _opensees(model: Path, gaps: np.ndarray) -> list[tuple[float, float, float]]:
-    """(gap, analyze seconds, whole-variant seconds) of OpenSeesPy runs of ``model``."""
+def _opensees(model: Path, gaps: np.ndarray) -> list[tuple[float, float, float, float]]:
+    """(gap, analyze seconds, whole-variant seconds, whole-variant CPU seconds) of OpenSeesPy
+    runs of ``model``."""
     from pframe.assemble import assemble, peer_scene
     from pframe.model import load_scene
     from pframe.peers.opensees import run
@@ -105,11 +111,12 @@ def _opensees(model: Path, gaps: np.ndarray) -> list[tuple[float, float, float]]
     expanded = load_scene(model).expanded
     out = []
     for gap in gaps:
-        start = time.perf_counter()
+        start, cpu = time.perf_counter(), time.process_time()
         contacts = tuple(dataclasses.replace(c, gap=float(gap)) for c in expanded.contacts)
         plan = assemble(dataclasses.replace(expanded, contacts=contacts))
         result = run(peer_scene(plan))
-        out.append((float(gap), result["analyze_seconds"], time.perf_counter() - start))
+        out.append((float(gap), result["analyze_seconds"], time.perf_counter() - start,
+                    time.process_time() - cpu))
         print(f"  OpenSees gap {gap:.4f} m: analyze {result['analyze_seconds']:.3f} s, "
               f"whole variant {out[-1][2]:.3f} s", flush=True)
     return out
@@ -147,13 +154,14 @@ def main(argv: list[str] | None = None) -> int:
         print(f"\npframe: {args.variants} variants of {kelvin.name} (improved Kelvin contacts), "
               f"gap {GAPS[0]} .. {GAPS[1]} m, {steps} steps each")
         print(f"  kernel compiled/loaded before timing in {warm_up(load_sweep(sweep)):.2f} s")
-        seconds, report, command = _pframe(sweep, folder / "gaps.h5", args.threads)
+        seconds, cpu, report, command = _pframe(sweep, folder / "gaps.h5", args.threads)
         print("  " + shlex.join(command).replace(str(folder), "$TMP"))
         print("  " + report.strip().replace(str(folder), "$TMP").replace("\n", "\n  "))
         variant_steps = args.variants * steps
         per_step = seconds / variant_steps * 1e9
         print(f"  wall time of the whole command: {seconds:.2f} s = {per_step:,.0f} ns per "
-              f"variant-step ({variant_steps:,} variant-steps)")
+              f"variant-step ({variant_steps:,} variant-steps); CPU time {cpu:.1f} s = "
+              f"{cpu / variant_steps * 1e9:,.0f} ns per variant-step")
         import h5py
 
         with h5py.File(folder / "gaps.h5", "r") as f:
@@ -173,6 +181,7 @@ def main(argv: list[str] | None = None) -> int:
         runs = _opensees(linear, sample)
         analyze = float(np.mean([r[1] for r in runs]))
         whole = float(np.mean([r[2] for r in runs]))
+        whole_cpu = float(np.mean([r[3] for r in runs]))
         scaled, scaled_whole = analyze * args.variants, whole * args.variants
         print(f"  mean analyze() {analyze:.3f} s per variant = {analyze / steps * 1e9:,.0f} ns "
               f"per step; scaled to {args.variants} variants: {scaled:,.0f} s "
@@ -185,6 +194,11 @@ def main(argv: list[str] | None = None) -> int:
           f"  ({analyze / steps * 1e9:,.0f} ns per step, analyze only)")
     print(f"  ratio OpenSees / pframe: {scaled / seconds:.1f}x (analyze only), "
           f"{scaled_whole / seconds:.1f}x (whole variant)")
+    print(f"  CPU time: OpenSees {whole_cpu * 1e9 / steps:,.0f} ns per step (whole variant), "
+          f"pframe {cpu / variant_steps * 1e9:,.0f} ns per variant-step: "
+          f"{whole_cpu * args.variants / cpu:.1f}x per core; the wall-time ratio reaches that "
+          f"times the cores pframe gets ({os.cpu_count()} here when nothing else runs; load "
+          f"average now {os.getloadavg()[0]:.2f})")
     match = re.search(r"compile/load ([0-9.]+) s", report)
     if match:
         print(f"  (pframe's time includes its own start-up and a kernel load of {match.group(1)} s)")

@@ -385,3 +385,14 @@ def test_sweep_blocks_of_the_docs_are_sweeps():
         SweepFile.model_validate(data)
         if (REPO / "docs" / data["base"]).exists() and "excitation.file" not in block:
             parse_sweep(block, "docs/sweeps.md", REPO / "docs")
+
+
+def test_yaml_exponents_without_a_dot_are_numbers(folder):
+    """YAML 1.1 reads 1e-3 as text; an axis setting a number takes it as 0.001."""
+    definition = parse_sweep("base: base.yaml\naxes:\n"
+                             "  - {name: gap, path: contacts.*.gap, values: [1e-3, 0.5, 2e-2]}\n",
+                             "s.yaml", folder)
+    assert parse(definition).axes[0].values == (0.001, 0.5, 0.02)
+    message = _error(folder, "base: base.yaml\naxes:\n"
+                             "  - {name: gap, path: contacts.*.gap, values: [0.1, wide]}\n")
+    assert "s.yaml" not in message and "bad.yaml, line 3" in message and "'wide'" in message

@@ -82,11 +82,10 @@ class Axis(Base):
         if self.values is not None:
             if not self.values:
                 raise ValueError("values is empty; give at least one value")
-            strings = [isinstance(v, str) for v in self.values]
-            numbers = [isinstance(v, (int, float)) and not isinstance(v, bool)
-                       and math.isfinite(v) for v in self.values]
-            if not (all(strings) or all(numbers)):
-                raise ValueError("values are either all finite numbers or all file names")
+            for v in self.values:  # text is checked where the path tells what it sets
+                if not (isinstance(v, str) or (isinstance(v, (int, float))
+                                               and not isinstance(v, bool) and math.isfinite(v))):
+                    raise ValueError(f"{v!r} is neither a finite number nor a file name")
         if self.geomspace is not None and (self.geomspace[0] <= 0 or self.geomspace[1] <= 0):
             raise ValueError("geomspace needs positive start and stop (they are values; "
                              "logspace takes decades)")

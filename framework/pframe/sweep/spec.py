@@ -305,11 +305,9 @@ def parse(definition: SweepDefinition) -> Spec:
             values = tuple(keys[("axis", p)] for p in points)
             coordinates = np.array(points, dtype=object)
         else:
-            if any(isinstance(p, str) for p in points):
-                raise InputError(f"{_where(source, lines, ('axes', i))}: axis {axis.name!r} "
-                                 f"sets numbers at {axis.path!r}; its values are file names")
-            values = tuple(points)
-            coordinates = np.array(points, dtype=float)
+            values = tuple(_number(p, _where(source, lines, ("axes", i, "values", j)),
+                                   axis.name) for j, p in enumerate(points))
+            coordinates = np.array(values, dtype=float)
         path_text = axis.path if isinstance(axis.path, str) else ".".join(map(str, axis.path))
         axes.append(AxisSpec(axis.name, i, tuple(paths), values, coordinates, axis.units,
                              path_text, axis.is_file))
@@ -325,6 +323,20 @@ def parse(definition: SweepDefinition) -> Spec:
         assert response in RESPONSES
     return Spec(definition, model, lines, base_data, base_lines, base_where, base_record,
                 tuple(axes))
+
+
+def _number(value, where: str, axis: str):
+    """A number as YAML wrote it; YAML 1.1 reads 1e-3 (no dot) as text, so text that is a
+    number is taken as one."""
+    if not isinstance(value, str):
+        return value
+    try:
+        number = float(value)
+    except ValueError:
+        raise InputError(f"{where}: axis {axis!r} sets a number, not {value!r}") from None
+    if not np.isfinite(number):
+        raise InputError(f"{where}: axis {axis!r}: {value!r} is not a finite number")
+    return number
 
 
 def topology(expanded, recorders) -> tuple:
