@@ -18,7 +18,7 @@ from test_sweep import BASE  # noqa: E402
 
 from pframe.cli import main
 
-#: 12 variants of 20,000 steps, one per chunk, on one thread: long enough to be killed midway
+#: 12 variants of 50,000 steps, one per chunk, on one thread: long enough to be killed midway
 SWEEP = """\
 base: base.yaml
 axes:
@@ -32,7 +32,7 @@ CHUNKS = 12
 @pytest.fixture(scope="module")
 def folder(tmp_path_factory):
     path = tmp_path_factory.mktemp("resume")
-    (path / "base.yaml").write_text(BASE.replace("duration: 1.5", "duration: 4.0"),
+    (path / "base.yaml").write_text(BASE.replace("duration: 1.5", "duration: 10.0"),
                                     encoding="utf-8")
     (path / "sweep.yaml").write_text(SWEEP, encoding="utf-8")
     return path
