@@ -3,16 +3,31 @@
 from __future__ import annotations
 
 import math
-from typing import Annotated
+from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
 
 from pframe.errors import InputError
+from pframe.laws.restitution import E_MIN, check_restitution
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 Restitution = Annotated[
     float,
     Field(gt=0, le=1, description="Coefficient of restitution e, in (0, 1]."),
+]
+#: The restitution of a damped law, whose damping grows without bound as e -> 0: at least
+#: :data:`pframe.laws.restitution.E_MIN` (checked by ``pframe validate``).
+DampedRestitution = Annotated[
+    float,
+    Field(gt=0, le=1, description=f"Coefficient of restitution e, in [{E_MIN}, 1]."),
+    AfterValidator(check_restitution),
+]
+#: How a damped law turns its restitution into damping (see docs/restitution.md).
+Calibration = Annotated[
+    Literal["published", "exact"],
+    Field(description="published: the damping formula of the law's source, whose two-body "
+                      "impact rebounds with a restitution near e (docs/restitution.md lists "
+                      "how near); exact: the damping with which it rebounds with e itself."),
 ]
 
 

@@ -1,22 +1,42 @@
-"""The Hunt-Crossley family: F = k delta^n (1 + chi delta_dot / v0), compression only.
+"""The Hunt-Crossley family: F = k delta^n (1 + chi delta_dot / v_ref), compression only.
 
-v0 is the approach velocity at contact onset, held for the whole contact. The improved Kelvin
-law is n = 1, Hertzdamp n = 3/2. Written as ``xi delta^n delta_dot`` the damping coefficient is
-xi = chi k / v0, and it vanishes with delta, so the force starts from zero at onset.
+v_ref is the approach velocity v0 at contact onset, held for the whole contact, or the energy
+velocity of the contact if that is larger (see below). The improved Kelvin law is n = 1,
+Hertzdamp n = 3/2. Written as ``xi delta^n delta_dot`` the damping coefficient is
+xi = chi k / v_ref, and it vanishes with delta, so the force starts from zero at onset.
 
 v0 is taken at the end of the step in which contact begins (the trial rate), so within that
-step F = k delta^n (1 + chi) and the tangent holds no rate term. When the approach velocity is
-not positive (a contact that closes by drift, not impact) there is no velocity to scale the
-damping by, and the law acts as its spring alone.
+step F = k delta^n (1 + chi) and the tangent holds no rate term. When v0 is not positive (a
+contact that closes by drift, not impact) there is no velocity to scale the damping by, and
+the law acts as its spring alone.
+
+Grazing and persistent contact. xi = chi k / v0 grows without bound as v0 -> 0+: a contact
+that begins with a tiny approach velocity (grazing) and is then pushed by the buildings, or
+one that stays closed, would be as good as rigid. The reference velocity is therefore never
+less than the *energy velocity* of the contact,
+
+    v_e = sqrt(2 k delta^(n+1) / ((n + 1) m_eff)),
+
+the approach velocity whose kinetic energy (1/2 m_eff v_e^2) equals the elastic energy the
+contact holds now: v_ref = max(v0, v_e). In a free two-body impact the stored energy never
+exceeds the kinetic energy at onset, so v_e <= v0 throughout and the law is the published one,
+bit for bit. Where v_e wins the law is the speed-independent viscoelastic contact
+k delta^n + (chi k / a) delta^((n-1)/2) delta_dot (a = sqrt(2 k / ((n + 1) m_eff))): for n = 1
+a Kelvin dashpot of damping ratio chi / 2, for n = 3/2 Jankowski's form. The floor is
+dimensionless (no parameter, no scene-dependent scale), so it keeps similitude, and the force
+stays bounded as v0 -> 0+. ``inverse_effective_mass`` = 0 turns the floor off.
 """
 
 from __future__ import annotations
 
+import math
+
 STATE_NAMES = ("onset_velocity", "in_contact")
+PARAM_NAMES = ("stiffness", "exponent", "chi", "inverse_effective_mass")
 
 
 def hunt_crossley_force(params, committed, trial, deformation, rate):
-    """params = (k, n, chi); state = (v0, in_contact)."""
+    """params = (k, n, chi, 1 / m_eff); state = (v0, in_contact)."""
     if deformation <= 0.0:
         trial[0] = 0.0
         trial[1] = 0.0
@@ -31,11 +51,20 @@ def hunt_crossley_force(params, committed, trial, deformation, rate):
     power = deformation if n == 1.0 else deformation**n
     spring = k * power
     dspring = n * spring / deformation
-    if v0 <= 0.0 or chi == 0.0:
+    if v0 <= 0.0 or chi == 0.0:  # no approach velocity (or no damping): the spring alone
         return spring, dspring, 0.0
-    if onset:
-        return spring * (1.0 + chi), dspring * (1.0 + chi), 0.0
-    factor = 1.0 + chi * rate / v0
-    if factor <= 0.0:
+    # energy velocity squared: 2 k delta^(n+1) / ((n + 1) m_eff)
+    ve2 = 2.0 * spring * deformation * params[3] / (n + 1.0)
+    if v0 * v0 >= ve2:  # an impact: v_ref = v0
+        if onset:
+            return spring * (1.0 + chi), dspring * (1.0 + chi), 0.0
+        factor = 1.0 + chi * rate / v0
+        if factor <= 0.0:
+            return 0.0, 0.0, 0.0
+        return spring * factor, dspring * factor, spring * chi / v0
+    # v_ref = v_e ~ delta^((n+1)/2): damping force (chi spring / v_e) rate ~ delta^((n-1)/2)
+    damping = chi * spring / math.sqrt(ve2)
+    f = spring + damping * rate
+    if f <= 0.0:
         return 0.0, 0.0, 0.0
-    return spring * factor, dspring * factor, spring * chi / v0
+    return f, dspring + 0.5 * (n - 1.0) * damping * rate / deformation, damping

@@ -2,16 +2,22 @@
 
 F = k delta + xi delta delta_dot, xi = 3 k (1 - e) / (2 e v0)  (paper eqs. 1-3), i.e. the
 Hunt-Crossley form with n = 1 and chi = 3 (1 - e) / (2 e). v0 is the approach velocity at
-contact onset. The force never jumps at onset and does not pull in rebound.
+contact onset (never below the energy velocity of the contact: see docs/restitution.md). The
+force never jumps at onset and does not pull in rebound.
+
+``calibration: exact`` replaces the published chi, whose two-body impact rebounds with a
+restitution somewhat below e (0.38 for e = 0.4), by the root of
+chi (1 + e) = ln((1 + chi) / (1 - chi e)), with which it rebounds with e itself.
 """
 
 from __future__ import annotations
 
 from typing import Literal
 
-from pframe.laws.contact._hunt_crossley import STATE_NAMES, hunt_crossley_force
-from pframe.laws.params import ContactStiffness, Restitution
+from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
+from pframe.laws.params import Calibration, ContactStiffness, DampedRestitution
 from pframe.laws.registry import Law, contact_law
+from pframe.laws.restitution import hunt_crossley_chi
 
 
 def ye_chi(e: float) -> float:
@@ -23,12 +29,19 @@ def ye_chi(e: float) -> float:
 class ImprovedKelvin(Law):
     class Params(ContactStiffness):
         law: Literal["improved_kelvin"]
-        restitution: Restitution
+        restitution: DampedRestitution
+        calibration: Calibration = "published"
 
-    param_names = ("stiffness", "exponent", "chi")
+    param_names = PARAM_NAMES
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
 
     @classmethod
+    def chi(cls, params) -> float:
+        e = params.restitution
+        return hunt_crossley_chi(e) if params.calibration == "exact" else ye_chi(e)
+
+    @classmethod
     def pack(cls, params, context=None):
-        return (params.resolve_stiffness(context), 1.0, ye_chi(params.restitution))
+        return (params.resolve_stiffness(context), 1.0, cls.chi(params),
+                1.0 / context.effective_mass)

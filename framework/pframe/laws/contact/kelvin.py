@@ -3,7 +3,12 @@
 F = k delta + c delta_dot while delta > 0, with c = 2 zeta sqrt(k m1 m2 / (m1 + m2)) and
 zeta = -ln e / sqrt(pi^2 + ln^2 e). With ``keep_tension: true`` the force may turn negative
 during rebound (the drawback the paper shows in its Figure 6); by default the force is
-clipped at zero, which makes the real restitution somewhat higher than e.
+clipped at zero, which makes the real restitution somewhat higher than e (0.47 for e = 0.4).
+
+``calibration: exact``: with ``keep_tension`` the published zeta is already exact; clipped,
+the floors separate where the force reaches zero and the restitution is
+exp(-2 zeta arccos(zeta) / sqrt(1 - zeta^2)), which is inverted for zeta
+(``pframe.laws.restitution.kelvin_clipped_zeta``).
 """
 
 from __future__ import annotations
@@ -13,25 +18,39 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.params import ContactStiffness, Restitution, kelvin_damping_ratio
+from pframe.laws.params import (
+    Calibration,
+    ContactStiffness,
+    DampedRestitution,
+    kelvin_damping_ratio,
+)
 from pframe.laws.registry import Law, contact_law
+from pframe.laws.restitution import kelvin_clipped_zeta
 
 
 @contact_law("kelvin")
 class Kelvin(Law):
     class Params(ContactStiffness):
         law: Literal["kelvin"]
-        restitution: Restitution
+        restitution: DampedRestitution
         keep_tension: bool = Field(
             False, description="Keep the tensile force in rebound (no clipping at zero)."
         )
+        calibration: Calibration = "published"
 
     param_names = ("stiffness", "damping", "keep_tension")
 
     @classmethod
+    def zeta(cls, params) -> float:
+        e = params.restitution
+        if params.calibration == "exact" and not params.keep_tension:
+            return kelvin_clipped_zeta(e)
+        return kelvin_damping_ratio(e)
+
+    @classmethod
     def pack(cls, params, context=None):
         k = params.resolve_stiffness(context)
-        zeta = kelvin_damping_ratio(params.restitution)
+        zeta = cls.zeta(params)
         c = 2.0 * zeta * math.sqrt(k * context.effective_mass)
         return (k, c, 1.0 if params.keep_tension else 0.0)
 
