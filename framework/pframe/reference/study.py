@@ -35,11 +35,10 @@ class Difference:
     def between(cls, a, b, stride: int = 1) -> Difference:
         """a sampled every ``stride`` rows (a finer kernel run) against b."""
         def largest(x, y):
-            x = np.asarray(x)[::stride]
-            return float(np.max(np.abs(x - y), initial=0.0))
+            return float(np.max(np.abs(np.asarray(x) - y), initial=0.0))
 
         peak_a = getattr(a, "peak_contact_force", None)
-        return cls(*(largest(getattr(a, q), getattr(b, q)) for q, _ in COMPARED),
+        return cls(*(largest(getattr(a, q)[::stride], getattr(b, q)) for q, _ in COMPARED),
                    largest(peak_a, b.peak_contact_force) if peak_a is not None else np.nan)
 
 

@@ -241,12 +241,20 @@ class System:
         rate_of_rate = np.concatenate((self.story_incidence @ s.acceleration,
                                        self.contact_incidence @ s.acceleration))
         rate_of_rate = rate_of_rate[self._event_element]
-        terms = (self._a * deformation, self._b * rate)
-        values = terms[0] + terms[1] + self._c + self.shift
+        values = self._a * deformation + self._b * rate + self._c + self.shift
         rates = self._a * rate + self._b * rate_of_rate
         if not roundoff:
             return values, rates
-        error = ROUNDOFF * (np.abs(terms[0]) + np.abs(terms[1]) + np.abs(self._c))
+        # a deformation is a difference of displacements (less the gap): its rounding error
+        # scales with those, not with the (possibly tiny) difference
+        u, v = np.abs(s.u), np.abs(s.v)
+        size = np.concatenate((np.abs(self.story_incidence) @ u,
+                               np.abs(self.contact_incidence) @ u + np.abs(self.gap)))
+        size_rate = np.concatenate((np.abs(self.story_incidence) @ v,
+                                    np.abs(self.contact_incidence) @ v))
+        error = ROUNDOFF * (np.abs(self._a) * size[self._event_element]
+                            + np.abs(self._b) * size_rate[self._event_element]
+                            + np.abs(self._c))
         return values, rates, error
 
     def contact_closed(self) -> np.ndarray:
