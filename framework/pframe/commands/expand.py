@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from pframe.errors import InputError
+from pframe.commands import write_text_output
 
 
 def expanded_text(path: Path) -> str | None:
@@ -38,14 +38,7 @@ def _expand(args) -> int:
         print(f"pframe: {path} is a dimensional scene already; printed unchanged",
               file=sys.stderr)
         text = path.read_text(encoding="utf-8")
-    if args.output:
-        out = Path(args.output)
-        if out.exists() and not args.overwrite:
-            raise InputError(f"{out}: the output file exists; pass --overwrite to replace it")
-        out.write_text(text, encoding="utf-8")
-        print(f"wrote {out}")
-    else:
-        sys.stdout.write(text)
+    write_text_output(text, args.output, args.overwrite)
     return 0
 
 

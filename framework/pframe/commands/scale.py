@@ -7,10 +7,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from pframe.errors import InputError
+from pframe.commands import write_text_output
 
 #: the quantities a ratio may be chosen for (pframe.nondim.similitude.QUANTITIES)
 CHOICES = ("length", "displacement", "time", "frequency", "velocity", "acceleration", "mass",
@@ -53,14 +52,7 @@ def _scale(args) -> int:
             print("\n".join(_table(sim)))
         return 0
     text = _scaled_scene(Path(args.model), sim, args.to)
-    if args.output:
-        out = Path(args.output)
-        if out.exists() and not args.overwrite:
-            raise InputError(f"{out}: the output file exists; pass --overwrite to replace it")
-        out.write_text(text, encoding="utf-8")
-        print(f"wrote {out}")
-    else:
-        sys.stdout.write(text)
+    write_text_output(text, args.output, args.overwrite)
     return 0
 
 
