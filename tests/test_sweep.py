@@ -396,3 +396,17 @@ def test_yaml_exponents_without_a_dot_are_numbers(folder):
     message = _error(folder, "base: base.yaml\naxes:\n"
                              "  - {name: gap, path: contacts.*.gap, values: [0.1, wide]}\n")
     assert "s.yaml" not in message and "bad.yaml, line 3" in message and "'wide'" in message
+
+
+def test_chunks_of_other_pframe_code_are_refused(folder):
+    """A sweep started by one pframe is not computed by another (a worker with another
+    version, or source edited before a resume): the digest covers the code, and a chunk
+    refuses to run under code other than the sweep's."""
+    from pframe.errors import PframeError
+    from pframe.sweep import run_chunk
+
+    definition = load_sweep(folder / "grid.yaml")
+    other = dataclasses.replace(definition, code="0123456789abcdef")
+    assert other.digest != definition.digest
+    with pytest.raises(PframeError, match="other pframe code"):
+        run_chunk(other, 0)

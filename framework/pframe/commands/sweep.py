@@ -116,7 +116,7 @@ def _sweep(args) -> int:
     axes = ", ".join(f"{a.name}: {len(a.values)}" for a in spec.axes)
     where = f" on the Dask cluster at {args.scheduler}" if args.scheduler else ""
     say(f"pframe sweep: {args.sweep}: {spec.count} variants ({spec.model.combine} of {axes}) "
-        f"in {spec.chunks} chunks of up to {definition.chunk}{where}")
+        f"in {_plural(spec.chunks, 'chunk')} of up to {definition.chunk}{where}")
     progress = None if args.quiet else _Progress(sys.stderr, sys.stderr.isatty())
     try:
         run = run_sweep(definition, out, restart=args.overwrite, threads=args.threads,
@@ -141,9 +141,14 @@ def _sweep(args) -> int:
     return 0
 
 
+def _plural(count: int, noun: str) -> str:
+    return f"{count} {noun}{'' if count == 1 else 's'}"
+
+
 def _summary(run, spec):
     resumed = f", {run.resumed_chunks} of them from an earlier run" if run.resumed_chunks else ""
-    print(f"{spec.definition.source}: {run.count} variants in {run.chunks} chunks{resumed}; "
+    print(f"{spec.definition.source}: {_plural(run.count, 'variant')} in "
+          f"{_plural(run.chunks, 'chunk')}{resumed}; "
           f"{run.count - len(run.failed)} completed, {len(run.failed)} failed")
     if run.variant_steps:
         computing = max(run.wall_seconds - run.compile_seconds, 1e-9)

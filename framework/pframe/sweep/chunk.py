@@ -12,10 +12,10 @@ import time
 
 import numpy as np
 
-from pframe.errors import InputError
+from pframe.errors import InputError, PframeError
 from pframe.quantities import QUANTITIES
 from pframe.sweep.definition import RESPONSES
-from pframe.sweep.spec import Spec, parse, topology
+from pframe.sweep.spec import Spec, code_fingerprint, parse, topology
 
 #: per-variant bookkeeping kept beside the responses
 STATUS_FIELDS = ("complete", "status", "steps_completed", "energy_balance_error",
@@ -179,6 +179,11 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     from pframe.nondim.output import output_units
     from pframe.sweep.variants import load_variant, materialise, variant_data
 
+    if definition.code != code_fingerprint():
+        raise PframeError(
+            f"{definition.source}: this process runs other pframe code ({code_fingerprint()}) "
+            f"than the sweep was started with ({definition.code}); every process computing "
+            "chunks of a sweep needs the same pframe (install it alike on every worker)")
     spec = parse(definition)
     folder = materialise(definition)
     reference, shapes = _reference(definition)

@@ -54,6 +54,8 @@ class SweepDefinition:
         (origin ``axis``) stands for.
     chunk : int
         Variants per chunk.
+    code : str
+        :func:`code_fingerprint` of the process that loaded the sweep.
     """
 
     source: str
@@ -64,25 +66,39 @@ class SweepDefinition:
     files: tuple = ()
     records: tuple = ()
     chunk: int = 64
+    code: str = ""
 
     @functools.cached_property
     def digest(self) -> str:
         """A hash of everything the results depend on (not of where the files are)."""
         import pframe
 
-        parts = [FORMAT_VERSION, pframe.__version__, self.text, self.base_text,
+        parts = [FORMAT_VERSION, pframe.__version__, self.code, self.text, self.base_text,
                  sorted(key for key, _ in self.files),
                  sorted((origin, written, key) for origin, written, key, _ in self.records),
                  self.chunk]
         return hashlib.sha256(json.dumps(parts).encode()).hexdigest()[:24]
 
-    def __getstate__(self):  # the cached digest is recomputed where the definition lands
-        state = dict(self.__dict__)
-        state.pop("digest", None)
-        return state
 
-    def __setstate__(self, state):
-        self.__dict__.update(state)
+#: the parts of pframe a sweep's numbers come from
+_COMPUTING = ("model", "assemble", "kernel", "laws", "excitation", "integrators", "nondim",
+              "sweep", "quantities.py")
+
+
+@functools.cache
+def code_fingerprint() -> str:
+    """A hash of the source of the parts of pframe that compute a sweep's numbers (read once
+    per process): results of other code are not mixed into a sweep, whether it is resumed
+    after pframe changed or run on a worker that has another pframe."""
+    import pframe
+
+    root = Path(pframe.__file__).parent
+    digest = hashlib.sha256()
+    for part in _COMPUTING:
+        paths = [root / part] if part.endswith(".py") else sorted((root / part).rglob("*.py"))
+        for path in paths:
+            digest.update(str(path.relative_to(root)).encode() + b"\0" + path.read_bytes())
+    return digest.hexdigest()[:16]
 
 
 @dataclass(frozen=True)
@@ -253,7 +269,7 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
     definition = SweepDefinition(
         source=source, text=text, base_source=base_source, base_text=base_text,
         base_dir=str(Path(base_dir).resolve()), files=tuple(sorted(files.items())),
-        records=tuple(records), chunk=chunk or model.chunk)
+        records=tuple(records), chunk=chunk or model.chunk, code=code_fingerprint())
     check(definition)
     return definition
 

@@ -61,7 +61,7 @@ class Parts:
                             "no readable manifest")
                     raise InputError(
                         f"{self.folder}: holds {what}; the sweep, its base scene, its record "
-                        "files, the chunk size or pframe's version have changed since those "
+                        "files, the chunk size or pframe's code have changed since those "
                         "chunks were computed. Pass --overwrite to discard them and start "
                         "again, or choose another output name with -o")
                 self._take_lock()
