@@ -410,3 +410,25 @@ def test_chunks_of_other_pframe_code_are_refused(folder):
     assert other.digest != definition.digest
     with pytest.raises(PframeError, match="other pframe code"):
         run_chunk(other, 0)
+
+
+def test_the_pi_d_spectrum_of_the_docs(tmp_path):
+    """models/sweeps/wu2021-pi-d.yaml gives the spectrum docs/sweeps.md describes: A's peak
+    0.97 l_e with the gap closed and its own 1.27 l_e once no floor pounds (Pi_d >= 1.3);
+    B's peak 0.29 at Pi_d = 0.2 and its own 0.20 from Pi_d = 0.45 on."""
+    out = tmp_path / "pi-d.h5"
+    assert main(["sweep", str(REPO / "models" / "sweeps" / "wu2021-pi-d.yaml"), "-o", str(out),
+                 "-q"]) == 0
+    with h5py.File(out, "r") as f:
+        pi_d = f["Pi_d"][...]
+        peak = f["building_peak_displacement"][...]  # (Pi_d, building A B)
+        impacts = f["impact_count"][...].sum(axis=1)
+        assert f["building_peak_displacement"].attrs["units"] == "1"
+    assert len(pi_d) == 41 and pi_d[-1] == 2.0
+    free = pi_d >= 1.3 - 1e-9
+    assert np.all(impacts[free] == 0) and np.all(impacts[~free] > 0)
+    assert peak[0, 0] == pytest.approx(0.97, abs=0.005)
+    assert np.allclose(peak[free, 0], 1.27, atol=0.005)
+    assert peak[4, 1] == pytest.approx(0.29, abs=0.005) and pi_d[4] == pytest.approx(0.2)
+    assert np.allclose(peak[pi_d >= 0.45 - 1e-9, 1], 0.20, atol=0.005)
+    assert peak[:, 1].max() == peak[4, 1]
