@@ -320,6 +320,20 @@ def test_hust_claims():
     assert pounding["impact_count"].tolist()[1] > 10 * pounding["impact_count"].tolist()[0]
 
 
+
+IMAGE = re.compile(r'!\[[^\]]*\]\((?P<md>[^)\s]+)\)|<img\s[^>]*?src="(?P<html>[^"]+)"')
+
+
+def test_page_images_exist():
+    """Every figure the page shows (Markdown or <img>) is a file beside it, under docs/img."""
+    text = PAGE.read_text(encoding="utf-8")
+    images = [m.group("md") or m.group("html") for m in IMAGE.finditer(text)]
+    assert images, "docs/validation.md shows no figures"
+    missing = [name for name in images if not (PAGE.parent / name).is_file()]
+    assert not missing, f"docs/validation.md shows figures that do not exist: {missing}"
+    assert all(name.startswith("img/") for name in images), images
+
+
 if __name__ == "__main__":
     text = PAGE.read_text(encoding="utf-8")
     PAGE.write_text(_rewrite(text, validation_tables()), encoding="utf-8")
