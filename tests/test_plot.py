@@ -309,3 +309,16 @@ def test_levels_reads_the_result(result_file):
     assert levels.buildings == ("L", "R")
     assert levels.contacts == {"2": ["upper"], "1": ["lower"]}
     assert levels.stories["3"] == {"L": "L/3"}
+
+
+def test_levels_of_a_pi_form_scene():
+    """A Pi-form scene names its contacts only once expanded; their levels are still found."""
+    from pathlib import Path
+
+    from pframe.plot.levels import group_by_level
+
+    text = (Path(__file__).parents[1] / "models" / "wu2021-eq14-pi.yaml").read_text()
+    names = [f"{b}/{i}" for b in "AB" for i in (1, 2, 3)]
+    levels = group_by_level(names, names, ["floor-1", "floor-2", "floor-3"], text)
+    assert levels.contacts == {"1": ["floor-1"], "2": ["floor-2"], "3": ["floor-3"]}
+    assert not levels.unplaced

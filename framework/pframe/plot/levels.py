@@ -65,6 +65,14 @@ def _scene_elements(input_yaml: str | None) -> tuple[dict[str, str], dict[str, t
         scene = None
     if not isinstance(scene, dict):
         return {}, {}
+    if "pi" in scene:  # a Pi-form scene: its contacts are named only once it is expanded
+        from pframe.errors import InputError
+        from pframe.nondim.pi_form import expand_pi_data
+
+        try:
+            scene = expand_pi_data(scene, {}, "input_yaml")
+        except InputError:
+            return {}, {}
     stories, contacts = {}, {}
     for story in scene.get("stories") or []:
         if isinstance(story, dict) and isinstance(story.get("nodes"), list | tuple) \
