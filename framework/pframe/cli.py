@@ -40,6 +40,11 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("pframe: interrupted; no output written", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # output piped into a reader that stopped (pframe pi | head)
+        import os
+
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
 
 
 if __name__ == "__main__":
