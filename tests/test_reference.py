@@ -227,6 +227,32 @@ def test_python_laws_equal_compiled_laws():
     assert fast.peak_contact_force[0] == pytest.approx(slow.peak_contact_force[0], rel=1e-14)
 
 
+def test_plug_in_laws_get_gap_events_or_are_refused():
+    """A plug-in contact law without state gets onset/separation events; one with state
+    (whose branches the reference cannot know) is refused, naming the law."""
+    from pframe.laws import Law
+    from pframe.reference.branches import Gap, Smooth, branches_for
+
+    class Stateless(Law):
+        kind, name = "contact", "stateless"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            return max(deformation, 0.0), 1.0, 0.0
+
+    class Stateful(Stateless):
+        name = "stateful"
+        state_names = ("memory",)
+
+    class Material(Stateless):
+        kind, name = "material", "plain"
+
+    assert type(branches_for(Stateless)) is Gap
+    assert type(branches_for(Material)) is Smooth
+    with pytest.raises(InputError, match="'stateful'"):
+        branches_for(Stateful)
+
+
 # ---------------------------------------------------------------------------------------------
 # bilinear storeys
 # ---------------------------------------------------------------------------------------------
@@ -295,6 +321,29 @@ def test_sampled_ground_restarts_at_every_sample():
     assert np.array_equal(sampled.ground_acceleration, plan.ground_acceleration[0])
     custom = solve(plan, ground=Ground(of_scene(loaded).function, plan.times))
     assert np.max(np.abs(custom.displacement - exact.displacement)) <= 1e-10 * scale
+
+
+def test_batch_member_equals_single_run_with_mixed_laws():
+    """A batch of two variants (gaps 0.124 m and 0.1 m) of the paper's example with a linear
+    contact between two improved Kelvin ones (a law group whose elements are not
+    consecutive), over 2 s: member 1 of the batch equals the variant run alone, to roundoff."""
+    text = WU2021.read_text(encoding="utf-8").replace(
+        "duration: 7.957747154594767", "duration: 2.0")
+    hunt_crossley = "law: improved_kelvin, frequency_ratio: 65, restitution: 0.4"
+    first, rest = text.split(hunt_crossley, 1)
+    rest = rest.replace(hunt_crossley, "law: linear, frequency_ratio: 65", 1)
+    text = first + hunt_crossley + rest
+    variant = text.replace("gap: 0.1242451014414167", "gap: 0.1")
+    from pframe.assemble import assemble_batch
+
+    loaded = [parse_scene(t, base_dir=WU2021.parent) for t in (text, variant)]
+    batch = assemble_batch([x.expanded for x in loaded])
+    assert [len(g.index) for g in batch.contact_groups] == [2, 1]
+    member = solve(batch, member=1, ground=of_scene(loaded[1]))
+    alone = solve(assemble(loaded[1].expanded), ground=of_scene(loaded[1]))
+    assert np.max(np.abs(member.displacement - alone.displacement)) <= 1e-14
+    assert member.impacts.tolist() == alone.impacts.tolist()
+    assert np.all(member.impacts >= 1)
 
 
 def test_hust_contacts_release_and_separate():
