@@ -365,6 +365,41 @@ def test_hust_contacts_release_and_separate():
     assert error < 1e-3 * np.max(np.abs(ref.displacement))
 
 
+@pytest.mark.parametrize("last", [0.0, 1.5])
+def test_record_ground(tmp_path, last):
+    """A record (every 0.02 s) on a 2-storey building: ``of_scene`` interpolates it between its
+    own samples and is zero after it. If the record ends at zero that is the plan's samples'
+    interpolant too (agreement to 1e-10 of the peak) and the kernel converges at second
+    order; if it ends at 1.5 m/s^2 the ground jumps to zero there, which the kernel's samples
+    ramp over one step, an O(dt) impulse: the kernel is first order against the reference
+    (ratio 2 per halving)."""
+    t = np.arange(0.0, 2.0, 0.02)
+    a = 3.0 * np.sin(7.0 * t) * np.exp(-t)
+    a[-1] = last
+    np.savetxt(tmp_path / "record.txt", np.column_stack([t, a]))
+    text = scene_text(
+        buildings=[building("A", 2, 1000.0, {"material": "elastic", "stiffness": 1e5})],
+        damping={"ratio": 0.05, "modes": [1, 2]},
+        excitation={"kind": "record", "file": "record.txt"},
+        analysis=analysis(0.005, 3.0),
+    )
+    loaded, plan = _plan(text, base_dir=tmp_path)
+    exact = solve(plan, ground=of_scene(loaded))
+    peak = np.max(np.abs(exact.displacement))
+    if last == 0.0:
+        sampled = solve(plan).displacement
+        assert np.max(np.abs(sampled - exact.displacement)) < 1e-10 * peak
+    errors = []
+    for factor in (1, 2, 4):
+        _, fine = _plan(with_dt(text, factor), base_dir=tmp_path)
+        errors.append(np.max(np.abs(simulate(fine).history["displacement"][0][::factor]
+                                    - exact.displacement)))
+    ratios = np.array(errors[:-1]) / np.array(errors[1:])
+    print(f"record ending at {last}: kernel errors {errors}, ratios {ratios}")
+    expected = 4.0 if last == 0.0 else 2.0
+    assert np.all(np.abs(ratios - expected) < 0.15 * expected)
+
+
 # ---------------------------------------------------------------------------------------------
 # the paper's example: self-convergence and the kernel against the reference
 # ---------------------------------------------------------------------------------------------

@@ -71,11 +71,11 @@ class _KernelRun:
 
 def with_dt(text: str, factor: int) -> str:
     """A scene's YAML text with ``analysis.dt`` divided by ``factor``."""
-    match = re.search(r"^(\s*dt:\s*)([0-9.eE+-]+)\s*$", text, re.M)
+    match = re.search(r"""(?:^|[\s{,])["']?dt["']?\s*:\s*([0-9.eE+-]+)""", text, re.M)
     if match is None:
-        raise ValueError("no 'dt: <number>' line in the scene")
-    dt = float(match.group(2)) / factor
-    return text[:match.start(2)] + repr(dt) + text[match.end(2):]
+        raise ValueError("no 'dt: <number>' in the scene")
+    dt = float(match.group(1)) / factor
+    return text[:match.start(1)] + repr(dt) + text[match.end(1):]
 
 
 def kernel_convergence(text: str, reference, factors=(1, 2, 4, 8), base_dir=None):
