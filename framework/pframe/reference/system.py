@@ -20,7 +20,7 @@ from pframe.errors import InputError
 from pframe.reference.branches import branches_for
 from pframe.reference.evaluate import LawElements
 
-#: rounding error of an event function, relative to its largest term
+#: rounding error of an event function, relative to the magnitudes it is computed from
 ROUNDOFF = 1e3 * np.finfo(float).eps
 
 
