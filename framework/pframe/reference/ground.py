@@ -58,17 +58,13 @@ def of_scene(loaded) -> Ground:
     (breakpoints at the record's times), zero without excitation. This is what the kernel
     converges to as dt -> 0, whereas the plan's samples change with dt."""
     from pframe.excitation import read_record
+    from pframe.excitation.sample import sine_end
 
     excitation = loaded.scene.excitation
     if excitation is None:
         return Ground(lambda t: np.zeros(np.shape(t)), np.empty(0), "none")
     if excitation.kind == "sine":
-        end = np.inf
-        if excitation.cycles is not None:
-            end = excitation.cycles * 2.0 * np.pi / excitation.frequency
-        elif excitation.duration is not None:
-            end = excitation.duration
-        return sine(excitation.amplitude, excitation.frequency, end)
+        return sine(excitation.amplitude, excitation.frequency, sine_end(excitation))
     t, a = read_record(loaded.base_dir / excitation.file, excitation.format, excitation.units)
     t = np.asarray(t, dtype=float)
     a = excitation.scale * np.asarray(a, dtype=float)
