@@ -140,7 +140,7 @@ def _evaluate(w: _Writer, st: Structure, tangent: bool):
         w(f"e = sx{g}[j]", "lo = story_dofs[e, 0]", "up = story_dofs[e, 1]",
           "d = ue[up]", "r = ve[up]", "if lo >= 0:",
           "    d -= ue[lo]", "    r -= ve[lo]",
-          f"f, kt, kr = slaw{g}(sp{g}[b, j], sc{g}[b, j], st{g}[b, j], d, r)")
+          f"f, kt, kr = slaw{g}(sp{g}b[j], sc{g}b[j], st{g}b[j], d, r)")
         if st.damping_modes == (0,):
             w("kd = k0[b, e]")
         else:
@@ -156,7 +156,7 @@ def _evaluate(w: _Writer, st: Structure, tangent: bool):
         w(f"for j in range(cx{g}.shape[0]):").indent()
         w(f"e = cx{g}[j]", "lft = contact_dofs[e, 0]", "rgt = contact_dofs[e, 1]",
           "d = ue[lft] - ue[rgt] - gap[b, e]", "r = ve[lft] - ve[rgt]",
-          f"f, kd_, kr = claw{g}(cp{g}[b, j], cc{g}[b, j], ct{g}[b, j], d, r)",
+          f"f, kd_, kr = claw{g}(cp{g}b[j], cc{g}b[j], ct{g}b[j], d, r)",
           "cforce_t[e] = f", "cpen_t[e] = d", "R[lft] -= f", "R[rgt] += f")
         if tangent:
             w("kk = (kd_ + c1 * kr) * wf", "band[lft, 0] += kk", "band[rgt, 0] += kk",
@@ -374,6 +374,10 @@ def _header(w: _Writer, st: Structure):
       "drift_t = np.zeros(ns)", "sforce_t = np.zeros(ns)", "sdamp_t = np.zeros(ns)",
       "stan_t = np.zeros(ns)", "cforce_t = np.zeros(nc)", "cpen_t = np.zeros(nc)",
       "norm_u = 0.0", "failed = False", "hs = h / cd_parts[b]" if st.explicit else "hs = h")
+    # this member's law parameters and states, taken once (not per element call)
+    for prefix, laws in (("s", st.story_laws), ("c", st.contact_laws)):
+        for g in range(len(laws)):
+            w(*(f"{prefix}{kind}{g}b = {prefix}{kind}{g}[b]" for kind in "pct"))
     if st.alpha:
         w("ue = np.empty(n)", "ve = np.empty(n)", "ae = np.empty(n)")
     elif st.explicit:
