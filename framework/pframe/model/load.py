@@ -145,16 +145,13 @@ def _format_validation(exc: ValidationError, data, lines: dict, source: str) -> 
     return "; ".join(messages[:3]) + more
 
 
-def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = None) -> LoadedScene:
-    """Validate a scene given as YAML text; raise :class:`InputError` naming the line."""
+def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str = ".",
+                    text: str = "") -> LoadedScene:
+    """Validate composed YAML data (a Pi-form scene is expanded first) and resolve it;
+    ``lines`` map data paths to lines of ``source`` for the messages."""
     from pframe.model.expand import expand
     from pframe.model.scene import scene_class
 
-    data, lines = _compose(text, source)
-    if not isinstance(data, dict):
-        raise InputError(f"{source}: a scene is a YAML mapping (keys such as buildings, "
-                         "contacts, excitation, analysis); this file holds "
-                         f"{'nothing' if data is None else type(data).__name__}")
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
@@ -177,6 +174,16 @@ def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = Non
         except InputError as exc:
             raise InputError(f"{_where(source, lines, ('output',))}: {exc}") from None
     return LoadedScene(scene, text, source, base_dir, lines, expanded)
+
+
+def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = None) -> LoadedScene:
+    """Validate a scene given as YAML text; raise :class:`InputError` naming the line."""
+    data, lines = _compose(text, source)
+    if not isinstance(data, dict):
+        raise InputError(f"{source}: a scene is a YAML mapping (keys such as buildings, "
+                         "contacts, excitation, analysis); this file holds "
+                         f"{'nothing' if data is None else type(data).__name__}")
+    return scene_from_data(data, lines, source, base_dir, text)
 
 
 def load_scene(path: str | Path) -> LoadedScene:

@@ -14,40 +14,14 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from pydantic import ValidationError
-
-from pframe.errors import InputError
-from pframe.model.load import LoadedScene, ModelError, _format_validation, _plugin_names, _where
+from pframe.model.load import LoadedScene, scene_from_data
 from pframe.sweep.paths import put
 
 
 def load_variant(data: dict, lines: dict, source: str, base_dir: Path) -> LoadedScene:
     """Validate scene data as :func:`pframe.model.parse_scene` validates the data of a file;
     ``lines`` are the base scene's (a variant has the base's layout, so they still apply)."""
-    from pframe.model.expand import expand
-    from pframe.model.scene import scene_class
-
-    if "pi" in data:
-        from pframe.nondim.pi_form import expand_pi_data
-
-        data = expand_pi_data(data, lines, source)
-    plugins = _plugin_names(data, lines, source)
-    try:
-        scene = scene_class(*plugins).model_validate(data)
-    except ValidationError as exc:
-        raise InputError(_format_validation(exc, data, lines, source)) from None
-    try:
-        expanded = expand(scene, base_dir)
-    except ModelError as exc:
-        raise InputError(f"{_where(source, lines, exc.path)}: {exc.message}") from None
-    if scene.output.units == "dimensionless":
-        from pframe.nondim.scene_variables import reference_scales
-
-        try:
-            reference_scales(scene, expanded)
-        except InputError as exc:
-            raise InputError(f"{_where(source, lines, ('output',))}: {exc}") from None
-    return LoadedScene(scene, "", source, Path(base_dir), lines, expanded)
+    return scene_from_data(data, lines, source, base_dir)
 
 
 def variant_data(spec, index: int, record_path=None) -> dict:
