@@ -23,18 +23,15 @@ depend on the machine (see benchmarks/README.md).
 from __future__ import annotations
 
 import argparse
-import os
-import platform
 import shlex
 import shutil
 import subprocess
 import sys
 import tempfile
 import time
-from importlib import metadata
 from pathlib import Path
 
-import yaml
+from _common import machine_lines, shortened_model
 
 from pframe.assemble import assemble, peer_scene
 from pframe.kernel import simulate
@@ -45,47 +42,6 @@ KELVIN = REPO / "models" / "wu2021-eq14.yaml"
 LINEAR = REPO / "models" / "wu2021-eq14-linear.yaml"
 OPENSEES_REPEATS = 3
 PROCESS_REPEATS = 3
-
-
-def _version(package: str) -> str:
-    try:
-        return metadata.version(package)
-    except metadata.PackageNotFoundError:
-        return "not installed"
-
-
-def _cpu_model() -> str:
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as handle:
-            for line in handle:
-                if line.startswith("model name"):
-                    return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor() or platform.machine()
-
-
-def _machine_lines() -> list[str]:
-    affinity = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else None
-    return [
-        f"platform: {platform.platform()}",
-        f"cpu: {_cpu_model()}; os.cpu_count() = {os.cpu_count()}"
-        + (f", usable by this process = {affinity}" if affinity is not None else ""),
-        f"python {platform.python_version()} ({sys.executable}); numpy {_version('numpy')}, "
-        f"numba {_version('numba')}, openseespy {_version('openseespy')}, "
-        f"pframe {_version('pframe')}",
-    ]
-
-
-def _scene_file(model: Path, steps: int | None, folder: Path) -> Path:
-    """The model itself, or a copy in ``folder`` shortened to ``steps`` steps."""
-    if steps is None:
-        return model
-    data = yaml.safe_load(model.read_text(encoding="utf-8"))
-    data["analysis"]["duration"] = steps * float(data["analysis"]["dt"])
-    path = folder / f"{model.stem}-{steps}.yaml"
-    path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
-    return path
 
 
 def _plan(path: Path):
@@ -169,15 +125,15 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("--repeats must be at least 1")
 
     print("command: " + shlex.join([sys.executable, *sys.argv]))
-    for line in _machine_lines():
+    for line in machine_lines():
         print(line)
     print()
 
     rows: list[tuple[str, str, str, str]] = []  # what, pframe, OpenSees, ratio
     with tempfile.TemporaryDirectory(prefix="pframe-bench-") as tmp:
         folder = Path(tmp)
-        linear_file = _scene_file(LINEAR, args.steps, folder)
-        kelvin_file = _scene_file(KELVIN, args.steps, folder)
+        linear_file = shortened_model(LINEAR, args.steps, folder)
+        kelvin_file = shortened_model(KELVIN, args.steps, folder)
         linear_plan, kelvin_plan = _plan(linear_file), _plan(kelvin_file)
         steps = linear_plan.steps
         dt = float(linear_plan.dt[0])

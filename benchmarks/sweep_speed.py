@@ -27,7 +27,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import os
-import platform
 import re
 import resource
 import shlex
@@ -35,50 +34,15 @@ import subprocess
 import sys
 import tempfile
 import time
-from importlib import metadata
 from pathlib import Path
 
 import numpy as np
+from _common import machine_lines, shortened_model
 
 REPO = Path(__file__).resolve().parents[1]
 KELVIN = REPO / "models" / "wu2021-eq14.yaml"
 LINEAR = REPO / "models" / "wu2021-eq14-linear.yaml"
 GAPS = (0.0, 0.3)  # m; the models' gap is 0.124 m (Pi_d = 0.5)
-
-
-def _version(package: str) -> str:
-    try:
-        return metadata.version(package)
-    except metadata.PackageNotFoundError:
-        return "not installed"
-
-
-def _machine() -> str:
-    cpu = platform.processor() or platform.machine()
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as handle:
-            cpu = next(line.split(":", 1)[1].strip() for line in handle
-                       if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    usable = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
-    return (f"{platform.platform()}; {cpu}; {os.cpu_count()} CPUs ({usable} usable); "
-            f"load average {os.getloadavg()[0]:.2f} at the start\n"
-            f"python {platform.python_version()}, numpy {_version('numpy')}, numba "
-            f"{_version('numba')}, openseespy {_version('openseespy')}, pframe {_version('pframe')}")
-
-
-def _model(path: Path, steps: int | None, folder: Path) -> Path:
-    """The model, or a copy shortened to ``steps`` steps."""
-    if steps is None:
-        return path
-    import yaml
-
-    data = yaml.safe_load(path.read_text(encoding="utf-8"))
-    data["analysis"]["duration"] = steps * float(data["analysis"]["dt"])
-    out = folder / f"{path.stem}-{steps}.yaml"
-    out.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
-    return out
 
 
 def _pframe(sweep: Path, out: Path, threads: int | None) -> tuple[float, float, str, list[str]]:
@@ -134,11 +98,11 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     print("command: " + shlex.join([sys.executable, *sys.argv]))
-    print(_machine())
+    print("\n".join(machine_lines()))
     with tempfile.TemporaryDirectory(prefix="pframe-sweep-bench-") as tmp:
         folder = Path(tmp)
-        kelvin = _model(KELVIN, args.steps, folder)
-        linear = _model(LINEAR, args.steps, folder)
+        kelvin = shortened_model(KELVIN, args.steps, folder)
+        linear = shortened_model(LINEAR, args.steps, folder)
         sweep = folder / "gaps.yaml"
         sweep.write_text(
             f"title: gap sweep of {KELVIN.name}\n"
