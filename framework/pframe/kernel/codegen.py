@@ -127,14 +127,12 @@ def _law_imports(w: _Writer, laws, prefix: str):
 
 
 def _evaluate(w: _Writer, st: Structure, tangent: bool):
-    """Forces, residual R and (with ``tangent``) the effective tangent band at the evaluation
-    point (ue, ve, ae, age): the step end for Newmark, the alpha point for HHT and
-    generalised-alpha. Tangent weights: wm on the mass term, wf on the others."""
+    """Forces, residual R and (with ``tangent``) each element's effective tangent at the
+    evaluation point (ue, ve, ae, age): the step end for Newmark, the alpha point for HHT and
+    generalised-alpha. Tangent weights: wm on the mass term, wf on the others. A tangent that
+    differs from the one in the current factorisation (skk, ckk) marks it stale."""
     w("for i in range(n):")
     w("    R[i] = -mass[b, i] * (age + ae[i]) - mdamp[b, i] * ve[i]")
-    if tangent:
-        w("    for d in range(bw + 1):", "        band[i, d] = 0.0",
-          "    band[i, 0] = mass[b, i] * c0 * wm + mdamp[b, i] * c1 * wf")
     for g, _ in enumerate(st.story_laws):
         w(f"for j in range(sx{g}.shape[0]):").indent()
         w(f"e = sx{g}[j]", "lo = story_dofs[e, 0]", "up = story_dofs[e, 1]",
@@ -149,8 +147,8 @@ def _evaluate(w: _Writer, st: Structure, tangent: bool):
         w("fd = sbeta[b, e] * kd * r", "drift_t[e] = d", "sforce_t[e] = f", "sdamp_t[e] = fd",
           "stan_t[e] = kt", "R[up] -= f + fd", "if lo >= 0:", "    R[lo] += f + fd")
         if tangent:
-            w("kk = (kt + c1 * (kr + sbeta[b, e] * kd)) * wf", "band[up, 0] += kk", "if lo >= 0:",
-              "    band[lo, 0] += kk", "    band[max(lo, up), abs(lo - up)] -= kk")
+            w("kk = (kt + c1 * (kr + sbeta[b, e] * kd)) * wf", "if kk != skk[e]:",
+              "    skk[e] = kk", "    stale = True")
         w().dedent()
     for g, _ in enumerate(st.contact_laws):
         w(f"for j in range(cx{g}.shape[0]):").indent()
@@ -159,9 +157,23 @@ def _evaluate(w: _Writer, st: Structure, tangent: bool):
           f"f, kd_, kr = claw{g}(cp{g}b[j], cc{g}b[j], ct{g}b[j], d, r)",
           "cforce_t[e] = f", "cpen_t[e] = d", "R[lft] -= f", "R[rgt] += f")
         if tangent:
-            w("kk = (kd_ + c1 * kr) * wf", "band[lft, 0] += kk", "band[rgt, 0] += kk",
-              "band[max(lft, rgt), abs(lft - rgt)] -= kk")
+            w("kk = (kd_ + c1 * kr) * wf", "if kk != ckk[e]:", "    ckk[e] = kk",
+              "    stale = True")
         w().dedent()
+
+
+def _assemble_band(w: _Writer, st: Structure):
+    """The effective tangent band from the element tangents of the last evaluation."""
+    w("for i in range(n):", "    for d in range(1, bw + 1):", "        band[i, d] = 0.0",
+      "    band[i, 0] = mass[b, i] * c0 * wm + mdamp[b, i] * c1 * wf")
+    if st.story_laws:
+        w("for e in range(ns):", "    kk = skk[e]", "    lo = story_dofs[e, 0]",
+          "    up = story_dofs[e, 1]", "    band[up, 0] += kk", "    if lo >= 0:",
+          "        band[lo, 0] += kk", "        band[max(lo, up), abs(lo - up)] -= kk")
+    if st.contact_laws:
+        w("for e in range(nc):", "    kk = ckk[e]", "    lft = contact_dofs[e, 0]",
+          "    rgt = contact_dofs[e, 1]", "    band[lft, 0] += kk", "    band[rgt, 0] += kk",
+          "    band[max(lft, rgt), abs(lft - rgt)] -= kk")
 
 
 def _fail(w: _Writer, code: str, kind: str, index: str, leave: bool = True):
@@ -333,9 +345,14 @@ def _newton(w: _Writer, st: Structure):
     _fail(w, str(NOT_CONVERGED), str(NODE), "worst")
     w().dedent()
     if not st.linear:
-        w("if not ldl_factor(band, bw):").indent()
+        # Refactor only when a tangent or the (sub-)step changed: a storey that stays elastic
+        # or keeps yielding and an open contact keep theirs, so most steps reuse the factor
+        # (bit for bit what refactoring would give).
+        w("if stale or hs != h_factored:").indent()
+        _assemble_band(w, st)
+        w("stale = False", "h_factored = hs", "if not ldl_factor(band, bw):").indent()
         _fail(w, str(NOT_DEFINITE), str(NODE), "0")
-        w().dedent()
+        w().dedent().dedent()
     w("ldl_solve(band, bw, R)", "iterations[b] += 1")
     if st.linear:
         w("for i in range(n):", "    u_new[i] += R[i]", "converged = True")
@@ -384,6 +401,10 @@ def _header(w: _Writer, st: Structure):
       "drift_t = np.zeros(ns)", "sforce_t = np.zeros(ns)", "sdamp_t = np.zeros(ns)",
       "stan_t = np.zeros(ns)", "cforce_t = np.zeros(nc)", "cpen_t = np.zeros(nc)",
       "norm_u = 0.0", "failed = False", "hs = h / cd_parts[b]" if st.explicit else "hs = h")
+    if not st.linear and not st.explicit:
+        # element tangents in the current factorisation of the effective stiffness
+        w("skk = np.full(ns, np.nan)", "ckk = np.full(nc, np.nan)", "stale = True",
+          "h_factored = 0.0")
     # this member's law parameters and states, taken once (not per element call)
     for prefix, laws in (("s", st.story_laws), ("c", st.contact_laws)):
         for g in range(len(laws)):
