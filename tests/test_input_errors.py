@@ -110,6 +110,14 @@ CASES = {
                                   "material: bilinar\n      stiffness: 4.0e5"),
                              "bilinar", ", buildings[0].story.material",
                              ("unknown material 'bilinar'", "known: ", "elastic")),
+    # YAML booleans in number fields (pydantic alone would read them as 1 and 0)
+    "gap-boolean": Case(edit("gap: 0.001", "gap: on"), "gap: on", ", contacts[0].gap",
+                        ("expected a number, got the boolean true",)),
+    "mass-list-boolean": Case(edit("mass: 1000.0", "mass: [1000.0, yes]"), "mass: [",
+                              ", buildings[0].mass[1]", ("got the boolean true",)),
+    "iterations-boolean": Case(edit("  duration: 0.2\n", "  duration: 0.2\n  newton:\n"
+                                    "    max_iterations: true\n"), "max_iterations: true",
+                               ", analysis.newton.max_iterations", ("got the boolean true",)),
     "mass-zero": Case(edit("mass: 1000.0", "mass: 0.0"), "mass: 0.0", ", buildings[0].mass",
                       ("greater than 0",)),
     "mass-negative": Case(edit("mass: 2000.0", "mass: -2000.0"), "mass: -2000.0",

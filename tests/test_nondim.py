@@ -460,6 +460,7 @@ _PI_ERRORS = [
      "line 24, buildings.b.name: buildings a and b are both 'A'"),
     ("  dt_tau: 0.001", "  dt: 0.001", "line 28, analysis.dt: unknown field"),
     ("Pi_k: 5 ", "Pi_k: -5 ", "line 13, pi.Pi_k: Input should be greater than 0"),
+    ("Pi_k: 5 ", "Pi_k: yes ", "line 13, pi.Pi_k: expected a number, got the boolean true"),
 ]
 
 

@@ -296,6 +296,10 @@ def _error(folder, text: str) -> str:
      "     values: [1]}\n", ["bad.yaml, line 3", "exactly one of values, linspace"]),
     ("base: missing.yaml\naxes:\n  - {name: gap, path: contacts.*.gap, values: [0.1]}\n",
      ["bad.yaml, line 1", "base scene", "not found"]),
+    ("base: base.yaml\naxes:\n  - {name: gap, path: contacts.*.gap, values: [0.1, off]}\n",
+     ["bad.yaml, line 3, axes[0]", "False is neither a finite number"]),
+    ("base: base.yaml\nchunk: true\naxes:\n  - {name: gap, path: contacts.*.gap, values: [0.1]}\n",
+     ["bad.yaml, line 2, chunk", "got the boolean true"]),
 ])
 def test_bad_sweeps_are_refused_with_line_and_axis(folder, text, expected):
     message = _error(folder, text)

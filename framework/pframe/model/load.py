@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import yaml
-from pydantic import ValidationError
+from pydantic import BaseModel, ValidationError
 
 from pframe.errors import InputError
 from pframe.laws.registry import available_names
@@ -145,6 +145,55 @@ def _format_validation(exc: ValidationError, data, lines: dict, source: str) -> 
     return "; ".join(messages[:3]) + more
 
 
+_MISSING = object()
+
+
+def _booleans(node, path: Path_ = ()):
+    """(path, value) of every boolean in composed YAML data."""
+    if isinstance(node, bool):
+        yield path, node
+    elif isinstance(node, dict):
+        for key, value in node.items():
+            yield from _booleans(value, path + (key,))
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            yield from _booleans(value, path + (i,))
+
+
+def _value_at(obj, path: Path_):
+    """What a validated model holds at a path of its YAML data (_MISSING if it moved)."""
+    for part in path:
+        if isinstance(obj, BaseModel) and isinstance(part, str):
+            obj = getattr(obj, part, _MISSING)
+        elif isinstance(obj, dict):
+            obj = obj.get(part, _MISSING)
+        elif isinstance(obj, (list, tuple)) and isinstance(part, int) and part < len(obj):
+            obj = obj[part]
+        else:
+            return _MISSING
+        if obj is _MISSING:
+            return obj
+    return obj
+
+
+def validated(model: type[BaseModel], data, lines: dict, source: str):
+    """``model.model_validate(data)``, with problems raised as :class:`InputError` naming the
+    file, line and field. A YAML boolean in a number field is one: YAML reads true/false,
+    yes/no and on/off as booleans, and pydantic would quietly take them for 1 and 0 (a gap
+    written ``gap: on`` would become 1 m)."""
+    try:
+        out = model.model_validate(data)
+    except ValidationError as exc:
+        raise InputError(_format_validation(exc, data, lines, source)) from None
+    for path, flag in _booleans(data):
+        value = _value_at(out, path)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            raise InputError(
+                f"{_where(source, lines, path)}: expected a number, got the boolean "
+                f"{str(flag).lower()} (YAML reads true/false, yes/no and on/off as booleans)")
+    return out
+
+
 def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str = ".",
                     text: str = "") -> LoadedScene:
     """Validate composed YAML data (a Pi-form scene is expanded first) and resolve it;
@@ -157,10 +206,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
 
         data = expand_pi_data(data, lines, source)
     plugins = _plugin_names(data, lines, source)
-    try:
-        scene = scene_class(*plugins).model_validate(data)
-    except ValidationError as exc:
-        raise InputError(_format_validation(exc, data, lines, source)) from None
+    scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")
     try:
         expanded = expand(scene, base_dir)

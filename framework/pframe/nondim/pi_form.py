@@ -22,7 +22,7 @@ from __future__ import annotations
 import copy
 from typing import Literal
 
-from pydantic import Field, ValidationError, create_model
+from pydantic import Field, create_model
 
 from pframe.laws.params import Restitution
 from pframe.model.load import ModelError
@@ -226,12 +226,9 @@ def expand_pi(pi: PiScene, raw: dict) -> dict:
 def expand_pi_data(data: dict, lines: dict, source: str) -> dict:
     """Validate Pi-form YAML data and expand it; errors name the file, line and field."""
     from pframe.errors import InputError
-    from pframe.model.load import _format_validation, _where
+    from pframe.model.load import _where, validated
 
-    try:
-        pi = PiScene.model_validate(data)
-    except ValidationError as exc:
-        raise InputError(_format_validation(exc, data, lines, source)) from None
+    pi = validated(PiScene, data, lines, source)
     try:
         return expand_pi(pi, data)
     except ModelError as exc:

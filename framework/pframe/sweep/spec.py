@@ -18,10 +18,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-from pydantic import ValidationError
 
 from pframe.errors import InputError
-from pframe.model.load import _compose, _format_validation, _where
+from pframe.model.load import _compose, _where, validated
 from pframe.model.scene import Envelope, History
 from pframe.sweep.definition import RESPONSES, SweepFile
 from pframe.sweep.paths import check_targets, resolve
@@ -204,10 +203,7 @@ def _validated(text: str, source: str) -> tuple[SweepFile, dict]:
     if not isinstance(data, dict):
         raise InputError(f"{source}: a sweep file is a YAML mapping (base or scene, axes, "
                          "combine, keep, chunk)")
-    try:
-        return SweepFile.model_validate(data), lines
-    except ValidationError as exc:
-        raise InputError(_format_validation(exc, data, lines, source)) from None
+    return validated(SweepFile, data, lines, source), lines
 
 
 def load_sweep(path: str | Path, chunk: int | None = None) -> SweepDefinition:
@@ -434,7 +430,4 @@ def _validate_model(data: dict, spec: Spec) -> None:
 
         data = expand_pi_data(data, lines, source)
     plugins = _plugin_names(data, lines, source)
-    try:
-        scene_class(*plugins).model_validate(data)
-    except ValidationError as exc:
-        raise InputError(_format_validation(exc, data, lines, source)) from None
+    validated(scene_class(*plugins), data, lines, source)
