@@ -232,13 +232,17 @@ def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = Non
     return scene_from_data(data, lines, source, base_dir, text)
 
 
+def read_input(path: Path, what: str) -> str:
+    """The text of an input file (``what``: 'model', 'sweep'); InputError if unreadable."""
+    try:
+        return path.read_text(encoding="utf-8")
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such {what} file") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path}: cannot read the {what} file: {exc}") from None
+
+
 def load_scene(path: str | Path) -> LoadedScene:
     """Read and validate a scene file."""
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such model file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read the model file: {exc}") from None
-    return parse_scene(text, str(path), path.parent)
+    return parse_scene(read_input(path, "model"), str(path), path.parent)

@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from pframe.errors import InputError
-from pframe.model.load import _compose, _where, validated
+from pframe.model.load import _compose, _where, read_input, validated
 from pframe.model.scene import Envelope, History
 from pframe.sweep.definition import RESPONSES, SweepFile
 from pframe.sweep.paths import check_targets, resolve
@@ -213,13 +213,7 @@ def load_sweep(path: str | Path, chunk: int | None = None) -> SweepDefinition:
     first problem found.
     """
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except FileNotFoundError:
-        raise InputError(f"{path}: no such sweep file") from None
-    except (OSError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path}: cannot read the sweep file: {exc}") from None
-    return parse_sweep(text, str(path), path.parent, chunk)
+    return parse_sweep(read_input(path, "sweep"), str(path), path.parent, chunk)
 
 
 def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
