@@ -8,7 +8,7 @@ import pytest
 from pframe.assemble import assemble
 from pframe.errors import InputError
 from pframe.kernel import simulate
-from pframe.kernel.codegen import NOT_FINITE, NOT_STABLE
+from pframe.kernel.state import NOT_FINITE, NOT_STABLE
 from pframe.model import load_scene, parse_scene
 
 MASS, STIFFNESS = 1000.0, 4.0e6

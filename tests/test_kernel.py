@@ -1,12 +1,21 @@
-"""The generated kernel: only what a scene needs, and chunked runs equal whole runs."""
+"""The kernel: one compiled kernel for every scene, and only what a scene needs at run time.
 
+What a scene does not use is shown by the counters the kernel reports (solves,
+factorisations, residual evaluations, evaluations of each law, gathered values), not by
+reading code: the kernel is the same for every scene.
+"""
+
+import json
+import shutil
+import sys
 from pathlib import Path
 
 import numpy as np
+import yaml
+from conftest import RECORDERS, WU2021, scene_text
 
 from pframe.assemble import assemble
 from pframe.kernel import simulate
-from pframe.kernel.codegen import Structure, generate
 from pframe.model import load_scene, parse_scene
 
 ELASTIC = """
@@ -18,33 +27,53 @@ recorders: [{kind: envelope, quantities: [displacement]}]
 """
 
 
-def _source(text):
-    plan = assemble(parse_scene(text).expanded)
-    return plan, generate(Structure.of(plan))
+def test_linear_scene_factors_once_and_solves_once_a_step():
+    plan = assemble(parse_scene(ELASTIC).expanded)
+    result = simulate(plan)
+    assert plan.linear and result.completed()
+    assert result.counter("factorisations") == 1
+    assert result.counter("solves") == plan.steps
+    # no Newton iteration: the residual at the start, the forces at the end of each step
+    assert result.counter("evaluations") == 2 * plan.steps + 1
+    assert result.counter("split_steps") == 0
+    assert result.law_calls == {"elastic": 3 * result.counter("evaluations")}
+    # one envelope of 3 nodes, gathered once per state; no history
+    assert result.counter("gathers") == 3 * (plan.steps + 1)
+    assert result.history == {}
 
 
-def test_linear_scene_has_no_newton_and_no_contacts():
-    plan, source = _source(ELASTIC)
-    assert plan.linear
-    assert "claw" not in source and "contact_dofs[e" not in source
-    assert "norm_du" not in source  # no Newton convergence test
-    assert source.count("ldl_factor(band, bw)") == 1  # factored once, before the steps
-    assert "h_velocity" not in source and "e_story_drift" not in source  # nothing unasked
+def test_scene_without_contacts_evaluates_no_contact_law():
+    data = json.loads(scene_text(
+        buildings=[{"name": "A", "floors": 3, "mass": 1000.0,
+                    "story": {"material": "bilinear", "stiffness": 2.0e6, "yield_drift": 0.01,
+                              "alpha": 0.1}}],
+        excitation={"kind": "sine", "amplitude": 4.0, "frequency": 6.0},
+        analysis={"dt": 0.005, "duration": 2.0}))
+    plan = assemble(parse_scene(json.dumps(data)).expanded)
+    result = simulate(plan)
+    assert not plan.linear and result.completed()
+    assert set(result.law_calls) == {"bilinear"}
+    assert result.law_calls["bilinear"][0] == 3 * result.counter("evaluations")
+    # histories of the recorders of conftest.RECORDERS that apply: 3 nodes x 2, 3 storeys x 2;
+    # envelopes: 3 nodes, 3 storeys; contact quantities are dropped without contacts
+    assert result.counter("gathers") == (12 + 6) * (plan.steps + 1)
 
 
-def test_nonlinear_scene_has_what_it_records_only():
-    plan = assemble(load_scene("models/wu2021-eq14.yaml").expanded)
-    source = generate(Structure.of(plan))
-    assert not plan.linear
-    assert "claw0" in source and "norm_du" in source
-    for q in ("displacement", "velocity", "story_force", "story_drift", "contact_force"):
-        assert f"h_{q}[b" in source
-    assert "h_acceleration" not in source and "h_contact_penetration" not in source
+def test_nonlinear_scene_gathers_what_it_records_only():
+    plan = assemble(load_scene(WU2021).expanded)
+    result = simulate(plan)
+    assert set(result.history) == {"displacement", "velocity", "story_force", "story_drift",
+                                   "contact_force"}
+    assert set(result.envelope) == {"displacement", "story_drift", "contact_force"}
+    per_state = (6 + 6 + 6 + 6 + 3) + (6 + 6 + 3)
+    assert result.counter("gathers") == per_state * (plan.steps + 1)
+    assert result.law_calls["improved_kelvin"][0] == 3 * result.counter("evaluations")
+    assert result.law_calls["bilinear"][0] == 6 * result.counter("evaluations")
 
 
 def test_chunked_run_equals_single_run():
     """The progress-bar path (many kernel calls) gives bit-identical results."""
-    plan = assemble(load_scene("models/wu2021-eq14.yaml").expanded)
+    plan = assemble(load_scene(WU2021).expanded)
     whole = simulate(plan)
     calls = []
     chunked = simulate(plan, progress=lambda done, total: calls.append(done), chunk_seconds=1e-4)
@@ -55,6 +84,32 @@ def test_chunked_run_equals_single_run():
         assert np.array_equal(whole.envelope[q], chunked.envelope[q])
     assert np.array_equal(whole.impacts, chunked.impacts)
     assert np.array_equal(whole.energy, chunked.energy)
+    # the same work, but for a factorisation at the start of each call
+    for name in ("solves", "evaluations", "split_steps", "gathers"):
+        assert whole.counter(name) == chunked.counter(name)
+
+
+def test_streamed_histories_equal_held_ones(monkeypatch):
+    """A sink receives every history row exactly once, in chunks of bounded size."""
+    from pframe.kernel import run as run_module
+
+    plan = assemble(load_scene(WU2021).expanded)
+    whole = simulate(plan)
+    monkeypatch.setattr(run_module, "STREAM_BYTES", 40_000)  # many small chunks
+    received: dict[str, list] = {}
+
+    def sink(quantity, first_row, rows):
+        parts = received.setdefault(quantity, [])
+        assert first_row == sum(p.shape[1] for p in parts)
+        assert rows.nbytes <= 40_000
+        parts.append(rows.copy())
+
+    streamed = simulate(plan, sink=sink)
+    assert streamed.history == {}
+    assert len(received["displacement"]) > 10
+    for q, rows in whole.history.items():
+        assert np.array_equal(np.concatenate(received[q], axis=1), rows), q
+    assert np.array_equal(whole.energy, streamed.energy)
 
 
 def test_one_newton_solve_per_step_while_laws_keep_their_branch():
@@ -62,36 +117,125 @@ def test_one_newton_solve_per_step_while_laws_keep_their_branch():
     branch: the paper's example (every storey of A yields, 24 impacts) needs a second solve
     only in the steps where a storey yields or unloads or a contact is closed. With the
     predictor u = x_n it needed one in four steps of five (88,091 solves)."""
-    plan = assemble(load_scene("models/wu2021-eq14.yaml").expanded)
+    plan = assemble(load_scene(WU2021).expanded)
     result = simulate(plan)
     assert result.completed(0)
     assert result.impacts.sum() == 24
     assert result.iterations[0] / plan.steps < 1.03  # 50,716 solves for 50,000 steps
+    assert result.counter("factorisations") < 0.05 * plan.steps
+
+
+def _kernel_refactoring_at_every_solve(tmp_path: Path):
+    """The kernel's modules, loaded once more with Newton edited to refactor before every
+    solve (compiled into a cache of their own)."""
+    import importlib
+    import types
+
+    from pframe.kernel import cache
+
+    source = Path(sys.modules["pframe.kernel"].__file__).parent
+    copy = tmp_path / "always_refactor"
+    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__", "__init__.py"))
+    newton = (copy / "newton.py").read_text(encoding="utf-8")
+    reuse = "if not s.linear and (scalars[STALE] != 0.0 or h != scalars[H_FACTORED]):"
+    assert newton.count(reuse) == 1
+    (copy / "newton.py").write_text(newton.replace(reuse, "if not s.linear:"), encoding="utf-8")
+    package = types.ModuleType("always_refactor")
+    package.__path__ = [str(copy)]
+    sys.modules["always_refactor"] = package
+    with cache.caching_into(tmp_path / "cache"):
+        return importlib.import_module("always_refactor.loop").run
 
 
 def test_reusing_the_factorisation_changes_no_bit(tmp_path, monkeypatch):
     """The kernel refactors the effective stiffness only when an element tangent or the
     (sub-)step changed. A kernel edited to refactor at every solve gives the same bits, so no
     change of tangent is missed (a missed one would still converge, to different bits)."""
-    import importlib
+    from pframe.kernel import build
 
-    from pframe.kernel import run as run_module
-
-    text = (Path(__file__).parent.parent / "models" / "wu2021-eq14.yaml").read_text()
-    plan = assemble(parse_scene(text.replace("duration: 7.957747154594767", "duration: 3.0"))
-                    .expanded)
-    structure = Structure.of(plan)
-    source = generate(structure)
-    assert source.count("if stale or hs != h_factored:") == 1
-    (tmp_path / "always_refactor.py").write_text(
-        source.replace("if stale or hs != h_factored:", "if True:"), encoding="utf-8")
-    monkeypatch.syspath_prepend(str(tmp_path))
-    always = importlib.import_module("always_refactor").kernel
+    data = yaml.safe_load(WU2021.read_text(encoding="utf-8"))
+    data["analysis"]["duration"] = 3.0
+    plan = assemble(parse_scene(json.dumps(data)).expanded)
     reused = simulate(plan)
-    monkeypatch.setattr("pframe.kernel.build.kernel_for", lambda st: always)
-    refactored = run_module.simulate(plan)
-    assert reused.impacts.sum() > 0 and reused.substeps.sum() >= 0
+    always = _kernel_refactoring_at_every_solve(tmp_path)
+    original = build.kernel_for
+
+    def refactoring(plan, announce=None):
+        kernel, *rest = original(plan, announce)
+        return (always, *rest)
+
+    monkeypatch.setattr(build, "kernel_for", refactoring)
+    refactored = simulate(plan)
+    assert reused.impacts.sum() > 0
+    assert refactored.counter("factorisations") > 10 * reused.counter("factorisations")
     for q in reused.history:
         assert np.array_equal(reused.history[q], refactored.history[q]), q
     assert np.array_equal(reused.energy, refactored.energy)
     assert np.array_equal(reused.iterations, refactored.iterations)
+
+
+def test_every_law_and_integrator_share_one_compiled_kernel():
+    """Every built-in material and contact law under every integrator (with and without
+    event location), every recordable quantity, record and sine excitation: one process,
+    and the kernel's entry point holds one compiled signature at the end: nothing was
+    compiled after the first run."""
+    from pframe.kernel import loop
+    from pframe.laws import all_contact_laws, all_materials
+
+    contact = {
+        "linear": {"law": "linear", "stiffness": 2.0e7},
+        "kelvin": {"law": "kelvin", "stiffness": 2.0e7, "restitution": 0.6},
+        "improved_kelvin": {"law": "improved_kelvin", "stiffness": 2.0e7, "restitution": 0.6},
+        "hertz": {"law": "hertz", "stiffness": 1.0e9},
+        "hertzdamp": {"law": "hertzdamp", "stiffness": 1.0e9, "restitution": 0.6},
+        "jankowski": {"law": "jankowski", "stiffness": 1.0e9, "restitution": 0.6},
+    }
+    story = {"elastic": {"material": "elastic", "stiffness": 2.0e6},
+             "bilinear": {"material": "bilinear", "stiffness": 2.0e6, "yield_drift": 0.005,
+                          "alpha": 0.1}}
+    integrators = [{"type": "newmark"}, {"type": "newmark", "events": True},
+                   {"type": "hht", "alpha": 0.1}, {"type": "generalized_alpha", "events": True},
+                   {"type": "central_difference", "substeps": "auto"}]
+    assert set(contact) == {law.name for law in all_contact_laws()}
+    assert set(story) == {law.name for law in all_materials()}
+    every = ["displacement", "velocity", "acceleration", "story_drift", "story_force",
+             "contact_force", "contact_penetration", "ground_acceleration"]
+    runs = completed = 0
+    for i, integrator in enumerate(integrators):
+        for j, (law, params) in enumerate(contact.items()):
+            material = list(story)[(i + j) % 2]
+            scene = {
+                "buildings": [{"name": "A", "floors": 2, "mass": 1000.0, "story": story[material]},
+                              {"name": "B", "floors": 3, "mass": 800.0, "story": story["elastic"]}],
+                "contacts": [{"name": f"c{f}", "nodes": [f"A/{f}", f"B/{f}"], "gap": 0.002,
+                              **params} for f in (1, 2)],
+                "excitation": {"kind": "sine", "amplitude": 3.0, "frequency": 8.0},
+                "analysis": {"dt": 0.001, "duration": 0.6, "integrator": integrator},
+                "recorders": [{"kind": "history", "quantities": every[: 2 + (i + j) % 7],
+                               "every": 1 + j % 3},
+                              {"kind": "envelope", "quantities": every[(i + j) % 8:]}],
+            }
+            result = simulate(assemble(parse_scene(json.dumps(scene)).expanded))
+            # clipped Kelvin with event location can stall at a separation (as it did before
+            # the kernel was compiled once): such a run stops, late, and says why
+            assert result.completed() or result.states_done() > 200, result.describe_failure()
+            assert set(result.law_calls) == {law, material, "elastic"}
+            runs += 1
+            completed += result.completed()
+    assert runs == 30 and completed >= 28
+    assert len(loop.run.overloads) == 1
+
+
+def test_unknown_recorder_layouts_share_the_kernel():
+    """A batch (sweep) and a single run, and the test scenes' recorders, call the same
+    compiled kernel."""
+    from pframe.assemble import assemble_batch
+    from pframe.kernel import loop
+
+    texts = [scene_text(buildings=[{"name": "A", "floors": 1, "mass": m,
+                                    "story": {"material": "elastic", "stiffness": 1e6}}],
+                        excitation={"kind": "sine", "amplitude": 1.0, "frequency": 5.0},
+                        analysis={"dt": 0.01, "duration": 1.0}, recorders=RECORDERS)
+             for m in (500.0, 1000.0, 2000.0)]
+    simulate(assemble_batch([parse_scene(t).expanded for t in texts]), threads=2)
+    assert len(loop.run.overloads) == 1

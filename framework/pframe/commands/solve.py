@@ -57,9 +57,12 @@ def _solve(args) -> int:
     plan = assemble(loaded.expanded)
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
-    progress = _Progress(sys.stderr) if sys.stderr.isatty() and not args.quiet else None
+    on_terminal = sys.stderr.isatty() and not args.quiet
+    progress = _Progress(sys.stderr) if on_terminal else None
+    announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))
+                if on_terminal else None)
     try:
-        result = simulate(plan, progress=progress)
+        result = simulate(plan, progress=progress, announce=announce)
     finally:
         if progress is not None:
             progress.close()

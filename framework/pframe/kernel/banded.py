@@ -10,10 +10,10 @@ Storage: ``band[i, d]`` holds K[i, i - d] for d = 0..bw (lower band, diagonal fi
 
 from __future__ import annotations
 
-import numba
+from pframe.kernel.cache import inline
 
 
-@numba.njit(cache=True)
+@inline
 def ldl_factor(band, bw):
     """Overwrite ``band`` with L (unit lower, off-diagonals) and D (diagonal); False if a
     pivot is not positive (the effective stiffness lost definiteness)."""
@@ -34,7 +34,7 @@ def ldl_factor(band, bw):
     return True
 
 
-@numba.njit(cache=True)
+@inline
 def ldl_solve(band, bw, x):
     """Solve in place with a factor from :func:`ldl_factor`."""
     n = band.shape[0]

@@ -1,59 +1,64 @@
-"""Compiling and caching generated kernels.
+"""Which compiled kernel runs a plan: the built-in one, or one wired with plug-in laws.
 
-The generated module is written once to ``$PFRAME_CACHE_DIR`` (default ``~/.cache/pframe``)
-under a name that hashes the scene structure and the source of every law it calls; numba's
-on-disk cache beside it makes later runs of the same structure skip compilation entirely.
+Every built-in law, material, integrator, recorder and scene size runs in the one kernel of
+:mod:`pframe.kernel.loop`, compiled the first time any scene runs after installing pframe and
+cached on disk (:mod:`pframe.kernel.cache`). A scene naming plug-in laws (entry points) runs
+in a second copy of the same modules whose law switch is generated to include them
+(:mod:`pframe.kernel.plugins`), compiled once per set of plug-in laws and cached likewise.
 """
 
 from __future__ import annotations
 
-import importlib.util
-import os
-import sys
-import tempfile
-from pathlib import Path
-
 from pframe.errors import InputError, PframeError
-from pframe.kernel.codegen import Structure, generate
+from pframe.kernel import cache
+from pframe.kernel.dispatch import CONTACT_LAWS, MATERIALS
 
-_loaded: dict[str, object] = {}
-
-
-def cache_dir() -> Path:
-    root = os.environ.get("PFRAME_CACHE_DIR") or Path.home() / ".cache" / "pframe"
-    path = Path(root) / "kernels"
-    path.mkdir(parents=True, exist_ok=True)
-    return path
+#: the line shown before the first compilation (seconds measured on a 2-core machine)
+COMPILING = ("compiling pframe's kernel once for this installation (about {seconds} s; later "
+             "runs of any scene start at once)")
 
 
-def kernel_for(structure: Structure):
-    """The compiled (lazily, on first call) kernel function for this structure."""
-    key = structure.key()
-    if key in _loaded:
-        return _loaded[key]
-    path = cache_dir() / f"pframe_kernel_{key}.py"
-    if not path.exists():
-        fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
-        with os.fdopen(fd, "w") as handle:
-            handle.write(generate(structure))
-        os.replace(tmp, path)
-    name = f"pframe_kernel_{key}"
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    spec.loader.exec_module(module)
-    _loaded[key] = module.kernel
-    return module.kernel
+def _laws(plan):
+    return (tuple(dict.fromkeys(g.law for g in plan.story_groups)),
+            tuple(dict.fromkeys(g.law for g in plan.contact_groups)))
 
 
-def diagnose(structure: Structure, error: Exception) -> PframeError:
+def kernel_for(plan, announce=None):
+    """(kernel, law ids, material id count, contact law id count, ready) for this plan;
+    ``ready()`` is to be called once the kernel has run (it marks the cache as compiled)."""
+    from pframe.kernel import FOLDER, loop
+
+    materials, contacts = _laws(plan)
+    extra_materials = tuple(sorted((m for m in materials if m not in MATERIALS),
+                                   key=lambda law: law.name))
+    extra_contacts = tuple(sorted((c for c in contacts if c not in CONTACT_LAWS),
+                                  key=lambda law: law.name))
+    ids = {law: i for i, law in enumerate(MATERIALS + extra_materials)}
+    ids.update({law: i for i, law in enumerate(CONTACT_LAWS + extra_contacts)})
+    counts = (len(MATERIALS) + len(extra_materials), len(CONTACT_LAWS) + len(extra_contacts))
+    if extra_materials or extra_contacts:
+        from pframe.kernel.plugins import plugin_kernel
+
+        kernel, folder = plugin_kernel(extra_materials, extra_contacts)
+        message = ("compiling pframe's kernel with the plug-in laws "
+                   + ", ".join(law.name for law in extra_materials + extra_contacts)
+                   + " (once for this set of plug-ins; about {seconds} s)")
+    else:
+        kernel, folder, message = loop.run, FOLDER, COMPILING
+    if announce is not None and not cache.is_compiled(folder):
+        announce(message.format(seconds=30))
+    return kernel, ids, *counts, lambda: cache.mark_compiled(folder)
+
+
+def diagnose(plan, error: Exception) -> PframeError:
     """Name the law that numba cannot compile (called when compiling a kernel failed)."""
     import numba
     from numba import types
 
     arr = types.Array(types.float64, 1, "C")
     signature = types.UniTuple(types.float64, 3)(arr, arr, arr, types.float64, types.float64)
-    for kind, laws in (("material", structure.story_laws), ("contact law", structure.contact_laws)):
+    materials, contacts = _laws(plan)
+    for kind, laws in (("material", materials), ("contact law", contacts)):
         for law in laws:
             try:
                 numba.njit(signature)(law.force)

@@ -1,4 +1,10 @@
-"""Running a plan through its kernel, chunk by chunk."""
+"""Running a plan through the compiled kernel, chunk by chunk, in threads over the batch.
+
+The plan's arrays are grouped into the kernel's named tuples (:mod:`pframe.kernel.state`);
+the kernel (:func:`pframe.kernel.loop.run`) is called over consecutive ranges of steps, which
+gives the same bits as one call, so that a progress bar can be updated and histories can be
+handed to a ``sink`` (a file being written) chunk by chunk instead of held whole in memory.
+"""
 
 from __future__ import annotations
 
@@ -9,27 +15,30 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pframe.kernel.codegen import (
+from pframe.kernel import state as slots
+from pframe.kernel.state import (
     CONTACT,
     NOT_CONVERGED,
     NOT_DEFINITE,
     NOT_FINITE,
     NOT_STABLE,
+    RECORDABLE,
     STORY,
-    Structure,
-    argument_names,
+    Model,
+    Recording,
+    Saved,
+    Settings,
+    State,
+    Work,
 )
 from pframe.quantities import QUANTITIES
 
-_WIDTH = {q: {"node": "n", "story": "s", "contact": "c", None: None}[dim]
-          for q, (dim, _, _) in QUANTITIES.items()}
-
-
-#: kernel arguments without a batch axis (topology shared by all variants)
-_SHARED = {"story_dofs", "dmode", "contact_dofs"}
-
 #: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
 MAX_SPLIT = 10
+#: the history rows one call of the kernel may fill when streaming, in bytes
+STREAM_BYTES = 32 * 2**20
+
+_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3}
 
 
 @dataclass
@@ -37,16 +46,31 @@ class Result:
     """What a run produced, batch axis first. Node columns are in DOF order."""
 
     plan: object
-    history: dict = field(default_factory=dict)  # quantity -> (B, rows, width)
+    history: dict = field(default_factory=dict)  # quantity -> (B, rows, width); rows streamed
+    # to a sink are not held here
     envelope: dict = field(default_factory=dict)  # quantity -> (B, width)
     impacts: np.ndarray = None  # (B, c)
-    energy: np.ndarray = None  # (B, 8) input, kinetic, damping, story, contact, kinetic0,
-    # |input| accumulated, initial mechanical energy
+    energy: np.ndarray = None  # (B, ENERGY_SLOTS), see pframe.kernel.state
     status: np.ndarray = None  # (B, 4) code, state index, element kind, element index
-    iterations: np.ndarray = None  # (B,) Newton solves
-    substeps: np.ndarray = None  # (B,) steps that had to be split into sub-steps
+    counters: np.ndarray = None  # (B, COUNTER_SLOTS): solves, factorisations, evaluations,
+    # split steps, gathered values
+    law_calls: dict = field(default_factory=dict)  # law name -> (B,) evaluations of that law
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0
+
+    @property
+    def iterations(self) -> np.ndarray:
+        """(B,) linear solves (Newton iterations that solved; central-difference steps)."""
+        return self.counters[:, slots.SOLVES]
+
+    @property
+    def substeps(self) -> np.ndarray:
+        """(B,) steps that had to be split into sub-steps."""
+        return self.counters[:, slots.SPLIT_STEPS]
+
+    def counter(self, name: str, b: int = 0) -> int:
+        """One of :data:`pframe.kernel.state.COUNTER_NAMES` for member ``b``."""
+        return int(self.counters[b, slots.COUNTER_NAMES.index(name)])
 
     def states_done(self, b: int = 0) -> int:
         """Number of committed states (t = 0 included)."""
@@ -84,46 +108,184 @@ class Result:
         return f"{why} at t = {t:.6g} s (step {state}) at {where}"
 
 
-def _arrays(plan, structure: Structure):
+def _law_table(groups, count: int, ids: dict, width_of) -> tuple:
+    """Per-element law ids, evaluation order, padded parameters (B, e, P) and states."""
+    law = np.zeros(count, dtype=np.int64)
+    order = [int(i) for g in groups for i in g.index]
+    batch = groups[0].params.shape[0] if groups else 1
+    width = max([1] + [width_of(g) for g in groups])
+    states = max([1] + [g.state.shape[2] for g in groups])
+    params = np.zeros((batch, count, width))
+    state = np.zeros((batch, count, states))
+    for g in groups:
+        law[g.index] = ids[g.law]
+        params[:, g.index, :g.params.shape[2]] = g.params
+        state[:, g.index, :g.state.shape[2]] = g.state
+    return law, np.array(order, dtype=np.int64), params, state
+
+
+def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
+    B = plan.batch
+    s, c = len(plan.story_names), len(plan.contact_names)
+    story_law, story_order, story_params, story_state = _law_table(
+        plan.story_groups, s, ids, lambda g: g.params.shape[2])
+    contact_law, contact_order, contact_params, contact_state = _law_table(
+        plan.contact_groups, c, ids, lambda g: g.params.shape[2])
+    if story_params.shape[0] != B:
+        story_params = np.broadcast_to(story_params, (B,) + story_params.shape[1:]).copy()
+        story_state = np.broadcast_to(story_state, (B,) + story_state.shape[1:]).copy()
+    if contact_params.shape[0] != B:
+        contact_params = np.broadcast_to(contact_params, (B,) + contact_params.shape[1:]).copy()
+        contact_state = np.broadcast_to(contact_state, (B,) + contact_state.shape[1:]).copy()
+    ones = np.ones(B, dtype=np.int64)
+    model = Model(
+        mass=plan.mass, mass_damping=plan.mass_damping, story_dofs=plan.story_dofs,
+        story_order=story_order, story_law=story_law, story_params=story_params,
+        story_k0=plan.story_k0, story_beta=plan.story_beta,
+        story_damping=plan.story_damping_stiffness, contact_dofs=plan.contact_dofs,
+        contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
+        gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
+        cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
+        event_parts=plan.event_parts if plan.event_parts is not None else ones,
+    )
+    return _normalised(model), story_state, contact_state
+
+
+def _normalised(group):
+    """Every array C-contiguous, writable and of the kernel's dtype (float64 or int64), so
+    that every scene calls the one compiled kernel."""
+    out = []
+    for value in group:
+        kind = np.int64 if np.asarray(value).dtype.kind in "iub" else np.float64
+        array = np.ascontiguousarray(value, dtype=kind)
+        if not array.flags.writeable:
+            array = array.copy()
+        out.append(array)
+    return type(group)(*out)
+
+
+def _settings(plan) -> Settings:
+    c = plan.integrator
+    return Settings(
+        gamma=float(c.gamma), beta=float(c.beta), alpha_m=float(c.alpha_m),
+        alpha_f=float(c.alpha_f), tolerance=float(plan.tolerance),
+        absolute_tolerance=float(plan.absolute_tolerance),
+        max_iterations=int(plan.max_iterations), bandwidth=int(plan.bandwidth),
+        max_split=int(MAX_SPLIT), linear=bool(plan.linear and not c.explicit),
+        explicit=bool(c.explicit), events=bool(c.events and plan.contact_names),
+        alpha=bool(c.alpha),
+    )
+
+
+def _state(plan, story_state, contact_state, n_materials: int, n_contact_laws: int) -> State:
     B, n = plan.mass.shape
     s, c = len(plan.story_names), len(plan.contact_names)
-    sizes = {"n": n, "s": s, "c": c}
-    a = {
-        "dt": plan.dt, "gamma": plan.integrator.gamma, "beta": plan.integrator.beta,
-        "alpha_m": plan.integrator.alpha_m, "alpha_f": plan.integrator.alpha_f,
-        "tol": plan.tolerance,
-        "atol": plan.absolute_tolerance, "max_iter": plan.max_iterations, "bw": plan.bandwidth,
-        "mass": plan.mass, "mdamp": plan.mass_damping, "story_dofs": plan.story_dofs,
-        "k0": plan.story_k0, "sbeta": plan.story_beta, "dmode": plan.story_damping_stiffness,
-        "contact_dofs": plan.contact_dofs, "gap": plan.contact_gap,
-        "ag": plan.ground_acceleration,
-        "U": plan.initial_displacement.copy(), "V": plan.initial_velocity.copy(),
-        "A": np.zeros((B, n)), "drift_c": np.zeros((B, s)), "sforce_c": np.zeros((B, s)),
-        "sdamp_c": np.zeros((B, s)), "stan_c": plan.story_k0.copy(),
-        "cforce_c": np.zeros((B, c)), "cpen_c": np.full((B, c), -1.0),
-        "impacts": np.zeros((B, c), dtype=np.int64), "energy": np.zeros((B, 8)),
-        "status": np.zeros((B, 4), dtype=np.int64), "iterations": np.zeros(B, dtype=np.int64),
-        "substeps": np.zeros(B, dtype=np.int64), "max_split": MAX_SPLIT,
-        "cd_parts": plan.cd_parts if plan.cd_parts is not None else np.ones(B, dtype=np.int64),
-        "event_parts": (plan.event_parts if plan.event_parts is not None
-                        else np.ones(B, dtype=np.int64)),
-    }
-    for prefix, groups in (("s", plan.story_groups), ("c", plan.contact_groups)):
-        for g, group in enumerate(groups):
-            a[f"{prefix}p{g}"] = np.ascontiguousarray(group.params)
-            a[f"{prefix}x{g}"] = group.index
-            a[f"{prefix}c{g}"] = group.state.copy()
-            a[f"{prefix}t{g}"] = group.state.copy()
-    for q, every in plan.history:
-        width = _WIDTH[q]
-        rows = plan.steps // every + 1
-        shape = (B, rows) if width is None else (B, rows, sizes[width])
-        a[f"h_{q}"] = np.full(shape, np.nan)
-        a[f"every_{q}"] = every
-    for q in structure.envelope:
-        width = _WIDTH[q]
-        a[f"e_{q}"] = np.zeros(B) if width is None else np.zeros((B, sizes[width]))
-    return a
+    return _normalised(State(
+        U=plan.initial_displacement.copy(), V=plan.initial_velocity.copy(), A=np.zeros((B, n)),
+        drift=np.zeros((B, s)), story_force=np.zeros((B, s)),
+        story_damping_force=np.zeros((B, s)), story_tangent=plan.story_k0.copy(),
+        story_committed=story_state, story_trial=story_state.copy(),
+        contact_force=np.zeros((B, c)), penetration=np.full((B, c), -1.0),
+        contact_committed=contact_state, contact_trial=contact_state.copy(),
+        impacts=np.zeros((B, c), dtype=np.int64),
+        energy=np.zeros((B, slots.ENERGY_SLOTS)),
+        status=np.zeros((B, slots.STATUS_SLOTS), dtype=np.int64),
+        counters=np.zeros((B, slots.COUNTER_SLOTS), dtype=np.int64),
+        material_calls=np.zeros((B, n_materials), dtype=np.int64),
+        contact_calls=np.zeros((B, n_contact_laws), dtype=np.int64),
+    ))
+
+
+class _Recorders:
+    """The history buffers of each call (or of the whole run) and the envelopes."""
+
+    def __init__(self, plan, sink):
+        B = plan.batch
+        self.plan, self.sink = plan, sink
+        self.widths = [(plan.n_dof, len(plan.story_names), len(plan.contact_names), 1)[
+            _SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
+        self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
+        for q, every in plan.history:
+            self.every[RECORDABLE.index(q)] = every
+        self.enveloped = np.array([q in plan.envelope for q in RECORDABLE], dtype=np.int64)
+        self.envelope = tuple(np.zeros((B, w if on else 0))
+                              for w, on in zip(self.widths, self.enveloped))
+        self.whole = None if sink is not None else self._buffers(0, plan.steps + 1)
+
+    def _rows(self, q: int, begin: int, end: int) -> tuple[int, int]:
+        every = int(self.every[q])
+        return -(-begin // every), -(-end // every)
+
+    def _buffers(self, begin: int, end: int):
+        B = self.plan.batch
+        out = []
+        for q, width in enumerate(self.widths):
+            if self.every[q]:
+                first, stop = self._rows(q, begin, end)
+                out.append(np.full((B, stop - first, width), np.nan))
+            else:
+                out.append(np.zeros((B, 0, 0)))
+        return tuple(out)
+
+    def max_steps(self) -> int:
+        """Steps per call that keep the streamed buffers under STREAM_BYTES."""
+        if self.sink is None:
+            return 1 << 62
+        per_step = sum(8.0 * self.plan.batch * w / e
+                       for w, e in zip(self.widths, self.every) if e)
+        return max(1, int(STREAM_BYTES / per_step)) if per_step else 1 << 62
+
+    def for_call(self, begin: int, end: int) -> Recording:
+        if self.whole is not None:
+            history, first = self.whole, np.zeros(len(RECORDABLE), dtype=np.int64)
+        else:
+            history = self._buffers(begin, end)
+            first = np.array([self._rows(q, begin, end)[0] if e else 0
+                              for q, e in enumerate(self.every)], dtype=np.int64)
+        return Recording(history, self.every, first, self.envelope, self.enveloped)
+
+    def deliver(self, rec: Recording, begin: int, done: int) -> None:
+        """Hand the rows of states [begin, done) to the sink."""
+        if self.sink is None:
+            return
+        for q, name in enumerate(RECORDABLE):
+            if self.every[q]:
+                first, stop = self._rows(q, begin, done)
+                if stop > first:
+                    self.sink(name, first, self._shaped(name, rec.history[q][:, :stop - first]))
+
+    def _shaped(self, name, array):
+        return array[..., 0] if QUANTITIES[name][0] is None else array
+
+    def histories(self) -> dict:
+        if self.whole is None:
+            return {}
+        return {q: self._shaped(q, self.whole[RECORDABLE.index(q)]) for q, _ in self.plan.history}
+
+    def envelopes(self) -> dict:
+        return {q: self._shaped(q, self.envelope[RECORDABLE.index(q)]) for q in self.plan.envelope}
+
+
+def work_arrays(plan) -> Work:
+    """Scratch arrays of one member at a time: its trial state (for Newmark the evaluation
+    point is the step end itself), the band, the tangents in its factorisation."""
+    n, s, c = plan.n_dof, len(plan.story_names), len(plan.contact_names)
+    u, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
+    if plan.integrator.alpha:
+        ue, ve, ae = np.zeros(n), np.zeros(n), np.zeros(n)
+    elif plan.integrator.explicit:
+        ue, ve, ae = u, v, np.zeros(n)
+    else:
+        ue, ve, ae = u, v, a
+    work = Work(u, v, a, ue, ve, ae, np.zeros(n), np.zeros((n, plan.bandwidth + 1)),
+                *(np.zeros(s) for _ in range(4)), np.zeros(c), np.zeros(c), np.zeros(s),
+                np.zeros(c), np.zeros(slots.SCALAR_SLOTS))
+    return work
+
+
+def _saved(st: State) -> Saved:
+    """Room for one member's committed arrays (what a failed step attempt restores)."""
+    return Saved(*[getattr(st, name)[0].copy() for name in Saved._fields])
 
 
 def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
@@ -134,73 +296,105 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
 
 
-def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None) -> Result:
+#: Model fields shared by the batch (topology), which threads do not slice
+_SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
+           "contact_order", "contact_law"}
+
+
+def _slice(group, lo: int, hi: int):
+    return type(group)(*[value if name in _SHARED else value[lo:hi]
+                         for name, value in zip(group._fields, group)])
+
+
+def _slice_recording(rec: Recording, lo: int, hi: int) -> Recording:
+    return rec._replace(history=tuple(h[lo:hi] for h in rec.history),
+                        envelope=tuple(e[lo:hi] for e in rec.envelope))
+
+
+def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None,
+             sink=None, announce=None) -> Result:
     """Integrate every member of the plan's batch over all its steps.
 
-    ``progress(done, total)`` is called between chunks when given; without it the whole run
-    is one kernel call after the first state (which also compiles or loads the kernel).
-    A batch runs in ``threads`` threads (default: one per CPU).
+    ``progress(done, total)`` is called between chunks when given. ``sink(quantity,
+    first_row, rows)``, when given, receives the history rows (batch axis first) as they are
+    computed, and the result then holds no histories: memory stays bounded whatever the
+    duration. ``announce(message)`` is called before the kernel is compiled (once per
+    installation, or once per set of plug-in laws). A batch runs in ``threads`` threads
+    (default: one per CPU).
     """
-    from pframe.kernel.build import diagnose, kernel_for
+    from pframe.kernel.build import kernel_for
 
-    structure = Structure.of(plan)
-    kernel = kernel_for(structure)
-    arrays = _arrays(plan, structure)
-    names = argument_names(structure)
-    batched = {name for name in names
-               if isinstance(arrays.get(name), np.ndarray) and arrays[name].ndim >= 1
-               and name not in _SHARED and not name.startswith(("sx", "cx"))}
+    kernel, ids, n_materials, n_contact_laws, ready = kernel_for(plan, announce)
+    model, story_state, contact_state = _group_model(plan, ids)
+    settings = _settings(plan)
+    st = _state(plan, story_state, contact_state, n_materials, n_contact_laws)
+    recorders = _Recorders(plan, sink)
 
     pieces = _pieces(plan.batch, threads)
     pool = ThreadPoolExecutor(len(pieces)) if len(pieces) > 1 else None
+    scratch = [(work_arrays(plan), _saved(st)) for _ in pieces]
 
     def call(begin, end):
-        arrays["begin"], arrays["end"] = begin, end
+        rec = recorders.for_call(begin, end)
         if pool is None:
-            kernel(*[arrays[name] for name in names])
-            return
-        # The kernel releases the GIL (nogil): contiguous slices of the batch run in threads,
-        # each variant on its own, so one slow variant never holds up the others' iterations.
-        futures = [pool.submit(kernel, *[arrays[name][lo:hi] if name in batched else arrays[name]
-                                         for name in names]) for lo, hi in pieces]
-        for future in futures:
-            future.result()
+            kernel(model, settings, st, rec, *scratch[0], begin, end)
+        else:
+            # The kernel releases the GIL: contiguous slices of the batch run in threads,
+            # each member on its own, so one slow member never holds up the others.
+            futures = [pool.submit(kernel, _slice(model, lo, hi), settings, _slice(st, lo, hi),
+                                   _slice_recording(rec, lo, hi), *work, begin, end)
+                       for (lo, hi), work in zip(pieces, scratch)]
+            for future in futures:
+                future.result()
+        return rec
 
     total = plan.steps + 1
     start = time.perf_counter()
     try:
-        call(0, 1)  # state t = 0; compiles or loads the kernel
+        rec = call(0, 1)  # state t = 0; compiles or loads the kernel
     except Exception as exc:
         if type(exc).__module__.startswith("numba"):
-            raise diagnose(structure, exc) from None
+            from pframe.kernel.build import diagnose
+
+            raise diagnose(plan, exc) from None
         raise
+    ready()
     compile_seconds = time.perf_counter() - start
+    recorders.deliver(rec, 0, 1)
     solve = 0.0
     done = 1
-    size = total - 1 if progress is None else min(total - 1, 500)
+    limit = recorders.max_steps()
+    size = min(total - 1, limit) if progress is None else min(total - 1, 500, limit)
     while done < total:
         end = min(total, done + size)
         tick = time.perf_counter()
-        call(done, end)
+        rec = call(done, end)
         elapsed = time.perf_counter() - tick
         solve += elapsed
+        recorders.deliver(rec, done, end)
         if progress is not None:
             progress(end, total)
-            size = max(1, int((end - done) * chunk_seconds / max(elapsed, 1e-6)))
+            size = max(1, min(limit, int((end - done) * chunk_seconds / max(elapsed, 1e-6))))
         done = end
-        if np.all(arrays["status"][:, 0] != 0):
+        if np.all(st.status[:, 0] != 0):
             break
     if pool is not None:
         pool.shutdown()
+    law_calls = {}
+    for group in plan.story_groups:
+        law_calls[group.law.name] = st.material_calls[:, ids[group.law]].copy()
+    for group in plan.contact_groups:
+        law_calls[group.law.name] = st.contact_calls[:, ids[group.law]].copy()
     return Result(
         plan=plan,
-        history={q: arrays[f"h_{q}"] for q, _ in plan.history},
-        envelope={q: arrays[f"e_{q}"] for q in structure.envelope},
-        impacts=arrays["impacts"],
-        energy=arrays["energy"],
-        status=arrays["status"],
-        iterations=arrays["iterations"],
-        substeps=arrays["substeps"],
+        history=recorders.histories(),
+        envelope=recorders.envelopes(),
+        impacts=st.impacts,
+        energy=st.energy,
+        status=st.status,
+        counters=st.counters,
+        law_calls=law_calls,
         solve_seconds=solve,
         compile_seconds=compile_seconds,
     )
+

@@ -1,0 +1,112 @@
+"""One step of the implicit generalised-alpha family (Newmark, HHT, Chung-Hulbert).
+
+The coefficient sets (gamma, beta, alpha_m, alpha_f) come from :mod:`pframe.integrators`;
+:func:`pframe.kernel.newton.solve_step` iterates a (sub-)step to equilibrium. A step that has
+no Newton root (a law with a jump or an infinite slope at contact onset) is retried from its
+start as 2, 4, ... 2^max_split sub-steps with the ground motion interpolated; recording stays
+on the step grid. With event-aware stepping each part is further cut at contact events.
+"""
+
+from __future__ import annotations
+
+from pframe.kernel.cache import compiled, inline
+from pframe.kernel.state import NOT_FINITE, NOT_STABLE, SPLIT_STEPS, STATUS_CODE
+
+from .assembly import copy1, copy2, ground_between
+from .energy import commit, commit_call
+from .events import event_substeps
+from .newton import solve_step
+
+
+@inline
+def save(st, sv, b):
+    """Copy member b's committed arrays into ``sv``."""
+    copy1(sv.U, st.U[b])
+    copy1(sv.V, st.V[b])
+    copy1(sv.A, st.A[b])
+    copy1(sv.drift, st.drift[b])
+    copy1(sv.story_force, st.story_force[b])
+    copy1(sv.story_damping_force, st.story_damping_force[b])
+    copy1(sv.story_tangent, st.story_tangent[b])
+    copy2(sv.story_committed, st.story_committed[b])
+    copy1(sv.contact_force, st.contact_force[b])
+    copy1(sv.penetration, st.penetration[b])
+    copy2(sv.contact_committed, st.contact_committed[b])
+    copy1(sv.impacts, st.impacts[b])
+    copy1(sv.energy, st.energy[b])
+
+
+@inline
+def restore(st, sv, b):
+    """Copy ``sv`` back into member b's committed arrays."""
+    copy1(st.U[b], sv.U)
+    copy1(st.V[b], sv.V)
+    copy1(st.A[b], sv.A)
+    copy1(st.drift[b], sv.drift)
+    copy1(st.story_force[b], sv.story_force)
+    copy1(st.story_damping_force[b], sv.story_damping_force)
+    copy1(st.story_tangent[b], sv.story_tangent)
+    copy2(st.story_committed[b], sv.story_committed)
+    copy1(st.contact_force[b], sv.contact_force)
+    copy1(st.penetration[b], sv.penetration)
+    copy2(st.contact_committed[b], sv.contact_committed)
+    copy1(st.impacts[b], sv.impacts)
+    copy1(st.energy[b], sv.energy)
+
+
+@compiled
+def split_step(m, s, st, w, sv, b, k, h, split):
+    """Take step k (of length h) as 2^split parts, and in twice as many from its start (saved
+    in ``sv``) while one fails, up to 2^max_split; False (after recording why in st.status,
+    and restoring the step's start) if it failed even then. With events, each part is further
+    cut at contact events."""
+    while True:
+        parts = 1 << split
+        ok = True
+        for part in range(parts):
+            if s.events:
+                ok = event_substeps(m, s, st, w, b, k, h, part, parts)
+            else:
+                pos = part / parts
+                stop = (part + 1) / parts
+                hs = (stop - pos) * h
+                ag_old, ag_new = ground_between(m, b, k, pos, stop)
+                ok = (solve_step(m, s, st, w, b, k, hs, ag_old, ag_new)
+                      and commit_call(m, s, st, w, b, k, hs, ag_old, ag_new))
+            if not ok:
+                break
+        if ok:
+            return True
+        restore(st, sv, b)
+        code = st.status[b, STATUS_CODE]
+        if code == NOT_FINITE or code == NOT_STABLE or split == s.max_split:
+            return False
+        if split == 0:
+            st.counters[b, SPLIT_STEPS] += 1
+        st.status[b, :] = 0
+        split += 1
+
+
+@inline
+def implicit_step(m, s, st, w, sv, b, k, h):
+    """Advance member ``b`` from step k - 1 to step k (of length h); False (after recording
+    why in st.status) if it failed even in 2^max_split sub-steps.
+
+    The whole step, the common case, is solved and committed here; only a step that fails
+    (or one with event location) goes to :func:`split_step`.
+    """
+    split = 0
+    if not s.events:
+        ag_old, ag_new = ground_between(m, b, k, 0.0, 1.0)
+        if solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
+            return commit(m, s, st, w, b, k, h, ag_old, ag_new)
+        code = st.status[b, STATUS_CODE]
+        if s.linear or code == NOT_FINITE or code == NOT_STABLE:
+            return False
+        st.counters[b, SPLIT_STEPS] += 1
+        st.status[b, :] = 0
+        split = 1
+    # nothing was committed yet: this is the step's start (with events, several sub-steps
+    # may be committed before a failure)
+    save(st, sv, b)
+    return split_step(m, s, st, w, sv, b, k, h, split)
