@@ -47,5 +47,25 @@ def main(argv: list[str] | None = None) -> int:
         return 0
 
 
+#: commands short enough to run without the cyclic garbage collector: it costs start-up time
+#: while imports build long-lived objects (numba's and pydantic's registries), and a full
+#: pass at exit that only finds what the operating system reclaims anyway
+_SHORT = {"solve", "validate", "compile", "schema", "pi", "expand", "scale"}
+
+
+def console_main() -> int:
+    """The installed ``pframe`` command: :func:`main`, with the garbage collector off for short
+    commands and the objects alive at the end frozen, so that leaving the interpreter does not
+    examine them (about 0.2 s of a warm ``pframe solve``)."""
+    import gc
+
+    if next((a for a in sys.argv[1:] if not a.startswith("-")), None) in _SHORT:
+        gc.disable()
+    try:
+        return main()
+    finally:
+        gc.freeze()
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(console_main())

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -15,7 +16,9 @@ from pframe.assemble import stability
 from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.model.expand import Expanded
-from pframe.peers.scene import PeerScene
+
+if TYPE_CHECKING:
+    from pframe.peers.scene import PeerScene
 
 DAMPING_STIFFNESS = {"initial": 0, "current": 1, "committed": 2}
 
@@ -257,6 +260,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     """The scene of one batch member for peer programs: linear contacts, start at rest,
     Rayleigh on the initial stiffness (what the OpenSees peer models)."""
+    from pframe.peers.scene import PeerScene
+
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         raise InputError("the OpenSees peer starts from rest; remove initial_conditions")
     if np.any(plan.story_damping_stiffness):

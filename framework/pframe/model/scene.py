@@ -260,4 +260,13 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
     return Scene
 
 
-Scene = scene_class()
+def __getattr__(name: str):
+    # ``Scene`` (the built-in laws) is built on first use (PEP 562), not on import: reading a
+    # scene file builds the class it needs through scene_class(contact_laws, materials)
+    if name == "Scene":
+        return scene_class()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | {"Scene"})

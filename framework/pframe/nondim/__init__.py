@@ -13,20 +13,54 @@ numba nor h5py).
 - :mod:`~pframe.nondim.output`: dimensionless result files.
 """
 
-from pframe.nondim.buckingham import (
-    DimensionalAnalysisError,
-    Group,
-    Variable,
-    check_groups,
-    null_space,
-    pi_groups,
-)
-from pframe.nondim.dimensions import QUANTITY, Dimension, parse_units
-from pframe.nondim.output import OutputUnits, output_units
-from pframe.nondim.pi_form import PiScene, expand_pi, is_pi_form
-from pframe.nondim.scene_pi import PiReport, scene_pi
-from pframe.nondim.scene_variables import reference_scales, scene_variables
-from pframe.nondim.similitude import Ratio, Similitude, SimilitudeError, scale_scene, similitude
+import importlib
+import sys
+import types
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:  # what the names below are, for type checkers and editors
+    from pframe.nondim.buckingham import (
+        DimensionalAnalysisError,
+        Group,
+        Variable,
+        check_groups,
+        null_space,
+        pi_groups,
+    )
+    from pframe.nondim.dimensions import QUANTITY, Dimension, parse_units
+    from pframe.nondim.output import OutputUnits, output_units
+    from pframe.nondim.pi_form import PiScene, expand_pi, is_pi_form
+    from pframe.nondim.scene_pi import PiReport, scene_pi
+    from pframe.nondim.scene_variables import reference_scales, scene_variables
+    from pframe.nondim.similitude import Ratio, Similitude, SimilitudeError, scale_scene, similitude
+
+#: public name -> the submodule defining it, imported when the name is first used (PEP 562),
+#: so that one submodule (a result file needs only ``output``) does not import them all
+_SOURCES = {
+    "DimensionalAnalysisError": "buckingham",
+    "Group": "buckingham",
+    "Variable": "buckingham",
+    "check_groups": "buckingham",
+    "null_space": "buckingham",
+    "pi_groups": "buckingham",
+    "QUANTITY": "dimensions",
+    "Dimension": "dimensions",
+    "parse_units": "dimensions",
+    "OutputUnits": "output",
+    "output_units": "output",
+    "PiScene": "pi_form",
+    "expand_pi": "pi_form",
+    "is_pi_form": "pi_form",
+    "PiReport": "scene_pi",
+    "scene_pi": "scene_pi",
+    "reference_scales": "scene_variables",
+    "scene_variables": "scene_variables",
+    "Ratio": "similitude",
+    "Similitude": "similitude",
+    "SimilitudeError": "similitude",
+    "scale_scene": "similitude",
+    "similitude": "similitude",
+}
 
 __all__ = [
     "QUANTITY",
@@ -53,3 +87,37 @@ __all__ = [
     "scene_variables",
     "similitude",
 ]
+
+
+#: the submodules, also reachable as attributes (``pframe.nondim.buckingham``) without an import
+_SUBMODULES = frozenset(("buckingham", "dimensions", "emit", "fields", "output", "pi_form",
+                         "scene_pi", "scene_variables", "similitude"))
+
+
+def __getattr__(name: str):
+    if name in _SOURCES:
+        value = getattr(importlib.import_module(f"{__name__}.{_SOURCES[name]}"), name)
+    elif name in _SUBMODULES:
+        value = importlib.import_module(f"{__name__}.{name}")
+    else:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__) | _SUBMODULES)
+
+
+class _Package(types.ModuleType):
+    """Keeps ``pframe.nondim.similitude`` (and ``scene_pi``, ``scene_variables``) the function
+    of that name, as ``from pframe.nondim import similitude`` gives, when the submodule of the
+    same name is imported directly (the import system then sets the attribute to the module)."""
+
+    def __setattr__(self, name, value):
+        if isinstance(value, types.ModuleType) and _SOURCES.get(name) == name:
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
