@@ -1,20 +1,28 @@
-"""pframe against OpenSeesPy, side by side in one run: kernel time and whole-process time.
+"""pframe against OpenSeesPy on the same scene with the same output: wall and CPU time.
 
-    python benchmarks/opensees_speed.py [--steps N] [--repeats R]
+    python benchmarks/opensees_speed.py [--steps N] [--repeats R] [--no-process]
 
-Kernel
-    pframe: ``simulate(plan).solve_seconds`` (the compiled kernel's time, compilation excluded;
-    best of R after a warm-up run) on models/wu2021-eq14-linear.yaml (linear contacts) and on
-    models/wu2021-eq14.yaml (improved Kelvin contacts).
-    OpenSees: the time of the single ``ops.analyze(steps, dt)`` call (``analyze_seconds`` of
-    ``pframe.peers.opensees.run``; best of 3) on the linear-contact scene, the only one of the
-    two that stock OpenSees components can model (ElasticPPGap).
+Every ratio compares the same scene, models/wu2021-eq14-linear.yaml (two 3-storey bilinear
+buildings, 3 linear contacts = OpenSees ElasticPPGap, Newmark average acceleration, Newton to
+the same displacement-increment tolerance), and the same output: pframe runs a copy whose
+recorders are exactly the four histories the OpenSees peer records at every step
+(displacement, velocity, storey force, contact force).
 
+In process: integrate a built model and write the four histories to a file
+    pframe: ``simulate(plan, threads=1)`` then ``pframe.record.write_result`` (HDF5).
+    OpenSees: ``ops.analyze(steps, dt)`` with the peer's four per-step binary recorders, then
+    the ``ops.wipe()`` that flushes and closes their files (``pframe.peers.opensees.run``, with
+    both calls timed from outside). Neither side's model building is timed.
 Whole process
-    Wall time of ``pframe solve MODEL -o OUT.h5 --overwrite`` as a subprocess (kernel cache
-    warmed by one untimed run) against the wall time of the standalone OpenSeesPy script
-    (``script_text``, run with this Python) on the linear-contact scene; best of 3 each. Both
-    include interpreter start-up, imports, model set-up, the run and writing the results.
+    ``pframe solve SCENE -o OUT.h5 --overwrite -q`` (kernel cache warmed by one untimed run)
+    against the standalone OpenSeesPy script (``script_text``, run with this Python; it builds
+    the model, analyses and saves the same four histories to .npz). Both include interpreter
+    start-up and imports.
+
+Each is measured R times, pframe and OpenSees interleaved, after one untimed run of each; the
+median wall time and the median CPU time (``time.process_time`` in process; RUSAGE_CHILDREN of
+a subprocess) are reported. pframe also runs models/wu2021-eq14.yaml (improved Kelvin contacts,
+which stock OpenSees cannot model) with the same recorders: pframe-only rows, no ratio.
 
 Ratios are OpenSees / pframe: above 1 means pframe is faster. Nothing is asserted; timings
 depend on the machine (see benchmarks/README.md).
@@ -23,90 +31,99 @@ depend on the machine (see benchmarks/README.md).
 from __future__ import annotations
 
 import argparse
-import shlex
-import shutil
-import subprocess
+import contextlib
 import sys
 import tempfile
 import time
 from pathlib import Path
 
-from _common import machine_lines, shortened_model
+from _common import (
+    KELVIN,
+    LINEAR,
+    PEER_RECORDERS,
+    REPO,
+    Timing,
+    load_average,
+    median_timing,
+    opensees_script,
+    opensees_unavailable,
+    pframe_command,
+    print_header,
+    ratio,
+    run_checked,
+    scene_copy,
+    seconds,
+    table,
+)
 
 from pframe.assemble import assemble, peer_scene
 from pframe.kernel import simulate
 from pframe.model import load_scene
-
-REPO = Path(__file__).resolve().parents[1]
-KELVIN = REPO / "models" / "wu2021-eq14.yaml"
-LINEAR = REPO / "models" / "wu2021-eq14-linear.yaml"
-OPENSEES_REPEATS = 3
-PROCESS_REPEATS = 3
+from pframe.record import write_result
 
 
-def _plan(path: Path):
-    return assemble(load_scene(path).expanded)
+class _PframeScene:
+    """One scene run in process: simulate + write_result, timed."""
+
+    def __init__(self, path: Path, out: Path):
+        self.path, self.out = path, out
+        self.loaded = load_scene(path)
+        self.plan = assemble(self.loaded.expanded)
+        self.timings: list[Timing] = []
+        self.kernel: list[float] = []  # solve_seconds: the compiled kernel alone
+        self.write: list[float] = []  # write_result alone
+
+    def warm_up(self) -> tuple[float, int]:
+        """(compile/load seconds, Newton solves) of an untimed first run."""
+        result = simulate(self.plan, threads=1)
+        if not result.completed():
+            raise RuntimeError(f"{self.path.name}: {result.describe_failure()}")
+        write_result(self.out, result, self.loaded)
+        return result.compile_seconds, int(result.iterations[0])
+
+    def measure(self) -> None:
+        wall, cpu = time.perf_counter(), time.process_time()
+        result = simulate(self.plan, threads=1)
+        written = time.perf_counter()
+        write_result(self.out, result, self.loaded)
+        end = time.perf_counter()
+        self.timings.append(Timing(end - wall, time.process_time() - cpu))
+        self.kernel.append(result.solve_seconds)
+        self.write.append(end - written)
 
 
-def _kernel_seconds(plan, repeats: int) -> tuple[float, float, int]:
-    """(best solve seconds, first-call compile/load seconds, Newton solves of one run)."""
-    warm = simulate(plan)  # compiles, or loads the kernel from the on-disk cache
-    if not warm.completed():
-        raise RuntimeError(warm.describe_failure())
-    best = min(simulate(plan).solve_seconds for _ in range(repeats))
-    return best, warm.compile_seconds, int(warm.iterations[0])
+@contextlib.contextmanager
+def _analyze_timer():
+    """Time each OpenSees ``analyze`` call together with the ``wipe`` after it (which flushes
+    and closes the recorder files): yields the list the Timings are appended to."""
+    import openseespy.opensees as ops
 
+    analyze, wipe = ops.analyze, ops.wipe
+    marks: list[Timing] = []
+    started: list[tuple[float, float]] = []
 
-def _opensees_available() -> str | None:
-    """None when OpenSeesPy imports, else why not."""
+    def timed_analyze(*args):
+        started.append((time.perf_counter(), time.process_time()))
+        return analyze(*args)
+
+    def timed_wipe(*args):
+        out = wipe(*args)
+        if started:
+            wall, cpu = started.pop()
+            marks.append(Timing(time.perf_counter() - wall, time.process_time() - cpu))
+        return out
+
+    ops.analyze, ops.wipe = timed_analyze, timed_wipe
     try:
-        import openseespy.opensees  # noqa: F401
-    except Exception as exc:  # ImportError, or OSError for a missing liblapack
-        return f"{type(exc).__name__}: {exc}"
-    return None
+        yield marks
+    finally:
+        ops.analyze, ops.wipe = analyze, wipe
 
 
-def _pframe_command() -> list[str] | None:
-    """The ``pframe`` console script of this Python's environment, if it has ``solve``."""
-    beside = Path(sys.executable).with_name("pframe")
-    candidates = [str(beside)] if beside.exists() else []
-    found = shutil.which("pframe")
-    if found and found not in candidates:
-        candidates.append(found)
-    for exe in candidates:
-        try:
-            probe = subprocess.run([exe, "solve", "--help"], capture_output=True, text=True,
-                                   timeout=120)
-        except (OSError, subprocess.TimeoutExpired):
-            continue
-        if probe.returncode == 0 and "--overwrite" in probe.stdout:
-            return [exe]
-    return None
-
-
-def _wall(command: list[str], repeats: int, cwd: Path) -> float:
-    """Best wall time of ``command`` over ``repeats`` runs; raises if a run fails."""
-    best = float("inf")
-    for _ in range(repeats):
-        start = time.perf_counter()
-        completed = subprocess.run(command, capture_output=True, text=True, cwd=cwd)
-        elapsed = time.perf_counter() - start
-        if completed.returncode != 0:
-            raise RuntimeError(f"{shlex.join(command)} exited with {completed.returncode}:\n"
-                               f"{completed.stderr.strip() or completed.stdout.strip()}")
-        best = min(best, elapsed)
-    return best
-
-
-def _ratio(numerator: float | None, denominator: float | None) -> str:
-    if numerator is None or denominator is None or denominator <= 0:
-        return "-"
-    ratio = numerator / denominator
-    return f"{ratio:.1f}x" if ratio >= 10 else f"{ratio:.2f}x"
-
-
-def _seconds(value: float | None) -> str:
-    return "-" if value is None else f"{value:.4f} s"
+def _describe(label: str, timings: list[Timing]) -> str:
+    t = median_timing(timings)
+    return (f"  {label}: wall {t.wall:.4f} s, CPU {t.cpu:.4f} s (median of {len(timings)}; "
+            f"wall from {min(x.wall for x in timings):.4f} to {max(x.wall for x in timings):.4f})")
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -115,7 +132,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--steps", type=int, default=None,
                         help="time steps per run (default: the models' 50,000)")
     parser.add_argument("--repeats", type=int, default=5,
-                        help="timed pframe kernel runs per scene, best kept (default 5)")
+                        help="timed runs of each measurement, median kept (default 5)")
     parser.add_argument("--no-process", action="store_true",
                         help="skip the whole-process (subprocess) comparison")
     args = parser.parse_args(argv)
@@ -124,106 +141,116 @@ def main(argv: list[str] | None = None) -> int:
     if args.repeats < 1:
         parser.error("--repeats must be at least 1")
 
-    print("command: " + shlex.join([sys.executable, *sys.argv]))
-    for line in machine_lines():
-        print(line)
+    print_header()
     print()
-
-    rows: list[tuple[str, str, str, str]] = []  # what, pframe, OpenSees, ratio
+    why_not = opensees_unavailable()
+    rows = []
     with tempfile.TemporaryDirectory(prefix="pframe-bench-") as tmp:
         folder = Path(tmp)
-        linear_file = shortened_model(LINEAR, args.steps, folder)
-        kelvin_file = shortened_model(KELVIN, args.steps, folder)
-        linear_plan, kelvin_plan = _plan(linear_file), _plan(kelvin_file)
-        steps = linear_plan.steps
-        dt = float(linear_plan.dt[0])
-        print(f"scenes: {LINEAR.name} and {KELVIN.name}, {steps} steps of dt = {dt:.6g} s, "
-              f"{linear_plan.n_dof} DOFs, {len(linear_plan.contact_names)} contacts")
+        linear_file = scene_copy(LINEAR, folder, args.steps, PEER_RECORDERS, "-peer-output")
+        kelvin_file = scene_copy(KELVIN, folder, args.steps, PEER_RECORDERS, "-peer-output")
+        linear = _PframeScene(linear_file, folder / "linear.h5")
+        kelvin = _PframeScene(kelvin_file, folder / "kelvin.h5")
+        plan = linear.plan
+        steps, dt = plan.steps, float(plan.dt[0])
+        print(f"scene: {LINEAR.name}, {steps} steps of dt = {dt:.6g} s, {plan.n_dof} DOFs, "
+              f"{len(plan.contact_names)} linear contacts; both programs write the histories "
+              f"{', '.join(PEER_RECORDERS[0]['quantities'])} at every step")
         print()
 
-        # -- kernel ---------------------------------------------------------------------------
-        print(f"kernel: pframe best of {args.repeats} after a warm-up run; OpenSees best of "
-              f"{OPENSEES_REPEATS} analyze({steps}, dt) calls")
-        pf_linear, compile_linear, solves_linear = _kernel_seconds(linear_plan, args.repeats)
-        print(f"  pframe  {LINEAR.name:<26} {pf_linear:.4f} s  ({solves_linear} Newton solves; "
-              f"first call compiled/loaded the kernel in {compile_linear:.2f} s)")
-        pf_kelvin, compile_kelvin, solves_kelvin = _kernel_seconds(kelvin_plan, args.repeats)
-        print(f"  pframe  {KELVIN.name:<26} {pf_kelvin:.4f} s  ({solves_kelvin} Newton solves; "
-              f"first call compiled/loaded the kernel in {compile_kelvin:.2f} s)")
-
-        why_not = _opensees_available()
-        os_analyze = None
-        peer = None
+        # -- in process -----------------------------------------------------------------------
+        print(f"in process: integrate and write the histories; {args.repeats} runs each, "
+              "interleaved, after an untimed one")
+        for scene in (linear, kelvin):
+            compile_seconds, solves = scene.warm_up()
+            print(f"  pframe {scene.path.name}: first call compiled/loaded the kernel in "
+                  f"{compile_seconds:.2f} s; {solves} Newton solves per run")
+        peer, os_marks = None, []
         if why_not is None:
-            from pframe.peers.opensees import run, script_text
+            from pframe.peers.opensees import run
 
-            peer = peer_scene(linear_plan)
-            os_analyze = min(run(peer)["analyze_seconds"] for _ in range(OPENSEES_REPEATS))
-            print(f"  OpenSees {LINEAR.name:<25} {os_analyze:.4f} s  (NormDispIncr "
-                  f"{peer.tolerance:g} m)")
-            print(f"  ratio OpenSees / pframe: {_ratio(os_analyze, pf_linear)} against the "
-                  f"linear-contact kernel, {_ratio(os_analyze, pf_kelvin)} against the "
-                  "improved-Kelvin kernel")
+            peer = peer_scene(plan)
+            run(peer)  # untimed
         else:
             print(f"  OpenSeesPy not available ({why_not}): OpenSees columns left empty")
-        rows.append((f"kernel, {LINEAR.stem}", _seconds(pf_linear), _seconds(os_analyze),
-                     _ratio(os_analyze, pf_linear)))
-        rows.append((f"kernel, {KELVIN.stem} (pframe only)", _seconds(pf_kelvin),
-                     _seconds(os_analyze), _ratio(os_analyze, pf_kelvin)))
+        for _ in range(args.repeats):
+            linear.measure()
+            if peer is not None:
+                with _analyze_timer() as marks:
+                    run(peer)
+                os_marks.extend(marks)
+            kelvin.measure()
+        print(_describe(f"pframe   simulate + write_result, {LINEAR.stem}", linear.timings))
+        print(f"    of which kernel (solve_seconds) {min(linear.kernel):.4f} s best, HDF5 write "
+              f"{min(linear.write):.4f} s best")
+        if os_marks:
+            print(_describe(f"OpenSees analyze + wipe,        {LINEAR.stem}", os_marks)
+                  + f"; NormDispIncr {peer.tolerance:g} m")
+        print(_describe(f"pframe   simulate + write_result, {KELVIN.stem} (pframe only)",
+                        kelvin.timings))
+        print(f"    of which kernel (solve_seconds) {min(kelvin.kernel):.4f} s best, HDF5 write "
+              f"{min(kelvin.write):.4f} s best")
+        pf, ko = median_timing(linear.timings), median_timing(kelvin.timings)
+        os_t = median_timing(os_marks) if os_marks else None
+        rows.append(("in process", LINEAR.stem, pf, os_t))
+        rows.append(("in process", f"{KELVIN.stem} (pframe only)", ko, None))
         print()
 
         # -- whole process --------------------------------------------------------------------
         if args.no_process:
             print("whole process: skipped (--no-process)")
         else:
-            print(f"whole process: wall time of a subprocess, best of {PROCESS_REPEATS}")
-            script_seconds = None
-            if peer is not None:
-                out_npz = folder / "opensees.npz"
-                script = folder / "opensees_peer.py"
-                script.write_text(script_text(peer, str(out_npz)), encoding="utf-8")
-                script_command = [sys.executable, str(script)]
-                script_seconds = _wall(script_command, PROCESS_REPEATS, folder)
-                print(f"  {shlex.join(['python', script.name])} ({LINEAR.name}): "
-                      f"{script_seconds:.3f} s")
-            pframe_cli = _pframe_command()
-            cli = {}
-            if pframe_cli is None:
+            print(f"whole process: wall and CPU time of a subprocess; {args.repeats} runs each, "
+                  "interleaved, after an untimed one")
+            cli = pframe_command()
+            commands = {}
+            if cli is None:
                 print("  pframe CLI not available (no 'pframe solve' with --overwrite on PATH "
                       "or beside this Python): pframe columns left empty")
             else:
-                for label, scene in ((KELVIN, kelvin_file), (LINEAR, linear_file)):
-                    command = [*pframe_cli, "solve", str(scene), "-o",
-                               str(folder / f"{scene.stem}.h5"), "--overwrite"]
-                    try:
-                        _wall(command, 1, REPO)  # warm the kernel cache, untimed
-                        cli[label] = _wall(command, PROCESS_REPEATS, REPO)
-                    except RuntimeError as exc:
-                        print(f"  pframe solve failed: {exc}")
-                        continue
-                    shown = scene.relative_to(REPO) if scene.is_relative_to(REPO) else scene.name
-                    print(f"  pframe solve {shown} -o {scene.stem}.h5 --overwrite: "
-                          f"{cli[label]:.3f} s")
-            if script_seconds is not None and cli:
-                print("  ratio OpenSees script / pframe solve: "
-                      + ", ".join(f"{_ratio(script_seconds, s)} ({label.name})"
-                                  for label, s in cli.items()))
-            rows.append((f"process, pframe solve {KELVIN.name}", _seconds(cli.get(KELVIN)),
-                         _seconds(script_seconds), _ratio(script_seconds, cli.get(KELVIN))))
-            rows.append((f"process, pframe solve {LINEAR.name}", _seconds(cli.get(LINEAR)),
-                         _seconds(script_seconds), _ratio(script_seconds, cli.get(LINEAR))))
+                commands["linear"] = [*cli, "solve", str(linear_file), "-o",
+                                      str(folder / "linear-cli.h5"), "--overwrite", "-q"]
+            if peer is not None:
+                commands["opensees"] = opensees_script(linear_file, folder)
+            if cli is not None:
+                commands["kelvin"] = [*cli, "solve", str(kelvin_file), "-o",
+                                      str(folder / "kelvin-cli.h5"), "--overwrite", "-q"]
+            measured = {label: [] for label in commands}
+            try:
+                for command in commands.values():
+                    run_checked(command, cwd=REPO)  # warms the kernel cache; untimed
+                for _ in range(args.repeats):
+                    for label, command in commands.items():
+                        measured[label].append(run_checked(command, cwd=REPO))
+            except RuntimeError as exc:
+                print(f"  failed: {exc}")
+                measured = {}
+            names = {"linear": f"pframe solve {linear_file.name}",
+                     "opensees": f"python opensees_peer.py ({linear_file.name})",
+                     "kelvin": f"pframe solve {kelvin_file.name} (pframe only)"}
+            for label, timings in measured.items():
+                print(_describe(names[label], timings))
+            result = {label: median_timing(t) for label, t in measured.items()}
+            rows.append(("whole process", LINEAR.stem, result.get("linear"),
+                         result.get("opensees")))
+            rows.append(("whole process", f"{KELVIN.stem} (pframe only)", result.get("kelvin"),
+                         None))
         print()
 
-    header = ("", "pframe", f"OpenSees ({LINEAR.stem})", "OpenSees / pframe")
-    widths = [max(len(r[i]) for r in [header, *rows]) for i in range(4)]
-    print(f"summary ({steps} steps; OpenSees always runs the linear-contact scene):")
-    line = "  ".join(h.ljust(w) if i == 0 else h.rjust(w) for i, (h, w) in
-                     enumerate(zip(header, widths)))
-    print(line)
-    print("-" * len(line))
-    for row in rows:
-        print("  ".join(c.ljust(w) if i == 0 else c.rjust(w) for i, (c, w) in
-                        enumerate(zip(row, widths))))
+    header = ("", "scene", "pframe wall s", "pframe CPU s", "OpenSees wall s",
+              "OpenSees CPU s", "OS/pf wall", "OS/pf CPU")
+    cells = []
+    for what, scene, pf_t, os_t in rows:
+        cells.append((what, scene,
+                      seconds(pf_t and pf_t.wall, 4), seconds(pf_t and pf_t.cpu, 4),
+                      seconds(os_t and os_t.wall, 4), seconds(os_t and os_t.cpu, 4),
+                      ratio(os_t and os_t.wall, pf_t and pf_t.wall),
+                      ratio(os_t and os_t.cpu, pf_t and pf_t.cpu)))
+    print(f"summary ({steps} steps; medians of {args.repeats}; output: the four histories at "
+          "every step; OS/pf above 1: pframe faster):")
+    for line in table(header, cells, left=2):
+        print(line)
+    print(f"load average (1, 5, 15 min) at the end: {load_average()}")
     return 0
 
 
