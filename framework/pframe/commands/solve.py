@@ -52,7 +52,7 @@ def _solve(args) -> int:
 
     from pframe.assemble import assemble
     from pframe.kernel import simulate
-    from pframe.record import write_result
+    from pframe.record import ResultWriter
 
     plan = assemble(loaded.expanded)
     for warning in plan.warnings:
@@ -61,14 +61,17 @@ def _solve(args) -> int:
     progress = _Progress(sys.stderr) if on_terminal else None
     announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))
                 if on_terminal else None)
-    try:
-        result = simulate(plan, progress=progress, announce=announce)
-    finally:
-        if progress is not None:
-            progress.close()
-    write_result(out, result, loaded)
+    # The histories go to the (temporary) file as they are computed, not held in memory; on
+    # any error or Ctrl-C the temporary file is removed and nothing is written.
+    with ResultWriter(out, plan, loaded, track=_PEAKS) as writer:
+        try:
+            result = simulate(plan, progress=progress, announce=announce, sink=writer.append)
+        finally:
+            if progress is not None:
+                progress.close()
+        writer.finish(result)
     if not args.quiet:
-        _summary(loaded, plan, result, out)
+        _summary(loaded, plan, result, out, writer.peaks)
     if not result.completed():
         print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
               f"{out} holds the {result.states_done() - 1} steps computed, marked incomplete",
@@ -77,7 +80,13 @@ def _solve(args) -> int:
     return 0
 
 
-def _summary(loaded, plan, result, out: Path):
+#: the quantities whose peaks the summary prints
+_PEAKS = ("displacement", "story_drift", "contact_force")
+
+
+def _summary(loaded, plan, result, out: Path, streamed: dict | None = None):
+    """What the run did; peaks come from the envelopes, else from the histories (``streamed``:
+    the running peaks per column that the writer kept of the streamed histories)."""
     import numpy as np
 
     dt = float(plan.dt[0])
@@ -85,9 +94,11 @@ def _summary(loaded, plan, result, out: Path):
           f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
           f"{len(plan.contact_names)} contacts")
     peaks = {}
-    for q in ("displacement", "story_drift", "contact_force"):
+    for q in _PEAKS:
         if q in result.envelope:
             peaks[q] = result.envelope[q][0]
+        elif streamed and q in streamed:
+            peaks[q] = streamed[q]
         elif q in result.history:
             peaks[q] = np.nanmax(np.abs(result.history[q][0]), axis=0)
     if "displacement" in peaks:

@@ -56,7 +56,6 @@ def copy2(dst, src):
             dst[i, j] = src[i, j]
 
 
-@inline
 def evaluate(m, st, w, b, age, c1, wf, tangent):
     """Element forces and the residual at the evaluation point, ground acceleration ``age``.
 
@@ -138,12 +137,6 @@ def evaluate(m, st, w, b, age, c1, wf, tangent):
     return stale
 
 
-@compiled
-def evaluate_call(m, st, w, b, age, c1, wf, tangent):
-    """:func:`evaluate` as a call: for paths off the hot step (the state at t = 0, the step end
-    of HHT and generalised-alpha), so that the element loops are compiled into few places."""
-    return evaluate(m, st, w, b, age, c1, wf, tangent)
-
 
 @inline
 def check_finite(m, st, w, b, k):
@@ -211,3 +204,10 @@ def ground_between(m, b, k, start, stop):
     ag = m.ground[b]
     slope = ag[k] - ag[k - 1]
     return ag[k - 1] + slope * start, ag[k - 1] + slope * stop
+
+
+#: evaluate as a call: for the state at t = 0, the step end of HHT and generalised-alpha,
+#: and central difference
+evaluate_call = compiled(evaluate)
+#: inlined where the common case runs (no call)
+evaluate = inline(evaluate)

@@ -9,13 +9,31 @@ in a second copy of the same modules whose law switch is generated to include th
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from pathlib import Path
+
 from pframe.errors import InputError, PframeError
 from pframe.kernel import cache
 from pframe.kernel.dispatch import CONTACT_LAWS, MATERIALS
 
-#: the line shown before the first compilation (seconds measured on a 2-core machine)
-COMPILING = ("compiling pframe's kernel once for this installation (about {seconds} s; later "
-             "runs of any scene start at once)")
+#: the line shown before the first compilation (about 25-30 s on a 2-core machine)
+COMPILING = ("compiling pframe's kernel once for this installation (about 30 s; later runs of "
+             "any scene start at once)")
+
+
+@dataclass(frozen=True)
+class Kernel:
+    """The compiled entry point for a plan, and the law ids it knows."""
+
+    run: object  # pframe.kernel.loop.run, or its copy wired with plug-in laws
+    ids: dict  # law class -> id (materials and contact laws count separately)
+    materials: int  # number of material ids
+    contact_laws: int  # number of contact law ids
+    folder: Path  # its cache folder
+
+    def ready(self) -> None:
+        """Mark the cache as compiled (after the kernel has run once)."""
+        cache.mark_compiled(self.folder)
 
 
 def _laws(plan):
@@ -23,9 +41,8 @@ def _laws(plan):
             tuple(dict.fromkeys(g.law for g in plan.contact_groups)))
 
 
-def kernel_for(plan, announce=None):
-    """(kernel, law ids, material id count, contact law id count, ready) for this plan;
-    ``ready()`` is to be called once the kernel has run (it marks the cache as compiled)."""
+def kernel_for(plan, announce=None) -> Kernel:
+    """The kernel that runs this plan; ``announce(message)`` first if it is to be compiled."""
     from pframe.kernel import FOLDER, loop
 
     materials, contacts = _laws(plan)
@@ -35,19 +52,19 @@ def kernel_for(plan, announce=None):
                                   key=lambda law: law.name))
     ids = {law: i for i, law in enumerate(MATERIALS + extra_materials)}
     ids.update({law: i for i, law in enumerate(CONTACT_LAWS + extra_contacts)})
-    counts = (len(MATERIALS) + len(extra_materials), len(CONTACT_LAWS) + len(extra_contacts))
     if extra_materials or extra_contacts:
         from pframe.kernel.plugins import plugin_kernel
 
-        kernel, folder = plugin_kernel(extra_materials, extra_contacts)
+        run, folder = plugin_kernel(extra_materials, extra_contacts)
         message = ("compiling pframe's kernel with the plug-in laws "
                    + ", ".join(law.name for law in extra_materials + extra_contacts)
-                   + " (once for this set of plug-ins; about {seconds} s)")
+                   + " (once for this set of plug-ins; about 30 s)")
     else:
-        kernel, folder, message = loop.run, FOLDER, COMPILING
+        run, folder, message = loop.run, FOLDER, COMPILING
     if announce is not None and not cache.is_compiled(folder):
-        announce(message.format(seconds=30))
-    return kernel, ids, *counts, lambda: cache.mark_compiled(folder)
+        announce(message)
+    return Kernel(run, ids, len(MATERIALS) + len(extra_materials),
+                  len(CONTACT_LAWS) + len(extra_contacts), folder)
 
 
 def diagnose(plan, error: Exception) -> PframeError:

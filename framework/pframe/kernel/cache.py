@@ -1,12 +1,13 @@
-"""Where the compiled kernel lives on disk, and the decorator every kernel function uses.
+"""Where the compiled kernel lives on disk, and the decorators every kernel function uses.
 
 numba caches a compiled function beside a stamp of its own source file only; a change in a
 function it calls does not invalidate it. The cache therefore lives in a folder named after
 pframe's version, numba's and Python's, and a hash of the source of every module compiled into
-the kernel (the kernel package and the law modules): an upgrade or an edit gets a fresh folder,
-and nothing stale is ever loaded. The folder is ``$PFRAME_CACHE_DIR/kernels/<key>`` (default
-``~/.cache/pframe``); pointing ``PFRAME_CACHE_DIR`` at an empty folder gives the cold start a
-user sees right after installing.
+the kernel (the kernel package but for its Python driver, and the law modules): an upgrade or
+an edit gets a fresh folder, and nothing stale is ever loaded. The folder is
+``$PFRAME_CACHE_DIR/kernels/<key>`` (default ``~/.cache/pframe``); pointing
+``PFRAME_CACHE_DIR`` at an empty folder gives the cold start a user sees right after
+installing.
 """
 
 from __future__ import annotations
@@ -30,8 +31,8 @@ compiled = numba.njit(cache=True, nogil=True, _nrt=False, no_cpython_wrapper=Tru
 inline = numba.njit(inline="always")
 
 _PACKAGE = Path(__file__).resolve().parents[1]  # framework/pframe
-#: the folders whose source is compiled into the kernel
-_COMPILED = ("kernel", "laws")
+#: the kernel's Python driver, which is not compiled: editing it needs no new kernel
+_DRIVER = ("__init__.py", "run.py", "build.py", "plugins.py")
 #: written into a cache folder once its kernel has been compiled and saved
 MARKER = "compiled"
 
@@ -62,10 +63,10 @@ def source_key(extra: tuple[str, ...] = ()) -> str:
     from pframe import __version__
 
     digest = hashlib.sha256()
-    for folder in _COMPILED:
-        for path in sorted((_PACKAGE / folder).rglob("*.py")):
-            digest.update(path.relative_to(_PACKAGE).as_posix().encode())
-            digest.update(path.read_bytes())
+    compiled = [p for p in (_PACKAGE / "kernel").glob("*.py") if p.name not in _DRIVER]
+    for path in sorted(compiled + list((_PACKAGE / "laws").rglob("*.py"))):
+        digest.update(path.relative_to(_PACKAGE).as_posix().encode())
+        digest.update(path.read_bytes())
     for part in extra:
         digest.update(part.encode())
     python = f"py{sys.version_info[0]}{sys.version_info[1]}"

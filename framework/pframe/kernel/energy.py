@@ -30,7 +30,6 @@ from pframe.kernel.state import (
 from .assembly import copy2, fail
 
 
-@inline
 def commit(m, s, st, w, b, k, h, ag_old, ag_new):
     """Accept the step from t_k - h to t_k whose end state is in ``w``; False (after recording
     why) if the kinetic energy ran away from what the ground motion put in."""
@@ -117,9 +116,7 @@ def commit(m, s, st, w, b, k, h, ag_old, ag_new):
     return fail(st, b, NOT_STABLE, k, NODE, worst)
 
 
-@compiled
-def commit_call(m, s, st, w, b, k, h, ag_old, ag_new):
-    """:func:`commit` as a call: for sub-steps, explicit steps and the state at t = 0, so that
-    the bookkeeping is compiled into few places (the whole step of the implicit family, the
-    hot path, inlines it)."""
-    return commit(m, s, st, w, b, k, h, ag_old, ag_new)
+#: commit as a call: for sub-steps, explicit steps and the state at t = 0
+commit_call = compiled(commit)
+#: inlined where the common case runs (no call)
+commit = inline(commit)

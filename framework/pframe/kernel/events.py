@@ -8,11 +8,11 @@ is taken; the rest of the step follows as further sub-steps.
 
 from __future__ import annotations
 
-from pframe.kernel.cache import inline
+from pframe.kernel.cache import compiled, inline
 
 from .assembly import ground_between
 from .energy import commit_call
-from .newton import solve_step
+from .newton import solve_step_call
 
 
 @inline
@@ -43,7 +43,7 @@ def locate_event(m, s, st, w, b, k, h, pos, f_try, hs, ag_old, ag_new):
         f_try = pos + fraction * span
         hs = (f_try - pos) * h
         ag_old, ag_new = ground_between(m, b, k, pos, f_try)
-        if not solve_step(m, s, st, w, b, k, hs, ag_old, ag_new):
+        if not solve_step_call(m, s, st, w, b, k, hs, ag_old, ag_new):
             return False, f_try, hs, ag_old, ag_new
         d = w.penetration[first]
         if (target > 0.0 and 0.0 < d <= 2.0 * target) or (target < 0.0 and 2.0 * target <= d <= 0.0):
@@ -55,7 +55,7 @@ def locate_event(m, s, st, w, b, k, h, pos, f_try, hs, ag_old, ag_new):
     return True, f_try, hs, ag_old, ag_new
 
 
-@inline
+@compiled
 def event_substeps(m, s, st, w, b, k, h, part, parts):
     """Take part ``part`` of ``parts`` of step k in sub-steps that end at contact events."""
     pos = part / parts
@@ -72,7 +72,7 @@ def event_substeps(m, s, st, w, b, k, h, part, parts):
                 break
         hs = (f_try - pos) * h
         ag_old, ag_new = ground_between(m, b, k, pos, f_try)
-        if not solve_step(m, s, st, w, b, k, hs, ag_old, ag_new):
+        if not solve_step_call(m, s, st, w, b, k, hs, ag_old, ag_new):
             return False
         ok, f_try, hs, ag_old, ag_new = locate_event(m, s, st, w, b, k, h, pos, f_try, hs,
                                                      ag_old, ag_new)

@@ -11,7 +11,7 @@ from __future__ import annotations
 from pframe.kernel.cache import compiled
 from pframe.kernel.state import SOLVES
 
-from .assembly import check_finite, evaluate, ground_between
+from .assembly import check_finite, evaluate_call, ground_between
 from .energy import commit_call
 
 
@@ -29,7 +29,7 @@ def explicit_step(m, s, st, w, b, k, h):
             u[i] = U[i] + hs * V[i] + 0.5 * hs * hs * A[i]
             v[i] = V[i] + hs * A[i]
         for _ in range(2):  # predictor, then one corrector of the velocity-dependent forces
-            evaluate(m, st, w, b, ag_new, 0.0, 1.0, False)
+            evaluate_call(m, st, w, b, ag_new, 0.0, 1.0, False)
             if not check_finite(m, st, w, b, k):
                 return False
             for i in range(mass.shape[0]):

@@ -13,9 +13,9 @@ from pframe.kernel.cache import compiled, inline
 from pframe.kernel.state import NOT_FINITE, NOT_STABLE, SPLIT_STEPS, STATUS_CODE
 
 from .assembly import copy1, copy2, ground_between
-from .energy import commit, commit_call
+from .energy import commit_call
 from .events import event_substeps
-from .newton import solve_step
+from .newton import solve_step_call
 
 
 @inline
@@ -54,7 +54,7 @@ def restore(st, sv, b):
     copy1(st.energy[b], sv.energy)
 
 
-@compiled
+@inline
 def split_step(m, s, st, w, sv, b, k, h, split):
     """Take step k (of length h) as 2^split parts, and in twice as many from its start (saved
     in ``sv``) while one fails, up to 2^max_split; False (after recording why in st.status,
@@ -71,7 +71,7 @@ def split_step(m, s, st, w, sv, b, k, h, split):
                 stop = (part + 1) / parts
                 hs = (stop - pos) * h
                 ag_old, ag_new = ground_between(m, b, k, pos, stop)
-                ok = (solve_step(m, s, st, w, b, k, hs, ag_old, ag_new)
+                ok = (solve_step_call(m, s, st, w, b, k, hs, ag_old, ag_new)
                       and commit_call(m, s, st, w, b, k, hs, ag_old, ag_new))
             if not ok:
                 break
@@ -87,19 +87,14 @@ def split_step(m, s, st, w, sv, b, k, h, split):
         split += 1
 
 
-@inline
-def implicit_step(m, s, st, w, sv, b, k, h):
-    """Advance member ``b`` from step k - 1 to step k (of length h); False (after recording
-    why in st.status) if it failed even in 2^max_split sub-steps.
-
-    The whole step, the common case, is solved and committed here; only a step that fails
-    (or one with event location) goes to :func:`split_step`.
-    """
+@compiled
+def step_in_parts(m, s, st, w, sv, b, k, h):
+    """Step k (of length h) in sub-steps, after the whole step failed in the time loop or,
+    with event location, from the start; False (after recording why in st.status) if it
+    failed even in 2^max_split sub-steps. The whole step is the common case, and the time
+    loop (:mod:`pframe.kernel.loop`) takes it itself, without a call."""
     split = 0
     if not s.events:
-        ag_old, ag_new = ground_between(m, b, k, 0.0, 1.0)
-        if solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
-            return commit(m, s, st, w, b, k, h, ag_old, ag_new)
         code = st.status[b, STATUS_CODE]
         if s.linear or code == NOT_FINITE or code == NOT_STABLE:
             return False

@@ -15,23 +15,12 @@ from pframe.kernel.cache import inline, jit
 from pframe.kernel.state import MASS_MIN, OK, STATUS_CODE
 from pframe.kernel.views import borrowed
 
-from .assembly import check_finite, evaluate_call
-from .energy import commit_call
+from .assembly import check_finite, evaluate_call, ground_between
+from .energy import commit, commit_call
 from .explicit import explicit_step
-from .implicit import implicit_step
-from .newton import at_end_point, factor_linear
+from .implicit import step_in_parts
+from .newton import at_end_point, factor_linear, solve_step
 from .record import next_due, record_envelopes, record_histories
-
-
-@jit
-def run(m, s, st, rec, w, sv, begin, end):
-    """Advance every member that has not stopped from state ``begin`` to state ``end``
-    (state 0 is t = 0, computed from the initial conditions). ``w`` and ``sv`` are scratch
-    arrays (pframe.kernel.run.work_arrays), shared by the members in turn."""
-    m, st, rec, w, sv = borrowed(m), borrowed(st), borrowed(rec), borrowed(w), borrowed(sv)
-    for b in range(m.mass.shape[0]):
-        if st.status[b, STATUS_CODE] == OK:
-            run_member(m, s, st, rec, w, sv, b, begin, end)
 
 
 @inline
@@ -66,26 +55,44 @@ def initial_state(m, s, st, w, b, k, h):
     return commit_call(m, s, st, w, b, k, h, 0.0, ag)
 
 
-@inline
-def run_member(m, s, st, rec, w, sv, b, begin, end):
-    reset_work(m, w, b)
-    h = m.dt[b]
-    first_step = max(begin, 1)
-    if s.linear and not s.explicit and end > first_step:  # factored once per call
-        if not factor_linear(m, s, st, w, b, first_step, h):
-            return
-    due = next_due(rec, begin)
+@jit
+def run(m, s, st, rec, w, sv, begin, end):
+    """Advance every member that has not stopped from state ``begin`` to state ``end``
+    (state 0 is t = 0, computed from the initial conditions). ``w`` and ``sv`` are scratch
+    arrays (pframe.kernel.run.work_arrays), used by the members in turn.
+
+    The whole step of the implicit family, the common case, is solved and committed here
+    (inlined: no call per step); a step that fails, or one with event location, is taken in
+    parts by :func:`pframe.kernel.implicit.step_in_parts`.
+    """
+    m, st, rec, w, sv = borrowed(m), borrowed(st), borrowed(rec), borrowed(w), borrowed(sv)
     envelopes = rec.enveloped.sum() > 0
-    for k in range(begin, end):
-        if k == 0:
-            ok = initial_state(m, s, st, w, b, k, h / m.cd_parts[b] if s.explicit else h)
-        elif s.explicit:
-            ok = explicit_step(m, s, st, w, b, k, h)
-        else:
-            ok = implicit_step(m, s, st, w, sv, b, k, h)
-        if not ok:
-            return
-        if k == due:
-            due = record_histories(m, st, rec, b, k)
-        if envelopes:
-            record_envelopes(m, st, rec, b, k)
+    for b in range(m.mass.shape[0]):
+        if st.status[b, STATUS_CODE] != OK:
+            continue
+        reset_work(m, w, b)
+        h = m.dt[b]
+        first_step = max(begin, 1)
+        if s.linear and not s.explicit and end > first_step:  # factored once per call
+            if not factor_linear(m, s, st, w, b, first_step, h):
+                continue
+        due = next_due(rec, begin)
+        for k in range(begin, end):
+            if k == 0:
+                ok = initial_state(m, s, st, w, b, k, h / m.cd_parts[b] if s.explicit else h)
+            elif s.explicit:
+                ok = explicit_step(m, s, st, w, b, k, h)
+            elif s.events:
+                ok = step_in_parts(m, s, st, w, sv, b, k, h)
+            else:
+                ag_old, ag_new = ground_between(m, b, k, 0.0, 1.0)
+                if solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
+                    ok = commit(m, s, st, w, b, k, h, ag_old, ag_new)
+                else:
+                    ok = step_in_parts(m, s, st, w, sv, b, k, h)
+            if not ok:
+                break
+            if k == due:
+                due = record_histories(m, st, rec, b, k)
+            if envelopes:
+                record_envelopes(m, st, rec, b, k)

@@ -72,7 +72,6 @@ def factor_linear(m, s, st, w, b, k, h):
     return factor(m, s, st, w, b, k, c0, c1, 1.0 - s.alpha_m, wf)
 
 
-@compiled
 def solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
     """Iterate a step of length h from the committed state to equilibrium at ag_new.
 
@@ -152,3 +151,9 @@ def solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
         at_end_point(s, w)
         evaluate_call(m, st, w, b, ag_new, c1, wf, False)
     return True
+
+
+#: solve_step as a call: for sub-steps and event location (Newton compiled into few places)
+solve_step_call = compiled(solve_step)
+#: inlined where the common case runs (no call)
+solve_step = inline(solve_step)

@@ -108,35 +108,26 @@ class Result:
         return f"{why} at t = {t:.6g} s (step {state}) at {where}"
 
 
-def _law_table(groups, count: int, ids: dict, width_of) -> tuple:
-    """Per-element law ids, evaluation order, padded parameters (B, e, P) and states."""
+def _law_table(groups, count: int, batch: int, ids: dict) -> tuple:
+    """Per-element law ids, evaluation order (grouped by law), and the laws' parameters and
+    states padded to the widest law: (batch, count, width) arrays."""
     law = np.zeros(count, dtype=np.int64)
-    order = [int(i) for g in groups for i in g.index]
-    batch = groups[0].params.shape[0] if groups else 1
-    width = max([1] + [width_of(g) for g in groups])
-    states = max([1] + [g.state.shape[2] for g in groups])
-    params = np.zeros((batch, count, width))
-    state = np.zeros((batch, count, states))
+    order = np.array([i for g in groups for i in g.index], dtype=np.int64)
+    params = np.zeros((batch, count, max([1] + [g.params.shape[2] for g in groups])))
+    state = np.zeros((batch, count, max([1] + [g.state.shape[2] for g in groups])))
     for g in groups:
         law[g.index] = ids[g.law]
         params[:, g.index, :g.params.shape[2]] = g.params
         state[:, g.index, :g.state.shape[2]] = g.state
-    return law, np.array(order, dtype=np.int64), params, state
+    return law, order, params, state
 
 
 def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
     B = plan.batch
-    s, c = len(plan.story_names), len(plan.contact_names)
     story_law, story_order, story_params, story_state = _law_table(
-        plan.story_groups, s, ids, lambda g: g.params.shape[2])
+        plan.story_groups, len(plan.story_names), B, ids)
     contact_law, contact_order, contact_params, contact_state = _law_table(
-        plan.contact_groups, c, ids, lambda g: g.params.shape[2])
-    if story_params.shape[0] != B:
-        story_params = np.broadcast_to(story_params, (B,) + story_params.shape[1:]).copy()
-        story_state = np.broadcast_to(story_state, (B,) + story_state.shape[1:]).copy()
-    if contact_params.shape[0] != B:
-        contact_params = np.broadcast_to(contact_params, (B,) + contact_params.shape[1:]).copy()
-        contact_state = np.broadcast_to(contact_state, (B,) + contact_state.shape[1:]).copy()
+        plan.contact_groups, len(plan.contact_names), B, ids)
     ones = np.ones(B, dtype=np.int64)
     model = Model(
         mass=plan.mass, mass_damping=plan.mass_damping, story_dofs=plan.story_dofs,
@@ -324,10 +315,11 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     """
     from pframe.kernel.build import kernel_for
 
-    kernel, ids, n_materials, n_contact_laws, ready = kernel_for(plan, announce)
+    compiled = kernel_for(plan, announce)
+    kernel, ids = compiled.run, compiled.ids
     model, story_state, contact_state = _group_model(plan, ids)
     settings = _settings(plan)
-    st = _state(plan, story_state, contact_state, n_materials, n_contact_laws)
+    st = _state(plan, story_state, contact_state, compiled.materials, compiled.contact_laws)
     recorders = _Recorders(plan, sink)
 
     pieces = _pieces(plan.batch, threads)
@@ -358,7 +350,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
 
             raise diagnose(plan, exc) from None
         raise
-    ready()
+    compiled.ready()
     compile_seconds = time.perf_counter() - start
     recorders.deliver(rec, 0, 1)
     solve = 0.0
@@ -372,6 +364,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         elapsed = time.perf_counter() - tick
         solve += elapsed
         recorders.deliver(rec, done, end)
+        rec = None  # the next call's buffers replace these, not join them
         if progress is not None:
             progress(end, total)
             size = max(1, min(limit, int((end - done) * chunk_seconds / max(elapsed, 1e-6))))

@@ -1,5 +1,5 @@
 """Writing results: netCDF4-compatible HDF5 that xarray, ncdump and MATLAB read as is."""
 
-from pframe.record.hdf5 import UNITS, write_result
+from pframe.record.hdf5 import UNITS, ResultWriter, write_result
 
-__all__ = ["UNITS", "write_result"]
+__all__ = ["UNITS", "ResultWriter", "write_result"]
