@@ -42,13 +42,6 @@ def fail(st, b, code, k, kind, index):
 
 
 @inline
-def copy1(dst, src):
-    """dst[:] = src for 1-D arrays, without numba's overlap check and temporary."""
-    for i in range(src.shape[0]):
-        dst[i] = src[i]
-
-
-@inline
 def copy2(dst, src):
     """dst[...] = src for 2-D arrays, without numba's overlap check and temporary."""
     for i in range(src.shape[0]):

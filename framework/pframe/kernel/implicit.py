@@ -12,46 +12,54 @@ from __future__ import annotations
 from pframe.kernel.cache import compiled, inline
 from pframe.kernel.state import NOT_FINITE, NOT_STABLE, SPLIT_STEPS, STATUS_CODE
 
-from .assembly import copy1, copy2, ground_between
+from .assembly import ground_between
 from .energy import commit_call
 from .events import event_substeps
 from .newton import solve_step_call
 
 
 @inline
+def copy1(saved, live, to_saved):
+    """Copy a 1-D array one way or the other (loops: no overlap check, no temporary)."""
+    for i in range(live.shape[0]):
+        if to_saved:
+            saved[i] = live[i]
+        else:
+            live[i] = saved[i]
+
+
+@inline
+def copy2(saved, live, to_saved):
+    for i in range(live.shape[0]):
+        copy1(saved[i], live[i], to_saved)
+
+
+@inline
+def exchange(st, sv, b, to_saved):
+    """Copy member b's committed arrays into ``sv`` (``to_saved``) or back from it."""
+    copy1(sv.U, st.U[b], to_saved)
+    copy1(sv.V, st.V[b], to_saved)
+    copy1(sv.A, st.A[b], to_saved)
+    copy1(sv.drift, st.drift[b], to_saved)
+    copy1(sv.story_force, st.story_force[b], to_saved)
+    copy1(sv.story_damping_force, st.story_damping_force[b], to_saved)
+    copy1(sv.story_tangent, st.story_tangent[b], to_saved)
+    copy2(sv.story_committed, st.story_committed[b], to_saved)
+    copy1(sv.contact_force, st.contact_force[b], to_saved)
+    copy1(sv.penetration, st.penetration[b], to_saved)
+    copy2(sv.contact_committed, st.contact_committed[b], to_saved)
+    copy1(sv.impacts, st.impacts[b], to_saved)
+    copy1(sv.energy, st.energy[b], to_saved)
+
+
+@inline
 def save(st, sv, b):
-    """Copy member b's committed arrays into ``sv``."""
-    copy1(sv.U, st.U[b])
-    copy1(sv.V, st.V[b])
-    copy1(sv.A, st.A[b])
-    copy1(sv.drift, st.drift[b])
-    copy1(sv.story_force, st.story_force[b])
-    copy1(sv.story_damping_force, st.story_damping_force[b])
-    copy1(sv.story_tangent, st.story_tangent[b])
-    copy2(sv.story_committed, st.story_committed[b])
-    copy1(sv.contact_force, st.contact_force[b])
-    copy1(sv.penetration, st.penetration[b])
-    copy2(sv.contact_committed, st.contact_committed[b])
-    copy1(sv.impacts, st.impacts[b])
-    copy1(sv.energy, st.energy[b])
+    exchange(st, sv, b, True)
 
 
 @inline
 def restore(st, sv, b):
-    """Copy ``sv`` back into member b's committed arrays."""
-    copy1(st.U[b], sv.U)
-    copy1(st.V[b], sv.V)
-    copy1(st.A[b], sv.A)
-    copy1(st.drift[b], sv.drift)
-    copy1(st.story_force[b], sv.story_force)
-    copy1(st.story_damping_force[b], sv.story_damping_force)
-    copy1(st.story_tangent[b], sv.story_tangent)
-    copy2(st.story_committed[b], sv.story_committed)
-    copy1(st.contact_force[b], sv.contact_force)
-    copy1(st.penetration[b], sv.penetration)
-    copy2(st.contact_committed[b], sv.contact_committed)
-    copy1(st.impacts[b], sv.impacts)
-    copy1(st.energy[b], sv.energy)
+    exchange(st, sv, b, False)
 
 
 @inline

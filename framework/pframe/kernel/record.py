@@ -15,6 +15,7 @@ from pframe.kernel.state import (
     CONTACT_PENETRATION,
     DISPLACEMENT,
     GATHERS,
+    GROUND_ACCELERATION,
     STORY_DRIFT,
     STORY_FORCE,
     VELOCITY,
@@ -25,23 +26,31 @@ NEVER = 1 << 62
 
 
 @inline
-def value(m, st, q, b, k, i):
-    """Committed value i of quantity ``q`` of member ``b`` at step ``k``."""
+def source(m, st, q):
+    """The (B, width) array holding quantity ``q``'s committed values: a row per member."""
     if q == DISPLACEMENT:
-        return st.U[b, i]
+        return st.U
     if q == VELOCITY:
-        return st.V[b, i]
+        return st.V
     if q == ACCELERATION:
-        return st.A[b, i]
+        return st.A
     if q == STORY_DRIFT:
-        return st.drift[b, i]
+        return st.drift
     if q == STORY_FORCE:
-        return st.story_force[b, i]
+        return st.story_force
     if q == CONTACT_FORCE:
-        return st.contact_force[b, i]
+        return st.contact_force
+    return st.penetration  # contact penetration, clipped at 0 by value()
+
+
+@inline
+def value(m, st, q, values, b, k, i):
+    """Committed value i of quantity ``q`` (its array ``values`` from :func:`source`)."""
+    if q == GROUND_ACCELERATION:
+        return m.ground[b, k]
     if q == CONTACT_PENETRATION:
-        return max(st.penetration[b, i], 0.0)
-    return m.ground[b, k]  # ground acceleration: one value
+        return max(values[b, i], 0.0)
+    return values[b, i]
 
 
 @inline
@@ -66,8 +75,9 @@ def record_histories(m, st, rec, b, k):
         if every[q] > 0 and k % every[q] == 0:
             history = rec.history[q]
             row = k // every[q] - first[q]
+            values = source(m, st, q)  # chosen once per quantity, not once per value
             for i in range(history.shape[2]):
-                history[b, row, i] = value(m, st, q, b, k, i)
+                history[b, row, i] = value(m, st, q, values, b, k, i)
             gathered += history.shape[2]
     st.counters[b, GATHERS] += gathered
     return next_due(rec, k + 1)
@@ -80,7 +90,8 @@ def record_envelopes(m, st, rec, b, k):
     for q in range(rec.enveloped.shape[0]):
         if rec.enveloped[q]:
             peak = rec.envelope[q]
+            values = source(m, st, q)
             for i in range(peak.shape[1]):
-                peak[b, i] = max(peak[b, i], abs(value(m, st, q, b, k, i)))
+                peak[b, i] = max(peak[b, i], abs(value(m, st, q, values, b, k, i)))
             gathered += peak.shape[1]
     st.counters[b, GATHERS] += gathered
