@@ -340,39 +340,41 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                 future.result()
         return rec
 
-    total = plan.steps + 1
-    start = time.perf_counter()
     try:
-        rec = call(0, 1)  # state t = 0; compiles or loads the kernel
-    except Exception as exc:
-        if type(exc).__module__.startswith("numba"):
-            from pframe.kernel.build import diagnose
+        total = plan.steps + 1
+        start = time.perf_counter()
+        try:
+            rec = call(0, 1)  # state t = 0; compiles or loads the kernel
+        except Exception as exc:
+            if type(exc).__module__.startswith("numba"):
+                from pframe.kernel.build import diagnose
 
-            raise diagnose(plan, exc) from None
-        raise
-    compiled.ready()
-    compile_seconds = time.perf_counter() - start
-    recorders.deliver(rec, 0, 1)
-    solve = 0.0
-    done = 1
-    limit = recorders.max_steps()
-    size = min(total - 1, limit) if progress is None else min(total - 1, 500, limit)
-    while done < total:
-        end = min(total, done + size)
-        tick = time.perf_counter()
-        rec = call(done, end)
-        elapsed = time.perf_counter() - tick
-        solve += elapsed
-        recorders.deliver(rec, done, end)
-        rec = None  # the next call's buffers replace these, not join them
-        if progress is not None:
-            progress(end, total)
-            size = max(1, min(limit, int((end - done) * chunk_seconds / max(elapsed, 1e-6))))
-        done = end
-        if np.all(st.status[:, 0] != 0):
-            break
-    if pool is not None:
-        pool.shutdown()
+                raise diagnose(plan, exc) from None
+            raise
+        compiled.ready()
+        compile_seconds = time.perf_counter() - start
+        recorders.deliver(rec, 0, 1)
+        solve = 0.0
+        done = 1
+        limit = recorders.max_steps()
+        size = min(total - 1, limit) if progress is None else min(total - 1, 500, limit)
+        while done < total:
+            end = min(total, done + size)
+            tick = time.perf_counter()
+            rec = call(done, end)
+            elapsed = time.perf_counter() - tick
+            solve += elapsed
+            recorders.deliver(rec, done, end)
+            rec = None  # the next call's buffers replace these, not join them
+            if progress is not None:
+                progress(end, total)
+                size = max(1, min(limit, int((end - done) * chunk_seconds / max(elapsed, 1e-6))))
+            done = end
+            if np.all(st.status[:, 0] != 0):
+                break
+    finally:
+        if pool is not None:
+            pool.shutdown()
     law_calls = {}
     for group in plan.story_groups:
         law_calls[group.law.name] = st.material_calls[:, ids[group.law]].copy()
