@@ -226,9 +226,9 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
     assert len(loop.run.overloads) == 1
 
 
-def test_unknown_recorder_layouts_share_the_kernel():
-    """A batch (sweep) and a single run, and the test scenes' recorders, call the same
-    compiled kernel."""
+def test_batches_and_single_runs_share_the_kernel():
+    """A batch run in threads (a sweep's chunk) calls the same compiled kernel as single
+    runs."""
     from pframe.assemble import assemble_batch
     from pframe.kernel import loop
 
