@@ -157,7 +157,7 @@ def check_finite(m, st, w, b, k):
     return fail(st, b, NOT_FINITE, k, kind, where)
 
 
-@inline
+@compiled
 def factor(m, s, st, w, b, k, c0, c1, wm, wf):
     """Assemble the effective stiffness band from the element tangents in ``w.story_kk`` and
     ``w.contact_kk`` and factor it; False (after recording why) if it is not definite."""
