@@ -150,3 +150,36 @@ def wu2021_run():
     loaded = load_scene(WU2021)
     plan = assemble(loaded.expanded)
     return loaded, plan, simulate(plan)
+
+
+#: global attributes that say when and by which command a file was written
+PROVENANCE = ("date_created", "history")
+
+
+def assert_same_result_file(a: Path, b: Path) -> None:
+    """Two result files hold the same thing: every variable bit for bit (names, dimensions,
+    order), every attribute, apart from when and by which command each was written."""
+    import h5py
+
+    def contents(path):
+        with h5py.File(path, "r") as f:
+            attrs = {k: np.asarray(v).tolist() for k, v in f.attrs.items()
+                     if k not in PROVENANCE}
+            data = {}
+
+            def visit(name, obj):
+                if isinstance(obj, h5py.Dataset):
+                    data[name] = (obj.dtype.str, obj.shape, obj[()].tobytes(),
+                                  sorted(k for k in obj.attrs
+                                         if k not in ("DIMENSION_LIST", "REFERENCE_LIST")))
+
+            f.visititems(visit)
+            return list(f), attrs, data
+
+    names_a, attrs_a, data_a = contents(a)
+    names_b, attrs_b, data_b = contents(b)
+    assert names_a == names_b
+    assert attrs_a == attrs_b
+    assert data_a.keys() == data_b.keys()
+    for name in data_a:
+        assert data_a[name] == data_b[name], name

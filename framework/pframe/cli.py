@@ -28,7 +28,11 @@ def parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import shlex
+
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser().parse_args(argv)
+    args.command_line = shlex.join(["pframe", *argv])  # the files' history attribute
     try:
         return args.run(args)
     except InputError as exc:

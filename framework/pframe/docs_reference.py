@@ -307,7 +307,7 @@ def _quantities() -> list[str]:
     lines = ["## Recordable quantities", "",
              "The values of `quantities` in `recorders` (a `history` keeps every `every`-th "
              "step and t = 0, an `envelope` keeps the peak absolute value over the run); "
-             "see [the HDF5 layout](hdf5.md) for how they are stored.", "",
+             "see [the result file layout](netcdf.md) for how they are stored.", "",
              "| Quantity | One value per | Units | Meaning |", "|---|---|---|---|"]
     for name, (dimension, units, meaning) in QUANTITIES.items():
         lines.append(f"| `{name}` | {dimension or '(scalar)'} | {_cell(units)} | "

@@ -268,6 +268,9 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         raise InputError("the OpenSees peer damps on the initial stiffness only")
     materials = []
     for group in plan.story_groups:
+        if group.law.name not in ("elastic", "bilinear"):
+            raise InputError(f"the OpenSees peer models elastic and bilinear storeys (Elastic, "
+                             f"Steel01); the scene's storeys use {group.law.name!r}")
         for j, i in enumerate(group.index):
             p = group.params[member, j]
             materials.append((i, ("elastic", p[0]) if group.law.name == "elastic"
@@ -276,7 +279,8 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         if group.law.name != "linear":
-            raise InputError("the OpenSees peer takes linear contacts only")
+            raise InputError(f"the OpenSees peer models linear contacts only (ElasticPPGap); "
+                             f"the scene's contacts use {group.law.name!r}")
         stiffness[group.index] = group.params[member, :, 0]
     rayleigh = []
     names = [""] * plan.n_dof

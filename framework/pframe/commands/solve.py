@@ -1,69 +1,35 @@
-"""``pframe solve MODEL.yaml``: run a scene and write its results to HDF5."""
+"""``pframe solve MODEL.yaml``: run a scene and write its results (netCDF-4, docs/netcdf.md)."""
 
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
-
-from pframe.errors import InputError
-
-
-class _Progress:
-    """A progress bar on a terminal, shown only when a run lasts more than a second."""
-
-    def __init__(self, stream):
-        self.stream = stream
-        self.first = None  # (time, steps) at the first report: compilation is before it
-        self.shown = False
-
-    def __call__(self, done: int, total: int):
-        now = time.perf_counter()
-        if self.first is None:
-            self.first = (now, done)
-            return
-        elapsed = now - self.first[0]
-        if elapsed < 1.0 and not self.shown:
-            return
-        self.shown = True
-        width = 30
-        filled = int(width * done / total)
-        rate = (done - self.first[1]) / elapsed
-        left = (total - done) / rate if rate > 0 else 0.0
-        self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {done}/{total} steps, "
-                          f"{rate:,.0f} steps/s, {left:.0f} s left ")
-        self.stream.flush()
-
-    def close(self):
-        if self.shown:
-            self.stream.write("\n")
 
 
 def _solve(args) -> int:
+    from pframe.api import check_output
     from pframe.model import load_scene
 
     loaded = load_scene(args.model)
-    out = Path(args.output) if args.output else Path(Path(args.model).stem + ".h5")
-    if out.exists() and not args.overwrite:
-        raise InputError(f"{out}: the output file exists; pass --overwrite to replace it, or "
-                         "choose another name with -o")
-    if not out.parent.exists():
-        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    out = check_output(Path(Path(args.model).stem + ".nc") if args.output is None
+                       else args.output, args.overwrite, loaded)
 
     from pframe.assemble import assemble
     from pframe.kernel import simulate
+    from pframe.progress import bar
     from pframe.record import ResultWriter
 
     plan = assemble(loaded.expanded)
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     on_terminal = sys.stderr.isatty() and not args.quiet
-    progress = _Progress(sys.stderr) if on_terminal else None
+    progress = bar(False if args.quiet else None, "steps")
     announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))
                 if on_terminal else None)
     # The histories go to the (temporary) file as they are computed, not held in memory; on
     # any error or Ctrl-C the temporary file is removed and nothing is written.
-    with ResultWriter(out, plan, loaded, track=_PEAKS) as writer:
+    with ResultWriter(out, plan, loaded, track=_PEAKS, compress=args.compress,
+                      call=getattr(args, "command_line", None)) as writer:
         try:
             result = simulate(plan, progress=progress, announce=announce, sink=writer.append)
         finally:
@@ -120,9 +86,12 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None):
 
 
 def register(sub) -> None:
-    solve = sub.add_parser("solve", help="run a scene and write its results to HDF5")
+    solve = sub.add_parser("solve", help="run a scene and write its results (netCDF-4)")
     solve.add_argument("model", help="scene file (YAML)")
-    solve.add_argument("-o", "--output", help="result file (default: MODEL's name with .h5)")
+    solve.add_argument("-o", "--output", help="result file (default: MODEL's name with .nc)")
     solve.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    solve.add_argument("--compress", action="store_true",
+                       help="deflate the histories (shuffle + gzip: about 2/3 of the size, "
+                            "several times the kernel's time to write)")
     solve.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     solve.set_defaults(run=_solve)

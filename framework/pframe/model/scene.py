@@ -9,7 +9,15 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 import functools
 from typing import Annotated, Literal, Union, get_args
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, create_model, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    create_model,
+    model_validator,
+)
 
 from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark
 from pframe.laws import get_law
@@ -74,7 +82,7 @@ class Rayleigh(Base):
 class Sine(Base):
     """Ground acceleration a_p sin(w_p t), optionally limited to some cycles or a duration."""
 
-    kind: Literal["sine"]
+    kind: Literal["sine"] = "sine"
     amplitude: float = Field(allow_inf_nan=False, description="a_p (m/s^2).")
     frequency: Positive = Field(description="Circular frequency w_p (rad/s).")
     cycles: Positive | None = Field(None, description="Number of cycles, then zero.")
@@ -90,7 +98,7 @@ class Sine(Base):
 class Record(Base):
     """A recorded ground acceleration read from a file (path relative to the YAML file)."""
 
-    kind: Literal["record"]
+    kind: Literal["record"] = "record"
     file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file.")
     format: Literal["auto", "columns", "at2"] = Field(
         "auto", description="File format; auto: .AT2 suffix for PEER, else two columns.")
@@ -140,7 +148,7 @@ class Analysis(Base):
 class History(Base):
     """Record quantities at every ``every``-th step (and at t = 0)."""
 
-    kind: Literal["history"]
+    kind: Literal["history"] = "history"
     quantities: list[Quantity] = Field(min_length=1, description="What to record.")
     every: int = Field(1, ge=1, description="Record every k-th step (and t = 0).")
 
@@ -148,7 +156,7 @@ class History(Base):
 class Envelope(Base):
     """Record only the peak absolute value of each quantity over the run."""
 
-    kind: Literal["envelope"]
+    kind: Literal["envelope"] = "envelope"
     quantities: list[Quantity] = Field(min_length=1, description="What to record peaks of.")
 
 
@@ -175,6 +183,26 @@ class Output(Base):
     scales: OutputScales | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
+
+
+#: fields that say which kind of object a mapping is: written even when left at their default
+TAGS = ("kind", "type", "law", "material")
+
+
+def given_fields(value):
+    """The data of a model as YAML would give it: the fields that were set, plus the tags
+    that select a model of a union (``kind``, ``type``, ``law``, ``material``)."""
+    if isinstance(value, BaseModel):
+        out = {}
+        for name in type(value).model_fields:
+            if name in value.model_fields_set or name in TAGS:
+                out[name] = given_fields(getattr(value, name))
+        return out
+    if isinstance(value, (list, tuple)):
+        return [given_fields(v) for v in value]
+    if isinstance(value, dict):
+        return {k: given_fields(v) for k, v in value.items()}
+    return value
 
 
 def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:
@@ -207,9 +235,14 @@ def _union(models: list[type[BaseModel]], tag: str):
     return Annotated[Union[tuple(models)], Field(discriminator=tag)]  # noqa: UP007
 
 
-@functools.cache
 def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] = ()):
-    """The Scene model for the built-in laws plus the named plug-in laws."""
+    """The Scene model for the built-in laws plus the named plug-in laws (one class per set
+    of laws, however they are passed: scenes of the same laws compare equal)."""
+    return _scene_class(tuple(sorted(contact_laws)), tuple(sorted(materials)))
+
+
+@functools.cache
+def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
     material_names = sorted(set(_builtin_names("material")) | set(materials))
     contact_names = sorted(set(_builtin_names("contact")) | set(contact_laws))
     material_params = [get_law("material", n).Params for n in material_names]
@@ -256,6 +289,24 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
             ]
         )
         output: Output = Field(Output(), description="Units of the result file.")
+
+        def to_yaml(self) -> str:
+            """The scene as YAML: the fields that were given (defaults left out), in the
+            order of the reference; ``pframe.load`` of it gives an equal scene."""
+            import yaml
+
+            return yaml.safe_dump(given_fields(self), sort_keys=False, allow_unicode=True,
+                                  width=100)
+
+        def to_opensees(self) -> str:
+            """A standalone OpenSeesPy script of this scene (linear contacts, elastic or
+            bilinear storeys, starting at rest): runs without pframe, to cross-check it."""
+            from pframe.api import loaded_scene
+            from pframe.assemble import assemble
+            from pframe.assemble.plan import peer_scene
+            from pframe.peers.opensees import script_text
+
+            return script_text(peer_scene(assemble(loaded_scene(self).expanded)))
 
     return Scene
 
