@@ -163,3 +163,24 @@ def test_example_plugin_rebounds_with_its_restitution(example_plugin):
     assert np.min(result.history["contact_force"][0]) >= 0.0
     restitution = -(v_left[-1] - v_right[-1]) / (v_left[0] - v_right[0])
     assert restitution == pytest.approx(target, abs=1e-5)
+
+
+def test_theory_rayleigh_coefficients_are_the_codes():
+    """docs/theory.md states the paper example's Rayleigh coefficients per building; they are
+    the ones the assembly computes (a0 on the masses, a1 on the storeys)."""
+    from pframe.assemble import assemble
+    from pframe.model import load_scene
+
+    text = (DOCS / "theory.md").read_text(encoding="utf-8")
+    stated = re.search(r"`a0 = ([\d.]+) 1/s`, `a1 = ([\d.e-]+) s` for the left building\s+"
+                       r"\(A\) and `a0 = ([\d.]+) 1/s`, `a1 = ([\d.e-]+) s` for the right one "
+                       r"\(B\)", text)
+    assert stated, "the sentence with the Rayleigh coefficients changed"
+    plan = assemble(load_scene(DOCS.parent / "models" / "wu2021-eq14.yaml").expanded)
+    for building, (a0, a1) in zip("AB", (stated.groups()[:2], stated.groups()[2:])):
+        node = plan.node_names.index(f"{building}/1")
+        dof = plan.node_dof[node]
+        assert float(a0) == pytest.approx(plan.mass_damping[0, dof] / plan.mass[0, dof],
+                                          abs=5e-5)
+        story = plan.story_names.index(f"{building}/1")
+        assert float(a1) == pytest.approx(plan.story_beta[0, story], abs=5e-8)
