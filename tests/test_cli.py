@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -63,7 +64,9 @@ def scene_file(tmp_path):
 
 def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
     out = tmp_path / "result.h5"
+    start = time.perf_counter()
     assert main(["solve", str(scene_file), "-o", str(out)]) == 0
+    wall = time.perf_counter() - start
     captured = capsys.readouterr()
     assert captured.err == ""
     assert "status: completed" in captured.out and str(out) in captured.out
@@ -98,7 +101,7 @@ def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
         assert attrs["steps"] == 1000
         assert attrs["steps_completed"] == 1000
         assert isinstance(attrs["solve_seconds"], (float, np.floating))
-        assert attrs["solve_seconds"] >= 0.0
+        assert 0.0 < attrs["solve_seconds"] < wall  # the kernel's part of the whole command
         assert attrs["status"] == "completed"
         assert attrs["complete"] == 1
         assert 0.0 <= attrs["energy_balance_error"] < 1e-9

@@ -70,14 +70,6 @@ class Plan:
     warnings: tuple[str, ...] = ()
 
     @property
-    def gamma(self) -> float:
-        return self.integrator.gamma
-
-    @property
-    def beta(self) -> float:
-        return self.integrator.beta
-
-    @property
     def batch(self) -> int:
         return self.mass.shape[0]
 
