@@ -146,7 +146,7 @@ def _impacts(inputs, gaps):
     """Impacts per variant and contact of the audit's variants run with their contacts at
     ``gaps`` (variants, contacts)."""
     acc = inputs.accelerations(np.arange(inputs.count))
-    plan = batch_plan(inputs.loaded, acc, inputs.steps, contacts_gaps=gaps)
+    plan = batch_plan(inputs.loaded, acc, inputs.steps, contacts_gaps=gaps, dt=inputs.dt)
     result = simulate(plan)
     assert all(result.completed(b) for b in range(plan.batch))
     return result.impacts
@@ -194,6 +194,8 @@ def test_fragility_maximum_likelihood_recovers_a_lognormal():
     got = fit_lognormal(levels, np.full(levels.size, 4000), z)
     assert got == pytest.approx((0.35, 0.4), rel=0.05)
     assert all(math.isnan(x) for x in fit_lognormal(levels, n, np.zeros(levels.size)))
+    step = np.where(levels > 0.4, n, 0.0)  # none, then all: no finite dispersion fits
+    assert all(math.isnan(x) for x in fit_lognormal(levels, n, step))
 
 
 def test_statistics_pounding_and_file(tmp_path):

@@ -42,7 +42,7 @@ def table(ds, statistic: str = "median") -> str:
         lines.append(f"fragility of pounding at any contact: median {median:.4g} "
                      f"{ds.level.attrs.get('units', '')}, dispersion {beta:.3g}"
                      if median == median else
-                     "fragility: not fitted (the levels do not bracket the onset of pounding)")
+                     "fragility: not fitted (no level where some but not all records pound)")
     return "\n".join(lines)
 
 
@@ -61,6 +61,7 @@ def _gap(args) -> int:
             sys.stderr.flush()
     ds = audit(args.scene, suite, gap=args.gap, levels=_levels(args.levels) if args.levels else None,
                measure=args.measure, en_coincident=args.en_coincident, duration=args.duration,
+               dt=args.dt, records_folder=args.records_folder,
                output=output, overwrite=args.overwrite, chunk=args.chunk, threads=args.threads,
                progress=progress, timings=timings)
     if progress is not None:
@@ -90,6 +91,8 @@ def register(sub) -> None:
     gap.add_argument("--suite", nargs="+", metavar="SUITE",
                      help="a suite file (.yaml), a folder of .AT2 records, or record files "
                           "(default: the scene's own excitation)")
+    gap.add_argument("--records-folder", metavar="DIR",
+                     help="where the records a suite file names are (default: beside it)")
     gap.add_argument("--gap", type=float, metavar="G", help="the gap provided (m)")
     gap.add_argument("--levels", metavar="L1,L2,...",
                      help="scale every record to each intensity (g) of --measure")
@@ -101,6 +104,9 @@ def register(sub) -> None:
     gap.add_argument("--duration", type=float, metavar="S",
                      help="analysed time (s); default: the longest record plus three of the "
                           "longest first period")
+    gap.add_argument("--dt", type=float, metavar="S",
+                     help="time step of the record runs (default: the scene's; without "
+                          "contacts a step that resolves the buildings' modes is enough)")
     gap.add_argument("--statistic", choices=("median", "p84", "max"), default="median",
                      help="statistic over the suite the table shows (default: median)")
     gap.add_argument("-o", "--output", metavar="OUT.h5",

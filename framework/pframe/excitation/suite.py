@@ -134,8 +134,11 @@ def folder_records(folder: Path) -> list[Path]:
     return sorted(p for p in folder.iterdir() if p.suffix.lower() in RECORD_SUFFIXES)
 
 
-def load_suite(path: str | Path) -> Suite:
-    """A suite from a suite file (YAML), a folder of .AT2 files, or one record file."""
+def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Suite:
+    """A suite from a suite file (YAML), a folder of .AT2 files, or one record file.
+
+    A suite file's record names are relative to ``records_folder`` when given (where the user
+    keeps the downloaded records), else to the suite file's folder."""
     from pframe.model.load import _compose, _where, read_input, validated
 
     path = Path(path)
@@ -149,18 +152,21 @@ def load_suite(path: str | Path) -> Suite:
         raise InputError(f"{path}: a suite file is a YAML mapping (records, folder, measure, "
                          "levels)")
     model = validated(SuiteFile, data, lines, str(path))
+    base = Path(records_folder) if records_folder is not None else path.parent
+    if not base.is_dir():
+        raise InputError(f"{base}: the records folder does not exist")
     motions = []
     for i, item in enumerate(model.records):
         entry = RecordEntry(file=item) if isinstance(item, str) else item
-        motions.append(_entry_motion(entry, path.parent, _where(str(path), lines, ("records", i))))
+        motions.append(_entry_motion(entry, base, _where(str(path), lines, ("records", i))))
     if model.folder is not None:
-        folder = path.parent / model.folder
+        folder = base / model.folder
         if not folder.is_dir():
             raise InputError(f"{_where(str(path), lines, ('folder',))}: {str(folder)!r} is not "
                              "a folder")
         for file in folder_records(folder):
-            motions.append(_entry_motion(RecordEntry(file=str(file.relative_to(path.parent))),
-                                         path.parent, _where(str(path), lines, ("folder",))))
+            motions.append(_entry_motion(RecordEntry(file=str(file.relative_to(base))),
+                                         base, _where(str(path), lines, ("folder",))))
     if not motions:
         raise InputError(f"{path}: the suite names no records (give records or a folder of "
                          ".AT2 files)")

@@ -88,8 +88,8 @@ def _scene_motion(loaded) -> GroundMotion:
     return GroundMotion(name, times, ex.ground_acceleration.copy(), loaded.source)
 
 
-def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | None = None
-            ) -> AuditInputs:
+def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | None = None,
+            dt: float | None = None, records_folder=None) -> AuditInputs:
     """Read the scene and the suite, find the buildings' first modes and every record's
     scale factor at every level."""
     from pframe.model import load_scene
@@ -102,10 +102,10 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
     if own:
         suite = Suite((_scene_motion(loaded),), source=loaded.source)
     elif isinstance(suite, (str, Path)):
-        suite = load_suite(suite)
+        suite = load_suite(suite, records_folder)
     elif not isinstance(suite, Suite):
         files = [Path(f) for f in suite]
-        suite = (load_suite(files[0]) if len(files) == 1
+        suite = (load_suite(files[0], records_folder) if len(files) == 1
                  else suite_from_files(files, source=", ".join(map(str, files))))
     chosen = _measure(measure)
     if chosen is not None:
@@ -116,7 +116,12 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
             raise InputError(f"--levels {levels}: intensity levels are positive numbers (g)")
     by_building = dict(zip(plan.buildings, periods))
     level_values, factors, ims = scale_factors(suite, by_building, levels)
-    dt = float(loaded.expanded.dt)
+    if dt is not None and not (dt > 0 and math.isfinite(dt)):
+        raise InputError(f"--dt {dt}: the time step is a number > 0 (s)")
+    if own and dt is not None and dt != loaded.expanded.dt:
+        raise InputError(f"--dt {dt}: the scene's own excitation runs on the scene's step "
+                         f"({loaded.expanded.dt:g} s); --dt applies to a suite of records")
+    dt = float(dt or loaded.expanded.dt)
     if own:
         steps = loaded.expanded.steps
     else:
@@ -142,7 +147,8 @@ class _Spec:
 
 
 def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=None,
-          en_coincident: bool = False, duration: float | None = None,
+          en_coincident: bool = False, duration: float | None = None, dt: float | None = None,
+          records_folder=None,
           output: str | Path | None = None, overwrite: bool = False, chunk: int | None = None,
           threads: int | None = None, progress=None, timings: dict | None = None):
     """Gap audit of a scene: for each contact level and record (x intensity level), the ABS,
@@ -156,7 +162,9 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     ``"sa:A"`` for building A's first period, or a Measure). Returns an ``xarray.Dataset``
     (records x levels x contacts x rules); with ``output``, also writes it (netCDF4/HDF5),
     saving the batch in chunks of ``chunk`` variants beside it so that a stopped audit
-    resumes. ``timings``, a dict, receives the wall and kernel seconds. Raises
+    resumes. ``dt`` (s) replaces the scene's step for the records (the runs have no contact
+    to resolve); ``records_folder`` is where a suite file's records are (default: beside
+    it). ``timings``, a dict, receives the wall and kernel seconds. Raises
     :class:`InputError` for bad input.
     """
     from pframe.gap.output import build_dataset, write_dataset
@@ -164,7 +172,8 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     start = time.perf_counter()
     if gap is not None and not (gap >= 0 and math.isfinite(gap)):
         raise InputError(f"--gap {gap}: the provided gap is a number >= 0 (m)")
-    inputs = prepare(scene, suite, levels=levels, measure=measure, duration=duration)
+    inputs = prepare(scene, suite, levels=levels, measure=measure, duration=duration, dt=dt,
+                     records_folder=records_folder)
     if output is not None:
         output = Path(output)
         if output.exists() and not overwrite:
@@ -217,8 +226,8 @@ def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress) -> d
                 if progress is not None:
                     progress(offset + size * step / total, count)
 
-            arrays = runs.run_batch(inputs.loaded, inputs.pairs, acc, inputs.steps, threads,
-                                    report if progress else None)
+            arrays = runs.run_batch(inputs.loaded, inputs.pairs, acc, inputs.steps, inputs.dt,
+                                    threads, report if progress else None)
             if parts is not None:
                 parts.save(c, arrays)
             done[c] = arrays

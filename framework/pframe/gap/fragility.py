@@ -25,14 +25,14 @@ def lognormal_probability(x, median: float, dispersion: float):
 
 def fit_lognormal(levels, trials, pounded) -> tuple[float, float]:
     """Maximum-likelihood (median, dispersion) of a lognormal fragility; NaN, NaN when the
-    data cannot fix both (fewer than two levels, or no level with some but not all pounding
-    and no change from none to all)."""
+    data cannot fix both: fewer than two levels, or no level where some but not all records
+    pound (then the likelihood grows without bound as the dispersion goes to zero)."""
     x = np.asarray(levels, float)
     n = np.asarray(trials, float)
     z = np.asarray(pounded, float)
     keep = n > 0
     x, n, z = x[keep], n[keep], z[keep]
-    if x.size < 2 or np.all(z == 0) or np.all(z == n):
+    if x.size < 2 or np.all((z == 0) | (z == n)):
         return math.nan, math.nan
     lx = np.log(x)
 

@@ -40,8 +40,11 @@ def measure_label(inputs) -> str:
     m = inputs.suite.measure
     if m.kind == "pga":
         return "PGA"
-    return f"Sa(T={m.period}, {m.damping:g})" if isinstance(m.period, str) and not \
-        m.period.replace(".", "", 1).isdigit() else f"Sa({float(m.period):g} s, {m.damping:g})"
+    try:
+        period = f"{float(m.period):g} s"
+    except ValueError:
+        period = f"T_1 of {m.period}"
+    return f"Sa({period}, {100 * m.damping:g} %)"
 
 
 def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False):

@@ -99,10 +99,11 @@ def base_plan(loaded):
     return assemble(ex)
 
 
-def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None):
+def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None,
+               dt: float | None = None):
     """The batch plan: one member per row of ``accelerations`` (B, steps + 1) on the scene's
     time step; without contacts, or (for checks) with the scene's contacts at
-    ``contacts_gaps`` (B, c)."""
+    ``contacts_gaps`` (B, c); ``dt`` (s) replaces the scene's step."""
     from pframe.assemble import assemble_batch
 
     if contacts_gaps is None:
@@ -112,7 +113,8 @@ def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None
     else:
         ex = loaded.expanded
         recorders = (Envelope(kind="envelope", quantities=["displacement"]),)
-    base = dataclasses.replace(ex, steps=int(steps), recorders=recorders)
+    base = dataclasses.replace(ex, steps=int(steps), recorders=recorders,
+                               dt=float(dt if dt is not None else ex.dt))
     variants = []
     for b, acc in enumerate(accelerations):
         member = dataclasses.replace(base, ground_acceleration=np.asarray(acc, float))
@@ -139,13 +141,13 @@ class GapSink:
         np.fmax(self.gap, np.nanmax(rel, axis=1), out=self.gap)
 
 
-def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int,
+def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
               threads: int | None = None, progress=None) -> dict[str, np.ndarray]:
     """Run the no-contact batch; per member: peak |u| of the left and right floor of each
     contact level, g_req = max_t (u_left - u_right) (not clipped), and the run's status."""
     from pframe.kernel import simulate
 
-    plan = batch_plan(loaded, accelerations, steps)
+    plan = batch_plan(loaded, accelerations, steps, dt=dt)
     sink = GapSink(plan, pairs)
     result = simulate(plan, threads=threads, sink=sink,
                       progress=(lambda done, total: progress(done, total)) if progress else None)

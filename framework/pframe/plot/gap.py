@@ -73,7 +73,7 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
     ax.set_title(f"{statistic} of {ds.sizes['record']} records (whiskers: median to max)\n{what}",
                  fontsize=10)
     ax.grid(True, axis="x", alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    ax.legend(fontsize=8, loc="best", framealpha=0.9)
     notes = [f"{statistic} at level {at:g}"]
     if fragility:
         ax2 = axes[0, 1]
@@ -93,7 +93,7 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
         ax2.set_ylim(-0.03, 1.03)
         ax2.set_xlim(left=0)
         ax2.grid(True, alpha=0.3)
-        ax2.legend(fontsize=8, loc="lower right")
+        ax2.legend(fontsize=8, loc="upper left")
         ax2.set_title("pounding fragility", fontsize=10)
     fig.suptitle(ds.attrs.get("title", "gap audit"), fontsize=11)
     return fig, notes
