@@ -241,6 +241,16 @@ def test_stopped_audit_resumes_to_the_same_result(tmp_path):
     assert min(done_before) >= 2  # the first chunk was not run again
     xr.testing.assert_identical(resumed, whole)
     assert out.exists() and not parts.exists()
+    # batches of another audit are refused, not mixed in, unless --overwrite
+    with pytest.raises(KeyboardInterrupt):
+        audit(path, levels=levels, chunk=2, output=tmp_path / "other.h5",
+              progress=stop_after_first_chunk)
+    with pytest.raises(InputError, match="other.h5.parts: holds batches of another audit"):
+        audit(path, levels=levels[:4], chunk=2, output=tmp_path / "other.h5")
+    changed = audit(path, levels=levels[:4], chunk=2, output=tmp_path / "other.h5",
+                    overwrite=True)
+    xr.testing.assert_identical(changed.gap_required,
+                                whole.gap_required.isel(level=slice(0, 4)))
 
 
 @pytest.mark.parametrize("args, message", [

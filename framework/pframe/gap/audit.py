@@ -184,7 +184,7 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     chunk = int(chunk or count)
     if chunk < 1:
         raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
-    rows = _run_chunks(inputs, chunk, output, threads, progress)
+    rows = _run_chunks(inputs, chunk, output, threads, progress, overwrite)
     ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident)
     if output is not None:
         import shutil
@@ -200,7 +200,11 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     return ds
 
 
-def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress) -> dict:
+def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress,
+                overwrite: bool = False) -> dict:
+    """Run the batches not yet saved beside ``output`` (all, without one); return every
+    variant's rows in order. Batches of the same audit found there are taken up, even with
+    ``overwrite``; batches of another audit are discarded only with it."""
     count = inputs.count
     spec = _Spec(count, chunk)
     parts = None
@@ -212,7 +216,16 @@ def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress) -> d
     done: dict[int, dict] = {}
     try:
         if parts is not None:
-            for c in parts.open():
+            try:
+                finished = parts.open(restart=overwrite)
+            except InputError as exc:
+                if "holds" not in str(exc):
+                    raise
+                raise InputError(
+                    f"{parts.folder}: holds batches of another audit (another scene, suite, "
+                    "levels, step, chunk size or pframe code); pass --overwrite to discard "
+                    "them and start again, or choose another output name with -o") from None
+            for c in finished:
                 done[c] = parts.load(c)
         finished = sum(min(chunk, count - c * chunk) for c in done)
         for c in range(spec.chunks):
