@@ -137,8 +137,11 @@ class GapSink:
     def __call__(self, quantity, first_row, rows):
         if quantity != "displacement" or rows.shape[1] == 0:
             return
-        rel = rows[:, :, self.left] - rows[:, :, self.right]
-        np.fmax(self.gap, np.nanmax(rel, axis=1), out=self.gap)
+        for c, (left, right) in enumerate(zip(self.left, self.right)):
+            # a member that failed inside these rows has NaN after the failure: fmax keeps
+            # what came before (its results are discarded anyway)
+            block = np.max(rows[:, :, left] - rows[:, :, right], axis=1)
+            np.fmax(self.gap[:, c], block, out=self.gap[:, c])
 
 
 def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
