@@ -259,6 +259,7 @@ def test_stopped_audit_resumes_to_the_same_result(tmp_path):
     (["--measure", "sd:1"], "--measure"),
     (["--measure", "sa:C", "--levels", "0.2"], "neither seconds nor a building"),
     (["--gap", "-0.1"], "--gap"),
+    (["--chunk", "0"], "--chunk"),
     (["--suite", "missing-folder/x.AT2"], "not found"),
 ])
 def test_bad_arguments_exit_2_and_write_nothing(tmp_path, capsys, args, message):

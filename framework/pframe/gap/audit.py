@@ -181,7 +181,7 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
         if not output.parent.is_dir():
             raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
     count = inputs.count
-    chunk = int(chunk or count)
+    chunk = count if chunk is None else int(chunk)
     if chunk < 1:
         raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
     rows = _run_chunks(inputs, chunk, output, threads, progress, overwrite)
