@@ -70,11 +70,13 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
     units = ds.level.attrs.get("units", "")
     what = (f"{ds.level.attrs.get('long_name', 'level')} = {at:g} {units}" if units == "g"
             else "records as given")
-    ax.set_title(f"{statistic} of {ds.sizes['record']} records (whiskers: median to max)\n{what}",
-                 fontsize=10)
+    count = ds.sizes["record"]
+    heading = (f"{statistic} of {count} records (whiskers: median to max)" if count > 1
+               else f"record {ds.record.values[0]}")
+    ax.set_title(f"{heading}\n{what}", fontsize=10)
     ax.grid(True, axis="x", alpha=0.3)
     ax.legend(fontsize=8, loc="best", framealpha=0.9)
-    notes = [f"{statistic} at level {at:g}"]
+    notes = [f"{statistic} at level {at:g}" if units == "g" else f"{statistic}, records as given"]
     if fragility:
         ax2 = axes[0, 1]
         from pframe.gap.fragility import lognormal_probability
