@@ -1,6 +1,6 @@
 """Result files pass the CF checkers they claim (``Conventions = "CF-1.8"``): the IOOS
 ``compliance-checker --test=cf:1.8`` and the CF checker ``cfchecks``, with no errors (and no
-warnings), on a solve file, a sweep file and a dimensionless file.
+warnings), on a solve file, a dimensionless file, a sweep file and a gap audit's file.
 
 cfchecks reads the CF standard-name, area-type and region tables; it downloads them unless
 given local copies. The standard-name table comes with compliance-checker; the area-type and
@@ -36,17 +36,20 @@ def _tool(name: str) -> str:
 @pytest.fixture(scope="module")
 def files(tmp_path_factory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("cf")
-    out = {"solve": folder / "eq14.nc", "pi": folder / "eq14-pi.nc", "sweep": folder / "sweep.nc"}
+    out = {"solve": folder / "eq14.nc", "pi": folder / "eq14-pi.nc", "sweep": folder / "sweep.nc",
+           "gap": folder / "gap.nc"}
     assert main(["solve", str(REPO / "models" / "wu2021-eq14.yaml"), "-o", str(out["solve"]),
                  "-q"]) == 0
     assert main(["solve", str(REPO / "models" / "hust-4x3-pi.yaml"), "-o", str(out["pi"]),
                  "-q"]) == 0
     assert main(["sweep", str(REPO / "models" / "sweeps" / "wu2021-pi-d.yaml"), "-o",
                  str(out["sweep"]), "-q"]) == 0
+    assert main(["gap", str(REPO / "models" / "wu2021-pulse.yaml"), "--levels", "0.2,0.4",
+                 "--gap", "0.1", "-o", str(out["gap"]), "-q"]) == 0
     return out
 
 
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep"])
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_compliance_checker_finds_nothing(files, kind):
     done = subprocess.run([_tool("compliance-checker"), "--test=cf:1.8", "--format=text",
                            str(files[kind])], capture_output=True, text=True, timeout=300)
@@ -55,7 +58,7 @@ def test_compliance_checker_finds_nothing(files, kind):
     assert re.search(r"has 0 potential issues|All tests passed", report), report
 
 
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep"])
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_cfchecks_finds_nothing(files, kind, tmp_path):
     checker = _tool("cfchecks")
     probe = subprocess.run([sys.executable, "-c", "import cfunits"], capture_output=True,

@@ -25,6 +25,10 @@ def _plot(args) -> int:
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
     if is_sweep(args.result):
         return _plot_sweep(args, output)
+    from pframe.plot.gap import is_gap_audit
+
+    if is_gap_audit(args.result):
+        return _plot_gap(args, output)
     say = (lambda text: None) if args.quiet else (
         lambda text: print(f"pframe: {args.result}: {text}", file=sys.stderr))
     time_range = tuple(args.time_range) if args.time_range else None
@@ -57,6 +61,24 @@ def _plot_sweep(args, output: Path) -> int:
     if not args.quiet:
         print(f"{args.result}: response spectrum ({fig.axes[0].get_label().split()[-1]}"
               + (f"; {', '.join(notes)}" if notes else "") + "); wrote "
+              + ", ".join(str(p) for p in written))
+    return 0
+
+
+def _plot_gap(args, output: Path) -> int:
+    """A gap-audit file (pframe gap): the separations by rule and level, and the fragility."""
+    from pframe.plot import save
+    from pframe.plot.gap import gap_figure
+
+    level = None
+    for item in args.at or []:
+        key, _, value = item.partition("=")
+        if key.strip() == "level":
+            level = float(value)
+    fig, notes = gap_figure(args.result, statistic=args.statistic or "p84", level=level)
+    written = save({"gap": fig}, output, title=f"pframe plot {args.result}")
+    if not args.quiet:
+        print(f"{args.result}: gap audit ({'; '.join(notes)}); wrote "
               + ", ".join(str(p) for p in written))
     return 0
 
@@ -94,5 +116,8 @@ def register(sub) -> None:
                             "building, contact, storey or node)")
     sweep.add_argument("--at", action="append", metavar="DIMENSION=VALUE",
                        help="fix a dimension at a value (repeatable), e.g. --at contact=floor-1")
+    plot.add_argument("--statistic", choices=("median", "p84", "max"),
+                      help="gap-audit files (pframe gap): the statistic over the records "
+                           "drawn (default: p84); --at level=L picks the intensity level")
     plot.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     plot.set_defaults(run=_plot)

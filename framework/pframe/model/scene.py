@@ -7,6 +7,7 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 
 
 import functools
+import math
 from typing import Annotated, Literal, Union, get_args
 
 from pydantic import (
@@ -106,6 +107,55 @@ class Record(Base):
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
+
+
+class _Pulse(Base):
+    """Shared by the pulse excitations: amplitude a_p and period T_p (w_p = 2 pi / T_p)."""
+
+    amplitude: float = Field(allow_inf_nan=False, description="Acceleration amplitude a_p "
+                             "(m/s^2).")
+    period: Positive = Field(description="Pulse period T_p (s); w_p = 2 pi / T_p.")
+
+    @property
+    def frequency(self) -> float:
+        """The pulse's circular frequency w_p = 2 pi / T_p (rad/s)."""
+        return 2.0 * math.pi / self.period
+
+    @property
+    def characteristic_acceleration(self) -> float:
+        """a_p (m/s^2), the acceleration scale of Pi numbers built on the pulse."""
+        return abs(float(self.amplitude))
+
+    @property
+    def characteristic_frequency(self) -> float:
+        """w_p (rad/s), the frequency scale of Pi numbers built on the pulse."""
+        return self.frequency
+
+
+class Cycloidal(_Pulse):
+    """A cycloidal pulse (Makris 1997; Makris & Black 2004): type A a_p sin(w_p t) and type B
+    a_p cos(w_p t) for one period, type C_n a_p cos(w_p t + phi) for n + 1/2 - phi/pi periods
+    (phi returns the ground to its start); zero afterwards. See docs/gap-audit.md#pulses."""
+
+    kind: Literal["cycloidal"]
+    type: Literal["A", "B", "C"] = Field(description="A (forward), B (forward and back) or "
+                                         "C (n main cycles).")
+    n: int = Field(1, ge=1, description="Main cycles of a type-C pulse (C_n); only for type C.")
+
+    @model_validator(mode="after")
+    def _n_for_c(self):
+        if self.type != "C" and self.n != 1:
+            raise ValueError("n (the cycles of a type-C pulse) applies to type C only")
+        return self
+
+
+class Ricker(_Pulse):
+    """The Ricker wavelet a_p (1 - 2 pi^2 s^2 / T_p^2) exp(-pi^2 s^2 / T_p^2), s = t - t_0,
+    zero after t = 2 t_0. See docs/gap-audit.md#pulses."""
+
+    kind: Literal["ricker"]
+    center: Positive | None = Field(None, description="Time t_0 of the central peak (s); "
+                                    "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
 
 
 def _integrator_tag(value):
@@ -278,7 +328,8 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         contacts: list[_union(contact_models, "law")] = Field(
             default_factory=list, description="Contact elements between buildings.")
         damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
-        excitation: Annotated[Union[Sine, Record], Field(discriminator="kind")] | None = Field(  # noqa: UP007
+        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker],  # noqa: UP007
+                              Field(discriminator="kind")] | None = Field(
             None, description="Ground motion (none: free vibration from initial conditions).")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")

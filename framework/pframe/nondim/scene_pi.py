@@ -108,8 +108,10 @@ def _discrete(scene, expanded) -> list[str]:
     if scene.excitation is not None and scene.excitation.kind == "sine":
         cycles = scene.excitation.cycles
         out.append("sine excitation" + (f", {cycles:g} cycles" if cycles else ""))
-    elif scene.excitation is not None:
+    elif scene.excitation is not None and scene.excitation.kind == "record":
         out.append(f"record excitation {scene.excitation.file}")
+    elif scene.excitation is not None:
+        out.append(f"{scene.excitation.kind} pulse excitation")
     return out
 
 

@@ -167,3 +167,38 @@ def provenance(call: str | None = None) -> dict:
                      f"numpy {np.__version__}; numba {numba.__version__}; "
                      f"h5netcdf {h5netcdf.__version__}; {platform.platform()}"),
     }
+
+
+def write_dataset(ds, path, call: str | None = None) -> Path:
+    """Write an xarray Dataset that follows the layout above (names as ``<dim>_name`` label
+    coordinates, no string coordinate variables) to ``path``: strings as character arrays,
+    int64 as int32, no fill value on coordinates, provenance attributes added; via a
+    temporary file in the same folder, renamed when complete (the file is whole or absent)."""
+    import os
+
+    path = Path(path)
+    ds = ds.copy()
+    for name, _index in list(ds.xindexes.items()):
+        if name not in ds.dims:  # an index on a label: the file keeps the labels only
+            ds = ds.drop_indexes(name)
+    encoding = {}
+    for name, var in ds.variables.items():
+        if var.dtype.kind in "OUS":
+            if name in ds.dims:
+                raise TypeError(f"{name}: string coordinate variables are not CF; make it a "
+                                f"label {name}_name along dimension {name}")
+            encoding[name] = {"dtype": "S1"}
+        elif var.dtype == np.int64:
+            ds[name] = var.astype(np.int32)
+        if name in ds.coords and var.dtype.kind == "f":
+            encoding.setdefault(name, {})["_FillValue"] = None
+    ds.attrs = {**provenance(call), **{k: v for k, v in ds.attrs.items()
+                                       if k not in ("date_created", "history")}}
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
+        os.replace(tmp, path)
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    return path
