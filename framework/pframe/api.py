@@ -7,7 +7,6 @@ Dataset that ``pframe solve`` writes (the file is laid out by one writer, in mem
 
 from __future__ import annotations
 
-import io
 import os
 import tempfile
 import warnings
@@ -160,7 +159,9 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
     plan = assemble(loaded.expanded)
     for text in plan.warnings:
         warnings.warn(f"{loaded.source}: {text}", stacklevel=2)
-    target = io.BytesIO() if output is None else output
+    from pframe.record.netcdf import DatasetWriter
+
+    target = DatasetWriter() if output is None else output
     progress_bar = bar(progress, "steps", Path(str(loaded.source)).name)
     call = _call("solve", loaded, output)
     with ResultWriter(target, plan, loaded, compress=compress and output is not None,
@@ -176,8 +177,7 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
                       f"the Dataset holds the {result.states_done() - 1} steps computed",
                       IncompleteRun, stacklevel=2)
     if output is None:
-        target.seek(0)
-        return _opened(target, load_now=True)
+        return indexed(target.dataset())
     return open(output)
 
 

@@ -17,9 +17,9 @@ Two ways in, one writer (:class:`ResultWriter`):
   laid out at their full length and cut to the states computed if the run stops early;
 - :func:`write_result` writes a result whose histories are in memory (sweeps, tests).
 
-The target may also be a binary file object: ``pframe.solve`` writes its result in memory
-through the same writer and opens it with xarray, so a Dataset and a file agree by
-construction.
+The target may also be a binary file object, or a :class:`~pframe.record.netcdf.DatasetWriter`:
+``pframe.solve`` builds its xarray Dataset through this same layout code, so a Dataset and a
+file agree by construction (and a test checks they are identical).
 """
 
 from __future__ import annotations
@@ -31,7 +31,7 @@ import numpy as np
 
 from pframe.nondim.output import output_units
 from pframe.quantities import QUANTITIES
-from pframe.record.netcdf import Writer, provenance
+from pframe.record.netcdf import DatasetWriter, Writer, provenance
 
 UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
 DIMENSION = {q: dim for q, (dim, _, _) in QUANTITIES.items()}
@@ -78,7 +78,7 @@ class ResultWriter:
 
     def __init__(self, target, plan, loaded, member: int = 0, states: int | None = None,
                  track: tuple[str, ...] = (), compress: bool = False, call: str | None = None):
-        self.in_memory = not isinstance(target, (str, Path))
+        self.in_memory = not isinstance(target, (str, Path))  # a file object or a Dataset
         self.path = None if self.in_memory else Path(target)
         self.tmp = None if self.in_memory else _temporary(self.path)
         self.plan, self.loaded, self.member = plan, loaded, member
@@ -89,7 +89,8 @@ class ResultWriter:
         self.peaks: dict[str, np.ndarray] = {}
         self.file = None
         try:
-            self.file = Writer(target if self.in_memory else self.tmp, compress=compress)
+            self.file = (target if isinstance(target, DatasetWriter)
+                         else Writer(target if self.in_memory else self.tmp, compress=compress))
             self._layout(states)
         except BaseException:
             self.abort()
@@ -211,7 +212,7 @@ class ResultWriter:
     def _trim(self, done: int):
         for every, dim in self.time_dims.items():
             rows = (done - 1) // every + 1
-            if self.file.file.dimensions[dim].size != rows:
+            if self.file[dim].shape[0] != rows:
                 self.file.resize(dim, rows)
 
     def _summaries(self, result):

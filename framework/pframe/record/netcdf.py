@@ -202,3 +202,100 @@ def write_dataset(ds, path, call: str | None = None) -> Path:
         if tmp.exists():
             tmp.unlink()
     return path
+
+
+class DatasetWriter:
+    """The interface of :class:`Writer`, building an xarray Dataset in memory instead of a
+    file: the same layout code (``pframe.record.hdf5.ResultWriter``) makes both, and the
+    Dataset is what xarray reads from the file (strings decoded, auxiliary coordinates as
+    coordinates, attributes as netCDF gives them). ``tests/test_api.py`` checks the two are
+    identical."""
+
+    def __init__(self):
+        self.sizes: dict[str, int | None] = {}
+        self.variables: dict[str, tuple[tuple[str, ...], np.ndarray, dict]] = {}
+        self.auxiliary: list[str] = []
+        self.attrs: dict = {}
+        self._coordinates: dict[str, list[str]] = {}
+
+    def dimension(self, name: str, size: int | None) -> None:
+        self.sizes[name] = 0 if size is None else size
+
+    def coordinate(self, name: str, values, **attrs):
+        values = np.asarray(values)
+        if name not in self.sizes:
+            self.dimension(name, len(values))
+        return self._add(name, (name,), values, attrs)
+
+    def labels(self, dimension: str, name: str, strings, **attrs):
+        if dimension not in self.sizes:
+            self.dimension(dimension, len(strings))
+        return self.strings(name, (dimension,), strings, auxiliary=True, **attrs)
+
+    def strings(self, name: str, dims, strings, auxiliary: bool = False, **attrs):
+        values = np.array([str(s) for s in np.asarray(strings, dtype=object).ravel()],
+                          dtype=object).reshape(np.shape(strings))
+        if auxiliary:
+            self.auxiliary.append(name)
+        return self._add(name, tuple(dims), values, attrs)
+
+    def variable(self, name: str, dims, data=None, *, dtype="f8", fill=None,
+                 chunk_rows: bool = False, coordinates=(), auxiliary: bool = False, **attrs):
+        dims = tuple(dims)
+        if data is None:
+            data = np.full(tuple(self.sizes[d] for d in dims), np.nan, dtype=dtype)
+        if auxiliary:
+            self.auxiliary.append(name)
+        return self._add(name, dims, np.array(data), {k: v for k, v in attrs.items()
+                                                       if v is not None})
+
+    def _add(self, name, dims, values, attrs):
+        self.variables[name] = (dims, values, dict(attrs))
+        return _Rows(self, name)
+
+    def resize(self, dimension: str, size: int) -> None:
+        self.sizes[dimension] = size
+        for name, (dims, values, attrs) in self.variables.items():
+            if dims and dims[0] == dimension:
+                if values.shape[0] < size:
+                    grown = np.full((size,) + values.shape[1:], np.nan, dtype=values.dtype)
+                    grown[:values.shape[0]] = values
+                    values = grown
+                self.variables[name] = (dims, values[:size], attrs)
+
+    def __getitem__(self, name: str):
+        return _Rows(self, name)
+
+    def close(self) -> None:
+        pass
+
+    def dataset(self):
+        """The Dataset (xarray imported here: only an in-memory result needs it)."""
+        import xarray as xr
+
+        data, coords = {}, {}
+        for name, (dims, values, attrs) in self.variables.items():
+            variable = xr.Variable(dims, values, attrs)
+            if name in self.auxiliary or (len(dims) == 1 and dims[0] == name):
+                coords[name] = variable
+            else:
+                data[name] = variable
+        return xr.Dataset(data, coords=coords, attrs=dict(self.attrs))
+
+
+class _Rows:
+    """``writer[name][lo:hi] = rows`` and ``.shape`` of a variable being built in memory."""
+
+    def __init__(self, writer: DatasetWriter, name: str):
+        self.writer, self.name = writer, name
+
+    @property
+    def shape(self):
+        return self.writer.variables[self.name][1].shape
+
+    @property
+    def attrs(self):
+        return self.writer.variables[self.name][2]
+
+    def __setitem__(self, index, values):
+        self.writer.variables[self.name][1][index] = values
