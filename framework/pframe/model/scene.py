@@ -98,6 +98,22 @@ class Record(Base):
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
+    pga: Positive | None = Field(
+        None, description="Scale the record to this peak ground acceleration (m/s^2); instead "
+        "of scale.")
+    period: Literal["mean"] | Positive = Field(
+        "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
+        "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
+        "1998, 2004, over 0.25-20 Hz) or a period in seconds of the record as in its file.")
+    frequency: Positive | None = Field(
+        None, description="Compress or stretch the record's time axis so that its "
+        "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")
+
+    @model_validator(mode="after")
+    def _scale_or_pga(self):
+        if self.pga is not None and "scale" in self.model_fields_set:
+            raise ValueError("give scale (a factor) or pga (a target peak), not both")
+        return self
 
 
 def _integrator_tag(value):
@@ -175,6 +191,10 @@ class Output(Base):
     scales: OutputScales | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
+    reference: BuildingName | None = Field(
+        None, description="The building whose first floor mass is the mass scale m_b of the Pi "
+        "groups (pframe pi) and of dimensionless output; default: the second building, or the "
+        "only one.")
 
 
 def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:

@@ -422,6 +422,6 @@ def _validate_model(data: dict, spec: Spec) -> None:
     if "pi" in data:
         from pframe.nondim.pi_form import expand_pi_data
 
-        data = expand_pi_data(data, lines, source)
+        data = expand_pi_data(data, lines, source, spec.base_dir or ".")
     plugins = _plugin_names(data, lines, source)
     validated(scene_class(*plugins), data, lines, source)
