@@ -257,13 +257,16 @@ def _pairs_and_levels(pi: PiScene, problems: list) -> list[tuple[str, str, list[
             levels, path = floors.get(f"{a}-{b}", []), ("contacts", "floors", f"{a}-{b}")
         else:
             levels, path = floors, ("contacts", "floors")
+        good = []  # the others are reported, and left out so that every problem is found
         for i, level in enumerate(levels):
             if not 1 <= level <= common or level in levels[:i]:
                 which = "both buildings have" if len(pairs) == 1 else f"both {a} and {b} have"
                 problems.append((path + (i,), f"contact level {level} is not a floor {which} "
                                  f"(1 .. {common}) or is listed twice"))
-        if levels:
-            out.append((a, b, list(levels)))
+            else:
+                good.append(level)
+        if good:
+            out.append((a, b, good))
     return out
 
 

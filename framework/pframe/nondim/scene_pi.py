@@ -9,7 +9,6 @@ the first is expressed relative to it: ``Pi_mu = K_b / K_a`` rather than ``K_b /
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from fractions import Fraction
 
