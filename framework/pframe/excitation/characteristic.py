@@ -46,7 +46,7 @@ class Characteristic:
     frequency_is: str
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class AppliedRecord:
     """A record as the scene applies it (before ``scale``, which multiplies the acceleration).
 
@@ -72,6 +72,15 @@ class AppliedRecord:
     pga: float
     period: float
     period_is: str
+
+    def __eq__(self, other) -> bool:
+        if not isinstance(other, AppliedRecord):
+            return NotImplemented
+        return all(np.array_equal(getattr(self, f), getattr(other, f))
+                   if isinstance(getattr(self, f), np.ndarray) else getattr(self, f) == getattr(other, f)
+                   for f in self.__dataclass_fields__)
+
+    __hash__ = None
 
 
 def mean_period(times: np.ndarray, acceleration: np.ndarray) -> float:
