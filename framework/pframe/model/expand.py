@@ -10,7 +10,7 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
-from pframe.excitation.characteristic import apply_record, characteristic
+from pframe.excitation.characteristic import apply_record
 from pframe.laws import ContactContext, get_law
 from pframe.model.load import ModelError
 
@@ -157,12 +157,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             record = apply_record(scene.excitation, *record)
         except InputError as exc:
             raise ModelError(("excitation", "file"), str(exc)) from None
-    # w_p of frequency_ratio (Pi_wcon = w_bar / w_p): the excitation's characteristic frequency
-    try:
-        found = characteristic(scene.excitation, record)
-    except InputError:  # a kind without one: frequency_ratio then says it needs a frequency
-        found = None
-    excitation_frequency = None if found is None else found.frequency
+    excitation_frequency = None  # of frequency_ratio (Pi_wcon = w_bar / w_p): a sine's
+    if scene.excitation is not None and scene.excitation.kind == "sine":
+        excitation_frequency = scene.excitation.frequency
     masses = np.array([m for _, m, _ in nodes], dtype=float)
     contacts, seen = [], {}
     for c, contact in enumerate(scene.contacts):

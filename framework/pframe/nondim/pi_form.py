@@ -360,8 +360,10 @@ def _scene(pi: PiScene, raw: dict, layout: _Layout, value, scales: dict,
             name = f"floor-{level}" if len(layout.tags) == 2 else f"{a}/{level}-{b}/{level}"
             contact = {"name": name, "nodes": [f"{a}/{level}", f"{b}/{level}"],
                        "gap": value("d", ""), "law": law}
-            if "w_bar" in roots:
-                contact["frequency_ratio"] = value("w_bar", "")
+            if "w_bar" in roots and pi.excitation.kind == "sine":
+                contact["frequency_ratio"] = value("w_bar", "")  # Pi_wcon itself
+            elif "w_bar" in roots:  # frequency_ratio is a sine's
+                contact["frequency"] = value("w_bar", "")
             else:
                 contact["stiffness"] = value("k_h", "")
             if "e" in roots:
@@ -539,7 +541,7 @@ def expand_pi(pi: PiScene, raw: dict, base_dir: Path | str = ".", source: str = 
     by_role = {roles[name]: v for name, v in values.items()}
 
     def value(root, tag):
-        if root == "w_bar":  # written as frequency_ratio = w_bar / w_p: Pi_wcon itself
+        if root == "w_bar" and pi.excitation.kind == "sine":  # frequency_ratio = w_bar / w_p
             return given["Pi_wcon"]
         return by_role[(root, tag)] if (root, tag) in by_role else by_role[(root, "")]
 
