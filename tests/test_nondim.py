@@ -525,12 +525,43 @@ def test_a_record_is_scaled_to_a_p_and_compressed_to_w_p(tmp_path):
     assert variables["w_p"] == pytest.approx(4 * math.pi, rel=3e-3)
     assert as_recorded.expanded.record.time_factor == 1.0
 
+    predominant = _row_of_three("hertz", "sine.txt")
+    predominant["excitation"]["period"] = "predominant"
+    loaded = parse_scene(json.dumps(predominant), base_dir=tmp_path)
+    report = scene_pi(loaded.scene, loaded.expanded)
+    assert {v.name: v.value for v in report.variables}["w_p"] == pytest.approx(4 * math.pi, rel=5e-3)
+    assert "predominant period T_p" in report.notes[0]
+
     stated = _row_of_three("hertz", "sine.txt")
     stated["excitation"]["period"] = 1.0
     loaded = parse_scene(json.dumps(stated), base_dir=tmp_path)
     report = scene_pi(loaded.scene, loaded.expanded)
     assert {v.name: v.value for v in report.variables}["w_p"] == pytest.approx(2 * math.pi)
     assert "the period stated in the scene" in report.notes[0]
+
+
+def test_oscillator_steps_are_exact_for_a_piecewise_linear_record():
+    """The spectrum recurrence against an adaptive Runge-Kutta integration of the same
+    oscillator under the same linearly interpolated record (a chirp from rest), and the
+    predominant period of a 2 Hz sine: the resonance, 0.5 s to the damped peak's offset."""
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    from pframe.excitation.characteristic import predominant_period, sdof_peak_displacements
+
+    t = np.arange(0.0, 10.0, 0.02)
+    a = 3.0 * np.sin(2 * np.pi * (0.5 + 0.3 * t) * t)
+    for period in (0.15, 0.7, 2.5):
+        w = 2 * np.pi / period
+        def rate(s, z, w=w):
+            return [z[1], -w * w * z[0] - 0.1 * w * z[1] - np.interp(s, t, a)]
+
+        solution = solve_ivp(rate, (0, t[-1]), [0.0, 0.0], t_eval=t, max_step=0.005,
+                             rtol=1e-11, atol=1e-13)
+        exact = np.max(np.abs(solution.y[0]))
+        assert sdof_peak_displacements(t, a, [period])[0] == pytest.approx(exact, rel=1e-7)
+    sine = 2.5 * np.sin(4 * np.pi * np.arange(0.0, 20.0, 0.005))
+    assert predominant_period(np.arange(0.0, 20.0, 0.005), sine) == pytest.approx(0.5, rel=5e-3)
 
 
 def test_a_record_scene_with_frequency_scales_in_time(tmp_path):

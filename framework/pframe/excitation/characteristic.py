@@ -13,7 +13,8 @@ place that says what they are for each kind of excitation:
   Bray (1998), recommended by Rathje et al. (2004) as the best single frequency-content
   parameter, ``T_m = sum(C_i^2 / f_i) / sum(C_i^2)`` over the Fourier amplitudes ``C_i`` of
   0.25 to 20 Hz; or a period in seconds named by the user (the period of a pulse seen in the
-  record, a site period, ...).
+  record, a site period, ...); or ``predominant``, the period ``T_p`` of the peak of the
+  5%-damped pseudo-acceleration spectrum (Rathje et al. 1998, 2004).
 
 A record may be scaled to a target PGA (``pga``) and compressed or stretched in time to a
 target characteristic frequency (``frequency``), as shaking-table tests do with records:
@@ -106,15 +107,78 @@ def mean_period(times: np.ndarray, acceleration: np.ndarray) -> float:
     return float(np.sum(c2 / f[band]) / np.sum(c2))
 
 
+def sdof_peak_displacements(times: np.ndarray, acceleration: np.ndarray, periods: np.ndarray,
+                            damping: float = 0.05) -> np.ndarray:
+    """Peak relative displacement (m) of linear oscillators of the given periods (s) and damping
+    ratio under the ground acceleration taken as linear between (equally spaced) samples, at
+    rest one step before the first sample (the record rises from zero over that step).
+
+    Each step is exact for that piecewise-linear excitation (the method of Nigam & Jennings
+    1969): with ``z = (u, v)``, ``z' = F z - a_g(t)`` and ``a_g`` linear over the step, the
+    state after the step is the exponential of the augmented matrix
+    ``[[F h, -e_2 h, 0], [0, 0, 1], [0, 0, 0]]`` applied to ``(z_n, a_n, a_{n+1} - a_n)``:
+    ``z_{n+1} = Phi z_n + g_0 a_n + g_1 (a_{n+1} - a_n)``. For ``u`` alone that recurrence is a
+    second-order filter, run by :func:`scipy.signal.lfilter`.
+    """
+    from scipy.linalg import expm
+    from scipy.signal import lfilter
+
+    step = float(times[-1] - times[0]) / (len(times) - 1)
+    drive = np.concatenate(([0.0], acceleration))  # at rest before the first sample
+    peaks = np.empty(len(periods))
+    for i, period in enumerate(np.asarray(periods, dtype=float)):
+        w = 2.0 * np.pi / period
+        augmented = np.zeros((4, 4))
+        augmented[:2, :2] = [[0.0, step], [-w * w * step, -2.0 * damping * w * step]]
+        augmented[1, 2] = -step
+        augmented[2, 3] = 1.0
+        e = expm(augmented)
+        phi, g0, g1 = e[:2, :2], e[:2, 2], e[:2, 3]
+        b0, b1 = g0 - g1, g1  # z_{n+1} = Phi z_n + b0 a_n + b1 a_{n+1}
+        numerator = [b1[0], b0[0] - phi[1, 1] * b1[0] + phi[0, 1] * b1[1],
+                     -phi[1, 1] * b0[0] + phi[0, 1] * b0[1]]
+        denominator = [1.0, -np.trace(phi), np.linalg.det(phi)]
+        peaks[i] = np.max(np.abs(lfilter(numerator, denominator, drive)))
+    return peaks
+
+
+def predominant_period(times: np.ndarray, acceleration: np.ndarray) -> float:
+    """``T_p`` (s): the period of the peak of the 5%-damped pseudo-acceleration spectrum
+    ``w^2 max|u|`` over 0.02-4 s (Rathje et al. 1998, 2004), on 400 log-spaced periods, refined
+    by a parabola through the peak and its two neighbours in log period. The record is
+    sampled at steps of at most 1/8 of the shortest period (linearly between its samples, as
+    the kernel applies it), so that a peak between samples is not missed by more than 8 %
+    at 0.02 s and 0.5 % at 0.1 s."""
+    periods = np.geomspace(0.02, 4.0, 400)
+    parts = max(1, math.ceil((times[-1] - times[0]) / (len(times) - 1) / (periods[0] / 8)))
+    fine = np.linspace(times[0], times[-1], (len(times) - 1) * parts + 1)
+    acceleration = np.interp(fine, times, acceleration)
+    psa = (2.0 * np.pi / periods) ** 2 * sdof_peak_displacements(fine, acceleration, periods)
+    i = int(np.argmax(psa))
+    if not np.any(psa > 0):
+        raise InputError("the record is zero: it has no predominant period")
+    if 0 < i < len(periods) - 1:
+        x = np.log(periods[i - 1:i + 2])
+        c = np.polyfit(x, psa[i - 1:i + 2], 2)
+        if c[0] < 0:
+            return float(np.exp(np.clip(-c[1] / (2 * c[0]), x[0], x[2])))
+    return float(periods[i])
+
+
 def record_period(how, times: np.ndarray, acceleration: np.ndarray) -> tuple[float, str]:
     """The characteristic period (s, on the file's time axis) and how it was found.
 
-    ``how`` is ``"mean"`` (:func:`mean_period`) or a period in seconds stated by the user.
+    ``how`` is ``"mean"`` (:func:`mean_period`), ``"predominant"``
+    (:func:`predominant_period`) or a period in seconds stated by the user.
     """
     if how == "mean":
         low, high = MEAN_PERIOD_BAND
         return mean_period(times, acceleration), (
             f"mean period T_m (Rathje et al. 1998, 2004) over {low:g}-{high:g} Hz of the file")
+    if how == "predominant":
+        return predominant_period(times, acceleration), (
+            "predominant period T_p, the peak of the 5%-damped acceleration spectrum "
+            "(Rathje et al. 1998, 2004)")
     return float(how), "the period stated in the scene (excitation.period)"
 
 

@@ -101,10 +101,11 @@ class Record(Base):
     pga: Positive | None = Field(
         None, description="Scale the record to this peak ground acceleration (m/s^2); instead "
         "of scale.")
-    period: Literal["mean"] | Positive = Field(
+    period: Literal["mean", "predominant"] | Positive = Field(
         "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
         "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
-        "1998, 2004, over 0.25-20 Hz) or a period in seconds of the record as in its file.")
+        "1998, 2004, over 0.25-20 Hz), predominant (the period T_p of the peak of the 5%-damped "
+        "acceleration spectrum) or a period in seconds of the record as in its file.")
     frequency: Positive | None = Field(
         None, description="Compress or stretch the record's time axis so that its "
         "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")

@@ -155,9 +155,11 @@ class PiRecord(Base):
         "auto", description="File format; auto: .AT2 suffix for PEER, else two columns.")
     units: Literal["m/s2", "g"] | None = Field(
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise).")
-    period: Literal["mean"] | _POSITIVE = Field(
-        "mean", description="The characteristic period T (w_p = 2 pi / T): mean (the mean period "
-        "T_m of Rathje et al. 1998, 2004) or a period in seconds of the record as in its file.")
+    period: Literal["mean", "predominant"] | _POSITIVE = Field(
+        "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
+        "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
+        "1998, 2004, over 0.25-20 Hz), predominant (the period T_p of the peak of the 5%-damped "
+        "acceleration spectrum) or a period in seconds of the record as in its file.")
 
 
 def _excitation_kind(value):
