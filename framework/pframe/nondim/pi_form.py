@@ -331,7 +331,6 @@ def _layout(pi: PiScene, problems: list) -> _Layout:
 
 _PLACEHOLDER = {"m": 1.0, "K": 1.0, "u_y": 1.0, "alpha": 0.1, "xi": 0.05, "w_bar": 1.0,
                 "k_h": 1.0, "e": 0.5, "d": 0.0}
-_LINEAR_FAMILY = ("w_bar",)
 
 
 def _contact_numbers(law: str) -> tuple[str, ...]:

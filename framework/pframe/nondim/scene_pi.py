@@ -108,7 +108,11 @@ def _discrete(scene, expanded) -> list[str]:
         cycles = scene.excitation.cycles
         out.append("sine excitation" + (f", {cycles:g} cycles" if cycles else ""))
     elif scene.excitation is not None:
-        out.append(f"record excitation {scene.excitation.file}")
+        e = scene.excitation
+        targets = "".join(f", {k} {getattr(e, k):.6g}" for k in ("pga", "frequency")
+                          if getattr(e, k) is not None)
+        period = e.period if isinstance(e.period, str) else f"{e.period:g} s"
+        out.append(f"record excitation {e.file} (period: {period}{targets})")
     return out
 
 

@@ -117,7 +117,7 @@ def reference_building(expanded) -> int:
 
 def reference_scales(scene, expanded) -> dict[str, float]:
     """``m_b``, ``a_p``, ``w_p`` for dimensionless output: ``output.scales`` if given, else the
-    first floor mass of building b and the excitation's scales.
+    first floor mass of the reference building and the excitation's scales.
 
     Raises
     ------
