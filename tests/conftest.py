@@ -23,6 +23,32 @@ from pframe.model import load_scene, parse_scene
 
 REPO = Path(__file__).resolve().parents[1]
 WU2021 = REPO / "models" / "wu2021-eq14.yaml"
+#: real PEER records, kept beside the repository (shared/records), never copied into it
+RECORDS = REPO.parent / "shared" / "records"
+
+
+def record_file(name: str) -> Path:
+    """A record of :data:`RECORDS`; the test is skipped, saying why, when it is absent."""
+    path = RECORDS / name
+    if not path.is_file():
+        pytest.skip(f"the PEER record {name} is not in {RECORDS} (models/ names it by file; "
+                    "the PEER NGA-West2 database has it)")
+    return path
+
+
+def runnable_model(model: Path, folder: Path) -> Path:
+    """``model`` itself, or, when it names a record that is not beside it, a copy of it in
+    ``folder`` beside a link to the record of :data:`RECORDS` (skipped when absent there)."""
+    import yaml
+
+    excitation = (yaml.safe_load(model.read_text(encoding="utf-8")) or {}).get("excitation") or {}
+    if excitation.get("kind") != "record" or (model.parent / excitation["file"]).is_file():
+        return model
+    record = record_file(Path(excitation["file"]).name)
+    (folder / record.name).symlink_to(record)
+    copy = folder / model.name
+    copy.write_text(model.read_text(encoding="utf-8"), encoding="utf-8")
+    return copy
 
 #: The recorders of models/wu2021-eq14.yaml: scenes recording these share its kernels.
 RECORDERS = [

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import record_file
 
 from pframe.docs_reference import REGENERATE, yaml_reference_markdown
 from pframe.model import parse_scene
@@ -133,8 +134,14 @@ def example_plugin(tmp_path_factory):
 
 @pytest.mark.parametrize("block", SCENE_BLOCKS, ids=_id)
 def test_scene_blocks_validate(block, example_plugin):
+    """Every scene of the docs validates; a record it names by file alone is read from the
+    shared records (skipped when they are absent)."""
     page, line, text = block
-    parse_scene(text, source=f"docs/{page}, block at line {line}", base_dir=DOCS)
+    excitation = (yaml.safe_load(text) or {}).get("excitation") or {}
+    base_dir = DOCS
+    if excitation.get("kind") == "record" and not (DOCS / excitation["file"]).is_file():
+        base_dir = record_file(Path(excitation["file"]).name).parent
+    parse_scene(text, source=f"docs/{page}, block at line {line}", base_dir=base_dir)
 
 
 def test_example_plugin_rebounds_with_its_restitution(example_plugin):

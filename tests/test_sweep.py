@@ -18,6 +18,7 @@ import h5py
 import numpy as np
 import pytest
 import yaml
+from conftest import runnable_model
 
 import pframe
 from pframe.assemble import assemble
@@ -145,10 +146,16 @@ def test_batch_equals_single_runs(folder, grid):
             assert f["energy_balance_error"][position] == single.energy_error(0)
 
 
-def test_variant_road_equals_the_scene_loader():
+def test_variant_road_equals_the_scene_loader(tmp_path):
     """The sweep validates variants from YAML data composed once; for every shipped model it
     gives the scene pframe.model.parse_scene gives from the text."""
     for model in sorted((REPO / "models").glob("*.yaml")):
+        folder = tmp_path / model.stem
+        folder.mkdir()
+        try:
+            model = runnable_model(model, folder)
+        except pytest.skip.Exception:  # its record is not on this machine
+            continue
         text = model.read_text(encoding="utf-8")
         data, lines = _compose(text, str(model))
         mine = load_variant(copy.deepcopy(data), lines, str(model), model.parent)

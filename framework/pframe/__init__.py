@@ -28,6 +28,7 @@ _API = {
     "Story": "pframe.api", "Contact": "pframe.api",
     "Node": "pframe.model.scene", "Rayleigh": "pframe.model.scene",
     "Sine": "pframe.model.scene", "Record": "pframe.model.scene",
+    "Cycloidal": "pframe.model.scene", "Ricker": "pframe.model.scene",
     "Analysis": "pframe.model.scene", "Newton": "pframe.model.scene",
     "History": "pframe.model.scene", "Envelope": "pframe.model.scene",
     "InitialConditions": "pframe.model.scene", "Output": "pframe.model.scene",
@@ -36,11 +37,11 @@ _API = {
     "GeneralizedAlpha": "pframe.integrators", "CentralDifference": "pframe.integrators",
 }
 
-__all__ = ["Analysis", "Building", "CentralDifference", "Contact", "Envelope", "GeneralizedAlpha",
-           "HHT", "History", "IncompleteRun", "InitialConditions", "InputError", "Newmark",
-           "Newton", "Node", "Output", "OutputScales", "PframeError", "Rayleigh", "Record",
-           "Scene", "Sine", "Story", "StoryProperties", "__version__", "load", "open", "plot",
-           "solve", "sweep"]
+__all__ = ["Analysis", "Building", "CentralDifference", "Contact", "Cycloidal", "Envelope",
+           "GeneralizedAlpha", "HHT", "History", "IncompleteRun", "InitialConditions",
+           "InputError", "Newmark", "Newton", "Node", "Output", "OutputScales", "PframeError",
+           "Rayleigh", "Record", "Ricker", "Scene", "Sine", "Story", "StoryProperties",
+           "__version__", "load", "open", "plot", "solve", "sweep"]
 
 
 def __getattr__(name: str):

@@ -42,7 +42,8 @@ model, the same model that `pframe validate` applies and that `schemas/model.sch
 - Some keys exclude each other, which `pframe validate` enforces: the contact stiffness of
   `linear`, `kelvin` and `improved_kelvin` is given by exactly one of `stiffness`,
   `frequency` and `frequency_ratio`; a `bilinear` storey takes exactly one of
-  `yield_drift` and `yield_force`; a sine takes at most one of `cycles` and `duration`.
+  `yield_drift` and `yield_force`; a sine takes at most one of `cycles` and `duration`; a
+  record takes at most one of `scale` and `pga`.
 - A *node name* is `<building>/<floor>`, e.g. `A/1` for the first floor above ground of
   building `A`; the building shorthand creates the nodes `A/1` .. `A/n`.
 - Contact laws and materials from installed plug-in packages add their own `law:` or

@@ -10,6 +10,7 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
+from pframe.excitation.characteristic import apply_record
 from pframe.laws import ContactContext, get_law
 from pframe.model.load import ModelError
 
@@ -47,6 +48,10 @@ class Expanded:
     absolute_tolerance: float
     max_iterations: int
     recorders: tuple
+    #: the record as applied (pframe.excitation.characteristic.AppliedRecord), for a record
+    record: object = None
+    #: index of the reference building (its first floor mass is the mass scale m_b)
+    reference: int = 0
 
 
 def _per_storey(value, n: int, path):
@@ -139,7 +144,20 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, tuple(map(float, law.pack(params)))))
         story_building.append(buildings.index(building_of[up]))
 
-    excitation_frequency = None
+    record = None
+    if scene.excitation is not None and scene.excitation.kind == "record":
+        file = Path(base_dir) / scene.excitation.file
+        try:
+            record = read_record(file, scene.excitation.format, scene.excitation.units)
+        except FileNotFoundError:
+            raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
+        except (ValueError, OSError) as exc:
+            raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
+        try:
+            record = apply_record(scene.excitation, *record)
+        except InputError as exc:
+            raise ModelError(("excitation", "file"), str(exc)) from None
+    excitation_frequency = None  # of frequency_ratio (Pi_wcon = w_bar / w_p): a sine's
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
     masses = np.array([m for _, m, _ in nodes], dtype=float)
@@ -170,16 +188,16 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         raise ModelError(("analysis", "duration"), f"duration {analysis.duration} s is shorter "
                                                    f"than one step dt = {analysis.dt} s")
     times = np.arange(steps + 1) * analysis.dt
-    record = None
-    if scene.excitation is not None and scene.excitation.kind == "record":
-        file = Path(base_dir) / scene.excitation.file
-        try:
-            record = read_record(file, scene.excitation.format, scene.excitation.units)
-        except FileNotFoundError:
-            raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
-        except (ValueError, OSError) as exc:
-            raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
-    ag = ground_acceleration(scene.excitation, times, record)
+    ag = ground_acceleration(scene.excitation, times,
+                             None if record is None else (record.times, record.acceleration))
+
+    reference = 1 if len(buildings) > 1 else 0
+    chosen = scene.output.reference
+    if chosen is not None:
+        if chosen not in buildings:
+            raise ModelError(("output", "reference"), f"no building named {chosen!r}; the "
+                             f"buildings are {', '.join(buildings)}")
+        reference = buildings.index(chosen)
 
     u0, v0 = np.zeros(len(nodes)), np.zeros(len(nodes))
     for field, target in (("displacement", u0), ("velocity", v0)):
@@ -205,4 +223,6 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         absolute_tolerance=analysis.newton.absolute_tolerance,
         max_iterations=analysis.newton.max_iterations,
         recorders=tuple(scene.recorders),
+        record=record,
+        reference=reference,
     )

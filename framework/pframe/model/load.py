@@ -204,7 +204,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
-        data = expand_pi_data(data, lines, source)
+        data = expand_pi_data(data, lines, source, base_dir or ".")
     plugins = _plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")

@@ -107,6 +107,23 @@ class Record(Base):
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
+    pga: Positive | None = Field(
+        None, description="Scale the record to this peak ground acceleration (m/s^2); instead "
+        "of scale.")
+    period: Literal["mean", "predominant"] | Positive = Field(
+        "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
+        "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
+        "1998, 2004, over 0.25-20 Hz), predominant (the period T_p of the peak of the 5%-damped "
+        "acceleration spectrum) or a period in seconds of the record as in its file.")
+    frequency: Positive | None = Field(
+        None, description="Compress or stretch the record's time axis so that its "
+        "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")
+
+    @model_validator(mode="after")
+    def _scale_or_pga(self):
+        if self.pga is not None and "scale" in self.model_fields_set:
+            raise ValueError("give scale (a factor) or pga (a target peak), not both")
+        return self
 
 
 class _Pulse(Base):
@@ -137,7 +154,7 @@ class Cycloidal(_Pulse):
     a_p cos(w_p t) for one period, type C_n a_p cos(w_p t + phi) for n + 1/2 - phi/pi periods
     (phi returns the ground to its start); zero afterwards. See docs/gap-audit.md#pulses."""
 
-    kind: Literal["cycloidal"]
+    kind: Literal["cycloidal"] = "cycloidal"
     type: Literal["A", "B", "C"] = Field(description="A (forward), B (forward and back) or "
                                          "C (n main cycles).")
     n: int = Field(1, ge=1, description="Main cycles of a type-C pulse (C_n); only for type C.")
@@ -153,7 +170,7 @@ class Ricker(_Pulse):
     """The Ricker wavelet a_p (1 - 2 pi^2 s^2 / T_p^2) exp(-pi^2 s^2 / T_p^2), s = t - t_0,
     zero after t = 2 t_0. See docs/gap-audit.md#pulses."""
 
-    kind: Literal["ricker"]
+    kind: Literal["ricker"] = "ricker"
     center: Positive | None = Field(None, description="Time t_0 of the central peak (s); "
                                     "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
 
@@ -233,6 +250,10 @@ class Output(Base):
     scales: OutputScales | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
+    reference: BuildingName | None = Field(
+        None, description="The building whose first floor mass is the mass scale m_b of the Pi "
+        "groups (pframe pi) and of dimensionless output; default: the second building, or the "
+        "only one.")
 
 
 #: fields that say which kind of object a mapping is: written even when left at their default
