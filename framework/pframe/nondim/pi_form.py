@@ -31,6 +31,7 @@ never knows a scene came from Pi numbers.
 from __future__ import annotations
 
 import copy
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Literal, Union
@@ -162,6 +163,23 @@ class PiRecord(Base):
         "acceleration spectrum) or a period in seconds of the record as in its file.")
 
 
+class PiCycloidal(Base):
+    """A cycloidal pulse of amplitude a_p and period T_p = 2 pi / w_p (docs/gap-audit.md)."""
+
+    kind: Literal["cycloidal"]
+    type: Literal["A", "B", "C"] = Field(description="A (forward), B (forward and back) or "
+                                         "C (n main cycles).")
+    n: int = Field(1, ge=1, description="Main cycles of a type-C pulse (C_n); only for type C.")
+
+
+class PiRicker(Base):
+    """The Ricker wavelet of amplitude a_p and period T_p = 2 pi / w_p (docs/gap-audit.md)."""
+
+    kind: Literal["ricker"]
+    center: _POSITIVE | None = Field(None, description="Time of the central peak in pulse "
+                                     "periods, t_0 / T_p (default 1.5).")
+
+
 def _excitation_kind(value):
     if isinstance(value, dict):
         return value.get("kind", "sine")
@@ -169,7 +187,8 @@ def _excitation_kind(value):
 
 
 PiExcitation = Annotated[
-    Union[Annotated[PiSine, Tag("sine")], Annotated[PiRecord, Tag("record")]],  # noqa: UP007
+    Union[Annotated[PiSine, Tag("sine")], Annotated[PiRecord, Tag("record")],  # noqa: UP007
+          Annotated[PiCycloidal, Tag("cycloidal")], Annotated[PiRicker, Tag("ricker")]],
     Discriminator(_excitation_kind),
 ]
 
@@ -210,7 +229,8 @@ class PiScene(Base):
         None, description="Tag of the building whose floor mass is m_b (default: b, or a alone).")
     contacts: PiContacts = Field(PiContacts(), description="Contact levels and law.")
     scales: Scales = Field(Scales(), description="Reference scales m_b, a_p, w_p.")
-    excitation: PiExcitation = Field(PiSine(), description="Sine (default) or record.")
+    excitation: PiExcitation = Field(
+        PiSine(), description="Sine (default), record, or pulse (cycloidal, ricker).")
     damping: PiDamping = Field(PiDamping(), description="Rayleigh modes and stiffness.")
     analysis: PiAnalysis = Field(description="Dimensionless time step and duration.")
     recorders: list[History | Envelope] | None = Field(
@@ -397,6 +417,14 @@ def _excitation(pi: PiScene, scales: dict | None) -> dict:
         if e.cycles is not None:
             out["cycles"] = e.cycles
         return out
+    if e.kind in ("cycloidal", "ricker"):  # a pulse: amplitude a_p, period T_p = 2 pi / w_p
+        period = 2.0 * math.pi / scales["w_p"]
+        out = {"kind": e.kind, "amplitude": scales["a_p"], "period": period}
+        if e.kind == "cycloidal":
+            out |= {"type": e.type} | ({"n": e.n} if e.type == "C" else {})
+        elif e.center is not None:
+            out["center"] = e.center * period
+        return out
     out = {"kind": "record", "file": e.file}
     if e.format != "auto":
         out["format"] = e.format
@@ -443,7 +471,7 @@ def _probe(pi: PiScene, raw: dict, layout: _Layout, base_dir, source: str):
         return _PLACEHOLDER[root]
 
     data = _scene(pi, {**raw, "recorders": None}, layout, placeholder, probe_scales,
-                  _excitation(pi, probe_scales if pi.excitation.kind == "sine" else None))
+                  _excitation(pi, None if pi.excitation.kind == "record" else probe_scales))
     data["analysis"] |= {"dt": 1.0, "duration": 1.0}
     data["output"] = {k: v for k, v in data["output"].items() if k == "reference"}
     data.pop("recorders", None)
