@@ -36,6 +36,22 @@ E_MIN = 0.01
 
 _EPS = 2.0**-52
 
+#: How far the restitution a published damping formula rebounds with may be from the requested
+#: one before ``pframe validate`` and ``pframe solve`` say so.
+TOLERANCE = 0.02
+
+
+def published_rebound(law, params) -> float | None:
+    """The restitution a contact rebounds with in a two-body impact when its law uses the
+    published damping formula (``calibration: published``) and that restitution is more than
+    :data:`TOLERANCE` from the requested one; None otherwise (``calibration: exact``, a law
+    without restitution, a plug-in law without a ``rebound`` method, or close enough)."""
+    rebound = getattr(law, "rebound", None)
+    if rebound is None or getattr(params, "calibration", None) != "published":
+        return None
+    obtained = float(rebound(params))
+    return obtained if abs(obtained - params.restitution) > TOLERANCE else None
+
 
 def check_restitution(e: float) -> float:
     """``e`` if a damped law accepts it, else ValueError (pydantic reports it at the field)."""

@@ -20,7 +20,7 @@ from pydantic import Field
 
 from pframe.laws.params import Calibration, DampedRestitution, LawParams, Positive
 from pframe.laws.registry import Law, contact_law
-from pframe.laws.restitution import jankowski_zeta_exact
+from pframe.laws.restitution import jankowski_restitution, jankowski_zeta_exact
 
 
 def jankowski_zeta(e: float) -> float:
@@ -42,6 +42,15 @@ class Jankowski(Law):
     def zeta(cls, params) -> float:
         e = params.restitution
         return jankowski_zeta_exact(e) if params.calibration == "exact" else jankowski_zeta(e)
+
+    @classmethod
+    def published_source(cls, params) -> str:
+        return "Jankowski 2005"
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
+        return jankowski_restitution(cls.zeta(params))
 
     @classmethod
     def pack(cls, params, context=None):
