@@ -220,3 +220,83 @@ def test_validate_reports_a_sweep_mistake_in_the_sweep_file(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"{sweep}, line 3, axes[0].linspace" in err
     assert "unknown field" not in err
+
+
+# ---------------------------------------------------------------------------------------------
+# pframe plot: what the docs say it answers, it answers
+# ---------------------------------------------------------------------------------------------
+
+TRANSCRIPT = re.compile(r"```text\n(.*?)```", re.S)
+
+
+def _plot_transcripts() -> list[tuple[str, list[str], str]]:
+    """(page, command arguments, expected stderr) of every ``$ pframe plot`` line in a text
+    block of docs/*.md, with the lines after it up to the next ``$``."""
+    out = []
+    for page in sorted((REPO / "docs").glob("*.md")):
+        for block in TRANSCRIPT.findall(page.read_text(encoding="utf-8")):
+            command, expected = None, []
+            for line in block.splitlines() + ["$ end"]:
+                if line.startswith("$ "):
+                    if command and command[:2] == ["pframe", "plot"]:
+                        out.append((page.name, command[1:], "\n".join(expected)))
+                    command, expected = line[2:].split(), []
+                elif command:
+                    expected.append(line)
+    return out
+
+
+@pytest.fixture(scope="module")
+def pi_d_sweep(tmp_path_factory):
+    """docs/sweeps.md's pi-d.h5 in small: the shipped Pi_d sweep over 3 values of Pi_d and
+    tau = 0 .. 5 (the same dimensions and responses, so the same messages)."""
+    folder = tmp_path_factory.mktemp("pi-d")
+    base = (MODELS / "wu2021-eq14-pi.yaml").read_text(encoding="utf-8")
+    (folder / "base.yaml").write_text(base.replace("\n  tau: 50\n", "\n  tau: 5\n"),
+                                      encoding="utf-8")
+    sweep = (MODELS / "sweeps" / "wu2021-pi-d.yaml").read_text(encoding="utf-8")
+    sweep = sweep.replace("base: ../wu2021-eq14-pi.yaml", "base: base.yaml")
+    sweep = sweep.replace("linspace: [0, 2, 41]", "linspace: [0, 2, 3]")
+    (folder / "pi-d.yaml").write_text(sweep, encoding="utf-8")
+    assert main(["sweep", str(folder / "pi-d.yaml"), "-o", str(folder / "pi-d.h5"), "-q"]) == 0
+    return folder
+
+
+PLOT_TRANSCRIPTS = _plot_transcripts()
+
+
+def test_the_docs_hold_plot_transcripts():
+    assert len(PLOT_TRANSCRIPTS) >= 7, PLOT_TRANSCRIPTS
+
+
+@pytest.mark.parametrize("page, args, expected", PLOT_TRANSCRIPTS,
+                         ids=[" ".join(t[1]) for t in PLOT_TRANSCRIPTS])
+def test_plot_answers_as_the_docs_say(pi_d_sweep, monkeypatch, capsys, page, args, expected):
+    monkeypatch.chdir(pi_d_sweep)
+    code = main(args)
+    captured = capsys.readouterr()
+    assert captured.err.strip() == expected.strip(), page
+    assert code == 2 and not list(pi_d_sweep.glob("*.pdf")) and not list(pi_d_sweep.glob("*.png"))
+
+
+def test_every_choice_list_of_plot_names_choices(pi_d_sweep, monkeypatch, capsys):
+    """No message ends in an empty 'choose one of' / 'takes' list, whatever is asked."""
+    monkeypatch.chdir(pi_d_sweep)
+    asks = [["--curves", "node"], ["--curves", "Pi_d"], ["--curves", "building", "--at",
+            "building=A"], ["--at", "story=A/1"], ["--at", "Pi_d=1", "--response", "impact_count"],
+            ["--response", "impact_count", "--at", "contact=floor-1", "--curves", "contact"]]
+    for ask in asks:
+        assert main(["plot", "pi-d.h5", *ask]) == 2
+        err = capsys.readouterr().err
+        assert not re.search(r"(one of|takes|fixes|axes are)\s*($|[;(])", err), err
+
+
+def test_a_sweep_option_on_the_file_of_one_run_is_an_error(tmp_path, capsys):
+    scene = tmp_path / "impact.yaml"
+    scene.write_text(_impact(MISSED["improved_kelvin"][0], 1e-4, 0.02), encoding="utf-8")
+    assert main(["solve", str(scene), "-o", str(tmp_path / "run.h5"), "-q"]) == 0
+    capsys.readouterr()
+    assert main(["plot", str(tmp_path / "run.h5"), "--response", "peak_contact_force"]) == 2
+    err = capsys.readouterr().err
+    assert "--response does not apply: the file is the result of one run (pframe solve)" in err
+    assert "its options are --kind, --story, --time-range, --dimensionless" in err
