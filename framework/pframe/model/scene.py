@@ -228,7 +228,8 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
     class Building(Base):
         """Shorthand for one shear building: floors 1..n above ground, storey i below floor i."""
 
-        name: BuildingName
+        name: BuildingName = Field(description="The building's name: its floors are the nodes "
+                                                "'<name>/1' .. '<name>/<floors>'.")
         floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
         story: _union(storey_models, "material") = Field(description="Storey properties.")
@@ -249,12 +250,15 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
             None, description="Ground motion (none: free vibration from initial conditions).")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")
-        analysis: Analysis
+        analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "
+                                   "duration (s), Newton settings.")
         recorders: list[Annotated[Union[History, Envelope], Field(discriminator="kind")]] = Field(  # noqa: UP007
             default_factory=lambda: [
                 Envelope(kind="envelope", quantities=["displacement", "story_drift", "contact_force"])
-            ]
-        )
+            ],
+            description="What the result file keeps: histories (kind: history) and peaks (kind: "
+                        "envelope); default: the peaks of displacement, story_drift and "
+                        "contact_force.")
         output: Output = Field(Output(), description="Units of the result file.")
 
     return Scene
