@@ -91,9 +91,12 @@ class Record(Base):
     """A recorded ground acceleration read from a file (path relative to the YAML file)."""
 
     kind: Literal["record"]
-    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file.")
+    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file "
+                      "(from the PEER NGA-West2 database), relative to the YAML file.")
     format: Literal["auto", "columns", "at2"] = Field(
-        "auto", description="File format; auto: .AT2 suffix for PEER, else two columns.")
+        "auto", description="File format; auto: PEER for the suffix .AT2 in any case (.AT2, "
+                            ".at2, .At2), else two columns. pframe validate prints how the "
+                            "file was read.")
     units: Literal["m/s2", "g"] | None = Field(
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )

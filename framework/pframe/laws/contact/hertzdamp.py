@@ -18,7 +18,13 @@ from typing import Literal
 from pydantic import Field
 
 from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
-from pframe.laws.params import Calibration, DampedRestitution, LawParams, Positive
+from pframe.laws.params import (
+    HERTZ_STIFFNESS,
+    Calibration,
+    DampedRestitution,
+    LawParams,
+    Positive,
+)
 from pframe.laws.registry import Law, contact_law
 from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
 
@@ -32,7 +38,7 @@ CHI_FORMULAS = {
 class Hertzdamp(Law):
     class Params(LawParams):
         law: Literal["hertzdamp"]
-        stiffness: Positive = Field(description="Hertz stiffness k (N/m^1.5).")
+        stiffness: Positive = Field(description=HERTZ_STIFFNESS)
         restitution: DampedRestitution
         formula: Literal["muthukumar", "ye"] = Field(
             "muthukumar", description="Published damping formula: Muthukumar & DesRoches 2006 "

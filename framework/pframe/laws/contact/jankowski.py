@@ -18,7 +18,13 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.params import Calibration, DampedRestitution, LawParams, Positive
+from pframe.laws.params import (
+    HERTZ_STIFFNESS,
+    Calibration,
+    DampedRestitution,
+    LawParams,
+    Positive,
+)
 from pframe.laws.registry import Law, contact_law
 from pframe.laws.restitution import jankowski_restitution, jankowski_zeta_exact
 
@@ -32,7 +38,7 @@ def jankowski_zeta(e: float) -> float:
 class Jankowski(Law):
     class Params(LawParams):
         law: Literal["jankowski"]
-        stiffness: Positive = Field(description="Impact stiffness beta (N/m^1.5).")
+        stiffness: Positive = Field(description="Impact stiffness beta: " + HERTZ_STIFFNESS)
         restitution: DampedRestitution
         calibration: Calibration = "published"
 
