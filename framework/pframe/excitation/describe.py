@@ -103,6 +103,8 @@ def describe_line(facts: dict, duration: float | None = None) -> str:
         end = facts["start"] + facts["duration"]
         if duration < end - 1e-9:
             line += f"; the analysis ({duration:g} s) stops before the record ends"
+            if duration < facts["pga_time"]:
+                line += " and before its PGA"
         elif duration > end + 1e-9:
             line += f"; the ground is at rest after {end:.6g} s of the {duration:g} s analysed"
     return line
