@@ -300,3 +300,19 @@ def test_a_sweep_option_on_the_file_of_one_run_is_an_error(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "--response does not apply: the file is the result of one run (pframe solve)" in err
     assert "its options are --kind, --story, --time-range, --dimensionless" in err
+
+
+def test_numbers_are_read_as_yaml_1_2_reads_them(tmp_path):
+    """1.0e10 and 1e-3 are numbers (YAML 1.1, PyYAML's default, reads them as text): in a
+    scene and as the target of a sweep axis."""
+    text = _impact({"law": "hertz", "stiffness": "STIFFNESS"}, 1e-5, 0.001)
+    text = text.replace('"STIFFNESS"', "1.0e9").replace('"dt": 1e-05', '"dt": 1e-5')
+    from pframe.model.load import _compose
+
+    data, _ = _compose(text, "scene")
+    assert data["contacts"][0]["stiffness"] == 1.0e9 and data["analysis"]["dt"] == 1e-5
+    (tmp_path / "base.yaml").write_text(text, encoding="utf-8")
+    (tmp_path / "sweep.yaml").write_text(
+        "base: base.yaml\naxes:\n  - {name: k, path: contacts.c.stiffness, values: [1e9, 2e9]}\n",
+        encoding="utf-8")
+    assert main(["validate", str(tmp_path / "sweep.yaml")]) == 0
