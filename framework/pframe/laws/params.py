@@ -32,9 +32,11 @@ HERTZ_STIFFNESS = (
 #: How a damped law turns its restitution into damping (see docs/restitution.md).
 Calibration = Annotated[
     Literal["published", "exact"],
-    Field(description="published: the damping formula of the law's source, whose two-body "
-                      "impact rebounds with a restitution near e (docs/restitution.md lists "
-                      "how near); exact: the damping with which it rebounds with e itself."),
+    Field(description="published (the default): the damping formula of the law's source, whose "
+                      "two-body impact rebounds with a restitution near e (docs/restitution.md "
+                      "lists how near; pframe validate and solve warn when it misses e by more "
+                      "than 0.02 and calibration was not written); exact: the damping with "
+                      "which it rebounds with e itself."),
 ]
 
 
