@@ -316,3 +316,24 @@ def test_numbers_are_read_as_yaml_1_2_reads_them(tmp_path):
         "base: base.yaml\naxes:\n  - {name: k, path: contacts.c.stiffness, values: [1e9, 2e9]}\n",
         encoding="utf-8")
     assert main(["validate", str(tmp_path / "sweep.yaml")]) == 0
+
+
+def test_merge_keys_write_repeated_contacts_once(tmp_path):
+    """<<: *anchor merges a mapping (keys beside it win); a key written twice is still an error,
+    named at its line."""
+    text = """\
+nodes: [{name: A/1, mass: 1000.0}, {name: A/2, mass: 1000.0},
+        {name: B/1, mass: 3000.0}, {name: B/2, mass: 3000.0}]
+contacts:
+  - &hd {name: c1, nodes: [A/1, B/1], gap: 0.01, law: hertzdamp, stiffness: 1.0e9,
+         restitution: 0.6, calibration: exact}
+  - {<<: *hd, name: c2, nodes: [A/2, B/2], restitution: 0.8}
+analysis: {dt: 0.001, duration: 0.01}
+"""
+    contacts = parse_scene(text).scene.contacts
+    assert [(c.name, c.nodes, c.restitution, c.calibration) for c in contacts] == [
+        ("c1", ("A/1", "B/1"), 0.6, "exact"), ("c2", ("A/2", "B/2"), 0.8, "exact")]
+    from pframe.errors import InputError
+
+    with pytest.raises(InputError, match=r"line 6: the key 'gap' appears twice"):
+        parse_scene(text.replace("restitution: 0.8}", "restitution: 0.8, gap: 0.1, gap: 0.2}"))

@@ -76,10 +76,18 @@ def _compose(text: str, source: str):
         def convert(node, path):
             lines.setdefault(path, node.start_mark.line + 1)
             if isinstance(node, yaml.MappingNode):
-                out = {}
-                for key_node, value_node in node.value:
+                # merge keys (<<: *defaults) first: their keys come first and may be overridden
+                own = sum(1 for k, _ in node.value if k.tag != "tag:yaml.org,2002:merge")
+                loader.flatten_mapping(node)
+                merged = len(node.value) - own
+                out, from_merge = {}, set()
+                for i, (key_node, value_node) in enumerate(node.value):
                     key = loader.construct_object(key_node, deep=True)
-                    if key in out:
+                    if i < merged:
+                        from_merge.add(key)
+                    elif key in from_merge:
+                        from_merge.discard(key)
+                    elif key in out:
                         raise InputError(
                             f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
                             f"appears twice in {_dotted(path)}; each key may be given once"
