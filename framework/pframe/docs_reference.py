@@ -43,8 +43,8 @@ model, the same model that `pframe validate` applies and that `schemas/model.sch
   `linear`, `kelvin` and `improved_kelvin` is given by exactly one of `stiffness`,
   `frequency` and `frequency_ratio`; a `bilinear` storey takes exactly one of
   `yield_drift` and `yield_force`; a sine takes at most one of `cycles` and `duration`.
-- Repeated settings can be written once with a YAML anchor and merge key: `- &hd {name:
-  floor-1, law: hertzdamp, ...}` then `- {<<: *hd, name: floor-2, nodes: [A/2, B/2]}`; a key
+- Repeated settings can be written once with a YAML anchor and merge key: `- &hd {{name:
+  floor-1, law: hertzdamp, ...}}` then `- {{<<: *hd, name: floor-2, nodes: [A/2, B/2]}}`; a key
   written beside `<<` replaces the merged one, any other key may be given once.
 - A *node name* is `<building>/<floor>`, e.g. `A/1` for the first floor above ground of
   building `A`; the building shorthand creates the nodes `A/1` .. `A/n`.
