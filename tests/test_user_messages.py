@@ -337,3 +337,23 @@ analysis: {dt: 0.001, duration: 0.01}
 
     with pytest.raises(InputError, match=r"line 6: the key 'gap' appears twice"):
         parse_scene(text.replace("restitution: 0.8}", "restitution: 0.8, gap: 0.1, gap: 0.2}"))
+
+
+def test_validate_prints_the_periods_of_each_building(tmp_path, capsys):
+    """A uniform n-storey shear building has w_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2n + 1))):
+    the periods validate prints are those."""
+    import math
+
+    n, m, k = 5, 4.0e5, 7.8e8
+    scene = tmp_path / "b.yaml"
+    scene.write_text(json.dumps({
+        "buildings": [{"name": "B", "floors": n, "mass": m,
+                       "story": {"material": "elastic", "stiffness": k}}],
+        "analysis": {"dt": 0.01, "duration": 0.1}}), encoding="utf-8")
+    assert main(["validate", str(scene)]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if "building B" in x)
+    printed = [float(v) for v in re.search(r"periods (.*) s \(", line).group(1).split(", ")]
+    exact = [2 * math.pi / (2 * math.sqrt(k / m) * math.sin((2 * j - 1) * math.pi / (2 * (2 * n + 1))))
+             for j in (1, 2, 3)]
+    assert printed == pytest.approx(exact, rel=5e-3)  # 3 significant digits
+    assert "building B: 5 floors, periods 0.500, 0.171, 0.109 s" in line

@@ -38,6 +38,33 @@ def record_lines(loaded) -> list[str]:
     return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
 
 
+def period_lines(expanded, plan) -> list[str]:
+    """The first fixed-base periods of each building (initial stiffness), as lines."""
+    import numpy as np
+
+    lines = []
+    for b, name in enumerate(expanded.buildings):
+        nodes = np.flatnonzero(expanded.node_building == b)
+        local = {node: i for i, node in enumerate(nodes)}
+        stiffness = np.zeros((len(nodes), len(nodes)))
+        for s in np.flatnonzero(expanded.story_building == b):
+            low, up = expanded.stories[s].nodes
+            k = plan.story_k0[0, s]
+            stiffness[local[up], local[up]] += k
+            if low >= 0:
+                stiffness[local[low], local[low]] += k
+                stiffness[local[low], local[up]] -= k
+                stiffness[local[up], local[low]] -= k
+        scale = 1.0 / np.sqrt(expanded.masses[nodes])
+        omega2 = np.linalg.eigvalsh(stiffness * np.outer(scale, scale))
+        periods = [2.0 * np.pi / np.sqrt(w) for w in omega2[:3] if w > 0.0]
+        if periods:
+            lines.append(f"building {name}: {len(nodes)} floors, periods "
+                         f"{', '.join(f'{T:#.3g}' for T in periods)} s (fixed base, initial "
+                         "stiffness)")
+    return lines
+
+
 def _scene(path: Path, kind: str) -> int:
     from pframe.assemble import assemble
     from pframe.model import load_scene
@@ -49,7 +76,7 @@ def _scene(path: Path, kind: str) -> int:
     print(f"{loaded.source}: valid; {what}{len(ex.node_names)} nodes in {len(ex.buildings)} "
           f"buildings, {len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps "
           f"of dt = {ex.dt:g} s")
-    for line in record_lines(loaded) + [f"note: {n}" for n in ex.notes]:
+    for line in period_lines(ex, plan) + record_lines(loaded) + [f"note: {n}" for n in ex.notes]:
         print(f"  {line}")
     _warn(loaded.source, plan.warnings)
     return 0
