@@ -79,6 +79,9 @@ def test_the_page_runs_as_written(tmp_path, monkeypatch):
     quoted = _quoted("pframe solve frames.yaml")
     assert quoted == [line for line in solve_out if line in quoted]
     assert len(quoted) == 9
+    sweep_err = outputs["pframe validate stiffness.yaml"][1]
+    assert "variant 2 (stiffness=3e+10): dt = 0.002 s" in sweep_err
+    assert "with 18.0 steps, fewer than 20" in sweep_err
     import xarray as xr
 
     with xr.open_dataset(tmp_path / "stiffness.h5", engine="h5netcdf") as ds:

@@ -101,6 +101,21 @@ def _sweep(path: Path) -> int:
         facts = describe_record(file, excitation.get("format", "auto"), excitation.get("units"),
                                 excitation.get("scale", 1.0))
         print(f"  {describe_line(facts)}")
+    # what a run would warn of, for the first and the last variant (every axis at its first
+    # and at its last value): the others differ in numbers only
+    from pframe.assemble import assemble
+    from pframe.sweep.variants import load_variant, materialise, variant_data
+
+    said = set()
+    for index in dict.fromkeys((0, spec.count - 1)):
+        variant = load_variant(variant_data(spec, index), spec.base_lines, spec.base_where,
+                               materialise(definition))
+        for note in variant.expanded.notes:
+            if note not in said:
+                print(f"  note: {note} (variant {index}: {spec.describe(index)})")
+                said.add(note)
+        _warn(definition.source, [f"variant {index} ({spec.describe(index)}): {w}"
+                                  for w in assemble(variant.expanded).warnings])
     return 0
 
 
