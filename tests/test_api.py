@@ -42,7 +42,8 @@ def paper_scene():
     w_p, a_p = 2 * math.pi, 9.81
     l_e = a_p / w_p**2
     contacts = [pframe.Contact(name=f"floor-{i}", nodes=(f"A/{i}", f"B/{i}"), gap=0.5 * l_e,
-                               law="improved_kelvin", frequency_ratio=65, restitution=0.4)
+                               law="improved_kelvin", frequency_ratio=65, restitution=0.4,
+                               calibration="published")
                 for i in (1, 2, 3)]
     return pframe.Scene(
         title="Wu et al. 2021, eq. 14 (improved Kelvin), dimensional",

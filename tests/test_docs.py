@@ -133,14 +133,18 @@ def example_plugin(tmp_path_factory):
 
 
 @pytest.mark.parametrize("block", SCENE_BLOCKS, ids=_id)
-def test_scene_blocks_validate(block, example_plugin):
-    """Every scene of the docs validates; a record it names by file alone is read from the
-    shared records (skipped when they are absent)."""
+def test_scene_blocks_validate(block, example_plugin, tmp_path):
+    """Every scene of the docs validates; a record it names is read from the shared records,
+    placed where the scene's relative path looks for it (skipped when they are absent)."""
     page, line, text = block
     excitation = (yaml.safe_load(text) or {}).get("excitation") or {}
     base_dir = DOCS
     if excitation.get("kind") == "record" and not (DOCS / excitation["file"]).is_file():
-        base_dir = record_file(Path(excitation["file"]).name).parent
+        record = record_file(Path(excitation["file"]).name)
+        base_dir = tmp_path / "scene"
+        place = base_dir / excitation["file"]
+        place.parent.mkdir(parents=True, exist_ok=True)
+        place.symlink_to(record)
     parse_scene(text, source=f"docs/{page}, block at line {line}", base_dir=base_dir)
 
 

@@ -123,3 +123,22 @@ def test_folder_suite_reads_every_shared_record():
     suite = load_suite(RECORDS)
     assert len(suite.motions) == len([p for p in RECORDS.iterdir() if p.suffix.lower() == ".at2"])
     assert all(math.isclose(m.dt, _header(Path(m.source))[1]) for m in suite.motions)
+
+
+@needs_records
+def test_validate_reads_a_suite_file(tmp_path, capsys):
+    """pframe validate recognises a suite file: its structure, then each record read as the
+    audit reads it, or named when it is not beside the suite."""
+    from pframe.cli import main
+
+    suite = tmp_path / "suite.yaml"
+    suite.write_text("records: [elCentro.AT2, {file: missing.AT2, scale: 2.0}]\n"
+                     "measure: {kind: sa, period: 0.5}\n")
+    (tmp_path / "elCentro.AT2").symlink_to(RECORDS / "elCentro.AT2")
+    assert main(["validate", str(suite)]) == 0
+    out = capsys.readouterr().out
+    assert "valid; a ground-motion suite of 2 records, levels in sa" in out
+    assert "1559 points, dt = 0.02 s" in out and "missing.AT2: not beside the suite" in out
+    suite.write_text("records: [elCentro.AT2]\nmeasure: {kind: pgv}\n")
+    assert main(["validate", str(suite)]) == 2
+    assert "line 2, measure.kind" in capsys.readouterr().err

@@ -246,7 +246,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     return dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts,
-                               warnings=warnings)
+                               warnings=first.warnings + warnings)
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:

@@ -22,6 +22,11 @@ def _solve(args) -> int:
     plan = assemble(loaded.expanded)
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
+    if not args.quiet:
+        from pframe.commands.validate import record_lines
+
+        for line in record_lines(loaded):
+            print(f"{loaded.source}: {line}", flush=True)
     on_terminal = sys.stderr.isatty() and not args.quiet
     progress = bar(False if args.quiet else None, "steps")
     announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))

@@ -127,6 +127,8 @@ def _sweep(args) -> int:
     finally:
         if progress is not None:
             progress.close()
+    for warning in _warnings(out):
+        print(f"pframe: warning: {args.sweep}: {warning}", file=sys.stderr)
     if not args.quiet:
         _summary(run, spec)
     if run.failed:
@@ -136,6 +138,19 @@ def _sweep(args) -> int:
               f"(marked in {out}: complete = 0, status says why): {first}{more}", file=sys.stderr)
         return 1
     return 0
+
+
+def _warnings(path: Path) -> list[str]:
+    """The warnings a sweep file keeps (its variants' plans': restitution, time step)."""
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            text = f.attrs.get("warnings", "")
+    except OSError:
+        return []
+    text = text.decode() if isinstance(text, bytes) else str(text)
+    return [line for line in text.splitlines() if line]
 
 
 def _plural(count: int, noun: str) -> str:

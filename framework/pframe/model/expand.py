@@ -12,6 +12,7 @@ from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
 from pframe.laws import ContactContext, get_law
+from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
 
 
@@ -52,6 +53,10 @@ class Expanded:
     record: object = None
     #: index of the reference building (its first floor mass is the mass scale m_b)
     reference: int = 0
+    #: what the run will be told (pframe solve prints them; the result file keeps them)
+    warnings: tuple[str, ...] = ()
+    #: what validate shows besides (facts the scene chose explicitly)
+    notes: tuple[str, ...] = ()
 
 
 def _per_storey(value, n: int, path):
@@ -161,7 +166,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
     masses = np.array([m for _, m, _ in nodes], dtype=float)
-    contacts, seen = [], {}
+    contacts, seen, rebounds = [], {}, {}
     for c, contact in enumerate(scene.contacts):
         path = ("contacts", c)
         left = node_index(contact.nodes[0], path + ("nodes", 0))
@@ -181,6 +186,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
         contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
+        obtained = published_rebound(law, params)
+        if obtained is not None:
+            chosen = "calibration" in contact.model_fields_set
+            key = (chosen, contact.law, law.published_source(params), params.restitution, obtained)
+            rebounds.setdefault(key, []).append(name)
 
     analysis = scene.analysis
     steps = int(round(analysis.duration / analysis.dt))
@@ -225,4 +235,19 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         recorders=tuple(scene.recorders),
         record=record,
         reference=reference,
+        warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0]),
+        notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
+
+
+def _rebound_text(key, names) -> str:
+    """What a published damping formula gives instead of the restitution asked for."""
+    chosen, law, source, requested, obtained = key
+    which = f"contact{'s' if len(names) > 1 else ''} {', '.join(names)}"
+    if chosen:
+        return (f"{which} ({law}, calibration: published, {source}): restitution {requested:g} "
+                f"rebounds with {obtained:.3f} in a two-body impact")
+    return (f"{which} ({law}): restitution {requested:g} is asked for, but the default "
+            f"calibration: published ({source}) rebounds with {obtained:.3f} in a two-body "
+            f"impact; add 'calibration: exact' to the contact to get {requested:g} (or write "
+            "'calibration: published' to keep the published formula; docs/restitution.md)")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,8 +54,21 @@ def _where(source: str, lines: dict, path: Path_) -> str:
     return f"{source}, {_dotted(path)}"
 
 
+class _Loader(yaml.SafeLoader):
+    """PyYAML's safe loader, with YAML 1.2's numbers: ``1.0e10`` and ``1e-3`` (no sign, or no
+    dot, in the exponent) are floats, as editors and other YAML 1.2 tools read them, not the
+    text YAML 1.1 makes of them."""
+
+
+_Loader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
+    list("-+0123456789."),
+)
+
+
 def _compose(text: str, source: str):
-    loader = yaml.SafeLoader(text)
+    loader = _Loader(text)
     try:
         root = loader.get_single_node()
         lines: dict = {}
@@ -62,10 +76,18 @@ def _compose(text: str, source: str):
         def convert(node, path):
             lines.setdefault(path, node.start_mark.line + 1)
             if isinstance(node, yaml.MappingNode):
-                out = {}
-                for key_node, value_node in node.value:
+                # merge keys (<<: *defaults) first: their keys come first and may be overridden
+                own = sum(1 for k, _ in node.value if k.tag != "tag:yaml.org,2002:merge")
+                loader.flatten_mapping(node)
+                merged = len(node.value) - own
+                out, from_merge = {}, set()
+                for i, (key_node, value_node) in enumerate(node.value):
                     key = loader.construct_object(key_node, deep=True)
-                    if key in out:
+                    if i < merged:
+                        from_merge.add(key)
+                    elif key in from_merge:
+                        from_merge.discard(key)
+                    elif key in out:
                         raise InputError(
                             f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
                             f"appears twice in {_dotted(path)}; each key may be given once"
@@ -205,6 +227,11 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         from pframe.nondim.pi_form import expand_pi_data
 
         data = expand_pi_data(data, lines, source, base_dir or ".")
+        # a Pi-form scene is the paper's formulation: its contacts use the published damping
+        # formula of their law unless the expansion says otherwise (a note, not a warning)
+        for contact in data.get("contacts") or []:
+            if isinstance(contact, dict) and "restitution" in contact:
+                contact.setdefault("calibration", "published")
     plugins = _plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")

@@ -100,9 +100,12 @@ class Record(Base):
     """A recorded ground acceleration read from a file (path relative to the YAML file)."""
 
     kind: Literal["record"] = "record"
-    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file.")
+    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file "
+                      "(from the PEER NGA-West2 database), relative to the YAML file.")
     format: Literal["auto", "columns", "at2"] = Field(
-        "auto", description="File format; auto: .AT2 suffix for PEER, else two columns.")
+        "auto", description="File format; auto: PEER for the suffix .AT2 in any case (.AT2, "
+                            ".at2, .At2), else two columns. pframe validate prints how the "
+                            "file was read.")
     units: Literal["m/s2", "g"] | None = Field(
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )
@@ -332,7 +335,8 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
     class Building(Base):
         """Shorthand for one shear building: floors 1..n above ground, storey i below floor i."""
 
-        name: BuildingName
+        name: BuildingName = Field(description="The building's name: its floors are the nodes "
+                                                "'<name>/1' .. '<name>/<floors>'.")
         floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
         story: _union(storey_models, "material") = Field(description="Storey properties.")
@@ -354,12 +358,15 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             None, description="Ground motion (none: free vibration from initial conditions).")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")
-        analysis: Analysis
+        analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "
+                                   "duration (s), Newton settings.")
         recorders: list[Annotated[Union[History, Envelope], Field(discriminator="kind")]] = Field(  # noqa: UP007
             default_factory=lambda: [
                 Envelope(kind="envelope", quantities=["displacement", "story_drift", "contact_force"])
-            ]
-        )
+            ],
+            description="What the result file keeps: histories (kind: history) and peaks (kind: "
+                        "envelope); default: the peaks of displacement, story_drift and "
+                        "contact_force.")
         output: Output = Field(Output(), description="Units of the result file.")
 
         def to_yaml(self) -> str:

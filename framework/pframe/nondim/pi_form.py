@@ -141,7 +141,7 @@ class Scales(Base):
 class PiSine(Base):
     """The sine a_p sin(w_p t), optionally a pulse of some cycles."""
 
-    kind: Literal["sine"] = Field("sine", description="sine (the default).")
+    kind: Literal["sine"] = "sine"
     cycles: float | None = Field(None, gt=0, allow_inf_nan=False,
                                  description="Number of cycles, then zero (default: unlimited).")
 

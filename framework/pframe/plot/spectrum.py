@@ -175,16 +175,27 @@ def spectrum(path: str | Path, *, response: str | None = None, x: str | None = N
         raise InputError(f"{path}: --x {x}: not a swept axis; the axes are "
                          f"{', '.join(sweep.axes)}")
     dimensions = list(sweep.axes) + ([entity] if entity else [])
+    along = f"{response} runs along {', '.join(dimensions)}"
     for key in at:
-        if key not in dimensions or key == x:
-            raise InputError(f"{path}: --at {key}=...: choose one of "
-                             f"{', '.join(d for d in dimensions if d != x)}")
+        if key == x:
+            others = [a for a in sweep.axes if a != x]
+            raise InputError(f"{path}: --at {key}=...: {key} is the x axis; --at fixes "
+                             f"{_choices([d for d in dimensions if d != x])}"
+                             + (f"; --x chooses another x axis ({', '.join(others)})"
+                                if others else ""))
+        if key not in dimensions:
+            raise InputError(f"{path}: --at {key}=...: {along}, not {key}; --at fixes "
+                             f"{_choices([d for d in dimensions if d != x])}"
+                             + _elsewhere(sweep, key))
     if curves is None:
         others = [a for a in sweep.axes if a != x and a not in at]
         curves = entity if entity and entity not in at else (others[0] if others else None)
-    if curves is not None and (curves not in dimensions or curves == x or curves in at):
-        raise InputError(f"{path}: --curves {curves}: choose one of "
-                         f"{', '.join(d for d in dimensions if d != x and d not in at)}")
+    elif curves == x or curves in at or curves not in dimensions:
+        why = ("is the x axis" if curves == x else "is fixed with --at" if curves in at
+               else f"is not a dimension of {response} (it runs along {', '.join(dimensions)})")
+        raise InputError(f"{path}: --curves {curves}: {curves} {why}; --curves takes "
+                         f"{_choices([d for d in dimensions if d != x and d not in at])}"
+                         + ("" if curves in dimensions else _elsewhere(sweep, curves)))
 
     data = sweep.values(response)  # (variants, entities)
     keep = np.ones(data.shape[0], dtype=bool)
@@ -246,6 +257,22 @@ def spectrum(path: str | Path, *, response: str | None = None, x: str | None = N
     ax.set_label(f"spectrum {response}")
     fig.suptitle(sweep.title, fontsize="large")
     return fig, notes
+
+
+def _choices(names) -> str:
+    """'one of a, b', or what to do when there is nothing to choose."""
+    names = list(names)
+    if not names:
+        return "no dimension here (each is the x axis or fixed with --at): leave the option out"
+    return f"one of {', '.join(names)}" if len(names) > 1 else names[0]
+
+
+def _elsewhere(sweep, dimension: str) -> str:
+    """The responses of the file that do run along ``dimension``, if any."""
+    names = [name for name, (entity, _, _) in sweep.responses.items() if entity == dimension]
+    if not names:
+        return ""
+    return f" (responses along {dimension}: {', '.join(names)}; choose one with --response)"
 
 
 def _shown(value) -> str:
