@@ -206,6 +206,8 @@ def test_record_run_reproduces_from_the_file_alone(tmp_path):
     first = pframe.solve(scene_file, output=out, progress=False).load()
     digest = hashlib.sha256((RECORDS / "elCentro.AT2").read_bytes()).hexdigest()
     assert first.attrs["record_sha256"] == digest
+    assert first.attrs["record_read_as"].startswith("PEER NGA .AT2 in g, 1559 points, "
+                                                     "dt = 0.02 s")
     shutil.rmtree(folder)
     again = pframe.solve(pframe.load(out), progress=False)
     np.testing.assert_array_equal(again.displacement.values, first.displacement.values)

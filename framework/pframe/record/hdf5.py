@@ -271,8 +271,8 @@ def reference_attributes(loaded) -> dict:
 
 def record_attributes(loaded) -> dict:
     """The ground-motion record a run read, so that the file alone reproduces the run:
-    ``record_file`` (as the scene names it), ``record_sha256`` and ``record_text`` (the
-    file's whole text)."""
+    ``record_file`` (as the scene names it), ``record_sha256``, ``record_text`` (the file's
+    whole text) and ``record_read_as`` (format, points, step, duration, PGA, units)."""
     excitation = getattr(loaded.scene, "excitation", None)
     if getattr(excitation, "kind", None) != "record":
         return {}
@@ -283,9 +283,17 @@ def record_attributes(loaded) -> dict:
         content = path.read_bytes()
     except OSError:
         return {"record_file": excitation.file}
-    return {"record_file": excitation.file,
-            "record_sha256": hashlib.sha256(content).hexdigest(),
-            "record_text": content.decode("utf-8", errors="replace")}
+    out = {"record_file": excitation.file,
+           "record_sha256": hashlib.sha256(content).hexdigest(),
+           "record_text": content.decode("utf-8", errors="replace")}
+    try:  # how the record was read: format, points, step, PGA (pframe validate prints it)
+        from pframe.excitation.describe import describe_line, describe_record
+
+        facts = describe_record(path, excitation.format, excitation.units, excitation.scale)
+        out["record_read_as"] = describe_line(facts).removeprefix(f"record {facts['file']}: ")
+    except Exception:  # a fact we cannot state is left out, never a failed write
+        pass
+    return out
 
 
 def write_result(target, result, loaded, member: int = 0, compress: bool = False,
