@@ -82,6 +82,7 @@ def run_pframe(softstop_site):
         return subprocess.run(command + list(args), cwd=cwd, env=env, capture_output=True,
                               text=True, timeout=600)
 
+    run.site = [softstop_site]
     return run
 
 
@@ -163,3 +164,49 @@ def test_unknown_law_lists_plugin_laws(run_pframe, tmp_path):
     known = run.stderr.split("known:", 1)[1]
     for name in ("softstop", "broken", "linear", "hertz", "kelvin", "improved_kelvin"):
         assert name in known
+
+
+def test_plugin_law_is_known_everywhere_a_built_in_law_is(run_pframe, tmp_path):
+    """What a law declares (dimensions, exponent, branches, OpenSees counterpart) is all that
+    ``pframe pi``, ``pframe scale``, the steps-per-contact check, the reference solver and
+    the OpenSees script need: the plug-in law is known to each of them as a built-in one."""
+    scene = json.loads(_two_masses(SOFTSTOP))
+    scene["analysis"]["dt"] = 5.0e-3  # too coarse for the contact: the check says so
+    model = tmp_path / "soft.yaml"
+    model.write_text(json.dumps(scene), encoding="utf-8")
+
+    pi = run_pframe("pi", str(model), "--json", "--repeating",
+                    "m_b,stiffness,reference_penetration", cwd=tmp_path)
+    assert pi.returncode == 0, pi.stderr
+    variables = {v["name"]: v for v in json.loads(pi.stdout)["variables"]}
+    assert variables["stiffness"]["value"] == STIFFNESS
+    assert variables["reference_penetration"]["value"] == REFERENCE_PENETRATION
+
+    scaled = tmp_path / "half.yaml"
+    scale = run_pframe("scale", str(model), "--length", "1/2", "--modulus", "1",
+                       "--acceleration", "1", "-o", str(scaled), cwd=tmp_path)
+    assert scale.returncode == 0, scale.stderr
+    import yaml
+
+    contact = yaml.safe_load(scaled.read_text())["contacts"][0]
+    # length 1/2, modulus 1, acceleration 1: force ~ L^2, so N/m ~ L: stiffness halves
+    assert contact["stiffness"] == pytest.approx(STIFFNESS / 2, rel=1e-12)
+    assert contact["reference_penetration"] == pytest.approx(REFERENCE_PENETRATION / 2,
+                                                             rel=1e-12)
+
+    validate = run_pframe("validate", str(model), cwd=tmp_path)
+    assert validate.returncode == 0, validate.stderr
+    assert "steps" in validate.stderr and "contact period" in validate.stderr
+
+    code = ("from pframe.laws import get_law; from pframe.reference.branches import "
+            "branches_for; law = get_law('contact', 'softstop'); "
+            "print(type(branches_for(law)).__name__, law.exponent, law.opensees)")
+    probe = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           env={**os.environ, "PYTHONPATH": os.pathsep.join(
+                               [str(p) for p in run_pframe.site] + sys.path)}, timeout=300)
+    assert probe.returncode == 0, probe.stderr
+    assert probe.stdout.split() == ["Gap", "1.0", "None"]
+
+    peer = run_pframe("opensees", str(model), cwd=tmp_path)
+    assert peer.returncode == 2 and "softstop" in peer.stderr
+    assert "no OpenSees counterpart" in peer.stderr

@@ -254,25 +254,32 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     Rayleigh on the initial stiffness (what the OpenSees peer models)."""
     from pframe.peers.scene import PeerScene
 
+    problems = []  # every reason at once
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
-        raise InputError("the OpenSees peer starts from rest; remove initial_conditions")
+        problems.append("it starts from rest: remove initial_conditions")
     if np.any(plan.story_damping_stiffness):
-        raise InputError("the OpenSees peer damps on the initial stiffness only")
+        problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
+    for group in plan.story_groups:
+        if group.law.opensees not in ("Elastic", "Steel01"):
+            problems.append(f"it models storeys with Elastic or Steel01 (the laws elastic and "
+                            f"bilinear); the scene's storeys use {group.law.name!r}, which has "
+                            "no OpenSees counterpart")
+    for group in plan.contact_groups:
+        if group.law.opensees != "ElasticPPGap":
+            problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
+                            f"scene's contacts use {group.law.name!r}, which has no OpenSees "
+                            "counterpart in pframe's script")
+    if problems:
+        raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
     materials = []
     for group in plan.story_groups:
-        if group.law.name not in ("elastic", "bilinear"):
-            raise InputError(f"the OpenSees peer models elastic and bilinear storeys (Elastic, "
-                             f"Steel01); the scene's storeys use {group.law.name!r}")
         for j, i in enumerate(group.index):
             p = group.params[member, j]
-            materials.append((i, ("elastic", p[0]) if group.law.name == "elastic"
+            materials.append((i, ("elastic", p[0]) if group.law.opensees == "Elastic"
                               else ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
-        if group.law.name != "linear":
-            raise InputError(f"the OpenSees peer models linear contacts only (ElasticPPGap); "
-                             f"the scene's contacts use {group.law.name!r}")
         stiffness[group.index] = group.params[member, :, 0]
     rayleigh = []
     names = [""] * plan.n_dof

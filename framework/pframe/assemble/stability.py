@@ -15,8 +15,6 @@ from pframe.errors import InputError
 
 #: steps per contact period below which an implicit run is warned about
 STEPS_PER_CONTACT = 20
-#: force exponent of the power-law contact laws (F ~ k delta^n); others are linear (n = 1)
-_EXPONENT = {"hertz": 1.5, "hertzdamp": 1.5, "jankowski": 1.5}
 
 
 def reference_velocity(ground_acceleration: np.ndarray, dt: float, initial_velocity) -> float:
@@ -32,7 +30,7 @@ def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: 
     """Linear stiffness equivalent to a contact law: k itself for a linear spring; for
     F = k delta^n the tangent n k delta^(n-1) at the penetration an impact at ``velocity``
     reaches (energy: m v^2 / 2 = k delta^(n+1) / (n + 1))."""
-    exponent = getattr(law, "exponent", _EXPONENT.get(law.name, 1.0))
+    exponent = float(law.exponent)  # the law says (Law.exponent); 1 for a linear spring
     if "exponent" in law.param_names:
         exponent = float(params[law.param_names.index("exponent")])
     k = float(params[0])

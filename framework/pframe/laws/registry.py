@@ -84,6 +84,31 @@ class Law:
     #: True when force = params-only constant tangent x deformation (no Newton needed).
     linear: ClassVar[bool] = False
 
+    # What the rest of pframe needs to know of a law, declared by the law (built-in and
+    # plug-in alike; docs/contact-laws.md):
+    #: field -> what it measures: a quantity of ``pframe.nondim.dimensions.QUANTITY``
+    #: (``stiffness``, ``hertz_stiffness``, ``length``, ``force``, ``frequency``,
+    #: ``dimensionless``, ...) or a unit string (``"N/m^1.5"``). ``pframe pi``, ``pframe
+    #: scale`` and Pi-form scenes use it; a numeric field without one is refused there.
+    dimensions: ClassVar[dict[str, str]] = {}
+    #: n of F ~ k delta^n: the stability and steps-per-contact checks size a contact from it
+    exponent: ClassVar[float] = 1.0
+    #: how the reference solver (``pframe accuracy``) locates the law's kinks: a model of
+    #: :data:`pframe.reference.branches.BRANCHES` (``gap``, ``kelvin``, ``hunt_crossley``,
+    #: ``jankowski``, ``smooth``, ``bilinear``); None: a stateless law's only kink is the gap
+    branches: ClassVar[str | None] = None
+    #: the stock OpenSees material pframe's OpenSees script models the law with, or None
+    opensees: ClassVar[str | None] = None
+
+    @classmethod
+    def governing(cls, packed, effective_mass: float | None = None) -> dict:
+        """The law's governing variables for ``pframe pi``: root name -> (what it measures,
+        as in :attr:`dimensions`, value), from its packed numbers. By default every packed
+        parameter under its own name; built-in laws name theirs as the paper does (``K``,
+        ``u_y``, ``w_bar``, ``k_h``)."""
+        return {p: (cls.dimensions[p], v) for p, v in zip(cls.param_names, packed)
+                if p in cls.dimensions}
+
     @staticmethod
     def force(params, committed, trial, deformation, rate):  # pragma: no cover - interface
         raise NotImplementedError

@@ -1,9 +1,10 @@
 """The dimension of every number a scene file may hold, by where it stands.
 
 Used to scale a scene (:mod:`pframe.nondim.similitude`) and to list its governing variables
-(:mod:`pframe.nondim.scene_variables`). Built-in laws are listed here; a plug-in law declares
-its fields with a class attribute ``dimensions = {"field": "N/m", ...}`` (unit strings as
-:func:`pframe.nondim.dimensions.parse_units` reads them). A numeric field whose dimension is
+(:mod:`pframe.nondim.scene_variables`). Every law, built-in or plug-in, declares its fields
+with the class attribute ``dimensions = {"field": "stiffness" | "N/m" | ...}`` (a quantity of
+:data:`pframe.nondim.dimensions.QUANTITY` or a unit string as
+:func:`pframe.nondim.dimensions.parse_units` reads it). A numeric field whose dimension is
 unknown is an error rather than a guess: scaling it wrongly would silently break similarity.
 """
 
@@ -13,24 +14,8 @@ from pframe.errors import InputError
 from pframe.nondim.dimensions import QUANTITY, Dimension, parse_units
 
 #: fields that hold no number (selectors, flags, names, choices)
-NON_NUMERIC = frozenset({"law", "material", "keep_tension", "formula", "name", "nodes"})
-
-_STIFFNESS_FORM = {"stiffness": "stiffness", "frequency": "frequency",
-                   "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
-_HERTZ_FORM = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
-
-#: (kind, law) -> field -> quantity name of :data:`pframe.nondim.dimensions.QUANTITY`
-LAW_FIELDS = {
-    ("material", "elastic"): {"stiffness": "stiffness"},
-    ("material", "bilinear"): {"stiffness": "stiffness", "yield_drift": "length",
-                               "yield_force": "force", "alpha": "dimensionless"},
-    ("contact", "linear"): _STIFFNESS_FORM,
-    ("contact", "kelvin"): _STIFFNESS_FORM,
-    ("contact", "improved_kelvin"): _STIFFNESS_FORM,
-    ("contact", "hertz"): _HERTZ_FORM,
-    ("contact", "hertzdamp"): _HERTZ_FORM,
-    ("contact", "jankowski"): _HERTZ_FORM,
-}
+NON_NUMERIC = frozenset({"law", "material", "keep_tension", "formula", "name", "nodes",
+                         "calibration"})
 
 
 def law_field_dimension(kind: str, law: str, field: str) -> Dimension | None:
@@ -43,22 +28,28 @@ def law_field_dimension(kind: str, law: str, field: str) -> Dimension | None:
     """
     if field in NON_NUMERIC:
         return None
-    table = LAW_FIELDS.get((kind, law))
-    if table is not None and field in table:
-        return QUANTITY[table[field]]
     from pframe.laws import get_law
 
     declared = getattr(get_law(kind, law), "dimensions", None) or {}
     if field in declared:
-        try:
-            return parse_units(declared[field])
-        except ValueError as exc:
-            raise InputError(f"{kind} law {law!r} declares field {field!r} as {exc}") from None
+        return dimension_of(declared[field], kind, law, field)
     what = "material" if kind == "material" else "contact law"
     raise InputError(
-        f"the dimension of field {field!r} of {what} {law!r} is unknown; a plug-in law declares "
-        f"it with a class attribute dimensions = {{{field!r}: 'N/m', ...}} (unit strings such "
-        "as 'N/m', 'm', 'rad/s', '1')")
+        f"the dimension of field {field!r} of {what} {law!r} is unknown; a law declares it "
+        f"with a class attribute dimensions = {{{field!r}: 'N/m', ...}} (a quantity such as "
+        "'stiffness' or 'length', or a unit string such as 'N/m', 'm', 'rad/s', '1'; "
+        "docs/contact-laws.md)")
+
+
+def dimension_of(declared: str, kind: str = "", law: str = "", field: str = "") -> Dimension:
+    """The dimension a law declares for a field or variable: a quantity name of
+    :data:`QUANTITY` or a unit string."""
+    if declared in QUANTITY:
+        return QUANTITY[declared]
+    try:
+        return parse_units(declared)
+    except ValueError as exc:
+        raise InputError(f"{kind} law {law!r} declares {field!r} as {exc}") from None
 
 
 #: fields outside the laws: path pattern (``*`` any key or index) -> quantity name

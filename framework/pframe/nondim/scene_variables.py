@@ -37,7 +37,7 @@ from pframe.errors import InputError
 from pframe.excitation.characteristic import characteristic
 from pframe.nondim.buckingham import Variable
 from pframe.nondim.dimensions import QUANTITY, Dimension
-from pframe.nondim.fields import law_field_dimension
+from pframe.nondim.fields import dimension_of
 
 _SI = {QUANTITY[q]: u for q, u in (
     ("dimensionless", "1"), ("mass", "kg"), ("length", "m"), ("time", "s"),
@@ -73,29 +73,17 @@ def _same(values) -> bool:
 # ---------------------------------------------------------------------------------------------
 
 def _material_values(law, packed) -> dict[str, tuple[Dimension, float]]:
-    """root -> (dimension, value) of one storey; the bilinear yield drift is f_y / k."""
-    if law.name == "elastic":
-        return {"K": (QUANTITY["stiffness"], packed[0])}
-    if law.name == "bilinear":
-        k, fy, alpha = packed
-        return {"K": (QUANTITY["stiffness"], k), "u_y": (QUANTITY["length"], fy / k),
-                "alpha": (QUANTITY["dimensionless"], alpha)}
-    return {("K" if p == "stiffness" else p): (law_field_dimension("material", law.name, p), v)
-            for p, v in zip(law.param_names, packed)}
+    """root -> (dimension, value) of one storey, as its law names them (``Law.governing``)."""
+    return {root: (dimension_of(what, "material", law.name, root), value)
+            for root, (what, value) in law.governing(packed).items()}
 
 
 def _contact_values(contact, element, masses) -> dict[str, tuple[Dimension, float]]:
     law = element.law
     left, right = element.nodes
-    out = {}
-    if law.name in ("linear", "kelvin", "improved_kelvin"):
-        m_eff = masses[left] * masses[right] / (masses[left] + masses[right])
-        out["w_bar"] = (QUANTITY["frequency"], math.sqrt(element.packed[0] / m_eff))
-    elif law.name in ("hertz", "hertzdamp", "jankowski"):
-        out["k_h"] = (QUANTITY["hertz_stiffness"], element.packed[0])
-    else:
-        for p, v in zip(law.param_names, element.packed):
-            out[p] = (law_field_dimension("contact", law.name, p), v)
+    m_eff = masses[left] * masses[right] / (masses[left] + masses[right])
+    out = {root: (dimension_of(what, "contact", law.name, root), value)
+           for root, (what, value) in law.governing(element.packed, m_eff).items()}
     if getattr(contact, "restitution", None) is not None:
         out["e"] = (QUANTITY["dimensionless"], float(contact.restitution))
     out["d"] = (QUANTITY["length"], element.gap)

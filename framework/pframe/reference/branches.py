@@ -186,23 +186,18 @@ class Bilinear(Smooth):
         return ELASTIC, 0, "unload"
 
 
-def branches_for(law) -> Smooth:
-    """The regime description of a law, recognised by its ``force`` function."""
-    from pframe.laws.contact import hertz, jankowski, kelvin, linear
-    from pframe.laws.contact._hunt_crossley import hunt_crossley_force
-    from pframe.laws.material import bilinear, elastic
+#: the regime models a law names in its ``branches`` attribute (pframe.laws.Law)
+BRANCHES = {"gap": Gap, "kelvin": Kelvin, "hunt_crossley": HuntCrossley,
+            "jankowski": Jankowski, "smooth": Smooth, "bilinear": Bilinear}
 
-    known = {
-        linear.Linear.force: Gap,
-        hertz.Hertz.force: Gap,
-        kelvin.Kelvin.force: Kelvin,
-        hunt_crossley_force: HuntCrossley,
-        jankowski.Jankowski.force: Jankowski,
-        elastic.Elastic.force: Smooth,
-        bilinear.Bilinear.force: Bilinear,
-    }
-    if law.force in known:
-        return known[law.force]()
+
+def branches_for(law) -> Smooth:
+    """The regime description of a law: the model its ``branches`` attribute names."""
+    if law.branches is not None:
+        if law.branches not in BRANCHES:
+            raise InputError(f"the {law.kind} law {law.name!r} names the reference branches "
+                             f"{law.branches!r}; pframe knows {', '.join(BRANCHES)}")
+        return BRANCHES[law.branches]()
     if not law.state_names:
         # a stateless plug-in: the only branch point pframe knows of is the gap itself; kinks
         # inside the law are left to the step-size control

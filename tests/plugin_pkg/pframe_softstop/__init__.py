@@ -26,6 +26,11 @@ class SoftStop(Law):
         )
 
     param_names = ("stiffness", "reference_penetration")
+    # what pframe needs to know of the law besides its force (docs/contact-laws.md)
+    dimensions = {"stiffness": "N/m", "reference_penetration": "m"}
+    exponent = 1.0  # sized by k at small penetration (the cubic term stiffens it further)
+    branches = None  # stateless: the gap is its only kink
+    opensees = None
 
     @classmethod
     def pack(cls, params, context=None):

@@ -21,6 +21,15 @@ class Hertz(Law):
         stiffness: Positive = Field(description=HERTZ_STIFFNESS)
 
     param_names = ("stiffness",)
+    branches = "gap"
+    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
+    exponent = 1.5
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The Hertz stiffness k_h (N/m^1.5)."""
+        return {"k_h": ("hertz_stiffness", packed[0])}
+
 
     @classmethod
     def pack(cls, params, context=None):

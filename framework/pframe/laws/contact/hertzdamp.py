@@ -49,6 +49,15 @@ class Hertzdamp(Law):
     param_names = PARAM_NAMES
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
+    branches = "hunt_crossley"
+    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
+    exponent = 1.5
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The Hertz stiffness k_h (N/m^1.5)."""
+        return {"k_h": ("hertz_stiffness", packed[0])}
+
 
     @classmethod
     def chi(cls, params) -> float:

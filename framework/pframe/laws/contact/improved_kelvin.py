@@ -12,6 +12,7 @@ chi (1 + e) = ln((1 + chi) / (1 - chi e)), with which it rebounds with e itself.
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
@@ -35,6 +36,15 @@ class ImprovedKelvin(Law):
     param_names = PARAM_NAMES
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
+    branches = "hunt_crossley"
+    dimensions = {"stiffness": "stiffness", "frequency": "frequency",
+                  "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The contact frequency w_bar = sqrt(k / m_eff) (Wu et al. 2021)."""
+        return {"w_bar": ("frequency", math.sqrt(packed[0] / effective_mass))}
+
 
     @classmethod
     def chi(cls, params) -> float:

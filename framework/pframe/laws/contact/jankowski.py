@@ -43,6 +43,15 @@ class Jankowski(Law):
         calibration: Calibration = "published"
 
     param_names = ("stiffness", "zeta", "effective_mass")
+    branches = "jankowski"
+    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
+    exponent = 1.5
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The Hertz stiffness k_h (N/m^1.5)."""
+        return {"k_h": ("hertz_stiffness", packed[0])}
+
 
     @classmethod
     def zeta(cls, params) -> float:

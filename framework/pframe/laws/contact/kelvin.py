@@ -43,6 +43,15 @@ class Kelvin(Law):
         calibration: Calibration = "published"
 
     param_names = ("stiffness", "damping", "keep_tension")
+    branches = "kelvin"
+    dimensions = {"stiffness": "stiffness", "frequency": "frequency",
+                  "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The contact frequency w_bar = sqrt(k / m_eff) (Wu et al. 2021)."""
+        return {"w_bar": ("frequency", math.sqrt(packed[0] / effective_mass))}
+
 
     @classmethod
     def zeta(cls, params) -> float:

@@ -6,6 +6,7 @@ The same law as OpenSees ``ElasticPPGap`` with an unreachable yield force; it co
 
 from __future__ import annotations
 
+import math
 from typing import Literal
 
 from pframe.laws.params import ContactStiffness
@@ -18,6 +19,16 @@ class Linear(Law):
         law: Literal["linear"]
 
     param_names = ("stiffness",)
+    branches = "gap"
+    opensees = "ElasticPPGap"
+    dimensions = {"stiffness": "stiffness", "frequency": "frequency",
+                  "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The contact frequency w_bar = sqrt(k / m_eff) (Wu et al. 2021)."""
+        return {"w_bar": ("frequency", math.sqrt(packed[0] / effective_mass))}
+
 
     @classmethod
     def pack(cls, params, context=None):

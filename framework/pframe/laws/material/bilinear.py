@@ -33,6 +33,18 @@ class Bilinear(Law):
 
     param_names = ("stiffness", "yield_force", "alpha")
     state_names = ("drift", "force")
+    dimensions = {"stiffness": "stiffness", "yield_drift": "length", "yield_force": "force",
+                  "alpha": "dimensionless"}
+    branches = "bilinear"
+    opensees = "Steel01"
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """K, the yield drift u_y = f_y / K and the post-yield ratio alpha."""
+        k, fy, alpha = packed
+        return {"K": ("stiffness", k), "u_y": ("length", fy / k),
+                "alpha": ("dimensionless", alpha)}
+
 
     @classmethod
     def pack(cls, params, context=None):

@@ -17,6 +17,15 @@ class Elastic(Law):
         stiffness: Positive = Field(description="Storey stiffness k (N/m).")
 
     param_names = ("stiffness",)
+    dimensions = {"stiffness": "stiffness"}
+    branches = "smooth"
+    opensees = "Elastic"
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """The storey stiffness K."""
+        return {"K": ("stiffness", packed[0])}
+
     linear = True
 
     @classmethod
