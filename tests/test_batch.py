@@ -98,3 +98,22 @@ def test_chunked_run_equals_one_call(batch):
         assert np.array_equal(chunked.envelope[q], result.envelope[q]), q
     assert np.array_equal(chunked.impacts, result.impacts)
     assert np.array_equal(chunked.energy, result.energy)
+
+
+def test_a_batch_refuses_variants_whose_newton_settings_differ():
+    """One plan holds one Newton tolerance: variants that ask for another are refused, not
+    run with variant 0's (the batch key includes the Newton settings)."""
+    from pframe.assemble import assemble_batch, batch_key
+    from pframe.errors import InputError
+    from pframe.model import parse_scene
+
+    base = _text(*VARIANTS[0])
+    strict = base.replace("analysis: {dt: 2.0e-4, duration: 3.0}",
+                          "analysis: {dt: 2.0e-4, duration: 3.0, newton: {tolerance: 1.0e-9}}")
+    assert strict != base
+    a, b = (parse_scene(t).expanded for t in (base, strict))
+    assert batch_key(a) != batch_key(b)
+    with pytest.raises(InputError, match="Newton settings"):
+        assemble_batch([a, b])
+    other = parse_scene(_text(*VARIANTS[1])).expanded  # numbers only: the same key
+    assert batch_key(a) == batch_key(other)

@@ -149,7 +149,11 @@ def _groups(elements, n_batch_values):
     return tuple(groups)
 
 
-def _structure(ex: Expanded):
+def batch_key(ex: Expanded) -> tuple:
+    """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
+    steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
+    plan holds one tolerance and one iteration limit). Variants with equal keys differ in
+    numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
     return (
         ex.node_names,
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
@@ -158,6 +162,7 @@ def _structure(ex: Expanded):
         ex.integrator,
         ex.recorders,
         tuple(d.stiffness for d in ex.damping),
+        (ex.tolerance, ex.absolute_tolerance, ex.max_iterations),
     )
 
 
@@ -170,10 +175,11 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     """A plan for variants of one scene that differ only in numbers (masses, stiffnesses,
     gaps, law parameters, excitation, dt), not in topology, laws, steps or recorders."""
     first = variants[0]
+    key = batch_key(first)
     for i, ex in enumerate(variants[1:], start=1):
-        if _structure(ex) != _structure(first):
-            raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps or "
-                             "recorders; a batch may vary numbers only")
+        if batch_key(ex) != key:
+            raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps, "
+                             "recorders or Newton settings; a batch may vary numbers only")
     n = len(first.node_names)
     edges = [e.nodes for e in first.stories] + [e.nodes for e in first.contacts]
     order = reverse_cuthill_mckee(n, edges)

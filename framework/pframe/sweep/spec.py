@@ -348,11 +348,9 @@ def _number(value, where: str, axis: str):
 def topology(expanded, recorders) -> tuple:
     """What variants of one batch must share (as :func:`pframe.assemble.assemble_batch`
     requires), with the sweep's recorders."""
-    from pframe.assemble.plan import _structure
+    from pframe.assemble import batch_key
 
-    # assemble_batch takes the Newton settings of its first variant for the whole batch
-    return (_structure(dataclasses.replace(expanded, recorders=recorders)),
-            expanded.tolerance, expanded.absolute_tolerance, expanded.max_iterations)
+    return batch_key(dataclasses.replace(expanded, recorders=recorders))
 
 
 def check(definition: SweepDefinition, full: int = 2) -> None:
