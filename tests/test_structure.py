@@ -1,0 +1,80 @@
+"""The package's shape: no import circle, no private name imported across packages.
+
+An import circle makes the result of an import depend on which module was imported first;
+a private name (``_x``) used from another package is a dependency its owner cannot see. Both
+are checked on the source (``ast``), for the imports made when a module is imported (its
+top level), which are the ones that can go round in a circle at import time.
+"""
+
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "framework" / "pframe"
+
+
+def _modules() -> dict[str, Path]:
+    out = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = path.relative_to(PACKAGE.parent).with_suffix("").parts
+        name = ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+        out[name] = path
+    return out
+
+
+def _top_level_imports(path: Path, modules: dict) -> set[str]:
+    """The pframe modules a module imports when it is imported (including the packages
+    those imports run first)."""
+    found = set()
+    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+        names = []
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("pframe"):
+            names = [f"{node.module}.{a.name}" if f"{node.module}.{a.name}" in modules
+                     else node.module for a in node.names]
+        elif isinstance(node, ast.Import):
+            names = [a.name for a in node.names if a.name.startswith("pframe")]
+        for name in names:
+            parts = name.split(".")
+            found |= {".".join(parts[:i]) for i in range(2, len(parts) + 1)
+                      if ".".join(parts[:i]) in modules}
+    return found
+
+
+def test_no_import_circle():
+    modules = _modules()
+    graph = {m: _top_level_imports(p, modules) - {m} for m, p in modules.items()}
+    for m in graph:  # a package's own __init__ is run before its modules: not an edge back
+        graph[m] = {t for t in graph[m] if not m.startswith(t + ".")}
+    state: dict[str, int] = {}
+    circles = []
+
+    def visit(m, path):
+        state[m] = 1
+        for t in sorted(graph[m]):
+            if state.get(t) == 1:
+                circles.append(path[path.index(t):] + [t] if t in path else [m, t])
+            elif t not in state:
+                visit(t, path + [t])
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])
+    assert not circles, "import circles: " + "; ".join(" -> ".join(c) for c in circles)
+
+
+def test_the_check_finds_a_circle(tmp_path, monkeypatch):
+    """The check above fails on a circle (so its passing means something)."""
+    package = tmp_path / "pframe"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "a.py").write_text("from pframe.b import x\n")
+    (package / "b.py").write_text("from pframe.a import y\n")
+    monkeypatch.setattr(__import__(__name__), "PACKAGE", package)
+    try:
+        test_no_import_circle()
+    except AssertionError as exc:
+        assert "pframe.a -> pframe.b -> pframe.a" in str(exc)
+    else:
+        raise AssertionError("a circle was not found")
