@@ -1,0 +1,63 @@
+"""pframe.model: what a scene file becomes (definitions and their resolution to elements),
+and where its mistakes are reported."""
+
+from __future__ import annotations
+
+import pytest
+
+from pframe.errors import InputError
+from pframe.model import parse_scene
+from pframe.model.scene import scene_class
+
+SCENE = """\
+buildings:
+  - name: A
+    floors: 3
+    mass: [300.0, 200.0, 100.0]
+    story: {material: elastic, stiffness: [3.0e5, 2.0e5, 1.0e5]}
+  - {name: B, floors: 2, mass: 500.0, story: {material: elastic, stiffness: 1.0e6}}
+nodes:
+  - {name: C/1, mass: 50.0}
+stories:
+  - {nodes: [ground, C/1], material: elastic, stiffness: 4.0e4, name: column}
+contacts:
+  - {nodes: [A/2, B/2], gap: 0.01, law: linear, stiffness: 1.0e7}
+  - {name: roof, nodes: [B/2, C/1], gap: 0.02, law: linear, stiffness: 1.0e7}
+analysis: {dt: 0.01, duration: 1.0}
+"""
+
+
+def test_building_shorthand_and_generic_elements_resolve_in_declaration_order():
+    ex = parse_scene(SCENE).expanded
+    assert ex.node_names == ("A/1", "A/2", "A/3", "B/1", "B/2", "C/1")
+    assert ex.masses.tolist() == [300.0, 200.0, 100.0, 500.0, 500.0, 50.0]
+    names = [s.name for s in ex.stories]
+    assert names == ["A/1", "A/2", "A/3", "B/1", "B/2", "column"]
+    # storey i of a building joins floor i - 1 (the ground for the first) and floor i
+    assert [s.nodes for s in ex.stories] == [(-1, 0), (0, 1), (1, 2), (-1, 3), (3, 4), (-1, 5)]
+    assert [s.packed[0] for s in ex.stories[:3]] == [3.0e5, 2.0e5, 1.0e5]
+    assert [c.name for c in ex.contacts] == ["A/2-B/2", "roof"]  # default <left>-<right>
+    assert [c.nodes for c in ex.contacts] == [(1, 4), (4, 5)]
+    assert ex.node_building.tolist() == [0, 0, 0, 1, 1, 2]
+
+
+@pytest.mark.parametrize(("change", "where", "what"), [
+    (("mass: 500.0", "mass: [500.0]"), "line 6, buildings[1].mass",
+     "expected one value per storey (2), got 1"),
+    (("nodes: [A/2, B/2]", "nodes: [A/2, X/2]"), "line 12, contacts[0]", "X/2"),
+    (("{name: B, floors: 2", "{name: A, floors: 2"), "buildings[1].name", "defined twice"),
+    (("stiffness: 4.0e4", "stiffness: -4.0e4"), "line 10, stories[0]", "greater than 0"),
+], ids=["per-storey-length", "unknown-node", "duplicate-building", "negative-stiffness"])
+def test_mistakes_are_reported_at_their_line_and_field(change, where, what):
+    text = SCENE.replace(*change)
+    assert text != SCENE
+    with pytest.raises(InputError) as info:
+        parse_scene(text, source="scene.yaml")
+    message = str(info.value)
+    assert message.startswith("scene.yaml, ") and where in message and what in message
+
+
+def test_one_scene_class_per_set_of_laws():
+    """However the plug-in law names are passed, the same laws give the same class (so the
+    scenes of a file and of Python objects compare equal)."""
+    assert scene_class() is scene_class((), ()) is scene_class(contact_laws=[])
