@@ -42,8 +42,9 @@ class Row:
 
 def _variant(loaded, integrator: dict, dt: float):
     from pframe.model import parse_scene
+    from pframe.yamltext import load
 
-    data = yaml.safe_load(loaded.text)
+    data = load(loaded.text, loaded.source)
     data["analysis"]["integrator"] = integrator
     data["analysis"]["dt"] = dt
     data["recorders"] = [{"kind": "history", "quantities": ["displacement"]},

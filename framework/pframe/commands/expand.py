@@ -11,12 +11,12 @@ from pframe.commands import write_text_output
 def expanded_text(path: Path) -> str | None:
     """The dimensional YAML of a Pi-form scene file; None for a dimensional scene."""
     from pframe.model import load_scene
-    from pframe.model.load import _compose
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import expand_pi_data, is_pi_form
+    from pframe.yamltext import compose
 
     loaded = load_scene(path)  # validates both forms, with line numbers
-    data, lines = _compose(loaded.text, str(path))
+    data, lines = compose(loaded.text, str(path))
     if not is_pi_form(data):
         return None
     expanded = expand_pi_data(data, lines, str(path))

@@ -5,11 +5,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
 from pydantic import BaseModel, ValidationError
 
 from pframe.errors import InputError
 from pframe.laws.registry import available_names
+from pframe.yamltext import compose, dotted, where
 
 Path_ = tuple  # a path into the YAML data: keys and list indices
 
@@ -38,54 +38,9 @@ class LoadedScene:
         return _where(self.source, self.lines, path)
 
 
-def _dotted(path: Path_) -> str:
-    out = ""
-    for part in path:
-        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
-    return out or "(top level)"
-
-
-def _where(source: str, lines: dict, path: Path_) -> str:
-    path = tuple(path)
-    for cut in range(len(path), -1, -1):
-        if path[:cut] in lines:
-            return f"{source}, line {lines[path[:cut]]}, {_dotted(path)}"
-    return f"{source}, {_dotted(path)}"
-
-
-def _compose(text: str, source: str):
-    loader = yaml.SafeLoader(text)
-    try:
-        root = loader.get_single_node()
-        lines: dict = {}
-
-        def convert(node, path):
-            lines.setdefault(path, node.start_mark.line + 1)
-            if isinstance(node, yaml.MappingNode):
-                out = {}
-                for key_node, value_node in node.value:
-                    key = loader.construct_object(key_node, deep=True)
-                    if key in out:
-                        raise InputError(
-                            f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
-                            f"appears twice in {_dotted(path)}; each key may be given once"
-                        )
-                    lines[path + (key,)] = key_node.start_mark.line + 1
-                    out[key] = convert(value_node, path + (key,))
-                return out
-            if isinstance(node, yaml.SequenceNode):
-                return [convert(item, path + (i,)) for i, item in enumerate(node.value)]
-            return loader.construct_object(node, deep=True)
-
-        data = convert(root, ()) if root is not None else None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(exc, "problem", None) or str(exc)
-        raise InputError(f"{source}{line}: not valid YAML: {problem}") from None
-    finally:
-        loader.dispose()
-    return data, lines
+_dotted = dotted
+_where = where
+_compose = compose  # the reader of every YAML file (pframe.yamltext)
 
 
 def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
