@@ -6,6 +6,6 @@ A scene flows one way: YAML -> definition (:mod:`pframe.model`) -> plan (:mod:`p
 
 __version__ = "0.1.0"
 
-from pframe.errors import InputError, PframeError  # noqa: E402
+from pframe.errors import EnvironmentFailure, InputError, PframeError  # noqa: E402
 
-__all__ = ["InputError", "PframeError", "__version__"]
+__all__ = ["EnvironmentFailure", "InputError", "PframeError", "__version__"]

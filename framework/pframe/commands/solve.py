@@ -6,8 +6,6 @@ import sys
 import time
 from pathlib import Path
 
-from pframe.errors import InputError
-
 
 class _Progress:
     """A progress bar on a terminal, shown only when a run lasts more than a second."""
@@ -40,15 +38,16 @@ class _Progress:
 
 
 def _solve(args) -> int:
+    from pframe import outputs
     from pframe.model import load_scene
 
+    out = args.output if args.output is not None else Path(args.model).stem + ".h5"
+    out = outputs.check_output(out, inputs=[args.model], overwrite=args.overwrite,
+                               what="result file")
     loaded = load_scene(args.model)
-    out = Path(args.output) if args.output else Path(Path(args.model).stem + ".h5")
-    if out.exists() and not args.overwrite:
-        raise InputError(f"{out}: the output file exists; pass --overwrite to replace it, or "
-                         "choose another name with -o")
-    if not out.parent.exists():
-        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    outputs.check_output(out, inputs=[args.model, *_record_files(loaded)],
+                         overwrite=args.overwrite, what="result file")
+    _check_resources(loaded, out)
 
     from pframe.assemble import assemble
     from pframe.kernel import simulate
@@ -57,6 +56,47 @@ def _solve(args) -> int:
     plan = assemble(loaded.expanded)
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
+    try:
+        return _run(args, loaded, plan, out, simulate, ResultWriter)
+    except OSError as exc:
+        raise outputs.failure(out, exc) from None
+
+
+def _record_files(loaded) -> list[Path]:
+    excitation = getattr(loaded.scene, "excitation", None)
+    if getattr(excitation, "kind", None) == "record":
+        return [Path(loaded.base_dir) / excitation.file]
+    return []
+
+
+def _check_resources(loaded, out: Path) -> None:
+    """Refuse a run that cannot fit (memory, disk), warn about a very large one."""
+    import shutil
+
+    from pframe import resources
+
+    try:
+        free = shutil.disk_usage(out.parent).free
+    except OSError:
+        free = None
+    estimate = resources.of_expanded(loaded.expanded, streaming=True)
+    for warning in resources.check(estimate, loaded.source, free_disk=free):
+        print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
+
+
+def _kept_elsewhere(out: Path) -> Path | None:
+    """Where an incomplete result goes when ``out`` holds a complete one (None: to ``out``)."""
+    import h5py
+
+    try:
+        with h5py.File(out, "r") as f:
+            complete = bool(f.attrs.get("complete", 0))
+    except (OSError, ValueError):
+        return None
+    return out.with_name(f"{out.stem}.incomplete{out.suffix}") if complete else None
+
+
+def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
     on_terminal = sys.stderr.isatty() and not args.quiet
     progress = _Progress(sys.stderr) if on_terminal else None
     announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))
@@ -69,12 +109,21 @@ def _solve(args) -> int:
         finally:
             if progress is not None:
                 progress.close()
+        if not result.completed() and out.exists():
+            # an incomplete run never replaces a complete result
+            elsewhere = _kept_elsewhere(out)
+            if elsewhere is not None:
+                from pframe import outputs
+
+                outputs.check_output(elsewhere, overwrite=True, what="result file")
+                writer.path = out = elsewhere
         writer.finish(result)
     if not args.quiet:
         _summary(loaded, plan, result, out, writer.peaks)
     if not result.completed():
         print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
-              f"{out} holds the {result.states_done() - 1} steps computed, marked incomplete",
+              f"{out} holds the {max(0, result.states_done() - 1)} steps computed, marked "
+              "incomplete",
               file=sys.stderr)
         return 1
     return 0

@@ -357,7 +357,10 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         solve = 0.0
         done = 1
         limit = recorders.max_steps()
-        size = min(total - 1, limit) if progress is None else min(total - 1, 500, limit)
+        # Calls last about chunk_seconds whatever the mode (progress shown or not): the
+        # compiled kernel does not see Ctrl-C or SIGTERM, which Python handles between calls,
+        # so a run stops within a call's time.
+        size = min(total - 1, 500, limit)
         while done < total:
             end = min(total, done + size)
             tick = time.perf_counter()
@@ -368,7 +371,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             rec = None  # the next call's buffers replace these, not join them
             if progress is not None:
                 progress(end, total)
-                size = max(1, min(limit, int((end - done) * chunk_seconds / max(elapsed, 1e-6))))
+            grow = chunk_seconds / max(elapsed, 1e-6)
+            size = max(1, min(limit, int((end - done) * min(grow, 8.0))))
             done = end
             if np.all(st.status[:, 0] != 0):
                 break

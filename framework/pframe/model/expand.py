@@ -12,6 +12,7 @@ from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
 from pframe.laws import ContactContext, get_law
 from pframe.model.load import ModelError
+from pframe.resources import check_floors, check_steps, steps_of
 
 
 @dataclass(frozen=True)
@@ -89,6 +90,18 @@ def _building_nodes(scene, nodes, stories, damping):
             stories.append((name, (lower, name), law, params, path + ("story",)))
 
 
+def _check_size(scene) -> None:
+    """Refuse, before building them, more floors than the machine can hold."""
+    total = len(scene.nodes)
+    for building in scene.buildings:
+        lengths = [len(v) for v in [building.mass, *building.story.model_dump().values()]
+                   if isinstance(v, list)]
+        total += building.floors or max(lengths, default=0)
+    problem = check_floors(total)
+    if problem:
+        raise ModelError(("buildings",), problem)
+
+
 def expand(scene, base_dir: Path | str = ".") -> Expanded:
     """Resolve a validated scene; raises :class:`ModelError` with the YAML path of a problem."""
     nodes: list = []
@@ -101,9 +114,13 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                 raise ModelError(("buildings", b, "name"),
                                  f"building {building.name!r} is defined twice")
             seen.add(building.name)
+    _check_size(scene)
     _building_nodes(scene, nodes, stories, damping)
     for i, node in enumerate(scene.nodes):
         nodes.append((node.name, node.mass, ("nodes", i, "name")))
+    if not nodes:
+        raise ModelError(("buildings",), "the scene has no floors; give at least one building "
+                                         "(name, floors, mass, story), or nodes and stories")
     index: dict[str, int] = {}
     for i, (name, _, path) in enumerate(nodes):
         if name in index:
@@ -139,6 +156,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, tuple(map(float, law.pack(params)))))
         story_building.append(buildings.index(building_of[up]))
 
+    if not story_elements:
+        raise ModelError(("stories",), "the scene has floors but no storeys holding them to the "
+                                       "ground; give stories (or use the building shorthand)")
     excitation_frequency = None
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
@@ -165,7 +185,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
 
     analysis = scene.analysis
-    steps = int(round(analysis.duration / analysis.dt))
+    count = steps_of(analysis.duration, analysis.dt)
+    problem = check_steps(count, analysis.dt, analysis.duration)
+    if problem:
+        raise ModelError(("analysis", "dt" if analysis.dt < 1e-7 else "duration"), problem)
+    steps = int(round(count))
     if steps < 1:
         raise ModelError(("analysis", "duration"), f"duration {analysis.duration} s is shorter "
                                                    f"than one step dt = {analysis.dt} s")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -131,11 +132,51 @@ def _value_at(obj, path: Path_):
     return obj
 
 
+#: the largest magnitude of a number in a scene, and the smallest non-zero one: SI values of
+#: real buildings and motions are far inside (a mass of 1e308 kg overflows the first product)
+LARGEST, SMALLEST = 1e100, 1e-100
+
+
+def _numbers(node, path: Path_ = ()):
+    """(path, value) of every number (not boolean) in composed YAML data."""
+    if isinstance(node, (int, float)) and not isinstance(node, bool):
+        yield path, node
+    elif isinstance(node, dict):
+        for key, value in node.items():
+            yield from _numbers(value, path + (key,))
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            yield from _numbers(value, path + (i,))
+
+
+def check_numbers(data, lines: dict, source: str) -> None:
+    """Every number is finite and of a magnitude arithmetic can carry: 0, or between
+    :data:`SMALLEST` and :data:`LARGEST` (NaN, inf, 1e308 and subnormals are refused)."""
+    for path, value in _numbers(data):
+        try:
+            size = abs(float(value))
+        except OverflowError:  # an integer beyond any float
+            size = math.inf
+        if math.isnan(size):
+            why = "NaN is not a number pframe computes with"
+        elif math.isinf(size):
+            why = "an infinite value is not allowed"
+        elif size > LARGEST:
+            why = f"{value:.4g} is larger than the {LARGEST:g} pframe computes with"
+        elif 0 < size < SMALLEST:
+            why = f"{value:.4g} is smaller than the {SMALLEST:g} pframe computes with (or 0)"
+        else:
+            continue
+        raise InputError(f"{_where(source, lines, path)}: {why}; give a finite number in SI "
+                         "units (check the units and the exponent)")
+
+
 def validated(model: type[BaseModel], data, lines: dict, source: str):
     """``model.model_validate(data)``, with problems raised as :class:`InputError` naming the
     file, line and field. A YAML boolean in a number field is one: YAML reads true/false,
     yes/no and on/off as booleans, and pydantic would quietly take them for 1 and 0 (a gap
     written ``gap: on`` would become 1 m)."""
+    check_numbers(data, lines, source)
     try:
         out = model.model_validate(data)
     except ValidationError as exc:
@@ -159,6 +200,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
+        check_numbers(data, lines, source)
         data = expand_pi_data(data, lines, source)
     plugins = _plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)

@@ -21,13 +21,13 @@ Both give the same variables, coordinates and attributes, value for value.
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import h5py
 import numpy as np
 
 import pframe
+from pframe import outputs
 from pframe.nondim.output import output_units
 from pframe.quantities import QUANTITIES
 
@@ -46,7 +46,7 @@ _TIME_BLOCK = 2**16
 
 
 def _temporary(path: Path) -> Path:
-    return path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    return outputs.temporary(path)
 
 
 def _coordinate(f: h5py.File, name: str, values, **attrs):
@@ -193,7 +193,7 @@ class ResultWriter:
             self._summaries(result)
             self._attributes(result)
             self.file.close()
-            os.replace(self.tmp, self.path)
+            outputs.commit(self.tmp, self.path)
         except BaseException:
             self.abort()
             raise
@@ -205,8 +205,7 @@ class ResultWriter:
             if self.file is not None and self.file.id.valid:
                 self.file.close()
         finally:
-            if self.tmp.exists():
-                self.tmp.unlink()
+            outputs.discard(self.tmp)
 
     def _trim(self, done: int):
         f = self.file

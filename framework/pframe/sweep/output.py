@@ -12,13 +12,13 @@ same bytes as an uninterrupted one. Wall-clock timings are printed, never writte
 from __future__ import annotations
 
 import dataclasses
-import os
 from pathlib import Path
 
 import h5py
 import numpy as np
 
 import pframe
+from pframe import outputs
 from pframe.quantities import QUANTITIES
 from pframe.sweep.definition import RESPONSES
 from pframe.sweep.spec import Spec
@@ -127,14 +127,9 @@ def write_sweep(path: Path, spec: Spec, load_chunk) -> dict:
     """Write the result file from the finished chunks (``load_chunk(i)`` returns chunk ``i``'s
     arrays) via a temporary file and an atomic rename; return a summary (failed variants)."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    with outputs.replacing(path) as tmp:
         with h5py.File(tmp, "w", track_order=True) as f:
             summary = _write(f, spec, load_chunk)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     return summary
 
 
