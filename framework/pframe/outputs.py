@@ -165,13 +165,12 @@ def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "outpu
         raise InputError(f"{path}: the folder {str(folder)!r} does not exist")
     if not folder.is_dir():
         raise InputError(f"{path}: {str(folder)!r} is not a folder")
-    if not os.access(folder, os.W_OK | os.X_OK):
-        raise failure(path, PermissionError(errno.EACCES, "permission denied"))
     busy = others_writing(path)
     if busy:
         raise EnvironmentFailure(
             f"{path}: another pframe run (process {busy[0][1]}) is writing this output now; "
             "wait for it to finish, or choose another name with -o")
+    discard(temporary(path, clean=False))  # the folder can be written (else: why not)
     _claims[str(path.resolve())] = overwrite
     return path
 

@@ -35,6 +35,9 @@ _FLOAT = re.compile(r"^[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?
                     r"|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
 
 
+_PLAIN = ("tag:yaml.org,2002:map", "tag:yaml.org,2002:seq")
+
+
 class Loader(yaml.SafeLoader):
     """PyYAML's safe loader with YAML 1.2 (core schema) integers and floats."""
 
@@ -123,6 +126,12 @@ def compose(text: str, source: str = "<string>") -> tuple[object, dict]:
             raise _too_large(source, node, f"the data nests more than {MAX_DEPTH} levels deep")
         if not aliased:
             lines.setdefault(path, node.start_mark.line + 1)
+        if not isinstance(node, yaml.ScalarNode) and node.tag not in _PLAIN:
+            python = " (Python tags are not read: a scene holds plain data only)" if (
+                "python/" in node.tag) else ""
+            raise InputError(f"{source}, line {node.start_mark.line + 1}, {dotted(path)}: the "
+                             f"tag {node.tag.replace('tag:yaml.org,2002:', '!!')} is not "
+                             f"read{python}; write plain mappings and lists")
         if isinstance(node, yaml.MappingNode):
             out = {}
             for key_node, value_node in node.value:

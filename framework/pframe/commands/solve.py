@@ -109,6 +109,7 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
         finally:
             if progress is not None:
                 progress.close()
+        kept = ""
         if not result.completed() and out.exists():
             # an incomplete run never replaces a complete result
             elsewhere = _kept_elsewhere(out)
@@ -116,6 +117,8 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
                 from pframe import outputs
 
                 outputs.check_output(elsewhere, overwrite=True, what="result file")
+                kept = (f"; the complete result already in {out} is kept (an incomplete run "
+                        "never replaces it)")
                 writer.path = out = elsewhere
         writer.finish(result)
     if not args.quiet:
@@ -123,7 +126,7 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
     if not result.completed():
         print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
               f"{out} holds the {max(0, result.states_done() - 1)} steps computed, marked "
-              "incomplete",
+              f"incomplete{kept}",
               file=sys.stderr)
         return 1
     return 0

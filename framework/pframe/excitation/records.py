@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 
 G = 9.80665  # standard gravity (m/s^2): PEER records are in g
-#: the largest record file read: a PEER record is under 1 MiB, a day at 1 kHz in two text
-#: columns about 2 GiB; files above this are refused before they are read
-MAX_RECORD_BYTES = 64 * 2**20
+#: the largest record file read: a PEER record is under 1 MiB; an hour at 200 Hz in two text
+#: columns is about 16 MiB. Larger files are refused before they are read
+MAX_RECORD_BYTES = 16 * 2**20
 #: the largest magnitude of a time or acceleration (as in a scene, pframe.model.load.LARGEST)
 LARGEST = 1e100
 

@@ -156,9 +156,6 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, tuple(map(float, law.pack(params)))))
         story_building.append(buildings.index(building_of[up]))
 
-    if not story_elements:
-        raise ModelError(("stories",), "the scene has floors but no storeys holding them to the "
-                                       "ground; give stories (or use the building shorthand)")
     excitation_frequency = None
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency

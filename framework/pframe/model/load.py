@@ -155,14 +155,15 @@ def check_numbers(data, lines: dict, source: str) -> None:
     for path, value in _numbers(data):
         try:
             size = abs(float(value))
+            shown = f"{value:.4g}"
         except OverflowError:  # an integer beyond any float
-            size = math.inf
+            size, shown = math.inf, f"an integer of {len(str(abs(value)))} digits"
         if math.isnan(size):
             why = "NaN is not a number pframe computes with"
-        elif math.isinf(size):
+        elif math.isinf(size) and isinstance(value, float):
             why = "an infinite value is not allowed"
         elif size > LARGEST:
-            why = f"{value:.4g} is larger than the {LARGEST:g} pframe computes with"
+            why = f"{shown} is larger than the {LARGEST:g} pframe computes with"
         elif 0 < size < SMALLEST:
             why = f"{value:.4g} is smaller than the {SMALLEST:g} pframe computes with (or 0)"
         else:

@@ -156,6 +156,5 @@ class SweepFile(Base):
         if count > MAX_VARIANTS:
             raise ValueError(
                 f"{' x '.join(f'{c:,}' for c in counts)} = {count:,} variants; a sweep has at "
-                f"most {MAX_VARIANTS:,} (at about a second each for the paper's scene, "
-                "weeks of computing): use fewer values per axis, or split the study")
+                f"most {MAX_VARIANTS:,}: use fewer values per axis, or split the study")
         return self
