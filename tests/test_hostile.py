@@ -676,3 +676,14 @@ def test_alias_bomb_in_its_own_process_e2e(tmp_path):
                           env=os.environ | {"PYTHONPATH": str(REPO / "framework")})
     assert done.returncode == 2 and "aliases" in done.stderr and "Traceback" not in done.stderr
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bomb.yaml"]
+
+
+def test_the_refusal_the_docs_show_is_what_pframe_prints(tmp_path, capsys):
+    page = (REPO / "docs" / "getting-started.md").read_text(encoding="utf-8")
+    shown = next(line for line in page.splitlines()
+                 if line.startswith("pframe: wu2021-eq14.yaml, line 35, analysis.duration"))
+    scene = tmp_path / "wu2021-eq14.yaml"
+    scene.write_text(WU2021.read_text(encoding="utf-8").replace(
+        "duration: 7.957747154594767", "duration: 1.0e9"), encoding="utf-8")
+    err = refused(capsys, ["validate", str(scene)])
+    assert err.strip().replace(str(scene), "wu2021-eq14.yaml") == shown

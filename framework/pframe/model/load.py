@@ -48,13 +48,17 @@ def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
     """Law names the scene uses that are not built in; unknown names are reported here."""
     wanted = {"contact": set(), "material": set()}
     places = []
-    for i, c in enumerate(data.get("contacts") or []):
+    def items(key):  # a list, or nothing (the model reports what else it is)
+        value = data.get(key)
+        return value if isinstance(value, list) else []
+
+    for i, c in enumerate(items("contacts")):
         if isinstance(c, dict) and isinstance(c.get("law"), str):
             places.append(("contact", c["law"], ("contacts", i, "law")))
-    for i, s in enumerate(data.get("stories") or []):
+    for i, s in enumerate(items("stories")):
         if isinstance(s, dict) and isinstance(s.get("material"), str):
             places.append(("material", s["material"], ("stories", i, "material")))
-    for i, b in enumerate(data.get("buildings") or []):
+    for i, b in enumerate(items("buildings")):
         story = b.get("story") if isinstance(b, dict) else None
         if isinstance(story, dict) and isinstance(story.get("material"), str):
             places.append(("material", story["material"], ("buildings", i, "story", "material")))
