@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
-import threading
 
 from pframe.commands import COMMANDS
 from pframe.errors import EnvironmentFailure, InputError, PframeError
@@ -31,14 +30,10 @@ def parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
-    import signal
-
     from pframe import outputs
 
     args = parser().parse_args(argv)
-    before = {n: signal.getsignal(n) for n in (signal.SIGTERM, getattr(signal, "SIGHUP", None))
-              if n is not None}
-    outputs.handle_signals()
+    before = outputs.handle_signals()
     hook, excepthook = sys.unraisablehook, sys.excepthook
     sys.unraisablehook = _quiet_h5py(hook)
     sys.excepthook = _quiet_h5py_print(excepthook)
@@ -72,16 +67,17 @@ def main(argv: list[str] | None = None) -> int:
         return 3
     finally:
         sys.unraisablehook, sys.excepthook = hook, excepthook
-        for number, handler in before.items():
-            if handler is not None and threading.current_thread() is threading.main_thread():
-                signal.signal(number, handler)
+        outputs.restore_signals(before)
 
 
 def _quiet_h5py(hook):
-    """h5py reports a file it cannot close (disk full) again while collecting its objects;
-    the command has said so once already."""
+    """h5py reports a file it cannot close (disk full) again while collecting its objects,
+    and a signal that arrives in a destructor is reported there: the command says either
+    once, itself."""
 
     def quiet(unraisable):
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            return  # a stop that arrived in a destructor: pframe raises it again at once
         if isinstance(unraisable.exc_value, (OSError, RuntimeError)) and "h5py" in repr(
                 getattr(unraisable, "object", "")) + str(getattr(unraisable, "err_msg", "")):
             return

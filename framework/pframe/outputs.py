@@ -282,20 +282,51 @@ def _remove_live() -> None:
             tmp.unlink()
 
 
+#: the signal that asked this process to stop, until it has stopped
+_pending: list[int] = []
+
+
+def _stop(signum: int):
+    return KeyboardInterrupt() if signum == signal.SIGINT else Terminated(signum)
+
+
 def _on_signal(signum, frame):
-    raise Terminated(signum)
+    _pending.append(signum)
+    raise _stop(signum)
 
 
-def handle_signals() -> None:
-    """SIGTERM and SIGHUP stop the process as Ctrl-C does (the ``finally`` blocks remove the
-    temporary files); called by the ``pframe`` command, not on import (a library leaves a
-    program's signals alone)."""
+def check_stop() -> None:
+    """Raise the stop a signal asked for, if it has not been raised where it arrived: Python
+    raises it in whatever code runs at that moment, and a destructor or a weak-reference
+    callback swallows it. Called between the kernel's calls."""
+    if _pending:
+        raise _stop(_pending[-1])
+
+
+def handle_signals() -> dict:
+    """SIGINT (Ctrl-C), SIGTERM and SIGHUP stop the process (the ``finally`` blocks remove the
+    temporary files), and the stop is never lost; called by the ``pframe`` command, not on
+    import (a library leaves a program's signals alone). Returns the handlers replaced."""
+    before = {}
     if threading.current_thread() is not threading.main_thread():
-        return
-    for name in ("SIGTERM", "SIGHUP"):
+        return before
+    _pending.clear()
+    for name in ("SIGINT", "SIGTERM", "SIGHUP"):
         number = getattr(signal, name, None)
-        if number is not None and signal.getsignal(number) in (signal.SIG_DFL, None):
+        if number is None:
+            continue
+        current = signal.getsignal(number)
+        if current in (signal.SIG_DFL, signal.default_int_handler, None):
+            before[number] = current
             signal.signal(number, _on_signal)
+    return before
+
+
+def restore_signals(before: dict) -> None:
+    if threading.current_thread() is threading.main_thread():
+        for number, handler in before.items():
+            signal.signal(number, handler)
+    _pending.clear()
 
 
 atexit.register(_remove_live)

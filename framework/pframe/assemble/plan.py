@@ -180,7 +180,15 @@ def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
             continue
         nodes = np.flatnonzero(ex.node_building == b)
         modes = damping.modes
-        omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
+        try:
+            with np.errstate(all="ignore"):
+                omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
+        except (np.linalg.LinAlgError, ArithmeticError, ValueError):
+            omega = np.array([np.nan])
+        if not np.all(np.isfinite(omega)):
+            raise InputError(f"building {name!r}: its natural frequencies (for Rayleigh damping) "
+                             "cannot be computed from its masses and storey stiffnesses; they "
+                             "span more than floating point carries (check the units)")
         if max(modes) > len(nodes):
             if len(nodes) == 1 and modes == (1, 2):
                 modes = (1, 1)  # a one-storey building has one mode: fit the ratio there

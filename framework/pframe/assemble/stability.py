@@ -98,6 +98,18 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     return math.sqrt(max(top, 0.0)), periods
 
 
+#: sub-steps of one step beyond which the step is refused as far too large for the scene
+MAX_PARTS = 10**6
+
+
+def _parts(ratio: float, what: str, dt: float, needed: float) -> int:
+    if not ratio <= MAX_PARTS:  # also NaN
+        raise InputError(f"dt = {dt:.4g} s would need {ratio:.3g} {what} (a step of about "
+                         f"{needed:.3g} s); the contact or storey stiffness and the masses are "
+                         "far apart: check their units")
+    return math.ceil(ratio)
+
+
 def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, ...]]:
     """Sub-step counts for central difference and for event-aware contact phases, and
     warnings; raises :class:`InputError` for an explicit step above its limit."""
@@ -120,11 +132,12 @@ def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, .
                         f"{integrator_params.safety:g} x 2 / w_max = {limit:.4g} s (w_max = "
                         f"{w_max:.4g} rad/s with the contacts closed); use dt <= {limit:.4g} s "
                         "or 'substeps: auto' on the integrator, or an implicit integrator")
-                cd_parts[b] = math.ceil(dt / limit)
+                cd_parts[b] = _parts(dt / limit, "central-difference sub-steps", dt, limit)
         if np.isfinite(periods).any():
             shortest = float(np.min(periods))
             steps = shortest / dt
-            event_parts[b] = max(1, math.ceil(STEPS_PER_CONTACT / steps))
+            event_parts[b] = max(1, _parts(STEPS_PER_CONTACT / steps, "sub-steps per contact "
+                                           "phase", dt, shortest / STEPS_PER_CONTACT))
             if not explicit and steps < STEPS_PER_CONTACT and not plan.integrator.events and b == 0:
                 warnings.append(
                     f"dt = {dt:.4g} s resolves the shortest contact period ({shortest:.4g} s) "

@@ -6,6 +6,8 @@ import sys
 import time
 from pathlib import Path
 
+from pframe.errors import InputError
+
 
 class _Progress:
     """A progress bar on a terminal, shown only when a run lasts more than a second."""
@@ -53,13 +55,18 @@ def _solve(args) -> int:
     from pframe.kernel import simulate
     from pframe.record import ResultWriter
 
-    plan = assemble(loaded.expanded)
+    try:
+        plan = assemble(loaded.expanded)
+    except InputError as exc:  # found while assembling: damping fit, stability, batch rules
+        raise InputError(f"{loaded.source}: {exc}") from None
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     try:
         return _run(args, loaded, plan, out, simulate, ResultWriter)
     except OSError as exc:
         raise outputs.failure(out, exc) from None
+    except InputError as exc:  # found while running: numbers beyond floating point
+        raise InputError(f"{loaded.source}: {exc}") from None
 
 
 def _record_files(loaded) -> list[Path]:

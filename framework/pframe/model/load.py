@@ -136,9 +136,11 @@ def _value_at(obj, path: Path_):
     return obj
 
 
-#: the largest magnitude of a number in a scene, and the smallest non-zero one: SI values of
-#: real buildings and motions are far inside (a mass of 1e308 kg overflows the first product)
-LARGEST, SMALLEST = 1e100, 1e-100
+#: the largest magnitude of a number in a scene: SI values of real buildings and motions are
+#: far below (a mass of 1e308 kg overflows the first product). Tiny values (subnormals) are
+#: numbers; where they break the arithmetic (a floor mass of 1e-320 kg), the step that fails
+#: says so.
+LARGEST = 1e100
 
 
 def _numbers(node, path: Path_ = ()):
@@ -154,8 +156,8 @@ def _numbers(node, path: Path_ = ()):
 
 
 def check_numbers(data, lines: dict, source: str) -> None:
-    """Every number is finite and of a magnitude arithmetic can carry: 0, or between
-    :data:`SMALLEST` and :data:`LARGEST` (NaN, inf, 1e308 and subnormals are refused)."""
+    """Every number is finite and at most :data:`LARGEST` in magnitude (NaN, inf and 1e308
+    are refused at their line)."""
     for path, value in _numbers(data):
         try:
             size = abs(float(value))
@@ -168,8 +170,6 @@ def check_numbers(data, lines: dict, source: str) -> None:
             why = "an infinite value is not allowed"
         elif size > LARGEST:
             why = f"{shown} is larger than the {LARGEST:g} pframe computes with"
-        elif 0 < size < SMALLEST:
-            why = f"{value:.4g} is smaller than the {SMALLEST:g} pframe computes with (or 0)"
         else:
             continue
         raise InputError(f"{_where(source, lines, path)}: {why}; give a finite number in SI "

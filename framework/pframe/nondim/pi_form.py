@@ -233,3 +233,8 @@ def expand_pi_data(data: dict, lines: dict, source: str) -> dict:
         return expand_pi(pi, data)
     except ModelError as exc:
         raise InputError(f"{_where(source, lines, exc.path)}: {exc.message}") from None
+    except ArithmeticError:  # scales whose products leave floating point (w_p = 1e-200)
+        raise InputError(f"{_where(source, lines, ('scales',) if 'scales' in data else ('pi',))}: "
+                         "the Pi numbers and scales give dimensional values beyond floating "
+                         "point arithmetic (a division by zero or an overflow); check them"
+                         ) from None
