@@ -330,7 +330,7 @@ def _set(data, path, value):
     (("excitation", "amplitude"), -1e308, "larger than"),
     (("initial_conditions",), {"velocity": {"A/1": float("nan")}}, "NaN"),
     (("initial_conditions",), {"displacement": {"A/2": float("inf")}}, "infinite"),
-    (("buildings", 0, "mass"), 5e-324, "cannot be computed"),
+    (("buildings", 0, "mass"), 5e-324, "not a finite number"),
     (("contacts", 0, "frequency_ratio"), 1e99, "sub-steps per contact phase"),
     (("analysis", "integrator", "beta"), 5e-324, "divided by zero"),
     (("buildings", 1, "story", "stiffness"), 10**400, "larger than"),

@@ -90,6 +90,16 @@ def _building_nodes(scene, nodes, stories, damping):
             stories.append((name, (lower, name), law, params, path + ("story",)))
 
 
+def _finite(packed, path) -> tuple[float, ...]:
+    """A law's packed parameters, which must be finite numbers."""
+    out = tuple(map(float, packed))
+    if not all(np.isfinite(out)):
+        raise ModelError(path, "these values give the law a parameter that is not a finite "
+                               f"number ({', '.join(f'{v:.4g}' for v in out)}); they are too "
+                               "small or too large for each other: check the units")
+    return out
+
+
 def _check_size(scene) -> None:
     """Refuse, before building them, more floors than the machine can hold."""
     total = len(scene.nodes)
@@ -153,7 +163,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if name in seen:
             raise ModelError(path, f"storey name {name!r} is used twice")
         seen[name] = True
-        story_elements.append(Element(name, (low, up), law, tuple(map(float, law.pack(params)))))
+        story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
         story_building.append(buildings.index(building_of[up]))
 
     excitation_frequency = None
@@ -176,7 +186,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
         context = ContactContext(masses[left], masses[right], excitation_frequency)
         try:
-            packed = tuple(map(float, law.pack(params, context)))
+            with np.errstate(all="ignore"):
+                packed = _finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
         contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
