@@ -694,3 +694,21 @@ def test_the_refusal_the_docs_show_is_what_pframe_prints(tmp_path, capsys):
         "duration: 7.957747154594767", "duration: 1.0e9"), encoding="utf-8")
     err = refused(capsys, ["validate", str(scene)])
     assert err.strip().replace(str(scene), "wu2021-eq14.yaml") == shown
+
+
+@pytest.mark.parametrize("command", [
+    ["scale", "{model}", "--length", "1/2", "--modulus", "1", "--acceleration", "1"],
+    ["expand", "{pi}"],
+])
+def test_generated_scenes_never_replace_their_input(tmp_path, capsys, command):
+    model = tmp_path / "hust.yaml"
+    model.write_text(HUST.read_text(encoding="utf-8"), encoding="utf-8")
+    pi = tmp_path / "hust-pi.yaml"
+    pi.write_text((MODELS / "hust-4x3-pi.yaml").read_text(encoding="utf-8"), encoding="utf-8")
+    argv = [a.format(model=model, pi=pi) for a in command]
+    target = Path(argv[1])
+    before = target.read_bytes()
+    err = refused(capsys, [*argv, "-o", str(target), "--overwrite"])
+    assert "one of this run's inputs" in err and target.read_bytes() == before
+    refused(capsys, [*argv, "-o", ""])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["hust-pi.yaml", "hust.yaml"]

@@ -38,7 +38,7 @@ def _expand(args) -> int:
         print(f"pframe: {path} is a dimensional scene already; printed unchanged",
               file=sys.stderr)
         text = path.read_text(encoding="utf-8")
-    write_text_output(text, args.output, args.overwrite)
+    write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
 
 

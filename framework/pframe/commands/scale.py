@@ -52,7 +52,7 @@ def _scale(args) -> int:
             print("\n".join(_table(sim)))
         return 0
     text = _scaled_scene(Path(args.model), sim, args.to)
-    write_text_output(text, args.output, args.overwrite)
+    write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
 
 
