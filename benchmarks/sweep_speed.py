@@ -162,8 +162,9 @@ def _compare(path: Path, peer, index: int, opensees: dict) -> tuple[float, int]:
     worst, impacts = 0.0, 0
     with h5py.File(path, "r") as f:
         for name in ENVELOPES:
-            dim = f[name].dims[1][0].name.strip("/")
-            names = [v.decode() if isinstance(v, bytes) else str(v) for v in f[dim][...]]
+            dim = {"peak_displacement": "node", "peak_story_drift": "story",
+                   "ductility": "story"}.get(name, "contact")
+            names = [b"".join(row).decode() for row in f[f"{dim}_name"][...]]  # char arrays
             order = [entities[dim].index(v) for v in names]
             ours = np.asarray(opensees[name])[order]
             theirs = f[name][index]
@@ -221,7 +222,7 @@ def main(argv: list[str] | None = None) -> int:
         import h5py
 
         with h5py.File(folder / "gaps.h5", "r") as f:
-            failed = int(f.attrs["variants_failed"])
+            failed = int(np.asarray(f.attrs["variants_failed"]).item())
             impacts = f["impact_count"][...].sum(axis=1)
         print(f"  {failed} failed variants; impacts per variant from {impacts.min()} to "
               f"{impacts.max()}")

@@ -23,6 +23,32 @@ from pframe.model import load_scene, parse_scene
 
 REPO = Path(__file__).resolve().parents[1]
 WU2021 = REPO / "models" / "wu2021-eq14.yaml"
+#: real PEER records, kept beside the repository (shared/records), never copied into it
+RECORDS = REPO.parent / "shared" / "records"
+
+
+def record_file(name: str) -> Path:
+    """A record of :data:`RECORDS`; the test is skipped, saying why, when it is absent."""
+    path = RECORDS / name
+    if not path.is_file():
+        pytest.skip(f"the PEER record {name} is not in {RECORDS} (models/ names it by file; "
+                    "the PEER NGA-West2 database has it)")
+    return path
+
+
+def runnable_model(model: Path, folder: Path) -> Path:
+    """``model`` itself, or, when it names a record that is not beside it, a copy of it in
+    ``folder`` beside a link to the record of :data:`RECORDS` (skipped when absent there)."""
+    import yaml
+
+    excitation = (yaml.safe_load(model.read_text(encoding="utf-8")) or {}).get("excitation") or {}
+    if excitation.get("kind") != "record" or (model.parent / excitation["file"]).is_file():
+        return model
+    record = record_file(Path(excitation["file"]).name)
+    (folder / record.name).symlink_to(record)
+    copy = folder / model.name
+    copy.write_text(model.read_text(encoding="utf-8"), encoding="utf-8")
+    return copy
 
 #: The recorders of models/wu2021-eq14.yaml: scenes recording these share its kernels.
 RECORDERS = [
@@ -150,3 +176,36 @@ def wu2021_run():
     loaded = load_scene(WU2021)
     plan = assemble(loaded.expanded)
     return loaded, plan, simulate(plan)
+
+
+#: global attributes that say when and by which command a file was written
+PROVENANCE = ("date_created", "history")
+
+
+def assert_same_result_file(a: Path, b: Path) -> None:
+    """Two result files hold the same thing: every variable bit for bit (names, dimensions,
+    order), every attribute, apart from when and by which command each was written."""
+    import h5py
+
+    def contents(path):
+        with h5py.File(path, "r") as f:
+            attrs = {k: np.asarray(v).tolist() for k, v in f.attrs.items()
+                     if k not in PROVENANCE}
+            data = {}
+
+            def visit(name, obj):
+                if isinstance(obj, h5py.Dataset):
+                    data[name] = (obj.dtype.str, obj.shape, obj[()].tobytes(),
+                                  sorted(k for k in obj.attrs
+                                         if k not in ("DIMENSION_LIST", "REFERENCE_LIST")))
+
+            f.visititems(visit)
+            return list(f), attrs, data
+
+    names_a, attrs_a, data_a = contents(a)
+    names_b, attrs_b, data_b = contents(b)
+    assert names_a == names_b
+    assert attrs_a == attrs_b
+    assert data_a.keys() == data_b.keys()
+    for name in data_a:
+        assert data_a[name] == data_b[name], name

@@ -10,6 +10,7 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -63,21 +64,23 @@ def scene_file(tmp_path):
 
 def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
     out = tmp_path / "result.h5"
+    start = time.perf_counter()
     assert main(["solve", str(scene_file), "-o", str(out)]) == 0
+    wall = time.perf_counter() - start
     captured = capsys.readouterr()
     assert captured.err == ""
     assert "status: completed" in captured.out and str(out) in captured.out
-    with xr.open_dataset(out, engine="h5netcdf") as ds:
-        assert list(ds["node"].values) == NODES
-        assert list(ds["story"].values) == NODES
-        assert list(ds["contact"].values) == ["top"]
-        assert ds.sizes["time"] == 1001
-        np.testing.assert_allclose(ds["time"].values, np.arange(1001) * 0.001, rtol=1e-12)
-        assert ds["time"].attrs["units"] == "s"
+    with pframe.open(out) as ds:
+        assert list(ds["node_name"].values) == NODES
+        assert list(ds["story_name"].values) == NODES
+        assert list(ds["contact_name"].values) == ["top"]
+        assert ds.sizes["t"] == 1001
+        np.testing.assert_allclose(ds["t"].values, np.arange(1001) * 0.001, rtol=1e-12)
+        assert ds["t"].attrs["units"] == "s"
         for name, units in UNITS.items():
             dim = {"displacement": "node", "velocity": "node",
                    "contact_force": "contact"}.get(name, "story")
-            assert ds[name].dims == ("time", dim)
+            assert ds[name].dims == ("t", dim)
             assert ds[name].attrs["units"] == units
             assert ds[name].attrs["long_name"]
             assert np.all(np.isfinite(ds[name].values))
@@ -85,10 +88,10 @@ def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
             peak = ds[f"peak_{name}"]
             assert peak.dims == (ds[name].dims[1],)
             assert peak.attrs["units"] == UNITS[name]
-            np.testing.assert_allclose(peak.values, np.abs(ds[name]).max("time").values,
+            np.testing.assert_allclose(peak.values, np.abs(ds[name]).max("t").values,
                                        rtol=1e-14)
         assert ds["impact_count"].dims == ("contact",)
-        assert int(ds["impact_count"].sel(contact="top")) >= 1
+        assert int(ds["impact_count"].sel(contact_name="top")) >= 1
         assert float(ds["contact_force"].max()) > 0.0
 
         attrs = ds.attrs
@@ -98,7 +101,7 @@ def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
         assert attrs["steps"] == 1000
         assert attrs["steps_completed"] == 1000
         assert isinstance(attrs["solve_seconds"], (float, np.floating))
-        assert attrs["solve_seconds"] >= 0.0
+        assert 0.0 < attrs["solve_seconds"] < wall  # the kernel's part of the whole command
         assert attrs["status"] == "completed"
         assert attrs["complete"] == 1
         assert 0.0 <= attrs["energy_balance_error"] < 1e-9
@@ -127,7 +130,7 @@ def test_run_that_stops_early_is_written_and_marked(tmp_path, capsys):
         assert attrs["steps"] == 1000
         assert attrs["steps_completed"] == step - 1
         assert attrs["input_yaml"] == FAILING
-        assert ds.sizes["time"] == step  # states t = 0 .. (step - 1) dt
+        assert ds.sizes["t"] == step  # states t = 0 .. (step - 1) dt
         for name in UNITS:
             assert np.all(np.isfinite(ds[name].values))
 

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import record_file
 
 from pframe.docs_reference import REGENERATE, yaml_reference_markdown
 from pframe.model import parse_scene
@@ -132,9 +133,19 @@ def example_plugin(tmp_path_factory):
 
 
 @pytest.mark.parametrize("block", SCENE_BLOCKS, ids=_id)
-def test_scene_blocks_validate(block, example_plugin):
+def test_scene_blocks_validate(block, example_plugin, tmp_path):
+    """Every scene of the docs validates; a record it names is read from the shared records,
+    placed where the scene's relative path looks for it (skipped when they are absent)."""
     page, line, text = block
-    parse_scene(text, source=f"docs/{page}, block at line {line}", base_dir=DOCS)
+    excitation = (yaml.safe_load(text) or {}).get("excitation") or {}
+    base_dir = DOCS
+    if excitation.get("kind") == "record" and not (DOCS / excitation["file"]).is_file():
+        record = record_file(Path(excitation["file"]).name)
+        base_dir = tmp_path / "scene"
+        place = base_dir / excitation["file"]
+        place.parent.mkdir(parents=True, exist_ok=True)
+        place.symlink_to(record)
+    parse_scene(text, source=f"docs/{page}, block at line {line}", base_dir=base_dir)
 
 
 def test_example_plugin_rebounds_with_its_restitution(example_plugin):
@@ -163,3 +174,24 @@ def test_example_plugin_rebounds_with_its_restitution(example_plugin):
     assert np.min(result.history["contact_force"][0]) >= 0.0
     restitution = -(v_left[-1] - v_right[-1]) / (v_left[0] - v_right[0])
     assert restitution == pytest.approx(target, abs=1e-5)
+
+
+def test_theory_rayleigh_coefficients_are_the_codes():
+    """docs/theory.md states the paper example's Rayleigh coefficients per building; they are
+    the ones the assembly computes (a0 on the masses, a1 on the storeys)."""
+    from pframe.assemble import assemble
+    from pframe.model import load_scene
+
+    text = (DOCS / "theory.md").read_text(encoding="utf-8")
+    stated = re.search(r"`a0 = ([\d.]+) 1/s`, `a1 = ([\d.e-]+) s` for the left building\s+"
+                       r"\(A\) and `a0 = ([\d.]+) 1/s`, `a1 = ([\d.e-]+) s` for the right one "
+                       r"\(B\)", text)
+    assert stated, "the sentence with the Rayleigh coefficients changed"
+    plan = assemble(load_scene(DOCS.parent / "models" / "wu2021-eq14.yaml").expanded)
+    for building, (a0, a1) in zip("AB", (stated.groups()[:2], stated.groups()[2:])):
+        node = plan.node_names.index(f"{building}/1")
+        dof = plan.node_dof[node]
+        assert float(a0) == pytest.approx(plan.mass_damping[0, dof] / plan.mass[0, dof],
+                                          abs=5e-5)
+        story = plan.story_names.index(f"{building}/1")
+        assert float(a1) == pytest.approx(plan.story_beta[0, story], abs=5e-8)

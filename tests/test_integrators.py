@@ -29,6 +29,17 @@ INTEGRATORS = {
 }
 
 
+def test_every_integrator_is_tested():
+    """The cases above cover every integrator pframe offers: a new one fails here until it
+    has its convergence case."""
+    import yaml
+
+    from pframe.integrators import ALL_INTEGRATORS
+
+    tested = {yaml.safe_load(text)["type"] for text in INTEGRATORS.values()}
+    assert tested == {cls.model_fields["type"].default for cls in ALL_INTEGRATORS}
+
+
 def _modal_free_vibration(times):
     """Exact u(t) of the undamped 3-storey shear building from rest at the initial shape."""
     k, m = STIFFNESS, MASS

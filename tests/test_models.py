@@ -7,6 +7,7 @@ from pathlib import Path
 import h5py
 import pytest
 import yaml
+from conftest import runnable_model
 
 from pframe.cli import main
 from pframe.model import load_scene
@@ -21,7 +22,7 @@ def test_there_are_models():
 
 
 @pytest.mark.parametrize("model", MODELS, ids=[m.name for m in MODELS])
-def test_model_names_the_schema_and_validates(model):
+def test_model_names_the_schema_and_validates(model, tmp_path):
     text = model.read_text(encoding="utf-8")
     first = text.splitlines()[0]
     assert first.startswith(SCHEMA_LINE), f"{model.name} must open with '{SCHEMA_LINE}...'"
@@ -30,13 +31,14 @@ def test_model_names_the_schema_and_validates(model):
     expected = "pi-scene" if "pi" in (yaml.safe_load(text) or {}) else "model"
     assert schema == (REPO / "schemas" / f"{expected}.schema.json").resolve()
     assert schema.is_file()
-    loaded = load_scene(model)
+    loaded = load_scene(runnable_model(model, tmp_path))
     assert loaded.expanded.steps >= 1
     assert loaded.expanded.node_names
 
 
 @pytest.mark.parametrize("model", MODELS, ids=[m.name for m in MODELS])
 def test_model_solves(model, tmp_path, capsys):
+    model = runnable_model(model, tmp_path)
     out = tmp_path / f"{model.stem}.h5"
     assert main(["solve", str(model), "-o", str(out), "-q"]) == 0, capsys.readouterr().err
     assert capsys.readouterr().err == ""

@@ -379,27 +379,59 @@ def test_groups_of_random_scenes_are_dimensionless_independent_and_similarity_in
 # Pi-form scenes
 # ---------------------------------------------------------------------------------------------
 
+_CONTACT_OPTIONS = {"kelvin": [{}, {"keep_tension": True}, {"calibration": "exact"}],
+                    "improved_kelvin": [{}, {"calibration": "exact"}],
+                    "hertzdamp": [{}, {"formula": "ye"}, {"calibration": "exact"}],
+                    "jankowski": [{}, {"calibration": "exact"}]}
+_STIFFNESS_GROUP = {"linear": "Pi_wcon", "kelvin": "Pi_wcon", "improved_kelvin": "Pi_wcon",
+                    "hertz": "Pi_kh", "hertzdamp": "Pi_kh", "jankowski": "Pi_kh"}
+
+
+def _pi_numbers(draw, floors: dict, reference: str, law: str, contacts: bool) -> dict:
+    """The Pi numbers of a row of buildings, named as the paper names them: one mass ratio per
+    building other than the reference one (``Pi_m`` when there is one), ``Pi_k`` for building
+    a's stiffness, ``Pi_mu`` for each other building's relative to a's (suffixed by tag when
+    there are several), ``Pi_uy<tag>`` for a yielding building."""
+    tags = list(floors)
+    others = [t for t in tags if t != reference]
+    pi = {("Pi_m" if len(others) == 1 else f"Pi_m{t}"): draw(st.floats(0.1, 10)) for t in others}
+    pi["Pi_k"] = draw(st.floats(0.5, 50))
+    pi |= {("Pi_mu" if len(tags) == 2 else f"Pi_mu{t}"): draw(st.floats(0.1, 10))
+           for t in tags[1:]}
+    for t in tags:
+        if draw(st.booleans()):
+            pi[f"Pi_uy{t}"] = draw(st.floats(0.01, 1.0))
+    pi["Pi_xi"] = draw(st.floats(0.0, 0.2))
+    if any(k.startswith("Pi_uy") for k in pi):
+        pi["Pi_alpha"] = draw(st.floats(0.0, 1.0))
+    if contacts:
+        pi[_STIFFNESS_GROUP[law]] = draw(st.floats(5, 100))
+        pi["Pi_d"] = draw(st.floats(0.0, 2.0))
+        if law not in ("linear", "hertz"):
+            pi["Pi_e"] = draw(st.floats(0.1, 1.0))
+    return pi
+
+
 @st.composite
 def _pi_scenes(draw) -> dict:
-    floors = {"a": draw(st.integers(1, 4)), "b": draw(st.integers(1, 4))}
-    common = list(range(1, min(floors.values()) + 1))
-    levels = draw(st.lists(st.sampled_from(common), unique=True, max_size=len(common)))
-    law = draw(st.sampled_from(["improved_kelvin", "kelvin", "linear"]))
-    pi = {"Pi_m": draw(st.floats(0.1, 10)), "Pi_k": draw(st.floats(0.5, 50)),
-          "Pi_mu": draw(st.floats(0.1, 10)), "Pi_xi": draw(st.floats(0.0, 0.2))}
-    for key in ("Pi_uya", "Pi_uyb"):
-        if draw(st.booleans()):
-            pi[key] = draw(st.floats(0.01, 1.0))
-    if "Pi_uya" in pi or "Pi_uyb" in pi:
-        pi["Pi_alpha"] = draw(st.floats(0.0, 1.0))
-    if levels:
-        pi |= {"Pi_wcon": draw(st.floats(5, 100)), "Pi_d": draw(st.floats(0.0, 2.0))}
-        if law != "linear":
-            pi["Pi_e"] = draw(st.floats(0.1, 1.0))
+    """A Pi-form scene: 1 to 4 buildings of 1 to 4 floors, any reference building, contacts of
+    any built-in law (and its options) at chosen levels of each neighbouring pair, a sine."""
+    n = draw(st.integers(1, 4))
+    tags = "abcd"[:n]
+    floors = {t: draw(st.integers(1, 4)) for t in tags}
+    pairs = [f"{a}-{b}" for a, b in zip(tags, tags[1:])]
+    levels = {p: draw(st.lists(st.integers(1, min(floors[p[0]], floors[p[2]])), unique=True,
+                               max_size=4)) for p in pairs}
+    law = draw(st.sampled_from(_CONTACT_LAWS))
+    reference = draw(st.sampled_from(tags))
+    pi = _pi_numbers(draw, floors, reference, law, any(levels.values()))
     scene = {"pi": pi,
-             "buildings": {k: {"name": k.upper(), "floors": f} for k, f in floors.items()},
-             "contacts": {"floors": levels, "law": law},
+             "buildings": {t: {"name": t.upper(), "floors": f} for t, f in floors.items()},
+             "contacts": {"floors": levels, "law": law,
+                          **draw(st.sampled_from(_CONTACT_OPTIONS.get(law, [{}])))},
              "analysis": {"dt_tau": 0.01, "tau": 1.0}}
+    if draw(st.booleans()) or reference != ("b" if n > 1 else "a"):
+        scene["reference"] = reference
     if draw(st.booleans()):
         scene["scales"] = {"m_b": draw(st.floats(1e-3, 1e4)), "a_p": draw(st.floats(1e-2, 1e2)),
                            "w_p": draw(st.floats(1e-1, 1e3))}
@@ -416,6 +448,166 @@ def test_expanding_a_pi_scene_then_taking_its_groups_returns_its_numbers(scene):
     for name, value in scene["pi"].items():
         assert values[name] == pytest.approx(value, rel=1e-12, abs=1e-15), name
     assert report.numerics["dtau"] == pytest.approx(0.01, rel=1e-12)
+    reference = scene.get("reference", "b" if len(scene["buildings"]) > 1 else "a")
+    assert report.repeating[0] == f"m_{reference}"
+    scales = scene.get("scales", {"m_b": 1.0})
+    first = list(loaded.expanded.node_building).index("abcd".index(reference))
+    assert loaded.expanded.masses[first] == scales["m_b"]
+
+
+def _sine_record(folder: Path, frequency_hz: float = 2.0, amplitude: float = 2.5) -> str:
+    """A two-column record file of a sine (m/s^2), 20 s at 200 samples per second."""
+    import numpy as np
+
+    t = np.arange(0.0, 20.0, 0.005)
+    np.savetxt(folder / "sine.txt", np.column_stack([t, amplitude * np.sin(2 * np.pi * frequency_hz * t)]))
+    return "sine.txt"
+
+
+def _row_of_three(law: str, record: str, **extra) -> dict:
+    stiffness = {"Pi_wcon": 40.0} if _STIFFNESS_GROUP[law] == "Pi_wcon" else {"Pi_kh": 75.0}
+    restitution = {} if law in ("linear", "hertz") else {"Pi_e": 0.65}
+    return {"pi": {"Pi_ma": 1.2, "Pi_mc": 0.8, "Pi_k": 15.8, "Pi_mub": 0.9, "Pi_muc": 0.81,
+                   "Pi_uya": 0.66, "Pi_uyc": 0.5, "Pi_xi": 0.05, "Pi_alpha": 0.1, **stiffness,
+                   **restitution, "Pi_d": 0.88},
+            "buildings": {"a": {"name": "A", "floors": 8}, "b": {"name": "B", "floors": 5},
+                          "c": {"name": "C", "floors": 3}},
+            "contacts": {"law": law},
+            "excitation": {"kind": "record", "file": record},
+            "analysis": {"dt_tau": 0.01, "tau": 20.0}, **extra}
+
+
+@pytest.mark.parametrize("law", _CONTACT_LAWS)
+def test_every_contact_law_has_a_pi_form_under_a_record(law, tmp_path):
+    """Three buildings, each built-in law, a record scaled to a_p and w_p: expand, then pi,
+    gives the numbers back; a Hertz-type stiffness is k_h a_p^(1/2) / (m_b w_p^3), i.e.
+    k_h l_e^(1/2) / (m_b w_p^2)."""
+    scene = _row_of_three(law, _sine_record(tmp_path), scales={"m_b": 1.5e5, "a_p": 3.0, "w_p": 20.0})
+    loaded = parse_scene(json.dumps(scene), base_dir=tmp_path)
+    report = scene_pi(loaded.scene, loaded.expanded)
+    assert _values(report) == pytest.approx(scene["pi"], rel=1e-12)
+    variables = {v.name: v.value for v in report.variables}
+    assert variables["a_p"] == pytest.approx(3.0, rel=1e-15)
+    assert variables["w_p"] == pytest.approx(20.0, rel=1e-15)
+    group = {g.name: g for g in report.groups}[_STIFFNESS_GROUP[law]]
+    if law.startswith(("hertz", "jankowski")):
+        assert group.powers == {"k_h": 1, "a_p": Fraction(1, 2), "m_b": -1, "w_p": -3}
+        l_e = 3.0 / 20.0**2
+        k_h = loaded.expanded.contacts[0].packed[0]
+        assert k_h * l_e**0.5 / (1.5e5 * 20.0**2) == pytest.approx(75.0, rel=1e-12)
+    else:
+        assert group.powers == {"w_bar": 1, "w_p": -1}
+    contacts = [c.name for c in loaded.expanded.contacts]
+    assert contacts == [f"A/{i}-B/{i}" for i in range(1, 6)] + [f"B/{i}-C/{i}" for i in range(1, 4)]
+
+
+def test_a_record_is_scaled_to_a_p_and_compressed_to_w_p(tmp_path):
+    """A 2 Hz sine record of amplitude 2.5 m/s^2 (T_m = 0.5 s) in a Pi form with a_p = 5 and
+    w_p = 2 pi 8 rad/s is applied as a sine of 5 m/s^2 at 8 Hz; without scales it is applied as
+    recorded, and a stated period of 1 s sets w_p = 2 pi rad/s instead."""
+    import numpy as np
+
+    scene = _row_of_three("hertzdamp", _sine_record(tmp_path),
+                          scales={"m_b": 1.0, "a_p": 5.0, "w_p": 16 * math.pi})
+    expanded = parse_scene(json.dumps(scene), base_dir=tmp_path).expanded
+    t = np.arange(expanded.steps + 1) * expanded.dt
+    # the mean period of a finite sampled sine is 0.5 s to its spectral leakage
+    time_factor = expanded.record.time_factor
+    assert time_factor == pytest.approx(0.25, rel=3e-3)
+    # linear interpolation between samples 0.00125 s apart: (w h)^2 / 8 of the amplitude, 2.5e-3
+    expected = 5.0 * np.sin(4 * math.pi * t / time_factor)
+    assert expanded.ground_acceleration == pytest.approx(expected, abs=3e-3)
+    assert expanded.dt == pytest.approx(0.01 / (16 * math.pi), rel=1e-15)
+
+    as_recorded = parse_scene(json.dumps(_row_of_three("hertz", "sine.txt")), base_dir=tmp_path)
+    variables = {v.name: v.value for v in scene_pi(as_recorded.scene, as_recorded.expanded).variables}
+    assert variables["a_p"] == pytest.approx(2.5, rel=1e-12)
+    assert variables["w_p"] == pytest.approx(4 * math.pi, rel=3e-3)
+    assert as_recorded.expanded.record.time_factor == 1.0
+
+    predominant = _row_of_three("hertz", "sine.txt")
+    predominant["excitation"]["period"] = "predominant"
+    loaded = parse_scene(json.dumps(predominant), base_dir=tmp_path)
+    report = scene_pi(loaded.scene, loaded.expanded)
+    assert {v.name: v.value for v in report.variables}["w_p"] == pytest.approx(4 * math.pi, rel=5e-3)
+    assert "predominant period T_p" in report.notes[0]
+
+    stated = _row_of_three("hertz", "sine.txt")
+    stated["excitation"]["period"] = 1.0
+    loaded = parse_scene(json.dumps(stated), base_dir=tmp_path)
+    report = scene_pi(loaded.scene, loaded.expanded)
+    assert {v.name: v.value for v in report.variables}["w_p"] == pytest.approx(2 * math.pi)
+    assert "the period stated in the scene" in report.notes[0]
+
+
+def test_oscillator_steps_are_exact_for_a_piecewise_linear_record():
+    """The spectrum recurrence against an adaptive Runge-Kutta integration of the same
+    oscillator under the same linearly interpolated record (a chirp from rest), and the
+    predominant period of a 2 Hz sine: the resonance, 0.5 s to the damped peak's offset."""
+    import numpy as np
+    from scipy.integrate import solve_ivp
+
+    from pframe.excitation.characteristic import predominant_period, sdof_peak_displacements
+
+    t = np.arange(0.0, 10.0, 0.02)
+    a = 3.0 * np.sin(2 * np.pi * (0.5 + 0.3 * t) * t)
+    for period in (0.15, 0.7, 2.5):
+        w = 2 * np.pi / period
+        def rate(s, z, w=w):
+            return [z[1], -w * w * z[0] - 0.1 * w * z[1] - np.interp(s, t, a)]
+
+        solution = solve_ivp(rate, (0, t[-1]), [0.0, 0.0], t_eval=t, max_step=0.005,
+                             rtol=1e-11, atol=1e-13)
+        exact = np.max(np.abs(solution.y[0]))
+        assert sdof_peak_displacements(t, a, [period])[0] == pytest.approx(exact, rel=1e-7)
+    sine = 2.5 * np.sin(4 * np.pi * np.arange(0.0, 20.0, 0.005))
+    assert predominant_period(np.arange(0.0, 20.0, 0.005), sine) == pytest.approx(0.5, rel=5e-3)
+
+
+def test_a_record_scene_with_frequency_scales_in_time(tmp_path):
+    """A dimensional scene whose record names its characteristic frequency scales with any
+    similitude: the same Pi groups (a record without it is refused when S_T != 1)."""
+    scene = _row_of_three("jankowski", _sine_record(tmp_path), scales={"a_p": 3.0, "w_p": 20.0})
+    from pframe.nondim.pi_form import expand_pi_data
+
+    data = expand_pi_data(scene, {}, "row.yaml", tmp_path)
+    before = parse_scene(json.dumps(data), base_dir=tmp_path)
+    scaled = scale_scene(data, similitude({"length": "1/16", "modulus": 1, "acceleration": 1}))
+    assert scaled["excitation"]["frequency"] == pytest.approx(4 * 20.0)
+    after = parse_scene(json.dumps(scaled), base_dir=tmp_path)
+    a, b = (scene_pi(x.scene, x.expanded) for x in (before, after))
+    assert b.values == pytest.approx(a.values, rel=1e-12)
+
+
+def test_pi_form_problems_are_named_all_at_once(tmp_path):
+    """A level two buildings do not share, an option the law has not, a Pi number that does
+    not apply, one that is unknown and one that is missing: one message with all five."""
+    scene = _row_of_three("hertz", _sine_record(tmp_path))
+    scene["pi"] |= {"Pi_e": 0.5, "Pi_q": 1.0}
+    del scene["pi"]["Pi_alpha"]
+    scene["contacts"] |= {"floors": {"a-b": [1, 6]}, "keep_tension": True}
+    with pytest.raises(InputError) as info:
+        parse_scene(json.dumps(scene), source="row.yaml", base_dir=tmp_path)
+    message = str(info.value)
+    for part in ("contacts.floors.a-b[1]: contact level 6 is not a floor both a and b have",
+                 "contacts.keep_tension: keep_tension does not apply to hertz contacts",
+                 "pi.Pi_e: Pi_e does not apply: hertz contacts have no restitution",
+                 "pi.Pi_q: unknown field", "pi: Pi_alpha is required (alpha)"):
+        assert part in message, (part, message)
+    assert message.count("row.yaml") == 5
+
+
+def test_a_record_takes_pga_or_scale_not_both(tmp_path):
+    data = {"buildings": [{"name": "A", "floors": 1, "mass": 1.0,
+                           "story": {"material": "elastic", "stiffness": 1.0}}],
+            "excitation": {"kind": "record", "file": _sine_record(tmp_path), "scale": 2.0,
+                           "pga": 3.0},
+            "analysis": {"dt": 0.005, "duration": 1}}  # the record's own samples
+    with pytest.raises(InputError, match="give scale .a factor. or pga"):
+        parse_scene(json.dumps(data), base_dir=tmp_path)
+    del data["excitation"]["scale"]
+    loaded = parse_scene(json.dumps(data), base_dir=tmp_path)
+    assert max(abs(loaded.expanded.ground_acceleration)) == pytest.approx(3.0, rel=1e-9)
 
 
 def test_expand_command_prints_a_valid_dimensional_scene(tmp_path, capsys):

@@ -270,7 +270,9 @@ def test_wu2021_kelvin(wu2021_text):
 def test_wu2021_kelvin_keep_tension_pulls(wu2021_text):
     """Kelvin with keep_tension: the force turns tensile before separation (the drawback the
     paper shows in its Figure 6), by more than 1% of its peak compression."""
-    text = wu2021_text.replace("restitution: 0.4}", "restitution: 0.4, keep_tension: true}")
+    text = wu2021_text.replace("calibration: published}", "calibration: published, "
+                               "keep_tension: true}")
+    assert text.count("keep_tension: true") == 3
     plan, result = _wu2021_variant(text, "kelvin")
     assert result.completed(0), result.describe_failure(0)
     force = result.history["contact_force"][0]

@@ -13,6 +13,7 @@ import re
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import h5py
 import numpy as np
@@ -71,9 +72,16 @@ def copy(result_file, tmp_path):
     return path
 
 
+#: names the tests use -> the file's variables (names are label variables, time is t)
+_IN_FILE = {"time": "t", "node": "node_name", "story": "story_name", "contact": "contact_name"}
+
+
 def read(path, name):
-    with h5py.File(path, "r") as f:
-        return f[name][...] if f[name].dtype.kind != "O" else list(f[name].asstr()[...])
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        values = ds[_IN_FILE.get(name, name)].values
+        return [str(v) for v in values] if values.dtype == object else values
 
 
 def axes_by_label(fig):
@@ -180,8 +188,10 @@ def test_dimensionless_uses_the_scene_scales(result_file):
 
 
 def test_dimensionless_takes_the_scales_the_scene_gives(copy):
+    """The scales the file stores (those of the scene's output.scales, when it gives them)."""
     with h5py.File(copy, "r+") as f:
-        f.attrs["input_yaml"] = SCENE + "output: {scales: {m_b: 10.0, a_p: 2.0, w_p: 4.0}}\n"
+        for key, value in (("m_b", 10.0), ("a_p", 2.0), ("w_p", 4.0), ("l_e", 2.0 / 16.0)):
+            f.attrs[f"reference_{key}"] = value
     panels = axes_by_label(figures(copy, levels=[2], dimensionless=True)["2"])
     force = lines_by_label(panels["contact_force"])["upper"]
     np.testing.assert_allclose(force.get_xdata(), 4.0 * read(copy, "time"), rtol=1e-15)
@@ -191,7 +201,7 @@ def test_dimensionless_takes_the_scales_the_scene_gives(copy):
 
 def test_a_dimensionless_file_is_labelled_so(copy):
     with h5py.File(copy, "r+") as f:
-        for name in ("time", "displacement", "velocity", "contact_force", "story_drift",
+        for name in ("t", "displacement", "velocity", "contact_force", "story_drift",
                      "story_force"):
             f[name].attrs["units"] = "1"
     panels = axes_by_label(figures(copy, levels=[2])["2"])
@@ -204,9 +214,18 @@ def test_a_dimensionless_file_is_labelled_so(copy):
                                   panels["displacement"].get_lines()[0].get_ydata())
 
 
-def test_missing_histories_leave_panels_out(copy, tmp_path, capsys):
-    with h5py.File(copy, "r+") as f:
-        del f["velocity"], f["story_force"]
+def _solved(tmp_path, text: str, name: str) -> Path:
+    scene = tmp_path / f"{name}.yaml"
+    scene.write_text(text, encoding="utf-8")
+    out = tmp_path / f"{name}.nc"
+    assert main(["solve", str(scene), "-o", str(out), "-q"]) == 0
+    return out
+
+
+def test_missing_histories_leave_panels_out(tmp_path, capsys):
+    copy = _solved(tmp_path, SCENE.replace(
+        "quantities: [displacement, velocity, story_force, story_drift, contact_force]",
+        "quantities: [displacement, story_drift, contact_force]"), "partial")
     out = tmp_path / "fig.pdf"
     assert main(["plot", str(copy), "-o", str(out)]) == 0
     err = capsys.readouterr().err
@@ -220,21 +239,23 @@ def test_missing_histories_leave_panels_out(copy, tmp_path, capsys):
 
 
 def sweep(path):
-    """Give the file a leading sweep dimension, as a later layout may."""
-    with h5py.File(path, "r+") as f:
-        u = f["displacement"][...]
-        del f["displacement"]
-        case = f.create_dataset("case", data=np.arange(2))
-        case.make_scale("case")
-        dset = f.create_dataset("displacement", data=np.stack([u, u]))
-        for axis, dim in enumerate(("case", "time", "node")):
-            dset.dims[axis].attach_scale(f[dim])
+    """Give the file's displacement a leading sweep dimension, as sweep files have."""
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        ds = ds.load()
+    ds["displacement"] = ds.displacement.expand_dims(case=2)
+    path.unlink()
+    ds.to_netcdf(path, engine="h5netcdf")
 
 
 def envelopes_only(path):
-    with h5py.File(path, "r+") as f:
-        for name in ("displacement", "velocity", "contact_force", "story_drift", "story_force"):
-            del f[name]
+    scene = path.with_name("envelopes.yaml")
+    scene.write_text(SCENE.replace(
+        "  - kind: history\n    quantities: [displacement, velocity, story_force, story_drift, "
+        "contact_force]\n", ""), encoding="utf-8")
+    path.unlink()
+    assert main(["solve", str(scene), "-o", str(path), "-q"]) == 0
 
 
 def not_pframe(path):
@@ -249,10 +270,10 @@ def not_hdf5(path):
 
 @pytest.mark.parametrize(("damage", "message"), [
     (lambda path: path.unlink(), "no such result file"),
-    (not_hdf5, "not an HDF5 file"),
+    (not_hdf5, "not a netCDF-4/HDF5 file"),
     (not_pframe, "not a pframe result"),
     (envelopes_only, "nothing to plot"),
-    (sweep, "holds a sweep (displacement has the dimensions case=2, time="),
+    (sweep, "holds a sweep (displacement has the dimensions case=2, t="),
 ], ids=["missing", "not-hdf5", "not-pframe", "nothing-plottable", "sweep"])
 def test_bad_files_exit_2_naming_the_file(copy, capsys, damage, message):
     damage(copy)
@@ -276,7 +297,11 @@ def test_bad_arguments_exit_2(result_file, tmp_path, capsys, args, message):
 
 
 def test_dimensionless_needs_a_sine(copy, capsys):
+    """A file without stored reference scales (written before they were stored) falls back
+    on its scene, which needs a sine or output.scales."""
     with h5py.File(copy, "r+") as f:
+        for key in ("m_b", "a_p", "w_p", "l_e"):
+            del f.attrs[f"reference_{key}"]
         f.attrs["input_yaml"] = SCENE.replace(
             "excitation: {kind: sine, amplitude: 3.0, frequency: 6.0}",
             "excitation: {kind: record, file: quake.at2}")

@@ -329,7 +329,8 @@ def test_batch_member_equals_single_run_with_mixed_laws():
     consecutive), over 2 s: member 1 of the batch equals the variant run alone, to roundoff."""
     text = WU2021.read_text(encoding="utf-8").replace(
         "duration: 7.957747154594767", "duration: 2.0")
-    hunt_crossley = "law: improved_kelvin, frequency_ratio: 65, restitution: 0.4"
+    hunt_crossley = "law: improved_kelvin, frequency_ratio: 65, restitution: 0.4,\n     " \
+                    "calibration: published"
     first, rest = text.split(hunt_crossley, 1)
     rest = rest.replace(hunt_crossley, "law: linear, frequency_ratio: 65", 1)
     text = first + hunt_crossley + rest
@@ -511,8 +512,8 @@ def test_kernel_is_second_order_on_an_elastic_scene():
         text = text.replace(bilinear, f"{{material: elastic, stiffness: {k}}}")
     text = text.replace("duration: 7.957747154594767", "duration: 3.183098861837907")
     # linear contacts (never closing here): the kernel test_physics compiles for this structure
-    text = text.replace("law: improved_kelvin, frequency_ratio: 65, restitution: 0.4",
-                        "law: linear, frequency_ratio: 65")
+    text = text.replace("law: improved_kelvin, frequency_ratio: 65, restitution: 0.4,\n     "
+                        "calibration: published", "law: linear, frequency_ratio: 65")
     loaded, plan = _plan(text, base_dir=WU2021.parent)
     ref = solve(plan, ground=of_scene(loaded))
     assert ref.impacts.tolist() == [0, 0, 0]

@@ -18,7 +18,9 @@ import h5py
 import numpy as np
 import pytest
 import yaml
+from conftest import runnable_model
 
+import pframe
 from pframe.assemble import assemble
 from pframe.cli import main
 from pframe.errors import InputError
@@ -92,23 +94,23 @@ def _single(definition, index: int, recorders=None):
 
 
 def test_sweep_file_is_a_labelled_array(grid):
-    xr = pytest.importorskip("xarray")
-    with xr.open_dataset(grid, engine="h5netcdf") as ds:
+    pytest.importorskip("xarray")
+    with pframe.open(grid) as ds:
         assert ds.peak_contact_force.dims == ("gap", "restitution", "contact")
         assert ds.peak_displacement.dims == ("gap", "restitution", "node")
         assert ds.ductility.dims == ("gap", "restitution", "story")
         assert list(ds.gap.values) == [0.0, 0.004, 0.02]
         assert list(ds.restitution.values) == [0.4, 0.8]
         assert ds.gap.attrs["units"] == "m"
-        assert list(ds.contact.values) == ["floor-1", "floor-2"]
-        assert list(ds.node.values) == ["A/1", "A/2", "B/1", "B/2"]
+        assert list(ds.contact_name.values) == ["floor-1", "floor-2"]
+        assert list(ds.node_name.values) == ["A/1", "A/2", "B/1", "B/2"]
         assert ds.peak_contact_force.attrs["units"] == "N"
         assert ds.attrs["sweep_axes"] == "gap restitution"
         assert ds.attrs["variants"] == 6 and ds.attrs["variants_failed"] == 0
         assert (ds.complete == 1).all() and (ds.status == "completed").all()
         assert (ds.steps_completed == 7500).all()
         assert float(ds.energy_balance_error.max()) < 1e-8
-        force = ds.peak_contact_force.sel(contact="floor-2")
+        force = ds.peak_contact_force.sel(contact_name="floor-2")
         assert float(force.sel(gap=0.0).min()) > 0  # floor-2 pounds with the gap closed
         assert float(ds.peak_contact_force.sel(gap=0.02).max()) == 0.0
         assert int(ds.impact_count.sel(gap=0.0).sum()) > int(ds.impact_count.sel(gap=0.004).sum())
@@ -144,10 +146,16 @@ def test_batch_equals_single_runs(folder, grid):
             assert f["energy_balance_error"][position] == single.energy_error(0)
 
 
-def test_variant_road_equals_the_scene_loader():
+def test_variant_road_equals_the_scene_loader(tmp_path):
     """The sweep validates variants from YAML data composed once; for every shipped model it
     gives the scene pframe.model.parse_scene gives from the text."""
     for model in sorted((REPO / "models").glob("*.yaml")):
+        folder = tmp_path / model.stem
+        folder.mkdir()
+        try:
+            model = runnable_model(model, folder)
+        except pytest.skip.Exception:  # its record is not on this machine
+            continue
         text = model.read_text(encoding="utf-8")
         data, lines = _compose(text, str(model))
         mine = load_variant(copy.deepcopy(data), lines, str(model), model.parent)
@@ -178,7 +186,7 @@ def test_a_failing_variant_does_not_spoil_its_chunk(folder, tmp_path):
     definition = load_sweep(tmp_path / "fail.yaml")
     with h5py.File(out, "r") as f:
         assert f["complete"][...].tolist() == [1, 0, 1]
-        status = f["status"].asstr()[...]
+        status = [b"".join(row).decode() for row in f["status"][...]]  # char arrays
         assert status[0] == status[2] == "completed"
         assert "diverged" in status[1] and "step" in status[1]
         assert 0 < f["steps_completed"][1] < 7500
@@ -203,7 +211,7 @@ def test_histories_when_asked(folder):
     with h5py.File(out, "r") as f:
         assert f["displacement"].shape == (3, 2, 751, 4)
         assert f["contact_force"].shape == (3, 2, 751, 2)
-        assert f["time"][1] == pytest.approx(10 * 2.0e-4)
+        assert f["t"][1] == pytest.approx(10 * 2.0e-4)
         plan, single = _single(definition, 5, parse(definition).recorders)
         assert np.array_equal(f["displacement"][2, 1],
                               single.history["displacement"][0][:, plan.node_dof])
@@ -259,7 +267,7 @@ def test_pi_form_base_and_dimensionless_output(tmp_path):
     with h5py.File(out, "r") as f:
         assert f.attrs["units_system"] == "dimensionless"
         assert f["building_peak_displacement"].attrs["units"] == "1"
-        assert [b.decode() for b in f["building"][...]] == ["A", "B"]
+        assert [b"".join(row).decode() for row in f["building_name"][...]] == ["A", "B"]
         assert f["peak_contact_force"][1].max() == 0.0  # a gap of 5 l_e: no pounding
         assert f["peak_contact_force"][0].max() > 0.0
         assert "peak_displacement" not in f

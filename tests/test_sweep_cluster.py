@@ -17,6 +17,7 @@ import pytest
 
 pytest.importorskip("distributed")
 
+from conftest import assert_same_result_file  # noqa: E402
 from test_sweep import BASE  # noqa: E402
 
 from pframe.sweep import load_sweep, run_sweep  # noqa: E402
@@ -86,7 +87,7 @@ def test_dask_run_equals_local_run(tmp_path, cluster):
     remote = run_sweep(definition, tmp_path / "dask.h5", scheduler=cluster)
     assert local.completed and remote.completed
     assert remote.count == 10 and remote.chunks == 4
-    assert (tmp_path / "dask.h5").read_bytes() == (tmp_path / "local.h5").read_bytes()
+    assert_same_result_file(tmp_path / "dask.h5", tmp_path / "local.h5")
 
     import h5py
 

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+import xarray as xr
 import yaml
 
 REPO = Path(__file__).resolve().parents[1]
@@ -72,9 +73,10 @@ def _run(model: str, law: str | None = None, keep_tension: bool = False,
         with h5py.File(out, "r") as f:
             assert f.attrs["units_system"] == "dimensionless"
             run = {name: f[name][()] for name in f}
-    for key in ("node", "story", "contact"):
-        if key in run:
-            run[key] = [s.decode() if isinstance(s, bytes) else s for s in run[key]]
+        with xr.open_dataset(out, engine="h5netcdf") as ds:  # names: decoded char arrays
+            for key in ("node", "story", "contact"):
+                if f"{key}_name" in ds:
+                    run[key] = [str(s) for s in ds[f"{key}_name"].values]
     run["pi"] = _pi_values(path)
     return run
 

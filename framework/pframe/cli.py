@@ -30,9 +30,13 @@ def parser() -> argparse.ArgumentParser:
 
 
 def main(argv: list[str] | None = None) -> int:
+    import shlex
+
     from pframe import outputs
 
+    argv = sys.argv[1:] if argv is None else list(argv)
     args = parser().parse_args(argv)
+    args.command_line = shlex.join(["pframe", *argv])  # the files' history attribute
     before = outputs.handle_signals()
     hook, excepthook = sys.unraisablehook, sys.excepthook
     sys.unraisablehook = _quiet_h5py(hook)

@@ -42,7 +42,11 @@ model, the same model that `pframe validate` applies and that `schemas/model.sch
 - Some keys exclude each other, which `pframe validate` enforces: the contact stiffness of
   `linear`, `kelvin` and `improved_kelvin` is given by exactly one of `stiffness`,
   `frequency` and `frequency_ratio`; a `bilinear` storey takes exactly one of
-  `yield_drift` and `yield_force`; a sine takes at most one of `cycles` and `duration`.
+  `yield_drift` and `yield_force`; a sine takes at most one of `cycles` and `duration`; a
+  record takes at most one of `scale` and `pga`.
+- Repeated settings can be written once with a YAML anchor and merge key: `- &hd {{name:
+  floor-1, law: hertzdamp, ...}}` then `- {{<<: *hd, name: floor-2, nodes: [A/2, B/2]}}`; a key
+  written beside `<<` replaces the merged one, any other key may be given once.
 - A *node name* is `<building>/<floor>`, e.g. `A/1` for the first floor above ground of
   building `A`; the building shorthand creates the nodes `A/1` .. `A/n`.
 - Contact laws and materials from installed plug-in packages add their own `law:` or
@@ -125,6 +129,7 @@ class _Renderer:
         self.schema = schema
         self.defs: dict = schema.get("$defs", {})
         self.models = _models(root_model) if root_model is not None else {}
+        self.root_name = root_model.__name__ if root_model is not None else schema.get("title", "")
         node = self.defs.get("Node", {}).get("properties", {}).get("name", {})
         self.node_pattern = node.get("pattern")
         # def name -> (heading, [paths], (selector, value) or None), in first-visit order
@@ -155,7 +160,7 @@ class _Renderer:
                     value = next((v for v, ref in mapping.items() if ref == s["$ref"]), None)
                     value = (selector["propertyName"], value)
                 out.append((name, value))
-            disc = s.get("discriminator") or selector
+            disc = s.get("discriminator") or self._tag(s) or selector
             for key in ("anyOf", "oneOf", "allOf", "prefixItems"):
                 for sub in s.get(key, []):
                     walk(sub, disc if key in ("anyOf", "oneOf") else None)
@@ -164,6 +169,19 @@ class _Renderer:
 
         walk(prop, None)
         return out
+
+    def _tag(self, s: dict) -> dict | None:
+        """The tag of a union whose branches each fix one property with ``const`` (the
+        schema files leave OpenAPI's ``discriminator`` out): a discriminator-like mapping."""
+        branches = [b.get("$ref") for b in s.get("oneOf") or s.get("anyOf") or []]
+        if len(branches) < 2 or None in branches:
+            return None
+        props = [self.defs.get(r.split("/")[-1], {}).get("properties", {}) for r in branches]
+        for name in props[0]:
+            values = [p.get(name, {}).get("const") for p in props]
+            if None not in values and len(set(values)) == len(values):
+                return {"propertyName": name, "mapping": dict(zip(values, branches))}
+        return None
 
     def _visit(self, schema: dict, path: str):
         children = []
@@ -284,7 +302,7 @@ class _Renderer:
         out += ["## Top level", ""]
         if self.schema.get("description"):
             out += [self.schema["description"], ""]
-        out += self.table(self.schema.get("title", ""), self.schema) + [""]
+        out += self.table(self.root_name, self.schema) + [""]
         for name, section in self.sections.items():
             schema = self.defs[name]
             out += [f"## {section['heading']}", ""]
@@ -307,7 +325,7 @@ def _quantities() -> list[str]:
     lines = ["## Recordable quantities", "",
              "The values of `quantities` in `recorders` (a `history` keeps every `every`-th "
              "step and t = 0, an `envelope` keeps the peak absolute value over the run); "
-             "see [the HDF5 layout](hdf5.md) for how they are stored.", "",
+             "see [the result file layout](netcdf.md) for how they are stored.", "",
              "| Quantity | One value per | Units | Meaning |", "|---|---|---|---|"]
     for name, (dimension, units, meaning) in QUANTITIES.items():
         lines.append(f"| `{name}` | {dimension or '(scalar)'} | {_cell(units)} | "
@@ -321,13 +339,14 @@ def yaml_reference_markdown(schema: dict | None = None) -> str:
     Parameters
     ----------
     schema : dict, optional
-        A scene JSON Schema; by default ``pframe.model.scene.Scene.model_json_schema()``
-        (the built-in laws).
+        A scene JSON Schema; by default :func:`pframe.schema.scene_schema` (the built-in
+        laws; the schema file ``model.schema.json``).
     """
     root = None
     if schema is None:
         from pframe.model.scene import Scene
+        from pframe.schema import scene_schema
 
-        schema = Scene.model_json_schema()
+        schema = scene_schema()
         root = Scene
     return _Renderer(schema, root).render()

@@ -8,7 +8,8 @@
 - Bounded: a file whose aliases (``*name``) would expand beyond :data:`MAX_NODES` values, or
   that nests deeper than :data:`MAX_DEPTH`, is refused with a message before memory grows (a
   1 kB "billion laughs" file would otherwise expand to gigabytes).
-- A mapping key must be a scalar, and each key appears once.
+- A mapping key must be a scalar, and each key appears once; merge keys (``<<: *defaults``)
+  bring the keys of an anchored mapping, which keys written beside them replace.
 
 :func:`compose` returns the data and the line of every value (a path of keys and list indices
 to a line number), which :func:`where` turns into ``file, line N, a.b[2].c`` for messages.
@@ -36,6 +37,7 @@ _FLOAT = re.compile(r"^[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?
 
 
 _PLAIN = ("tag:yaml.org,2002:map", "tag:yaml.org,2002:seq")
+_MERGE = "tag:yaml.org,2002:merge"
 
 
 class Loader(yaml.SafeLoader):
@@ -135,17 +137,24 @@ def compose(text: str, source: str = "<string>") -> tuple[object, dict]:
         if isinstance(node, yaml.MappingNode):
             out = {}
             for key_node, value_node in node.value:
+                if key_node.tag == _MERGE:
+                    out.update(merged(key_node, value_node, path, depth))
+            own: set = set()
+            for key_node, value_node in node.value:
+                if key_node.tag == _MERGE:
+                    continue
                 if not isinstance(key_node, yaml.ScalarNode):
                     kind = "list" if isinstance(key_node, yaml.SequenceNode) else "mapping"
                     raise InputError(
                         f"{source}, line {key_node.start_mark.line + 1}: a key in "
                         f"{dotted(path)} is a {kind}; keys are names (text)")
                 key = loader.construct_object(key_node, deep=True)
-                if key in out:
+                if key in own:
                     raise InputError(
                         f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
                         f"appears twice in {dotted(path)}; each key may be given once"
                     )
+                own.add(key)
                 if not aliased:
                     lines[path + (key,)] = key_node.start_mark.line + 1
                 out[key] = convert(value_node, path + (key,), depth + 1,
@@ -159,6 +168,22 @@ def compose(text: str, source: str = "<string>") -> tuple[object, dict]:
                 seen.add(id(item))
             return out
         return loader.construct_object(node, deep=True)
+
+    def merged(key_node, value_node, path, depth) -> dict:
+        """The keys a merge key (``<<: *defaults`` or ``<<: [*a, *b]``) brings: the first
+        mapping listed wins, keys written beside ``<<`` win over all; counted as aliases."""
+        sources = (value_node.value if isinstance(value_node, yaml.SequenceNode)
+                   else [value_node])
+        out: dict = {}
+        for source_node in reversed(sources):
+            if not isinstance(source_node, yaml.MappingNode):
+                raise InputError(f"{source}, line {key_node.start_mark.line + 1}, "
+                                 f"{dotted(path)}: a merge key (<<) takes a mapping (*anchor) "
+                                 "or a list of them")
+            out.update(convert(source_node, path, depth, True))
+        for key in out:
+            lines.setdefault(path + (key,), key_node.start_mark.line + 1)
+        return out
 
     seen: set = set()  # nodes converted once: a second visit comes through an alias
     try:

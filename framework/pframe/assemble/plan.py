@@ -70,14 +70,6 @@ class Plan:
     warnings: tuple[str, ...] = ()
 
     @property
-    def gamma(self) -> float:
-        return self.integrator.gamma
-
-    @property
-    def beta(self) -> float:
-        return self.integrator.beta
-
-    @property
     def batch(self) -> int:
         return self.mass.shape[0]
 
@@ -315,7 +307,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     return dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts,
-                               warnings=warnings)
+                               warnings=first.warnings + warnings)
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
@@ -329,6 +321,9 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         raise InputError("the OpenSees peer damps on the initial stiffness only")
     materials = []
     for group in plan.story_groups:
+        if group.law.name not in ("elastic", "bilinear"):
+            raise InputError(f"the OpenSees peer models elastic and bilinear storeys (Elastic, "
+                             f"Steel01); the scene's storeys use {group.law.name!r}")
         for j, i in enumerate(group.index):
             p = group.params[member, j]
             materials.append((i, ("elastic", p[0]) if group.law.name == "elastic"
@@ -337,7 +332,8 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         if group.law.name != "linear":
-            raise InputError("the OpenSees peer takes linear contacts only")
+            raise InputError(f"the OpenSees peer models linear contacts only (ElasticPPGap); "
+                             f"the scene's contacts use {group.law.name!r}")
         stiffness[group.index] = group.params[member, :, 0]
     rayleigh = []
     names = [""] * plan.n_dof

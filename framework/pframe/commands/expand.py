@@ -12,23 +12,39 @@ def expanded_text(path: Path) -> str | None:
     """The dimensional YAML of a Pi-form scene file; None for a dimensional scene."""
     from pframe.model import load_scene
     from pframe.nondim.emit import dump_scene
-    from pframe.nondim.pi_form import expand_pi_data, is_pi_form
+    from pframe.nondim.pi_form import is_pi_form, pi_expansion
     from pframe.yamltext import compose
 
     loaded = load_scene(path)  # validates both forms, with line numbers
     data, lines = compose(loaded.text, str(path))
     if not is_pi_form(data):
         return None
-    expanded = expand_pi_data(data, lines, str(path))
-    s = expanded["output"]["scales"]
+    expansion = pi_expansion(data, lines, str(path), path.parent)
+    expanded, s = expansion.data, expansion.scales
     header = [
         f"Expanded from the Pi-form scene {path} by 'pframe expand'.",
         f"Reference scales: m_b = {s['m_b']!r} kg, a_p = {s['a_p']!r} m/s^2, "
         f"w_p = {s['w_p']!r} rad/s; l_e = a_p / w_p^2 = {s['a_p'] / s['w_p'] ** 2!r} m.",
-        "m_a = Pi_m m_b, K_a = Pi_k m_b w_p^2, K_b = Pi_mu K_a, u_y = Pi_uy l_e, d = Pi_d l_e,",
-        "contact frequency_ratio = Pi_wcon, dt = dtau / w_p, duration = tau / w_p.",
     ]
+    if data.get("excitation", {}).get("kind") == "record":
+        found = expansion.excitation
+        header.append(f"The record is scaled to its PGA a_p and its time axis to w_p = "
+                      f"{found.frequency_is}.")
+    header += _group_lines(expansion.groups)
+    header.append("dt = dtau / w_p, duration = tau / w_p.")
     return dump_scene(expanded, header, "../schemas/model.schema.json")
+
+
+def _group_lines(groups, width: int = 96) -> list[str]:
+    """``Pi_k = K_a / (m_b w_p^2), ...`` wrapped into lines."""
+    lines, line = [], "Pi groups:"
+    for group in groups:
+        item = f" {group.name} = {group.formula()},"
+        if len(line) + len(item) > width:
+            lines.append(line)
+            line = " "
+        line += item
+    return lines + [line.rstrip(",")]
 
 
 def _expand(args) -> int:

@@ -27,13 +27,19 @@ def _plot(args) -> int:
         raise InputError("-o '': the figure needs a name ending in .png or .pdf")
     output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
-    if is_sweep(args.result):
+    sweep_file = is_sweep(args.result)
+    _check_options(args, sweep_file)
+    if sweep_file:
         return _plot_sweep(args, output)
+    from pframe.plot.gap import is_gap_audit
+
+    if is_gap_audit(args.result):
+        return _plot_gap(args, output)
     say = (lambda text: None) if args.quiet else (
         lambda text: print(f"pframe: {args.result}: {text}", file=sys.stderr))
     time_range = tuple(args.time_range) if args.time_range else None
-    figs = figures(args.result, kind=args.kind, levels=args.story, time_range=time_range,
-                   dimensionless=args.dimensionless, report=say)
+    figs = figures(args.result, kind=args.kind or "all", levels=args.story,
+                   time_range=time_range, dimensionless=args.dimensionless, report=say)
     written = save(figs, output, title=f"pframe plot {args.result}")
     if not args.quiet:
         levels = ", ".join(figs)
@@ -41,6 +47,26 @@ def _plot(args) -> int:
               f"(level{'s' if len(figs) > 1 else ''} {levels}); wrote "
               + ", ".join(str(p) for p in written))
     return 0
+
+
+#: options of a single run's figures and of a sweep's spectrum (argparse destinations)
+_RUN_OPTIONS = {"kind": "--kind", "story": "--story", "time_range": "--time-range",
+                "dimensionless": "--dimensionless"}
+_SWEEP_OPTIONS = {"response": "--response", "x": "--x", "curves": "--curves", "at": "--at"}
+
+
+def _check_options(args, sweep_file: bool) -> None:
+    """An option that does not apply to the file at hand is an error, not ignored."""
+    from pframe.errors import InputError
+
+    wrong, right = (_RUN_OPTIONS, _SWEEP_OPTIONS) if sweep_file else (_SWEEP_OPTIONS, _RUN_OPTIONS)
+    given = [flag for dest, flag in wrong.items() if getattr(args, dest, None)]
+    if given:
+        what = ("a sweep file (pframe sweep), drawn as one response spectrum" if sweep_file
+                else "the result of one run (pframe solve), drawn level by level")
+        raise InputError(f"{args.result}: {', '.join(given)} "
+                         f"{'does' if len(given) == 1 else 'do'} not apply: the file is {what}; "
+                         f"its options are {', '.join(right.values())}")
 
 
 def _plot_sweep(args, output: Path) -> int:
@@ -65,6 +91,24 @@ def _plot_sweep(args, output: Path) -> int:
     return 0
 
 
+def _plot_gap(args, output: Path) -> int:
+    """A gap-audit file (pframe gap): the separations by rule and level, and the fragility."""
+    from pframe.plot import save
+    from pframe.plot.gap import gap_figure
+
+    level = None
+    for item in args.at or []:
+        key, _, value = item.partition("=")
+        if key.strip() == "level":
+            level = float(value)
+    fig, notes = gap_figure(args.result, statistic=args.statistic or "p84", level=level)
+    written = save({"gap": fig}, output, title=f"pframe plot {args.result}")
+    if not args.quiet:
+        print(f"{args.result}: gap audit ({'; '.join(notes)}); wrote "
+              + ", ".join(str(p) for p in written))
+    return 0
+
+
 def register(sub) -> None:
     plot = sub.add_parser(
         "plot", help="draw a result's histories and hysteresis loops (PNG or PDF)",
@@ -76,7 +120,7 @@ def register(sub) -> None:
     plot.add_argument("-o", "--output", metavar="FIGURE",
                       help="FIGURE.pdf (one page per level) or FIGURE.png (FIGURE-<level>.png "
                            "for several levels); default: RESULT's name with .pdf")
-    plot.add_argument("--kind", choices=("all", "histories", "hysteresis"), default="all",
+    plot.add_argument("--kind", choices=("all", "histories", "hysteresis"), default=None,
                       help="panels to draw (default: all)")
     plot.add_argument("--story", action="append", metavar="N",
                       help="draw floor level N only (repeat for several; default: every level)")
@@ -98,5 +142,8 @@ def register(sub) -> None:
                             "building, contact, storey or node)")
     sweep.add_argument("--at", action="append", metavar="DIMENSION=VALUE",
                        help="fix a dimension at a value (repeatable), e.g. --at contact=floor-1")
+    plot.add_argument("--statistic", choices=("median", "p84", "max"),
+                      help="gap-audit files (pframe gap): the statistic over the records "
+                           "drawn (default: p84); --at level=L picks the intensity level")
     plot.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     plot.set_defaults(run=_plot)

@@ -1,7 +1,9 @@
-"""``pframe schema [--check]``: write or check the JSON Schemas of scene files.
+"""``pframe schema [--check]``: write or check the JSON Schemas of the input files.
 
-Two files: the dimensional scene schema (``-o``, default ``schemas/model.schema.json``) and,
-next to it, ``pi-scene.schema.json`` for scenes written in Pi numbers.
+Three files (``pframe.schema``): the scene schema (``-o``, default ``schemas/model.schema.json``)
+and, next to it, ``pi-scene.schema.json`` and ``sweep.schema.json``. The package ships the same
+files (``pframe/schemas/``); in a source checkout ``pframe schema`` rewrites those too, and
+``--check`` fails when either copy is stale.
 """
 
 from __future__ import annotations
@@ -10,11 +12,23 @@ import sys
 from pathlib import Path
 
 
+def _source_checkout() -> bool:
+    """Whether pframe runs from its repository (not from an installed wheel)."""
+    from pframe.schema import packaged
+
+    pyproject = packaged().parents[2] / "pyproject.toml"
+    return pyproject.is_file() and 'name = "pframe"' in pyproject.read_text(encoding="utf-8")
+
+
 def _schema(args) -> int:
-    from pframe.schema import pi_schema_text, schema_text
+    from pframe.schema import packaged, texts
 
     path = Path(args.output)
-    files = ((path, schema_text()), (path.with_name("pi-scene.schema.json"), pi_schema_text()))
+    generated = texts()
+    files = [(path if name == "model.schema.json" else path.with_name(name), text)
+             for name, text in generated.items()]
+    if (args.check or _source_checkout()) and packaged().resolve() != path.parent.resolve():
+        files += [(packaged() / name, text) for name, text in generated.items()]
     if args.check:
         stale = 0
         for file, text in files:
@@ -26,17 +40,17 @@ def _schema(args) -> int:
             else:
                 print(f"{file} is up to date")
         return 1 if stale else 0
-    path.parent.mkdir(parents=True, exist_ok=True)
     for file, text in files:
+        file.parent.mkdir(parents=True, exist_ok=True)
         file.write_text(text, encoding="utf-8")
         print(f"wrote {file}")
     return 0
 
 
 def register(sub) -> None:
-    schema = sub.add_parser("schema", help="write the JSON Schemas of scene files")
+    schema = sub.add_parser("schema", help="write the JSON Schemas of scene and sweep files")
     schema.add_argument("--check", action="store_true", help="fail if a file is stale")
     schema.add_argument("-o", "--output", default="schemas/model.schema.json",
-                        help="the dimensional scene schema; pi-scene.schema.json is written "
-                        "next to it")
+                        help="the scene schema; pi-scene.schema.json and sweep.schema.json are "
+                             "written next to it")
     schema.set_defaults(run=_schema)

@@ -1,54 +1,22 @@
-"""``pframe solve MODEL.yaml``: run a scene and write its results to HDF5."""
+"""``pframe solve MODEL.yaml``: run a scene and write its results (netCDF-4, docs/netcdf.md)."""
 
 from __future__ import annotations
 
 import sys
-import time
 from pathlib import Path
 
 from pframe.errors import InputError
 
 
-class _Progress:
-    """A progress bar on a terminal, shown only when a run lasts more than a second."""
-
-    def __init__(self, stream):
-        self.stream = stream
-        self.first = None  # (time, steps) at the first report: compilation is before it
-        self.shown = False
-
-    def __call__(self, done: int, total: int):
-        now = time.perf_counter()
-        if self.first is None:
-            self.first = (now, done)
-            return
-        elapsed = now - self.first[0]
-        if elapsed < 1.0 and not self.shown:
-            return
-        self.shown = True
-        width = 30
-        filled = int(width * done / total)
-        rate = (done - self.first[1]) / elapsed
-        left = (total - done) / rate if rate > 0 else 0.0
-        self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {done}/{total} steps, "
-                          f"{rate:,.0f} steps/s, {left:.0f} s left ")
-        self.stream.flush()
-
-    def close(self):
-        if self.shown:
-            self.stream.write("\n")
-
-
 def _solve(args) -> int:
     from pframe import outputs
+    from pframe.api import check_output
     from pframe.model import load_scene
 
-    out = args.output if args.output is not None else Path(args.model).stem + ".h5"
-    out = outputs.check_output(out, inputs=[args.model], overwrite=args.overwrite,
-                               what="result file")
+    out = args.output if args.output is not None else Path(args.model).stem + ".nc"
+    outputs.check_output(out, inputs=[args.model], overwrite=args.overwrite, what="result file")
     loaded = load_scene(args.model)
-    outputs.check_output(out, inputs=[args.model, *_record_files(loaded)],
-                         overwrite=args.overwrite, what="result file")
+    out = check_output(out, args.overwrite, loaded)
     _check_resources(loaded, out)
 
     from pframe.assemble import assemble
@@ -61,19 +29,17 @@ def _solve(args) -> int:
         raise InputError(f"{loaded.source}: {exc}") from None
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
+    if not args.quiet:
+        from pframe.commands.validate import record_lines
+
+        for line in record_lines(loaded):
+            print(f"{loaded.source}: {line}", flush=True)
     try:
         return _run(args, loaded, plan, out, simulate, ResultWriter)
     except OSError as exc:
         raise outputs.failure(out, exc) from None
     except InputError as exc:  # found while running: numbers beyond floating point
         raise InputError(f"{loaded.source}: {exc}") from None
-
-
-def _record_files(loaded) -> list[Path]:
-    excitation = getattr(loaded.scene, "excitation", None)
-    if getattr(excitation, "kind", None) == "record":
-        return [Path(loaded.base_dir) / excitation.file]
-    return []
 
 
 def _check_resources(loaded, out: Path) -> None:
@@ -104,13 +70,16 @@ def _kept_elsewhere(out: Path) -> Path | None:
 
 
 def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
+    from pframe.progress import bar
+
     on_terminal = sys.stderr.isatty() and not args.quiet
-    progress = _Progress(sys.stderr) if on_terminal else None
+    progress = bar(False if args.quiet else None, "steps")
     announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))
                 if on_terminal else None)
     # The histories go to the (temporary) file as they are computed, not held in memory; on
     # any error or Ctrl-C the temporary file is removed and nothing is written.
-    with ResultWriter(out, plan, loaded, track=_PEAKS) as writer:
+    with ResultWriter(out, plan, loaded, track=_PEAKS, compress=args.compress,
+                      call=getattr(args, "command_line", None)) as writer:
         try:
             result = simulate(plan, progress=progress, announce=announce, sink=writer.append)
         finally:
@@ -179,9 +148,12 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None):
 
 
 def register(sub) -> None:
-    solve = sub.add_parser("solve", help="run a scene and write its results to HDF5")
+    solve = sub.add_parser("solve", help="run a scene and write its results (netCDF-4)")
     solve.add_argument("model", help="scene file (YAML)")
-    solve.add_argument("-o", "--output", help="result file (default: MODEL's name with .h5)")
+    solve.add_argument("-o", "--output", help="result file (default: MODEL's name with .nc)")
     solve.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    solve.add_argument("--compress", action="store_true",
+                       help="deflate the histories (shuffle + gzip: about 2/3 of the size, "
+                            "several times the kernel's time to write)")
     solve.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     solve.set_defaults(run=_solve)

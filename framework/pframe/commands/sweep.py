@@ -10,16 +10,17 @@ from pframe.errors import InputError
 
 
 class _Progress:
-    """Variants done, rate and time left: a bar on a terminal, a plain line every ``every``
-    seconds (and at the end) otherwise."""
+    """Variants done, rate and time left: a bar on a terminal (tqdm, sized to it), a plain
+    line every ``every`` seconds (and at the end) otherwise."""
 
     def __init__(self, stream, tty: bool, every: float = 10.0):
+        from pframe.progress import Bar
+
         self.stream = stream
-        self.tty = tty
+        self.bar = Bar("variants", stream=stream) if tty else None
         self.every = every
         self.start = None  # (time, variants done) when this run started computing
         self.last_line = 0.0
-        self.shown = False
 
     def __call__(self, done: int, total: int, failed: int):
         now = time.perf_counter()
@@ -27,7 +28,12 @@ class _Progress:
             self.start = (now, done)
             self.last_line = now
             if done:
-                self._write(f"resuming: {done} of {total} variants already done", now, newline=True)
+                self._write(f"resuming: {done} of {total} variants already done", now)
+            if self.bar is not None:
+                self.bar(done, total, failed)
+            return
+        if self.bar is not None:
+            self.bar(done, total, failed)
             return
         elapsed = now - self.start[0]
         rate = (done - self.start[1]) / elapsed if elapsed > 0 else 0.0
@@ -35,27 +41,17 @@ class _Progress:
         failures = f" ({failed} failed)" if failed else ""
         text = (f"{done}/{total} variants{failures}, {rate:,.2f} variants/s, "
                 + (f"{left:.0f} s left" if done < total else f"{elapsed:.1f} s"))
-        if self.tty:
-            width = 30
-            filled = int(width * done / total)
-            self.stream.write(f"\r  [{'#' * filled}{'.' * (width - filled)}] {text} ")
-            self.stream.flush()
-            self.shown = True
-        elif done == total or now - self.last_line >= self.every:
-            self._write(text, now, newline=True)
+        if done == total or now - self.last_line >= self.every:
+            self._write(text, now)
 
-    def _write(self, text, now, newline):
+    def _write(self, text, now):
         self.last_line = now
-        if self.tty and self.shown:
-            self.stream.write("\n")
-            self.shown = False
-        self.stream.write(f"pframe sweep: {text}\n" if newline else text)
+        self.stream.write(f"pframe sweep: {text}\n")
         self.stream.flush()
 
     def close(self):
-        if self.tty and self.shown:
-            self.stream.write("\n")
-            self.stream.flush()
+        if self.bar is not None:
+            self.bar.close()
 
 
 def _existing_digest(path: Path) -> str | None:
@@ -97,7 +93,7 @@ def _sweep(args) -> int:
     spec = parse(definition)
     from pframe import outputs
 
-    out = Path(args.output if args.output is not None else Path(args.sweep).stem + ".h5")
+    out = Path(args.output if args.output is not None else Path(args.sweep).stem + ".nc")
     if args.output == "":
         raise InputError("-o '': the sweep file needs a name")
     inputs = [args.sweep, definition.base_source or None,
@@ -126,7 +122,8 @@ def _sweep(args) -> int:
     progress = None if args.quiet else _Progress(sys.stderr, sys.stderr.isatty())
     try:
         run = run_sweep(definition, out, restart=args.overwrite, threads=args.threads,
-                        scheduler=args.scheduler, progress=progress)
+                        scheduler=args.scheduler, progress=progress,
+                        call=getattr(args, "command_line", None))
     except KeyboardInterrupt:
         if progress is not None:
             progress.close()
@@ -136,6 +133,8 @@ def _sweep(args) -> int:
     finally:
         if progress is not None:
             progress.close()
+    for warning in _warnings(out):
+        print(f"pframe: warning: {args.sweep}: {warning}", file=sys.stderr)
     if not args.quiet:
         _summary(run, spec)
     if run.failed:
@@ -169,6 +168,19 @@ def _check_resources(spec, out: Path, quiet: bool) -> None:
             print(f"pframe: warning: {spec.definition.source}: {warning}", file=sys.stderr)
 
 
+def _warnings(path: Path) -> list[str]:
+    """The warnings a sweep file keeps (its variants' plans': restitution, time step)."""
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            text = f.attrs.get("warnings", "")
+    except OSError:
+        return []
+    text = text.decode() if isinstance(text, bytes) else str(text)
+    return [line for line in text.splitlines() if line]
+
+
 def _plural(count: int, noun: str) -> str:
     return f"{count} {noun}{'' if count == 1 else 's'}"
 
@@ -196,10 +208,10 @@ def register(sub) -> None:
                     "gaps, yield drifts, excitations, Pi numbers, record files) as batches of "
                     "the compiled kernel, and write one netCDF4-compatible file whose "
                     "dimensions are the sweep axes. Finished chunks are kept beside the output "
-                    "(OUT.h5.parts/): a sweep that was stopped continues where it stopped when "
+                    "(OUT.nc.parts/): a sweep that was stopped continues where it stopped when "
                     "the same command is run again. See docs/sweeps.md.")
     sweep.add_argument("sweep", help="sweep file (YAML)")
-    sweep.add_argument("-o", "--output", help="result file (default: SWEEP's name with .h5)")
+    sweep.add_argument("-o", "--output", help="result file (default: SWEEP's name with .nc)")
     sweep.add_argument("--overwrite", action="store_true",
                        help="replace an existing output, and discard finished chunks of a "
                             "different sweep")

@@ -1,19 +1,169 @@
-"""``pframe validate MODEL.yaml``: check a scene without running it."""
+"""``pframe validate FILE.yaml``: check a scene, a Pi-form scene or a sweep file without running
+it, and show how its inputs were read (record files, restitution, warnings)."""
 
 from __future__ import annotations
 
+import sys
+from pathlib import Path
 
-def _validate(args) -> int:
+#: keys only a sweep file has (docs/sweeps.md); a scene has none of them
+SWEEP_KEYS = frozenset({"base", "scene", "axes", "combine", "keep", "chunk"})
+
+
+def input_kind(data) -> str:
+    """``sweep``, ``suite``, ``pi-scene`` or ``scene``: what kind of input file composed YAML
+    data is."""
+    if isinstance(data, dict):
+        if SWEEP_KEYS & set(data):
+            return "sweep"
+        if "records" in data or ("folder" in data and "buildings" not in data):
+            return "suite"
+        if "pi" in data:
+            return "pi-scene"
+    return "scene"
+
+
+def _warn(source: str, warnings) -> None:
+    sys.stdout.flush()
+    for warning in warnings:
+        print(f"pframe: warning: {source}: {warning}", file=sys.stderr)
+
+
+def record_lines(loaded) -> list[str]:
+    """The facts of the record a loaded scene reads, as lines (none for other excitations)."""
+    from pframe.excitation.describe import describe_line, describe_record
+
+    excitation = loaded.scene.excitation
+    if excitation is None or excitation.kind != "record":
+        return []
+    facts = describe_record(Path(loaded.base_dir) / excitation.file, excitation.format,
+                            excitation.units, excitation.scale)
+    return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+
+
+def period_lines(expanded, plan) -> list[str]:
+    """The first fixed-base periods of each building (initial stiffness), as lines."""
+    import numpy as np
+
+    lines = []
+    for b, name in enumerate(expanded.buildings):
+        nodes = np.flatnonzero(expanded.node_building == b)
+        local = {node: i for i, node in enumerate(nodes)}
+        stiffness = np.zeros((len(nodes), len(nodes)))
+        for s in np.flatnonzero(expanded.story_building == b):
+            low, up = expanded.stories[s].nodes
+            k = plan.story_k0[0, s]
+            stiffness[local[up], local[up]] += k
+            if low >= 0:
+                stiffness[local[low], local[low]] += k
+                stiffness[local[low], local[up]] -= k
+                stiffness[local[up], local[low]] -= k
+        scale = 1.0 / np.sqrt(expanded.masses[nodes])
+        omega2 = np.linalg.eigvalsh(stiffness * np.outer(scale, scale))
+        periods = [2.0 * np.pi / np.sqrt(w) for w in omega2[:3] if w > 0.0]
+        if periods:
+            lines.append(f"building {name}: {len(nodes)} floors, periods "
+                         f"{', '.join(f'{T:#.3g}' for T in periods)} s (fixed base, initial "
+                         "stiffness)")
+    return lines
+
+
+def _scene(path: Path, kind: str) -> int:
+    from pframe.assemble import assemble
     from pframe.model import load_scene
 
-    loaded = load_scene(args.model)
+    loaded = load_scene(path)
     ex = loaded.expanded
-    print(f"{loaded.source}: valid; {len(ex.node_names)} nodes in {len(ex.buildings)} buildings, "
-          f"{len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps")
+    plan = assemble(ex)
+    what = "a scene in Pi numbers: " if kind == "pi-scene" else ""
+    print(f"{loaded.source}: valid; {what}{len(ex.node_names)} nodes in {len(ex.buildings)} "
+          f"buildings, {len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps "
+          f"of dt = {ex.dt:g} s")
+    for line in period_lines(ex, plan) + record_lines(loaded) + [f"note: {n}" for n in ex.notes]:
+        print(f"  {line}")
+    _warn(loaded.source, plan.warnings)
     return 0
 
 
+def _sweep(path: Path) -> int:
+    from pframe.excitation.describe import describe_line, describe_record
+    from pframe.sweep import load_sweep, parse
+
+    definition = load_sweep(path)
+    spec = parse(definition)
+    axes = ", ".join(f"{a.name}: {len(a.values)}" for a in spec.axes)
+    base = definition.base_source or "inline"
+    print(f"{definition.source}: valid; a sweep of {spec.count} variants ({spec.model.combine} of "
+          f"{axes}) of the base scene {base}")
+    excitation = spec.base_data.get("excitation") or {}
+    seen = set()
+    for _, _, key, file in definition.records:
+        if key in seen:
+            continue
+        seen.add(key)
+        facts = describe_record(file, excitation.get("format", "auto"), excitation.get("units"),
+                                excitation.get("scale", 1.0))
+        print(f"  {describe_line(facts)}")
+    # what a run would warn of, for the first and the last variant (every axis at its first
+    # and at its last value): the others differ in numbers only
+    from pframe.assemble import assemble
+    from pframe.sweep.variants import load_variant, materialise, variant_data
+
+    said = set()
+    for index in dict.fromkeys((0, spec.count - 1)):
+        variant = load_variant(variant_data(spec, index), spec.base_lines, spec.base_where,
+                               materialise(definition))
+        for note in variant.expanded.notes:
+            if note not in said:
+                print(f"  note: {note} (variant {index}: {spec.describe(index)})")
+                said.add(note)
+        _warn(definition.source, [f"variant {index} ({spec.describe(index)}): {w}"
+                                  for w in assemble(variant.expanded).warnings])
+    return 0
+
+
+def _suite(path: Path) -> int:
+    """A ground-motion suite of ``pframe gap``: its structure, and each record it names read
+    as the audit would read it (records not beside the suite are named, not refused: the
+    audit takes their folder with --records-folder)."""
+    from pframe.excitation.describe import describe_line, describe_record
+    from pframe.excitation.suite import RecordEntry, SuiteFile
+    from pframe.model.load import _compose, read_input, validated
+
+    data, lines = _compose(read_input(path, "suite"), str(path))
+    model = validated(SuiteFile, data, lines, str(path))
+    entries = [RecordEntry(file=r) if isinstance(r, str) else r for r in model.records]
+    print(f"{path}: valid; a ground-motion suite of {len(entries)} record"
+          f"{'' if len(entries) == 1 else 's'}" + (f" and the folder {model.folder}"
+                                                    if model.folder else "")
+          + f", levels in {model.measure.kind}")
+    for entry in entries:
+        file = path.parent / entry.file
+        if file.is_file():
+            facts = describe_record(file, entry.format, entry.units, entry.scale)
+            print(f"  {describe_line(facts)}")
+        else:
+            print(f"  {entry.file}: not beside the suite (pframe gap --records-folder DIR "
+                  "finds it)")
+    return 0
+
+
+def _validate(args) -> int:
+    from pframe.model.load import _compose, read_input
+
+    path = Path(args.model)
+    data, _ = _compose(read_input(path, "input"), str(path))
+    kind = input_kind(data)
+    if kind == "suite":
+        return _suite(path)
+    return _sweep(path) if kind == "sweep" else _scene(path, kind)
+
+
 def register(sub) -> None:
-    validate = sub.add_parser("validate", help="check a scene file without running it")
-    validate.add_argument("model")
+    validate = sub.add_parser(
+        "validate", help="check a scene, Pi-form scene or sweep file without running it",
+        description="Check a scene file, a scene in Pi numbers or a sweep file (recognised by "
+                    "its keys) without running it; print how each record file was read and "
+                    "the warnings a run would give.")
+    validate.add_argument("model", help="scene, Pi-form scene or sweep file (YAML)")
     validate.set_defaults(run=_validate)

@@ -37,18 +37,23 @@ def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:
             raise ValueError(f"{name}, line 4: DT is not a number in {header.strip()!r}") from None
     if not (math.isfinite(step) and n <= MAX_RECORD_BYTES):
         raise ValueError(f"{name}, line 4: NPTS={n} and DT={step} cannot describe this file")
-    try:
-        values = np.array(" ".join(lines[4:]).replace(",", " ").split(), dtype=float)
-    except ValueError as exc:
-        raise ValueError(f"{name}: a value after the header is not a number ({exc})") from None
     if step <= 0 or n < 2:
         raise ValueError(f"{name}, line 4: NPTS must be >= 2 and DT > 0, got {n} and {step}")
-    if values.size < n:
-        raise ValueError(f"{name}: header says NPTS={n} but {values.size} values follow")
-    if values.size > n + 8:  # a last line may be padded; more is another record's values
-        raise ValueError(f"{name}, line 4: header says NPTS={n} but {values.size} values "
-                         "follow; correct NPTS")
-    return np.arange(n) * step, values[:n]
+    try:
+        values = np.array(" ".join(lines[4:]).replace(",", " ").split(), dtype=float)
+    except ValueError:
+        for number, line in enumerate(lines[4:], start=5):
+            for token in line.replace(",", " ").split():
+                try:
+                    float(token)
+                except ValueError:
+                    raise ValueError(f"{name}, line {number}: {token!r} is not a number (an "
+                                     "acceleration value after the header)") from None
+        raise
+    if values.size != n:
+        raise ValueError(f"{name}, line 4: the header says NPTS={n} but {values.size} values "
+                         "follow it")
+    return np.arange(n) * step, values
 
 
 def _read_columns(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:

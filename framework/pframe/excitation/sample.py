@@ -15,10 +15,15 @@ def sine_end(excitation) -> float:
 
 
 def ground_acceleration(excitation, times: np.ndarray, record=None) -> np.ndarray:
-    """a_g(t_n) (m/s^2) for a Sine definition, or for ``record = (t, a)`` (linear interpolation,
-    zero after the record ends); zeros when ``excitation`` is None (free vibration)."""
+    """a_g(t_n) (m/s^2) for a Sine or pulse definition, or for ``record = (t, a)`` (linear
+    interpolation, zero after the record ends); zeros when ``excitation`` is None (free
+    vibration)."""
     if excitation is None:
         return np.zeros_like(times)
+    if excitation.kind in ("cycloidal", "ricker"):
+        from pframe.excitation.pulses import pulse_motion
+
+        return pulse_motion(excitation, times)[0]
     if excitation.kind == "sine":
         acc = excitation.amplitude * np.sin(excitation.frequency * times)
         return np.where(times <= sine_end(excitation) * (1.0 + 1e-12), acc, 0.0)

@@ -18,7 +18,7 @@ from pframe.integrators._base import IntegratorParams
 class CentralDifference(IntegratorParams):
     """Explicit central difference."""
 
-    type: Literal["central_difference"]
+    type: Literal["central_difference"] = "central_difference"
     substeps: Literal["none", "auto"] = Field(
         "none", description="auto: split each step to stay below the stability limit."
     )

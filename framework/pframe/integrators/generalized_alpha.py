@@ -18,7 +18,7 @@ from pframe.integrators._base import Implicit
 class GeneralizedAlpha(Implicit):
     """Chung-Hulbert generalised-alpha with full Newton iterations."""
 
-    type: Literal["generalized_alpha"]
+    type: Literal["generalized_alpha"] = "generalized_alpha"
     rho_infinity: float = Field(0.8, ge=0, le=1, description="Spectral radius at dt w -> inf.")
 
     def coefficients(self):

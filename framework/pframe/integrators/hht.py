@@ -16,7 +16,7 @@ from pframe.integrators._base import Implicit
 class HHT(Implicit):
     """HHT-alpha with full Newton iterations."""
 
-    type: Literal["hht"]
+    type: Literal["hht"] = "hht"
     alpha: float = Field(0.05, ge=0, le=1.0 / 3.0, description="alpha in [0, 1/3].")
 
     def coefficients(self):

@@ -22,12 +22,21 @@ DampedRestitution = Annotated[
     Field(gt=0, le=1, description=f"Coefficient of restitution e, in [{E_MIN}, 1]."),
     AfterValidator(check_restitution),
 ]
+#: The stiffness of the Hertz-type laws (hertz, hertzdamp, jankowski), for the schema and the docs.
+HERTZ_STIFFNESS = (
+    "Hertz stiffness k (N/m^1.5) of F = k delta^1.5. An impact at approach velocity v penetrates "
+    "delta_m = (5 m_eff v^2 / (4 k))^(2/5) and lasts about 2.94 delta_m / v (m_eff = m1 m2 / "
+    "(m1 + m2)); pframe warns when dt gives fewer than 20 steps per contact period. Published: "
+    "2.75e10 N/m^1.5 (25,000 kip/in^1.5, Muthukumar & DesRoches 2006, bridge decks); see "
+    "docs/restitution.md#choosing-the-contact-stiffness.")
 #: How a damped law turns its restitution into damping (see docs/restitution.md).
 Calibration = Annotated[
     Literal["published", "exact"],
-    Field(description="published: the damping formula of the law's source, whose two-body "
-                      "impact rebounds with a restitution near e (docs/restitution.md lists "
-                      "how near); exact: the damping with which it rebounds with e itself."),
+    Field(description="published (the default): the damping formula of the law's source, whose "
+                      "two-body impact rebounds with a restitution near e (docs/restitution.md "
+                      "lists how near; pframe validate and solve warn when it misses e by more "
+                      "than 0.02 and calibration was not written); exact: the damping with "
+                      "which it rebounds with e itself."),
 ]
 
 
@@ -45,7 +54,11 @@ class ContactStiffness(LawParams):
     paper's Pi_wcon, and needs a sine excitation.
     """
 
-    stiffness: Positive | None = Field(None, description="Contact stiffness k (N/m).")
+    stiffness: Positive | None = Field(
+        None, description="Contact stiffness k (N/m). The contact frequency is w_bar = "
+        "sqrt(k (m1 + m2) / (m1 m2)), the contact period 2 pi / w_bar; pframe warns when dt "
+        "gives fewer than 20 steps per period. A stiff spring, many times the storey stiffness "
+        "(Wu et al. 2021: w_bar = 65 w_p); see docs/restitution.md#choosing-the-contact-stiffness.")
     frequency: Positive | None = Field(
         None, description="Contact frequency w_bar = sqrt(k (m1+m2)/(m1 m2)) (rad/s)."
     )

@@ -36,6 +36,22 @@ E_MIN = 0.01
 
 _EPS = 2.0**-52
 
+#: How far the restitution a published damping formula rebounds with may be from the requested
+#: one before ``pframe validate`` and ``pframe solve`` say so.
+TOLERANCE = 0.02
+
+
+def published_rebound(law, params) -> float | None:
+    """The restitution a contact rebounds with in a two-body impact when its law uses the
+    published damping formula (``calibration: published``) and that restitution is more than
+    :data:`TOLERANCE` from the requested one; None otherwise (``calibration: exact``, a law
+    without restitution, a plug-in law without a ``rebound`` method, or close enough)."""
+    rebound = getattr(law, "rebound", None)
+    if rebound is None or getattr(params, "calibration", None) != "published":
+        return None
+    obtained = float(rebound(params))
+    return obtained if abs(obtained - params.restitution) > TOLERANCE else None
+
 
 def check_restitution(e: float) -> float:
     """``e`` if a damped law accepts it, else ValueError (pydantic reports it at the field)."""
@@ -58,16 +74,26 @@ def hunt_crossley_restitution(chi: float) -> float:
     ``chi (1 + e) = ln((1 + chi) / (1 - chi e))`` in (0, 1/chi); 1 for chi = 0."""
     if chi <= 0.0:
         return 1.0
-    from scipy.optimize import brentq
 
     def g(e):
         return chi * (1.0 + e) - math.log1p(chi) + math.log1p(-chi * e)
 
-    # g(0) = chi - ln(1 + chi) > 0 and g -> -inf as e -> 1/chi; g is concave in e
+    # g(0) = chi - ln(1 + chi) > 0 and g -> -inf as e -> 1/chi; g is concave in e. Bisection
+    # to the last bit (no scipy: pframe validate calls this for every published damping, and
+    # importing scipy.optimize would cost it half a second)
     upper = min(1.0, (1.0 - _EPS) / chi)
     if g(upper) >= 0.0:  # chi so small that e rounds to 1
         return upper
-    return brentq(g, 0.0, upper, xtol=1e-16, rtol=4.0 * _EPS, maxiter=200)
+    lo, hi = 0.0, upper
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mid in (lo, hi):
+            break
+        if g(mid) > 0.0:
+            lo = mid
+        else:
+            hi = mid
+    return 0.5 * (lo + hi)
 
 
 def _hc_series(chi: float, e: float) -> float:

@@ -10,7 +10,9 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
+from pframe.excitation.characteristic import apply_record
 from pframe.laws import ContactContext, get_law
+from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
 from pframe.resources import check_floors, check_steps, steps_of
 
@@ -48,6 +50,14 @@ class Expanded:
     absolute_tolerance: float
     max_iterations: int
     recorders: tuple
+    #: the record as applied (pframe.excitation.characteristic.AppliedRecord), for a record
+    record: object = None
+    #: index of the reference building (its first floor mass is the mass scale m_b)
+    reference: int = 0
+    #: what the run will be told (pframe solve prints them; the result file keeps them)
+    warnings: tuple[str, ...] = ()
+    #: what validate shows besides (facts the scene chose explicitly)
+    notes: tuple[str, ...] = ()
 
 
 def _per_storey(value, n: int, path):
@@ -166,11 +176,24 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
         story_building.append(buildings.index(building_of[up]))
 
-    excitation_frequency = None
+    record = None
+    if scene.excitation is not None and scene.excitation.kind == "record":
+        file = Path(base_dir) / scene.excitation.file
+        try:
+            record = read_record(file, scene.excitation.format, scene.excitation.units)
+        except FileNotFoundError:
+            raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
+        except (ValueError, OSError) as exc:
+            raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
+        try:
+            record = apply_record(scene.excitation, *record)
+        except InputError as exc:
+            raise ModelError(("excitation", "file"), str(exc)) from None
+    excitation_frequency = None  # of frequency_ratio (Pi_wcon = w_bar / w_p): a sine's
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
     masses = np.array([m for _, m, _ in nodes], dtype=float)
-    contacts, seen = [], {}
+    contacts, seen, rebounds = [], {}, {}
     for c, contact in enumerate(scene.contacts):
         path = ("contacts", c)
         left = node_index(contact.nodes[0], path + ("nodes", 0))
@@ -191,6 +214,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
         contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
+        obtained = published_rebound(law, params)
+        if obtained is not None:
+            chosen = "calibration" in contact.model_fields_set
+            key = (chosen, contact.law, law.published_source(params), params.restitution, obtained)
+            rebounds.setdefault(key, []).append(name)
 
     analysis = scene.analysis
     count = steps_of(analysis.duration, analysis.dt)
@@ -202,16 +230,16 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         raise ModelError(("analysis", "duration"), f"duration {analysis.duration} s is shorter "
                                                    f"than one step dt = {analysis.dt} s")
     times = np.arange(steps + 1) * analysis.dt
-    record = None
-    if scene.excitation is not None and scene.excitation.kind == "record":
-        file = Path(base_dir) / scene.excitation.file
-        try:
-            record = read_record(file, scene.excitation.format, scene.excitation.units)
-        except FileNotFoundError:
-            raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
-        except (ValueError, OSError) as exc:
-            raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
-    ag = ground_acceleration(scene.excitation, times, record)
+    ag = ground_acceleration(scene.excitation, times,
+                             None if record is None else (record.times, record.acceleration))
+
+    reference = 1 if len(buildings) > 1 else 0
+    chosen = scene.output.reference
+    if chosen is not None:
+        if chosen not in buildings:
+            raise ModelError(("output", "reference"), f"no building named {chosen!r}; the "
+                             f"buildings are {', '.join(buildings)}")
+        reference = buildings.index(chosen)
 
     u0, v0 = np.zeros(len(nodes)), np.zeros(len(nodes))
     for field, target in (("displacement", u0), ("velocity", v0)):
@@ -237,4 +265,21 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         absolute_tolerance=analysis.newton.absolute_tolerance,
         max_iterations=analysis.newton.max_iterations,
         recorders=tuple(scene.recorders),
+        record=record,
+        reference=reference,
+        warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0]),
+        notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
+
+
+def _rebound_text(key, names) -> str:
+    """What a published damping formula gives instead of the restitution asked for."""
+    chosen, law, source, requested, obtained = key
+    which = f"contact{'s' if len(names) > 1 else ''} {', '.join(names)}"
+    if chosen:
+        return (f"{which} ({law}, calibration: published, {source}): restitution {requested:g} "
+                f"rebounds with {obtained:.3f} in a two-body impact")
+    return (f"{which} ({law}): restitution {requested:g} is asked for, but the default "
+            f"calibration: published ({source}) rebounds with {obtained:.3f} in a two-body "
+            f"impact; add 'calibration: exact' to the contact to get {requested:g} (or write "
+            "'calibration: published' to keep the published formula; docs/restitution.md)")

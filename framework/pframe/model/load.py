@@ -206,7 +206,12 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         from pframe.nondim.pi_form import expand_pi_data
 
         check_numbers(data, lines, source)
-        data = expand_pi_data(data, lines, source)
+        data = expand_pi_data(data, lines, source, base_dir or ".")
+        # a Pi-form scene is the paper's formulation: its contacts use the published damping
+        # formula of their law unless the expansion says otherwise (a note, not a warning)
+        for contact in data.get("contacts") or []:
+            if isinstance(contact, dict) and "restitution" in contact:
+                contact.setdefault("calibration", "published")
     plugins = _plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")

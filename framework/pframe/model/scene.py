@@ -7,9 +7,18 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 
 
 import functools
+import math
 from typing import Annotated, Literal, Union, get_args
 
-from pydantic import BaseModel, ConfigDict, Discriminator, Field, Tag, create_model, model_validator
+from pydantic import (
+    BaseModel,
+    ConfigDict,
+    Discriminator,
+    Field,
+    Tag,
+    create_model,
+    model_validator,
+)
 
 from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark
 from pframe.laws import get_law
@@ -74,7 +83,7 @@ class Rayleigh(Base):
 class Sine(Base):
     """Ground acceleration a_p sin(w_p t), optionally limited to some cycles or a duration."""
 
-    kind: Literal["sine"]
+    kind: Literal["sine"] = "sine"
     amplitude: float = Field(allow_inf_nan=False, description="a_p (m/s^2).")
     frequency: Positive = Field(description="Circular frequency w_p (rad/s).")
     cycles: Positive | None = Field(None, description="Number of cycles, then zero.")
@@ -90,14 +99,83 @@ class Sine(Base):
 class Record(Base):
     """A recorded ground acceleration read from a file (path relative to the YAML file)."""
 
-    kind: Literal["record"]
-    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file.")
+    kind: Literal["record"] = "record"
+    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file "
+                      "(from the PEER NGA-West2 database), relative to the YAML file.")
     format: Literal["auto", "columns", "at2"] = Field(
-        "auto", description="File format; auto: .AT2 suffix for PEER, else two columns.")
+        "auto", description="File format; auto: PEER for the suffix .AT2 in any case (.AT2, "
+                            ".at2, .At2), else two columns. pframe validate prints how the "
+                            "file was read.")
     units: Literal["m/s2", "g"] | None = Field(
         None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
     )
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
+    pga: Positive | None = Field(
+        None, description="Scale the record to this peak ground acceleration (m/s^2); instead "
+        "of scale.")
+    period: Literal["mean", "predominant"] | Positive = Field(
+        "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
+        "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
+        "1998, 2004, over 0.25-20 Hz), predominant (the period T_p of the peak of the 5%-damped "
+        "acceleration spectrum) or a period in seconds of the record as in its file.")
+    frequency: Positive | None = Field(
+        None, description="Compress or stretch the record's time axis so that its "
+        "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")
+
+    @model_validator(mode="after")
+    def _scale_or_pga(self):
+        if self.pga is not None and "scale" in self.model_fields_set:
+            raise ValueError("give scale (a factor) or pga (a target peak), not both")
+        return self
+
+
+class _Pulse(Base):
+    """Shared by the pulse excitations: amplitude a_p and period T_p (w_p = 2 pi / T_p)."""
+
+    amplitude: float = Field(allow_inf_nan=False, description="Acceleration amplitude a_p "
+                             "(m/s^2).")
+    period: Positive = Field(description="Pulse period T_p (s); w_p = 2 pi / T_p.")
+
+    @property
+    def frequency(self) -> float:
+        """The pulse's circular frequency w_p = 2 pi / T_p (rad/s)."""
+        return 2.0 * math.pi / self.period
+
+    @property
+    def characteristic_acceleration(self) -> float:
+        """a_p (m/s^2), the acceleration scale of Pi numbers built on the pulse."""
+        return abs(float(self.amplitude))
+
+    @property
+    def characteristic_frequency(self) -> float:
+        """w_p (rad/s), the frequency scale of Pi numbers built on the pulse."""
+        return self.frequency
+
+
+class Cycloidal(_Pulse):
+    """A cycloidal pulse (Makris 1997; Makris & Black 2004): type A a_p sin(w_p t) and type B
+    a_p cos(w_p t) for one period, type C_n a_p cos(w_p t + phi) for n + 1/2 - phi/pi periods
+    (phi returns the ground to its start); zero afterwards. See docs/gap-audit.md#pulses."""
+
+    kind: Literal["cycloidal"] = "cycloidal"
+    type: Literal["A", "B", "C"] = Field(description="A (forward), B (forward and back) or "
+                                         "C (n main cycles).")
+    n: int = Field(1, ge=1, description="Main cycles of a type-C pulse (C_n); only for type C.")
+
+    @model_validator(mode="after")
+    def _n_for_c(self):
+        if self.type != "C" and self.n != 1:
+            raise ValueError("n (the cycles of a type-C pulse) applies to type C only")
+        return self
+
+
+class Ricker(_Pulse):
+    """The Ricker wavelet a_p (1 - 2 pi^2 s^2 / T_p^2) exp(-pi^2 s^2 / T_p^2), s = t - t_0,
+    zero after t = 2 t_0. See docs/gap-audit.md#pulses."""
+
+    kind: Literal["ricker"] = "ricker"
+    center: Positive | None = Field(None, description="Time t_0 of the central peak (s); "
+                                    "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
 
 
 def _integrator_tag(value):
@@ -140,7 +218,7 @@ class Analysis(Base):
 class History(Base):
     """Record quantities at every ``every``-th step (and at t = 0)."""
 
-    kind: Literal["history"]
+    kind: Literal["history"] = "history"
     quantities: list[Quantity] = Field(min_length=1, description="What to record.")
     every: int = Field(1, ge=1, description="Record every k-th step (and t = 0).")
 
@@ -148,7 +226,7 @@ class History(Base):
 class Envelope(Base):
     """Record only the peak absolute value of each quantity over the run."""
 
-    kind: Literal["envelope"]
+    kind: Literal["envelope"] = "envelope"
     quantities: list[Quantity] = Field(min_length=1, description="What to record peaks of.")
 
 
@@ -175,6 +253,30 @@ class Output(Base):
     scales: OutputScales | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
+    reference: BuildingName | None = Field(
+        None, description="The building whose first floor mass is the mass scale m_b of the Pi "
+        "groups (pframe pi) and of dimensionless output; default: the second building, or the "
+        "only one.")
+
+
+#: fields that say which kind of object a mapping is: written even when left at their default
+TAGS = ("kind", "type", "law", "material")
+
+
+def given_fields(value):
+    """The data of a model as YAML would give it: the fields that were set, plus the tags
+    that select a model of a union (``kind``, ``type``, ``law``, ``material``)."""
+    if isinstance(value, BaseModel):
+        out = {}
+        for name in type(value).model_fields:
+            if name in value.model_fields_set or name in TAGS:
+                out[name] = given_fields(getattr(value, name))
+        return out
+    if isinstance(value, (list, tuple)):
+        return [given_fields(v) for v in value]
+    if isinstance(value, dict):
+        return {k: given_fields(v) for k, v in value.items()}
+    return value
 
 
 def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:
@@ -207,9 +309,14 @@ def _union(models: list[type[BaseModel]], tag: str):
     return Annotated[Union[tuple(models)], Field(discriminator=tag)]  # noqa: UP007
 
 
-@functools.cache
 def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] = ()):
-    """The Scene model for the built-in laws plus the named plug-in laws."""
+    """The Scene model for the built-in laws plus the named plug-in laws (one class per set
+    of laws, however they are passed: scenes of the same laws compare equal)."""
+    return _scene_class(tuple(sorted(contact_laws)), tuple(sorted(materials)))
+
+
+@functools.cache
+def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
     material_names = sorted(set(_builtin_names("material")) | set(materials))
     contact_names = sorted(set(_builtin_names("contact")) | set(contact_laws))
     material_params = [get_law("material", n).Params for n in material_names]
@@ -228,7 +335,8 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
     class Building(Base):
         """Shorthand for one shear building: floors 1..n above ground, storey i below floor i."""
 
-        name: BuildingName
+        name: BuildingName = Field(description="The building's name: its floors are the nodes "
+                                                "'<name>/1' .. '<name>/<floors>'.")
         floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
         story: _union(storey_models, "material") = Field(description="Storey properties.")
@@ -245,17 +353,39 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
         contacts: list[_union(contact_models, "law")] = Field(
             default_factory=list, description="Contact elements between buildings.")
         damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
-        excitation: Annotated[Union[Sine, Record], Field(discriminator="kind")] | None = Field(  # noqa: UP007
+        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker],  # noqa: UP007
+                              Field(discriminator="kind")] | None = Field(
             None, description="Ground motion (none: free vibration from initial conditions).")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")
-        analysis: Analysis
+        analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "
+                                   "duration (s), Newton settings.")
         recorders: list[Annotated[Union[History, Envelope], Field(discriminator="kind")]] = Field(  # noqa: UP007
             default_factory=lambda: [
                 Envelope(kind="envelope", quantities=["displacement", "story_drift", "contact_force"])
-            ]
-        )
+            ],
+            description="What the result file keeps: histories (kind: history) and peaks (kind: "
+                        "envelope); default: the peaks of displacement, story_drift and "
+                        "contact_force.")
         output: Output = Field(Output(), description="Units of the result file.")
+
+        def to_yaml(self) -> str:
+            """The scene as YAML: the fields that were given (defaults left out), in the
+            order of the reference; ``pframe.load`` of it gives an equal scene."""
+            import yaml
+
+            return yaml.safe_dump(given_fields(self), sort_keys=False, allow_unicode=True,
+                                  width=100)
+
+        def to_opensees(self) -> str:
+            """A standalone OpenSeesPy script of this scene (linear contacts, elastic or
+            bilinear storeys, starting at rest): runs without pframe, to cross-check it."""
+            from pframe.api import loaded_scene
+            from pframe.assemble import assemble
+            from pframe.assemble.plan import peer_scene
+            from pframe.peers.opensees import script_text
+
+            return script_text(peer_scene(assemble(loaded_scene(self).expanded)))
 
     return Scene
 

@@ -76,6 +76,8 @@ SCENE_FIELDS = {
     ("excitation", "cycles"): "dimensionless",
     ("excitation", "duration"): "time",
     ("excitation", "scale"): "acceleration",  # a factor on the record's accelerations
+    ("excitation", "pga"): "acceleration",
+    ("excitation", "period"): "time",  # a record's is of its file's time axis: kept there
     ("initial_conditions", "displacement", "*"): "length",
     ("initial_conditions", "velocity", "*"): "velocity",
     ("analysis", "dt"): "time",

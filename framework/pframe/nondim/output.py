@@ -50,7 +50,7 @@ class OutputUnits:
     def time(self, seconds):
         """``(values, units, long_name)`` of a time coordinate."""
         if self.scales is None:
-            return seconds, "s", "time"
+            return seconds, "s", "time since the start of the analysis"
         return seconds * self.scales["w_p"], "1", "dimensionless time tau = w_p t"
 
     def energy(self, joules: float) -> float:

@@ -9,7 +9,6 @@ the first is expressed relative to it: ``Pi_mu = K_b / K_a`` rather than ``K_b /
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -108,9 +107,24 @@ def _discrete(scene, expanded) -> list[str]:
     if scene.excitation is not None and scene.excitation.kind == "sine":
         cycles = scene.excitation.cycles
         out.append("sine excitation" + (f", {cycles:g} cycles" if cycles else ""))
+    elif scene.excitation is not None and scene.excitation.kind == "record":
+        e = scene.excitation
+        targets = "".join(f", {k} {getattr(e, k):.6g}" for k in ("pga", "frequency")
+                          if getattr(e, k) is not None)
+        period = e.period if isinstance(e.period, str) else f"{e.period:g} s"
+        out.append(f"record excitation {e.file} (period: {period}{targets})")
     elif scene.excitation is not None:
-        out.append(f"record excitation {scene.excitation.file}")
+        out.append(f"{scene.excitation.kind} pulse excitation")
     return out
+
+
+def default_repeating(variables: list[Variable], roles: dict, expanded) -> list[str]:
+    """The paper's repeating variables: the reference building's first floor-mass variable,
+    ``a_p`` and ``w_p``."""
+    tag = building_tag(reference_building(expanded))
+    mass = next(v.name for v in variables
+                if roles[v.name][0] == "m" and roles[v.name][1].startswith(tag))
+    return [mass, "a_p", "w_p"]
 
 
 def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
@@ -133,10 +147,7 @@ def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
         if "a_p" not in by_name:
             raise InputError("the scene has no excitation, so there is no default a_p, w_p; "
                              "choose repeating variables among " + ", ".join(by_name))
-        ref = reference_building(expanded)
-        mass = next(v.name for v in variables
-                    if roles[v.name][0] == "m" and roles[v.name][1].startswith(building_tag(ref)))
-        repeating = [mass, "a_p", "w_p"]
+        repeating = default_repeating(variables, roles, expanded)
     groups = (paper_groups(variables, roles, repeating) if default
               else pi_groups(variables, repeating))
     check_groups(variables, groups)
@@ -147,8 +158,10 @@ def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
         w = by_name["w_p"].value
         numerics |= {"dtau": w * expanded.dt, "tau": w * expanded.dt * expanded.steps}
         if scene.excitation.kind == "record":
-            notes.append(f"record: a_p = PGA = {by_name['a_p'].value:.6g} m/s^2, w_p = 2 pi / T_m "
-                         f"= {w:.6g} rad/s (T_m = {2 * math.pi / w:.4g} s, mean period of "
-                         "Rathje et al. 1998 over 0.25-20 Hz)")
+            record = expanded.record
+            notes.append(f"record: a_p = PGA = {by_name['a_p'].value:.6g} m/s^2, w_p = 2 pi / T "
+                         f"= {w:.6g} rad/s (T = {record.period:.4g} s, the {record.period_is}"
+                         + (f", times x {record.time_factor:.6g}" if record.time_factor != 1
+                            else "") + ")")
     return PiReport(tuple(variables), tuple(repeating), tuple(groups), values,
                     tuple(_discrete(scene, expanded)), numerics, tuple(notes))

@@ -12,10 +12,8 @@ kind of variables for any scene:
   spring (or the stiffness ``k_h`` in N/m^1.5 of a Hertz-type law), restitution ``e`` and gap
   ``d``;
 - the excitation: a sine's amplitude ``a_p`` and circular frequency ``w_p`` (and its duration
-  ``t_p`` when limited in time). For a record, ``a_p`` is its peak ground acceleration and
-  ``w_p = 2 pi / T_m`` with ``T_m`` the mean period of Rathje, Abrahamson & Bray (1998),
-  ``T_m = sum(C_i^2 / f_i) / sum(C_i^2)`` over the Fourier amplitudes ``C_i`` of
-  0.25-20 Hz: a robust central period of a broadband motion that has no single pulse;
+  ``t_p`` when limited in time); for a record its PGA and ``2 pi / T`` with ``T`` its stated
+  characteristic period (:func:`pframe.excitation.characteristic.characteristic`);
 - non-zero initial displacements ``u0`` and velocities ``v0``.
 
 Values that are equal are one variable: within a building when every storey has the same
@@ -36,6 +34,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pframe.errors import InputError
+from pframe.excitation.characteristic import characteristic
 from pframe.nondim.buckingham import Variable
 from pframe.nondim.dimensions import QUANTITY, Dimension
 from pframe.nondim.fields import law_field_dimension
@@ -103,38 +102,22 @@ def _contact_values(contact, element, masses) -> dict[str, tuple[Dimension, floa
     return out
 
 
-def mean_period_frequency(acceleration: np.ndarray, dt: float) -> float:
-    """``2 pi / T_m`` (rad/s), ``T_m`` the mean period of Rathje et al. (1998), 0.25-20 Hz."""
-    amplitude = np.abs(np.fft.rfft(acceleration))
-    f = np.fft.rfftfreq(len(acceleration), dt)
-    band = (f >= 0.25) & (f <= 20.0)
-    if not np.any(band & (amplitude > 0)):
-        band = f > 0
-    c2 = amplitude[band] ** 2
-    if not np.any(c2 > 0):
-        raise InputError("the record is zero on the analysis time grid: it has no frequency")
-    return 2.0 * math.pi * float(np.sum(c2) / np.sum(c2 / f[band]))
-
-
 def excitation_scales(scene, expanded) -> dict[str, float] | None:
-    """``{"a_p": ..., "w_p": ...}`` of the scene's excitation; None without one."""
-    excitation = scene.excitation
-    if excitation is None:
-        return None
-    if excitation.kind == "sine":
-        return {"a_p": abs(float(excitation.amplitude)), "w_p": float(excitation.frequency)}
-    ag = expanded.ground_acceleration
-    return {"a_p": float(np.max(np.abs(ag))), "w_p": mean_period_frequency(ag, expanded.dt)}
+    """``{"a_p": ..., "w_p": ...}`` of the scene's excitation
+    (:func:`pframe.excitation.characteristic.characteristic`); None without one."""
+    found = characteristic(scene.excitation, expanded.record)
+    return None if found is None else {"a_p": found.amplitude, "w_p": found.frequency}
 
 
 def reference_building(expanded) -> int:
-    """The building whose floor mass is the mass scale: b (the second) if there is one."""
-    return 1 if len(expanded.buildings) > 1 else 0
+    """The building whose floor mass is the mass scale: ``output.reference`` when the scene
+    names it, else b (the second) if there is one, else the only one."""
+    return expanded.reference
 
 
 def reference_scales(scene, expanded) -> dict[str, float]:
     """``m_b``, ``a_p``, ``w_p`` for dimensionless output: ``output.scales`` if given, else the
-    first floor mass of building b and the excitation's scales.
+    first floor mass of the reference building and the excitation's scales.
 
     Raises
     ------
@@ -246,13 +229,10 @@ def scene_variables(scene, expanded) -> tuple[list[Variable], dict]:
             for name, (dim, v) in values:
                 out.add(root, f"[{name}]", dim, v, f"{_WHAT.get(root, root)} of {name}")
 
-    excitation = excitation_scales(scene, expanded)
+    excitation = characteristic(scene.excitation, expanded.record)
     if excitation is not None:
-        kind = "sine amplitude" if scene.excitation.kind == "sine" else "peak ground acceleration"
-        out.add("a_p", "", QUANTITY["acceleration"], excitation["a_p"], kind)
-        what = ("sine circular frequency" if scene.excitation.kind == "sine"
-                else "2 pi / T_m, T_m the record's mean period (Rathje et al. 1998)")
-        out.add("w_p", "", QUANTITY["frequency"], excitation["w_p"], what)
+        out.add("a_p", "", QUANTITY["acceleration"], excitation.amplitude, excitation.amplitude_is)
+        out.add("w_p", "", QUANTITY["frequency"], excitation.frequency, excitation.frequency_is)
         if scene.excitation.kind == "sine" and scene.excitation.duration is not None:
             out.add("t_p", "", QUANTITY["time"], scene.excitation.duration, "sine duration")
     for key, root, dim in (("displacement", "u0", "length"), ("velocity", "v0", "velocity")):

@@ -284,8 +284,8 @@ def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
     Raises
     ------
     SimilitudeError
-        For a record excitation when ``S_T != 1`` (the record's time axis cannot be rescaled
-        in place) and for a number whose dimension is unknown.
+        For a record excitation when ``S_T != 1`` and it gives no ``frequency`` (its time axis
+        is then the file's), and for a number whose dimension is unknown.
     """
     if to not in ("model", "prototype"):
         raise SimilitudeError(f"scale to 'model' or 'prototype', not {to!r}")
@@ -298,14 +298,25 @@ def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
         from pframe.nondim.pi_form import SCALE_QUANTITY
 
         scales = dict(data.get("scales") or {})
+        record = (data.get("excitation") or {}).get("kind") == "record"
+        if record and not {"a_p", "w_p"} <= scales.keys():
+            raise SimilitudeError(
+                "the Pi-form scene's record is used at its own PGA and characteristic frequency "
+                "(no scales.a_p, scales.w_p); write them in scales (pframe expand prints them) "
+                "and scale again")
         for key, quantity in SCALE_QUANTITY.items():
             scales[key] = float(scales.get(key, 1.0)) * factor_of(QUANTITY[quantity])
         return {**data, "scales": scales}
     excitation = data.get("excitation") or {}
-    if excitation.get("kind") == "record" and sim.ratio("time").exact != 1:
+    record = excitation.get("kind") == "record"
+    if record and sim.ratio("time").exact != 1 and "frequency" not in excitation:
         raise SimilitudeError(
-            f"the scene's excitation is a record and S_T = {sim.ratio('time')}: write the "
+            f"the scene's excitation is a record and S_T = {sim.ratio('time')}: give "
+            "excitation.frequency (the record's characteristic frequency 2 pi / T, which "
+            "pframe pi prints as w_p) so that its time axis is scaled with it, or write the "
             "scaled record (time x S_T, acceleration x S_a) and point excitation.file at it")
     kept = {k: data[k] for k in ("title", "recorders") if k in data}
     out = _walk({k: v for k, v in data.items() if k not in kept}, (), None, factor_of)
+    if record and "period" in excitation:  # a period of the file's own time axis: kept
+        out["excitation"]["period"] = excitation["period"]
     return {k: (kept[k] if k in kept else out[k]) for k in data}

@@ -1,8 +1,9 @@
-"""Read the histories a figure needs from a result file (docs/hdf5.md), without matplotlib.
+"""Read the histories a figure needs from a result (docs/netcdf.md), without matplotlib.
 
-A history is ``quantity(time, entity)`` with ``entity`` one of ``node``, ``story``,
+A result is a file or the xarray Dataset of ``pframe.solve``/``pframe.open``. A history is
+``quantity(t, entity)`` with ``entity`` one of ``node``, ``story``,
 ``contact``. A file that is not a pframe result, or holds a sweep (extra leading dimensions
-before ``time``), is refused with an :class:`~pframe.errors.InputError` naming the file: the
+before ``t``), is refused with an :class:`~pframe.errors.InputError` naming the file: the
 reader is the one place that knows the layout, so a later sweep layout changes this module
 only (select one member here, and the figures stay as they are).
 """
@@ -91,6 +92,7 @@ class Result:
     input_yaml: str | None = None
     reference: Reference | None = None
     dropped: tuple[str, ...] = field(default=())
+    attributes: dict = field(default_factory=dict, repr=False)
 
     @property
     def is_dimensionless(self) -> bool:
@@ -112,6 +114,20 @@ class Result:
                              f"the histories run from {first[0]:g} to {first[-1]:g}")
         return replace(self, histories=histories)
 
+    def in_units(self, units) -> Result:
+        """The histories in other units: ``"engineering"`` (mm, mm/s, kN, kN m) or a mapping
+        from the stored units to the units wanted, e.g. ``{"m": "mm", "N": "kN"}``."""
+        wanted = engineering_units(units)
+        histories = {}
+        for q, h in self.histories.items():
+            target = wanted.get(h.units)
+            if target is None or target == h.units:
+                histories[q] = h
+                continue
+            histories[q] = replace(h, values=h.values * conversion(h.units, target),
+                                   units=target)
+        return replace(self, histories=histories)
+
     def dimensionless(self, reference: Reference) -> Result:
         """The histories in the paper's dimensionless variables (see :mod:`pframe.plot.scales`).
 
@@ -131,82 +147,151 @@ class Result:
         return replace(self, histories=histories, reference=reference, dropped=tuple(dropped))
 
 
+#: stored SI units -> {display units: factor}
+CONVERSIONS = {
+    "m": {"m": 1.0, "cm": 1e2, "mm": 1e3},
+    "m/s": {"m/s": 1.0, "cm/s": 1e2, "mm/s": 1e3},
+    "m/s^2": {"m/s^2": 1.0, "cm/s^2": 1e2, "mm/s^2": 1e3, "g": 1.0 / 9.80665},
+    "N": {"N": 1.0, "kN": 1e-3, "MN": 1e-6},
+    "s": {"s": 1.0, "ms": 1e3},
+}
+#: ``units="engineering"``
+ENGINEERING = {"m": "mm", "m/s": "mm/s", "N": "kN"}
+
+
+def engineering_units(units) -> dict:
+    """The mapping stored units -> display units that ``units`` asks for (None: none)."""
+    if units is None:
+        return {}
+    if units == "engineering":
+        return dict(ENGINEERING)
+    if isinstance(units, str):  # "mm,kN": each display unit finds its SI unit
+        wanted = {}
+        for unit in (u.strip() for u in units.split(",") if u.strip()):
+            base = next((si for si, table in CONVERSIONS.items() if unit in table), None)
+            if base is None:
+                known = ", ".join(u for table in CONVERSIONS.values() for u in table)
+                raise InputError(f"units {unit!r}: not a unit pframe converts to; choose from "
+                                 f"{known}, or 'engineering' (mm, mm/s, kN)")
+            wanted[base] = unit
+        return wanted
+    return dict(units)
+
+
+def conversion(stored: str, target: str) -> float:
+    table = CONVERSIONS.get(stored, {})
+    if target not in table:
+        raise InputError(f"units: cannot show {stored!r} in {target!r}; "
+                         f"choose one of {', '.join(table) or '(none)'}")
+    return table[target]
+
+
 def _text(value) -> str:
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
-def _dimension_names(dset) -> list[str | None]:
-    names = []
-    for dim in dset.dims:
-        names.append(dim[0].name.rsplit("/", 1)[-1] if len(dim) else None)
-    return names
+def _names(ds, entity: str) -> tuple[str, ...]:
+    """The names along ``entity``: its label variable (``node_name``), else (files of
+    pframe 0.1 before the CF layout) a string coordinate named as the dimension."""
+    for name in (f"{entity}_name", entity):
+        if name in ds.variables and ds[name].dims == (entity,):
+            return tuple(str(v) for v in ds[name].values.tolist())
+    return ()
 
 
-def _read_history(f, path: Path, quantity: str) -> History | None:
-    dset = f[quantity]
-    dims = _dimension_names(dset)
-    if dset.ndim > 2:
-        shape = ", ".join(f"{d or '?'}={n}" for d, n in zip(dims, dset.shape))
+def _time_dimension(dim: str) -> bool:
+    return dim in ("t", "time") or dim.startswith(("t_every_", "time_every_"))
+
+
+def _read_history(ds, source: str, quantity: str) -> History | None:
+    var = ds[quantity]
+    dims = var.dims
+    if var.ndim > 2:
+        shape = ", ".join(f"{d}={n}" for d, n in zip(dims, var.shape))
         raise InputError(
-            f"{path}: the file holds a sweep ({quantity} has the dimensions {shape}); "
-            "pframe plot draws single runs, whose histories are (time, node|story|contact)")
-    if dset.ndim != 2 or dims[1] not in ENTITIES or dims[0] is None \
-            or not dims[0].startswith("time"):
+            f"{source}: the file holds a sweep ({quantity} has the dimensions {shape}); "
+            "pframe plot draws single runs, whose histories are (t, node|story|contact)")
+    if var.ndim != 2 or dims[1] not in ENTITIES or not _time_dimension(dims[0]):
         return None
-    time = f[dims[0]]
-    return History(quantity, np.asarray(time[...], dtype=float), np.asarray(dset[...], dtype=float),
-                   tuple(f[dims[1]].asstr()[...]), _text(dset.attrs.get("units", "")),
-                   _text(time.attrs.get("units", "")))
+    time = ds[dims[0]]
+    return History(quantity, np.asarray(time.values, dtype=float),
+                   np.asarray(var.values, dtype=float), _names(ds, dims[1]),
+                   _text(var.attrs.get("units", "")), _text(time.attrs.get("units", "")))
 
 
-def read_result(path: str | Path) -> Result:
-    """Read the plottable histories of a result file written by ``pframe solve``.
+def _connectivity(ds) -> tuple[dict, dict] | None:
+    """From the file: storey -> upper node and contact -> (left, right) (None for files
+    written before connectivity was stored)."""
+    stories, contacts = {}, {}
+    if "story_upper" in ds.variables:
+        stories = dict(zip(_names(ds, "story"), map(str, ds["story_upper"].values.tolist())))
+    if "contact_left" in ds.variables:
+        contacts = dict(zip(_names(ds, "contact"),
+                            zip(map(str, ds["contact_left"].values.tolist()),
+                                map(str, ds["contact_right"].values.tolist()))))
+    has_stories = bool(_names(ds, "story"))
+    has_contacts = bool(_names(ds, "contact"))
+    if (has_stories and not stories) or (has_contacts and not contacts):
+        return None
+    return stories, contacts
 
-    Parameters
-    ----------
-    path : str or Path
-        An HDF5 result file (layout in docs/hdf5.md).
+
+def open_result(source):
+    """``(dataset, name)`` of a result: a path (opened with xarray) or a Dataset."""
+    if not isinstance(source, (str, Path)):
+        return source, str(source.attrs.get("source", "the Dataset"))
+    path = Path(source)
+    if not path.exists():
+        raise InputError(f"{path}: no such result file")
+    if path.is_dir():
+        raise InputError(f"{path}: a folder, not a result file; pass the file pframe solve "
+                         "wrote")
+    import xarray as xr
+
+    try:
+        ds = xr.open_dataset(path, engine="h5netcdf", phony_dims="access")
+    except (OSError, ValueError):
+        raise InputError(f"{path}: not a netCDF-4/HDF5 file; pframe plot reads the result "
+                         "files that pframe solve writes") from None
+    return ds, str(path)
+
+
+def read_result(source) -> Result:
+    """Read the plottable histories of a result (``pframe solve``'s file, or the Dataset of
+    ``pframe.solve``/``pframe.open``).
 
     Raises
     ------
     InputError
-        The file is missing, is not HDF5, is not a pframe result, or holds a sweep.
+        The file is missing, is not netCDF-4/HDF5, is not a pframe result, or holds a sweep.
     """
-    import h5py
-
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"{path}: no such result file")
-    if path.is_dir():
-        raise InputError(f"{path}: a folder, not a result file; pass the .h5 file pframe solve wrote")
-    try:
-        f = h5py.File(path, "r")
-    except OSError:
-        raise InputError(f"{path}: not an HDF5 file; pframe plot reads the result files "
-                         "that pframe solve writes") from None
-    with f:
-        if "pframe_version" not in f.attrs or "node" not in f:
-            raise InputError(f"{path}: an HDF5 file, but not a pframe result (it has no "
-                             "pframe_version attribute and node coordinate); pframe plot reads "
-                             "the result files that pframe solve writes")
-        histories = {}
-        for quantity in PLOTTED:
-            if quantity in f:
-                history = _read_history(f, path, quantity)
-                if history is not None:
-                    histories[quantity] = history
-        names = {e: tuple(f[e].asstr()[...]) if e in f else () for e in ENTITIES}
-        input_yaml = _text(f.attrs["input_yaml"]) if "input_yaml" in f.attrs else None
-        levels: Levels = group_by_level(names["node"], names["story"], names["contact"],
-                                        input_yaml)
-        return Result(
-            path=path,
-            title=_text(f.attrs.get("title", path.stem)),
-            histories=histories,
-            levels=levels,
-            has_stories=bool(names["story"]),
-            has_contacts=bool(names["contact"]),
-            complete=bool(f.attrs.get("complete", 1)),
-            status=_text(f.attrs.get("status", "")),
-            input_yaml=input_yaml,
-        )
+    ds, name = open_result(source)
+    path = Path(source) if isinstance(source, (str, Path)) else Path(name)
+    if "pframe_version" not in ds.attrs or not _names(ds, "node"):
+        raise InputError(f"{name}: a netCDF/HDF5 file, but not a pframe result (it has no "
+                         "pframe_version attribute and node names); pframe plot reads "
+                         "the result files that pframe solve writes")
+    histories = {}
+    for quantity in PLOTTED:
+        if quantity in ds.variables:
+            history = _read_history(ds, name, quantity)
+            if history is not None:
+                histories[quantity] = history
+    names = {e: _names(ds, e) for e in ENTITIES}
+    input_yaml = _text(ds.attrs["input_yaml"]) if "input_yaml" in ds.attrs else None
+    known = _connectivity(ds)
+    levels: Levels = group_by_level(names["node"], names["story"], names["contact"],
+                                    input_yaml if known is None else None, known=known)
+    return Result(
+        path=path,
+        title=_text(ds.attrs.get("title", path.stem)),
+        histories=histories,
+        levels=levels,
+        has_stories=bool(names["story"]),
+        has_contacts=bool(names["contact"]),
+        complete=bool(ds.attrs.get("complete", 1)),
+        status=_text(ds.attrs.get("status", "")),
+        input_yaml=input_yaml,
+        reference=None,
+        attributes=dict(ds.attrs),
+    )

@@ -24,7 +24,7 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.plot.data import Result, read_result
-from pframe.plot.scales import axis_label, reference_scales
+from pframe.plot.scales import axis_label, reference_scales, stored_scales
 
 KINDS = ("all", "histories", "hysteresis")
 #: (letter, quantity, title) of the history panels, top to bottom
@@ -128,8 +128,10 @@ def _tidy(ax):
     ax.tick_params(labelsize=8)
 
 
-def draw_level(result: Result, level: str, kind: str = "all"):
-    """The figure of one floor level, or None when it has nothing of ``kind`` to show.
+def draw_level(result: Result, level: str, kind: str = "all", fig=None):
+    """The figure of one floor level, or None when it has nothing of ``kind`` to show;
+    drawn into ``fig`` (a matplotlib Figure, e.g. ``plt.figure()``) when given. Font sizes
+    are relative ("small", "medium"), so they follow the user's ``font.size``.
 
     Each axes carries a label for programs reading the figure: the quantity of a history
     panel (``displacement``, ``contact_force``, ``velocity``) or ``hysteresis <storey>``;
@@ -146,7 +148,8 @@ def draw_level(result: Result, level: str, kind: str = "all"):
         size = (8.0, 2.3 * rows + 0.9)
     else:
         size = (10.5, 2.3 * rows + 0.9)
-    fig = Figure(figsize=size, layout="constrained")
+    if fig is None:
+        fig = Figure(figsize=size, layout="constrained")
     if histories and loops:
         outer = fig.add_gridspec(1, 2, width_ratios=(1.75, 1.0))
         left = outer[0].subgridspec(len(histories), 1)
@@ -166,14 +169,14 @@ def draw_level(result: Result, level: str, kind: str = "all"):
                       else _building_colour(result, name.split("/", 1)[0]))
             ax.plot(history.time, history.column(name), label=name, linewidth=0.8, color=colour)
         ax.set_label(quantity)
-        ax.set_title(f"({letter}) {title}", loc="left", fontsize=9)
-        ax.set_ylabel(axis_label(quantity, history.units), fontsize=8)
+        ax.set_title(f"({letter}) {title}", loc="left", fontsize="medium")
+        ax.set_ylabel(axis_label(quantity, history.units), fontsize="small")
         # above the axes, beside the title: inside, it would hide the peaks it is about
-        ax.legend(fontsize=7, loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=len(names),
+        ax.legend(fontsize="x-small", loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=len(names),
                   frameon=False, borderaxespad=0.1, handlelength=1.5)
         _tidy(ax)
         if i == len(histories) - 1:
-            ax.set_xlabel(axis_label("time", history.time_units), fontsize=8)
+            ax.set_xlabel(axis_label("time", history.time_units), fontsize="small")
         else:
             ax.tick_params(labelbottom=False)
 
@@ -184,9 +187,9 @@ def draw_level(result: Result, level: str, kind: str = "all"):
         ax.plot(x, y, linewidth=0.7, label=story, color=_building_colour(result, building))
         ax.set_label(f"hysteresis {story}")
         ax.set_title(f"({letter}) hysteresis, storey {story} (building {building})",
-                     loc="left", fontsize=9)
-        ax.set_xlabel(axis_label("story_drift", drift.units), fontsize=8)
-        ax.set_ylabel(axis_label("story_force", force.units), fontsize=8)
+                     loc="left", fontsize="medium")
+        ax.set_xlabel(axis_label("story_drift", drift.units), fontsize="small")
+        ax.set_ylabel(axis_label("story_force", force.units), fontsize="small")
         _tidy(ax)
         # a loop panel is narrow: the default ticks of a drift in m run into each other
         ax.locator_params(axis="x", nbins=5)
@@ -194,9 +197,9 @@ def draw_level(result: Result, level: str, kind: str = "all"):
     heading = f"{result.title}: level {level}"
     if not result.complete:
         heading += " (run stopped early)"
-    fig.suptitle(heading, fontsize=10)
+    fig.suptitle(heading, fontsize="large")
     if result.reference is not None:
-        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize=7)
+        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
     return fig
 
 
@@ -206,7 +209,9 @@ def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | No
     time axis drawn: s, or tau when dimensionless)."""
     result = source if isinstance(source, Result) else read_result(source)
     if dimensionless and not result.is_dimensionless:
-        result = result.dimensionless(reference_scales(result.input_yaml, str(result.path)))
+        reference = stored_scales(result.attributes) or reference_scales(result.input_yaml,
+                                                                         str(result.path))
+        result = result.dimensionless(reference)
     if time_range is not None:
         result = result.window(*time_range)
     return result

@@ -87,8 +87,8 @@ def _scene_elements(input_yaml: str | None) -> tuple[dict[str, str], dict[str, t
     return stories, contacts
 
 
-def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str | None = None
-                   ) -> Levels:
+def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str | None = None,
+                   known: tuple[dict, dict] | None = None) -> Levels:
     """Group a result file's coordinate names by floor level (rules in the module docstring).
 
     Parameters
@@ -96,9 +96,13 @@ def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str
     node_names, story_names, contact_names : sequence of str
         The ``node``, ``story`` and ``contact`` coordinates of the file.
     input_yaml : str, optional
-        The scene text (the file's ``input_yaml`` attribute), for named storeys and contacts.
+        The scene text (the file's ``input_yaml`` attribute), for named storeys and contacts
+        of files written before the connectivity was stored.
+    known : (dict, dict), optional
+        Storey -> upper node and contact -> (left, right) as the file stores them
+        (``story_upper``, ``contact_left``, ``contact_right``); replaces ``input_yaml``.
     """
-    named_stories, named_contacts = _scene_elements(input_yaml)
+    named_stories, named_contacts = known if known is not None else _scene_elements(input_yaml)
     known = set(node_names)
     first_seen: dict[str, int] = {}
     buildings: dict[str, None] = {}

@@ -80,6 +80,16 @@ class Reference:
                 f"w_p = {self.frequency:g} rad/s, l_e = {self.length:.6g} m ({self.origin})")
 
 
+def stored_scales(attributes: dict) -> Reference | None:
+    """The reference scales a result file stores (``reference_m_b``, ``reference_a_p``,
+    ``reference_w_p``: written by pframe from the scene as for dimensionless files), or None."""
+    keys = ("reference_a_p", "reference_w_p", "reference_m_b")
+    if not all(k in attributes for k in keys):
+        return None
+    a_p, w_p, m_b = (float(attributes[k]) for k in keys)
+    return Reference(a_p, w_p, m_b, "the reference scales stored in the result")
+
+
 def reference_scales(input_yaml: str | None, source: str) -> Reference:
     """The reference scales of the scene a result file holds (its ``input_yaml``).
 

@@ -46,53 +46,54 @@ def is_sweep(path: str | Path) -> bool:
         return False
 
 
-def _dims(dset) -> list[str]:
-    return [dim[0].name.rsplit("/", 1)[-1] if len(dim) else "" for dim in dset.dims]
-
-
-def _coordinate(f, name: str) -> np.ndarray:
-    values = f[name][...]
-    if values.dtype.kind in "OS":
+def _strings_or_numbers(values) -> np.ndarray:
+    values = np.asarray(values)
+    if values.dtype.kind in "OSU":
         return np.array([_text(v) for v in values], dtype=object)
-    return np.asarray(values)
+    return values
 
 
 class _Sweep:
-    """What a spectrum needs from a sweep file."""
+    """What a spectrum needs from a sweep file (read with xarray: names are label variables,
+    ``node_name`` along ``node``, ``<axis>_file`` along a records axis)."""
 
     def __init__(self, path: Path):
-        import h5py
+        import xarray as xr
 
         self.path = path
-        with h5py.File(path, "r") as f:
-            self.title = _text(f.attrs.get("title", path.stem))
-            self.axes = _text(f.attrs["sweep_axes"]).split()
-            self.zipped = _text(f.attrs.get("sweep_combine", "product")) == "zip"
+        with xr.open_dataset(path, engine="h5netcdf") as ds:
+            self.title = _text(ds.attrs.get("title", path.stem))
+            self.axes = _text(ds.attrs["sweep_axes"]).split()
+            self.zipped = _text(ds.attrs.get("sweep_combine", "product")) == "zip"
             self.sweep_dims = ["variant"] if self.zipped else list(self.axes)
-            self.coordinates = {a: _coordinate(f, a) for a in self.axes}
-            self.axis_units = {a: _text(f[a].attrs.get("units", "")) for a in self.axes}
-            self.entities = {e: _coordinate(f, e) for e in ENTITIES if e in f}
-            self.complete = np.asarray(f["complete"][...], dtype=bool).reshape(-1)
+            self.coordinates, self.axis_units = {}, {}
+            for a in self.axes:
+                var = ds[a] if a in ds.variables else ds[f"{a}_file"]
+                self.coordinates[a] = _strings_or_numbers(var.values)
+                self.axis_units[a] = _text(var.attrs.get("units", ""))
+            self.entities = {e: _strings_or_numbers(ds[f"{e}_name"].values)
+                             for e in ENTITIES if f"{e}_name" in ds.variables}
+            self.complete = np.asarray(ds["complete"].values, dtype=bool).reshape(-1)
             self.responses = {}
-            for name, dset in f.items():
-                if name in _NOT_RESPONSES or name in self.axes or name in ENTITIES:
+            for name, var in ds.data_vars.items():
+                if name in _NOT_RESPONSES or name in self.axes:
                     continue
-                dims = _dims(dset)
+                dims = list(var.dims)
                 extra = dims[len(self.sweep_dims):]
                 if dims[:len(self.sweep_dims)] != self.sweep_dims or len(extra) > 1 \
                         or (extra and extra[0] not in ENTITIES):
-                    continue  # histories (time) and coordinates
+                    continue  # histories (t) and coordinates
                 self.responses[name] = (extra[0] if extra else None,
-                                        _text(dset.attrs.get("units", "")),
-                                        _text(dset.attrs.get("long_name", name)))
+                                        _text(var.attrs.get("units", "")),
+                                        _text(var.attrs.get("long_name", name)))
             self._f_path = path
 
     def values(self, name: str) -> np.ndarray:
         """The response as (variants, entities) floats, failed variants NaN."""
-        import h5py
+        import xarray as xr
 
-        with h5py.File(self._f_path, "r") as f:
-            data = np.asarray(f[name][...], dtype=float)
+        with xr.open_dataset(self._f_path, engine="h5netcdf") as ds:
+            data = np.asarray(ds[name].values, dtype=float)
         count = self.complete.size
         data = data.reshape(count, -1)
         data[~self.complete] = np.nan
@@ -174,16 +175,27 @@ def spectrum(path: str | Path, *, response: str | None = None, x: str | None = N
         raise InputError(f"{path}: --x {x}: not a swept axis; the axes are "
                          f"{', '.join(sweep.axes)}")
     dimensions = list(sweep.axes) + ([entity] if entity else [])
+    along = f"{response} runs along {', '.join(dimensions)}"
     for key in at:
-        if key not in dimensions or key == x:
-            raise InputError(f"{path}: --at {key}=...: choose one of "
-                             f"{', '.join(d for d in dimensions if d != x)}")
+        if key == x:
+            others = [a for a in sweep.axes if a != x]
+            raise InputError(f"{path}: --at {key}=...: {key} is the x axis; --at fixes "
+                             f"{_choices([d for d in dimensions if d != x])}"
+                             + (f"; --x chooses another x axis ({', '.join(others)})"
+                                if others else ""))
+        if key not in dimensions:
+            raise InputError(f"{path}: --at {key}=...: {along}, not {key}; --at fixes "
+                             f"{_choices([d for d in dimensions if d != x])}"
+                             + _elsewhere(sweep, key))
     if curves is None:
         others = [a for a in sweep.axes if a != x and a not in at]
         curves = entity if entity and entity not in at else (others[0] if others else None)
-    if curves is not None and (curves not in dimensions or curves == x or curves in at):
-        raise InputError(f"{path}: --curves {curves}: choose one of "
-                         f"{', '.join(d for d in dimensions if d != x and d not in at)}")
+    elif curves == x or curves in at or curves not in dimensions:
+        why = ("is the x axis" if curves == x else "is fixed with --at" if curves in at
+               else f"is not a dimension of {response} (it runs along {', '.join(dimensions)})")
+        raise InputError(f"{path}: --curves {curves}: {curves} {why}; --curves takes "
+                         f"{_choices([d for d in dimensions if d != x and d not in at])}"
+                         + ("" if curves in dimensions else _elsewhere(sweep, curves)))
 
     data = sweep.values(response)  # (variants, entities)
     keep = np.ones(data.shape[0], dtype=bool)
@@ -234,17 +246,33 @@ def spectrum(path: str | Path, *, response: str | None = None, x: str | None = N
     if _geometric(xs):
         ax.set_xscale("log")
     x_units = sweep.axis_units.get(x, "")
-    ax.set_xlabel(x + (f" ({x_units})" if x_units and x_units != "1" else ""), fontsize=9)
+    ax.set_xlabel(x + (f" ({x_units})" if x_units and x_units != "1" else ""), fontsize="medium")
     ax.set_ylabel(f"{response}" + (f" ({units})" if units and units != "1" else ""),
-                  fontsize=9)
-    ax.set_title(long_name + (f"; {', '.join(notes)}" if notes else ""), fontsize=8, loc="left")
+                  fontsize="medium")
+    ax.set_title(long_name + (f"; {', '.join(notes)}" if notes else ""), fontsize="small", loc="left")
     ax.grid(True, alpha=0.3, linewidth=0.6)
     ax.tick_params(labelsize=8)
     if any(key is not None for key, _, _ in series):
-        ax.legend(fontsize=8, frameon=False)
+        ax.legend(fontsize="small", frameon=False)
     ax.set_label(f"spectrum {response}")
-    fig.suptitle(sweep.title, fontsize=10)
+    fig.suptitle(sweep.title, fontsize="large")
     return fig, notes
+
+
+def _choices(names) -> str:
+    """'one of a, b', or what to do when there is nothing to choose."""
+    names = list(names)
+    if not names:
+        return "no dimension here (each is the x axis or fixed with --at): leave the option out"
+    return f"one of {', '.join(names)}" if len(names) > 1 else names[0]
+
+
+def _elsewhere(sweep, dimension: str) -> str:
+    """The responses of the file that do run along ``dimension``, if any."""
+    names = [name for name, (entity, _, _) in sweep.responses.items() if entity == dimension]
+    if not names:
+        return ""
+    return f" (responses along {dimension}: {', '.join(names)}; choose one with --response)"
 
 
 def _shown(value) -> str:

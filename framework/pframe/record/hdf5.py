@@ -1,35 +1,37 @@
-"""The HDF5 output contract (see docs/hdf5.md).
+"""The result file of one run (see docs/netcdf.md): netCDF-4 following the CF conventions.
 
-Coordinates ``time`` (s), ``node``, ``story``, ``contact``; variables ``displacement(time,
-node)`` etc. for histories and ``peak_<quantity>(node|story|contact)`` for envelopes, each with
-``units`` and ``long_name``. The file is netCDF4-compatible: dimension scales, creation order
-tracked, strings as variable-length UTF-8. It is written under a temporary name and renamed
-when complete, so a reader never sees half a file and an existing file is never damaged.
+Coordinate ``t`` (s), dimensions ``node``, ``story``, ``contact`` with the label variables
+``node_name``, ``story_name``, ``contact_name`` (and the connectivity: ``story_lower``,
+``story_upper``, ``contact_left``, ``contact_right``, ``contact_gap``); variables
+``displacement(t, node)`` etc. for histories and ``peak_<quantity>(node|story|contact)`` for
+envelopes, each with ``units`` and ``long_name``; attributes that reproduce the run (the scene
+text, the records it read, versions, date, command). Laid out by :mod:`pframe.record.netcdf`.
+It is written under a temporary name and renamed when complete, so a reader never sees half a
+file and an existing file is never damaged.
 
 Two ways in, one writer (:class:`ResultWriter`):
 
 - ``pframe solve`` opens the writer before the run and hands its :meth:`ResultWriter.append`
   to the kernel as the ``sink``: each block of history rows goes to its place in the file as
   soon as it is computed, so memory stays bounded whatever the duration. The histories are
-  laid out at their full length (chunked) and cut to the states computed if the run stops
-  early;
-- :func:`write_result` writes a result whose histories are in memory (sweeps, tests), laid
-  out at the length computed (contiguous).
+  laid out at their full length and cut to the states computed if the run stops early;
+- :func:`write_result` writes a result whose histories are in memory (sweeps, tests).
 
-Both give the same variables, coordinates and attributes, value for value.
+The target may also be a binary file object, or a :class:`~pframe.record.netcdf.DatasetWriter`:
+``pframe.solve`` builds its xarray Dataset through this same layout code, so a Dataset and a
+file agree by construction (and a test checks they are identical).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-import h5py
 import numpy as np
 
-import pframe
 from pframe import outputs
 from pframe.nondim.output import output_units
 from pframe.quantities import QUANTITIES
+from pframe.record.netcdf import DatasetWriter, Writer, provenance
 
 UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
 DIMENSION = {q: dim for q, (dim, _, _) in QUANTITIES.items()}
@@ -38,55 +40,31 @@ ENERGY_TERMS = ("input", "kinetic", "damping", "storeys", "contacts", "initial_k
 COUNTER_ATTRIBUTES = (("solves", "newton_solves"), ("split_steps", "split_steps"),
                       ("factorisations", "factorisations"),
                       ("evaluations", "residual_evaluations"), ("gathers", "gathered_values"))
-#: bytes of one HDF5 chunk of a streamed history (a few chunks per variable fit HDF5's 1 MiB
-#: chunk cache, so blocks that end inside a chunk are completed in memory)
-CHUNK_BYTES = 256 * 2**10
 #: rows of a time coordinate computed at once (bounded memory for long runs)
 _TIME_BLOCK = 2**16
+#: the label variable and long name of each named dimension
+LABELS = {"node": ("node_name", "floor node (building/floor)"),
+          "story": ("story_name", "storey (named by the floor above it)"),
+          "contact": ("contact_name", "contact element"),
+          "building": ("building_name", "building")}
 
 
 def _temporary(path: Path) -> Path:
     return outputs.temporary(path)
 
 
-def _coordinate(f: h5py.File, name: str, values, **attrs):
-    dset = f.create_dataset(name, data=values, track_order=True)
-    dset.make_scale(name)
-    for key, value in attrs.items():
-        dset.attrs[key] = value
-    return dset
-
-
-def _variable(f: h5py.File, name: str, data, dims: tuple[str, ...], units: str, long_name: str):
-    dset = f.create_dataset(name, data=data, track_order=True)
-    _describe(f, dset, dims, units, long_name)
-    return dset
-
-
-def _describe(f: h5py.File, dset, dims: tuple[str, ...], units: str, long_name: str):
-    for axis, dim in enumerate(dims):
-        dset.dims[axis].attach_scale(f[dim])
-    dset.attrs["units"] = units
-    dset.attrs["long_name"] = long_name
-
-
-def _empty(f: h5py.File, name: str, shape: tuple[int, ...], resizable: bool):
-    """A float64 dataset of ``shape`` filled later; chunked along its first axis and
-    shrinkable (never growable: the dimension stays fixed for netCDF) when ``resizable``."""
-    if not resizable:
-        return f.create_dataset(name, shape=shape, dtype="f8", track_order=True)
-    width = int(np.prod(shape[1:], dtype=np.int64))
-    if width == 0:  # no columns (h5py picks a chunk shape a zero-size dataset accepts)
-        chunks = True
-    else:
-        chunks = (max(1, min(shape[0], CHUNK_BYTES // (8 * width))),) + shape[1:]
-    return f.create_dataset(name, shape=shape, dtype="f8", chunks=chunks, maxshape=shape,
-                            track_order=True)
+def integrator_text(plan) -> str:
+    """How the plan integrates, in words (the ``integrator`` attribute)."""
+    return plan.integrator_name + (
+        "" if plan.integrator.explicit
+        else (", linear: one solve per step" if plan.linear else ", full Newton")
+        + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
 
 
 class ResultWriter:
     """One batch member's result file, written under a temporary name and renamed when done.
 
+    ``target`` is a path, or a binary file object (written in place: an in-memory result).
     ``states`` is the number of states the histories are laid out for: the run's
     ``plan.steps + 1`` when streaming (the default; the file is cut to the states computed
     by :meth:`finish`), or the states already computed when the histories are in memory.
@@ -94,22 +72,25 @@ class ResultWriter:
     columns in DOF order, SI units) in any order and any block sizes; :meth:`finish` writes
     the rest and renames the file, :meth:`abort` removes it. For the quantities in ``track``
     the writer keeps the running peak of ``|value|`` per column (DOF order, SI) in
-    :attr:`peaks`, of every row it was given.
+    :attr:`peaks`, of every row it was given. ``compress`` deflates the histories (shuffle +
+    gzip level 1); ``call`` is the command line or API call for the ``history`` attribute.
     """
 
-    def __init__(self, path: str | Path, plan, loaded, member: int = 0, states: int | None = None,
-                 track: tuple[str, ...] = ()):
-        self.path = Path(path)
-        self.tmp = _temporary(self.path)
+    def __init__(self, target, plan, loaded, member: int = 0, states: int | None = None,
+                 track: tuple[str, ...] = (), compress: bool = False, call: str | None = None):
+        self.in_memory = not isinstance(target, (str, Path))  # a file object or a Dataset
+        self.path = None if self.in_memory else Path(target)
+        self.tmp = None if self.in_memory else _temporary(self.path)
         self.plan, self.loaded, self.member = plan, loaded, member
         self.convert = output_units(loaded.scene, loaded.expanded)  # SI, or dimensionless
-        self.streamed = states is None
+        self.call = call
         states = plan.steps + 1 if states is None else states
         self.track = tuple(q for q, _ in plan.history if q in track)
         self.peaks: dict[str, np.ndarray] = {}
         self.file = None
         try:
-            self.file = h5py.File(self.tmp, "w", track_order=True)
+            self.file = (target if isinstance(target, DatasetWriter)
+                         else Writer(target if self.in_memory else self.tmp, compress=compress))
             self._layout(states)
         except BaseException:
             self.abort()
@@ -123,41 +104,59 @@ class ResultWriter:
             self.abort()
 
     def _layout(self, states: int):
-        """Coordinates and the (still empty) history variables."""
+        """Coordinates, labels, connectivity and the (still empty) history variables."""
         f, plan, dt = self.file, self.plan, float(self.plan.dt[self.member])
-        text = h5py.string_dtype()
         strides = sorted({every for _, every in plan.history})
         self.time_dims = {}  # every -> name of its time coordinate
         for every in strides:
-            dim = "time" if every == strides[0] else f"time_every_{every}"
+            dim = "t" if every == strides[0] else f"t_every_{every}"
             rows = (states - 1) // every + 1
-            dset = _empty(f, dim, (rows,), self.streamed)
+            f.dimension(dim, None)
+            f.resize(dim, rows)
+            _, units, long_name = self.convert.time(np.zeros(0))
+            var = f.variable(dim, (dim,), chunk_rows=True, units=units, long_name=long_name)
             for lo in range(0, rows, _TIME_BLOCK):
                 hi = min(rows, lo + _TIME_BLOCK)
-                values, units, long_name = self.convert.time(np.arange(lo, hi) * every * dt)
-                dset[lo:hi] = values
-            dset.make_scale(dim)
-            dset.attrs.update({"units": units, "long_name": long_name, "axis": "T"})
+                var[lo:hi] = self.convert.time(np.arange(lo, hi) * every * dt)[0]
             self.time_dims[every] = dim
-        _coordinate(f, "node", np.array(plan.node_names, dtype=object).astype(text),
-                    long_name="floor node (building/floor)")
-        if plan.story_names:
-            _coordinate(f, "story", np.array(plan.story_names, dtype=object).astype(text),
-                        long_name="storey (named by the floor above it)")
-        if plan.contact_names:
-            _coordinate(f, "contact", np.array(plan.contact_names, dtype=object).astype(text),
-                        long_name="contact element")
-        widths = {"node": len(plan.node_names), "story": len(plan.story_names),
-                  "contact": len(plan.contact_names)}
+        names = {"node": plan.node_names, "story": plan.story_names,
+                 "contact": plan.contact_names}
+        for dim, values in names.items():
+            if values or dim == "node":
+                f.labels(dim, LABELS[dim][0], list(values), long_name=LABELS[dim][1])
+        self._connectivity()
         for q, every in plan.history:
             dim = self.time_dims[every]
-            rows = f[dim].shape[0]
-            if DIMENSION[q] is None:
-                shape, dims = (rows,), (dim,)
-            else:
-                shape, dims = (rows, widths[DIMENSION[q]]), (dim, DIMENSION[q])
+            dims = (dim,) if DIMENSION[q] is None else (dim, DIMENSION[q])
             _, units, long_name = self.convert.variable(np.zeros(0), *UNITS[q])
-            _describe(f, _empty(f, q, shape, self.streamed), dims, units, long_name)
+            f.variable(q, dims, chunk_rows=True, units=units, long_name=long_name)
+
+    def _connectivity(self):
+        """Which nodes each storey and contact joins, and the contact gaps: a file draws its
+        figures without its scene."""
+        f, ex = self.file, self.loaded.expanded
+        names = ex.node_names
+
+        def node(i):
+            return "ground" if i < 0 else names[i]
+
+        def labels(name, dim, values, long_name):
+            f.strings(name, (dim,), values, auxiliary=True, long_name=long_name)
+
+        if ex.stories:
+            labels("story_lower", "story", [node(e.nodes[0]) for e in ex.stories],
+                   "node below the storey ('ground' at the base)")
+            labels("story_upper", "story", [node(e.nodes[1]) for e in ex.stories],
+                   "node above the storey")
+        if ex.contacts:
+            labels("contact_left", "contact", [node(e.nodes[0]) for e in ex.contacts],
+                   "left node of the contact (penetration = u_left - u_right - gap)")
+            labels("contact_right", "contact", [node(e.nodes[1]) for e in ex.contacts],
+                   "right node of the contact")
+            gaps = self.plan.contact_gap[self.member]
+            data, units, long_name = self.convert.variable(gaps, "m", "initial gap")
+            f.variable("contact_gap", ("contact",), data, auxiliary=True, units=units,
+                       long_name=long_name)
 
     def _columns(self, q: str, data):
         return data[..., self.plan.node_dof] if DIMENSION[q] == "node" else data
@@ -170,8 +169,8 @@ class ResultWriter:
     def put(self, quantity: str, first_row: int, rows) -> None:
         """History rows ``first_row ..`` of ``quantity`` for this writer's member (rows past
         the file's length are ignored)."""
-        dset = self.file[quantity]
-        stop = min(first_row + len(rows), dset.shape[0])
+        var = self.file[quantity]
+        stop = min(first_row + len(rows), var.shape[0])
         if stop <= first_row:
             return
         rows = np.asarray(rows[:stop - first_row])
@@ -183,16 +182,18 @@ class ResultWriter:
             seen = self.peaks.get(quantity)
             self.peaks[quantity] = peak if seen is None else np.fmax(seen, peak)
         data, _, _ = self.convert.variable(self._columns(quantity, rows), *UNITS[quantity])
-        dset[first_row:stop] = data
+        var[first_row:stop] = data
 
-    def finish(self, result) -> Path:
+    def finish(self, result):
         """Cut the histories to the states computed, write envelopes, impact counts and
-        attributes, close and rename. Returns the final path."""
+        attributes, close and rename. Returns the final path (the file object in memory)."""
         try:
             self._trim(result.states_done(self.member))
             self._summaries(result)
             self._attributes(result)
             self.file.close()
+            if self.in_memory:
+                return None
             outputs.commit(self.tmp, self.path)
         except BaseException:
             self.abort()
@@ -202,21 +203,17 @@ class ResultWriter:
     def abort(self) -> None:
         """Close and remove the temporary file (nothing is left behind)."""
         try:
-            if self.file is not None and self.file.id.valid:
+            if self.file is not None:
                 self.file.close()
         finally:
-            outputs.discard(self.tmp)
+            if self.tmp is not None:
+                outputs.discard(self.tmp)
 
     def _trim(self, done: int):
-        f = self.file
         for every, dim in self.time_dims.items():
             rows = (done - 1) // every + 1
-            if f[dim].shape[0] == rows:
-                continue
-            f[dim].resize(rows, axis=0)
-            for q, stride in self.plan.history:
-                if stride == every:
-                    f[q].resize(rows, axis=0)
+            if self.file[dim].shape[0] != rows:
+                self.file.resize(dim, rows)
 
     def _summaries(self, result):
         f, member = self.file, self.member
@@ -224,44 +221,87 @@ class ResultWriter:
             data, units, long_name = self.convert.variable(
                 np.asarray(self._columns(q, peak[member])), *UNITS[q])
             dims = () if DIMENSION[q] is None else (DIMENSION[q],)
-            _variable(f, f"peak_{q}", data, dims, units, f"peak absolute {long_name}")
+            f.variable(f"peak_{q}", dims, data, units=units,
+                       long_name=f"peak absolute {long_name}")
         if self.plan.contact_names:
-            dset = _variable(f, "impact_count", result.impacts[member].astype(np.int32),
-                             ("contact",), "1", "number of impacts (contact onsets)")
-            del dset.attrs["units"]
+            f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
+                       long_name="number of impacts (contact onsets)")
 
     def _attributes(self, result):
         f, plan, loaded, member = self.file, self.plan, self.loaded, self.member
         convert = self.convert
-        f.attrs["Conventions"] = "CF-1.8"
-        f.attrs["title"] = getattr(loaded.scene, "title", "") or Path(loaded.source).stem
-        f.attrs["source"] = str(loaded.source)
-        f.attrs["input_yaml"] = loaded.text
-        f.attrs["pframe_version"] = pframe.__version__
-        f.attrs["integrator"] = plan.integrator_name + (
-            "" if plan.integrator.explicit
-            else (", linear: one solve per step" if plan.linear else ", full Newton")
-            + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
-        f.attrs["warnings"] = "\n".join(plan.warnings)
-        f.attrs["dt"] = float(plan.dt[member])
-        f.attrs["steps"] = int(plan.steps)
-        f.attrs["steps_completed"] = int(result.states_done(member) - 1)
-        f.attrs["solve_seconds"] = float(result.solve_seconds)
+        attrs = provenance(self.call)
+        attrs["title"] = getattr(loaded.scene, "title", "") or Path(loaded.source).stem
+        attrs["source"] = str(loaded.source)
+        attrs["input_yaml"] = loaded.text
+        attrs.update(record_attributes(loaded))
+        attrs["integrator"] = integrator_text(plan)
+        attrs["warnings"] = "\n".join(plan.warnings)
+        attrs["dt"] = float(plan.dt[member])
+        attrs["steps"] = np.int64(plan.steps)
+        attrs["steps_completed"] = np.int64(result.states_done(member) - 1)
+        attrs["solve_seconds"] = float(result.solve_seconds)
         for counter, name in COUNTER_ATTRIBUTES:
-            f.attrs[name] = result.counter(counter, member)
-        f.attrs["status"] = result.describe_failure(member)
-        f.attrs["complete"] = np.int8(result.completed(member))
-        f.attrs["energy_balance_error"] = float(result.energy_error(member))
+            attrs[name] = np.int64(result.counter(counter, member))
+        attrs["status"] = result.describe_failure(member)
+        attrs["complete"] = np.int8(result.completed(member))
+        attrs["energy_balance_error"] = float(result.energy_error(member))
         for term, value in zip(ENERGY_TERMS, result.energy[member]):
-            f.attrs[f"energy_{term}"] = float(convert.energy(value))
-        for key, value in convert.attributes(float(plan.dt[member])).items():
-            f.attrs[key] = value
+            attrs[f"energy_{term}"] = float(convert.energy(value))
+        attrs.update(reference_attributes(loaded))
+        attrs.update(convert.attributes(float(plan.dt[member])))
+        f.attrs.update(attrs)
 
 
-def write_result(path: str | Path, result, loaded, member: int = 0) -> Path:
-    """Write one batch member's result, histories in memory, to ``path`` via a temporary file
-    and an atomic rename."""
-    writer = ResultWriter(path, result.plan, loaded, member, states=result.states_done(member))
+def reference_attributes(loaded) -> dict:
+    """The reference scales m_b, a_p, w_p, l_e of the paper's dimensionless variables
+    (``reference_*`` attributes; none for a scene that has neither an excitation with an
+    amplitude and a frequency nor ``output.scales``)."""
+    from pframe.errors import InputError
+    from pframe.nondim.scene_variables import reference_scales
+
+    try:
+        scales = reference_scales(loaded.scene, loaded.expanded)
+    except (InputError, ValueError, TypeError, AttributeError):
+        return {}
+    m, a, w = float(scales["m_b"]), float(scales["a_p"]), float(scales["w_p"])
+    return {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
+            "reference_l_e": a / w**2}
+
+
+def record_attributes(loaded) -> dict:
+    """The ground-motion record a run read, so that the file alone reproduces the run:
+    ``record_file`` (as the scene names it), ``record_sha256``, ``record_text`` (the file's
+    whole text) and ``record_read_as`` (format, points, step, duration, PGA, units)."""
+    excitation = getattr(loaded.scene, "excitation", None)
+    if getattr(excitation, "kind", None) != "record":
+        return {}
+    import hashlib
+
+    path = Path(loaded.base_dir) / excitation.file
+    try:
+        content = path.read_bytes()
+    except OSError:
+        return {"record_file": excitation.file}
+    out = {"record_file": excitation.file,
+           "record_sha256": hashlib.sha256(content).hexdigest(),
+           "record_text": content.decode("utf-8", errors="replace")}
+    try:  # how the record was read: format, points, step, PGA (pframe validate prints it)
+        from pframe.excitation.describe import describe_line, describe_record
+
+        facts = describe_record(path, excitation.format, excitation.units, excitation.scale)
+        out["record_read_as"] = describe_line(facts).removeprefix(f"record {facts['file']}: ")
+    except Exception:  # a fact we cannot state is left out, never a failed write
+        pass
+    return out
+
+
+def write_result(target, result, loaded, member: int = 0, compress: bool = False,
+                 call: str | None = None):
+    """Write one batch member's result, histories in memory, to ``target`` (a path: via a
+    temporary file and an atomic rename; or a binary file object)."""
+    writer = ResultWriter(target, result.plan, loaded, member, states=result.states_done(member),
+                          compress=compress, call=call)
     with writer:
         for q, _ in result.plan.history:
             writer.put(q, 0, result.history[q][member])

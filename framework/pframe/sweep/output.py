@@ -14,12 +14,12 @@ from __future__ import annotations
 import dataclasses
 from pathlib import Path
 
-import h5py
 import numpy as np
 
-import pframe
 from pframe import outputs
 from pframe.quantities import QUANTITIES
+from pframe.record.hdf5 import LABELS, integrator_text
+from pframe.record.netcdf import Writer, provenance
 from pframe.sweep.definition import RESPONSES
 from pframe.sweep.spec import Spec
 
@@ -39,8 +39,8 @@ _STATUS = {
     "steps_completed": ("int32", None, "time steps computed"),
     "energy_balance_error": ("float64", "1", "energy balance error relative to the largest "
                              "energy term"),
-    "newton_solves": ("int64", None, "Newton iterations (linear solves)"),
-    "split_steps": ("int64", None, "steps retried in sub-steps"),
+    "newton_solves": ("int32", None, "Newton iterations (linear solves)"),
+    "split_steps": ("int32", None, "steps retried in sub-steps"),
     "dt": ("float64", "s", "time step"),
 }
 
@@ -59,34 +59,6 @@ def _units_and_name(name: str, convert) -> tuple[str | None, str]:
     _, units, long_name = QUANTITIES[quantity]
     _, units, long_name = convert.variable(np.zeros(0), units, long_name)
     return units, f"peak absolute {long_name}"
-
-
-def _coordinate(f, name, values, **attrs):
-    dset = f.create_dataset(name, data=values, track_order=True)
-    dset.make_scale(name)
-    for key, value in attrs.items():
-        dset.attrs[key] = value
-    return dset
-
-
-def _variable(f, name, data_or_shape, dims, dtype=None, units=None, long_name=None,
-              coordinates=None, fill=None):
-    if isinstance(data_or_shape, tuple):
-        dset = f.create_dataset(name, shape=data_or_shape, dtype=dtype, track_order=True,
-                                fillvalue=fill)
-    else:
-        dset = f.create_dataset(name, data=data_or_shape, track_order=True, fillvalue=fill)
-    for axis, dim in enumerate(dims):
-        dset.dims[axis].attach_scale(f[dim])
-    if fill is not None:
-        dset.attrs["_FillValue"] = np.array(fill, dtype=dset.dtype)
-    if units is not None:
-        dset.attrs["units"] = units
-    if long_name is not None:
-        dset.attrs["long_name"] = long_name
-    if coordinates:
-        dset.attrs["coordinates"] = coordinates
-    return dset
 
 
 @dataclasses.dataclass(frozen=True)
@@ -113,33 +85,31 @@ def base_run(spec: Spec) -> BaseRun:
     base = load_variant(variant_data_base(spec), spec.base_lines, spec.base_where,
                         materialise(spec.definition))
     plan = assemble(dataclasses.replace(base.expanded, recorders=spec.recorders))
-    integrator = plan.integrator_name + (
-        "" if plan.integrator.explicit
-        else (", linear: one solve per step" if plan.linear else ", full Newton")
-        + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
+    integrator = integrator_text(plan)
     title = spec.model.title or getattr(base.scene, "title", "") or Path(spec.definition.source).stem
     return BaseRun(title, plan.node_names, plan.story_names, plan.contact_names,
                    plan.buildings, integrator, plan.steps, float(plan.dt[0]),
                    output_units(base.scene, base.expanded))
 
 
-def write_sweep(path: Path, spec: Spec, load_chunk) -> dict:
+def write_sweep(path: Path, spec: Spec, load_chunk, call: str | None = None) -> dict:
     """Write the result file from the finished chunks (``load_chunk(i)`` returns chunk ``i``'s
     arrays) via a temporary file and an atomic rename; return a summary (failed variants)."""
     path = Path(path)
     with outputs.replacing(path) as tmp:
-        with h5py.File(tmp, "w", track_order=True) as f:
-            summary = _write(f, spec, load_chunk)
+        f = Writer(tmp)
+        try:
+            summary = _write(f, spec, load_chunk, call)
+        finally:
+            f.close()
     return summary
 
 
-def _write(f, spec: Spec, load_chunk) -> dict:
+def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
     definition = spec.definition
     run = base_run(spec)
-    text = h5py.string_dtype()
     shape, dims = spec.shape, spec.dims
     zipped = spec.model.combine == "zip"
-    coordinates = " ".join(a.name for a in spec.axes) if zipped else None
 
     # small per-variant arrays of every chunk, in variant order
     small: dict[str, list] = {}
@@ -156,101 +126,97 @@ def _write(f, spec: Spec, load_chunk) -> dict:
     small = {key: np.concatenate(values) for key, values in small.items()}
     complete = small["complete"].astype(bool)
 
-    f.attrs["Conventions"] = "CF-1.8"
-    f.attrs["title"] = run.title
-    f.attrs["source"] = definition.source
-    f.attrs["sweep_yaml"] = definition.text
-    f.attrs["base_source"] = definition.base_source
-    f.attrs["input_yaml"] = definition.base_text
-    f.attrs["pframe_version"] = pframe.__version__
-    f.attrs["sweep_digest"] = definition.digest
-    f.attrs["sweep_axes"] = " ".join(a.name for a in spec.axes)
-    f.attrs["sweep_combine"] = spec.model.combine
-    f.attrs["variants"] = int(spec.count)
-    f.attrs["variants_failed"] = int(np.count_nonzero(~complete))
-    f.attrs["chunk"] = int(definition.chunk)
-    f.attrs["integrator"] = run.integrator
-    f.attrs["steps"] = int(run.steps)
-    f.attrs["warnings"] = "\n".join(sorted(set(warnings)))
+    attrs = provenance(call)
+    attrs.update({
+        "title": run.title,
+        "source": definition.source,
+        "sweep_yaml": definition.text,
+        "base_source": definition.base_source,
+        "input_yaml": definition.base_text,
+        "sweep_digest": definition.digest,
+        "sweep_axes": " ".join(a.name for a in spec.axes),
+        "sweep_combine": spec.model.combine,
+        "variants": np.int64(spec.count),
+        "variants_failed": np.int64(np.count_nonzero(~complete)),
+        "chunk": np.int64(definition.chunk),
+        "integrator": run.integrator,
+        "steps": np.int64(run.steps),
+        "warnings": "\n".join(sorted(set(warnings))),
+    })
+    same = True
     if run.convert.dimensionless:
         scales = small["scales"]
-        same = np.all(np.isnan(scales) | (scales == scales[complete.argmax()]))
+        same = bool(np.all(np.isnan(scales) | (scales == scales[complete.argmax()])))
         for key, value in run.convert.attributes(run.dt).items():
             if same or not key.startswith(("scale_", "dtau")):
-                f.attrs[key] = value
+                attrs[key] = value
+    f.attrs.update(attrs)
 
     if zipped:
-        _coordinate(f, "variant", np.arange(spec.count, dtype=np.int32),
-                    long_name="variant (the i-th values of the zipped axes)")
+        f.coordinate("variant", np.arange(spec.count, dtype=np.int32),
+                     long_name="variant (the i-th values of the zipped axes)")
     for axis in spec.axes:
         values = axis.coordinates
         attrs = {"long_name": f"swept {axis.path_text}"}
         if axis.units:
             attrs["units"] = axis.units
-        if axis.is_file:
-            values = np.array(list(values), dtype=object).astype(text)
+        if axis.is_file:  # strings: a label variable (no string coordinate variables in CF)
             attrs["long_name"] = f"record file ({axis.path_text})"
-        if zipped:
-            dset = f.create_dataset(axis.name, data=values, track_order=True)
-            dset.dims[0].attach_scale(f["variant"])
-            for key, value in attrs.items():
-                dset.attrs[key] = value
+            if zipped:
+                f.strings(axis.name, ("variant",), list(values), auxiliary=True, **attrs)
+            else:
+                f.labels(axis.name, f"{axis.name}_file", list(values), **attrs)
+        elif zipped:
+            f.variable(axis.name, ("variant",), np.asarray(values), auxiliary=True, **attrs)
         else:
-            _coordinate(f, axis.name, values, **attrs)
+            f.coordinate(axis.name, np.asarray(values), **attrs)
     entities = {"node": run.node_names, "story": run.story_names,
                 "contact": run.contact_names, "building": run.buildings}
-    long_names = {"node": "floor node (building/floor)",
-                  "story": "storey (named by the floor above it)",
-                  "contact": "contact element", "building": "building"}
     every = spec.model.keep.every
     if histories:
-        values, units, long_name = run.convert.time(
-            np.arange(run.steps // every + 1) * every * run.dt)
-        _coordinate(f, "time", values, units=units, long_name=long_name, axis="T")
+        rows = run.steps // every + 1
+        values, units, long_name = run.convert.time(np.arange(rows) * every * run.dt)
+        f.coordinate("t", values, units=units, long_name=long_name)
     for entity, names in entities.items():
         if names:
-            _coordinate(f, entity, np.array(names, dtype=object).astype(text),
-                        long_name=long_names[entity])
+            f.labels(entity, LABELS[entity][0], list(names), long_name=LABELS[entity][1])
 
     for name in spec.responses:
         if name not in small:
             continue
         entity = RESPONSES[name]
         data = small[name].reshape(shape + small[name].shape[1:])
+        if data.dtype == np.int64:
+            data = data.astype(np.int32)
         units, long_name = _units_and_name(name, run.convert)
-        fill = -1 if name == "impact_count" else None
-        _variable(f, name, data, dims + ((entity,) if entity else ()), units=units,
-                  long_name=long_name, coordinates=coordinates, fill=fill)
+        fill = np.int32(-1) if name == "impact_count" else None
+        f.variable(name, dims + ((entity,) if entity else ()), data, fill=fill, units=units,
+                   long_name=long_name)
     for name, (dtype, units, long_name) in _STATUS.items():
         data = small[name].reshape(shape)
         if dtype == "str":
-            data = np.array(data.tolist(), dtype=object).astype(text)
-        _variable(f, name, data, dims, units=units, long_name=long_name,
-                  coordinates=coordinates)
+            f.strings(name, dims, np.array(data.tolist(), dtype=object), long_name=long_name)
+            continue
+        f.variable(name, dims, data.astype(dtype), units=units, long_name=long_name)
     if run.convert.dimensionless and not same:
         for k, key in enumerate(("m_b", "a_p", "w_p")):
-            _variable(f, f"scale_{key}", scales[:, k].reshape(shape), dims,
-                      units={"m_b": "kg", "a_p": "m/s^2", "w_p": "rad/s"}[key],
-                      long_name=f"reference scale {key} of the dimensionless output",
-                      coordinates=coordinates)
+            f.variable(f"scale_{key}", dims, scales[:, k].reshape(shape),
+                       units={"m_b": "kg", "a_p": "m/s^2", "w_p": "rad/s"}[key],
+                       long_name=f"reference scale {key} of the dimensionless output")
 
     datasets = {}
     for q in histories:
         entity = QUANTITIES[q][0]
-        rows = run.steps // every + 1
-        inner = (rows,) if entity is None else (rows, len(entities[entity]))
         _, units, long_name = QUANTITIES[q]
         _, units, long_name = run.convert.variable(np.zeros(0), units, long_name)
-        datasets[q] = _variable(f, q, shape + inner,
-                                dims + ("time",) + ((entity,) if entity else ()),
-                                dtype="float64", units=units, long_name=long_name,
-                                coordinates=coordinates)
+        datasets[q] = f.variable(q, dims + ("t",) + ((entity,) if entity else ()),
+                                 units=units, long_name=long_name)
     if datasets:  # one chunk in memory at a time: histories are large
         for chunk in range(spec.chunks):
             arrays = load_chunk(chunk)
-            for q, dset in datasets.items():
+            for q, var in datasets.items():
                 for row, index in enumerate(spec.chunk_range(chunk)):
-                    dset[np.unravel_index(index, shape)] = arrays[q][row]
+                    var[np.unravel_index(index, shape)] = arrays[q][row]
 
     failed = [(i, str(small["status"][i])) for i in np.flatnonzero(~complete)]
     return {"failed": failed, "count": spec.count}

@@ -9,6 +9,8 @@ that are written down, and the loader validates each variant as it validates any
 
 from __future__ import annotations
 
+import math
+
 from pframe.errors import InputError
 
 
@@ -97,6 +99,17 @@ def put(data, path: tuple, value) -> None:
     data[path[-1]] = value
 
 
+def _numeric(value) -> bool:
+    """A number, or text YAML 1.1 left as text but that is one (1.0e10: no exponent sign),
+    which the scene model reads as a number too."""
+    if isinstance(value, str):
+        try:
+            return math.isfinite(float(value))
+        except ValueError:
+            return False
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
 def check_targets(data, paths: list[tuple], files: bool) -> None:
     """The values an axis replaces must be numbers (or per-storey lists of numbers), or a file
     name for a records axis."""
@@ -107,7 +120,6 @@ def check_targets(data, paths: list[tuple], files: bool) -> None:
                 raise InputError(f"{_shown(path)} is {value!r}, not a file name")
             continue
         items = value if isinstance(value, list) else [value]
-        if not items or not all(isinstance(v, (int, float)) and not isinstance(v, bool)
-                                for v in items):
+        if not items or not all(_numeric(v) for v in items):
             raise InputError(f"{_shown(path)} is {value!r}, not a number: a sweep varies "
                              "numbers (and record files through excitation.file)")

@@ -48,7 +48,7 @@ class SweepRun:
 
 def run_sweep(definition: SweepDefinition, output: str | Path, *, restart: bool = False,
               threads: int | None = None, scheduler: str | None = None,
-              progress=None) -> SweepRun:
+              progress=None, call: str | None = None) -> SweepRun:
     """Run the chunks of ``definition`` that ``OUT.parts`` does not hold yet, then write
     ``output``. ``progress(done, total, failed)`` is called as chunks finish (``done`` counts
     variants, including those of chunks finished by an earlier run)."""
@@ -84,7 +84,7 @@ def run_sweep(definition: SweepDefinition, output: str | Path, *, restart: bool 
             _on_cluster(definition, todo, scheduler, started, finish, run)
         else:
             _on_threads(definition, todo, threads, started, finish, run)
-        summary = write_sweep(output, spec, parts.load)
+        summary = write_sweep(output, spec, parts.load, call)
         parts.remove()
     finally:
         parts.close()

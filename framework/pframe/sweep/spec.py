@@ -387,7 +387,7 @@ def check(definition: SweepDefinition, full: int = 2) -> None:
 
                     raise InputError(TOPOLOGY_CHANGED)
             else:
-                _validate_model(data, spec)
+                _validate_model(data, spec, folder)
         except InputError as exc:
             message = str(exc).replace(str(folder) + "/", "")
             axis = axis or spec.axes[0]
@@ -415,7 +415,7 @@ def _index_with(spec: Spec, axis: AxisSpec, position: int) -> int:
     return int(np.ravel_multi_index(positions, spec.shape))
 
 
-def _validate_model(data: dict, spec: Spec) -> None:
+def _validate_model(data: dict, spec: Spec, folder) -> None:
     """The scene model's checks alone (no expansion to numbers): cheap enough for every value."""
     from pframe.model.load import _plugin_names
     from pframe.model.scene import scene_class
@@ -424,6 +424,6 @@ def _validate_model(data: dict, spec: Spec) -> None:
     if "pi" in data:
         from pframe.nondim.pi_form import expand_pi_data
 
-        data = expand_pi_data(data, lines, source)
+        data = expand_pi_data(data, lines, source, folder)  # a record is read from there
     plugins = _plugin_names(data, lines, source)
     validated(scene_class(*plugins), data, lines, source)

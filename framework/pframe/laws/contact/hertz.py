@@ -10,7 +10,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.params import LawParams, Positive
+from pframe.laws.params import HERTZ_STIFFNESS, LawParams, Positive
 from pframe.laws.registry import Law, contact_law
 
 
@@ -18,7 +18,7 @@ from pframe.laws.registry import Law, contact_law
 class Hertz(Law):
     class Params(LawParams):
         law: Literal["hertz"]
-        stiffness: Positive = Field(description="Hertz stiffness k (N/m^1.5).")
+        stiffness: Positive = Field(description=HERTZ_STIFFNESS)
 
     param_names = ("stiffness",)
 

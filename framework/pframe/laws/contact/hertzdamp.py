@@ -18,9 +18,15 @@ from typing import Literal
 from pydantic import Field
 
 from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
-from pframe.laws.params import Calibration, DampedRestitution, LawParams, Positive
+from pframe.laws.params import (
+    HERTZ_STIFFNESS,
+    Calibration,
+    DampedRestitution,
+    LawParams,
+    Positive,
+)
 from pframe.laws.registry import Law, contact_law
-from pframe.laws.restitution import hunt_crossley_chi
+from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
 
 CHI_FORMULAS = {
     "muthukumar": lambda e: 0.75 * (1.0 - e * e),
@@ -32,7 +38,7 @@ CHI_FORMULAS = {
 class Hertzdamp(Law):
     class Params(LawParams):
         law: Literal["hertzdamp"]
-        stiffness: Positive = Field(description="Hertz stiffness k (N/m^1.5).")
+        stiffness: Positive = Field(description=HERTZ_STIFFNESS)
         restitution: DampedRestitution
         formula: Literal["muthukumar", "ye"] = Field(
             "muthukumar", description="Published damping formula: Muthukumar & DesRoches 2006 "
@@ -50,6 +56,16 @@ class Hertzdamp(Law):
         if params.calibration == "exact":
             return hunt_crossley_chi(e)
         return CHI_FORMULAS[params.formula](e)
+
+    @classmethod
+    def published_source(cls, params) -> str:
+        return {"muthukumar": "Muthukumar & DesRoches 2006", "ye": "Ye, Li & Zhu 2009"}[
+            params.formula]
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
+        return hunt_crossley_restitution(cls.chi(params))
 
     @classmethod
     def pack(cls, params, context=None):

@@ -17,7 +17,7 @@ from typing import Literal
 from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
 from pframe.laws.params import Calibration, ContactStiffness, DampedRestitution
 from pframe.laws.registry import Law, contact_law
-from pframe.laws.restitution import hunt_crossley_chi
+from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
 
 
 def ye_chi(e: float) -> float:
@@ -40,6 +40,15 @@ class ImprovedKelvin(Law):
     def chi(cls, params) -> float:
         e = params.restitution
         return hunt_crossley_chi(e) if params.calibration == "exact" else ye_chi(e)
+
+    @classmethod
+    def published_source(cls, params) -> str:
+        return "Ye, Li & Zhu 2009"
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
+        return hunt_crossley_restitution(cls.chi(params))
 
     @classmethod
     def pack(cls, params, context=None):

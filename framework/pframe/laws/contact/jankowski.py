@@ -18,9 +18,15 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.params import Calibration, DampedRestitution, LawParams, Positive
+from pframe.laws.params import (
+    HERTZ_STIFFNESS,
+    Calibration,
+    DampedRestitution,
+    LawParams,
+    Positive,
+)
 from pframe.laws.registry import Law, contact_law
-from pframe.laws.restitution import jankowski_zeta_exact
+from pframe.laws.restitution import jankowski_restitution, jankowski_zeta_exact
 
 
 def jankowski_zeta(e: float) -> float:
@@ -32,7 +38,7 @@ def jankowski_zeta(e: float) -> float:
 class Jankowski(Law):
     class Params(LawParams):
         law: Literal["jankowski"]
-        stiffness: Positive = Field(description="Impact stiffness beta (N/m^1.5).")
+        stiffness: Positive = Field(description="Impact stiffness beta: " + HERTZ_STIFFNESS)
         restitution: DampedRestitution
         calibration: Calibration = "published"
 
@@ -42,6 +48,15 @@ class Jankowski(Law):
     def zeta(cls, params) -> float:
         e = params.restitution
         return jankowski_zeta_exact(e) if params.calibration == "exact" else jankowski_zeta(e)
+
+    @classmethod
+    def published_source(cls, params) -> str:
+        return "Jankowski 2005"
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
+        return jankowski_restitution(cls.zeta(params))
 
     @classmethod
     def pack(cls, params, context=None):

@@ -25,7 +25,11 @@ from pframe.laws.params import (
     kelvin_damping_ratio,
 )
 from pframe.laws.registry import Law, contact_law
-from pframe.laws.restitution import kelvin_clipped_zeta
+from pframe.laws.restitution import (
+    kelvin_clipped_restitution,
+    kelvin_clipped_zeta,
+    kelvin_tension_restitution,
+)
 
 
 @contact_law("kelvin")
@@ -46,6 +50,18 @@ class Kelvin(Law):
         if params.calibration == "exact" and not params.keep_tension:
             return kelvin_clipped_zeta(e)
         return kelvin_damping_ratio(e)
+
+    @classmethod
+    def published_source(cls, params) -> str:
+        return "Anagnostopoulos 1988"
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
+        zeta = cls.zeta(params)
+        if params.keep_tension:
+            return kelvin_tension_restitution(zeta)
+        return kelvin_clipped_restitution(zeta)
 
     @classmethod
     def pack(cls, params, context=None):

@@ -1,0 +1,369 @@
+"""pframe from Python: scenes as objects, results as xarray Datasets (docs/python.md).
+
+The command line is a shell over the same functions: ``pframe.solve(scene)`` gives the
+Dataset that ``pframe solve`` writes (the file is laid out by one writer, in memory here), and
+``pframe.open`` reads any pframe result file back as such a Dataset.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+import warnings
+from pathlib import Path
+
+from pframe.errors import InputError
+
+#: suffixes of result files (``load`` of one rebuilds the scene it holds)
+RESULT_SUFFIXES = (".nc", ".h5", ".hdf5", ".nc4")
+
+
+class IncompleteRun(UserWarning):
+    """A run stopped early: the Dataset holds the states computed (``complete = 0``, its
+    ``status`` attribute says why, when and where)."""
+
+
+# -- scenes ---------------------------------------------------------------------------------
+
+def load(source, *, base_dir: str | Path | None = None):
+    """A validated scene (:class:`pframe.Scene`) from a file, YAML text data or objects.
+
+    ``source`` is a scene file (dimensional or in Pi numbers), a pframe result file (the
+    scene it ran, with the ground-motion record it read), a ``dict`` with the fields of the
+    YAML, or a scene object. Files are checked exactly as ``pframe validate`` checks them;
+    a problem raises :class:`pframe.InputError` naming the file, line and field. Record files
+    are found relative to the scene file (``base_dir`` for data and objects: default, the
+    current folder).
+    """
+    loaded = _loaded(source, base_dir)
+    return _scene_of(loaded)
+
+
+#: id(scene object) -> (weak reference to it, where it was read from): the file a loaded
+#: scene came from (record paths, the result's input_yaml), kept off the scene's data
+_ORIGIN: dict[int, tuple] = {}
+
+
+def _scene_of(loaded):
+    import weakref
+
+    scene = loaded.scene
+    key = id(scene)
+    _ORIGIN[key] = (weakref.ref(scene, lambda _, key=key, origin=_ORIGIN: origin.pop(key, None)),
+                    loaded)
+    return scene
+
+
+def _origin(scene):
+    entry = _ORIGIN.get(id(scene))
+    return entry[1] if entry is not None and entry[0]() is scene else None
+
+
+def loaded_scene(source, base_dir=None):
+    """The validated scene with where it came from (:class:`pframe.model.load.LoadedScene`)
+    of anything :func:`load` takes."""
+    return _loaded(source, base_dir)
+
+
+def _loaded(source, base_dir=None):
+    """The :class:`pframe.model.load.LoadedScene` of any ``source`` that :func:`load` takes."""
+    from pframe.model.load import LoadedScene, load_scene, parse_scene
+
+    if isinstance(source, LoadedScene):
+        return source
+    if isinstance(source, (str, os.PathLike)):
+        path = Path(source)
+        if path.suffix.lower() in RESULT_SUFFIXES:
+            return _from_result(path)
+        return load_scene(path)
+    if isinstance(source, dict):
+        import yaml
+
+        text = yaml.safe_dump(source, sort_keys=False, allow_unicode=True)
+        return parse_scene(text, "<dict>", Path(base_dir or "."))
+    loaded = _origin(source)
+    if loaded is not None:
+        return loaded
+    if hasattr(source, "to_yaml"):
+        base = base_dir or (loaded.base_dir if loaded is not None else ".")
+        return parse_scene(source.to_yaml(), "<python>", Path(base))
+    if isinstance(source, (bytes, bytearray)):
+        raise InputError("pframe.load: give a path, a dict or a scene object, not bytes")
+    raise InputError(f"pframe.load: cannot read a scene from a {type(source).__name__}; give "
+                     "a scene file's path, a dict with the fields of the YAML, or a "
+                     "pframe.Scene")
+
+
+def _from_result(path: Path):
+    """The scene a result file ran: its ``input_yaml``, and its record restored from
+    ``record_text`` into a private folder laid out so that the scene's relative record path
+    finds it."""
+    import h5py
+
+    from pframe.model.load import parse_scene
+
+    try:
+        with h5py.File(path, "r") as f:
+            attrs = {k: f.attrs[k] for k in ("input_yaml", "record_file", "record_text",
+                                             "sweep_yaml") if k in f.attrs}
+    except FileNotFoundError:
+        raise InputError(f"{path}: no such result file") from None
+    except OSError as exc:
+        raise InputError(f"{path}: not a pframe result file (HDF5/netCDF-4): {exc}") from None
+    attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()}
+    if "sweep_yaml" in attrs:
+        raise InputError(f"{path}: a sweep's result file holds many scenes; load its base "
+                         "scene from the sweep file, or a variant with pframe sweep --variant")
+    text = attrs.get("input_yaml")
+    if not text:
+        raise InputError(f"{path}: the file holds no scene (no input_yaml attribute)")
+    base = Path(path).parent
+    if "record_text" in attrs:
+        relative = Path(attrs["record_file"])
+        if relative.is_absolute():
+            raise InputError(f"{path}: the scene names its record by the absolute path "
+                             f"{relative}; run it from its scene file")
+        depth = sum(1 for part in relative.parts if part == "..")
+        root = Path(tempfile.mkdtemp(prefix="pframe-record-"))
+        base = root.joinpath(*(["d"] * depth))
+        target = (base / relative).resolve()
+        target.parent.mkdir(parents=True, exist_ok=True)
+        target.write_text(attrs["record_text"], encoding="utf-8")
+    return parse_scene(text, f"{path} (input_yaml)", base)
+
+
+# -- runs -----------------------------------------------------------------------------------
+
+def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
+          compress: bool = False, progress: bool | None = None):
+    """Run a scene; return its results as an :class:`xarray.Dataset`.
+
+    ``scene``: anything :func:`load` takes. The Dataset has exactly the layout of the file
+    ``pframe solve`` writes (docs/netcdf.md): the same variables, coordinates, units and
+    attributes. With ``output`` the histories stream to that file as they are computed (memory
+    stays bounded) and the Dataset is opened from it, lazily; without, they are kept in
+    memory. ``progress``: True, False, or None to draw a bar on a terminal or in a notebook.
+
+    Raises :class:`pframe.InputError` for a bad scene or output path, or a run too large for
+    the machine (docs/getting-started.md, limits), and :class:`pframe.EnvironmentFailure` when
+    the output cannot be written (disk full, permission denied; nothing is left behind); a run
+    that stops early returns what was computed (``complete`` attribute 0) with an
+    :class:`IncompleteRun` warning.
+    """
+    from pframe.assemble import assemble
+    from pframe.kernel import simulate
+    from pframe.progress import bar
+    from pframe.record import ResultWriter
+
+    loaded = _loaded(scene)
+    if output is not None:
+        output = check_output(output, overwrite, loaded)
+    _check_resources(loaded, output)
+    plan = assemble(loaded.expanded)
+    for text in plan.warnings:
+        warnings.warn(f"{loaded.source}: {text}", stacklevel=2)
+    from pframe.record.netcdf import DatasetWriter
+
+    target = DatasetWriter() if output is None else output
+    progress_bar = bar(progress, "steps", Path(str(loaded.source)).name)
+    call = _call("solve", loaded, output)
+    try:
+        with ResultWriter(target, plan, loaded, compress=compress and output is not None,
+                          call=call) as writer:
+            try:
+                result = simulate(plan, progress=progress_bar, sink=writer.append)
+            finally:
+                if progress_bar is not None:
+                    progress_bar.close()
+            writer.finish(result)
+    except OSError as exc:
+        from pframe import outputs
+
+        raise outputs.failure(output, exc) from None
+    if not result.completed():
+        warnings.warn(f"{loaded.source}: the run stopped early: {result.describe_failure()}; "
+                      f"the Dataset holds the {result.states_done() - 1} steps computed",
+                      IncompleteRun, stacklevel=2)
+    if output is None:
+        return indexed(target.dataset())
+    return open(output)
+
+
+def _check_resources(loaded, output) -> None:
+    """Refuse a run that cannot fit (pframe.resources); warn about a very large one."""
+    import shutil
+
+    from pframe import resources
+
+    free = None
+    if output is not None:
+        try:
+            free = shutil.disk_usage(Path(output).parent).free
+        except OSError:
+            pass
+    estimate = resources.of_expanded(loaded.expanded, streaming=output is not None)
+    for text in resources.check(estimate, str(loaded.source), free_disk=free):
+        warnings.warn(f"{loaded.source}: {text}", stacklevel=3)
+
+
+def _call(command: str, loaded, output) -> str:
+    where = repr(str(loaded.source))
+    out = "" if output is None else f", output={str(output)!r}"
+    return f"pframe.{command}({where}{out}) (Python)"
+
+
+def check_output(output, overwrite: bool, loaded=None) -> Path:
+    """The output path, checked before a run (:func:`pframe.outputs.check_output`): not empty,
+    not a folder, its folder exists and can be written, not an existing file unless
+    ``overwrite``, not the scene or record the run reads, not being written by another run."""
+    from pframe import outputs
+
+    inputs = []
+    if loaded is not None:
+        inputs.append(Path(str(loaded.source)))
+        excitation = getattr(loaded.scene, "excitation", None)
+        if getattr(excitation, "kind", None) == "record":
+            inputs.append(Path(loaded.base_dir) / excitation.file)
+    return outputs.check_output(output, inputs=inputs, overwrite=overwrite,
+                                what="result file")
+
+
+def sweep(definition, *, output: str | Path | None = None, overwrite: bool = False,
+          threads: int | None = None, chunk: int | None = None, progress: bool | None = None):
+    """Run a parametric study (a sweep file, docs/sweeps.md); return its labelled Dataset.
+
+    With ``output`` the sweep is resumable (finished chunks are kept beside it until the file
+    is complete, and a second call continues) and the Dataset is opened from it; without, it
+    runs in a private folder and the Dataset is in memory.
+    """
+    from pframe.progress import bar
+    from pframe.sweep import load_sweep, run_sweep
+
+    loaded = load_sweep(definition, chunk=chunk)
+    if threads is not None and threads < 1:
+        raise InputError(f"threads={threads}: give at least 1")
+    folder = None
+    if output is None:
+        folder = tempfile.TemporaryDirectory(prefix="pframe-sweep-")
+        out = Path(folder.name) / "sweep.nc"
+    else:
+        out = Path(output)
+        if not out.parent.exists():
+            raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+        from pframe.sweep.store import parts_folder
+
+        if out.exists() and not parts_folder(out).exists() and not overwrite:
+            raise InputError(f"{out}: the output file exists; pass overwrite=True to replace "
+                             "it, or choose another name")
+    progress_bar = bar(progress, "variants", Path(str(definition)).name)
+    try:
+        run = run_sweep(loaded, out, restart=overwrite, threads=threads, progress=progress_bar,
+                        call=f"pframe.sweep({str(definition)!r}) (Python)")
+        if run.failed:
+            warnings.warn(f"{definition}: {len(run.failed)} of {run.count} variants failed "
+                          "(complete = 0; status says why)", IncompleteRun, stacklevel=2)
+        if folder is None:
+            return open(out)
+        with open(out) as ds:
+            return ds.load()
+    finally:
+        if progress_bar is not None:
+            progress_bar.close()
+        if folder is not None:
+            folder.cleanup()
+
+
+# -- results --------------------------------------------------------------------------------
+
+def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_dataset
+    """A pframe result file (``pframe solve`` or ``pframe sweep``) as an xarray Dataset,
+    opened lazily; the named positions (``node_name``, ``story_name``, ``contact_name``, ...)
+    are indexed, so ``ds.sel(node_name="A/3")`` selects by name."""
+    path = Path(path)
+    if not path.exists():
+        raise InputError(f"{path}: no such result file")
+    try:
+        return _opened(path)
+    except (OSError, ValueError) as exc:
+        raise InputError(f"{path}: not a pframe result file (netCDF-4/HDF5): {exc}") from None
+
+
+def _opened(source, load_now: bool = False):
+    import xarray as xr
+
+    ds = xr.open_dataset(source, engine="h5netcdf")
+    if load_now:
+        ds = ds.load()
+        ds.close()
+    return indexed(ds)
+
+
+def indexed(ds):
+    """``ds`` with an index on each label coordinate (``*_name``, swept record files), so
+    that ``.sel`` takes names; the data and attributes are unchanged."""
+    for name, coord in ds.coords.items():
+        if coord.ndim == 1 and name not in ds.indexes and coord.dtype == object \
+                and name.endswith("_name") and len(set(coord.values.tolist())) == coord.size:
+            ds = ds.set_xindex(name)
+    return ds
+
+
+
+
+# -- building blocks of a scene (the names and fields of the YAML) ---------------------------
+
+def _item_type(field: str):
+    """The type of one item of the Scene's list field ``field`` (built-in laws)."""
+    from typing import get_args
+
+    from pframe.model.scene import scene_class
+
+    return get_args(scene_class().model_fields[field].annotation)[0]
+
+
+def _validated(field: str, what: str, fields: dict):
+    from pydantic import TypeAdapter, ValidationError
+
+    try:
+        return TypeAdapter(_item_type(field)).validate_python(fields)
+    except ValidationError as exc:
+        problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or what}: {e['msg']}"
+                             for e in exc.errors(include_url=False)[:3])
+        raise InputError(f"pframe.{what}({', '.join(f'{k}=...' for k in fields)}): "
+                         f"{problems}") from None
+
+
+def Contact(**fields):  # noqa: N802 - builds an object, as a class would
+    """A contact element (YAML ``contacts:`` item): ``law`` (linear, kelvin, improved_kelvin,
+    hertz, hertzdamp, jankowski), ``nodes`` [left, right], ``gap`` and the law's parameters."""
+    return _validated("contacts", "Contact", fields)
+
+
+def Story(**fields):  # noqa: N802
+    """A storey between two nodes (YAML ``stories:`` item): ``material`` (elastic, bilinear),
+    ``nodes`` [lower or 'ground', upper] and the material's parameters."""
+    return _validated("stories", "Story", fields)
+
+
+def StoryProperties(**fields):  # noqa: N802
+    """The storeys of a building (YAML ``buildings[].story``): ``material`` and its parameters,
+    each a number or one value per storey, bottom up."""
+    from pydantic import TypeAdapter, ValidationError
+
+    annotation = _item_type("buildings").model_fields["story"].annotation
+    try:
+        return TypeAdapter(annotation).validate_python(fields)
+    except ValidationError as exc:
+        problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}"
+                             for e in exc.errors(include_url=False)[:3])
+        raise InputError(f"pframe.StoryProperties: {problems}") from None
+
+
+def __getattr__(name: str):
+    if name == "Building":
+        return _item_type("buildings")
+    if name == "Scene":
+        from pframe.model.scene import scene_class
+
+        return scene_class()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

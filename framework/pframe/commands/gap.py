@@ -1,0 +1,120 @@
+"""``pframe gap SCENE.yaml [--suite ...]``: code minimum separations beside the simulated
+no-pounding gap, over a suite of records scaled to intensity levels."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+
+def _levels(text: str) -> list[float]:
+    from pframe.errors import InputError
+
+    try:
+        return [float(x) for x in text.replace(",", " ").split()]
+    except ValueError:
+        raise InputError(f"--levels {text}: write intensities in g separated by commas, e.g. "
+                         "--levels 0.1,0.2,0.4") from None
+
+
+def table(ds, statistic: str = "median") -> str:
+    """The terminal table: per level and contact, each rule's separation (mm) at one
+    statistic over the records, and the pounding fraction when a gap was given."""
+    rules = [str(r) for r in ds.rule_name.values]
+    head = f"{'level':>8} {'contact':<12}" + "".join(f"{r:>13}" for r in rules)
+    gap = "provided_gap" in ds
+    if gap:
+        head += f"{'pound':>8}"
+    lines = [f"{statistic} over {ds.sizes['record']} records, separations in mm"
+             + (f"; provided gap {1000 * float(ds.provided_gap):.1f} mm" if gap else ""), head,
+             "-" * len(head)]
+    stats = ds.gap_statistics.sel(statistic_name=statistic)
+    for level in ds.level.values:
+        for contact in ds.contact_name.values:
+            row = stats.sel(level=level, contact_name=contact)
+            text = f"{level:>8.4g} {contact:<12}" + "".join(
+                f"{1000 * float(row.sel(rule_name=r)):>13.1f}" for r in rules)
+            if gap:
+                text += f"{float(ds.pounding_fraction.sel(level=level, contact_name=contact)):>8.0%}"
+            lines.append(text)
+    if gap and ds.sizes["level"] > 1:
+        median, beta = float(ds.fragility_median_any), float(ds.fragility_dispersion_any)
+        lines.append(f"fragility of pounding at any contact: median {median:.4g} "
+                     f"{ds.level.attrs.get('units', '')}, dispersion {beta:.3g}"
+                     if median == median else
+                     "fragility: not fitted (no level where some but not all records pound)")
+    return "\n".join(lines)
+
+
+def _gap(args) -> int:
+    from pframe.gap import audit
+
+    suite = None
+    if args.suite:
+        suite = args.suite[0] if len(args.suite) == 1 else args.suite
+    output = Path(args.output) if args.output else Path(args.scene).with_suffix(".gap.nc")
+    timings: dict = {}
+    progress = None
+    if not args.quiet and sys.stderr.isatty():
+        def progress(done, total):
+            sys.stderr.write(f"\r  pframe gap: {done:,.0f}/{total} runs ")
+            sys.stderr.flush()
+    ds = audit(args.scene, suite, gap=args.gap, levels=_levels(args.levels) if args.levels else None,
+               measure=args.measure, en_coincident=args.en_coincident, duration=args.duration,
+               dt=args.dt, records_folder=args.records_folder,
+               output=output, overwrite=args.overwrite, chunk=args.chunk, threads=args.threads,
+               progress=progress, timings=timings)
+    if progress is not None:
+        sys.stderr.write("\n")
+    if not args.quiet:
+        print(table(ds, args.statistic))
+        failed = int((ds.complete == 0).sum())
+        batches = -(-timings["variants"] // (args.chunk or timings["variants"]))
+        print(f"{timings['variants']} runs x {timings['steps']} steps in "
+              f"{'one batch' if batches == 1 else f'{batches} batches'}: "
+              f"{timings['wall_seconds']:.1f} s ({timings['solve_seconds']:.1f} s kernel)"
+              + (f"; {failed} runs failed (left out)" if failed else "") + f"; wrote {output}")
+    return 1 if int((ds.complete == 0).sum()) else 0
+
+
+def register(sub) -> None:
+    gap = sub.add_parser(
+        "gap", help="how far apart two buildings must stand: code rules beside simulation",
+        description="For each contact level of the scene and each record of a suite: the ABS, "
+                    "SRSS and DDC minimum separations from the buildings' peak displacements "
+                    "run without contact, and the simulated critical gap g_req = max over time "
+                    "of (u_left - u_right); their median, 84th percentile and maximum over the "
+                    "suite; with --gap, the fraction of records that pound and a lognormal "
+                    "fragility over --levels. Writes a labelled file (netCDF4/HDF5) that "
+                    "pframe plot draws. See docs/gap-audit.md.")
+    gap.add_argument("scene", help="scene file (.yaml) with the two buildings and contacts")
+    gap.add_argument("--suite", nargs="+", metavar="SUITE",
+                     help="a suite file (.yaml), a folder of .AT2 records, or record files "
+                          "(default: the scene's own excitation)")
+    gap.add_argument("--records-folder", metavar="DIR",
+                     help="where the records a suite file names are (default: beside it)")
+    gap.add_argument("--gap", type=float, metavar="G", help="the gap provided (m)")
+    gap.add_argument("--levels", metavar="L1,L2,...",
+                     help="scale every record to each intensity (g) of --measure")
+    gap.add_argument("--measure", metavar="pga|sa:T",
+                     help="intensity measure of the levels: pga (default), sa:0.5 (Sa at "
+                          "0.5 s, 5 %% damping) or sa:A (at building A's first period)")
+    gap.add_argument("--en-coincident", action="store_true",
+                     help="add EN 1998-1 4.4.2.7(3): 0.7 x SRSS where floor levels coincide")
+    gap.add_argument("--duration", type=float, metavar="S",
+                     help="analysed time (s); default: the longest record plus three of the "
+                          "longest first period")
+    gap.add_argument("--dt", type=float, metavar="S",
+                     help="time step of the record runs (default: the scene's; without "
+                          "contacts a step that resolves the buildings' modes is enough)")
+    gap.add_argument("--statistic", choices=("median", "p84", "max"), default="median",
+                     help="statistic over the suite the table shows (default: median)")
+    gap.add_argument("-o", "--output", metavar="OUT.nc",
+                     help="result file (default: SCENE.gap.nc)")
+    gap.add_argument("--overwrite", action="store_true", help="replace an existing result file")
+    gap.add_argument("--chunk", type=int, metavar="N",
+                     help="run N records x levels per batch, each saved as it finishes so "
+                          "that a stopped audit resumes (default: all in one batch)")
+    gap.add_argument("--threads", type=int, metavar="N", help="threads (default: one per CPU)")
+    gap.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    gap.set_defaults(run=_gap)

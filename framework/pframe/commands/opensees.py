@@ -1,0 +1,26 @@
+"""``pframe opensees MODEL.yaml``: the standalone OpenSeesPy script of a scene."""
+
+from __future__ import annotations
+
+
+def _opensees(args) -> int:
+    from pframe.api import load
+    from pframe.commands import write_text_output
+
+    scene = load(args.model)
+    write_text_output(scene.to_opensees(), args.output, args.overwrite)
+    return 0
+
+
+def register(sub) -> None:
+    opensees = sub.add_parser(
+        "opensees", help="write the standalone OpenSeesPy script of a scene",
+        description="Write a Python script that builds and runs the scene with stock OpenSees "
+                    "components (zeroLength elements, Elastic/Steel01 storeys, ElasticPPGap "
+                    "contacts, Rayleigh damping, Newmark with Newton), without pframe: to "
+                    "cross-check pframe with the program you know. Linear contacts, elastic "
+                    "or bilinear storeys, starting at rest. See docs/python.md.")
+    opensees.add_argument("model", help="scene file (YAML)")
+    opensees.add_argument("-o", "--output", help="script file (default: standard output)")
+    opensees.add_argument("--overwrite", action="store_true", help="replace an existing output")
+    opensees.set_defaults(run=_opensees)

@@ -1,0 +1,255 @@
+"""The gap audit: code minimum separations beside the simulated no-pounding gap, over a suite
+of ground motions scaled to intensity levels (docs/gap-audit.md)."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.excitation.suite import GroundMotion, Measure, Suite, load_suite, scale_factors, suite_from_files
+from pframe.gap import runs
+
+
+@dataclasses.dataclass(frozen=True)
+class AuditInputs:
+    """What the batch runs: the variants' ground motions and the bookkeeping around them."""
+
+    loaded: object
+    pairs: runs.Pairs
+    suite: Suite
+    levels: np.ndarray  # (L,) target intensities (g), or [1.0] for the records as given
+    factors: np.ndarray  # (R, L)
+    intensities: np.ndarray  # (R,) of each record as given (g)
+    steps: int
+    dt: float
+    periods: np.ndarray  # (buildings,)
+    damping: np.ndarray
+    scaled: bool
+
+    @property
+    def count(self) -> int:
+        return self.factors.size
+
+    def accelerations(self, variants) -> np.ndarray:
+        """Ground accelerations (len(variants), steps + 1) of variants (record-major)."""
+        times = np.arange(self.steps + 1) * self.dt
+        levels = self.factors.shape[1]
+        out = np.empty((len(variants), self.steps + 1))
+        cache: dict[int, np.ndarray] = {}
+        for k, v in enumerate(variants):
+            r, j = divmod(int(v), levels)
+            if r not in cache:
+                cache = {r: self.suite.motions[r].on_grid(times)}
+            out[k] = self.factors[r, j] * cache[r]
+        return out
+
+    def digest(self, options: str) -> str:
+        from pframe.sweep.spec import code_fingerprint
+
+        h = hashlib.sha256()
+        h.update(self.loaded.text.encode())
+        for m in self.suite.motions:
+            h.update(m.name.encode())
+            h.update(np.ascontiguousarray(m.time).tobytes())
+            h.update(np.ascontiguousarray(m.acceleration).tobytes())
+        h.update(self.factors.tobytes())
+        h.update(f"{self.steps} {self.dt!r} {options} {code_fingerprint()}".encode())
+        return h.hexdigest()[:32]
+
+
+def _measure(measure) -> Measure | None:
+    if measure is None or isinstance(measure, Measure):
+        return measure
+    if isinstance(measure, dict):
+        return Measure(**measure)
+    text = str(measure).strip()
+    kind, _, period = text.partition(":")
+    kind = kind.strip().lower()
+    if kind not in ("pga", "sa") or (kind == "sa" and not period) or (kind == "pga" and period):
+        raise InputError(f"--measure {text}: write pga, or sa:PERIOD with PERIOD in seconds or "
+                         "a building's name (sa:0.5, sa:A)")
+    return Measure(kind=kind, period=period.strip() or None)
+
+
+def _scene_motion(loaded) -> GroundMotion:
+    ex = loaded.expanded
+    if loaded.scene.excitation is None:
+        raise InputError(f"{loaded.source}: the scene has no excitation; give a suite of "
+                         "records (--suite) or an excitation in the scene")
+    kind = loaded.scene.excitation.kind
+    name = Path(loaded.scene.excitation.file).name if kind == "record" else kind
+    times = np.arange(ex.steps + 1) * ex.dt
+    return GroundMotion(name, times, ex.ground_acceleration.copy(), loaded.source)
+
+
+def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | None = None,
+            dt: float | None = None, records_folder=None) -> AuditInputs:
+    """Read the scene and the suite, find the buildings' first modes and every record's
+    scale factor at every level."""
+    from pframe.model import load_scene
+
+    loaded = load_scene(scene) if isinstance(scene, (str, Path)) else scene
+    pairs = runs.contact_pairs(loaded)
+    plan = runs.base_plan(loaded)
+    periods, damping = runs.first_modes(plan)
+    own = suite is None
+    if own:
+        suite = Suite((_scene_motion(loaded),), source=loaded.source)
+    elif isinstance(suite, (str, Path)):
+        suite = load_suite(suite, records_folder)
+    elif not isinstance(suite, Suite):
+        files = [Path(f) for f in suite]
+        suite = (load_suite(files[0], records_folder) if len(files) == 1
+                 else suite_from_files(files, source=", ".join(map(str, files))))
+    chosen = _measure(measure)
+    if chosen is not None:
+        suite = dataclasses.replace(suite, measure=chosen)
+    if levels is not None:
+        levels = [float(x) for x in levels]
+        if not levels or any(not (x > 0 and math.isfinite(x)) for x in levels):
+            raise InputError(f"--levels {levels}: intensity levels are positive numbers (g)")
+    by_building = dict(zip(plan.buildings, periods))
+    level_values, factors, ims = scale_factors(suite, by_building, levels)
+    if dt is not None and not (dt > 0 and math.isfinite(dt)):
+        raise InputError(f"--dt {dt}: the time step is a number > 0 (s)")
+    if own and dt is not None and dt != loaded.expanded.dt:
+        raise InputError(f"--dt {dt}: the scene's own excitation runs on the scene's step "
+                         f"({loaded.expanded.dt:g} s); --dt applies to a suite of records")
+    dt = float(dt or loaded.expanded.dt)
+    if own:
+        steps = loaded.expanded.steps
+    else:
+        if duration is None:
+            longest = max(m.duration for m in suite.motions)
+            duration = longest + runs.TAIL_PERIODS * float(np.max(periods[np.isfinite(periods)]))
+        steps = int(math.ceil(duration / dt - 1e-9))
+    return AuditInputs(loaded, pairs, suite, np.asarray(level_values, float), factors, ims,
+                       steps, dt, periods, damping, levels is not None or suite.levels is not None)
+
+
+class _Definition:
+    """What the chunk store needs to know of the audit (its identity and chunking)."""
+
+    def __init__(self, digest: str, source: str, chunk: int):
+        self.digest, self.source, self.chunk = digest, source, chunk
+
+
+class _Spec:
+    def __init__(self, count: int, chunk: int):
+        self.count = count
+        self.chunks = -(-count // chunk)
+
+
+def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=None,
+          en_coincident: bool = False, duration: float | None = None, dt: float | None = None,
+          records_folder=None,
+          output: str | Path | None = None, overwrite: bool = False, chunk: int | None = None,
+          threads: int | None = None, progress=None, timings: dict | None = None):
+    """Gap audit of a scene: for each contact level and record (x intensity level), the ABS,
+    SRSS and DDC separations of the two buildings' peak displacements run without contact,
+    and the simulated critical gap g_req = max_t (u_left - u_right); with ``gap``, the
+    fraction of records that pound and a lognormal fragility over the levels.
+
+    ``suite``: a suite file (YAML), a folder of .AT2 files, a list of record files, a
+    :class:`~pframe.excitation.suite.Suite`, or None for the scene's own excitation. ``levels``
+    (g) scale every record to each intensity in ``measure`` (``"pga"``, ``"sa:0.5"``,
+    ``"sa:A"`` for building A's first period, or a Measure). Returns an ``xarray.Dataset``
+    (records x levels x contacts x rules); with ``output``, also writes it (netCDF4/HDF5),
+    saving the batch in chunks of ``chunk`` variants beside it so that a stopped audit
+    resumes. ``dt`` (s) replaces the scene's step for the records (the runs have no contact
+    to resolve); ``records_folder`` is where a suite file's records are (default: beside
+    it). ``timings``, a dict, receives the wall and kernel seconds. Raises
+    :class:`InputError` for bad input.
+    """
+    from pframe.gap.output import build_dataset, write_dataset
+
+    start = time.perf_counter()
+    if gap is not None and not (gap >= 0 and math.isfinite(gap)):
+        raise InputError(f"--gap {gap}: the provided gap is a number >= 0 (m)")
+    inputs = prepare(scene, suite, levels=levels, measure=measure, duration=duration, dt=dt,
+                     records_folder=records_folder)
+    if output is not None:
+        output = Path(output)
+        if output.exists() and not overwrite:
+            raise InputError(f"{output}: the output file exists; pass --overwrite to replace it")
+        if not output.parent.is_dir():
+            raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
+    count = inputs.count
+    chunk = count if chunk is None else int(chunk)
+    if chunk < 1:
+        raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
+    rows = _run_chunks(inputs, chunk, output, threads, progress, overwrite)
+    ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident)
+    if output is not None:
+        import shutil
+
+        from pframe.sweep.store import parts_folder
+
+        write_dataset(ds, output)
+        shutil.rmtree(parts_folder(output), ignore_errors=True)
+    if timings is not None:  # printed by the command, never written to the file
+        timings.update(wall_seconds=time.perf_counter() - start,
+                       solve_seconds=float(rows["solve_seconds"]), variants=inputs.count,
+                       steps=inputs.steps)
+    return ds
+
+
+def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress,
+                overwrite: bool = False) -> dict:
+    """Run the batches not yet saved beside ``output`` (all, without one); return every
+    variant's rows in order. Batches of the same audit found there are taken up, even with
+    ``overwrite``; batches of another audit are discarded only with it."""
+    count = inputs.count
+    spec = _Spec(count, chunk)
+    parts = None
+    if output is not None:
+        from pframe.sweep.store import Parts
+
+        definition = _Definition(inputs.digest(f"chunk={chunk}"), inputs.loaded.source, chunk)
+        parts = Parts(Path(output), definition, spec)
+    done: dict[int, dict] = {}
+    try:
+        if parts is not None:
+            try:
+                finished = parts.open(restart=overwrite)
+            except InputError as exc:
+                if "holds" not in str(exc):
+                    raise
+                raise InputError(
+                    f"{parts.folder}: holds batches of another audit (another scene, suite, "
+                    "levels, step, chunk size or pframe code); pass --overwrite to discard "
+                    "them and start again, or choose another output name with -o") from None
+            for c in finished:
+                done[c] = parts.load(c)
+        finished = sum(min(chunk, count - c * chunk) for c in done)
+        for c in range(spec.chunks):
+            if c in done:
+                continue
+            variants = np.arange(c * chunk, min(count, (c + 1) * chunk))
+            acc = inputs.accelerations(variants)
+            offset = finished
+
+            def report(step, total, offset=offset, size=variants.size):
+                if progress is not None:
+                    progress(offset + size * step / total, count)
+
+            arrays = runs.run_batch(inputs.loaded, inputs.pairs, acc, inputs.steps, inputs.dt,
+                                    threads, report if progress else None)
+            if parts is not None:
+                parts.save(c, arrays)
+            done[c] = arrays
+            finished += variants.size
+    finally:
+        if parts is not None:
+            parts.close()
+    ordered = [done[c] for c in range(spec.chunks)]
+    out = {key: np.concatenate([o[key] for o in ordered]) for key in
+           ("peak_left", "peak_right", "g_req", "complete", "status")}
+    out["solve_seconds"] = sum(float(o["solve_seconds"]) for o in ordered)
+    return out

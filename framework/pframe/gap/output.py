@@ -1,0 +1,186 @@
+"""The audit's labelled result: records x levels x contacts x rules, as an xarray.Dataset
+written to netCDF4-compatible HDF5 (h5netcdf) under a temporary name and renamed."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from pframe.gap.fragility import fit_lognormal
+from pframe.gap.rules import EN_RULE, RULES, cqc_correlation, separations
+
+#: the statistics over the suite
+STATISTICS = ("median", "p84", "max")
+KIND = "gap_audit"
+
+
+def _xarray():
+    import xarray as xr  # a base dependency
+
+    return xr
+
+
+def _statistics(values: np.ndarray) -> np.ndarray:
+    """median, 84th percentile and maximum over axis 0 (records), NaN (failed runs) left out."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)  # a level where every run failed
+        return np.stack([np.nanmedian(values, axis=0), np.nanpercentile(values, 84, axis=0),
+                         np.nanmax(values, axis=0)])
+
+
+def measure_label(inputs) -> str:
+    m = inputs.suite.measure
+    if m.kind == "pga":
+        return "PGA"
+    try:
+        period = f"{float(m.period):g} s"
+    except ValueError:
+        period = f"T_1 of {m.period}"
+    return f"Sa({period}, {100 * m.damping:g} %)"
+
+
+def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False):
+    """The Dataset of an audit from the batch's rows (variants record-major)."""
+    import pframe
+
+    xr = _xarray()
+    R, L = inputs.factors.shape
+    pairs = inputs.pairs
+    C = len(pairs.names)
+    shape = (R, L, C)
+    complete = rows["complete"].reshape(R, L).astype(np.int8)
+    ok = complete.astype(bool)[:, :, None]
+    u_left = np.where(ok, rows["peak_left"].reshape(shape), np.nan)
+    u_right = np.where(ok, rows["peak_right"].reshape(shape), np.nan)
+    g_sim = np.where(ok, np.maximum(rows["g_req"].reshape(shape), 0.0), np.nan)
+
+    buildings = list(inputs.loaded.expanded.buildings)
+    side = {n: buildings.index(n.split("/")[0]) for n in pairs.left + pairs.right}
+    bl = np.array([side[n] for n in pairs.left])
+    br = np.array([side[n] for n in pairs.right])
+    rho = cqc_correlation(inputs.periods[bl], inputs.periods[br], inputs.damping[bl],
+                          inputs.damping[br])
+    rules = separations(u_left, u_right, rho[None, None, :], en_coincident)
+    names = list(RULES[:3]) + ([EN_RULE] if en_coincident else []) + ["simulated"]
+    rules["simulated"] = g_sim
+    table = np.stack([rules[n] for n in names], axis=-1)  # (R, L, C, rule)
+
+    floor = np.array([int(n.split("/")[1]) if n.split("/")[1].isdigit() else i + 1
+                      for i, n in enumerate(pairs.left)])
+    level_units = "g" if inputs.scaled else "1"
+    # named positions are label coordinates <dim>_name (CF: no string coordinate variables),
+    # indexed so that .sel(rule_name="DDC") selects by name
+    coords = {
+        "record_name": ("record", np.array(inputs.suite.names, dtype=object),
+                        {"long_name": "ground-motion record"}),
+        "level": ("level", inputs.levels, {
+            "units": level_units,
+            "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
+                          else "records as given (factor 1)")}),
+        "contact_name": ("contact", np.array(pairs.names, dtype=object),
+                         {"long_name": "contact element (the level audited)"}),
+        "rule_name": ("rule", np.array(names, dtype=object),
+                      {"long_name": "separation rule (ABS, SRSS, DDC, ...; simulated)"}),
+        "statistic_name": ("statistic", np.array(STATISTICS, dtype=object),
+                           {"long_name": "statistic over the records"}),
+        "building_name": ("building", np.array(buildings, dtype=object),
+                          {"long_name": "building"}),
+    }
+    intensity = inputs.intensities[:, None] * inputs.factors
+    data = {
+        "gap_required": (("record", "level", "contact", "rule"), table, {
+            "units": "m", "long_name": "minimum separation by each rule; 'simulated' is "
+            "g_req = max over time of (u_left - u_right) without contact (0 if never "
+            "approaching)"}),
+        "gap_statistics": (("statistic", "level", "contact", "rule"), _statistics(table), {
+            "units": "m", "long_name": "median, 84th percentile and maximum of gap_required "
+            "over the records (failed runs left out)"}),
+        "peak_displacement_left": (("record", "level", "contact"), u_left, {
+            "units": "m", "long_name": "peak |u| of the contact's left floor, no contact"}),
+        "peak_displacement_right": (("record", "level", "contact"), u_right, {
+            "units": "m", "long_name": "peak |u| of the contact's right floor, no contact"}),
+        "scale_factor": (("record", "level"), inputs.factors, {
+            "units": "1", "long_name": "factor applied to the record"}),
+        "intensity": (("record", "level"), intensity, {
+            "units": "g", "long_name": f"{measure_label(inputs)} of the scaled record"}),
+        "complete": (("record", "level"), complete, {
+            "units": "1", "long_name": "1 if the run completed"}),
+        "status": (("record", "level"), rows["status"].reshape(R, L).astype(object), {
+            "long_name": "completed, or why the run stopped"}),
+        "period": (("building",), inputs.periods, {
+            "units": "s", "long_name": "first fixed-base period"}),
+        "damping_ratio": (("building",), inputs.damping, {
+            "units": "1", "long_name": "Rayleigh damping ratio at the first period"}),
+        "correlation": (("contact",), rho, {
+            "units": "1", "long_name": "CQC correlation coefficient rho of the two "
+            "buildings' first modes (DDC rule)"}),
+        "floor": (("contact",), floor.astype(np.int32),
+                  {"units": "1", "long_name": "floor of the left node"}),
+        "left_node": (("contact",), np.array(pairs.left, dtype=object),
+                      {"long_name": "left node of the contact"}),
+        "right_node": (("contact",), np.array(pairs.right, dtype=object),
+                       {"long_name": "right node of the contact"}),
+        "scene_gap": (("contact",), pairs.gaps, {
+            "units": "m", "long_name": "the gap the scene gives the contact"}),
+    }
+    attrs = {
+        "title": f"gap audit: {inputs.loaded.scene.title or inputs.loaded.source}",
+        "pframe_kind": KIND,
+        "source": inputs.loaded.source,
+        "suite": inputs.suite.source,
+        "measure": measure_label(inputs),
+        "input_yaml": inputs.loaded.text,
+        "dt": inputs.dt,
+        "steps": inputs.steps,
+        "en_coincident_floor_factor": int(en_coincident),
+        "pframe_version": pframe.__version__,
+        "Conventions": "CF-1.8",
+    }
+    if gap is not None:
+        pounds = np.where(ok, (g_sim > gap).astype(np.int8), -1).astype(np.int8)
+        n = complete.sum(axis=0)  # (L,)
+        hit = (pounds == 1).sum(axis=0)  # (L, C)
+        any_hit = ((pounds == 1).any(axis=2) & complete.astype(bool)).sum(axis=0)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            fraction = hit / n[:, None]
+            fraction_any = any_hit / n
+        fits = [fit_lognormal(inputs.levels, n, hit[:, c]) if inputs.scaled else (np.nan, np.nan)
+                for c in range(C)]
+        fit_any = fit_lognormal(inputs.levels, n, any_hit) if inputs.scaled else (np.nan, np.nan)
+        data.update({
+            "provided_gap": ((), float(gap), {"units": "m", "long_name": "the gap provided"}),
+            "pounds": (("record", "level", "contact"), pounds, {
+                "units": "1", "long_name": "1 if g_req > provided gap, 0 if not, -1 not run"}),
+            "pounding_fraction": (("level", "contact"), fraction, {
+                "units": "1", "long_name": "fraction of the records that pound at the contact"}),
+            "pounding_fraction_any": (("level",), fraction_any, {
+                "units": "1", "long_name": "fraction of the records that pound at any contact"}),
+            "fragility_median": (("contact",), np.array([f[0] for f in fits]), {
+                "units": level_units, "long_name": "median of the lognormal fragility "
+                "P(g_req > gap | IM) (maximum likelihood)"}),
+            "fragility_dispersion": (("contact",), np.array([f[1] for f in fits]), {
+                "units": "1", "long_name": "dispersion (log standard deviation) of the "
+                "lognormal fragility"}),
+            "fragility_median_any": ((), fit_any[0], {
+                "units": level_units, "long_name": "median of the fragility of pounding at "
+                "any contact"}),
+            "fragility_dispersion_any": ((), fit_any[1], {
+                "units": "1", "long_name": "dispersion of the fragility of pounding at any "
+                "contact"}),
+        })
+    from pframe.api import indexed
+
+    return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
+                              coords={k: xr.Variable(*v) for k, v in coords.items()},
+                              attrs=attrs))
+
+
+def write_dataset(ds, output: str | Path, call: str | None = None) -> Path:
+    """Write ``ds`` to ``output`` (netCDF-4, CF-1.8, through the one writer of result files)
+    via a temporary file in the same folder, renamed when complete: whole or absent."""
+    from pframe.record.netcdf import write_dataset as write
+
+    return write(ds, output, call)

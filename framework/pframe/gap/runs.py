@@ -1,0 +1,162 @@
+"""The no-contact runs of a gap audit: one batch of the compiled kernel over records x levels.
+
+Each variant is the scene without its contacts under one record scaled to one level. The
+kernel records the floor displacements of every step; a sink keeps, per contact level, the
+running maximum of u_left - u_right (the gap the two floors need) and nothing else, so memory
+stays bounded whatever the number of steps and variants.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.model.scene import Envelope, History
+
+#: free vibration after the longest record, in the longest first period of the buildings
+TAIL_PERIODS = 3.0
+
+
+@dataclasses.dataclass(frozen=True)
+class Pairs:
+    """The contact levels of a scene: names, node names, DOF-order independent node indices."""
+
+    names: tuple[str, ...]
+    left: tuple[str, ...]
+    right: tuple[str, ...]
+    gaps: np.ndarray  # the scene's gaps (m)
+
+
+def contact_pairs(loaded) -> Pairs:
+    ex = loaded.expanded
+    if not ex.contacts:
+        raise InputError(f"{loaded.source}: the scene has no contacts; a gap audit needs the "
+                         "levels where the buildings may touch (contacts: [...])")
+    return Pairs(tuple(c.name for c in ex.contacts),
+                 tuple(ex.node_names[c.nodes[0]] for c in ex.contacts),
+                 tuple(ex.node_names[c.nodes[1]] for c in ex.contacts),
+                 np.array([c.gap for c in ex.contacts]))
+
+
+def without_contacts(loaded, keep_excitation: bool):
+    """The scene's Expanded form without contacts (and, unless kept, without excitation)."""
+    from pframe.model.expand import expand
+    from pframe.model.load import ModelError
+
+    scene = loaded.scene.model_copy(update={
+        "contacts": [], "excitation": loaded.scene.excitation if keep_excitation else None})
+    try:
+        return expand(scene, loaded.base_dir)
+    except ModelError as exc:
+        raise InputError(f"{loaded.where(exc.path)}: {exc.message}") from None
+
+
+def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """First (fixed-base) period (s) and its damping ratio of each building of a plan: the
+    eigen-analysis of the building's initial stiffness and masses, and the Rayleigh damping
+    the plan applies, xi_1 = a0 / (2 w_1) + a1 w_1 / 2."""
+    names = [""] * plan.n_dof
+    for name, dof in zip(plan.node_names, plan.node_dof):
+        names[dof] = name
+    building_of = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
+    periods, ratios = [], []
+    for b in range(len(plan.buildings)):
+        dofs = np.flatnonzero(building_of == b)
+        local = {d: i for i, d in enumerate(dofs)}
+        k = np.zeros((dofs.size, dofs.size))
+        beta = 0.0
+        for s, (low, up) in enumerate(plan.story_dofs):
+            if up not in local:
+                continue
+            kk = plan.story_k0[member, s]
+            beta = plan.story_beta[member, s]
+            iu = local[up]
+            k[iu, iu] += kk
+            if low >= 0:
+                il = local[low]
+                k[il, il] += kk
+                k[il, iu] -= kk
+                k[iu, il] -= kk
+        m = plan.mass[member, dofs]
+        scale = 1.0 / np.sqrt(m)
+        w2 = np.linalg.eigvalsh(k * np.outer(scale, scale))
+        w1 = math.sqrt(max(w2[0], 0.0))
+        alpha = float(plan.mass_damping[member, dofs[0]] / m[0])
+        periods.append(2.0 * math.pi / w1 if w1 > 0 else math.inf)
+        ratios.append(alpha / (2.0 * w1) + beta * w1 / 2.0 if w1 > 0 else math.nan)
+    return np.array(periods), np.array(ratios)
+
+
+def base_plan(loaded):
+    """A one-member plan of the scene without contacts (for its periods and damping)."""
+    from pframe.assemble import assemble
+
+    ex = without_contacts(loaded, keep_excitation=False)
+    ex = dataclasses.replace(ex, steps=1, ground_acceleration=np.zeros(2), recorders=())
+    return assemble(ex)
+
+
+def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None,
+               dt: float | None = None):
+    """The batch plan: one member per row of ``accelerations`` (B, steps + 1) on the scene's
+    time step; without contacts, or (for checks) with the scene's contacts at
+    ``contacts_gaps`` (B, c); ``dt`` (s) replaces the scene's step."""
+    from pframe.assemble import assemble_batch
+
+    if contacts_gaps is None:
+        ex = without_contacts(loaded, keep_excitation=False)
+        recorders = (Envelope(kind="envelope", quantities=["displacement"]),
+                     History(kind="history", quantities=["displacement"]))
+    else:
+        ex = loaded.expanded
+        recorders = (Envelope(kind="envelope", quantities=["displacement"]),)
+    base = dataclasses.replace(ex, steps=int(steps), recorders=recorders,
+                               dt=float(dt if dt is not None else ex.dt))
+    variants = []
+    for b, acc in enumerate(accelerations):
+        member = dataclasses.replace(base, ground_acceleration=np.asarray(acc, float))
+        if contacts_gaps is not None:
+            member = dataclasses.replace(member, contacts=tuple(
+                dataclasses.replace(c, gap=float(g)) for c, g in zip(ex.contacts, contacts_gaps[b])))
+        variants.append(member)
+    return assemble_batch(variants)
+
+
+class GapSink:
+    """Running max over the steps of u_left - u_right at each contact level."""
+
+    def __init__(self, plan, pairs: Pairs):
+        dof = dict(zip(plan.node_names, plan.node_dof))
+        self.left = np.array([dof[n] for n in pairs.left])
+        self.right = np.array([dof[n] for n in pairs.right])
+        self.gap = np.full((plan.batch, len(pairs.names)), -np.inf)
+
+    def __call__(self, quantity, first_row, rows):
+        if quantity != "displacement" or rows.shape[1] == 0:
+            return
+        for c, (left, right) in enumerate(zip(self.left, self.right)):
+            # a member that failed inside these rows has NaN after the failure: fmax keeps
+            # what came before (its results are discarded anyway)
+            block = np.max(rows[:, :, left] - rows[:, :, right], axis=1)
+            np.fmax(self.gap[:, c], block, out=self.gap[:, c])
+
+
+def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
+              threads: int | None = None, progress=None) -> dict[str, np.ndarray]:
+    """Run the no-contact batch; per member: peak |u| of the left and right floor of each
+    contact level, g_req = max_t (u_left - u_right) (not clipped), and the run's status."""
+    from pframe.kernel import simulate
+
+    plan = batch_plan(loaded, accelerations, steps, dt=dt)
+    sink = GapSink(plan, pairs)
+    result = simulate(plan, threads=threads, sink=sink,
+                      progress=(lambda done, total: progress(done, total)) if progress else None)
+    peak = result.envelope["displacement"]  # (B, n_dof)
+    complete = np.array([result.completed(b) for b in range(plan.batch)], dtype=np.int8)
+    status = np.array([result.describe_failure(b) for b in range(plan.batch)], dtype=str)
+    return {"peak_left": peak[:, sink.left], "peak_right": peak[:, sink.right],
+            "g_req": sink.gap, "complete": complete, "status": status,
+            "solve_seconds": np.float64(result.solve_seconds)}

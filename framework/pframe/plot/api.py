@@ -1,0 +1,77 @@
+"""``pframe.plot``: figures of a result from Python (a Dataset or a file), on the user's axes.
+
+Figures follow the user's matplotlib style (``plt.style.use``, ``rcParams``): font sizes are
+relative, colours are the style's cycle (``C0``, ``C1``, ...). Without ``ax``/``fig`` the
+figure is made with pyplot, so a notebook shows it.
+"""
+
+from __future__ import annotations
+
+from pframe.errors import InputError
+
+
+def plot(result, quantity: str | None = None, *, names=None, level=None, kind: str = "all",
+         units=None, dimensionless: bool = False, time_range=None, ax=None, fig=None):
+    """Draw a result of ``pframe.solve``/``pframe.open`` (or a result file's path).
+
+    Two forms:
+
+    - ``quantity`` given (``displacement``, ``velocity``, ``contact_force``, ``story_drift``,
+      ``story_force``): its histories against time on ``ax`` (default: new axes), one line
+      per name in ``names`` (default: every node, storey or contact); returns the axes;
+    - otherwise the paper's figure of one floor ``level`` (default: the top level with a
+      contact, else the top level) drawn into ``fig``; returns the figure.
+
+    ``units``: ``"engineering"`` (mm, mm/s, kN), a string such as ``"mm,kN"``, or a mapping
+    ``{"m": "mm", "N": "kN"}``; ``dimensionless``: the paper's variables (tau, X / l_e, ...);
+    ``time_range``: ``(start, stop)`` in the units of the time axis drawn.
+    """
+    from pframe.plot.figure import draw_level, matplotlib_figure, prepare
+    from pframe.plot.scales import axis_label
+
+    matplotlib_figure()  # a clear message when matplotlib is missing
+    data = prepare(result, time_range=time_range, dimensionless=dimensionless)
+    if units is not None:
+        if dimensionless:
+            raise InputError("plot: give units or dimensionless, not both")
+        data = data.in_units(units)
+    if quantity is not None:
+        history = data.histories.get(quantity)
+        if history is None:
+            recorded = ", ".join(data.histories) or "none"
+            raise InputError(f"plot: {quantity!r} is not a recorded history of this result "
+                             f"(recorded: {recorded}); add it to a history recorder")
+        chosen = list(history.names) if names is None else (
+            [names] if isinstance(names, str) else list(names))
+        unknown = [n for n in chosen if n not in history.names]
+        if unknown:
+            raise InputError(f"plot: no {', '.join(unknown)} in {quantity}; choose from "
+                             f"{', '.join(history.names)}")
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            _, ax = plt.subplots(layout="constrained")
+        for name in chosen:
+            ax.plot(history.time, history.column(name), label=name)
+        ax.set_xlabel(axis_label("time", history.time_units))
+        ax.set_ylabel(axis_label(quantity, history.units))
+        ax.ticklabel_format(axis="y", useOffset=False)
+        ax.legend()
+        return ax
+    order = data.levels.order
+    if not order:
+        raise InputError("plot: the result has no floor levels to draw")
+    if level is None:
+        with_contacts = [lv for lv in order if data.levels.contacts.get(lv)]
+        level = (with_contacts or list(order))[-1]
+    level = str(level)
+    if level not in order:
+        raise InputError(f"plot: no floor level {level}; the levels are {', '.join(order)}")
+    if fig is None:
+        import matplotlib.pyplot as plt
+
+        fig = plt.figure(layout="constrained", figsize=(10.5, 7.8))
+    drawn = draw_level(data, level, kind, fig=fig)
+    if drawn is None:
+        raise InputError(f"plot: nothing of kind {kind!r} to draw at level {level}")
+    return drawn
