@@ -86,7 +86,8 @@ def test_import_is_light():
 
 
 def test_the_api_is_listed_once():
-    assert set(pframe.__all__) == {"InputError", "PframeError", "__version__", *pframe._API}
+    assert set(pframe.__all__) == {"InputError", "EnvironmentFailure", "PframeError", "__version__",
+                                   *pframe._API}
     for name in pframe.__all__:
         assert getattr(pframe, name) is not None
 

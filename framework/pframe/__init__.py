@@ -13,7 +13,7 @@ once; its names load on first use, so ``import pframe`` stays light::
 
 __version__ = "0.1.0"
 
-from pframe.errors import InputError, PframeError  # noqa: E402
+from pframe.errors import EnvironmentFailure, InputError, PframeError  # noqa: E402
 
 #: public name -> module that defines it
 _API = {
@@ -38,8 +38,9 @@ _API = {
 }
 
 __all__ = ["Analysis", "Building", "CentralDifference", "Contact", "Cycloidal", "Envelope",
-           "GeneralizedAlpha", "HHT", "History", "IncompleteRun", "InitialConditions",
-           "InputError", "Newmark", "Newton", "Node", "Output", "OutputScales", "PframeError",
+           "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History", "IncompleteRun",
+           "InitialConditions", "InputError", "Newmark", "Newton", "Node", "Output",
+           "OutputScales", "PframeError",
            "Rayleigh", "Record", "Ricker", "Scene", "Sine", "Story", "StoryProperties",
            "__version__", "load", "open", "plot", "solve", "sweep"]
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import csv
 import math
 from dataclasses import asdict, dataclass
+from pathlib import Path
 
 import numpy as np
 import yaml
@@ -42,13 +43,25 @@ class Row:
 
 def _variant(loaded, integrator: dict, dt: float):
     from pframe.model import parse_scene
+    from pframe.yamltext import load
 
-    data = yaml.safe_load(loaded.text)
+    data = load(loaded.text, loaded.source)
     data["analysis"]["integrator"] = integrator
     data["analysis"]["dt"] = dt
     data["recorders"] = [{"kind": "history", "quantities": ["displacement"]},
                          {"kind": "envelope", "quantities": ["contact_force"]}]
     return parse_scene(yaml.safe_dump(data, sort_keys=False), loaded.source, loaded.base_dir)
+
+
+def check_factors(factors, loaded) -> None:
+    """Factors must be positive powers of two, the largest dividing the scene's steps."""
+    for f in factors:
+        if not (math.isfinite(f) and f > 0) or abs(math.log2(f) - round(math.log2(f))) > 1e-12:
+            raise InputError(f"dt factors must be powers of two, got {f:g}")
+    steps0 = loaded.expanded.steps
+    if steps0 % round(max(factors)) != 0:
+        raise InputError(f"the scene's {steps0} steps are not divisible by the largest dt "
+                         f"factor {max(factors):g}")
 
 
 def study(loaded, integrators: dict | None = None, factors=FACTORS, repeats: int = 3,
@@ -68,12 +81,7 @@ def study(loaded, integrators: dict | None = None, factors=FACTORS, repeats: int
     base = assemble(loaded.expanded)
     dt0, steps0 = float(base.dt[0]), base.steps
     coarsest = max(factors)
-    for f in factors:
-        if abs(math.log2(f) - round(math.log2(f))) > 1e-12:
-            raise InputError(f"dt factors must be powers of two, got {f}")
-    if steps0 % round(coarsest) != 0:
-        raise InputError(f"the scene's {steps0} steps are not divisible by the largest dt "
-                         f"factor {coarsest:g}")
+    check_factors(factors, loaded)
     grid = np.arange(steps0 // round(coarsest) + 1) * dt0 * coarsest
     reference = solve(base, ground=of_scene(loaded), times=grid)
     u_ref = reference.displacement
@@ -122,7 +130,9 @@ def recommend(rows, tolerances=TOLERANCES) -> list[tuple[float, Row | None]]:
 
 
 def write_csv(rows, path) -> None:
-    with open(path, "w", newline="") as handle:
+    from pframe import outputs
+
+    with outputs.replacing(path) as tmp, open(tmp, "w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=list(asdict(rows[0])))
         writer.writeheader()
         for row in rows:
@@ -163,5 +173,8 @@ def plot(rows, path, title: str = "") -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend()
     fig.tight_layout()
-    fig.savefig(path)
+    from pframe import outputs
+
+    with outputs.replacing(path) as tmp:
+        fig.savefig(tmp, format=Path(path).suffix.lstrip(".") or "png")
     plt.close(fig)

@@ -144,9 +144,11 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
     stays bounded) and the Dataset is opened from it, lazily; without, they are kept in
     memory. ``progress``: True, False, or None to draw a bar on a terminal or in a notebook.
 
-    Raises :class:`pframe.InputError` for a bad scene or output path; a run that stops early
-    returns what was computed (``complete`` attribute 0) with an :class:`IncompleteRun`
-    warning.
+    Raises :class:`pframe.InputError` for a bad scene or output path, or a run too large for
+    the machine (docs/getting-started.md, limits), and :class:`pframe.EnvironmentFailure` when
+    the output cannot be written (disk full, permission denied; nothing is left behind); a run
+    that stops early returns what was computed (``complete`` attribute 0) with an
+    :class:`IncompleteRun` warning.
     """
     from pframe.assemble import assemble
     from pframe.kernel import simulate
@@ -156,6 +158,7 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
     loaded = _loaded(scene)
     if output is not None:
         output = check_output(output, overwrite, loaded)
+    _check_resources(loaded, output)
     plan = assemble(loaded.expanded)
     for text in plan.warnings:
         warnings.warn(f"{loaded.source}: {text}", stacklevel=2)
@@ -164,14 +167,19 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
     target = DatasetWriter() if output is None else output
     progress_bar = bar(progress, "steps", Path(str(loaded.source)).name)
     call = _call("solve", loaded, output)
-    with ResultWriter(target, plan, loaded, compress=compress and output is not None,
-                      call=call) as writer:
-        try:
-            result = simulate(plan, progress=progress_bar, sink=writer.append)
-        finally:
-            if progress_bar is not None:
-                progress_bar.close()
-        writer.finish(result)
+    try:
+        with ResultWriter(target, plan, loaded, compress=compress and output is not None,
+                          call=call) as writer:
+            try:
+                result = simulate(plan, progress=progress_bar, sink=writer.append)
+            finally:
+                if progress_bar is not None:
+                    progress_bar.close()
+            writer.finish(result)
+    except OSError as exc:
+        from pframe import outputs
+
+        raise outputs.failure(output, exc) from None
     if not result.completed():
         warnings.warn(f"{loaded.source}: the run stopped early: {result.describe_failure()}; "
                       f"the Dataset holds the {result.states_done() - 1} steps computed",
@@ -181,6 +189,23 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
     return open(output)
 
 
+def _check_resources(loaded, output) -> None:
+    """Refuse a run that cannot fit (pframe.resources); warn about a very large one."""
+    import shutil
+
+    from pframe import resources
+
+    free = None
+    if output is not None:
+        try:
+            free = shutil.disk_usage(Path(output).parent).free
+        except OSError:
+            pass
+    estimate = resources.of_expanded(loaded.expanded, streaming=output is not None)
+    for text in resources.check(estimate, str(loaded.source), free_disk=free):
+        warnings.warn(f"{loaded.source}: {text}", stacklevel=3)
+
+
 def _call(command: str, loaded, output) -> str:
     where = repr(str(loaded.source))
     out = "" if output is None else f", output={str(output)!r}"
@@ -188,33 +213,19 @@ def _call(command: str, loaded, output) -> str:
 
 
 def check_output(output, overwrite: bool, loaded=None) -> Path:
-    """The output path, checked before a run: not empty, its folder exists, not an existing
-    file unless ``overwrite``, not the scene or record the run reads."""
-    if str(output) == "":
-        raise InputError("the output path is empty; name a result file such as run.nc")
-    out = Path(output)
-    if out.is_dir():
-        raise InputError(f"{out}: is a folder; name a result file inside it, such as "
-                         f"{out / 'run.nc'}")
-    if not out.parent.exists():
-        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    """The output path, checked before a run (:func:`pframe.outputs.check_output`): not empty,
+    not a folder, its folder exists and can be written, not an existing file unless
+    ``overwrite``, not the scene or record the run reads, not being written by another run."""
+    from pframe import outputs
+
+    inputs = []
     if loaded is not None:
-        inputs = [Path(str(loaded.source))]
+        inputs.append(Path(str(loaded.source)))
         excitation = getattr(loaded.scene, "excitation", None)
         if getattr(excitation, "kind", None) == "record":
             inputs.append(Path(loaded.base_dir) / excitation.file)
-        for path in inputs:
-            try:
-                same = path.exists() and out.exists() and os.path.samefile(path, out)
-            except OSError:
-                same = False
-            if same:
-                raise InputError(f"{out}: is an input of this run ({path}); choose another "
-                                 "name for the result")
-    if out.exists() and not overwrite:
-        raise InputError(f"{out}: the output file exists; pass --overwrite (overwrite=True) "
-                         "to replace it, or choose another name")
-    return out
+    return outputs.check_output(output, inputs=inputs, overwrite=overwrite,
+                                what="result file")
 
 
 def sweep(definition, *, output: str | Path | None = None, overwrite: bool = False,

@@ -1,8 +1,10 @@
 """The ``pframe`` command: thin argument parsing around the library.
 
 Exit codes: 0 success, 1 a run that stopped early (results written, marked incomplete),
-2 bad input (model, record file, arguments or output path), with a one-paragraph message and
-no traceback. Sub-commands live in :mod:`pframe.commands`, one module each.
+2 bad input (model, record file, arguments or output path, a run too large for the machine),
+3 the environment failed (disk full, a folder that cannot be written, out of memory), 130 Ctrl-C
+and 128 + N signal N (SIGTERM, SIGHUP): always a one-paragraph message, no traceback, and
+no temporary file left. Sub-commands live in :mod:`pframe.commands`, one module each.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ import importlib
 import sys
 
 from pframe.commands import COMMANDS
-from pframe.errors import InputError, PframeError
+from pframe.errors import EnvironmentFailure, InputError, PframeError
 
 
 def parser() -> argparse.ArgumentParser:
@@ -30,25 +32,81 @@ def parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     import shlex
 
+    from pframe import outputs
+
     argv = sys.argv[1:] if argv is None else list(argv)
     args = parser().parse_args(argv)
     args.command_line = shlex.join(["pframe", *argv])  # the files' history attribute
+    before = outputs.handle_signals()
+    hook, excepthook = sys.unraisablehook, sys.excepthook
+    sys.unraisablehook = _quiet_h5py(hook)
+    sys.excepthook = _quiet_h5py_print(excepthook)
     try:
         return args.run(args)
     except InputError as exc:
         print(f"pframe: {exc}", file=sys.stderr)
         return 2
+    except EnvironmentFailure as exc:
+        print(f"pframe: {exc}", file=sys.stderr)
+        return 3
     except PframeError as exc:
         print(f"pframe: {exc}", file=sys.stderr)
         return 1
+    except outputs.Terminated as exc:
+        print(f"pframe: stopped by signal {exc.signum}; no output written", file=sys.stderr)
+        return 128 + exc.signum
     except KeyboardInterrupt:
         print("pframe: interrupted; no output written", file=sys.stderr)
         return 130
-    except BrokenPipeError:  # output piped into a reader that stopped (pframe pi | head)
-        import os
+    except MemoryError:
+        print("pframe: the machine ran out of memory; nothing was written. Reduce what the "
+              "run keeps (record every k-th step, envelopes only, a shorter duration or a "
+              "larger dt)", file=sys.stderr)
+        return 3
+    except OSError as exc:  # an operating-system failure no command turned into a message
+        if isinstance(exc, BrokenPipeError):
+            return _broken_pipe()
+        where = exc.filename or "pframe"
+        print(f"pframe: {where}: {outputs.cause(exc)}; nothing was written", file=sys.stderr)
+        return 3
+    finally:
+        sys.unraisablehook, sys.excepthook = hook, excepthook
+        outputs.restore_signals(before)
 
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
-        return 0
+
+def _quiet_h5py(hook):
+    """h5py reports a file it cannot close (disk full) again while collecting its objects,
+    and a signal that arrives in a destructor is reported there: the command says either
+    once, itself."""
+
+    def quiet(unraisable):
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            return  # a stop that arrived in a destructor: pframe raises it again at once
+        if isinstance(unraisable.exc_value, (OSError, RuntimeError)) and "h5py" in repr(
+                getattr(unraisable, "object", "")) + str(getattr(unraisable, "err_msg", "")):
+            return
+        hook(unraisable)
+
+    return quiet
+
+
+def _quiet_h5py_print(hook):
+    """The same reports, printed through ``sys.excepthook`` by h5py's compiled code."""
+
+    def quiet(kind, value, traceback):
+        if isinstance(value, (OSError, RuntimeError)) and "errno = " in str(value):
+            return
+        hook(kind, value, traceback)
+
+    return quiet
+
+
+def _broken_pipe() -> int:
+    """Output piped into a reader that stopped (pframe pi | head): a quiet success."""
+    import os
+
+    os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    return 0
 
 
 #: commands short enough to run without the cyclic garbage collector: it costs start-up time
@@ -66,9 +124,18 @@ def console_main() -> int:
     if next((a for a in sys.argv[1:] if not a.startswith("-")), None) in _SHORT:
         gc.disable()
     try:
-        return main()
+        code = main()
     finally:
         gc.freeze()
+    if code == 3:
+        # after a failed write (disk full), a library may hold files it cannot close; leave
+        # without the interpreter's clean-up, which would try again (the message is out)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        import os
+
+        os._exit(code)
+    return code
 
 
 if __name__ == "__main__":

@@ -7,3 +7,9 @@ class PframeError(Exception):
 
 class InputError(PframeError):
     """Bad input: a model file, a record file or a command-line argument (exit code 2)."""
+
+
+class EnvironmentFailure(PframeError):
+    """The machine, not the input: a disk that is full, a folder that cannot be written, too
+    little memory, a signal that stopped the run (exit code 3). The message names the path and
+    the cause; nothing is left half-written and an existing result is untouched."""

@@ -97,6 +97,71 @@ def _initial_tangent(law, packed) -> float:
     return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
 
 
+#: buildings of up to this many floors are analysed as a dense matrix; taller ones in banded
+#: form (a shear building is tridiagonal): memory and time grow with n, not n^2 or n^3
+DENSE_FLOORS = 256
+
+
+def _lowest_frequencies(ex: Expanded, b: int, nodes: np.ndarray, k0: np.ndarray,
+                        count: int) -> np.ndarray:
+    """The fixed-base circular frequencies (rad/s) of building ``b``: all of them for a
+    building of up to :data:`DENSE_FLOORS` floors, else (at least) the lowest ``count``."""
+    local = {node: i for i, node in enumerate(nodes)}
+    n = len(nodes)
+    springs = []
+    for s in np.flatnonzero(ex.story_building == b):
+        low, up = ex.stories[s].nodes
+        springs.append((local[low] if low >= 0 else -1, local[up], k0[s]))
+    scale = 1.0 / np.sqrt(ex.masses[nodes])
+    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
+    if n <= DENSE_FLOORS or width > 64:
+        if n > 4 * DENSE_FLOORS and width > 64:
+            return _sparse_lowest(springs, scale, n, count)
+        stiffness = np.zeros((n, n))
+        for il, iu, k in springs:
+            stiffness[iu, iu] += k
+            if il >= 0:
+                stiffness[il, il] += k
+                stiffness[il, iu] -= k
+                stiffness[iu, il] -= k
+        return np.sqrt(np.clip(np.linalg.eigvalsh(stiffness * np.outer(scale, scale)), 0, None))
+    from scipy.linalg import eig_banded, eigh_tridiagonal
+
+    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
+    for il, iu, k in springs:
+        band[0, iu] += k * scale[iu] ** 2
+        if il >= 0:
+            band[0, il] += k * scale[il] ** 2
+            lo, hi = min(il, iu), max(il, iu)
+            band[hi - lo, lo] -= k * scale[il] * scale[iu]
+    last = min(count, n) - 1
+    if width <= 1:
+        values = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
+                                  eigvals_only=True, select="i", select_range=(0, last))
+    else:
+        values = eig_banded(band, lower=True, eigvals_only=True, select="i",
+                            select_range=(0, last))
+    return np.sqrt(np.clip(values, 0, None))
+
+
+def _sparse_lowest(springs, scale, n: int, count: int) -> np.ndarray:
+    """Lowest ``count`` frequencies of a large building that is not banded (sparse solver)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import eigsh
+
+    rows, cols, vals = [], [], []
+    for il, iu, k in springs:
+        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
+        if il >= 0:
+            off = -k * scale[il] * scale[iu]
+            rows += [il, il, iu]
+            cols += [il, iu, il]
+            vals += [k * scale[il] ** 2, off, off]
+    matrix = coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
+    values = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM", return_eigenvectors=False)
+    return np.sqrt(np.clip(np.sort(values), 0, None))
+
+
 def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
     """a0 m per DOF and a1 per storey, fitted per building on its fixed-base modes."""
     a0 = np.zeros(n)
@@ -106,20 +171,16 @@ def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
         if damping.ratio == 0.0:
             continue
         nodes = np.flatnonzero(ex.node_building == b)
-        local = {node: i for i, node in enumerate(nodes)}
-        stiffness = np.zeros((len(nodes), len(nodes)))
-        for s in np.flatnonzero(ex.story_building == b):
-            low, up = ex.stories[s].nodes
-            iu = local[up]
-            stiffness[iu, iu] += k0[s]
-            if low >= 0:
-                il = local[low]
-                stiffness[il, il] += k0[s]
-                stiffness[il, iu] -= k0[s]
-                stiffness[iu, il] -= k0[s]
-        scale = 1.0 / np.sqrt(ex.masses[nodes])
-        omega = np.sqrt(np.clip(np.linalg.eigvalsh(stiffness * np.outer(scale, scale)), 0, None))
         modes = damping.modes
+        try:
+            with np.errstate(all="ignore"):
+                omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
+        except (np.linalg.LinAlgError, ArithmeticError, ValueError):
+            omega = np.array([np.nan])
+        if not np.all(np.isfinite(omega)):
+            raise InputError(f"building {name!r}: its natural frequencies (for Rayleigh damping) "
+                             "cannot be computed from its masses and storey stiffnesses; they "
+                             "span more than floating point carries (check the units)")
         if max(modes) > len(nodes):
             if len(nodes) == 1 and modes == (1, 2):
                 modes = (1, 1)  # a one-storey building has one mode: fit the ratio there

@@ -11,19 +11,18 @@ COMMANDS = ("solve", "validate", "schema", "pi", "expand", "scale", "plot", "acc
             "gap", "compile", "opensees")
 
 
-def write_text_output(text: str, output, overwrite: bool) -> None:
-    """Write generated YAML to ``output`` (refusing to replace a file without ``overwrite``)
-    or, without one, to standard output."""
+def write_text_output(text: str, output, overwrite: bool, inputs=()) -> None:
+    """Write generated YAML to ``output`` (refusing to replace a file without ``overwrite``,
+    or one of the ``inputs``), or, without one, to standard output."""
     import sys
-    from pathlib import Path
 
-    from pframe.errors import InputError
+    from pframe import outputs
 
-    if output:
-        out = Path(output)
-        if out.exists() and not overwrite:
-            raise InputError(f"{out}: the output file exists; pass --overwrite to replace it")
-        out.write_text(text, encoding="utf-8")
+    if output is not None:
+        out = outputs.check_output(output, inputs=inputs, overwrite=overwrite,
+                                   what="output file")
+        with outputs.replacing(out) as tmp:
+            tmp.write_text(text, encoding="utf-8")
         print(f"wrote {out}")
     else:
         sys.stdout.write(text)

@@ -3,6 +3,7 @@ reference solution; a table, a CSV file and a work-precision plot."""
 
 from __future__ import annotations
 
+import math
 import sys
 from pathlib import Path
 
@@ -18,9 +19,18 @@ def _accuracy(args) -> int:
     if unknown:
         raise InputError(f"unknown integrator {unknown[0]!r}; choose from "
                          f"{', '.join(accuracy.INTEGRATORS)}")
-    factors = tuple(float(f) for f in args.factors.split(","))
-    out = Path(args.output or Path(args.model).stem + "-accuracy")
-    out.mkdir(parents=True, exist_ok=True)
+    from pframe import outputs
+
+    factors = _factors(args.factors)
+    accuracy.check_factors(factors, loaded)
+    out = Path(args.output if args.output is not None else Path(args.model).stem + "-accuracy")
+    if args.output == "":
+        raise InputError("-o '': the accuracy study needs a folder name")
+    if out.exists() and not out.is_dir():
+        raise InputError(f"{out}: exists and is not a folder; -o names the folder for "
+                         "accuracy.csv and work-precision.png")
+    if not out.parent.exists():
+        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
     print(f"{loaded.source}: reference solution, then {len(names)} integrators x "
           f"{len(factors)} time steps", file=sys.stderr)
     rows, reference = accuracy.study(
@@ -34,6 +44,7 @@ def _accuracy(args) -> int:
         pick = f"{row.integrator} with dt = {row.dt:.4g} s ({row.solve_seconds:.3f} s)" if row \
             else "none of these runs"
         print(f"displacement error <= {tol:g}: {pick}")
+    outputs.make_folder(out)  # only now: a refused study leaves no folder
     accuracy.write_csv(rows, out / "accuracy.csv")
     try:
         accuracy.plot(rows, out / "work-precision.png", title=Path(args.model).name)
@@ -42,6 +53,19 @@ def _accuracy(args) -> int:
         print(f"wrote {out / 'accuracy.csv'}; the plot needs matplotlib: "
               'pip install "pframe[plot]"')
     return 0
+
+
+def _factors(text: str) -> tuple[float, ...]:
+    from pframe.errors import InputError
+
+    try:
+        factors = tuple(float(f) for f in text.split(","))
+    except ValueError:
+        raise InputError(f"--factors {text}: give numbers separated by commas, such as "
+                         "4,2,1,0.5") from None
+    if not all(math.isfinite(f) and f > 0 for f in factors):
+        raise InputError(f"--factors {text}: the factors must be positive numbers")
+    return factors
 
 
 def register(sub) -> None:

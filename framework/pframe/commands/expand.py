@@ -11,12 +11,12 @@ from pframe.commands import write_text_output
 def expanded_text(path: Path) -> str | None:
     """The dimensional YAML of a Pi-form scene file; None for a dimensional scene."""
     from pframe.model import load_scene
-    from pframe.model.load import _compose
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form, pi_expansion
+    from pframe.yamltext import compose
 
     loaded = load_scene(path)  # validates both forms, with line numbers
-    data, lines = _compose(loaded.text, str(path))
+    data, lines = compose(loaded.text, str(path))
     if not is_pi_form(data):
         return None
     expansion = pi_expansion(data, lines, str(path), path.parent)
@@ -54,7 +54,7 @@ def _expand(args) -> int:
         print(f"pframe: {path} is a dimensional scene already; printed unchanged",
               file=sys.stderr)
         text = path.read_text(encoding="utf-8")
-    write_text_output(text, args.output, args.overwrite)
+    write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
 
 

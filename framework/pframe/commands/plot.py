@@ -21,6 +21,10 @@ def _plot(args) -> int:
     from pframe.plot import figures, output_paths, save
     from pframe.plot.spectrum import is_sweep
 
+    if args.output == "":
+        from pframe.errors import InputError
+
+        raise InputError("-o '': the figure needs a name ending in .png or .pdf")
     output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
     sweep_file = is_sweep(args.result)

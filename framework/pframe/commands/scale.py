@@ -52,19 +52,19 @@ def _scale(args) -> int:
             print("\n".join(_table(sim)))
         return 0
     text = _scaled_scene(Path(args.model), sim, args.to)
-    write_text_output(text, args.output, args.overwrite)
+    write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
 
 
 def _scaled_scene(path: Path, sim, to: str) -> str:
     from pframe.model import load_scene, parse_scene
-    from pframe.model.load import _compose
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form
     from pframe.nondim.similitude import scale_scene
+    from pframe.yamltext import compose
 
     loaded = load_scene(path)
-    data, _ = _compose(loaded.text, str(path))
+    data, _ = compose(loaded.text, str(path))
     scaled = scale_scene(data, sim, to)
     header = [f"{path} scaled to {to} size by 'pframe scale' (S = model / prototype):"]
     header += [line.strip() for line in _table(sim)[2:]]

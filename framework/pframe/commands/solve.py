@@ -5,21 +5,28 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from pframe.errors import InputError
+
 
 def _solve(args) -> int:
+    from pframe import outputs
     from pframe.api import check_output
     from pframe.model import load_scene
 
+    out = args.output if args.output is not None else Path(args.model).stem + ".nc"
+    outputs.check_output(out, inputs=[args.model], overwrite=args.overwrite, what="result file")
     loaded = load_scene(args.model)
-    out = check_output(Path(Path(args.model).stem + ".nc") if args.output is None
-                       else args.output, args.overwrite, loaded)
+    out = check_output(out, args.overwrite, loaded)
+    _check_resources(loaded, out)
 
     from pframe.assemble import assemble
     from pframe.kernel import simulate
-    from pframe.progress import bar
     from pframe.record import ResultWriter
 
-    plan = assemble(loaded.expanded)
+    try:
+        plan = assemble(loaded.expanded)
+    except InputError as exc:  # found while assembling: damping fit, stability, batch rules
+        raise InputError(f"{loaded.source}: {exc}") from None
     for warning in plan.warnings:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     if not args.quiet:
@@ -27,6 +34,44 @@ def _solve(args) -> int:
 
         for line in record_lines(loaded):
             print(f"{loaded.source}: {line}", flush=True)
+    try:
+        return _run(args, loaded, plan, out, simulate, ResultWriter)
+    except OSError as exc:
+        raise outputs.failure(out, exc) from None
+    except InputError as exc:  # found while running: numbers beyond floating point
+        raise InputError(f"{loaded.source}: {exc}") from None
+
+
+def _check_resources(loaded, out: Path) -> None:
+    """Refuse a run that cannot fit (memory, disk), warn about a very large one."""
+    import shutil
+
+    from pframe import resources
+
+    try:
+        free = shutil.disk_usage(out.parent).free
+    except OSError:
+        free = None
+    estimate = resources.of_expanded(loaded.expanded, streaming=True)
+    for warning in resources.check(estimate, loaded.source, free_disk=free):
+        print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
+
+
+def _kept_elsewhere(out: Path) -> Path | None:
+    """Where an incomplete result goes when ``out`` holds a complete one (None: to ``out``)."""
+    import h5py
+
+    try:
+        with h5py.File(out, "r") as f:
+            complete = bool(f.attrs.get("complete", 0))
+    except (OSError, ValueError):
+        return None
+    return out.with_name(f"{out.stem}.incomplete{out.suffix}") if complete else None
+
+
+def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
+    from pframe.progress import bar
+
     on_terminal = sys.stderr.isatty() and not args.quiet
     progress = bar(False if args.quiet else None, "steps")
     announce = ((lambda message: print(f"pframe: {message}", file=sys.stderr, flush=True))
@@ -40,12 +85,24 @@ def _solve(args) -> int:
         finally:
             if progress is not None:
                 progress.close()
+        kept = ""
+        if not result.completed() and out.exists():
+            # an incomplete run never replaces a complete result
+            elsewhere = _kept_elsewhere(out)
+            if elsewhere is not None:
+                from pframe import outputs
+
+                outputs.check_output(elsewhere, overwrite=True, what="result file")
+                kept = (f"; the complete result already in {out} is kept (an incomplete run "
+                        "never replaces it)")
+                writer.path = out = elsewhere
         writer.finish(result)
     if not args.quiet:
         _summary(loaded, plan, result, out, writer.peaks)
     if not result.completed():
         print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
-              f"{out} holds the {result.states_done() - 1} steps computed, marked incomplete",
+              f"{out} holds the {max(0, result.states_done() - 1)} steps computed, marked "
+              f"incomplete{kept}",
               file=sys.stderr)
         return 1
     return 0

@@ -91,9 +91,15 @@ def _sweep(args) -> int:
     if args.threads is not None and args.threads < 1:
         raise InputError(f"--threads {args.threads}: give at least 1")
     spec = parse(definition)
-    out = Path(args.output) if args.output else Path(Path(args.sweep).stem + ".nc")
-    if not out.parent.exists():
-        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    from pframe import outputs
+
+    out = Path(args.output if args.output is not None else Path(args.sweep).stem + ".nc")
+    if args.output == "":
+        raise InputError("-o '': the sweep file needs a name")
+    inputs = [args.sweep, definition.base_source or None,
+              *(path for _, _, _, path in definition.records)]
+    outputs.check_output(out, inputs=inputs, overwrite=True, what="sweep file")
+    _check_resources(spec, out, args.quiet)
     from pframe.sweep.store import parts_folder
 
     if out.exists() and not parts_folder(out).exists():
@@ -138,6 +144,28 @@ def _sweep(args) -> int:
               f"(marked in {out}: complete = 0, status says why): {first}{more}", file=sys.stderr)
         return 1
     return 0
+
+
+def _check_resources(spec, out: Path, quiet: bool) -> None:
+    """Refuse a sweep that cannot fit (memory per chunk, result file, variant count); warn
+    about a very large one. Sweeps keep each chunk's histories in memory."""
+    import shutil
+
+    from pframe import resources
+    from pframe.sweep.output import base_run
+
+    run = base_run(spec)
+    estimate = resources.estimate(
+        run.steps, len(run.node_names), len(run.story_names), len(run.contact_names),
+        spec.recorders, streaming=False, variants=spec.count,
+        batch=min(spec.count, spec.definition.chunk))
+    try:
+        free = shutil.disk_usage(out.parent).free
+    except OSError:
+        free = None
+    for warning in resources.check(estimate, spec.definition.source, free_disk=free):
+        if not quiet:
+            print(f"pframe: warning: {spec.definition.source}: {warning}", file=sys.stderr)
 
 
 def _warnings(path: Path) -> list[str]:

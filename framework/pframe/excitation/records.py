@@ -2,12 +2,18 @@
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
 import numpy as np
 
 G = 9.80665  # standard gravity (m/s^2): PEER records are in g
+#: the largest record file read: a PEER record is under 1 MiB; an hour at 200 Hz in two text
+#: columns is about 16 MiB. Larger files are refused before they are read
+MAX_RECORD_BYTES = 16 * 2**20
+#: the largest magnitude of a time or acceleration (as in a scene, pframe.model.load.LARGEST)
+LARGEST = 1e100
 
 
 def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:
@@ -25,7 +31,12 @@ def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray]:
                              f"got {header.strip()!r}")
         n, step = int(float(numbers[0])), float(numbers[1])
     else:
-        n, step = int(npts.group(1)), float(dt.group(1))
+        try:
+            n, step = int(npts.group(1)), float(dt.group(1))
+        except ValueError:
+            raise ValueError(f"{name}, line 4: DT is not a number in {header.strip()!r}") from None
+    if not (math.isfinite(step) and n <= MAX_RECORD_BYTES):
+        raise ValueError(f"{name}, line 4: NPTS={n} and DT={step} cannot describe this file")
     if step <= 0 or n < 2:
         raise ValueError(f"{name}, line 4: NPTS must be >= 2 and DT > 0, got {n} and {step}")
     try:
@@ -79,11 +90,21 @@ def read_record(path: str | Path, format: str = "auto", units: str | None = None
     Raises ``ValueError`` with the file and line on malformed input, ``FileNotFoundError``.
     """
     path = Path(path)
+    size = path.stat().st_size
+    if size > MAX_RECORD_BYTES:
+        raise ValueError(f"{path}: the file is {size / 2**20:.0f} MiB; pframe reads record "
+                         f"files of up to {MAX_RECORD_BYTES // 2**20} MiB (a PEER record is "
+                         "well under 1 MiB): is it a record?")
     text = path.read_text(encoding="utf-8", errors="replace")
     is_at2 = format == "at2" or (format == "auto" and path.suffix.lower() == ".at2")
     times, acc = (_read_at2 if is_at2 else _read_columns)(text, str(path))
-    if not np.all(np.isfinite(acc)):
-        raise ValueError(f"{path}: the record holds a value that is not finite")
+    if not (np.all(np.isfinite(times)) and np.all(np.isfinite(acc))):
+        bad = int(np.flatnonzero(~(np.isfinite(times) & np.isfinite(acc)))[0])
+        raise ValueError(f"{path}: value {bad + 1} of the record (time {times[bad]!r}) is not "
+                         "a finite number")
+    if np.max(np.abs(acc), initial=0.0) > LARGEST or np.max(np.abs(times), initial=0.0) > LARGEST:
+        raise ValueError(f"{path}: the record holds values larger than {LARGEST:g}: not a "
+                         "ground acceleration in m/s^2 or g")
     if (units or ("g" if is_at2 else "m/s2")) == "g":
         acc = acc * G
     return times, acc

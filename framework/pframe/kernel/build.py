@@ -61,10 +61,28 @@ def kernel_for(plan, announce=None) -> Kernel:
                    + " (once for this set of plug-ins; about 30 s)")
     else:
         run, folder, message = loop.run, FOLDER, COMPILING
+    _note_fallback(folder)
     if announce is not None and not cache.is_compiled(folder):
         announce(message)
     return Kernel(run, ids, len(MATERIALS) + len(extra_materials),
                   len(CONTACT_LAWS) + len(extra_contacts), folder)
+
+
+_noted: set = set()
+
+
+def _note_fallback(folder: Path) -> None:
+    """Say once when the kernel cache lives in a temporary folder because the configured one
+    (``PFRAME_CACHE_DIR``, default ``~/.cache/pframe``) cannot be written."""
+    import sys
+
+    root = cache.root()
+    if folder in _noted or Path(folder).is_relative_to(root):
+        return
+    _noted.add(folder)
+    print(f"pframe: note: the kernel cache folder {root} cannot be written; the compiled kernel "
+          f"is kept in {folder} instead (set PFRAME_CACHE_DIR to a writable folder to choose "
+          "where)", file=sys.stderr)
 
 
 def diagnose(plan, error: Exception) -> PframeError:

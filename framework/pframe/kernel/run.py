@@ -31,6 +31,7 @@ from pframe.kernel.state import (
     State,
     Work,
 )
+from pframe.outputs import check_stop
 from pframe.quantities import QUANTITIES
 
 #: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
@@ -327,6 +328,18 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     scratch = [(work_arrays(plan), _saved(st)) for _ in pieces]
 
     def call(begin, end):
+        try:
+            return _call(begin, end)
+        except (ZeroDivisionError, OverflowError, FloatingPointError) as exc:
+            from pframe.errors import InputError
+
+            raise InputError(
+                f"the time stepping divided by zero or overflowed ({exc}) before step {end}: "
+                "the scene's numbers (masses, stiffnesses, dt, the integrator's coefficients) "
+                "are too small or too large for floating point arithmetic; check the units"
+            ) from None
+
+    def _call(begin, end):
         rec = recorders.for_call(begin, end)
         if pool is None:
             kernel(model, settings, st, rec, *scratch[0], begin, end)
@@ -357,7 +370,10 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         solve = 0.0
         done = 1
         limit = recorders.max_steps()
-        size = min(total - 1, limit) if progress is None else min(total - 1, 500, limit)
+        # Calls last about chunk_seconds whatever the mode (progress shown or not): the
+        # compiled kernel does not see Ctrl-C or SIGTERM, which Python handles between calls,
+        # so a run stops within a call's time.
+        size = min(total - 1, 500, limit)
         while done < total:
             end = min(total, done + size)
             tick = time.perf_counter()
@@ -366,9 +382,11 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             solve += elapsed
             recorders.deliver(rec, done, end)
             rec = None  # the next call's buffers replace these, not join them
+            check_stop()
             if progress is not None:
                 progress(end, total)
-                size = max(1, min(limit, int((end - done) * chunk_seconds / max(elapsed, 1e-6))))
+            grow = chunk_seconds / max(elapsed, 1e-6)
+            size = max(1, min(limit, int((end - done) * min(grow, 8.0))))
             done = end
             if np.all(st.status[:, 0] != 0):
                 break

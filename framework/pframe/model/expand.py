@@ -14,6 +14,7 @@ from pframe.excitation.characteristic import apply_record
 from pframe.laws import ContactContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
+from pframe.resources import check_floors, check_steps, steps_of
 
 
 @dataclass(frozen=True)
@@ -99,6 +100,28 @@ def _building_nodes(scene, nodes, stories, damping):
             stories.append((name, (lower, name), law, params, path + ("story",)))
 
 
+def _finite(packed, path) -> tuple[float, ...]:
+    """A law's packed parameters, which must be finite numbers."""
+    out = tuple(map(float, packed))
+    if not all(np.isfinite(out)):
+        raise ModelError(path, "these values give the law a parameter that is not a finite "
+                               f"number ({', '.join(f'{v:.4g}' for v in out)}); they are too "
+                               "small or too large for each other: check the units")
+    return out
+
+
+def _check_size(scene) -> None:
+    """Refuse, before building them, more floors than the machine can hold."""
+    total = len(scene.nodes)
+    for building in scene.buildings:
+        lengths = [len(v) for v in [building.mass, *building.story.model_dump().values()]
+                   if isinstance(v, list)]
+        total += building.floors or max(lengths, default=0)
+    problem = check_floors(total)
+    if problem:
+        raise ModelError(("buildings",), problem)
+
+
 def expand(scene, base_dir: Path | str = ".") -> Expanded:
     """Resolve a validated scene; raises :class:`ModelError` with the YAML path of a problem."""
     nodes: list = []
@@ -111,9 +134,13 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                 raise ModelError(("buildings", b, "name"),
                                  f"building {building.name!r} is defined twice")
             seen.add(building.name)
+    _check_size(scene)
     _building_nodes(scene, nodes, stories, damping)
     for i, node in enumerate(scene.nodes):
         nodes.append((node.name, node.mass, ("nodes", i, "name")))
+    if not nodes:
+        raise ModelError(("buildings",), "the scene has no floors; give at least one building "
+                                         "(name, floors, mass, story), or nodes and stories")
     index: dict[str, int] = {}
     for i, (name, _, path) in enumerate(nodes):
         if name in index:
@@ -146,7 +173,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if name in seen:
             raise ModelError(path, f"storey name {name!r} is used twice")
         seen[name] = True
-        story_elements.append(Element(name, (low, up), law, tuple(map(float, law.pack(params)))))
+        story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
         story_building.append(buildings.index(building_of[up]))
 
     record = None
@@ -182,7 +209,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
         context = ContactContext(masses[left], masses[right], excitation_frequency)
         try:
-            packed = tuple(map(float, law.pack(params, context)))
+            with np.errstate(all="ignore"):
+                packed = _finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
         contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
@@ -193,7 +221,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             rebounds.setdefault(key, []).append(name)
 
     analysis = scene.analysis
-    steps = int(round(analysis.duration / analysis.dt))
+    count = steps_of(analysis.duration, analysis.dt)
+    problem = check_steps(count, analysis.dt, analysis.duration)
+    if problem:
+        raise ModelError(("analysis", "dt" if analysis.dt < 1e-7 else "duration"), problem)
+    steps = int(round(count))
     if steps < 1:
         raise ModelError(("analysis", "duration"), f"duration {analysis.duration} s is shorter "
                                                    f"than one step dt = {analysis.dt} s")

@@ -2,15 +2,15 @@
 
 from __future__ import annotations
 
-import re
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import yaml
 from pydantic import BaseModel, ValidationError
 
 from pframe.errors import InputError
 from pframe.laws.registry import available_names
+from pframe.yamltext import compose, dotted, where
 
 Path_ = tuple  # a path into the YAML data: keys and list indices
 
@@ -39,88 +39,26 @@ class LoadedScene:
         return _where(self.source, self.lines, path)
 
 
-def _dotted(path: Path_) -> str:
-    out = ""
-    for part in path:
-        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
-    return out or "(top level)"
-
-
-def _where(source: str, lines: dict, path: Path_) -> str:
-    path = tuple(path)
-    for cut in range(len(path), -1, -1):
-        if path[:cut] in lines:
-            return f"{source}, line {lines[path[:cut]]}, {_dotted(path)}"
-    return f"{source}, {_dotted(path)}"
-
-
-class _Loader(yaml.SafeLoader):
-    """PyYAML's safe loader, with YAML 1.2's numbers: ``1.0e10`` and ``1e-3`` (no sign, or no
-    dot, in the exponent) are floats, as editors and other YAML 1.2 tools read them, not the
-    text YAML 1.1 makes of them."""
-
-
-_Loader.add_implicit_resolver(
-    "tag:yaml.org,2002:float",
-    re.compile(r"^[-+]?(?:[0-9][0-9_]*(?:\.[0-9_]*)?|\.[0-9_]+)[eE][-+]?[0-9]+$"),
-    list("-+0123456789."),
-)
-
-
-def _compose(text: str, source: str):
-    loader = _Loader(text)
-    try:
-        root = loader.get_single_node()
-        lines: dict = {}
-
-        def convert(node, path):
-            lines.setdefault(path, node.start_mark.line + 1)
-            if isinstance(node, yaml.MappingNode):
-                # merge keys (<<: *defaults) first: their keys come first and may be overridden
-                own = sum(1 for k, _ in node.value if k.tag != "tag:yaml.org,2002:merge")
-                loader.flatten_mapping(node)
-                merged = len(node.value) - own
-                out, from_merge = {}, set()
-                for i, (key_node, value_node) in enumerate(node.value):
-                    key = loader.construct_object(key_node, deep=True)
-                    if i < merged:
-                        from_merge.add(key)
-                    elif key in from_merge:
-                        from_merge.discard(key)
-                    elif key in out:
-                        raise InputError(
-                            f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
-                            f"appears twice in {_dotted(path)}; each key may be given once"
-                        )
-                    lines[path + (key,)] = key_node.start_mark.line + 1
-                    out[key] = convert(value_node, path + (key,))
-                return out
-            if isinstance(node, yaml.SequenceNode):
-                return [convert(item, path + (i,)) for i, item in enumerate(node.value)]
-            return loader.construct_object(node, deep=True)
-
-        data = convert(root, ()) if root is not None else None
-    except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        line = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        problem = getattr(exc, "problem", None) or str(exc)
-        raise InputError(f"{source}{line}: not valid YAML: {problem}") from None
-    finally:
-        loader.dispose()
-    return data, lines
+_dotted = dotted
+_where = where
+_compose = compose  # the reader of every YAML file (pframe.yamltext)
 
 
 def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
     """Law names the scene uses that are not built in; unknown names are reported here."""
     wanted = {"contact": set(), "material": set()}
     places = []
-    for i, c in enumerate(data.get("contacts") or []):
+    def items(key):  # a list, or nothing (the model reports what else it is)
+        value = data.get(key)
+        return value if isinstance(value, list) else []
+
+    for i, c in enumerate(items("contacts")):
         if isinstance(c, dict) and isinstance(c.get("law"), str):
             places.append(("contact", c["law"], ("contacts", i, "law")))
-    for i, s in enumerate(data.get("stories") or []):
+    for i, s in enumerate(items("stories")):
         if isinstance(s, dict) and isinstance(s.get("material"), str):
             places.append(("material", s["material"], ("stories", i, "material")))
-    for i, b in enumerate(data.get("buildings") or []):
+    for i, b in enumerate(items("buildings")):
         story = b.get("story") if isinstance(b, dict) else None
         if isinstance(story, dict) and isinstance(story.get("material"), str):
             places.append(("material", story["material"], ("buildings", i, "story", "material")))
@@ -198,11 +136,52 @@ def _value_at(obj, path: Path_):
     return obj
 
 
+#: the largest magnitude of a number in a scene: SI values of real buildings and motions are
+#: far below (a mass of 1e308 kg overflows the first product). Tiny values (subnormals) are
+#: numbers; where they break the arithmetic (a floor mass of 1e-320 kg), the step that fails
+#: says so.
+LARGEST = 1e100
+
+
+def _numbers(node, path: Path_ = ()):
+    """(path, value) of every number (not boolean) in composed YAML data."""
+    if isinstance(node, (int, float)) and not isinstance(node, bool):
+        yield path, node
+    elif isinstance(node, dict):
+        for key, value in node.items():
+            yield from _numbers(value, path + (key,))
+    elif isinstance(node, list):
+        for i, value in enumerate(node):
+            yield from _numbers(value, path + (i,))
+
+
+def check_numbers(data, lines: dict, source: str) -> None:
+    """Every number is finite and at most :data:`LARGEST` in magnitude (NaN, inf and 1e308
+    are refused at their line)."""
+    for path, value in _numbers(data):
+        try:
+            size = abs(float(value))
+            shown = f"{value:.4g}"
+        except OverflowError:  # an integer beyond any float
+            size, shown = math.inf, f"an integer of {len(str(abs(value)))} digits"
+        if math.isnan(size):
+            why = "NaN is not a number pframe computes with"
+        elif math.isinf(size) and isinstance(value, float):
+            why = "an infinite value is not allowed"
+        elif size > LARGEST:
+            why = f"{shown} is larger than the {LARGEST:g} pframe computes with"
+        else:
+            continue
+        raise InputError(f"{_where(source, lines, path)}: {why}; give a finite number in SI "
+                         "units (check the units and the exponent)")
+
+
 def validated(model: type[BaseModel], data, lines: dict, source: str):
     """``model.model_validate(data)``, with problems raised as :class:`InputError` naming the
     file, line and field. A YAML boolean in a number field is one: YAML reads true/false,
     yes/no and on/off as booleans, and pydantic would quietly take them for 1 and 0 (a gap
     written ``gap: on`` would become 1 m)."""
+    check_numbers(data, lines, source)
     try:
         out = model.model_validate(data)
     except ValidationError as exc:
@@ -226,6 +205,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
+        check_numbers(data, lines, source)
         data = expand_pi_data(data, lines, source, base_dir or ".")
         # a Pi-form scene is the paper's formulation: its contacts use the published damping
         # formula of their law unless the expansion says otherwise (a note, not a warning)

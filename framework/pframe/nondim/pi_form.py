@@ -589,6 +589,11 @@ def pi_expansion(data: dict, lines: dict, source: str, base_dir: Path | str = ".
     except _Problems as exc:
         raise InputError("; ".join(f"{_where(source, lines, path)}: {message}"
                                    for path, message in exc.problems)) from None
+    except ArithmeticError:  # scales whose products leave floating point (w_p = 1e-200)
+        raise InputError(f"{_where(source, lines, ('scales',) if 'scales' in data else ('pi',))}: "
+                         "the Pi numbers and scales give dimensional values beyond floating "
+                         "point arithmetic (a division by zero or an overflow); check them"
+                         ) from None
 
 
 def expand_pi_data(data: dict, lines: dict, source: str, base_dir: Path | str = ".") -> dict:

@@ -19,8 +19,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import yaml
-
 
 @dataclass(frozen=True)
 class Levels:
@@ -59,9 +57,12 @@ def _level_key(level: str, first_seen: dict[str, int]):
 
 def _scene_elements(input_yaml: str | None) -> tuple[dict[str, str], dict[str, tuple[str, str]]]:
     """From the scene text: named storey -> upper node, and contact name -> (left, right)."""
+    from pframe.errors import InputError as _Unreadable
+    from pframe.yamltext import load
+
     try:
-        scene = yaml.safe_load(input_yaml) if input_yaml else None
-    except yaml.YAMLError:
+        scene = load(input_yaml) if input_yaml else None
+    except _Unreadable:
         scene = None
     if not isinstance(scene, dict):
         return {}, {}

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pframe import outputs
 from pframe.errors import InputError
 
 FORMATS = (".png", ".pdf")
@@ -25,6 +26,8 @@ def output_paths(output: str | Path, levels) -> list[Path]:
                          "taken from it)")
     if not output.parent.exists():
         raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
+    if output.is_dir():
+        raise InputError(f"{output}: is a folder; give a file name ending in .png or .pdf")
     levels = list(levels)
     if suffix == ".pdf" or len(levels) == 1:
         return [output]
@@ -57,10 +60,11 @@ def save(figs: dict, output: str | Path, title: str | None = None) -> list[Path]
         metadata = {"Creator": f"pframe {pframe.__version__} (pframe plot)"}
         if title:
             metadata["Title"] = title
-        with PdfPages(paths[0], metadata=metadata) as pdf:
+        with outputs.replacing(paths[0]) as tmp, PdfPages(tmp, metadata=metadata) as pdf:
             for fig in figs.values():
                 pdf.savefig(fig)
         return paths
     for path, fig in zip(paths, figs.values()):
-        fig.savefig(path, dpi=PNG_DPI)
+        with outputs.replacing(path) as tmp:
+            fig.savefig(tmp, dpi=PNG_DPI, format="png")
     return paths

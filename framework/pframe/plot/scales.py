@@ -103,11 +103,12 @@ def reference_scales(input_yaml: str | None, source: str) -> Reference:
     InputError
         The file holds no scene, or the scene gives no scales and its excitation is not a sine.
     """
-    import yaml
+    from pframe.errors import InputError as _Unreadable
+    from pframe.yamltext import load
 
     try:
-        raw = yaml.safe_load(input_yaml) if input_yaml else None
-    except yaml.YAMLError:
+        raw = load(input_yaml) if input_yaml else None
+    except _Unreadable:
         raw = None
     output = raw.get("output") if isinstance(raw, dict) else None
     given = output.get("scales") if isinstance(output, dict) else None

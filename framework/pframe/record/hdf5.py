@@ -24,11 +24,11 @@ file agree by construction (and a test checks they are identical).
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
 
+from pframe import outputs
 from pframe.nondim.output import output_units
 from pframe.quantities import QUANTITIES
 from pframe.record.netcdf import DatasetWriter, Writer, provenance
@@ -50,7 +50,7 @@ LABELS = {"node": ("node_name", "floor node (building/floor)"),
 
 
 def _temporary(path: Path) -> Path:
-    return path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    return outputs.temporary(path)
 
 
 def integrator_text(plan) -> str:
@@ -194,7 +194,7 @@ class ResultWriter:
             self.file.close()
             if self.in_memory:
                 return None
-            os.replace(self.tmp, self.path)
+            outputs.commit(self.tmp, self.path)
         except BaseException:
             self.abort()
             raise
@@ -206,8 +206,8 @@ class ResultWriter:
             if self.file is not None:
                 self.file.close()
         finally:
-            if self.tmp is not None and self.tmp.exists():
-                self.tmp.unlink()
+            if self.tmp is not None:
+                outputs.discard(self.tmp)
 
     def _trim(self, done: int):
         for every, dim in self.time_dims.items():

@@ -174,7 +174,6 @@ def write_dataset(ds, path, call: str | None = None) -> Path:
     coordinates, no string coordinate variables) to ``path``: strings as character arrays,
     int64 as int32, no fill value on coordinates, provenance attributes added; via a
     temporary file in the same folder, renamed when complete (the file is whole or absent)."""
-    import os
 
     path = Path(path)
     ds = ds.copy()
@@ -194,13 +193,10 @@ def write_dataset(ds, path, call: str | None = None) -> Path:
             encoding.setdefault(name, {})["_FillValue"] = None
     ds.attrs = {**provenance(call), **{k: v for k, v in ds.attrs.items()
                                        if k not in ("date_created", "history")}}
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    from pframe import outputs
+
+    with outputs.replacing(path) as tmp:
         ds.to_netcdf(tmp, engine="h5netcdf", encoding=encoding)
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     return path
 
 

@@ -21,6 +21,7 @@ from pydantic import Field, model_validator
 
 from pframe.model.scene import Base
 from pframe.quantities import QUANTITIES
+from pframe.resources import MAX_AXIS_VALUES, MAX_VARIANTS, product
 
 #: dimension names a sweep file may not take for an axis (they are the file's own)
 RESERVED = ("node", "story", "contact", "building", "time", "variant")
@@ -45,7 +46,7 @@ DEFAULT_RESPONSES = ("peak_displacement", "peak_story_drift", "ductility", "peak
 Name = Annotated[str, Field(pattern=r"^[A-Za-z_][A-Za-z0-9_]*$",
                             description="Dimension name in the result file (a letter or _, "
                                         "then letters, digits or _).")]
-Count = Annotated[int, Field(ge=1)]
+Count = Annotated[int, Field(ge=1, le=MAX_AXIS_VALUES)]
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 
 
@@ -103,6 +104,13 @@ class Axis(Base):
         """Whether this axis sets a record file (``excitation.file``)."""
         return self.segments[-2:] == ("excitation", "file")
 
+    @property
+    def count(self) -> int:
+        """How many values the axis takes (without making them)."""
+        if self.values is not None:
+            return len(self.values)
+        return int((self.linspace or self.logspace or self.geomspace)[2])
+
     def points(self) -> list:
         """The values the axis takes, as Python numbers or strings."""
         if self.values is not None:
@@ -143,4 +151,10 @@ class SweepFile(Base):
     def _check(self):
         if (self.base is None) == (self.scene is None):
             raise ValueError("give exactly one of base (a scene file) or scene (inline)")
+        counts = [a.count for a in self.axes]
+        count = counts[0] if self.combine == "zip" else product(counts)
+        if count > MAX_VARIANTS:
+            raise ValueError(
+                f"{' x '.join(f'{c:,}' for c in counts)} = {count:,} variants; a sweep has at "
+                f"most {MAX_VARIANTS:,}: use fewer values per axis, or split the study")
         return self

@@ -12,11 +12,11 @@ same bytes as an uninterrupted one. Wall-clock timings are printed, never writte
 from __future__ import annotations
 
 import dataclasses
-import os
 from pathlib import Path
 
 import numpy as np
 
+from pframe import outputs
 from pframe.quantities import QUANTITIES
 from pframe.record.hdf5 import LABELS, integrator_text
 from pframe.record.netcdf import Writer, provenance
@@ -96,17 +96,12 @@ def write_sweep(path: Path, spec: Spec, load_chunk, call: str | None = None) -> 
     """Write the result file from the finished chunks (``load_chunk(i)`` returns chunk ``i``'s
     arrays) via a temporary file and an atomic rename; return a summary (failed variants)."""
     path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
+    with outputs.replacing(path) as tmp:
         f = Writer(tmp)
         try:
             summary = _write(f, spec, load_chunk, call)
         finally:
             f.close()
-        os.replace(tmp, path)
-    finally:
-        if tmp.exists():
-            tmp.unlink()
     return summary
 
 

@@ -20,10 +20,12 @@ from pathlib import Path
 import numpy as np
 
 from pframe.errors import InputError
-from pframe.model.load import _compose, _where, read_input, validated
+from pframe.model.load import read_input, validated
 from pframe.model.scene import Envelope, History
 from pframe.sweep.definition import RESPONSES, SweepFile
 from pframe.sweep.paths import check_targets, resolve
+from pframe.yamltext import compose as _compose
+from pframe.yamltext import where as _where
 
 #: bumped when the chunk files' contents change meaning
 FORMAT_VERSION = "1"

@@ -17,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pframe import outputs
 from pframe.errors import InputError
 
 MANIFEST = "sweep.json"
@@ -68,6 +69,7 @@ class Parts:
                 self._clear()
         self.folder.mkdir(parents=True, exist_ok=True)
         self._take_lock()
+        outputs.remove_stale(self.folder)  # chunks being written when a run was killed
         self._write_atomic(self.folder / MANIFEST,
                            json.dumps(self._manifest(), indent=1).encode())
         return self.finished()
@@ -113,19 +115,13 @@ class Parts:
 
     @staticmethod
     def _write_atomic(path: Path, payload: bytes | None = None, arrays: dict | None = None):
-        tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-        try:
-            with open(tmp, "wb") as handle:
-                if arrays is not None:
-                    np.savez(handle, **arrays)
-                else:
-                    handle.write(payload)
-                handle.flush()
-                os.fsync(handle.fileno())
-            os.replace(tmp, path)
-        finally:
-            if tmp.exists():
-                tmp.unlink()
+        with outputs.replacing(path, overwrite=True, clean=False) as tmp, open(tmp, "wb") as handle:
+            if arrays is not None:
+                np.savez(handle, **arrays)
+            else:
+                handle.write(payload)
+            handle.flush()
+            os.fsync(handle.fileno())
 
     def save(self, chunk: int, arrays: dict) -> None:
         self._write_atomic(self.path(chunk), arrays=arrays)

@@ -1,0 +1,210 @@
+"""YAML text to plain data, bounded and with line numbers: the one place pframe reads YAML.
+
+- ``safe_load`` semantics: only plain data (mappings, lists, strings, numbers, booleans,
+  null); a Python tag (``!!python/object``) is refused.
+- Numbers are read the YAML 1.2 way: ``1.0e9``, ``11.9e6`` and ``1e-3`` are numbers (PyYAML
+  follows YAML 1.1, where a number without a dot or without a sign in its exponent is text),
+  ``010`` is ten, ``0o10`` eight and ``0x10`` sixteen; ``1:30`` and ``1_000`` are text.
+- Bounded: a file whose aliases (``*name``) would expand beyond :data:`MAX_NODES` values, or
+  that nests deeper than :data:`MAX_DEPTH`, is refused with a message before memory grows (a
+  1 kB "billion laughs" file would otherwise expand to gigabytes).
+- A mapping key must be a scalar, and each key appears once; merge keys (``<<: *defaults``)
+  bring the keys of an anchored mapping, which keys written beside them replace.
+
+:func:`compose` returns the data and the line of every value (a path of keys and list indices
+to a line number), which :func:`where` turns into ``file, line N, a.b[2].c`` for messages.
+"""
+
+from __future__ import annotations
+
+import re
+
+import yaml
+
+from pframe.errors import InputError
+
+#: values (mappings, lists and scalars, aliases counted as often as they are used) a file may
+#: hold: far above any real scene (a 100,000-floor building with per-floor lists has ~10^6)
+MAX_NODES = 5_000_000
+#: nesting depth of mappings and lists (a scene nests about 6 deep)
+MAX_DEPTH = 100
+#: values reached through aliases (``*name``): real files reuse a block a few times
+MAX_ALIAS_NODES = 100_000
+
+_INT = re.compile(r"^[-+]?[0-9]+$|^0o[0-7]+$|^0x[0-9a-fA-F]+$")
+_FLOAT = re.compile(r"^[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?$"
+                    r"|^[-+]?\.(?:inf|Inf|INF)$|^\.(?:nan|NaN|NAN)$")
+
+
+_PLAIN = ("tag:yaml.org,2002:map", "tag:yaml.org,2002:seq")
+_MERGE = "tag:yaml.org,2002:merge"
+
+
+class Loader(yaml.SafeLoader):
+    """PyYAML's safe loader with YAML 1.2 (core schema) integers and floats."""
+
+
+Loader.yaml_implicit_resolvers = {
+    first: [(tag, regexp) for tag, regexp in resolvers
+            if tag not in ("tag:yaml.org,2002:int", "tag:yaml.org,2002:float")]
+    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
+}
+Loader.add_implicit_resolver("tag:yaml.org,2002:int", _INT, list("-+0123456789"))
+Loader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT, list("-+0123456789."))
+
+
+def _construct_int(loader, node):
+    text = loader.construct_scalar(node)
+    if text.startswith("0o"):
+        return int(text[2:], 8)
+    if text.startswith("0x"):
+        return int(text[2:], 16)
+    try:
+        return int(text, 10)
+    except ValueError:  # an explicit !!int tag on something else
+        raise yaml.constructor.ConstructorError(
+            None, None, f"{text!r} is not an integer", node.start_mark) from None
+
+
+def _construct_float(loader, node):
+    text = loader.construct_scalar(node).lower()
+    if text.endswith(".inf"):
+        return float("-inf") if text.startswith("-") else float("inf")
+    if text == ".nan":
+        return float("nan")
+    try:
+        return float(text)
+    except ValueError:
+        raise yaml.constructor.ConstructorError(
+            None, None, f"{text!r} is not a number", node.start_mark) from None
+
+
+Loader.add_constructor("tag:yaml.org,2002:int", _construct_int)
+Loader.add_constructor("tag:yaml.org,2002:float", _construct_float)
+
+
+def dotted(path: tuple) -> str:
+    """``buildings[0].story.stiffness`` for a path of keys and list indices."""
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else str(part))
+    return out or "(top level)"
+
+
+def where(source: str, lines: dict, path: tuple) -> str:
+    """``source, line N, a.b[2]``: the line of the deepest part of ``path`` that has one."""
+    path = tuple(path)
+    for cut in range(len(path), -1, -1):
+        if path[:cut] in lines:
+            return f"{source}, line {lines[path[:cut]]}, {dotted(path)}"
+    return f"{source}, {dotted(path)}"
+
+
+def _too_large(source: str, node, what: str) -> InputError:
+    return InputError(
+        f"{source}, line {node.start_mark.line + 1}: {what}; pframe reads YAML files of up to "
+        f"{MAX_NODES:,} values ({MAX_ALIAS_NODES:,} through aliases), nested up to {MAX_DEPTH} "
+        "deep (a scene needs a small part of that). If the file uses aliases (*name), write the "
+        "values out instead")
+
+
+def compose(text: str, source: str = "<string>") -> tuple[object, dict]:
+    """The plain data of a YAML document and the line of each value (1-based, by path).
+
+    Raises :class:`InputError` naming the line for invalid YAML, a Python tag, a key given
+    twice or that is not a scalar, and a document beyond the size limits.
+    """
+    loader = Loader(text)
+    lines: dict = {}
+    count = [0, 0]  # values, values reached through aliases
+
+    def convert(node, path, depth, aliased):
+        count[0] += 1
+        count[1] += aliased
+        if count[0] > MAX_NODES or count[1] > MAX_ALIAS_NODES:
+            raise _too_large(source, node, "the file expands to more values than pframe reads"
+                             + (" (its aliases multiply)" if count[1] > MAX_ALIAS_NODES else ""))
+        if depth > MAX_DEPTH:
+            raise _too_large(source, node, f"the data nests more than {MAX_DEPTH} levels deep")
+        if not aliased:
+            lines.setdefault(path, node.start_mark.line + 1)
+        if not isinstance(node, yaml.ScalarNode) and node.tag not in _PLAIN:
+            python = " (Python tags are not read: a scene holds plain data only)" if (
+                "python/" in node.tag) else ""
+            raise InputError(f"{source}, line {node.start_mark.line + 1}, {dotted(path)}: the "
+                             f"tag {node.tag.replace('tag:yaml.org,2002:', '!!')} is not "
+                             f"read{python}; write plain mappings and lists")
+        if isinstance(node, yaml.MappingNode):
+            out = {}
+            for key_node, value_node in node.value:
+                if key_node.tag == _MERGE:
+                    out.update(merged(key_node, value_node, path, depth))
+            own: set = set()
+            for key_node, value_node in node.value:
+                if key_node.tag == _MERGE:
+                    continue
+                if not isinstance(key_node, yaml.ScalarNode):
+                    kind = "list" if isinstance(key_node, yaml.SequenceNode) else "mapping"
+                    raise InputError(
+                        f"{source}, line {key_node.start_mark.line + 1}: a key in "
+                        f"{dotted(path)} is a {kind}; keys are names (text)")
+                key = loader.construct_object(key_node, deep=True)
+                if key in own:
+                    raise InputError(
+                        f"{source}, line {key_node.start_mark.line + 1}: the key {key!r} "
+                        f"appears twice in {dotted(path)}; each key may be given once"
+                    )
+                own.add(key)
+                if not aliased:
+                    lines[path + (key,)] = key_node.start_mark.line + 1
+                out[key] = convert(value_node, path + (key,), depth + 1,
+                                   aliased or id(value_node) in seen)
+                seen.add(id(value_node))
+            return out
+        if isinstance(node, yaml.SequenceNode):
+            out = []
+            for i, item in enumerate(node.value):
+                out.append(convert(item, path + (i,), depth + 1, aliased or id(item) in seen))
+                seen.add(id(item))
+            return out
+        return loader.construct_object(node, deep=True)
+
+    def merged(key_node, value_node, path, depth) -> dict:
+        """The keys a merge key (``<<: *defaults`` or ``<<: [*a, *b]``) brings: the first
+        mapping listed wins, keys written beside ``<<`` win over all; counted as aliases."""
+        sources = (value_node.value if isinstance(value_node, yaml.SequenceNode)
+                   else [value_node])
+        out: dict = {}
+        for source_node in reversed(sources):
+            if not isinstance(source_node, yaml.MappingNode):
+                raise InputError(f"{source}, line {key_node.start_mark.line + 1}, "
+                                 f"{dotted(path)}: a merge key (<<) takes a mapping (*anchor) "
+                                 "or a list of them")
+            out.update(convert(source_node, path, depth, True))
+        for key in out:
+            lines.setdefault(path + (key,), key_node.start_mark.line + 1)
+        return out
+
+    seen: set = set()  # nodes converted once: a second visit comes through an alias
+    try:
+        try:
+            root = loader.get_single_node()
+        except RecursionError:
+            raise InputError(f"{source}: the data nests more than {MAX_DEPTH} levels deep; "
+                             "pframe reads YAML nested up to that depth") from None
+        data = convert(root, (), 0, False) if root is not None else None
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        line = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        problem = getattr(exc, "problem", None) or str(exc)
+        if "python/" in str(problem) or "python/" in str(getattr(exc, "context", "") or ""):
+            problem = f"{problem} (Python tags are not read: a scene holds plain data only)"
+        raise InputError(f"{source}{line}: not valid YAML: {problem}") from None
+    finally:
+        loader.dispose()
+    return data, lines
+
+
+def load(text: str, source: str = "<string>"):
+    """The plain data of a YAML document (:func:`compose` without the lines)."""
+    return compose(text, source)[0]
