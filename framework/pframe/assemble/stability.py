@@ -53,7 +53,9 @@ def _springs(plan, member: int, velocity: float) -> tuple[list, np.ndarray]:
             m_eff = mass[left] * mass[right] / (mass[left] + mass[right])
             k = contact_stiffness(group.law, group.params[member, j], m_eff, velocity)
             springs.append((int(left), int(right), k))
-            periods[c] = 2.0 * math.pi * math.sqrt(m_eff / k)
+            # a stiffness that vanishes (an impact too slow to compress a power law) has no
+            # finite period: it limits nothing
+            periods[c] = 2.0 * math.pi * math.sqrt(float(m_eff) / k) if k > 0.0 else math.inf
     return springs, periods
 
 
