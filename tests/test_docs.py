@@ -127,7 +127,7 @@ def example_plugin(tmp_path_factory):
                 kind = {registry.CONTACT_GROUP: "contact",
                         registry.MATERIAL_GROUP: "material"}.get(group)
                 for law in entries:
-                    if kind is not None and law not in registry._builtin_names(kind):
+                    if kind is not None and law not in registry.builtin_names(kind):
                         registry._registered[kind].pop(law, None)
             for module in list(sys.modules):
                 if module.split(".")[0] in packages:

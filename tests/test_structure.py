@@ -78,3 +78,25 @@ def test_the_check_finds_a_circle(tmp_path, monkeypatch):
         assert "pframe.a -> pframe.b -> pframe.a" in str(exc)
     else:
         raise AssertionError("a circle was not found")
+
+
+def _private_imports(path: Path, importer: str) -> list[str]:
+    """``from pframe.x import _name`` (anywhere in the module) where ``pframe.x`` is in
+    another top-level package than ``importer``."""
+    own = importer.split(".")[:2]
+    found = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("pframe."):
+            if node.module.split(".")[:2] == own:
+                continue
+            found += [f"{importer} imports {node.module}.{a.name}" for a in node.names
+                      if a.name.startswith("_") and not a.name.startswith("__")]
+    return found
+
+
+def test_no_private_name_is_imported_across_packages():
+    """A module's private names are its package's business: another package that needs one
+    gets a public name instead (so the owner sees the dependency)."""
+    found = [line for name, path in _modules().items()
+             for line in _private_imports(path, name)]
+    assert not found, "; ".join(found)

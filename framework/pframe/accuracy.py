@@ -9,7 +9,6 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from pframe.errors import InputError
 
@@ -42,15 +41,15 @@ class Row:
 
 
 def _variant(loaded, integrator: dict, dt: float):
-    from pframe.model import parse_scene
-    from pframe.yamltext import load
+    from pframe.model.load import variant
 
-    data = load(loaded.text, loaded.source)
-    data["analysis"]["integrator"] = integrator
-    data["analysis"]["dt"] = dt
-    data["recorders"] = [{"kind": "history", "quantities": ["displacement"]},
-                         {"kind": "envelope", "quantities": ["contact_force"]}]
-    return parse_scene(yaml.safe_dump(data, sort_keys=False), loaded.source, loaded.base_dir)
+    def change(data):
+        data["analysis"]["integrator"] = integrator
+        data["analysis"]["dt"] = dt
+        data["recorders"] = [{"kind": "history", "quantities": ["displacement"]},
+                             {"kind": "envelope", "quantities": ["contact_force"]}]
+
+    return variant(loaded, change)
 
 
 def check_factors(factors, loaded) -> None:

@@ -128,7 +128,8 @@ def _suite(path: Path) -> int:
     audit takes their folder with --records-folder)."""
     from pframe.excitation.describe import describe_line, describe_record
     from pframe.excitation.suite import RecordEntry, SuiteFile
-    from pframe.model.load import _compose, read_input, validated
+    from pframe.model.load import read_input, validated
+    from pframe.yamltext import compose as _compose
 
     data, lines = _compose(read_input(path, "suite"), str(path))
     model = validated(SuiteFile, data, lines, str(path))
@@ -149,7 +150,8 @@ def _suite(path: Path) -> int:
 
 
 def _validate(args) -> int:
-    from pframe.model.load import _compose, read_input
+    from pframe.model.load import read_input
+    from pframe.yamltext import compose as _compose
 
     path = Path(args.model)
     data, _ = _compose(read_input(path, "input"), str(path))

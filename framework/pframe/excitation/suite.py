@@ -139,7 +139,9 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
 
     A suite file's record names are relative to ``records_folder`` when given (where the user
     keeps the downloaded records), else to the suite file's folder."""
-    from pframe.model.load import _compose, _where, read_input, validated
+    from pframe.model.load import read_input, validated
+    from pframe.yamltext import compose as _compose
+    from pframe.yamltext import where as _where
 
     path = Path(path)
     if path.is_dir():

@@ -153,7 +153,7 @@ def _load_builtins(kind: str) -> None:
         _builtin_names_by_kind[kind] = frozenset(_registered[kind])
 
 
-def _builtin_names(kind: str) -> list[str]:
+def builtin_names(kind: str) -> list[str]:
     _load_builtins(kind)
     return sorted(_builtin_names_by_kind[kind])
 
@@ -163,7 +163,7 @@ def _entry_points(kind: str):
 
     found = {}
     for ep in entry_points(group=_GROUPS[kind]):
-        if ep.name in found or ep.name in _builtin_names(kind):
+        if ep.name in found or ep.name in builtin_names(kind):
             raise InputError(
                 f"{kind} law {ep.name!r} is defined twice (entry point {ep.value!r} in group "
                 f"{_GROUPS[kind]} and {'another plug-in' if ep.name in found else 'pframe'}); "
@@ -175,7 +175,7 @@ def _entry_points(kind: str):
 
 def available_names(kind: str) -> list[str]:
     """Built-in names and installed plug-in names (without importing the plug-ins)."""
-    return sorted(set(_builtin_names(kind)) | set(_entry_points(kind)))
+    return sorted(set(builtin_names(kind)) | set(_entry_points(kind)))
 
 
 def get_law(kind: str, name: str) -> type[Law]:
@@ -207,10 +207,10 @@ def get_law(kind: str, name: str) -> type[Law]:
 def all_contact_laws() -> tuple[type[Law], ...]:
     """Every built-in contact law, in registration order (tests run over this tuple)."""
     _load_builtins("contact")
-    return tuple(_registered["contact"][n] for n in _builtin_names("contact"))
+    return tuple(_registered["contact"][n] for n in builtin_names("contact"))
 
 
 def all_materials() -> tuple[type[Law], ...]:
     """Every built-in storey material."""
     _load_builtins("material")
-    return tuple(_registered["material"][n] for n in _builtin_names("material"))
+    return tuple(_registered["material"][n] for n in builtin_names("material"))

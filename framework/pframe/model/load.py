@@ -38,13 +38,26 @@ class LoadedScene:
     def where(self, path: Path_) -> str:
         return _where(self.source, self.lines, path)
 
+    @property
+    def data(self) -> dict:
+        """The scene's YAML data as its file says it (a Pi-form scene in Pi numbers)."""
+        return compose(self.text, self.source)[0]
+
+    @property
+    def units(self):
+        """The units its result file is written in (:func:`pframe.nondim.output.output_units`:
+        SI, or the paper's dimensionless variables with their reference scales)."""
+        from pframe.nondim.output import output_units
+
+        return output_units(self.scene, self.expanded)
+
 
 _dotted = dotted
 _where = where
 _compose = compose  # the reader of every YAML file (pframe.yamltext)
 
 
-def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
+def plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
     """Law names the scene uses that are not built in; unknown names are reported here."""
     wanted = {"contact": set(), "material": set()}
     places = []
@@ -62,10 +75,10 @@ def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
         story = b.get("story") if isinstance(b, dict) else None
         if isinstance(story, dict) and isinstance(story.get("material"), str):
             places.append(("material", story["material"], ("buildings", i, "story", "material")))
-    from pframe.laws.registry import _builtin_names
+    from pframe.laws.registry import builtin_names
 
     for kind, name, path in places:
-        if name in _builtin_names(kind):
+        if name in builtin_names(kind):
             continue
         known = available_names(kind)
         if name not in known:
@@ -76,7 +89,7 @@ def _plugin_names(data: dict, lines: dict, source: str) -> tuple[tuple, tuple]:
             )
         wanted[kind].add(name)
     return tuple(
-        tuple(sorted(wanted[k] - set(_builtin_names(k)))) for k in ("contact", "material")
+        tuple(sorted(wanted[k] - set(builtin_names(k)))) for k in ("contact", "material")
     )
 
 
@@ -212,7 +225,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         for contact in data.get("contacts") or []:
             if isinstance(contact, dict) and "restitution" in contact:
                 contact.setdefault("calibration", "published")
-    plugins = _plugin_names(data, lines, source)
+    plugins = plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")
     try:
@@ -253,3 +266,22 @@ def load_scene(path: str | Path) -> LoadedScene:
     """Read and validate a scene file."""
     path = Path(path)
     return parse_scene(read_input(path, "model"), str(path), path.parent)
+
+
+def variant(loaded: LoadedScene, change) -> LoadedScene:
+    """A variant of a loaded scene, made on its data -- the one way pframe makes variants.
+
+    ``change(data)`` edits the scene's YAML data (a dict, as the file says it: a Pi-form
+    scene stays in Pi numbers) in place; the variant is validated as a file is, its messages
+    name the original file and lines, and its text (``input_yaml`` of a result) is the
+    changed data. A key that ``change`` expects and does not find raises there, instead of
+    leaving the scene unchanged."""
+    import copy
+
+    import yaml
+
+    data, lines = compose(loaded.text, loaded.source)
+    data = copy.deepcopy(data)
+    change(data)
+    text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
+    return scene_from_data(data, lines, loaded.source, loaded.base_dir, text)

@@ -22,7 +22,7 @@ from pydantic import (
 
 from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark
 from pframe.laws import get_law
-from pframe.laws.registry import _builtin_names
+from pframe.laws.registry import builtin_names
 from pframe.quantities import QUANTITIES as _QUANTITIES
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -317,8 +317,8 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
 
 @functools.cache
 def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
-    material_names = sorted(set(_builtin_names("material")) | set(materials))
-    contact_names = sorted(set(_builtin_names("contact")) | set(contact_laws))
+    material_names = sorted(set(builtin_names("material")) | set(materials))
+    contact_names = sorted(set(builtin_names("contact")) | set(contact_laws))
     material_params = [get_law("material", n).Params for n in material_names]
     contact_params = [get_law("contact", n).Params for n in contact_names]
 

@@ -41,7 +41,7 @@ from pydantic import ConfigDict, Discriminator, Field, Tag, create_model
 from pframe.errors import InputError
 from pframe.laws import get_law
 from pframe.laws.params import Restitution
-from pframe.laws.registry import _builtin_names
+from pframe.laws.registry import builtin_names
 from pframe.model.load import ModelError
 from pframe.model.scene import Analysis, Base, BuildingName, Envelope, History, Rayleigh
 
@@ -103,7 +103,7 @@ class PiBuilding(Base):
 
 _TAG = Annotated[str, Field(pattern=r"^[a-z]$")]
 _PAIR = Annotated[str, Field(pattern=r"^[a-z]-[a-z]$")]
-CONTACT_LAWS = tuple(sorted(_builtin_names("contact")))
+CONTACT_LAWS = tuple(sorted(builtin_names("contact")))
 
 
 class PiContacts(Base):
@@ -581,7 +581,8 @@ def expand_pi(pi: PiScene, raw: dict, base_dir: Path | str = ".", source: str = 
 def pi_expansion(data: dict, lines: dict, source: str, base_dir: Path | str = ".") -> Expansion:
     """Validate Pi-form YAML data and expand it; errors name the file, line and field of every
     problem at once."""
-    from pframe.model.load import _where, validated
+    from pframe.model.load import validated
+    from pframe.yamltext import where as _where
 
     pi = validated(PiScene, data, lines, source)
     try:

@@ -29,7 +29,6 @@ from pathlib import Path
 import numpy as np
 
 from pframe import outputs
-from pframe.nondim.output import output_units
 from pframe.quantities import QUANTITIES
 from pframe.record.netcdf import DatasetWriter, Writer, provenance
 
@@ -82,7 +81,7 @@ class ResultWriter:
         self.path = None if self.in_memory else Path(target)
         self.tmp = None if self.in_memory else _temporary(self.path)
         self.plan, self.loaded, self.member = plan, loaded, member
-        self.convert = output_units(loaded.scene, loaded.expanded)  # SI, or dimensionless
+        self.convert = loaded.units  # SI, or dimensionless
         self.call = call
         states = plan.steps + 1 if states is None else states
         self.track = tuple(q for q, _ in plan.history if q in track)

@@ -7,7 +7,6 @@ kernel against the reference (convergence in dt).
 
 from __future__ import annotations
 
-import re
 import time
 from dataclasses import dataclass
 
@@ -70,12 +69,16 @@ class _KernelRun:
 
 
 def with_dt(text: str, factor: int) -> str:
-    """A scene's YAML text with ``analysis.dt`` divided by ``factor``."""
-    match = re.search(r"""(?:^|[\s{,])["']?dt["']?\s*:\s*([0-9.eE+-]+)""", text, re.M)
-    if match is None:
-        raise ValueError("no 'dt: <number>' in the scene")
-    dt = float(match.group(1)) / factor
-    return text[:match.start(1)] + repr(dt) + text[match.end(1):]
+    """A scene's YAML text with its time step divided by ``factor`` (``analysis.dt``, or
+    ``analysis.dt_tau`` of a Pi-form scene), changed on its data, not its text."""
+    import yaml
+
+    from pframe.yamltext import load
+
+    data = load(text, "scene")
+    key = "dt_tau" if "pi" in data else "dt"
+    data["analysis"][key] = data["analysis"][key] / factor
+    return yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
 
 
 def kernel_convergence(text: str, reference, factors=(1, 2, 4, 8), base_dir=None):

@@ -78,7 +78,6 @@ class BaseRun:
 
 def base_run(spec: Spec) -> BaseRun:
     from pframe.assemble import assemble
-    from pframe.nondim.output import output_units
     from pframe.sweep.spec import variant_data_base
     from pframe.sweep.variants import load_variant, materialise
 
@@ -89,7 +88,7 @@ def base_run(spec: Spec) -> BaseRun:
     title = spec.model.title or getattr(base.scene, "title", "") or Path(spec.definition.source).stem
     return BaseRun(title, plan.node_names, plan.story_names, plan.contact_names,
                    plan.buildings, integrator, plan.steps, float(plan.dt[0]),
-                   output_units(base.scene, base.expanded))
+                   base.units)
 
 
 def write_sweep(path: Path, spec: Spec, load_chunk, call: str | None = None) -> dict:

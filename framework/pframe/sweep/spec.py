@@ -415,7 +415,7 @@ def _index_with(spec: Spec, axis: AxisSpec, position: int) -> int:
 
 def _validate_model(data: dict, spec: Spec, folder) -> None:
     """The scene model's checks alone (no expansion to numbers): cheap enough for every value."""
-    from pframe.model.load import _plugin_names
+    from pframe.model.load import plugin_names as _plugin_names
     from pframe.model.scene import scene_class
 
     lines, source = spec.base_lines, spec.base_where
