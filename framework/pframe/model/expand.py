@@ -14,6 +14,7 @@ from pframe.excitation.characteristic import apply_record
 from pframe.laws import ContactContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
+from pframe.model.scene import default_contact_name, default_story_name
 from pframe.resources import check_floors, check_steps, steps_of
 
 
@@ -159,7 +160,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     for s, story in enumerate(scene.stories):
         law = get_law("material", story.material)
         params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
-        stories.append((story.name or story.nodes[1], story.nodes, law, params, ("stories", s)))
+        stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
+                        ("stories", s)))
 
     story_elements, story_building, seen = [], [], {}
     for name, (lower, upper), law, params, path in stories:
@@ -201,7 +203,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if building_of[left] == building_of[right]:
             raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
                                                 f"buildings; both nodes are in {building_of[left]!r}")
-        name = contact.name or f"{contact.nodes[0]}-{contact.nodes[1]}"
+        name = contact.name or default_contact_name(contact.nodes)
         if name in seen:
             raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
         seen[name] = True

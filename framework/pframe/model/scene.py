@@ -58,6 +58,17 @@ class StoryBase(Base):
     name: str | None = Field(None, description="Defaults to the upper node's name.")
 
 
+def default_contact_name(nodes) -> str:
+    """The name of a contact the scene does not name: ``<left>-<right>`` (the one rule;
+    result files, sweeps and figures use it)."""
+    return f"{nodes[0]}-{nodes[1]}"
+
+
+def default_story_name(nodes) -> str:
+    """The name of a storey the scene does not name: its upper node's."""
+    return str(nodes[1])
+
+
 class ContactBase(Base):
     """A compression-only contact element across the gap between two buildings."""
 

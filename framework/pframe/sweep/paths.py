@@ -17,10 +17,12 @@ from pframe.errors import InputError
 def _default_name(container: str | None, item: dict):
     nodes = item.get("nodes")
     if isinstance(nodes, list) and len(nodes) == 2:
+        from pframe.model.scene import default_contact_name, default_story_name
+
         if container == "contacts":
-            return f"{nodes[0]}-{nodes[1]}"
+            return default_contact_name(nodes)
         if container == "stories":
-            return nodes[1]
+            return default_story_name(nodes)
     return None
 
 
