@@ -71,7 +71,8 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     matrix), which is safe (never below w_max) and cheap for any number of floors."""
     velocity = reference_velocity(plan.ground_acceleration[member], float(plan.dt[member]),
                                   plan.initial_velocity[member])
-    springs, periods = _springs(plan, member, velocity)
+    with np.errstate(all="ignore"):  # masses or stiffnesses beyond arithmetic: see _parts
+        springs, periods = _springs(plan, member, velocity)
     mass = plan.mass[member]
     n = plan.n_dof
     if n <= DENSE_LIMIT:

@@ -140,7 +140,16 @@ def _suite(path: Path) -> int:
           + f", levels in {model.measure.kind}")
     for entry in entries:
         file = path.parent / entry.file
-        if file.is_file():
+        try:
+            present = file.is_file()
+        except OSError as exc:  # a name no file system takes (too long, NUL bytes)
+            from pframe.errors import InputError
+            from pframe.outputs import cause
+
+            raise InputError(f"{path}: the record name {entry.file[:60]!r}"
+                             f"{'...' if len(entry.file) > 60 else ''} is not a file name: "
+                             f"{cause(exc)}") from None
+        if present:
             facts = describe_record(file, entry.format, entry.units, entry.scale)
             print(f"  {describe_line(facts)}")
         else:
