@@ -17,8 +17,10 @@ the chunks to a Dask cluster (the ``cluster`` extra).
 from pframe._callable import make_callable
 from pframe.sweep.chunk import run_chunk
 from pframe.sweep.definition import DEFAULT_RESPONSES, RESPONSES, SweepFile
+from pframe.sweep.grid import parse
+from pframe.sweep.reading import load_sweep, parse_sweep
 from pframe.sweep.runner import SweepRun, run_sweep
-from pframe.sweep.spec import SweepDefinition, load_sweep, parse, parse_sweep
+from pframe.sweep.spec import SweepDefinition
 
 __all__ = ["DEFAULT_RESPONSES", "RESPONSES", "SweepDefinition", "SweepFile", "SweepRun",
            "load_sweep", "parse", "parse_sweep", "run_chunk", "run_sweep"]

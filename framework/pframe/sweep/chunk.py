@@ -15,15 +15,13 @@ import numpy as np
 from pframe.errors import InputError, PframeError
 from pframe.quantities import QUANTITIES
 from pframe.sweep.definition import RESPONSES
-from pframe.sweep.spec import Spec, code_fingerprint, parse, topology
+from pframe.sweep.grid import Spec, parse
+from pframe.sweep.probing import TOPOLOGY_CHANGED, topology
+from pframe.sweep.spec import code_fingerprint
 
 #: per-variant bookkeeping kept beside the responses
 STATUS_FIELDS = ("complete", "status", "steps_completed", "energy_balance_error",
                  "newton_solves", "split_steps")
-TOPOLOGY_CHANGED = ("the variant differs from the base scene in topology (nodes, storeys, "
-                    "contacts, laws, integrator, number of steps) or in a setting its batch "
-                    "shares (Newton tolerances and iterations); a sweep varies numbers that "
-                    "each variant may have on its own")
 #: a variant that never ran (its scene is invalid) holds this in its integer responses
 MISSING_COUNT = -1
 
@@ -236,12 +234,8 @@ def _reference(definition) -> tuple[tuple, dict]:
     the base scene (cached per definition)."""
     cached = _references.get(definition.digest)
     if cached is None:
-        from pframe.sweep.spec import variant_data_base
-        from pframe.sweep.variants import load_variant, materialise
-
         spec = parse(definition)
-        base = load_variant(variant_data_base(spec), spec.base_lines, spec.base_where,
-                            materialise(definition))
+        base = spec.base_scene()
         cached = (topology(base.expanded, spec.recorders), layout(spec, base.expanded))
         _references[definition.digest] = cached
     return cached
@@ -256,13 +250,9 @@ def warm_up(definition) -> float:
     the seconds it took."""
     from pframe.assemble import assemble
     from pframe.kernel import simulate
-    from pframe.sweep.spec import variant_data_base
-    from pframe.sweep.variants import load_variant, materialise
-
     spec = parse(definition)
     start = time.perf_counter()
-    base = load_variant(variant_data_base(spec), spec.base_lines, spec.base_where,
-                        materialise(definition))
+    base = spec.base_scene()
     expanded = dataclasses.replace(base.expanded, recorders=spec.recorders, steps=1,
                                    ground_acceleration=base.expanded.ground_acceleration[:2])
     simulate(assemble(expanded), threads=1)

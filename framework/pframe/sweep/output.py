@@ -21,7 +21,7 @@ from pframe.quantities import QUANTITIES
 from pframe.record.hdf5 import LABELS, integrator_text
 from pframe.record.netcdf import Writer, provenance
 from pframe.sweep.definition import RESPONSES
-from pframe.sweep.spec import Spec
+from pframe.sweep.grid import Spec
 
 #: long names of the responses that are not peaks of a recorded quantity
 _LONG_NAMES = {
@@ -78,11 +78,8 @@ class BaseRun:
 
 def base_run(spec: Spec) -> BaseRun:
     from pframe.assemble import assemble
-    from pframe.sweep.spec import variant_data_base
-    from pframe.sweep.variants import load_variant, materialise
 
-    base = load_variant(variant_data_base(spec), spec.base_lines, spec.base_where,
-                        materialise(spec.definition))
+    base = spec.base_scene()
     plan = assemble(dataclasses.replace(base.expanded, recorders=spec.recorders))
     integrator = integrator_text(plan)
     title = spec.model.title or getattr(base.scene, "title", "") or Path(spec.definition.source).stem

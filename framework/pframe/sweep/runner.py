@@ -19,8 +19,9 @@ from pathlib import Path
 
 from pframe.errors import InputError
 from pframe.sweep.chunk import run_chunk, warm_up
+from pframe.sweep.grid import parse
 from pframe.sweep.output import write_sweep
-from pframe.sweep.spec import SweepDefinition, parse
+from pframe.sweep.spec import SweepDefinition
 from pframe.sweep.store import Parts
 
 #: how long to try reaching a Dask scheduler before giving up

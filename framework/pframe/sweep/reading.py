@@ -1,0 +1,96 @@
+"""Reading a sweep: its file, base scene and record files into a :class:`SweepDefinition`."""
+
+from __future__ import annotations
+
+import hashlib
+import os
+from pathlib import Path
+
+from pframe.errors import InputError
+from pframe.model.load import read_input, validated
+from pframe.sweep.definition import SweepFile
+from pframe.sweep.spec import SweepDefinition, code_fingerprint
+from pframe.yamltext import compose as _compose
+from pframe.yamltext import where as _where
+
+
+def _read_bytes(path: Path, where: str, what: str) -> bytes:
+    try:
+        return path.read_bytes()
+    except FileNotFoundError:
+        raise InputError(f"{where}: {what} {str(path)!r} not found") from None
+    except OSError as exc:
+        raise InputError(f"{where}: cannot read {what} {str(path)!r}: {exc}") from None
+
+
+def _record_key(content: bytes, name: str) -> str:
+    return f"{hashlib.sha256(content).hexdigest()[:16]}-{Path(name).name}"
+
+
+def validated_sweep(text: str, source: str) -> tuple[SweepFile, dict]:
+    """The sweep file's model and the line of every value, or an InputError at its line."""
+    data, lines = _compose(text, source)
+    if not isinstance(data, dict):
+        raise InputError(f"{source}: a sweep file is a YAML mapping (base or scene, axes, "
+                         "combine, keep, chunk)")
+    return validated(SweepFile, data, lines, source), lines
+
+
+def load_sweep(path: str | Path, chunk: int | None = None) -> SweepDefinition:
+    """Read a sweep file, its base scene and its record files; check every axis.
+
+    Raises :class:`InputError` naming the sweep file's line (or the base scene's) of the
+    first problem found.
+    """
+    path = Path(path)
+    return parse_sweep(read_input(path, "sweep"), str(path), path.parent, chunk)
+
+
+def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
+                chunk: int | None = None) -> SweepDefinition:
+    """:func:`load_sweep` for YAML text; ``folder`` is where relative file names start."""
+    folder = Path(folder)
+    model, lines = validated_sweep(text, source)
+    if chunk is not None and chunk < 1:
+        raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
+    base_source, base_text, base_dir = "", "", folder
+    if model.base is not None:
+        base_path = Path(os.path.normpath(folder / model.base))
+        base_text = _read_bytes(base_path, _where(source, lines, ("base",)),
+                                "base scene").decode("utf-8", errors="replace")
+        base_source, base_dir = str(base_path), base_path.parent
+        base_data, _ = _compose(base_text, base_source)
+    else:
+        base_data = model.scene
+
+    files: dict[str, bytes] = {}
+    records = []
+    excitation = base_data.get("excitation") if isinstance(base_data, dict) else None
+    if isinstance(excitation, dict) and isinstance(excitation.get("file"), str):
+        file = base_dir / excitation["file"]
+        content = _read_bytes(file, base_source or source, "record file")
+        key = _record_key(content, file.name)
+        files[key] = content
+        records.append(("base", excitation["file"], key, str(file.resolve())))
+    for i, axis in enumerate(model.axes):
+        if not axis.is_file:
+            continue
+        for j, value in enumerate(axis.points()):
+            if not isinstance(value, str):
+                raise InputError(f"{_where(source, lines, ('axes', i, 'values', j))}: a records "
+                                 f"axis (path excitation.file) takes file names, not {value!r}")
+            file = folder / value
+            content = _read_bytes(file, _where(source, lines, ("axes", i, "values", j)),
+                                  "record file")
+            key = _record_key(content, file.name)
+            files[key] = content
+            records.append(("axis", value, key, str(file.resolve())))
+
+    definition = SweepDefinition(
+        source=source, text=text, base_source=base_source, base_text=base_text,
+        base_dir=str(Path(base_dir).resolve()), files=tuple(sorted(files.items())),
+        records=tuple(records), chunk=chunk or model.chunk, code=code_fingerprint())
+    from pframe.sweep.probing import check
+
+    check(definition)
+    return definition
