@@ -117,13 +117,7 @@ def _lowest_frequencies(ex: Expanded, b: int, nodes: np.ndarray, k0: np.ndarray,
     if n <= DENSE_FLOORS or width > 64:
         if n > 4 * DENSE_FLOORS and width > 64:
             return _sparse_lowest(springs, scale, n, count)
-        stiffness = np.zeros((n, n))
-        for il, iu, k in springs:
-            stiffness[iu, iu] += k
-            if il >= 0:
-                stiffness[il, il] += k
-                stiffness[il, iu] -= k
-                stiffness[iu, il] -= k
+        stiffness = stability.spring_matrix(springs, n)
         return np.sqrt(np.clip(np.linalg.eigvalsh(stiffness * np.outer(scale, scale)), 0, None))
     from scipy.linalg import eig_banded, eigh_tridiagonal
 

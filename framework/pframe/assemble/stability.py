@@ -40,6 +40,19 @@ def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: 
     return exponent * k * depth ** (exponent - 1.0)
 
 
+def spring_matrix(springs, n: int) -> np.ndarray:
+    """The dense n x n stiffness of springs ``(i, j, k)`` between DOFs i and j (i = -1: the
+    ground), for the small scenes where a dense matrix is the simplest form."""
+    K = np.zeros((n, n))
+    for i, j, k in springs:
+        K[j, j] += k
+        if i >= 0:
+            K[i, i] += k
+            K[i, j] -= k
+            K[j, i] -= k
+    return K
+
+
 def _springs(plan, member: int, velocity: float) -> tuple[list, np.ndarray]:
     """(i, j, k) of every storey and closed contact (i = -1: the ground), and each contact's
     period (s)."""
@@ -76,13 +89,7 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     mass = plan.mass[member]
     n = plan.n_dof
     if n <= DENSE_LIMIT:
-        K = np.zeros((n, n))
-        for i, j, k in springs:
-            K[j, j] += k
-            if i >= 0:
-                K[i, i] += k
-                K[i, j] -= k
-                K[j, i] -= k
+        K = spring_matrix(springs, n)
         scale = 1.0 / np.sqrt(mass)
         top = float(np.linalg.eigvalsh(K * np.outer(scale, scale))[-1])
     else:

@@ -10,6 +10,7 @@ a name registered twice is an error, never a silent override.
 from __future__ import annotations
 
 import importlib
+import math
 from dataclasses import dataclass
 from typing import ClassVar
 
@@ -121,6 +122,31 @@ class Law:
     @classmethod
     def initial_state(cls) -> tuple[float, ...]:
         return (0.0,) * len(cls.state_names)
+
+
+class SpringContact(Law):
+    """A contact law whose stiffness is a linear spring's (N/m), given by ``stiffness``,
+    ``frequency`` or ``frequency_ratio``: ``pframe pi`` names it by the contact frequency
+    w_bar = sqrt(k / m_eff) (Wu et al. 2021)."""
+
+    dimensions = {"stiffness": "stiffness", "frequency": "frequency",
+                  "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        return {"w_bar": ("frequency", math.sqrt(packed[0] / effective_mass))}
+
+
+class HertzContact(Law):
+    """A contact law of the Hertz family, F ~ k delta^1.5 with ``stiffness`` k in N/m^1.5:
+    ``pframe pi`` names it k_h."""
+
+    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
+    exponent = 1.5
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        return {"k_h": ("hertz_stiffness", packed[0])}
 
 
 def _register(kind: str, name: str):

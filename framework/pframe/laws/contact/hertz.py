@@ -11,25 +11,17 @@ from typing import Literal
 from pydantic import Field
 
 from pframe.laws.params import HERTZ_STIFFNESS, LawParams, Positive
-from pframe.laws.registry import Law, contact_law
+from pframe.laws.registry import HertzContact, contact_law
 
 
 @contact_law("hertz")
-class Hertz(Law):
+class Hertz(HertzContact):
     class Params(LawParams):
         law: Literal["hertz"]
         stiffness: Positive = Field(description=HERTZ_STIFFNESS)
 
     param_names = ("stiffness",)
     branches = "gap"
-    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
-    exponent = 1.5
-
-    @classmethod
-    def governing(cls, packed, effective_mass=None):
-        """The Hertz stiffness k_h (N/m^1.5)."""
-        return {"k_h": ("hertz_stiffness", packed[0])}
-
 
     @classmethod
     def pack(cls, params, context=None):

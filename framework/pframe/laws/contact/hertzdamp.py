@@ -25,7 +25,7 @@ from pframe.laws.params import (
     LawParams,
     Positive,
 )
-from pframe.laws.registry import Law, contact_law
+from pframe.laws.registry import HertzContact, contact_law
 from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
 
 CHI_FORMULAS = {
@@ -35,7 +35,7 @@ CHI_FORMULAS = {
 
 
 @contact_law("hertzdamp")
-class Hertzdamp(Law):
+class Hertzdamp(HertzContact):
     class Params(LawParams):
         law: Literal["hertzdamp"]
         stiffness: Positive = Field(description=HERTZ_STIFFNESS)
@@ -50,14 +50,6 @@ class Hertzdamp(Law):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
-    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
-    exponent = 1.5
-
-    @classmethod
-    def governing(cls, packed, effective_mass=None):
-        """The Hertz stiffness k_h (N/m^1.5)."""
-        return {"k_h": ("hertz_stiffness", packed[0])}
-
 
     @classmethod
     def chi(cls, params) -> float:

@@ -12,12 +12,11 @@ chi (1 + e) = ln((1 + chi) / (1 - chi e)), with which it rebounds with e itself.
 
 from __future__ import annotations
 
-import math
 from typing import Literal
 
 from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
 from pframe.laws.params import Calibration, ContactStiffness, DampedRestitution
-from pframe.laws.registry import Law, contact_law
+from pframe.laws.registry import SpringContact, contact_law
 from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
 
 
@@ -27,7 +26,7 @@ def ye_chi(e: float) -> float:
 
 
 @contact_law("improved_kelvin")
-class ImprovedKelvin(Law):
+class ImprovedKelvin(SpringContact):
     class Params(ContactStiffness):
         law: Literal["improved_kelvin"]
         restitution: DampedRestitution
@@ -37,14 +36,6 @@ class ImprovedKelvin(Law):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
-    dimensions = {"stiffness": "stiffness", "frequency": "frequency",
-                  "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
-
-    @classmethod
-    def governing(cls, packed, effective_mass=None):
-        """The contact frequency w_bar = sqrt(k / m_eff) (Wu et al. 2021)."""
-        return {"w_bar": ("frequency", math.sqrt(packed[0] / effective_mass))}
-
 
     @classmethod
     def chi(cls, params) -> float:

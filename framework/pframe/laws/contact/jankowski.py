@@ -25,7 +25,7 @@ from pframe.laws.params import (
     LawParams,
     Positive,
 )
-from pframe.laws.registry import Law, contact_law
+from pframe.laws.registry import HertzContact, contact_law
 from pframe.laws.restitution import jankowski_restitution, jankowski_zeta_exact
 
 
@@ -35,7 +35,7 @@ def jankowski_zeta(e: float) -> float:
 
 
 @contact_law("jankowski")
-class Jankowski(Law):
+class Jankowski(HertzContact):
     class Params(LawParams):
         law: Literal["jankowski"]
         stiffness: Positive = Field(description="Impact stiffness beta: " + HERTZ_STIFFNESS)
@@ -44,14 +44,6 @@ class Jankowski(Law):
 
     param_names = ("stiffness", "zeta", "effective_mass")
     branches = "jankowski"
-    dimensions = {"stiffness": "hertz_stiffness", "restitution": "dimensionless"}
-    exponent = 1.5
-
-    @classmethod
-    def governing(cls, packed, effective_mass=None):
-        """The Hertz stiffness k_h (N/m^1.5)."""
-        return {"k_h": ("hertz_stiffness", packed[0])}
-
 
     @classmethod
     def zeta(cls, params) -> float:

@@ -24,7 +24,7 @@ from pframe.laws.params import (
     DampedRestitution,
     kelvin_damping_ratio,
 )
-from pframe.laws.registry import Law, contact_law
+from pframe.laws.registry import SpringContact, contact_law
 from pframe.laws.restitution import (
     kelvin_clipped_restitution,
     kelvin_clipped_zeta,
@@ -33,7 +33,7 @@ from pframe.laws.restitution import (
 
 
 @contact_law("kelvin")
-class Kelvin(Law):
+class Kelvin(SpringContact):
     class Params(ContactStiffness):
         law: Literal["kelvin"]
         restitution: DampedRestitution
@@ -44,14 +44,6 @@ class Kelvin(Law):
 
     param_names = ("stiffness", "damping", "keep_tension")
     branches = "kelvin"
-    dimensions = {"stiffness": "stiffness", "frequency": "frequency",
-                  "frequency_ratio": "dimensionless", "restitution": "dimensionless"}
-
-    @classmethod
-    def governing(cls, packed, effective_mass=None):
-        """The contact frequency w_bar = sqrt(k / m_eff) (Wu et al. 2021)."""
-        return {"w_bar": ("frequency", math.sqrt(packed[0] / effective_mass))}
-
 
     @classmethod
     def zeta(cls, params) -> float:
