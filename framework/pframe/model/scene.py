@@ -189,10 +189,18 @@ class Ricker(_Pulse):
                                     "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
 
 
-def _integrator_tag(value):
-    if isinstance(value, dict):
-        return value.get("type", "newmark")
-    return getattr(value, "type", None)
+def tag_reader(key: str, default: str):
+    """The discriminator of a union whose tag ``key`` may be left out (``default``): reads it
+    from YAML data (a dict) or from an object built in Python."""
+    def tag(value):
+        if isinstance(value, dict):
+            return value.get(key, default)
+        return getattr(value, key, None)
+
+    return tag
+
+
+_integrator_tag = tag_reader("type", "newmark")
 
 
 Integrator = Annotated[

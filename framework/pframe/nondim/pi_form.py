@@ -43,7 +43,15 @@ from pframe.laws import get_law
 from pframe.laws.params import Restitution
 from pframe.laws.registry import builtin_names
 from pframe.model.load import ModelError
-from pframe.model.scene import Analysis, Base, BuildingName, Envelope, History, Rayleigh
+from pframe.model.scene import (
+    Analysis,
+    Base,
+    BuildingName,
+    Envelope,
+    History,
+    Rayleigh,
+    tag_reader,
+)
 
 #: reference scale -> the quantity it is (for similitude)
 SCALE_QUANTITY = {"m_b": "mass", "a_p": "acceleration", "w_p": "frequency"}
@@ -180,10 +188,7 @@ class PiRicker(Base):
                                      "periods, t_0 / T_p (default 1.5).")
 
 
-def _excitation_kind(value):
-    if isinstance(value, dict):
-        return value.get("kind", "sine")
-    return getattr(value, "kind", None)
+_excitation_kind = tag_reader("kind", "sine")
 
 
 PiExcitation = Annotated[
