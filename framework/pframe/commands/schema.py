@@ -1,9 +1,9 @@
 """``pframe schema [--check]``: write or check the JSON Schemas of the input files.
 
-Three files (``pframe.schema``): the scene schema (``-o``, default ``schemas/model.schema.json``)
-and, next to it, ``pi-scene.schema.json`` and ``sweep.schema.json``. The package ships the same
-files (``pframe/schemas/``); in a source checkout ``pframe schema`` rewrites those too, and
-``--check`` fails when either copy is stale.
+Four files (``pframe.schema``): the scene schema (``-o``, default ``schemas/model.schema.json``)
+and, next to it, ``pi-scene.schema.json``, ``sweep.schema.json`` and ``suite.schema.json``.
+The package ships the same files (``pframe/schemas/``); in a source checkout ``pframe schema``
+rewrites those too, and ``--check`` fails when either copy is stale.
 """
 
 from __future__ import annotations
@@ -48,9 +48,9 @@ def _schema(args) -> int:
 
 
 def register(sub) -> None:
-    schema = sub.add_parser("schema", help="write the JSON Schemas of scene and sweep files")
+    schema = sub.add_parser("schema", help="write the JSON Schemas of the input files")
     schema.add_argument("--check", action="store_true", help="fail if a file is stale")
     schema.add_argument("-o", "--output", default="schemas/model.schema.json",
-                        help="the scene schema; pi-scene.schema.json and sweep.schema.json are "
-                             "written next to it")
+                        help="the scene schema; pi-scene.schema.json, sweep.schema.json and "
+                             "suite.schema.json are written next to it")
     schema.set_defaults(run=_schema)
