@@ -131,8 +131,8 @@ def opensees_script(model: Path, folder: Path, out_npz: Path | None = None) -> l
     .script_text``; it never imports pframe) into ``folder``; return the command running it
     with this Python. Run as a script it saves its four histories to ``out_npz``."""
     from pframe.assemble import assemble, peer_scene
-    from pframe.model import load_scene
     from pframe.peers.opensees import script_text
+    from pframe.reader import load_scene
 
     peer = peer_scene(assemble(load_scene(model).expanded))
     out = folder / "opensees.npz" if out_npz is None else out_npz

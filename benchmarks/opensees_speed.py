@@ -58,7 +58,7 @@ from _common import (
 
 from pframe.assemble import assemble, peer_scene
 from pframe.kernel import simulate
-from pframe.model import load_scene
+from pframe.reader import load_scene
 from pframe.record import write_result
 
 

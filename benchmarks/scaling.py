@@ -74,7 +74,7 @@ def main(argv: list[str] | None = None) -> int:
 
     from pframe.assemble import assemble
     from pframe.kernel import simulate
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     print_header()
     rows = []

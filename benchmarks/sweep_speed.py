@@ -193,7 +193,7 @@ def main(argv: list[str] | None = None) -> int:
 
     print_header()
     from pframe.assemble import assemble, peer_scene
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     with tempfile.TemporaryDirectory(prefix="pframe-sweep-bench-") as tmp:
         folder = Path(tmp)

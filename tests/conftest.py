@@ -19,7 +19,7 @@ import pytest
 
 from pframe.assemble import assemble, assemble_batch
 from pframe.kernel import simulate
-from pframe.model import load_scene, parse_scene
+from pframe.reader import load_scene, parse_scene
 
 REPO = Path(__file__).resolve().parents[1]
 WU2021 = REPO / "models" / "wu2021-eq14.yaml"

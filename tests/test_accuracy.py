@@ -7,7 +7,7 @@ import pytest
 
 from pframe import accuracy
 from pframe.cli import main
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 
 SCENE = """
 buildings:

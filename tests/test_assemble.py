@@ -10,7 +10,7 @@ import pytest
 from scipy.linalg import eigh
 
 from pframe.assemble import assemble
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 
 SCENE = """
 buildings:

@@ -105,7 +105,7 @@ def test_a_batch_refuses_variants_whose_newton_settings_differ():
     run with variant 0's (the batch key includes the Newton settings)."""
     from pframe.assemble import assemble_batch, batch_key
     from pframe.errors import InputError
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     base = _text(*VARIANTS[0])
     strict = base.replace("analysis: {dt: 2.0e-4, duration: 3.0}",

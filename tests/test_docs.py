@@ -3,7 +3,7 @@
 - ``docs/yaml-reference.md`` equals what ``docs/yaml_reference.py`` (``yaml_reference_markdown``)
   renders from the scene model today;
 - every ``yaml`` block in ``docs/*.md`` is valid YAML, and every one that is a scene (it has an
-  ``analysis`` key) passes ``pframe.model.parse_scene``;
+  ``analysis`` key) passes ``pframe.reader.parse_scene``;
 - the plug-in package of ``docs/contact-laws.md`` is rebuilt from the page (each file is a code
   block whose first line is ``# <path>``), made visible through a real entry point, and its
   example scene runs and rebounds with the restitution the page promises.
@@ -21,7 +21,7 @@ import pytest
 import yaml
 from conftest import record_file
 
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
 sys.path.insert(0, str(DOCS))  # docs/yaml_reference.py: a script of the docs, not of pframe
@@ -182,7 +182,7 @@ def test_theory_rayleigh_coefficients_are_the_codes():
     """docs/theory.md states the paper example's Rayleigh coefficients per building; they are
     the ones the assembly computes (a0 on the masses, a1 on the storeys)."""
     from pframe.assemble import assemble
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     text = (DOCS / "theory.md").read_text(encoding="utf-8")
     stated = re.search(r"`a0 = ([\d.]+) 1/s`, `a1 = ([\d.e-]+) s` for the left building\s+"

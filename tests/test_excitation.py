@@ -7,7 +7,7 @@ from pframe.assemble import assemble
 from pframe.excitation import read_record
 from pframe.excitation.records import G
 from pframe.kernel import simulate
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 
 SCENE = """
 buildings:

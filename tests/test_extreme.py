@@ -11,7 +11,7 @@ import yaml
 
 from pframe.assemble import assemble
 from pframe.kernel import simulate
-from pframe.model import load_scene, parse_scene
+from pframe.reader import load_scene, parse_scene
 
 BASE = load_scene("models/wu2021-eq14.yaml").text
 W_P = 2 * math.pi

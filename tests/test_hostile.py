@@ -211,7 +211,7 @@ def test_a_tall_building_assembles_without_a_dense_matrix():
     """The Rayleigh fit of a 20,000-floor building and the stability check of the pair use
     banded / element-wise forms: a dense 20,000^2 matrix alone would be 3.2 GB."""
     from pframe.assemble import assemble
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     data = short(scene_data(), 10)
     for building in data["buildings"]:
@@ -226,7 +226,7 @@ def test_banded_rayleigh_frequencies_match_the_closed_form():
     """Uniform shear building of n floors, storey stiffness k, floor mass m, fixed base:
     w_r = 2 sqrt(k/m) sin((2r - 1) pi / (2 (2n + 1)))."""
     from pframe.assemble import plan as assembly
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     n, k, m = 1000, 2.0e7, 3.0e4
     scene = {"buildings": [{"name": "A", "floors": n, "mass": m,
@@ -573,7 +573,7 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
     about ``chunk_seconds``, and the result is the same bits as with a progress bar."""
     from pframe.assemble import assemble
     from pframe.kernel import build, simulate
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     loaded = parse_scene(yaml.safe_dump(short(scene_data(), 20_000)), "s.yaml", MODELS)
     plan = assemble(loaded.expanded)
@@ -610,7 +610,7 @@ def test_a_cache_folder_that_cannot_be_written_is_a_note(capsys, tmp_path, monke
 
 
 def test_python_api_raises_the_documented_types(tmp_path):
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     with pytest.raises(InputError):
         load_scene(write_scene(tmp_path, {"buildings": [], "analysis": {"dt": 1, "duration": 1}}))

@@ -9,7 +9,7 @@ from pframe.assemble import assemble
 from pframe.errors import InputError
 from pframe.kernel import simulate
 from pframe.kernel.state import NOT_FINITE, NOT_STABLE
-from pframe.model import load_scene, parse_scene
+from pframe.reader import load_scene, parse_scene
 
 MASS, STIFFNESS = 1000.0, 4.0e6
 FREE = """

@@ -17,7 +17,7 @@ from conftest import RECORDERS, WU2021, scene_text
 
 from pframe.assemble import assemble
 from pframe.kernel import simulate
-from pframe.model import load_scene, parse_scene
+from pframe.reader import load_scene, parse_scene
 
 ELASTIC = """
 buildings:

@@ -6,8 +6,8 @@ from __future__ import annotations
 import pytest
 
 from pframe.errors import InputError
-from pframe.model import parse_scene
 from pframe.model.scene import scene_class
+from pframe.reader import parse_scene
 
 SCENE = """\
 buildings:

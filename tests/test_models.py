@@ -10,7 +10,7 @@ import yaml
 from conftest import runnable_model
 
 from pframe.cli import main
-from pframe.model import load_scene
+from pframe.reader import load_scene
 
 REPO = Path(__file__).resolve().parents[1]
 MODELS = sorted((REPO / "models").glob("*.yaml"))

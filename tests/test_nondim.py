@@ -18,7 +18,6 @@ from hypothesis import strategies as st
 
 from pframe.cli import main
 from pframe.errors import InputError
-from pframe.model import load_scene, parse_scene
 from pframe.nondim import (
     QUANTITY,
     Dimension,
@@ -35,6 +34,7 @@ from pframe.nondim import (
     similitude,
 )
 from pframe.nondim.buckingham import dimension_matrix, rank
+from pframe.reader import load_scene, parse_scene
 
 REPO = Path(__file__).resolve().parents[1]
 MODELS = REPO / "models"

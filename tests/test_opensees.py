@@ -31,8 +31,8 @@ except Exception as exc:  # pragma: no cover - depends on the machine
 
 from pframe.assemble import assemble, peer_scene  # noqa: E402
 from pframe.kernel import simulate  # noqa: E402
-from pframe.model import load_scene, parse_scene  # noqa: E402
 from pframe.peers.opensees import run, script_text  # noqa: E402
+from pframe.reader import load_scene, parse_scene  # noqa: E402
 
 REPO = Path(__file__).resolve().parents[1]
 WU2021_LINEAR = REPO / "models" / "wu2021-eq14-linear.yaml"

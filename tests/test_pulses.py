@@ -14,8 +14,8 @@ from scipy.integrate import cumulative_trapezoid
 
 from pframe.errors import InputError
 from pframe.excitation.pulses import cycloidal_phase, pulse_end, pulse_motion
-from pframe.model import parse_scene
 from pframe.model.scene import Cycloidal, Ricker
+from pframe.reader import parse_scene
 
 AP, TP = 3.0, 0.8
 WP = 2 * math.pi / TP

@@ -29,7 +29,7 @@ from pframe.assemble import assemble
 from pframe.cli import main
 from pframe.commands import solve as solve_command
 from pframe.kernel import simulate
-from pframe.model import load_scene
+from pframe.reader import load_scene
 from pframe.record import ResultWriter, write_result
 
 REPO = Path(__file__).resolve().parents[1]

@@ -33,7 +33,7 @@ from pframe.assemble import assemble
 from pframe.errors import InputError
 from pframe.kernel import simulate
 from pframe.laws import all_contact_laws
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 from pframe.reference import Ground, of_scene, solve
 from pframe.reference.study import Difference, with_dt
 

@@ -353,7 +353,7 @@ def test_exact_rows_give_the_target():
 def test_restitution_below_the_floor_is_refused(case):
     """e < 0.01 is refused with a message that says why (the damping grows without bound as
     e -> 0); e = 0.01 is accepted by both calibrations."""
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     for calibration in ("published", "exact"):
         text = two_free_masses_text(M_LEFT, M_RIGHT, _contact(case, 0.005, calibration),
@@ -472,7 +472,7 @@ def test_grazing_contact_in_the_kernel_stays_viscoelastic():
         analysis=analysis(1e-4, 3.0))
     from pframe.assemble import assemble_batch
     from pframe.kernel import simulate
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     expanded = parse_scene(text).expanded
     plan = assemble_batch([expanded, expanded])

@@ -30,8 +30,8 @@ import yaml
 
 from pframe.assemble import assemble
 from pframe.kernel import simulate
-from pframe.model import parse_scene
 from pframe.nondim import scale_scene, similitude
+from pframe.reader import parse_scene
 from pframe.record import write_result
 
 REPO = Path(__file__).resolve().parents[1]

@@ -11,7 +11,7 @@ import pytest
 from pframe.assemble import assemble_batch
 from pframe.excitation.spectrum import response_spectrum, sdof_response, spectral_acceleration
 from pframe.kernel import simulate
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 
 
 def _steady(a, big_w, period, xi):

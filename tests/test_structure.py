@@ -100,3 +100,31 @@ def test_no_private_name_is_imported_across_packages():
     found = [line for name, path in _modules().items()
              for line in _private_imports(path, name)]
     assert not found, "; ".join(found)
+
+
+def _all_imports(path: Path) -> set[str]:
+    """Every module a module imports, at its top level or inside a function."""
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.ImportFrom) and node.module:
+            found.add(node.module)
+        elif isinstance(node, ast.Import):
+            found |= {a.name for a in node.names}
+    return found
+
+
+def test_layers():
+    """The one-way flow of docs/architecture: the scene model knows nothing of Pi-form
+    scenes (the reader above both expands them), and the kernel imports numpy and numba
+    only (never pydantic, yaml, h5py or the scene model)."""
+    offences = []
+    for name, path in _modules().items():
+        imports = _all_imports(path)
+        if name.startswith("pframe.model"):
+            offences += [f"{name} imports {m}" for m in imports
+                         if m.startswith(("pframe.nondim", "pframe.reader"))]
+        if name.startswith("pframe.kernel"):
+            offences += [f"{name} imports {m}" for m in imports
+                         if m.split(".")[0] in ("pydantic", "yaml", "h5py", "h5netcdf", "xarray")
+                         or m.startswith(("pframe.model", "pframe.record", "pframe.nondim"))]
+    assert not offences, "; ".join(offences)

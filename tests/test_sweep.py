@@ -25,8 +25,8 @@ from pframe.assemble import assemble
 from pframe.cli import main
 from pframe.errors import InputError
 from pframe.kernel import simulate
-from pframe.model import parse_scene
 from pframe.model.load import _compose
+from pframe.reader import parse_scene
 from pframe.sweep import load_sweep, parse, parse_sweep, run_sweep
 from pframe.sweep.variants import load_variant
 
@@ -148,7 +148,7 @@ def test_batch_equals_single_runs(folder, grid):
 
 def test_variant_road_equals_the_scene_loader(tmp_path):
     """The sweep validates variants from YAML data composed once; for every shipped model it
-    gives the scene pframe.model.parse_scene gives from the text."""
+    gives the scene pframe.reader.parse_scene gives from the text."""
     for model in sorted((REPO / "models").glob("*.yaml")):
         folder = tmp_path / model.stem
         folder.mkdir()

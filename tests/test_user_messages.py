@@ -22,7 +22,7 @@ from conftest import node_history, run_text, two_free_masses_text
 
 from pframe.cli import main
 from pframe.excitation.describe import describe_line, describe_record
-from pframe.model import parse_scene
+from pframe.reader import parse_scene
 
 REPO = Path(__file__).resolve().parents[1]
 MODELS = REPO / "models"

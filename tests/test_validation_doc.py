@@ -60,7 +60,7 @@ def _run(model: str, law: str | None = None, keep_tension: bool = False,
 
     from pframe.assemble import assemble
     from pframe.kernel import simulate
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
     from pframe.record import write_result
 
     path = {"eq14": EQ14, "hust": HUST}[model]
@@ -82,8 +82,8 @@ def _run(model: str, law: str | None = None, keep_tension: bool = False,
 
 
 def _pi_values(path: Path) -> dict[str, float]:
-    from pframe.model import load_scene
     from pframe.nondim import scene_pi
+    from pframe.reader import load_scene
 
     loaded = load_scene(path)
     report = scene_pi(loaded.scene, loaded.expanded)

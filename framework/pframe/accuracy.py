@@ -41,7 +41,7 @@ class Row:
 
 
 def _variant(loaded, integrator: dict, dt: float):
-    from pframe.model.load import variant
+    from pframe.reader import variant
 
     def change(data):
         data["analysis"]["integrator"] = integrator

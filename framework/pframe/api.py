@@ -60,14 +60,14 @@ def _origin(scene):
 
 
 def loaded_scene(source, base_dir=None):
-    """The validated scene with where it came from (:class:`pframe.model.load.LoadedScene`)
+    """The validated scene with where it came from (:class:`pframe.reader.LoadedScene`)
     of anything :func:`load` takes."""
     return _loaded(source, base_dir)
 
 
 def _loaded(source, base_dir=None):
-    """The :class:`pframe.model.load.LoadedScene` of any ``source`` that :func:`load` takes."""
-    from pframe.model.load import LoadedScene, load_scene, parse_scene
+    """The :class:`pframe.reader.LoadedScene` of any ``source`` that :func:`load` takes."""
+    from pframe.reader import LoadedScene, load_scene, parse_scene
 
     if isinstance(source, LoadedScene):
         return source
@@ -100,7 +100,7 @@ def _from_result(path: Path):
     finds it."""
     import h5py
 
-    from pframe.model.load import parse_scene
+    from pframe.reader import parse_scene
 
     try:
         with h5py.File(path, "r") as f:

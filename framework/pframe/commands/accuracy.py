@@ -11,7 +11,7 @@ from pathlib import Path
 def _accuracy(args) -> int:
     from pframe import accuracy
     from pframe.errors import InputError
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     loaded = load_scene(args.model)
     names = args.integrators.split(",") if args.integrators else list(accuracy.INTEGRATORS)

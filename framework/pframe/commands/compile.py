@@ -26,7 +26,7 @@ recorders: [{kind: envelope, quantities: [displacement]}]
 def _compile(args) -> int:
     from pframe.assemble import assemble
     from pframe.kernel import FOLDER, cache, simulate
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     was_compiled = cache.is_compiled(FOLDER)
     start = time.perf_counter()

@@ -10,9 +10,9 @@ from pframe.commands import write_text_output
 
 def expanded_text(path: Path) -> str | None:
     """The dimensional YAML of a Pi-form scene file; None for a dimensional scene."""
-    from pframe.model import load_scene
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form, pi_expansion
+    from pframe.reader import load_scene
     from pframe.yamltext import compose
 
     loaded = load_scene(path)  # validates both forms, with line numbers

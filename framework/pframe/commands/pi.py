@@ -38,8 +38,8 @@ def _print(report, source: str) -> None:
 def _pi(args) -> int:
     import json
 
-    from pframe.model import load_scene
     from pframe.nondim import scene_pi
+    from pframe.reader import load_scene
 
     loaded = load_scene(args.model)
     repeating = None

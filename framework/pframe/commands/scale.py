@@ -57,10 +57,10 @@ def _scale(args) -> int:
 
 
 def _scaled_scene(path: Path, sim, to: str) -> str:
-    from pframe.model import load_scene, parse_scene
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form
     from pframe.nondim.similitude import scale_scene
+    from pframe.reader import load_scene, parse_scene
     from pframe.yamltext import compose
 
     loaded = load_scene(path)

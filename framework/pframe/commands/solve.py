@@ -11,7 +11,7 @@ from pframe.errors import InputError
 def _solve(args) -> int:
     from pframe import outputs
     from pframe.api import check_output
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     out = args.output if args.output is not None else Path(args.model).stem + ".nc"
     outputs.check_output(out, inputs=[args.model], overwrite=args.overwrite, what="result file")

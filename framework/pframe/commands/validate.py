@@ -70,7 +70,7 @@ def period_lines(expanded, plan) -> list[str]:
 
 def _scene(path: Path, kind: str) -> int:
     from pframe.assemble import assemble
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     loaded = load_scene(path)
     ex = loaded.expanded

@@ -92,7 +92,7 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
             dt: float | None = None, records_folder=None) -> AuditInputs:
     """Read the scene and the suite, find the buildings' first modes and every record's
     scale factor at every level."""
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     loaded = load_scene(scene) if isinstance(scene, (str, Path)) else scene
     pairs = runs.contact_pairs(loaded)

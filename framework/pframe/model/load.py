@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
 from pathlib import Path
 
 from pydantic import BaseModel, ValidationError
@@ -22,34 +21,6 @@ class ModelError(Exception):
         super().__init__(message)
         self.path = tuple(path)
         self.message = message
-
-
-@dataclass(frozen=True)
-class LoadedScene:
-    """A validated scene with where it came from."""
-
-    scene: object
-    text: str
-    source: str
-    base_dir: Path
-    lines: dict = field(repr=False)
-    expanded: object = field(repr=False, default=None)
-
-    def where(self, path: Path_) -> str:
-        return _where(self.source, self.lines, path)
-
-    @property
-    def data(self) -> dict:
-        """The scene's YAML data as its file says it (a Pi-form scene in Pi numbers)."""
-        return compose(self.text, self.source)[0]
-
-    @property
-    def units(self):
-        """The units its result file is written in (:func:`pframe.nondim.output.output_units`:
-        SI, or the paper's dimensionless variables with their reference scales)."""
-        from pframe.nondim.output import output_units
-
-        return output_units(self.scene, self.expanded)
 
 
 _dotted = dotted
@@ -208,50 +179,6 @@ def validated(model: type[BaseModel], data, lines: dict, source: str):
     return out
 
 
-def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str = ".",
-                    text: str = "") -> LoadedScene:
-    """Validate composed YAML data (a Pi-form scene is expanded first) and resolve it;
-    ``lines`` map data paths to lines of ``source`` for the messages."""
-    from pframe.model.expand import expand
-    from pframe.model.scene import scene_class
-
-    if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
-        from pframe.nondim.pi_form import expand_pi_data
-
-        check_numbers(data, lines, source)
-        data = expand_pi_data(data, lines, source, base_dir or ".")
-        # a Pi-form scene is the paper's formulation: its contacts use the published damping
-        # formula of their law unless the expansion says otherwise (a note, not a warning)
-        for contact in data.get("contacts") or []:
-            if isinstance(contact, dict) and "restitution" in contact:
-                contact.setdefault("calibration", "published")
-    plugins = plugin_names(data, lines, source)
-    scene = validated(scene_class(*plugins), data, lines, source)
-    base_dir = Path(base_dir or ".")
-    try:
-        expanded = expand(scene, base_dir)
-    except ModelError as exc:
-        raise InputError(f"{_where(source, lines, exc.path)}: {exc.message}") from None
-    if scene.output.units == "dimensionless":  # fail now, not after the run
-        from pframe.nondim.scene_variables import reference_scales
-
-        try:
-            reference_scales(scene, expanded)
-        except InputError as exc:
-            raise InputError(f"{_where(source, lines, ('output',))}: {exc}") from None
-    return LoadedScene(scene, text, source, base_dir, lines, expanded)
-
-
-def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = None) -> LoadedScene:
-    """Validate a scene given as YAML text; raise :class:`InputError` naming the line."""
-    data, lines = _compose(text, source)
-    if not isinstance(data, dict):
-        raise InputError(f"{source}: a scene is a YAML mapping (keys such as buildings, "
-                         "contacts, excitation, analysis); this file holds "
-                         f"{'nothing' if data is None else type(data).__name__}")
-    return scene_from_data(data, lines, source, base_dir, text)
-
-
 def read_input(path: Path, what: str) -> str:
     """The text of an input file (``what``: 'model', 'sweep'); InputError if unreadable."""
     try:
@@ -260,28 +187,3 @@ def read_input(path: Path, what: str) -> str:
         raise InputError(f"{path}: no such {what} file") from None
     except (OSError, UnicodeDecodeError) as exc:
         raise InputError(f"{path}: cannot read the {what} file: {exc}") from None
-
-
-def load_scene(path: str | Path) -> LoadedScene:
-    """Read and validate a scene file."""
-    path = Path(path)
-    return parse_scene(read_input(path, "model"), str(path), path.parent)
-
-
-def variant(loaded: LoadedScene, change) -> LoadedScene:
-    """A variant of a loaded scene, made on its data -- the one way pframe makes variants.
-
-    ``change(data)`` edits the scene's YAML data (a dict, as the file says it: a Pi-form
-    scene stays in Pi numbers) in place; the variant is validated as a file is, its messages
-    name the original file and lines, and its text (``input_yaml`` of a result) is the
-    changed data. A key that ``change`` expects and does not find raises there, instead of
-    leaving the scene unchanged."""
-    import copy
-
-    import yaml
-
-    data, lines = compose(loaded.text, loaded.source)
-    data = copy.deepcopy(data)
-    change(data)
-    text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
-    return scene_from_data(data, lines, loaded.source, loaded.base_dir, text)

@@ -123,7 +123,7 @@ def reference_scales(input_yaml: str | None, source: str) -> Reference:
             + ("no scene" if raw is None else "no sine excitation and no output.scales")
             + "; plot it without --dimensionless")
 
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     expanded = parse_scene(input_yaml, source=f"{source} (input_yaml)").expanded
     building = 1 if len(expanded.buildings) > 1 else 0

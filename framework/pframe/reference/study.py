@@ -86,7 +86,7 @@ def kernel_convergence(text: str, reference, factors=(1, 2, 4, 8), base_dir=None
     [(factor, kernel run, Difference)]."""
     from pframe.assemble import assemble
     from pframe.kernel import simulate
-    from pframe.model import parse_scene
+    from pframe.reader import parse_scene
 
     rows = []
     for factor in factors:
@@ -100,7 +100,7 @@ def main(argv=None) -> int:
     import argparse
 
     from pframe.assemble import assemble
-    from pframe.model import load_scene
+    from pframe.reader import load_scene
 
     parser = argparse.ArgumentParser(
         prog="python -m pframe.reference",

@@ -2,7 +2,7 @@
 
 Each variant goes through the same steps as a scene file (Pi-form expansion, plug-in laws, the
 pydantic model, expansion to numbers) from YAML data that is composed once for the whole sweep;
-composing YAML text is most of what :func:`pframe.model.parse_scene` costs, and a sweep has
+composing YAML text is most of what :func:`pframe.reader.parse_scene` costs, and a sweep has
 thousands of variants. ``tests/test_sweep.py`` checks that both roads give the same scene.
 """
 
@@ -14,12 +14,12 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from pframe.model.load import LoadedScene, scene_from_data
+from pframe.reader import LoadedScene, scene_from_data
 from pframe.sweep.paths import put
 
 
 def load_variant(data: dict, lines: dict, source: str, base_dir: Path) -> LoadedScene:
-    """Validate scene data as :func:`pframe.model.parse_scene` validates the data of a file;
+    """Validate scene data as :func:`pframe.reader.parse_scene` validates the data of a file;
     ``lines`` are the base scene's (a variant has the base's layout, so they still apply)."""
     return scene_from_data(data, lines, source, base_dir)
 
