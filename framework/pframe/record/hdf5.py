@@ -113,7 +113,8 @@ class ResultWriter:
             f.dimension(dim, None)
             f.resize(dim, rows)
             _, units, long_name = self.convert.time(np.zeros(0))
-            var = f.variable(dim, (dim,), chunk_rows=True, units=units, long_name=long_name)
+            f.variable(dim, (dim,), chunk_rows=True, units=units, long_name=long_name)
+            var = f.rows(dim)
             for lo in range(0, rows, _TIME_BLOCK):
                 hi = min(rows, lo + _TIME_BLOCK)
                 var[lo:hi] = self.convert.time(np.arange(lo, hi) * every * dt)[0]
@@ -168,7 +169,7 @@ class ResultWriter:
     def put(self, quantity: str, first_row: int, rows) -> None:
         """History rows ``first_row ..`` of ``quantity`` for this writer's member (rows past
         the file's length are ignored)."""
-        var = self.file[quantity]
+        var = self.file.rows(quantity)
         stop = min(first_row + len(rows), var.shape[0])
         if stop <= first_row:
             return
@@ -211,7 +212,7 @@ class ResultWriter:
     def _trim(self, done: int):
         for every, dim in self.time_dims.items():
             rows = (done - 1) // every + 1
-            if self.file[dim].shape[0] != rows:
+            if self.file.rows(dim).shape[0] != rows:
                 self.file.resize(dim, rows)
 
     def _summaries(self, result):

@@ -135,6 +135,14 @@ class Writer:
     def __getitem__(self, name: str):
         return self.file[name]
 
+    def rows(self, name: str):
+        """Where a block of rows of ``name`` is written: its HDF5 dataset itself. h5netcdf's
+        variable finds its shape by scanning every variable of an unlimited dimension on each
+        access, which costs more than the writing for a streamed history (the variable's
+        layout and attributes are h5netcdf's; only the values go this way)."""
+        var = self.file[name]
+        return getattr(var, "_h5ds", var)
+
     @property
     def attrs(self):
         return self.file.attrs
@@ -261,6 +269,8 @@ class DatasetWriter:
 
     def __getitem__(self, name: str):
         return _Rows(self, name)
+
+    rows = __getitem__
 
     def close(self) -> None:
         pass
