@@ -42,6 +42,16 @@ def _encoded(strings) -> np.ndarray:
     return encoded.view("S1").reshape(values.shape + (width,))
 
 
+def _open(target):
+    """``h5netcdf.File(target, "w")``, safe against a signal inside its constructor: h5netcdf
+    marks a half-built file closed only when an ``Exception`` interrupts it, so a stop (Ctrl-C,
+    SIGTERM: ``BaseException``) there left a file whose destructor printed a traceback."""
+    f = h5netcdf.File.__new__(h5netcdf.File)
+    f._closed = True  # until the constructor says otherwise
+    f.__init__(target, "w", track_order=True)
+    return f
+
+
 class Writer:
     """A netCDF-4 file being written: ``target`` is a path or a binary file object (an
     in-memory result); ``compress`` deflates the large variables (histories)."""
@@ -49,7 +59,7 @@ class Writer:
     def __init__(self, target, compress: bool = False):
         if isinstance(target, (str, Path)):
             target = str(target)
-        self.file = h5netcdf.File(target, "w", track_order=True)
+        self.file = _open(target)
         self.compress = compress
         self._coordinates: dict[str, list[str]] = {}  # dimension -> its auxiliary coordinates
 
