@@ -99,3 +99,23 @@ def test_write_dataset_refuses_string_coordinates_and_writes_labels(tmp_path):
     with xr.open_dataset(tmp_path / "good.nc", engine="h5netcdf") as back:
         assert back.rule_name.values.tolist() == ["ABS", "SRSS"]
         assert {"date_created", "history", "Conventions"} <= set(back.attrs)
+
+
+@pytest.mark.filterwarnings("error::pytest.PytestUnraisableExceptionWarning")
+def test_a_stop_inside_the_file_constructor_leaves_no_traceback(tmp_path, monkeypatch, capsys):
+    """A signal raises where it arrives: inside h5netcdf's constructor, the half-built file
+    must not print an error when it is collected (h5netcdf marks it closed only for an
+    Exception; a stop is a BaseException)."""
+    import gc
+
+    import h5netcdf
+
+    def interrupted(self, *args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(h5netcdf.File, "__init__", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        Writer(tmp_path / "x.nc")
+    gc.collect()
+    captured = capsys.readouterr()
+    assert "Traceback" not in captured.err and "_closed" not in captured.err
