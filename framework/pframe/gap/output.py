@@ -15,12 +15,6 @@ STATISTICS = ("median", "p84", "max")
 KIND = "gap_audit"
 
 
-def _xarray():
-    import xarray as xr  # a base dependency
-
-    return xr
-
-
 def _statistics(values: np.ndarray) -> np.ndarray:
     """median, 84th percentile and maximum over axis 0 (records), NaN (failed runs) left out."""
     import warnings
@@ -44,9 +38,9 @@ def measure_label(inputs) -> str:
 
 def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False):
     """The Dataset of an audit from the batch's rows (variants record-major)."""
-    import pframe
+    import xarray as xr
 
-    xr = _xarray()
+    import pframe
     R, L = inputs.factors.shape
     pairs = inputs.pairs
     C = len(pairs.names)
