@@ -16,7 +16,15 @@ import numpy as np
 
 from pframe.kernel.banded import ldl_solve
 from pframe.kernel.cache import compiled, inline
-from pframe.kernel.state import H_FACTORED, MASS_MIN, NODE, NOT_CONVERGED, SOLVES, STALE
+from pframe.kernel.state import (
+    ALPHA_WORK,
+    H_FACTORED,
+    MASS_MIN,
+    NODE,
+    NOT_CONVERGED,
+    SOLVES,
+    STALE,
+)
 
 from .assembly import check_finite, evaluate, evaluate_call, factor, fail
 
@@ -62,6 +70,26 @@ def at_end_point(s, w):
 
 
 @inline
+def alpha_work(m, st, w, b, age, wf):
+    """G(t(n+1-alpha)) . (u(n+1) - u(n)): the work over the whole step of the non-inertial
+    forces (damping, storeys, contacts, ground) as evaluated at the alpha point, where the
+    step's equilibrium holds (pframe.kernel.energy counts the integrator's dissipation with
+    it). Element deformations are linear in u, so their increment is (d_alpha - d_n) / wf."""
+    mass, damping, U, u, ve = m.mass[b], m.mass_damping[b], st.U[b], w.u, w.ve
+    work = 0.0
+    for i in range(mass.shape[0]):
+        work += (damping[i] * ve[i] + mass[i] * age) * (u[i] - U[i])
+    drift, force, damping_force, drift_c = (w.drift, w.story_force, w.story_damping_force,
+                                            st.drift[b])
+    for e in range(drift.shape[0]):
+        work += (force[e] + damping_force[e]) * (drift[e] - drift_c[e]) / wf
+    cforce, pen, pen_c = w.contact_force, w.penetration, st.penetration[b]
+    for e in range(pen.shape[0]):
+        work += cforce[e] * (pen[e] - pen_c[e]) / wf
+    return work
+
+
+@inline
 def factor_linear(m, s, st, w, b, k, h):
     """Factor the constant effective stiffness of a linear scene (initial tangents)."""
     c0, c1, _, _, _, _ = coefficients(s, h)
@@ -96,6 +124,7 @@ def solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
         u[i] = U[i] if s.linear else U[i] + h * V[i] + 0.5 * h * h * A[i]
     converged = False
     norm_u = 0.0
+    age = ag_new
     for it in range(s.max_iterations + 1):
         for i in range(n):
             a[i] = c0 * (u[i] - U[i]) - c2 * V[i] - c3 * A[i]
@@ -147,6 +176,7 @@ def solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
                 norm_u += u[i] * u[i]
             converged = np.sqrt(norm_du) <= s.tolerance * np.sqrt(norm_u) + s.absolute_tolerance
     if s.alpha:
+        scalars[ALPHA_WORK] = alpha_work(m, st, w, b, age, wf)
         # commit the laws' state and forces at the step end, not at the alpha point
         at_end_point(s, w)
         evaluate_call(m, st, w, b, ag_new, c1, wf, False)
