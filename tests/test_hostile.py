@@ -572,25 +572,18 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
     """Ctrl-C and SIGTERM are seen between kernel calls: every mode calls it in chunks of
     about ``chunk_seconds``, and the result is the same bits as with a progress bar."""
     from pframe.assemble import assemble
-    from pframe.kernel import build, simulate
+    from pframe.kernel import ckernel, simulate
     from pframe.reader import parse_scene
 
     loaded = parse_scene(yaml.safe_dump(short(scene_data(), 20_000)), "s.yaml", MODELS)
     plan = assemble(loaded.expanded)
-    real, calls = build.kernel_for, []
+    real, calls = ckernel.run, []
 
-    def counting(plan, announce=None):
-        kernel = real(plan, announce)
-        run = kernel.run
+    def counted(*args):
+        calls.append(args[-1] - args[-2])
+        return real(*args)
 
-        def counted(*args):
-            calls.append(args[-1] - args[-2])
-            return run(*args)
-
-        return type(kernel)(counted, kernel.ids, kernel.materials, kernel.contact_laws,
-                            kernel.folder)
-
-    monkeypatch.setattr(build, "kernel_for", counting)
+    monkeypatch.setattr(ckernel, "run", counted)
     quiet = simulate(plan, chunk_seconds=1e-4)
     assert len(calls) > 10 and sum(calls) == plan.steps + 1
     shown = simulate(plan, progress=lambda done, total: None)
@@ -599,12 +592,12 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
 
 
 def test_a_cache_folder_that_cannot_be_written_is_a_note(capsys, tmp_path, monkeypatch):
-    from pframe.kernel import build, cache
+    from pframe.kernel import plugins
 
     monkeypatch.setenv("PFRAME_CACHE_DIR", str(tmp_path / "read-only"))
-    build._note_fallback(cache.root() / "kernels" / "x")
+    plugins._note_fallback(plugins.root() / "plugins" / "x")
     assert capsys.readouterr().err == ""
-    build._note_fallback(tmp_path / "elsewhere")
+    plugins._note_fallback(tmp_path / "elsewhere")
     err = capsys.readouterr().err
     assert "cannot be written" in err and "elsewhere" in err and "PFRAME_CACHE_DIR" in err
 

@@ -5,11 +5,8 @@ factorisations, residual evaluations, evaluations of each law, gathered values),
 reading code: the kernel is the same for every scene.
 """
 
-import dataclasses
 import json
-import shutil
 import sys
-from pathlib import Path
 
 import numpy as np
 import yaml
@@ -126,45 +123,17 @@ def test_one_newton_solve_per_step_while_laws_keep_their_branch():
     assert result.counter("factorisations") < 0.05 * plan.steps
 
 
-def _kernel_refactoring_at_every_solve(tmp_path: Path):
-    """The kernel's modules, loaded once more with Newton edited to refactor before every
-    solve (compiled into a cache of their own)."""
-    import importlib
-    import types
-
-    from pframe.kernel import cache
-
-    source = Path(sys.modules["pframe.kernel"].__file__).parent
-    copy = tmp_path / "always_refactor"
-    shutil.copytree(source, copy, ignore=shutil.ignore_patterns("__pycache__", "__init__.py"))
-    newton = (copy / "newton.py").read_text(encoding="utf-8")
-    reuse = "if not s.linear and (scalars[STALE] != 0.0 or h != scalars[H_FACTORED]):"
-    assert newton.count(reuse) == 1
-    (copy / "newton.py").write_text(newton.replace(reuse, "if not s.linear:"), encoding="utf-8")
-    package = types.ModuleType("always_refactor")
-    package.__path__ = [str(copy)]
-    sys.modules["always_refactor"] = package
-    with cache.caching_into(tmp_path / "cache"):
-        return importlib.import_module("always_refactor.loop").run
-
-
-def test_reusing_the_factorisation_changes_no_bit(tmp_path, monkeypatch):
+def test_reusing_the_factorisation_changes_no_bit(monkeypatch):
     """The kernel refactors the effective stiffness only when an element tangent or the
-    (sub-)step changed. A kernel edited to refactor at every solve gives the same bits, so no
+    (sub-)step changed. The kernel made to refactor at every solve gives the same bits, so no
     change of tangent is missed (a missed one would still converge, to different bits)."""
-    from pframe.kernel import build
+    from pframe.kernel import run as run_module
 
     data = yaml.safe_load(WU2021.read_text(encoding="utf-8"))
     data["analysis"]["duration"] = 3.0
     plan = assemble(parse_scene(json.dumps(data)).expanded)
     reused = simulate(plan)
-    always = _kernel_refactoring_at_every_solve(tmp_path)
-    original = build.kernel_for
-
-    def refactoring(plan, announce=None):
-        return dataclasses.replace(original(plan, announce), run=always)
-
-    monkeypatch.setattr(build, "kernel_for", refactoring)
+    monkeypatch.setattr(run_module, "ALWAYS_REFACTOR", True)
     refactored = simulate(plan)
     assert reused.impacts.sum() > 0
     assert refactored.counter("factorisations") > 10 * reused.counter("factorisations")
@@ -176,11 +145,12 @@ def test_reusing_the_factorisation_changes_no_bit(tmp_path, monkeypatch):
 
 def test_every_law_and_integrator_share_one_compiled_kernel():
     """Every built-in material and contact law under every integrator (with and without
-    event location), every recordable quantity, record and sine excitation: one process,
-    and the kernel's entry point holds one compiled signature at the end: nothing was
-    compiled after the first run."""
-    from pframe.kernel import loop
+    event location), every recordable quantity, record and sine excitation: one process, one
+    compiled kernel (loaded once), and nothing compiled at run time (numba never imported)."""
+    from pframe.kernel import ckernel
     from pframe.laws import all_contact_laws, all_materials
+
+    numba_before = "numba" in sys.modules
 
     contact = {
         "linear": {"law": "linear", "stiffness": 2.0e7},
@@ -223,19 +193,22 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
             runs += 1
             completed += result.completed()
     assert runs == 30 and completed >= 28
-    assert len(loop.run.overloads) == 1
+    assert ckernel.library() is ckernel._library
+    assert ("numba" in sys.modules) == numba_before
 
 
 def test_batches_and_single_runs_share_the_kernel():
     """A batch run in threads (a sweep's chunk) calls the same compiled kernel as single
-    runs."""
+    runs, and each member gives the bits of its single run."""
     from pframe.assemble import assemble_batch
-    from pframe.kernel import loop
 
     texts = [scene_text(buildings=[{"name": "A", "floors": 1, "mass": m,
                                     "story": {"material": "elastic", "stiffness": 1e6}}],
                         excitation={"kind": "sine", "amplitude": 1.0, "frequency": 5.0},
                         analysis={"dt": 0.01, "duration": 1.0}, recorders=RECORDERS)
              for m in (500.0, 1000.0, 2000.0)]
-    simulate(assemble_batch([parse_scene(t).expanded for t in texts]), threads=2)
-    assert len(loop.run.overloads) == 1
+    batch = simulate(assemble_batch([parse_scene(t).expanded for t in texts]), threads=2)
+    for b, text in enumerate(texts):
+        single = simulate(assemble(parse_scene(text).expanded))
+        for q, rows in single.history.items():
+            assert np.array_equal(batch.history[q][b], rows[0]), q

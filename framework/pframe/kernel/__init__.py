@@ -1,35 +1,17 @@
-"""The compiled time-stepping kernel and its driver.
+"""The time-stepping kernel (C, compiled when pframe is installed) and its driver.
 
-The algorithm is ordinary compiled Python, one idea per module: :mod:`~pframe.kernel.loop`
-(the time loop, the entry point), :mod:`~pframe.kernel.implicit` (a generalised-alpha step
-with sub-step retries), :mod:`~pframe.kernel.newton`, :mod:`~pframe.kernel.explicit`,
-:mod:`~pframe.kernel.events`, :mod:`~pframe.kernel.assembly` (residual, tangents, the band),
-:mod:`~pframe.kernel.energy` (commit and energy bookkeeping), :mod:`~pframe.kernel.record`,
-:mod:`~pframe.kernel.banded` and :mod:`~pframe.kernel.dispatch` (the law switch), over the
-named arrays of :mod:`~pframe.kernel.state`. It is compiled once per installed version and
-cached (:mod:`~pframe.kernel.cache`); :func:`simulate` (:mod:`~pframe.kernel.run`) drives it.
+The algorithm is C, one idea per file of ``c/``: ``loop.c`` (the time loop, the entry point
+``pframe_run``), ``implicit.c`` (a generalised-alpha step with sub-step retries),
+``newton.c``, ``explicit.c``, ``events.c``, ``assembly.c`` (residual, tangents, the band),
+``energy.c`` (commit and energy bookkeeping), ``record.c``, ``banded.c`` and the generated
+``laws.c`` (the built-in laws, translated from their Python ``force`` by
+:mod:`pframe.kernel.translate`), over the structs of the generated ``state.h``
+(:mod:`pframe.kernel.state`). ``pip install`` compiles them into the extension
+``pframe.kernel._ckernel``; :mod:`pframe.kernel.ckernel` loads it with ctypes and
+:func:`simulate` (:mod:`pframe.kernel.run`) drives it. Plug-in laws are numba ``cfunc``
+function pointers (:mod:`pframe.kernel.plugins`); built-in scenes never import numba.
 """
 
-from pframe.kernel import cache
+from pframe.kernel.run import Result, simulate
 
-cache.skip_blas_probe()
-#: where this installation's kernel is cached
-FOLDER = cache.folder(cache.source_key())
-
-with cache.caching_into(FOLDER):  # every kernel function is decorated inside this block
-    from pframe.kernel import (  # noqa: F401  # noqa: F401  # noqa: F401
-        assembly,
-        banded,
-        dispatch,
-        energy,
-        events,
-        explicit,
-        implicit,
-        loop,
-        newton,
-        record,
-    )
-
-from pframe.kernel.run import Result, simulate  # noqa: E402
-
-__all__ = ["FOLDER", "Result", "simulate"]
+__all__ = ["Result", "simulate"]

@@ -1,9 +1,11 @@
 """Running a plan through the compiled kernel, chunk by chunk, in threads over the batch.
 
-The plan's arrays are grouped into the kernel's named tuples (:mod:`pframe.kernel.state`);
-the kernel (:func:`pframe.kernel.loop.run`) is called over consecutive ranges of steps, which
-gives the same bits as one call, so that a progress bar can be updated and histories can be
-handed to a ``sink`` (a file being written) chunk by chunk instead of held whole in memory.
+The plan's arrays are grouped into the kernel's named tuples (:mod:`pframe.kernel.state`),
+whose data pointers fill the C kernel's structs (:mod:`pframe.kernel.ckernel`); the kernel
+(``pframe_run`` in ``c/loop.c``) is called over consecutive ranges of steps, which gives the
+same bits as one call, so that a progress bar can be updated, Ctrl-C is seen between calls and
+histories can be handed to a ``sink`` (a file being written) chunk by chunk instead of held
+whole in memory.
 """
 
 from __future__ import annotations
@@ -42,6 +44,9 @@ ENERGY_TERMS = (("input", slots.INPUT), ("kinetic", slots.KINETIC),
 
 #: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
 MAX_SPLIT = 10
+#: refactor the effective stiffness before every solve (a test shows that reusing the
+#: factorisation changes no bit)
+ALWAYS_REFACTOR = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
@@ -63,7 +68,8 @@ class Result:
     # split steps, gathered values
     law_calls: dict = field(default_factory=dict)  # law name -> (B,) evaluations of that law
     solve_seconds: float = 0.0
-    compile_seconds: float = 0.0
+    compile_seconds: float = 0.0  # the first call (state t = 0): loading the kernel, and
+    # compiling plug-in laws the first time
 
     @property
     def iterations(self) -> np.ndarray:
@@ -180,7 +186,7 @@ def _normalised(group):
     return type(group)(*out)
 
 
-def _settings(plan) -> Settings:
+def _settings(plan, laws) -> Settings:
     c = plan.integrator
     return Settings(
         gamma=float(c.gamma), beta=float(c.beta), alpha_m=float(c.alpha_m),
@@ -189,7 +195,9 @@ def _settings(plan) -> Settings:
         max_iterations=int(plan.max_iterations), bandwidth=int(plan.bandwidth),
         max_split=int(MAX_SPLIT), linear=bool(plan.linear and not c.explicit),
         explicit=bool(c.explicit), events=bool(c.events and plan.contact_names),
-        alpha=bool(c.alpha),
+        alpha=bool(c.alpha), always_refactor=bool(ALWAYS_REFACTOR),
+        material_plugins=laws.address(laws.material_table),
+        contact_plugins=laws.address(laws.contact_table),
     )
 
 
@@ -334,22 +342,47 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     ``progress(done, total)`` is called between chunks when given. ``sink(quantity,
     first_row, rows)``, when given, receives the history rows (batch axis first) as they are
     computed, and the result then holds no histories: memory stays bounded whatever the
-    duration. ``announce(message)`` is called before the kernel is compiled (once per
-    installation, or once per set of plug-in laws). A batch runs in ``threads`` threads
-    (default: one per CPU).
+    duration. ``announce(message)`` is called before plug-in laws are compiled (once per set
+    of plug-in laws; built-in laws are in the compiled kernel). A batch runs in ``threads``
+    threads (default: one per CPU).
     """
-    from pframe.kernel.build import kernel_for
+    from pframe.kernel import ckernel
+    from pframe.kernel.plugins import law_ids
 
-    compiled = kernel_for(plan, announce)
-    kernel, ids = compiled.run, compiled.ids
+    start = time.perf_counter()
+    laws = law_ids(plan, announce)
+    ckernel.library()  # loaded and checked once per process
+    ids = laws.ids
     model, story_state, contact_state = _group_model(plan, ids)
-    settings = _settings(plan)
-    st = _state(plan, story_state, contact_state, compiled.materials, compiled.contact_laws)
+    settings = _settings(plan, laws)
+    st = _state(plan, story_state, contact_state, laws.materials, laws.contact_laws)
     recorders = _Recorders(plan, sink)
 
     pieces = _pieces(plan.batch, threads)
     pool = ThreadPoolExecutor(len(pieces)) if len(pieces) > 1 else None
     scratch = [(work_arrays(plan), _saved(st)) for _ in pieces]
+    c_settings = ckernel.arrays(ckernel.Settings, settings)
+    # the structs of each piece of the batch: the same arrays for every call
+    structs = []
+    for (lo, hi), (work, saved) in zip(pieces, scratch):
+        sliced = _slice(model, lo, hi)
+        sizes = dict(batch=hi - lo, dofs=plan.n_dof, stories=len(plan.story_names),
+                     contacts=len(plan.contact_names), story_width=model.story_params.shape[2],
+                     story_states=st.story_committed.shape[2],
+                     contact_width=model.contact_params.shape[2],
+                     contact_states=st.contact_committed.shape[2],
+                     ground_width=model.ground.shape[1], materials=laws.materials,
+                     contact_laws=laws.contact_laws)
+        structs.append((ckernel.arrays(ckernel.Model, sliced, **sizes),
+                        ckernel.arrays(ckernel.State, _slice(st, lo, hi)),
+                        ckernel.arrays(ckernel.Work, work), ckernel.arrays(ckernel.Saved, saved)))
+
+    def kernel(piece, rec, begin, end):
+        c_model, c_state, c_work, c_saved = structs[piece]
+        code = ckernel.run(c_model, c_settings, c_state, ckernel.recording(rec), c_work,
+                           c_saved, begin, end)
+        if code == ckernel.RUN_ZERO_DIVISION:
+            raise ZeroDivisionError("float division by zero")
 
     def call(begin, end):
         try:
@@ -366,29 +399,19 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     def _call(begin, end):
         rec = recorders.for_call(begin, end)
         if pool is None:
-            kernel(model, settings, st, rec, *scratch[0], begin, end)
+            kernel(0, rec, begin, end)
         else:
             # The kernel releases the GIL: contiguous slices of the batch run in threads,
             # each member on its own, so one slow member never holds up the others.
-            futures = [pool.submit(kernel, _slice(model, lo, hi), settings, _slice(st, lo, hi),
-                                   _slice_recording(rec, lo, hi), *work, begin, end)
-                       for (lo, hi), work in zip(pieces, scratch)]
+            futures = [pool.submit(kernel, piece, _slice_recording(rec, lo, hi), begin, end)
+                       for piece, (lo, hi) in enumerate(pieces)]
             for future in futures:
                 future.result()
         return rec
 
     try:
         total = plan.steps + 1
-        start = time.perf_counter()
-        try:
-            rec = call(0, 1)  # state t = 0; compiles or loads the kernel
-        except Exception as exc:
-            if type(exc).__module__.startswith("numba"):
-                from pframe.kernel.build import diagnose
-
-                raise diagnose(plan, exc) from None
-            raise
-        compiled.ready()
+        rec = call(0, 1)  # state t = 0
         compile_seconds = time.perf_counter() - start
         recorders.deliver(rec, 0, 1)
         solve = 0.0

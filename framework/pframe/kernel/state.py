@@ -15,6 +15,11 @@ A run is four groups of arrays, each a named tuple so that compiled code reads `
 
 Every array is C-contiguous and of a fixed dtype and rank, whatever the scene, so one compiled
 kernel serves every scene.
+
+This module is the one list of the kernel's data: the C kernel's header ``c/state.h`` (its
+structs and slot names) is generated from it by ``python -m pframe.kernel.translate``, and the
+driver's ctypes mirror of the structs (:mod:`pframe.kernel.ckernel`) is built from it at
+import. A test fails when the header is stale.
 """
 
 from __future__ import annotations
@@ -49,6 +54,7 @@ DISPLACEMENT, VELOCITY, ACCELERATION, STORY_DRIFT, STORY_FORCE, CONTACT_FORCE, \
     CONTACT_PENETRATION, GROUND_ACCELERATION = range(8)
 RECORDABLE = ("displacement", "velocity", "acceleration", "story_drift", "story_force",
               "contact_force", "contact_penetration", "ground_acceleration")
+RECORDABLE_COUNT = len(RECORDABLE)
 
 Model = namedtuple("Model", [
     "mass",             # (B, n) kg, DOFs in band order
@@ -81,6 +87,9 @@ Settings = namedtuple("Settings", [
     "explicit",   # central difference: no solve
     "events",     # locate contact onset and separation inside steps
     "alpha",      # equilibrium off the step end (HHT, generalised-alpha)
+    "always_refactor",  # refactor before every solve (a test's check that reuse changes no bit)
+    "material_plugins", "contact_plugins",  # function pointers of plug-in laws (ids after
+                                            # the built-in ones; see pframe.kernel.plugins)
 ])
 
 State = namedtuple("State", [
@@ -115,10 +124,61 @@ Work = namedtuple("Work", [
     "scalars",                 # (SCALAR_SLOTS,) see H_FACTORED, STALE, MASS_MIN
 ])
 # w.scalars: the step length of the current factorisation (0 before the first), 1.0 when an
-# element tangent changed since, the smallest mass of the member, and the work of the
+# element tangent changed since, the smallest mass of the member, the work of the
 # non-inertial forces at the alpha point over the whole (sub-)step (pframe.kernel.energy)
 H_FACTORED, STALE, MASS_MIN, ALPHA_WORK = 0, 1, 2, 3
-SCALAR_SLOTS = 4
+# ... and 1.0 when a step's coefficient divided by zero (a step length or Newmark beta that
+# underflows): the kernel stops and the driver raises ZeroDivisionError, as Python would
+ZERO_DIVISION = 4
+SCALAR_SLOTS = 5
+
+#: the sizes the C kernel needs besides the arrays (appended to its Model struct)
+SIZES = ("batch", "dofs", "stories", "contacts", "story_width", "story_states",
+         "contact_width", "contact_states", "ground_width", "materials", "contact_laws")
+
+#: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
+#: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
+C_TYPES = {
+    "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
+              "story_damping": "int64_t *", "contact_dofs": "int64_t *",
+              "contact_order": "int64_t *", "contact_law": "int64_t *",
+              "cd_parts": "int64_t *", "event_parts": "int64_t *",
+              **{name: "int64_t" for name in SIZES}},
+    "Settings": {"gamma": "double", "beta": "double", "alpha_m": "double", "alpha_f": "double",
+                 "tolerance": "double", "absolute_tolerance": "double",
+                 "max_iterations": "int64_t", "bandwidth": "int64_t", "max_split": "int64_t",
+                 "linear": "int64_t", "explicit": "int64_t", "events": "int64_t",
+                 "alpha": "int64_t", "always_refactor": "int64_t",
+                 "material_plugins": "LawFunction *", "contact_plugins": "LawFunction *"},
+    "State": {"impacts": "int64_t *", "status": "int64_t *", "counters": "int64_t *",
+              "material_calls": "int64_t *", "contact_calls": "int64_t *"},
+    "Recording": {"history": "double *[RECORDABLE_COUNT]", "every": "int64_t *",
+                  "first_row": "int64_t *", "envelope": "double *[RECORDABLE_COUNT]",
+                  "enveloped": "int64_t *", "history_rows": "int64_t[RECORDABLE_COUNT]",
+                  "history_width": "int64_t[RECORDABLE_COUNT]",
+                  "envelope_width": "int64_t[RECORDABLE_COUNT]"},
+    "Work": {},
+    "Saved": {"impacts": "int64_t *"},
+}
+#: Recording's sizes (C only: the Python group holds the arrays, which carry their shapes)
+RECORDING_SIZES = ("history_rows", "history_width", "envelope_width")
+
+#: the named slot constants written into c/state.h, by group
+C_CONSTANTS = {
+    "status codes": ("OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_DEFINITE", "NOT_STABLE"),
+    "status columns": ("STATUS_CODE", "STATUS_STEP", "STATUS_KIND", "STATUS_INDEX",
+                       "STATUS_SLOTS"),
+    "element kinds": ("NODE", "STORY", "CONTACT"),
+    "energy slots": ("INPUT", "KINETIC", "DAMPING", "STOREYS", "CONTACTS", "KINETIC_0",
+                     "INPUT_ABS", "START", "ALGORITHMIC", "ENERGY_SLOTS"),
+    "counters": ("SOLVES", "FACTORISATIONS", "EVALUATIONS", "SPLIT_STEPS", "GATHERS",
+                 "COUNTER_SLOTS"),
+    "recordable quantities": ("DISPLACEMENT", "VELOCITY", "ACCELERATION", "STORY_DRIFT",
+                              "STORY_FORCE", "CONTACT_FORCE", "CONTACT_PENETRATION",
+                              "GROUND_ACCELERATION", "RECORDABLE_COUNT"),
+    "work scalars": ("H_FACTORED", "STALE", "MASS_MIN", "ALPHA_WORK", "ZERO_DIVISION",
+                     "SCALAR_SLOTS"),
+}
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [

@@ -2,9 +2,14 @@
 
 A law is a small class (see :class:`Law`): a pydantic ``Params`` model for what the YAML says,
 ``pack`` turning those parameters into a flat tuple of floats, a fixed number of state
-variables, and a pure scalar ``force`` function that numba compiles into the kernel.
-Registering is one decorator for a built-in law and one entry point for a third-party law;
-a name registered twice is an error, never a silent override.
+variables, and a pure scalar ``force`` function. A built-in law's ``force`` is translated to C
+(``pframe.kernel.translate`` writes ``kernel/c/laws.c``); a plug-in's is compiled by numba
+into a C function the kernel calls (``pframe.kernel.plugins``). Registering is one decorator
+for a built-in law and one entry point for a third-party law; a name registered twice is an
+error, never a silent override.
+
+:data:`_BUILTIN_MODULES` is the one ordered list of built-in laws: a law's id in the kernel
+is its place in it (:func:`builtin_laws`); a new built-in law is a module added here.
 """
 
 from __future__ import annotations
@@ -177,6 +182,14 @@ def _load_builtins(kind: str) -> None:
         for module in _BUILTIN_MODULES[kind]:
             importlib.import_module(module)
         _builtin_names_by_kind[kind] = frozenset(_registered[kind])
+
+
+def builtin_laws(kind: str) -> tuple[type[Law], ...]:
+    """The built-in laws of ``kind`` in the order of :data:`_BUILTIN_MODULES`: a law's kernel
+    id is its index (plug-in laws get the ids after these)."""
+    _load_builtins(kind)
+    by_module = {cls.__module__: cls for cls in _registered[kind].values()}
+    return tuple(by_module[module] for module in _BUILTIN_MODULES[kind])
 
 
 def builtin_names(kind: str) -> list[str]:

@@ -166,10 +166,18 @@ class Writer:
 def provenance(call: str | None = None) -> dict:
     """Global attributes that say when and by what a file was written: ``date_created``
     (ISO 8601, UTC), ``history`` (CF: the date and the command line or API call), the
-    versions of pframe, Python, numpy and numba, and the platform."""
-    import numba
+    versions of pframe (and of its compiled kernel's sources), Python, numpy and numba (which
+    compiles plug-in laws: read from the installed metadata, never imported), and the
+    platform."""
+    from importlib.metadata import PackageNotFoundError, version
 
     import pframe
+    from pframe.kernel.ckernel import library
+
+    try:
+        numba_version = version("numba")
+    except PackageNotFoundError:
+        numba_version = "not installed"
 
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     stamp = now.isoformat().replace("+00:00", "Z")
@@ -182,7 +190,8 @@ def provenance(call: str | None = None) -> dict:
         "history": f"{stamp} pframe {pframe.__version__}: {call}",
         "pframe_version": pframe.__version__,
         "software": (f"pframe {pframe.__version__}; Python {platform.python_version()}; "
-                     f"numpy {np.__version__}; numba {numba.__version__}; "
+                     f"numpy {np.__version__}; numba {numba_version}; "
+                     f"kernel {library().pframe_source_hash().decode()}; "
                      f"h5netcdf {h5netcdf.__version__}; {platform.platform()}"),
     }
 

@@ -1,0 +1,208 @@
+/* Residual and tangent of the scene at an evaluation point, over its element groups.
+ *
+ * The residual is R = P - M (a_g + a) - C_m v - sum of element forces, at the point held in
+ * w->ue, w->ve, w->ae (the step end for Newmark, the alpha point for HHT and
+ * generalised-alpha). Storeys and contacts are visited in the plan's order (grouped by law);
+ * each calls its law through the law-id switch of laws.c. A scene without contacts has no
+ * contact elements, so the contact loop does not run.
+ */
+
+/* Record why member b stopped in step k; returns 0 (not ok). */
+static int fail(State *st, int64_t b, int64_t code, int64_t k, int64_t kind, int64_t index)
+{
+    int64_t *status = st->status + b * STATUS_SLOTS;
+    status[STATUS_CODE] = code;
+    status[STATUS_STEP] = k;
+    status[STATUS_KIND] = kind;
+    status[STATUS_INDEX] = index;
+    return 0;
+}
+
+/* Element forces and the residual at the evaluation point, ground acceleration age.
+ *
+ * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
+ * with the one in the current factorisation; returns 1 when one changed (the factorisation is
+ * then stale). */
+static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                    double age, double c1, double wf, int tangent)
+{
+    const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
+    const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
+    const double *ue = w->ue, *ve = w->ve, *ae = w->ae;
+    double *R = w->R;
+    int stale = 0;
+    int64_t i, j;
+    double out[3];
+    for (i = 0; i < n; i++)
+        R[i] = -mass[i] * (age + ae[i]) - damping[i] * ve[i];
+    st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
+
+    {
+        const int64_t *dofs = m->story_dofs, *order = m->story_order, *laws = m->story_law;
+        const int64_t *modes = m->story_damping;
+        const int64_t P = m->story_width, S = m->story_states;
+        const double *params = m->story_params + b * ns * P;
+        const double *committed = st->story_committed + b * ns * S;
+        double *trial = st->story_trial + b * ns * S;
+        const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
+        const double *tangent_c = st->story_tangent + b * ns;
+        int64_t *calls = st->material_calls + b * m->materials;
+        double *drift = w->drift, *force = w->story_force;
+        double *damping_force = w->story_damping_force, *tangent_t = w->story_tangent;
+        double *kks = w->story_kk;
+        for (j = 0; j < ns; j++) {
+            const int64_t e = order[j];
+            const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
+            const int64_t law = laws[e];
+            const int64_t mode = modes[e];
+            double d = ue[up], r = ve[up], f, kt, kr, kd, fd;
+            if (lo >= 0) {
+                d -= ue[lo];
+                r -= ve[lo];
+            }
+            material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
+                           out);
+            f = out[0];
+            kt = out[1];
+            kr = out[2];
+            calls[law] += 1;
+            if (mode == 0)
+                kd = k0[e];
+            else if (mode == 1)
+                kd = kt;
+            else
+                kd = tangent_c[e];
+            fd = beta[e] * kd * r;
+            drift[e] = d;
+            force[e] = f;
+            damping_force[e] = fd;
+            tangent_t[e] = kt;
+            R[up] -= f + fd;
+            if (lo >= 0)
+                R[lo] += f + fd;
+            if (tangent) {
+                double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
+                if (kk != kks[e]) {
+                    kks[e] = kk;
+                    stale = 1;
+                }
+            }
+        }
+    }
+
+    {
+        const int64_t *dofs = m->contact_dofs, *order = m->contact_order, *laws = m->contact_law;
+        const int64_t Q = m->contact_width, T = m->contact_states;
+        const double *params = m->contact_params + b * nc * Q;
+        const double *committed = st->contact_committed + b * nc * T;
+        double *trial = st->contact_trial + b * nc * T;
+        const double *gap = m->gap + b * nc;
+        int64_t *calls = st->contact_calls + b * m->contact_laws;
+        double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
+        for (j = 0; j < nc; j++) {
+            const int64_t e = order[j];
+            const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
+            const int64_t law = laws[e];
+            const double d = ue[left] - ue[right] - gap[e];
+            const double r = ve[left] - ve[right];
+            double f, kd, kr;
+            contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, d, r, out);
+            f = out[0];
+            kd = out[1];
+            kr = out[2];
+            calls[law] += 1;
+            force[e] = f;
+            penetration[e] = d;
+            R[left] -= f;
+            R[right] += f;
+            if (tangent) {
+                double kk = (kd + c1 * kr) * wf;
+                if (kk != kks[e]) {
+                    kks[e] = kk;
+                    stale = 1;
+                }
+            }
+        }
+    }
+    return stale;
+}
+
+/* 0 after recording the element whose force is not finite, if any. */
+static int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k)
+{
+    const double *R = w->R;
+    double total = 0.0;
+    int64_t i, e, kind = NODE, where = 0;
+    for (i = 0; i < m->dofs; i++)
+        total += R[i];
+    if (isfinite(total))
+        return 1;
+    for (e = 0; e < m->stories; e++) {
+        if (!isfinite(w->story_force[e] + w->story_damping_force[e])) {
+            kind = STORY;
+            where = e;
+            break;
+        }
+    }
+    for (e = 0; e < m->contacts; e++) {
+        if (!isfinite(w->contact_force[e])) {
+            kind = CONTACT;
+            where = e;
+            break;
+        }
+    }
+    return fail(st, b, NOT_FINITE, k, kind, where);
+}
+
+/* Assemble the effective stiffness band from the element tangents in w->story_kk and
+ * w->contact_kk and factor it; 0 (after recording why) if it is not definite. */
+static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t b, int64_t k,
+                  double c0, double c1, double wm, double wf)
+{
+    const int64_t n = m->dofs, bw = s->bandwidth;
+    double *band = w->band;
+    const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
+    const double *kks;
+    const int64_t *dofs;
+    int64_t i, d, e;
+    for (i = 0; i < n; i++) {
+        for (d = 1; d < bw + 1; d++)
+            band[i * (bw + 1) + d] = 0.0;
+        band[i * (bw + 1)] = mass[i] * c0 * wm + damping[i] * c1 * wf;
+    }
+    dofs = m->story_dofs;
+    kks = w->story_kk;
+    for (e = 0; e < m->stories; e++) {
+        const double kk = kks[e];
+        const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
+        band[up * (bw + 1)] += kk;
+        if (lo >= 0) {
+            band[lo * (bw + 1)] += kk;
+            band[imax(lo, up) * (bw + 1) + iabs(lo - up)] -= kk;
+        }
+    }
+    dofs = m->contact_dofs;
+    kks = w->contact_kk;
+    for (e = 0; e < m->contacts; e++) {
+        const double kk = kks[e];
+        const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
+        band[left * (bw + 1)] += kk;
+        band[right * (bw + 1)] += kk;
+        band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
+    }
+    st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
+    if (ldl_factor(band, n, bw))
+        return 1;
+    return fail(st, b, NOT_DEFINITE, k, NODE, 0);
+}
+
+/* Ground accelerations at fractions start and stop of step k (linear between the samples
+ * k - 1 and k). */
+static void ground_between(const Model *m, int64_t b, int64_t k, double start, double stop,
+                           double *ag_old, double *ag_new)
+{
+    const double *ag = m->ground + b * m->ground_width;
+    const double slope = ag[k] - ag[k - 1];
+    *ag_old = ag[k - 1] + slope * start;
+    *ag_new = ag[k - 1] + slope * stop;
+}

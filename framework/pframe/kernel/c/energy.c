@@ -1,0 +1,149 @@
+/* Committing a step: energy increments, impact counts, the state copy, and a runaway check.
+ *
+ * The work of each force over the step is counted by the trapezoidal rule. With Newmark's
+ * relations and equilibrium at t(n+1 - alpha) (forces weighted (1 - alpha_f) at the step end
+ * and alpha_f at its start, inertia likewise with alpha_m), the step's works satisfy exactly
+ *
+ *     W_input = dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic,
+ *
+ * with the kinetic energy (1/2) v M v + (beta - 1/4) (h^2 / 2) a M a (beta = 1/4: the plain
+ * kinetic energy; central difference: beta = 0) and the integrator's own dissipation
+ *
+ *     D_algorithmic = (1/4 - gamma/2) h^2 [a M a / 2] - (gamma - 1/2) h v_mid M [a]
+ *                     + (1/2 - alpha_m) du M [a] + (1/2 - alpha_f) du . [G],
+ *
+ * where [x] is the increment of x over the step, v_mid the mean velocity, du the displacement
+ * increment and G = C v + F(u) + M a_g the non-inertial forces. D_algorithmic vanishes for
+ * average acceleration (gamma = 1/2, alpha = 0) and is the numerical damping of HHT,
+ * generalised alpha and Newmark with gamma > 1/2. It is counted on its own, so the balance
+ * closes to round-off for every integrator of the family: its error measures the run's
+ * arithmetic and the integrator's consistency (a pair that creates energy shows there), while
+ * D_algorithmic says how much the integrator damped (pframe.verdict judges both).
+ */
+
+/* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
+ * kinetic energy ran away from what the ground motion put in. */
+static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                  int64_t k, double h, double ag_old, double ag_new)
+{
+    const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
+    const double *mass = m->mass + b * n;
+    double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
+    const double *u = w->u, *v = w->v, *a = w->a;
+    double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
+    double *damping_c = st->story_damping_force + b * ns, *tangent_c = st->story_tangent + b * ns;
+    const double *drift_t = w->drift, *force_t = w->story_force;
+    const double *damping_t = w->story_damping_force, *tangent_t = w->story_tangent;
+    double *cforce_c = st->contact_force + b * nc, *pen_c = st->penetration + b * nc;
+    int64_t *impacts = st->impacts + b * nc;
+    const double *cforce_t = w->contact_force, *pen_t = w->penetration;
+    double *energy = st->energy + b * ENERGY_SLOTS;
+    double work_in = 0.0, shadow, kinetic, raw, budget, t;
+    int64_t i, e;
+    if (k > 0) {
+        const double *damping = m->mass_damping + b * n;
+        double work_damp = 0.0, work_story = 0.0, work_contact = 0.0, inertial;
+        /* the pieces of D_algorithmic (see above): du . [G], du M [a], v_mid M [a], [a M a / 2] */
+        double du_dG = 0.0, du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
+        for (i = 0; i < n; i++) {
+            const double du = u[i] - U[i];
+            const double da = a[i] - A[i];
+            work_in -= 0.5 * (ag_old + ag_new) * mass[i] * du;
+            work_damp += 0.5 * damping[i] * (V[i] + v[i]) * du;
+            du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * (ag_new - ag_old)) * du;
+            du_Mda += mass[i] * da * du;
+            v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
+            d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
+        }
+        for (e = 0; e < ns; e++) {
+            const double dd = drift_t[e] - drift_c[e];
+            work_story += 0.5 * (force_c[e] + force_t[e]) * dd;
+            work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
+            du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
+        }
+        energy[INPUT] += work_in;
+        energy[DAMPING] += work_damp;
+        energy[STOREYS] += work_story;
+        if (nc) {
+            for (e = 0; e < nc; e++) {
+                const double dp = pen_t[e] - pen_c[e];
+                work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
+                du_dG += (cforce_t[e] - cforce_c[e]) * dp;
+                if (pen_c[e] <= 0.0 && pen_t[e] > 0.0)
+                    impacts[e] += 1;
+            }
+            energy[CONTACTS] += work_contact;
+        }
+        inertial = ((0.25 - 0.5 * s->gamma) * h * h * d_aMa - (s->gamma - 0.5) * h * v_Mda
+                    + (0.5 - s->alpha_m) * du_Mda);
+        if (s->alpha) {
+            /* equilibrium holds at the alpha point, with the forces evaluated there (not the
+             * weighted end forces: the two differ where a law is nonlinear) */
+            const double trapezoid = work_damp + work_story + work_contact - work_in;
+            energy[ALGORITHMIC] += inertial + w->scalars[ALPHA_WORK] - trapezoid;
+        } else {
+            energy[ALGORITHMIC] += inertial + 0.5 * du_dG;
+        }
+    }
+
+    shadow = (s->beta - 0.25) * h * h;
+    kinetic = 0.0;
+    raw = 0.0;
+    for (i = 0; i < n; i++) {
+        U[i] = u[i];
+        V[i] = v[i];
+        A[i] = a[i];
+        raw += 0.5 * mass[i] * v[i] * v[i];
+        kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
+    }
+    energy[KINETIC] = kinetic;
+    if (k == 0)
+        energy[KINETIC_0] = kinetic;
+    for (e = 0; e < ns; e++) {
+        drift_c[e] = drift_t[e];
+        force_c[e] = force_t[e];
+        damping_c[e] = damping_t[e];
+        tangent_c[e] = tangent_t[e];
+    }
+    for (e = 0; e < nc; e++) {
+        cforce_c[e] = cforce_t[e];
+        pen_c[e] = pen_t[e];
+    }
+    {
+        const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
+        double *to = st->story_committed + b * story_values;
+        const double *from = st->story_trial + b * story_values;
+        for (i = 0; i < story_values; i++)
+            to[i] = from[i];
+        to = st->contact_committed + b * contact_values;
+        from = st->contact_trial + b * contact_values;
+        for (i = 0; i < contact_values; i++)
+            to[i] = from[i];
+    }
+
+    /* Divergence: the kinetic energy cannot exceed what came in (initial energy plus the input
+     * work, counted in absolute value) but by the integrator's own small excess; ten times
+     * that means the numbers are running away (a test on the balance would not do: Newmark
+     * with gamma = 1/2 conserves its modified energy even when unstable). */
+    if (k == 0) {
+        double start = raw;
+        for (e = 0; e < ns; e++)
+            start += 0.5 * force_t[e] * drift_t[e];
+        for (e = 0; e < nc; e++)
+            start += 0.5 * cforce_t[e] * py_max(pen_t[e], 0.0);
+        energy[START] = fabs(start);
+        return 1;
+    }
+    energy[INPUT_ABS] += fabs(work_in);
+    t = h * (fabs(ag_old) + fabs(ag_new));
+    budget = energy[INPUT_ABS] + energy[START] + t * t * w->scalars[MASS_MIN];
+    if (raw <= 10.0 * budget)
+        return 1;
+    {
+        int64_t worst = 0;
+        for (i = 0; i < n; i++)
+            if (fabs(U[i]) > fabs(U[worst]))
+                worst = i;
+        return fail(st, b, NOT_STABLE, k, NODE, worst);
+    }
+}

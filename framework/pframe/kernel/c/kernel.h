@@ -1,0 +1,52 @@
+/* pframe's time-stepping kernel: what every file of it shares.
+ *
+ * The kernel is compiled as one unit (kernel.c includes each file in turn), so that every
+ * function is static and the compiler inlines across files as numba did. C99, no VLAs, no
+ * compiler extensions: gcc, clang and MSVC compile it alike. IEEE arithmetic (no fast-math, no
+ * contraction into fused multiply-adds), in the order the Python reference wrote it, so that
+ * results agree with the laws' Python definitions to the last bit where the operations are
+ * the same.
+ *
+ * Names follow pframe/kernel/state.py (m: Model, s: Settings, st: State, rec: Recording,
+ * w: Work, sv: Saved, b: batch member, k: step, h: step length); the structs and slot names
+ * are generated from it into state.h.
+ */
+
+#ifndef PFRAME_KERNEL_H
+#define PFRAME_KERNEL_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "state.h"
+
+#if defined(_WIN32)
+#define PFRAME_EXPORT __declspec(dllexport)
+#elif defined(__GNUC__)
+#define PFRAME_EXPORT __attribute__((visibility("default")))
+#else
+#define PFRAME_EXPORT
+#endif
+
+/* the version of the interface between the driver (pframe/kernel/ckernel.py) and the kernel */
+#define PFRAME_KERNEL_INTERFACE 1
+
+/* pframe_run's return values */
+#define RUN_OK 0
+#define RUN_ZERO_DIVISION 1
+
+/* Python's max(a, b) and min(a, b) of floats (the first unless the second is larger/smaller) */
+static double py_max(double a, double b) { return b > a ? b : a; }
+static double py_min(double a, double b) { return b < a ? b : a; }
+static int64_t imax(int64_t a, int64_t b) { return a > b ? a : b; }
+static int64_t imin(int64_t a, int64_t b) { return a < b ? a : b; }
+static int64_t iabs(int64_t a) { return a < 0 ? -a : a; }
+
+/* functions used before the file that defines them */
+static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                      int64_t k, double h, double ag_old, double ag_new);
+static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                  int64_t k, double h, double ag_old, double ag_new);
+
+#endif

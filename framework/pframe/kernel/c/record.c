@@ -1,0 +1,91 @@
+/* Recorders: gathering committed state into history rows and envelopes.
+ *
+ * Only what a scene's recorders ask for is gathered: a history of quantity q is written at the
+ * steps that are multiples of its `every` (the loop asks next_due for the next such step once
+ * per record, not every quantity every step), an envelope keeps the running peak of the
+ * absolute value. Recorders see committed state only.
+ */
+
+/* a step no run reaches (no history is due) */
+#define NEVER ((int64_t)1 << 62)
+
+/* The committed values of quantity q of member b, and how many there are (NULL for the
+ * ground acceleration, which is m->ground[b, k]). */
+static const double *source(const Model *m, const State *st, int64_t q, int64_t b,
+                            int64_t *width)
+{
+    const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
+    switch (q) {
+    case DISPLACEMENT: *width = n; return st->U + b * n;
+    case VELOCITY: *width = n; return st->V + b * n;
+    case ACCELERATION: *width = n; return st->A + b * n;
+    case STORY_DRIFT: *width = ns; return st->drift + b * ns;
+    case STORY_FORCE: *width = ns; return st->story_force + b * ns;
+    case CONTACT_FORCE: *width = nc; return st->contact_force + b * nc;
+    case CONTACT_PENETRATION: *width = nc; return st->penetration + b * nc;
+    default: *width = 1; return NULL;
+    }
+}
+
+/* Committed value i of quantity q (its values from source). */
+static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
+                    int64_t i)
+{
+    if (q == GROUND_ACCELERATION)
+        return m->ground[b * m->ground_width + k];
+    if (q == CONTACT_PENETRATION)
+        return py_max(values[i], 0.0);
+    return values[i];
+}
+
+/* The first step at or after k at which a history is due (NEVER if none is). */
+static int64_t next_due(const Recording *rec, int64_t k)
+{
+    int64_t due = NEVER, q;
+    for (q = 0; q < RECORDABLE_COUNT; q++) {
+        const int64_t every = rec->every[q];
+        if (every > 0) {
+            const int64_t step = (k + every - 1) / every * every;
+            if (step < due)
+                due = step;
+        }
+    }
+    return due;
+}
+
+/* Gather the histories due at step k; returns the next step one is due. */
+static int64_t record_histories(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+{
+    int64_t gathered = 0, q, i, width;
+    for (q = 0; q < RECORDABLE_COUNT; q++) {
+        const int64_t every = rec->every[q];
+        if (every > 0 && k % every == 0) {
+            const int64_t columns = rec->history_width[q];
+            const int64_t row = k / every - rec->first_row[q];
+            double *history = rec->history[q] + (b * rec->history_rows[q] + row) * columns;
+            const double *values = source(m, st, q, b, &width); /* once per quantity */
+            for (i = 0; i < columns; i++)
+                history[i] = value(m, q, values, b, k, i);
+            gathered += columns;
+        }
+    }
+    st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
+    return next_due(rec, k + 1);
+}
+
+/* Update the running peaks of the enveloped quantities with step k. */
+static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+{
+    int64_t gathered = 0, q, i, width;
+    for (q = 0; q < RECORDABLE_COUNT; q++) {
+        if (rec->enveloped[q]) {
+            const int64_t columns = rec->envelope_width[q];
+            double *peak = rec->envelope[q] + b * columns;
+            const double *values = source(m, st, q, b, &width);
+            for (i = 0; i < columns; i++)
+                peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i)));
+            gathered += columns;
+        }
+    }
+    st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
+}
