@@ -2,7 +2,9 @@
 
 The package ``tests/plugin_pkg`` (distribution ``pframe-softstop``) registers two contact
 laws in the group ``pframe.contact_laws``: ``softstop``, a cubic-stiffening spring
-F = k delta (1 + (delta / delta_ref)^2), and ``broken``, whose force() numba cannot compile.
+F = k delta (1 + (delta / delta_ref)^2), ``broken``, whose force() numba cannot compile, and
+``improved_kelvin_copy``, pframe's improved Kelvin law as a plug-in. numba compiles a plug-in's
+force into a C function the C kernel calls through a pointer (pframe.kernel.plugins).
 
 pip installs it into a private folder (``--target``) that only the ``pframe`` subprocesses
 of these tests see (on their PYTHONPATH): the environment is never changed, so neither other
@@ -78,8 +80,9 @@ def run_pframe(softstop_site):
     env["PYTHONPATH"] = os.pathsep.join(
         [str(softstop_site)] + ([env["PYTHONPATH"]] if env.get("PYTHONPATH") else []))
 
-    def run(*args: str, cwd: Path) -> subprocess.CompletedProcess:
-        return subprocess.run(command + list(args), cwd=cwd, env=env, capture_output=True,
+    def run(*args: str, cwd: Path, cache: Path | None = None) -> subprocess.CompletedProcess:
+        here = env if cache is None else dict(env, PFRAME_CACHE_DIR=str(cache))
+        return subprocess.run(command + list(args), cwd=cwd, env=here, capture_output=True,
                               text=True, timeout=600)
 
     run.site = [softstop_site]
@@ -210,3 +213,37 @@ def test_plugin_law_is_known_everywhere_a_built_in_law_is(run_pframe, tmp_path):
     peer = run_pframe("opensees", str(model), cwd=tmp_path)
     assert peer.returncode == 2 and "softstop" in peer.stderr
     assert "no OpenSees counterpart" in peer.stderr
+
+
+def test_a_plugin_copy_of_a_built_in_law_gives_its_results(run_pframe, tmp_path):
+    """The paper's scene with its improved Kelvin contacts as the built-in law (C, in the
+    kernel) and as a plug-in copy (numba cfunc, called through a pointer): the same numbers,
+    bit for bit, and the plug-in compiled once (a second run finds it cached).
+    benchmarks/plugin_speed.py compares their speed."""
+    import yaml
+
+    models = Path(__file__).resolve().parents[1] / "models"
+    data = yaml.safe_load((models / "wu2021-eq14.yaml").read_text(encoding="utf-8"))
+    data["analysis"]["duration"] = 3.0  # the first impacts at every floor
+    builtin = tmp_path / "builtin.yaml"
+    builtin.write_text(json.dumps(data), encoding="utf-8")
+    for contact in data["contacts"]:
+        contact["law"] = "improved_kelvin_copy"
+    plugin = tmp_path / "plugin.yaml"
+    plugin.write_text(json.dumps(data), encoding="utf-8")
+    env_cache = tmp_path / "cache"
+    results, files = {}, {}
+    for name, model in (("builtin", builtin), ("plugin", plugin), ("again", plugin)):
+        run = run_pframe("solve", str(model), "-o", str(tmp_path / f"{name}.h5"), "-q",
+                         cwd=tmp_path, cache=env_cache)
+        assert run.returncode == 0, run.stderr
+        files[name] = {p for p in env_cache.rglob("*") if p.is_file()}
+        with h5py.File(tmp_path / f"{name}.h5", "r") as f:
+            results[name] = {q: f[q][:] for q in ("displacement", "contact_force", "story_force")}
+    assert files["builtin"] == set()  # the built-in law compiled nothing
+    assert any(p.name == "compiled" for p in files["plugin"])  # the plug-in, once ...
+    assert files["again"] == files["plugin"]  # ... and the next run found it in the cache
+    assert results["builtin"]["contact_force"].max() > 0  # the contacts did close
+    for q, values in results["builtin"].items():
+        assert np.array_equal(values, results["plugin"][q]), q
+        assert np.array_equal(values, results["again"][q]), q

@@ -155,9 +155,12 @@ def _source(laws) -> str:
         top = law.__qualname__.split(".")[0]
         rest = law.__qualname__[len(top):]
         params, states = max(1, len(law.param_names)), max(1, len(law.state_names))
+        # error_model 'numpy': a division by zero gives inf or nan, as in the C kernel (which
+        # then stops the member and says where), without a check at every division
         lines += [f"from {law.__module__} import {top} as _law{i}",
-                  f"_force{i} = numba.njit(inline='always')(_law{i}{rest}.force)", "",
-                  "", "@numba.cfunc(SIGNATURE, cache=True, nopython=True)",
+                  f"_force{i} = numba.njit(inline='always', error_model='numpy')(",
+                  f"    _law{i}{rest}.force)", "", "",
+                  "@numba.cfunc(SIGNATURE, cache=True, nopython=True, error_model='numpy')",
                   f"def law{i}(params, committed, trial, deformation, rate, out):",
                   f"    f, kd, kr = _force{i}(numba.carray(params, ({params},)),",
                   f"                        numba.carray(committed, ({states},)),",

@@ -3,6 +3,7 @@
 ``SoftStop`` is a cubic-stiffening compression-only spring,
 F = k delta (1 + (delta / delta_ref)^2) for delta > 0. ``Broken`` is a law whose force()
 numba cannot compile (it formats a string), to check the error message.
+``ImprovedKelvinCopy`` is pframe's improved Kelvin law as a plug-in (``improved_kelvin_copy``).
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ from typing import Literal
 from pydantic import Field
 
 from pframe.laws import Law
+from pframe.laws.contact._hunt_crossley import hunt_crossley_force
+from pframe.laws.contact.improved_kelvin import ImprovedKelvin
 from pframe.laws.params import LawParams, Positive
 
 
@@ -64,3 +67,15 @@ class Broken(Law):
         if deformation <= 0.0 or not label:
             return 0.0, 0.0, 0.0
         return params[0] * deformation, params[0], 0.0
+
+
+class ImprovedKelvinCopy(ImprovedKelvin):
+    """pframe's improved Kelvin law under another name, as a plug-in: its force is compiled by
+    numba into a C function the kernel calls through a pointer, where the built-in one is in
+    the compiled kernel (the same results, bit for bit; benchmarks/plugin_speed.py compares
+    their speed)."""
+
+    class Params(ImprovedKelvin.Params):
+        law: Literal["improved_kelvin_copy"]
+
+    force = staticmethod(hunt_crossley_force)  # the same Python function as the built-in's
