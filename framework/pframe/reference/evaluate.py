@@ -1,9 +1,10 @@
 """Calling a law's own ``force`` over many elements (and many time samples) at once.
 
 The reference shares the constitutive laws with the kernel but not the time stepping, so the
-force of every storey and contact comes from the law's ``force`` function: by default compiled
-by numba into one loop per law (the same function the kernel inlines, about 1 us per call for
-a whole group), or, with ``jit=False``, called from Python element by element.
+force of every storey and contact comes from the law's ``force`` function (the one the kernel's
+C is translated from): by default compiled by numba into one loop per law when numba is
+installed (about 1 us per call for a whole group), or, with ``jit=False`` or without numba,
+called from Python element by element.
 """
 
 from __future__ import annotations
@@ -17,7 +18,10 @@ def _compiled_loop(force):
     """A numba loop over rows of ``deformation``; row ``j`` is element ``j % g``."""
     if force in _COMPILED:
         return _COMPILED[force]
-    import numba
+    try:
+        import numba
+    except ImportError:  # numba is the optional 'plugins' extra: the same force, in Python
+        return _python_loop(force)
 
     law_force = numba.njit(force)
 
