@@ -128,3 +128,21 @@ PFRAME_EXPORT void pframe_layout(int64_t *sizes)
     sizes[4] = (int64_t)sizeof(Work);
     sizes[5] = (int64_t)sizeof(Saved);
 }
+
+/* One built-in law's force, for the tests that compare the C translation of every law with
+ * its Python definition (pframe.kernel.translate): kind 0 a material, 1 a contact law. */
+PFRAME_EXPORT void pframe_law_force(int64_t kind, int64_t law, const double *params,
+                                    const double *committed, double *trial,
+                                    double deformation, double rate, double *out)
+{
+    Settings s = {0};
+    const int64_t builtin = kind == 0 ? BUILTIN_MATERIALS : BUILTIN_CONTACT_LAWS;
+    if (law < 0 || law >= builtin) { /* plug-ins are not in the compiled kernel */
+        out[0] = out[1] = out[2] = NAN;
+        return;
+    }
+    if (kind == 0)
+        material_force(&s, law, params, committed, trial, deformation, rate, out);
+    else
+        contact_force(&s, law, params, committed, trial, deformation, rate, out);
+}
