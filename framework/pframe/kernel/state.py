@@ -113,9 +113,11 @@ Work = namedtuple("Work", [
     "scalars",                 # (SCALAR_SLOTS,) see H_FACTORED, STALE, MASS_MIN
 ])
 # w.scalars: the step length of the current factorisation (0 before the first), 1.0 when an
-# element tangent changed since, and the smallest mass of the member
-H_FACTORED, STALE, MASS_MIN = 0, 1, 2
-SCALAR_SLOTS = 3
+# element tangent changed since, the smallest mass of the member, and the contact held on one
+# branch while an event is located (-1: none) and that branch (1.0 closed, 0.0 open; see
+# kernel/events.py)
+H_FACTORED, STALE, MASS_MIN, HELD, HELD_CLOSED = 0, 1, 2, 3, 4
+SCALAR_SLOTS = 5
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [
