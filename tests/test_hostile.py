@@ -712,3 +712,62 @@ def test_generated_scenes_never_replace_their_input(tmp_path, capsys, command):
     assert "one of this run's inputs" in err and target.read_bytes() == before
     refused(capsys, [*argv, "-o", ""])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["hust-pi.yaml", "hust.yaml"]
+
+
+# --- issue 20: one output lifecycle, bounded reads, every failure a pframe error -----------
+
+def test_a_device_or_fifo_is_never_replaced_even_with_overwrite(tmp_path, capsys):
+    model = write_scene(tmp_path, short(scene_data()))
+    fifo = tmp_path / "pipe.h5"
+    os.mkfifo(fifo)
+    for target in (fifo, Path(os.devnull)):
+        err = refused(capsys, ["solve", str(model), "-o", str(target), "--overwrite"])
+        assert "not a regular file" in err and str(target) in err
+    assert fifo.is_fifo() and Path(os.devnull).is_char_device()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.h5", "scene.yaml"]
+
+
+def test_schema_never_replaces_a_file_that_is_not_a_schema(tmp_path, capsys):
+    model = write_scene(tmp_path, short(scene_data()), "my-scene.yaml")
+    before = model.read_bytes()
+    err = refused(capsys, ["schema", "-o", str(model)])
+    assert "--overwrite" in err and model.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["my-scene.yaml"]
+    fresh = tmp_path / "s" / "model.schema.json"
+    fresh.parent.mkdir()
+    assert main(["schema", "-o", str(fresh)]) == 0
+    assert main(["schema", "-o", str(fresh)]) == 0  # its own schema is refreshed
+    refused(capsys, ["schema", "-o", os.devnull, "--overwrite"])
+
+
+def test_opensees_may_not_write_onto_its_scene_or_record(tmp_path, capsys):
+    (tmp_path / "rec.txt").write_text("0 0\n0.01 0.1\n0.02 0\n", encoding="utf-8")
+    model = _record_scene(tmp_path, "", "rec.txt")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    for target in (model, tmp_path / "rec.txt"):  # refused before the script is made
+        err = refused(capsys, ["opensees", str(model), "-o", str(target), "--overwrite"])
+        assert "one of this run's inputs" in err
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_loading_a_result_leaves_nothing_behind_and_follows_dotdot(tmp_path):
+    shared = tmp_path / "shared" / "records"
+    shared.mkdir(parents=True)
+    (shared / "x.txt").write_text("0 0\n0.01 0.1\n0.02 0\n0.03 -0.1\n", encoding="utf-8")
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    model = _record_scene(runs, "", "../shared/records/x.txt")
+    out = runs / "run.h5"
+    assert main(["solve", str(model), "-o", str(out), "-q"]) == 0
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    script = ("import sys, pframe\n"
+              "for _ in range(5):\n"
+              "    scene = pframe.load(sys.argv[1])\n"
+              "    assert scene.excitation.file == '../shared/records/x.txt'\n"
+              "print(pframe.load(sys.argv[1]).excitation.file)\n")
+    done = subprocess.run([sys.executable, "-c", script, str(out)], capture_output=True,
+                          text=True, env={**os.environ, "TMPDIR": str(scratch)}, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "../shared/records/x.txt"
+    assert list(scratch.iterdir()) == []
