@@ -4,10 +4,9 @@ from __future__ import annotations
 
 
 def _opensees(args) -> int:
+    from pframe import outputs
     from pframe.api import _loaded, _scene_of, run_inputs
     from pframe.commands import write_text_output
-
-    from pframe import outputs
 
     loaded = _loaded(args.model)
     if args.output is not None:  # before the script is made: the scene and record stay
