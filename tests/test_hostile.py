@@ -771,3 +771,112 @@ def test_loading_a_result_leaves_nothing_behind_and_follows_dotdot(tmp_path):
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == "../shared/records/x.txt"
     assert list(scratch.iterdir()) == []
+
+
+GAP_PAIR = """
+buildings:
+  - {name: A, floors: 2, mass: 250.0, story: {material: elastic, stiffness: 197392.088}}
+  - {name: B, floors: 2, mass: 1000.0, story: {material: elastic, stiffness: 1973920.88}}
+contacts:
+  - {name: floor-1, nodes: [A/1, B/1], gap: 0.05, law: linear, stiffness: 2.0e7}
+damping: {ratio: 0.05}
+excitation: {kind: record, file: rec.txt}
+analysis: {dt: 0.01, duration: 0.5}
+"""
+
+
+def _gap_pair(folder: Path) -> Path:
+    (folder / "rec.txt").write_text("".join(f"{0.01 * i:.2f} {0.5 * (-1) ** i}\n"
+                                            for i in range(40)), encoding="utf-8")
+    scene = folder / "pair.yaml"
+    scene.write_text(GAP_PAIR, encoding="utf-8")
+    return scene
+
+
+def test_gap_may_not_write_onto_its_scene_or_record(tmp_path, capsys):
+    scene = _gap_pair(tmp_path)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    for target in ("pair.yaml", "rec.txt"):
+        err = refused(capsys, ["gap", str(scene), "-o", str(tmp_path / target), "--overwrite"])
+        assert "one of this run's inputs" in err
+    err = refused(capsys, ["gap", str(scene), "--suite", str(tmp_path / "rec.txt"), "-o",
+                           str(tmp_path / "rec.txt"), "--overwrite"])
+    assert "one of this run's inputs" in err
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_plot_never_replaces_without_overwrite_nor_a_fifo(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    model = write_scene(tmp_path, short(scene_data()))
+    result = tmp_path / "run.h5"
+    assert main(["solve", str(model), "-o", str(result), "-q"]) == 0
+    mine = tmp_path / "mine.pdf"
+    mine.write_bytes(SENTINEL)
+    err = refused(capsys, ["plot", str(result), "-o", str(mine)])
+    assert "--overwrite" in err and mine.read_bytes() == SENTINEL
+    fifo = tmp_path / "fig.pdf"
+    os.mkfifo(fifo)
+    err = refused(capsys, ["plot", str(result), "-o", str(fifo), "--overwrite"])
+    assert "not a regular file" in err and fifo.is_fifo()
+    assert main(["plot", str(result), "-o", str(mine), "--overwrite", "-q"]) == 0
+    assert mine.read_bytes()[:4] == b"%PDF"
+
+
+def test_accuracy_never_replaces_its_files_without_overwrite(tmp_path, capsys):
+    folder = tmp_path / "acc"
+    folder.mkdir()
+    (folder / "accuracy.csv").write_bytes(SENTINEL)
+    err = refused(capsys, ["accuracy", str(WU2021), "-o", str(folder), "--factors", "1"])
+    assert "accuracy.csv" in err and "--overwrite" in err
+    assert (folder / "accuracy.csv").read_bytes() == SENTINEL
+
+
+def test_a_damaged_chunk_is_run_again_not_a_traceback(tmp_path, capsys):
+    from pframe.sweep.store import Parts
+
+    class Spec:
+        count, chunks = 4, 2
+
+    class Definition:
+        digest, source, chunk = "d", "s.yaml", 2
+
+    out = tmp_path / "out.nc"
+    parts = Parts(out, Definition, Spec)
+    assert parts.open() == set()
+    parts.save(0, {"x": np.arange(3.0)})
+    parts.save(1, {"x": np.arange(3.0)})
+    parts.close()
+    whole = parts.path(1).read_bytes()
+    parts.path(1).write_bytes(whole[: len(whole) // 2])  # truncated (a disk that filled up)
+    again = Parts(out, Definition, Spec)
+    assert again.open() == {0}
+    again.close()
+    assert "damaged" in capsys.readouterr().err and not parts.path(1).exists()
+    parts.path(0).write_bytes(b"PK\x03\x04 not a chunk")
+    with pytest.raises(InputError, match="chunk-00000.npz"):
+        again.load(0)
+
+
+def test_a_stopped_audit_says_what_it_kept_and_resumes_saying_so(tmp_path, capsys,
+                                                                 monkeypatch):
+    from pframe.gap import runs
+
+    scene = _gap_pair(tmp_path)
+    real, calls = runs.run_batch, []
+
+    def stop_second(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(runs, "run_batch", stop_second)
+    out = tmp_path / "audit.nc"
+    argv = ["gap", str(scene), "--levels", "0.1,0.2,0.3", "--chunk", "1", "-o", str(out)]
+    assert main(argv) == 130
+    err = capsys.readouterr().err
+    assert "1 finished batch kept in" in err and "resume" in err and "no output" not in err
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "resuming: 1 finished batch" in err
+    assert out.exists() and not (tmp_path / "audit.nc.parts").exists()
