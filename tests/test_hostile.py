@@ -880,3 +880,27 @@ def test_a_stopped_audit_says_what_it_kept_and_resumes_saying_so(tmp_path, capsy
     err = capsys.readouterr().err
     assert "resuming: 1 finished batch" in err
     assert out.exists() and not (tmp_path / "audit.nc.parts").exists()
+
+
+def test_devices_and_fifos_are_refused_at_once_never_read(tmp_path, capsys):
+    fifo = tmp_path / "rec.txt"
+    os.mkfifo(fifo)  # no writer: reading it would wait for ever
+    model = _record_scene(tmp_path, "", "rec.txt")
+    err, peak = bounded(refused, capsys, ["validate", str(model)])
+    assert "rec.txt" in err and "FIFO" in err
+    err, peak = bounded(refused, capsys, ["validate", "/dev/zero"])
+    assert "/dev/zero" in err and "device" in err and peak < BOUNDED_BYTES
+    zero = _record_scene(tmp_path, "", "/dev/zero")
+    err, peak = bounded(refused, capsys, ["validate", str(zero)])
+    assert "/dev/zero" in err and "device" in err and peak < BOUNDED_BYTES
+
+
+def test_a_scene_beyond_the_size_limit_is_refused_before_it_is_parsed(tmp_path, capsys):
+    from pframe.yamltext import MAX_YAML_BYTES
+
+    model = write_scene(tmp_path, short(scene_data()))
+    with open(model, "a", encoding="utf-8") as handle:
+        handle.write("# padding\n" * (MAX_YAML_BYTES // 10 + 1))
+    err, peak = bounded(refused, capsys, ["validate", str(model)])
+    assert str(model) in err and f"{MAX_YAML_BYTES / 2**20:g} MiB" in err
+    assert "getting-started.md#limits" in err and peak < 4 * MAX_YAML_BYTES
