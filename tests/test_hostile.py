@@ -904,3 +904,26 @@ def test_a_scene_beyond_the_size_limit_is_refused_before_it_is_parsed(tmp_path, 
     err, peak = bounded(refused, capsys, ["validate", str(model)])
     assert str(model) in err and f"{MAX_YAML_BYTES / 2**20:g} MiB" in err
     assert "getting-started.md#limits" in err and peak < 4 * MAX_YAML_BYTES
+
+
+def test_a_disk_that_fills_during_the_run_stops_it_before_hdf5_meets_it(tmp_path, capsys,
+                                                                        monkeypatch):
+    # libhdf5 that meets ENOSPC while writing crashes the process when the file is closed
+    # (segmentation fault, exit 139, its hidden temporary file left): the writer checks the
+    # free space before each block and stops with exit 3 while HDF5 is still whole
+    from pframe.record import hdf5
+
+    model = write_scene(tmp_path, short(scene_data(), 2000))
+    out = tmp_path / "out.h5"
+    out.write_bytes(SENTINEL)
+    calls = []
+
+    def filling(folder):
+        calls.append(folder)
+        return 2**40 if len(calls) < 3 else 2**20
+
+    monkeypatch.setattr(hdf5, "_free_bytes", filling)
+    err = refused(capsys, ["solve", str(model), "-o", str(out), "--overwrite"], code=3)
+    assert "disk is full" in err and str(out) in err and "unchanged" in err
+    assert out.read_bytes() == SENTINEL
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "scene.yaml"]

@@ -231,10 +231,13 @@ def temporary(path, clean: bool = True) -> Path:
 def discard(tmp) -> None:
     """Remove a temporary file (no error if it is gone)."""
     tmp = Path(tmp)
-    with _lock:
-        _live.discard(tmp)
-    with contextlib.suppress(FileNotFoundError):
-        tmp.unlink()
+    try:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
+    finally:  # forgotten only once gone (a stop arriving here still finds it at exit)
+        with _lock:
+            if not tmp.exists():
+                _live.discard(tmp)
 
 
 def commit(tmp, path, overwrite: bool | None = None) -> Path:
