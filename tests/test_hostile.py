@@ -927,3 +927,22 @@ def test_a_disk_that_fills_during_the_run_stops_it_before_hdf5_meets_it(tmp_path
     assert "disk is full" in err and str(out) in err and "unchanged" in err
     assert out.read_bytes() == SENTINEL
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "scene.yaml"]
+
+
+@pytest.mark.parametrize("value", ["1e400", "1e30TiB", "0", "inf"])
+def test_an_absurd_memory_limit_is_bad_input(capsys, monkeypatch, value):
+    monkeypatch.setenv("PFRAME_MEMORY_LIMIT", value)
+    err = refused(capsys, ["validate", str(WU2021)])
+    assert "PFRAME_MEMORY_LIMIT" in err and value in err
+
+
+def test_a_record_with_an_absurd_step_is_answered_not_a_traceback(tmp_path, capsys):
+    (tmp_path / "rec.AT2").write_text(AT2_HEAD + "NPTS= 3, DT= 1e-300 SEC\n0.1 0.2 0.3\n",
+                                      encoding="utf-8")
+    model = _record_scene(tmp_path, "", "rec.AT2")
+    code = main(["solve", str(model), "-o", str(tmp_path / "out.h5"), "-q"])
+    err = capsys.readouterr().err
+    assert code in (0, 1, 2, 3) and "Traceback" not in err
+    if code == 0:  # the reference scales overflow: the file has none, not inf
+        with h5py.File(tmp_path / "out.h5", "r") as f:
+            assert all(np.isfinite(f.attrs[k]) for k in f.attrs if k.startswith("reference_"))

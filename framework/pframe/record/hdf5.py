@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import errno
+import math
 import os
 from pathlib import Path
 
@@ -315,8 +316,12 @@ def reference_attributes(loaded) -> dict:
     except (InputError, ValueError, TypeError, AttributeError):
         return {}
     m, a, w = float(scales["m_b"]), float(scales["a_p"]), float(scales["w_p"])
-    return {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
-            "reference_l_e": a / w**2}
+    try:  # scales from an absurd record (DT = 1e-300 s) overflow: then there are none
+        values = {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
+                  "reference_l_e": a / w**2}
+    except (OverflowError, ZeroDivisionError):
+        return {}
+    return values if all(math.isfinite(v) for v in values.values()) else {}
 
 
 def record_attributes(loaded) -> dict:
