@@ -946,3 +946,14 @@ def test_a_record_with_an_absurd_step_is_answered_not_a_traceback(tmp_path, caps
     if code == 0:  # the reference scales overflow: the file has none, not inf
         with h5py.File(tmp_path / "out.h5", "r") as f:
             assert all(np.isfinite(f.attrs[k]) for k in f.attrs if k.startswith("reference_"))
+
+
+def test_validate_announces_a_large_run_with_its_time_and_file(tmp_path, capsys,
+                                                              monkeypatch):
+    # solve warned of a 6.4 GiB file for a 35,000 s run, validate said nothing: the same
+    # estimate and threshold now apply to both (threshold lowered here: a short run)
+    monkeypatch.setattr(resources, "WARN_FILE_BYTES", 2**20)
+    model = write_scene(tmp_path, short(scene_data(), 20_000))
+    assert main(["validate", str(model)]) == 0
+    err = capsys.readouterr().err
+    assert "pframe: warning:" in err and "a large run" in err and "result file" in err
