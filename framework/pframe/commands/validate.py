@@ -48,6 +48,10 @@ def period_lines(expanded, plan) -> list[str]:
     lines = []
     for b, name in enumerate(expanded.buildings):
         nodes = np.flatnonzero(expanded.node_building == b)
+        if len(nodes) > 2000:  # a dense eigen-solve of n^2 values: not for a tall building
+            lines.append(f"building {name}: {len(nodes)} floors (periods not computed above "
+                         "2,000 floors)")
+            continue
         local = {node: i for i, node in enumerate(nodes)}
         stiffness = np.zeros((len(nodes), len(nodes)))
         for s in np.flatnonzero(expanded.story_building == b):
@@ -69,11 +73,15 @@ def period_lines(expanded, plan) -> list[str]:
 
 
 def _scene(path: Path, kind: str) -> int:
+    from pframe import resources
     from pframe.assemble import assemble
     from pframe.reader import load_scene
 
     loaded = load_scene(path)
     ex = loaded.expanded
+    # announced before anything large is built: the time and file a run would take
+    _warn(loaded.source, resources.check(resources.of_expanded(ex, streaming=True),
+                                         loaded.source))
     plan = assemble(ex)
     what = "a scene in Pi numbers: " if kind == "pi-scene" else ""
     print(f"{loaded.source}: valid; {what}{len(ex.node_names)} nodes in {len(ex.buildings)} "

@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pframe.yamltext import read_bounded
+
 G = 9.80665  # standard gravity (m/s^2): PEER records are in g
 #: the largest record file read: a PEER record is under 1 MiB; an hour at 200 Hz in two text
 #: columns is about 16 MiB. Larger files are refused before they are read
@@ -90,12 +92,9 @@ def read_record(path: str | Path, format: str = "auto", units: str | None = None
     Raises ``ValueError`` with the file and line on malformed input, ``FileNotFoundError``.
     """
     path = Path(path)
-    size = path.stat().st_size
-    if size > MAX_RECORD_BYTES:
-        raise ValueError(f"{path}: the file is {size / 2**20:.0f} MiB; pframe reads record "
-                         f"files of up to {MAX_RECORD_BYTES // 2**20} MiB (a PEER record is "
-                         "well under 1 MiB): is it a record?")
-    text = path.read_text(encoding="utf-8", errors="replace")
+    # a regular file of at most MAX_RECORD_BYTES (a PEER record is well under 1 MiB), read at
+    # once: a device or a FIFO is refused, never read
+    text = read_bounded(path, "record", MAX_RECORD_BYTES, errors="replace")
     is_at2 = format == "at2" or (format == "auto" and path.suffix.lower() == ".at2")
     times, acc = (_read_at2 if is_at2 else _read_columns)(text, str(path))
     if not (np.all(np.isfinite(times)) and np.all(np.isfinite(acc))):

@@ -124,13 +124,14 @@ Work = namedtuple("Work", [
     "scalars",                 # (SCALAR_SLOTS,) see H_FACTORED, STALE, MASS_MIN
 ])
 # w.scalars: the step length of the current factorisation (0 before the first), 1.0 when an
-# element tangent changed since, the smallest mass of the member, the work of the
-# non-inertial forces at the alpha point over the whole (sub-)step (pframe.kernel.energy)
-H_FACTORED, STALE, MASS_MIN, ALPHA_WORK = 0, 1, 2, 3
-# ... and 1.0 when a step's coefficient divided by zero (a step length or Newmark beta that
-# underflows): the kernel stops and the driver raises ZeroDivisionError, as Python would
-ZERO_DIVISION = 4
-SCALAR_SLOTS = 5
+# element tangent changed since, the smallest mass of the member, the contact held on one
+# branch while an event is located (-1: none) and that branch (1.0 closed, 0.0 open; see
+# kernel/c/events.c), the work of the non-inertial forces at the alpha point over the whole
+# (sub-)step (kernel/c/energy.c), and 1.0 when a step's coefficient divided by zero (a step
+# length or Newmark beta that underflows): the kernel stops and the driver raises
+# ZeroDivisionError, as Python would
+H_FACTORED, STALE, MASS_MIN, HELD, HELD_CLOSED, ALPHA_WORK, ZERO_DIVISION = range(7)
+SCALAR_SLOTS = 7
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "story_width", "story_states",
@@ -176,8 +177,8 @@ C_CONSTANTS = {
     "recordable quantities": ("DISPLACEMENT", "VELOCITY", "ACCELERATION", "STORY_DRIFT",
                               "STORY_FORCE", "CONTACT_FORCE", "CONTACT_PENETRATION",
                               "GROUND_ACCELERATION", "RECORDABLE_COUNT"),
-    "work scalars": ("H_FACTORED", "STALE", "MASS_MIN", "ALPHA_WORK", "ZERO_DIVISION",
-                     "SCALAR_SLOTS"),
+    "work scalars": ("H_FACTORED", "STALE", "MASS_MIN", "HELD", "HELD_CLOSED", "ALPHA_WORK",
+                     "ZERO_DIVISION", "SCALAR_SLOTS"),
 }
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores

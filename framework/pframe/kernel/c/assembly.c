@@ -7,6 +7,10 @@
  * contact elements, so the contact loop does not run.
  */
 
+/* where a contact held closed is evaluated once its penetration is below it: the smallest
+ * penetration a law sees as contact (any law's spring term vanishes there) */
+#define HELD_DEPTH 1e-300
+
 /* Record why member b stopped in step k; returns 0 (not ok). */
 static int fail(State *st, int64_t b, int64_t code, int64_t k, int64_t kind, int64_t index)
 {
@@ -99,17 +103,28 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const double *gap = m->gap + b * nc;
         int64_t *calls = st->contact_calls + b * m->contact_laws;
         double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
+        const int64_t held = (int64_t)w->scalars[HELD];
         for (j = 0; j < nc; j++) {
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
             const double d = ue[left] - ue[right] - gap[e];
             const double r = ve[left] - ve[right];
-            double f, kd, kr;
-            contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, d, r, out);
+            double f, kd, kr, at = d;
+            if (e == held) {
+                /* Located events (events.c) hold the contact on one branch, so that its
+                 * penetration is a continuous function of the sub-step length: held open, no
+                 * force on either side of delta = 0; held closed, the law's force at
+                 * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
+                 * delta = 0 stays off the search). */
+                at = w->scalars[HELD_CLOSED] != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
+            }
+            contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, at, r, out);
             f = out[0];
             kd = out[1];
             kr = out[2];
+            if (at > d)
+                kd = 0.0;
             calls[law] += 1;
             force[e] = f;
             penetration[e] = d;

@@ -3,12 +3,14 @@
  * u(n+1) = u + h v + h^2 a / 2; the forces at t(n+1) also depend on the velocity (damping,
  * contact dashpots), so a(n+1) is found from the predicted velocity v + h a and corrected
  * once with the trapezoidal velocity. A step longer than the stability limit allows is split
- * into cd_parts equal sub-steps (substeps: auto), with the ground motion interpolated.
+ * into cd_parts equal sub-steps (substeps: auto), with the ground motion interpolated; every
+ * sub-step counts its impacts and updates the envelopes (a contact can open and close between
+ * two recorded steps).
  */
 
 /* Advance member b from step k - 1 to step k; 0 (after recording why) on failure. */
-static int explicit_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                         int64_t k, double h)
+static int explicit_step(const Model *m, const Settings *s, State *st, Work *w,
+                         Recording *rec, int64_t b, int64_t k, double h)
 {
     const int64_t n = m->dofs;
     const double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
@@ -38,6 +40,8 @@ static int explicit_step(const Model *m, const Settings *s, State *st, Work *w, 
         st->counters[b * COUNTER_SLOTS + SOLVES] += 1; /* the diagonal mass 'solve' */
         if (!commit(m, s, st, w, b, k, hs, ag_old, ag_new))
             return 0;
+        if (parts > 1)
+            record_substep(m, st, rec, b, k);
     }
     return 1;
 }

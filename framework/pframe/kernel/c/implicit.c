@@ -56,7 +56,7 @@ static void clear_status(State *st, int64_t b)
  * the step's start) if it failed even then. With events, each part is further cut at contact
  * events. */
 static int split_step(const Model *m, const Settings *s, State *st, Work *w, Saved *sv,
-                      int64_t b, int64_t k, double h, int64_t split)
+                      Recording *rec, int64_t b, int64_t k, double h, int64_t split)
 {
     for (;;) {
         const int64_t parts = (int64_t)1 << split;
@@ -64,7 +64,7 @@ static int split_step(const Model *m, const Settings *s, State *st, Work *w, Sav
         int ok = 1;
         for (part = 0; part < parts; part++) {
             if (s->events) {
-                ok = event_substeps(m, s, st, w, b, k, h, part, parts);
+                ok = event_substeps(m, s, st, w, rec, b, k, h, part, parts);
             } else {
                 const double pos = (double)part / (double)parts;
                 const double stop = (double)(part + 1) / (double)parts;
@@ -73,6 +73,8 @@ static int split_step(const Model *m, const Settings *s, State *st, Work *w, Sav
                 ground_between(m, b, k, pos, stop, &ag_old, &ag_new);
                 ok = (solve_step(m, s, st, w, b, k, hs, ag_old, ag_new)
                       && commit(m, s, st, w, b, k, hs, ag_old, ag_new));
+                if (ok)
+                    record_substep(m, st, rec, b, k);
             }
             if (!ok)
                 break;
@@ -95,7 +97,7 @@ static int split_step(const Model *m, const Settings *s, State *st, Work *w, Sav
  * 2^max_split sub-steps. The whole step is the common case, and the time loop (loop.c) takes
  * it itself. */
 static int step_in_parts(const Model *m, const Settings *s, State *st, Work *w, Saved *sv,
-                         int64_t b, int64_t k, double h)
+                         Recording *rec, int64_t b, int64_t k, double h)
 {
     int64_t split = 0;
     if (!s->events) {
@@ -109,5 +111,5 @@ static int step_in_parts(const Model *m, const Settings *s, State *st, Work *w, 
     /* nothing was committed yet: this is the step's start (with events, several sub-steps may
      * be committed before a failure) */
     exchange(m, st, sv, b, 1);
-    return split_step(m, s, st, w, sv, b, k, h, split);
+    return split_step(m, s, st, w, sv, rec, b, k, h, split);
 }

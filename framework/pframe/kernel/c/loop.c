@@ -21,6 +21,7 @@ static void reset_work(const Model *m, Work *w, int64_t b)
         w->contact_kk[i] = NAN;
     for (i = 0; i < SCALAR_SLOTS; i++)
         w->scalars[i] = 0.0;
+    w->scalars[HELD] = -1.0;
     for (i = 0; i < m->dofs; i++)
         smallest = py_min(smallest, mass[i]);
     w->scalars[MASS_MIN] = smallest;
@@ -79,16 +80,16 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
                 ok = initial_state(m, s, st, w, b, k,
                                    s->explicit ? h / (double)m->cd_parts[b] : h);
             } else if (s->explicit) {
-                ok = explicit_step(m, s, st, w, b, k, h);
+                ok = explicit_step(m, s, st, w, rec, b, k, h);
             } else if (s->events) {
-                ok = step_in_parts(m, s, st, w, sv, b, k, h);
+                ok = step_in_parts(m, s, st, w, sv, rec, b, k, h);
             } else {
                 double ag_old, ag_new;
                 ground_between(m, b, k, 0.0, 1.0, &ag_old, &ag_new);
                 if (solve_step(m, s, st, w, b, k, h, ag_old, ag_new))
                     ok = commit(m, s, st, w, b, k, h, ag_old, ag_new);
                 else
-                    ok = step_in_parts(m, s, st, w, sv, b, k, h);
+                    ok = step_in_parts(m, s, st, w, sv, rec, b, k, h);
             }
             if (!ok) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)

@@ -73,7 +73,7 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
     return next_due(rec, k + 1);
 }
 
-/* Update the running peaks of the enveloped quantities with step k. */
+/* Update the running peaks of the enveloped quantities with step k (or a sub-step of it). */
 static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
 {
     int64_t gathered = 0, q, i, width;
@@ -88,4 +88,17 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
         }
     }
     st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
+}
+
+/* Envelopes see the state committed at the end of every sub-step of step k (central
+ * difference's substeps, event location, split steps), not only at the step end: a contact
+ * that opens and closes inside one step has its peak force recorded. */
+static void record_substep(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+{
+    int64_t q;
+    int envelopes = 0;
+    for (q = 0; q < RECORDABLE_COUNT; q++)
+        envelopes = envelopes || rec->enveloped[q] != 0;
+    if (envelopes)
+        record_envelopes(m, st, rec, b, k);
 }

@@ -64,9 +64,11 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define H_FACTORED 0
 #define STALE 1
 #define MASS_MIN 2
-#define ALPHA_WORK 3
-#define ZERO_DIVISION 4
-#define SCALAR_SLOTS 5
+#define HELD 3
+#define HELD_CLOSED 4
+#define ALPHA_WORK 5
+#define ZERO_DIVISION 6
+#define SCALAR_SLOTS 7
 
 typedef struct Model {
     double *mass;
