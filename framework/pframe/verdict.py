@@ -5,7 +5,7 @@ Every run closes the balance
 
     W_input = dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic
 
-step by step (:mod:`pframe.kernel.energy`), with the integrator's own dissipation
+step by step (``kernel/c/energy.c``), with the integrator's own dissipation
 D_algorithmic counted from its defining relations. Two numbers are judged, each relative to the
 largest energy term of the run:
 

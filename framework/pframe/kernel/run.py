@@ -102,7 +102,7 @@ class Result:
     def energy_error(self, b: int = 0) -> float:
         """|W_input - (dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic)|
         relative to the largest energy term of the run: zero but for round-off, Newton's
-        tolerance and an inconsistent step (pframe.kernel.energy)."""
+        tolerance and an inconsistent step (kernel/c/energy.c)."""
         e = self.energy[b]
         balance = e[slots.INPUT] - (e[slots.KINETIC] - e[slots.KINETIC_0] + e[slots.DAMPING]
                                     + e[slots.STOREYS] + e[slots.CONTACTS] + e[slots.ALGORITHMIC])

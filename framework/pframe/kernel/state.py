@@ -38,7 +38,7 @@ NODE, STORY, CONTACT = 0, 1, 2
 # storeys, of the contacts, kinetic energy at t = 0, the ground motion's work counted in
 # absolute value, the mechanical energy at t = 0 (the last two bound runaway growth), and the
 # energy the integrator's own relations remove (algorithmic dissipation: HHT, generalised
-# alpha, Newmark with gamma > 1/2; see pframe.kernel.energy)
+# alpha, Newmark with gamma > 1/2; see kernel/c/energy.c)
 INPUT, KINETIC, DAMPING, STOREYS, CONTACTS, KINETIC_0, INPUT_ABS, START, ALGORITHMIC = range(9)
 ENERGY_SLOTS = 9
 
@@ -61,7 +61,7 @@ Model = namedtuple("Model", [
     "mass_damping",     # (B, n) a0 m (N s/m)
     "story_dofs",       # (s, 2) lower and upper DOF; -1 is the ground
     "story_order",      # (s,) storeys in evaluation order (grouped by law)
-    "story_law",        # (s,) material id (pframe.kernel.dispatch)
+    "story_law",        # (s,) material id (the registry order: kernel/c/laws.c)
     "story_params",     # (B, s, P) the material's packed parameters
     "story_k0",         # (B, s) initial stiffness (N/m)
     "story_beta",       # (B, s) stiffness-proportional damping a1 (s)
