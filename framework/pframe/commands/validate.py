@@ -30,15 +30,20 @@ def _warn(source: str, warnings) -> None:
 
 
 def record_lines(loaded) -> list[str]:
-    """The facts of the record a loaded scene reads, as lines (none for other excitations)."""
-    from pframe.excitation.describe import describe_line, describe_record
+    """The motion a loaded scene applies, as lines: the facts of its record (how the file was
+    read, its units and where they were read, the PGA after every scaling, when it occurs, what
+    part the analysis covers), or its sine or pulse's amplitude and peak; none without one."""
+    from pframe.excitation.describe import (applied_motion, describe_line,
+                                            describe_scene_record, motion_line)
 
     excitation = loaded.scene.excitation
-    if excitation is None or excitation.kind != "record":
+    if excitation is None:
         return []
-    facts = describe_record(Path(loaded.base_dir) / excitation.file, excitation.format,
-                            excitation.units, excitation.scale)
-    return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+    duration = loaded.expanded.dt * loaded.expanded.steps
+    if excitation.kind != "record":
+        return [motion_line(applied_motion(excitation, None, duration))]
+    facts = describe_scene_record(excitation, loaded.base_dir)
+    return [describe_line(facts, duration=duration)]
 
 
 def period_lines(expanded, plan) -> list[str]:
@@ -86,7 +91,7 @@ def _scene(path: Path, kind: str) -> int:
 
 
 def _sweep(path: Path) -> int:
-    from pframe.excitation.describe import describe_line, describe_record
+    from pframe.excitation.describe import describe_line, describe_scene_record
     from pframe.sweep import load_sweep, parse
 
     definition = load_sweep(path)
@@ -101,8 +106,7 @@ def _sweep(path: Path) -> int:
         if key in seen:
             continue
         seen.add(key)
-        facts = describe_record(file, excitation.get("format", "auto"), excitation.get("units"),
-                                excitation.get("scale", 1.0))
+        facts = describe_scene_record(excitation, file=file)
         print(f"  {describe_line(facts)}")
     # what a run would warn of, for the first and the last variant (every axis at its first
     # and at its last value): the others differ in numbers only
