@@ -225,10 +225,10 @@ def test_the_result_file_states_the_motion_applied(tmp_path):
     ("{kind: cycloidal, type: B, amplitude: 2.0, period: 0.5}", 0.0),
     ("{kind: ricker, amplitude: 2.0, period: 0.5}", 0.75)])
 def test_pulses_state_their_amplitude_and_peak(pulse, peak_time):
-    from pframe.commands.validate import record_lines
+    from pframe.commands.validate import excitation_lines
 
     loaded = parse_scene(SCENE.format(excitation=pulse))
-    line = record_lines(loaded)[0]
+    line = excitation_lines(loaded)[0]
     assert "a_p = 2 m/s^2 (0.2039 g)" in line
     assert f"peak 2 m/s^2 (0.2039 g) at t = {peak_time:.4g} s" in line
 
