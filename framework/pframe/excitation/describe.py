@@ -22,7 +22,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from pframe.excitation.records import G, UNIT_NAMES, read_record_file
+from pframe.excitation.records import UNIT_NAMES, G, read_record_file
 
 #: how the two formats are named in messages
 FORMAT_NAMES = {"at2": "PEER NGA .AT2", "columns": "two columns (time, acceleration)"}

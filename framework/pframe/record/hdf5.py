@@ -287,8 +287,12 @@ def record_attributes(loaded) -> dict:
     expanded = getattr(loaded, "expanded", None)
     duration = None if expanded is None else float(expanded.dt * expanded.steps)
     try:  # what the ground did: a fact we cannot state is left out, never a failed write
-        from pframe.excitation.describe import (applied_motion, describe_line,
-                                                describe_scene_record, motion_line)
+        from pframe.excitation.describe import (
+            applied_motion,
+            describe_line,
+            describe_scene_record,
+            motion_line,
+        )
 
         facts = applied_motion(excitation, getattr(expanded, "record", None), duration)
         out.update({"excitation_pga": facts["pga"], "excitation_pga_g": facts["pga_g"],
