@@ -30,15 +30,28 @@ def _warn(source: str, warnings) -> None:
 
 
 def record_lines(loaded) -> list[str]:
-    """The facts of the record a loaded scene reads, as lines (none for other excitations)."""
-    from pframe.excitation.describe import describe_line, describe_record
+    """The facts of the record a loaded scene reads, as lines (none for other excitations):
+    how the file was read, its units and where they were read, the PGA after every scaling
+    and when it occurs, what part the analysis covers. ``pframe solve`` prints them too."""
+    from pframe.excitation.describe import describe_line, describe_scene_record
 
     excitation = loaded.scene.excitation
     if excitation is None or excitation.kind != "record":
         return []
-    facts = describe_record(Path(loaded.base_dir) / excitation.file, excitation.format,
-                            excitation.units, excitation.scale)
+    facts = describe_scene_record(excitation, loaded.base_dir)
     return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+
+
+def excitation_lines(loaded) -> list[str]:
+    """The motion a loaded scene applies, as lines: :func:`record_lines` for a record, the
+    amplitude, period, peak and end of a sine or pulse; none without excitation."""
+    from pframe.excitation.describe import applied_motion, motion_line
+
+    excitation = loaded.scene.excitation
+    if excitation is None or excitation.kind == "record":
+        return record_lines(loaded)
+    duration = loaded.expanded.dt * loaded.expanded.steps
+    return [motion_line(applied_motion(excitation, None, duration))]
 
 
 def period_lines(expanded, plan) -> list[str]:
@@ -87,14 +100,14 @@ def _scene(path: Path, kind: str) -> int:
     print(f"{loaded.source}: valid; {what}{len(ex.node_names)} nodes in {len(ex.buildings)} "
           f"buildings, {len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps "
           f"of dt = {ex.dt:g} s")
-    for line in period_lines(ex, plan) + record_lines(loaded) + [f"note: {n}" for n in ex.notes]:
+    for line in period_lines(ex, plan) + excitation_lines(loaded) + [f"note: {n}" for n in ex.notes]:
         print(f"  {line}")
     _warn(loaded.source, plan.warnings)
     return 0
 
 
 def _sweep(path: Path) -> int:
-    from pframe.excitation.describe import describe_line, describe_record
+    from pframe.excitation.describe import describe_line, describe_scene_record
     from pframe.sweep import load_sweep, parse
 
     definition = load_sweep(path)
@@ -109,8 +122,7 @@ def _sweep(path: Path) -> int:
         if key in seen:
             continue
         seen.add(key)
-        facts = describe_record(file, excitation.get("format", "auto"), excitation.get("units"),
-                                excitation.get("scale", 1.0))
+        facts = describe_scene_record(excitation, file=file)
         print(f"  {describe_line(facts)}")
     # what a run would warn of, for the first and the last variant (every axis at its first
     # and at its last value): the others differ in numbers only

@@ -325,28 +325,59 @@ def reference_attributes(loaded) -> dict:
 
 
 def record_attributes(loaded) -> dict:
-    """The ground-motion record a run read, so that the file alone reproduces the run:
+    """The ground motion a run applied, so that the file alone reproduces and confirms the run.
+
+    For every excitation: ``excitation_applied`` (the motion in words, as ``pframe validate``
+    prints it), ``excitation_pga`` (m/s^2, the peak |a_g| after every scaling),
+    ``excitation_pga_g`` (the same in g), ``excitation_pga_time`` (s, when it occurs),
+    ``excitation_end`` (s, when the ground comes to rest; inf for a sine without end) and
+    ``excitation_applied_peak`` (m/s^2, the peak within the analysis). For a record besides:
     ``record_file`` (as the scene names it), ``record_sha256``, ``record_text`` (the file's
-    whole text) and ``record_read_as`` (format, points, step, duration, PGA, units)."""
+    whole text) and ``record_read_as`` (format, units and where they were read, points, step,
+    duration, PGA applied and when, what part the analysis covers)."""
     excitation = getattr(loaded.scene, "excitation", None)
-    if getattr(excitation, "kind", None) != "record":
+    if excitation is None:
         return {}
+    out = {}
+    expanded = getattr(loaded, "expanded", None)
+    duration = None if expanded is None else float(expanded.dt * expanded.steps)
+    try:  # what the ground did: a fact we cannot state is left out, never a failed write
+        from pframe.excitation.describe import (
+            applied_motion,
+            describe_line,
+            describe_scene_record,
+            motion_line,
+        )
+
+        facts = applied_motion(excitation, getattr(expanded, "record", None), duration)
+        out.update({"excitation_pga": facts["pga"], "excitation_pga_g": facts["pga_g"],
+                    "excitation_pga_time": facts["pga_time"]})
+        if np.isfinite(facts["end"]):  # a sine without end has none
+            out["excitation_end"] = facts["end"]
+        if duration is not None:
+            out["excitation_applied_peak"] = facts["applied_peak"]
+        if excitation.kind != "record":
+            out["excitation_applied"] = motion_line(facts).removeprefix("excitation: ")
+    except Exception:
+        pass
+    if excitation.kind != "record":
+        return out
     import hashlib
 
     path = Path(loaded.base_dir) / excitation.file
     try:
         content = path.read_bytes()
     except OSError:
-        return {"record_file": excitation.file}
-    out = {"record_file": excitation.file,
-           "record_sha256": hashlib.sha256(content).hexdigest(),
-           "record_text": content.decode("utf-8", errors="replace")}
-    try:  # how the record was read: format, points, step, PGA (pframe validate prints it)
-        from pframe.excitation.describe import describe_line, describe_record
-
-        facts = describe_record(path, excitation.format, excitation.units, excitation.scale)
-        out["record_read_as"] = describe_line(facts).removeprefix(f"record {facts['file']}: ")
-    except Exception:  # a fact we cannot state is left out, never a failed write
+        return out | {"record_file": excitation.file}
+    out.update({"record_file": excitation.file,
+                "record_sha256": hashlib.sha256(content).hexdigest(),
+                "record_text": content.decode("utf-8", errors="replace")})
+    try:  # how the record was read and applied (pframe validate prints it)
+        read = describe_scene_record(excitation, loaded.base_dir)
+        line = describe_line(read, duration).removeprefix(f"record {read['file']}: ")
+        out["record_read_as"] = line
+        out["excitation_applied"] = f"record {excitation.file}: {line}"
+    except Exception:
         pass
     return out
 
