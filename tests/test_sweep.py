@@ -81,11 +81,13 @@ def grid(folder):
 def _single(definition, index: int, recorders=None):
     """Variant ``index`` as its own scene: the text ``pframe sweep --variant`` prints, parsed
     by the scene loader, assembled alone and run (with the scene's recorders, or these)."""
-    from pframe.sweep.variants import variant_data
+    from pframe.sweep.variants import materialise, steps_override, variant_data
 
     spec = parse(definition)
     paths = {key: path for _, _, key, path in definition.records}
-    text = yaml.safe_dump(variant_data(spec, index, record_path=lambda key: paths[key]))
+    steps = steps_override(spec, index, materialise(definition))
+    text = yaml.safe_dump(variant_data(spec, index, record_path=lambda key: paths[key],
+                                       steps=steps))
     expanded = parse_scene(text, base_dir=definition.base_dir).expanded
     if recorders is not None:
         expanded = dataclasses.replace(expanded, recorders=recorders)

@@ -4,6 +4,7 @@ no-pounding gap, over a suite of records scaled to intensity levels."""
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -59,11 +60,16 @@ def _gap(args) -> int:
         def progress(done, total):
             sys.stderr.write(f"\r  pframe gap: {done:,.0f}/{total} runs ")
             sys.stderr.flush()
-    ds = audit(args.scene, suite, gap=args.gap, levels=_levels(args.levels) if args.levels else None,
-               measure=args.measure, en_coincident=args.en_coincident, duration=args.duration,
-               dt=args.dt, records_folder=args.records_folder,
-               output=output, overwrite=args.overwrite, chunk=args.chunk, threads=args.threads,
-               progress=progress, timings=timings)
+    with warnings.catch_warnings():  # printed below from the result, as pframe: warning
+        warnings.simplefilter("ignore", UserWarning)
+        ds = audit(args.scene, suite, gap=args.gap,
+                   levels=_levels(args.levels) if args.levels else None,
+                   measure=args.measure, en_coincident=args.en_coincident,
+                   duration=args.duration, dt=args.dt, records_folder=args.records_folder,
+                   output=output, overwrite=args.overwrite, chunk=args.chunk,
+                   threads=args.threads, progress=progress, timings=timings)
+    for line in str(ds.attrs.get("warnings", "")).splitlines():
+        print(f"pframe: warning: {args.scene}: {line}", file=sys.stderr)
     if progress is not None:
         sys.stderr.write("\n")
     if not args.quiet:
