@@ -33,7 +33,8 @@ def load(source, *, base_dir: str | Path | None = None):
     YAML, or a scene object. Files are checked exactly as ``pframe validate`` checks them;
     a problem raises :class:`pframe.InputError` naming the file, line and field. Record files
     are found relative to the scene file (``base_dir`` for data and objects: default, the
-    current folder).
+    current folder); a copy of a loaded scene (``model_copy``, with or without ``update``)
+    keeps the folder its record was read from.
     """
     loaded = _loaded(source, base_dir)
     return _scene_of(loaded)
@@ -85,7 +86,9 @@ def _loaded(source, base_dir=None):
     if loaded is not None:
         return loaded
     if hasattr(source, "to_yaml"):
-        base = base_dir or (loaded.base_dir if loaded is not None else ".")
+        # a copy of a loaded scene (model_copy) finds its record where the original did
+        excitation = getattr(source, "excitation", None)
+        base = base_dir or getattr(excitation, "_folder", None) or "."
         return parse_scene(source.to_yaml(), "<python>", Path(base))
     if isinstance(source, (bytes, bytearray)):
         raise InputError("pframe.load: give a path, a dict or a scene object, not bytes")
