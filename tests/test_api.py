@@ -56,7 +56,7 @@ def paper_scene():
                 alpha=0.1)),
         ],
         contacts=contacts,
-        damping=pframe.Rayleigh(ratio=0.05, modes=(1, 2), stiffness="initial"),
+        damping=pframe.Rayleigh(ratio=0.05, modes=(1, 2), stiffness="current"),
         excitation=pframe.Sine(amplitude=a_p, frequency=w_p),
         analysis=pframe.Analysis(integrator=pframe.Newmark(gamma=0.5, beta=0.25),
                                  dt=0.001 / w_p, duration=50 / w_p),
@@ -228,6 +228,7 @@ def test_copies_and_variants_keep_their_record(tmp_path, monkeypatch):
     from pframe.api import loaded_scene
     from pframe.reader import variant
 
+    # the decoy is another earthquake (Borrego Mountain 1968) under the real one's name
     real, decoy = record_file("elCentro.AT2"), record_file("A-ELC180.AT2")
     project, elsewhere = tmp_path / "project", tmp_path / "elsewhere"
     for folder, record in ((project, real), (elsewhere, decoy)):
