@@ -32,13 +32,13 @@ from conftest import (
 
 from pframe.assemble import assemble
 from pframe.errors import InputError
-
-WU2021_INITIAL = WU2021.parent / "wu2021-eq14-initial.yaml"
 from pframe.kernel import simulate
 from pframe.laws import all_contact_laws
 from pframe.reader import parse_scene
 from pframe.reference import Ground, of_scene, solve
 from pframe.reference.study import Difference, with_dt
+
+WU2021_INITIAL = WU2021.parent / "wu2021-eq14-initial.yaml"
 
 
 def _plan(text: str, base_dir=None):
