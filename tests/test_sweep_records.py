@@ -140,6 +140,17 @@ def test_a_base_that_cuts_its_record_keeps_the_cut_and_says_so(tmp_path, capsys)
                "runs to 3 s (its peak ground acceleration (t = 2.55 s) is past the end" in line
 
 
+def test_python_sweep_warns_of_a_cut_record(tmp_path):
+    _records(tmp_path)
+    _base(tmp_path, 0.8)
+    with pytest.warns(UserWarning) as caught:
+        ds = pframe.sweep(_sweep(tmp_path), progress=False)
+    said = [str(w.message) for w in caught]
+    assert any("variant 1 (record=long.txt): the analysis stops at 0.8 s" in w for w in said)
+    assert any("variant 0 (record=short.txt): the analysis stops at 0.8 s" in w for w in said)
+    assert ds.duration.values.tolist() == pytest.approx([0.8, 0.8])
+
+
 def test_duration_axis_is_refused_under_records(tmp_path):
     _records(tmp_path)
     _base(tmp_path, 1.2)

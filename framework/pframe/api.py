@@ -265,9 +265,13 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
         if run.failed:
             warnings.warn(f"{definition}: {len(run.failed)} of {run.count} variants failed "
                           "(complete = 0; status says why)", IncompleteRun, stacklevel=2)
+        ds = open(out)
+        for line in str(ds.attrs.get("warnings", "")).splitlines():
+            if "the analysis stops at" in line:  # a record cut (docs/sweeps.md)
+                warnings.warn(f"{definition}: {line}", stacklevel=2)
         if folder is None:
-            return open(out)
-        with open(out) as ds:
+            return ds
+        with ds:
             return ds.load()
     finally:
         if progress_bar is not None:
