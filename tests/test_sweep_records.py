@@ -197,3 +197,8 @@ def test_gap_audit_runs_every_record_to_its_end(tmp_path):
         cut = audit(scene, files, duration=1.5)
     assert "record long.txt: the runs stop at 1.5 s" in cut.attrs["warnings"]
     assert "short.txt" not in cut.attrs["warnings"]
+    # the scene's own record, cut by its own duration
+    with pytest.warns(UserWarning, match=r"record short.txt: the runs stop at 0.8 s, but the "
+                                          r"record runs to 1 s \(its peak ground acceleration "
+                                          r"is inside\); lengthen the scene's analysis.duration"):
+        audit(_base(tmp_path, 0.8, "cut.yaml"))
