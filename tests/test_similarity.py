@@ -90,7 +90,9 @@ def _differences(a: dict, b: dict) -> dict[str, float]:
         scale = max(np.max(np.abs(a[name])), 1e-300)
         out[name] = float(np.max(np.abs(a[name] - b[name]))) / scale
     for name, value in a["attrs"].items():
-        if name not in ("energy_initial_kinetic", "energy_balance_error"):
+        # the balance error and the algorithmic dissipation of average acceleration are
+        # round-off (tests/test_verdict.py judges them)
+        if name not in ("energy_initial_kinetic", "energy_balance_error", "energy_algorithmic"):
             out[name] = abs(value - b["attrs"][name]) / abs(value)
     return out
 

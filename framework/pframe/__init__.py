@@ -19,7 +19,7 @@ from pframe.errors import EnvironmentFailure, InputError, PframeError  # noqa: E
 _API = {
     # reading, running, results
     "load": "pframe.api", "solve": "pframe.api", "sweep": "pframe.sweep", "open": "pframe.api",
-    "IncompleteRun": "pframe.api",
+    "IncompleteRun": "pframe.api", "AccuracyWarning": "pframe.verdict",
     # figures (matplotlib: pip install "pframe[plot]"); pframe.plot and pframe.sweep are also
     # packages, made callable (pframe._callable)
     "plot": "pframe.plot",
@@ -37,7 +37,7 @@ _API = {
     "GeneralizedAlpha": "pframe.integrators", "CentralDifference": "pframe.integrators",
 }
 
-__all__ = ["Analysis", "Building", "CentralDifference", "Contact", "Cycloidal", "Envelope",
+__all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Contact", "Cycloidal", "Envelope",
            "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History", "IncompleteRun",
            "InitialConditions", "InputError", "Newmark", "Newton", "Node", "Output",
            "OutputScales", "PframeError",

@@ -163,8 +163,10 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
         output = check_output(output, overwrite, loaded)
     _check_resources(loaded, output)
     plan = assemble(loaded.expanded)
+    from pframe.verdict import AccuracyWarning, of_result
+
     for text in plan.warnings:
-        warnings.warn(f"{loaded.source}: {text}", stacklevel=2)
+        warnings.warn(f"{loaded.source}: {text}", AccuracyWarning, stacklevel=2)
     from pframe.record.netcdf import DatasetWriter
 
     target = DatasetWriter() if output is None else output
@@ -183,6 +185,8 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
         from pframe import outputs
 
         raise outputs.failure(output, exc) from None
+    for text in of_result(result).warnings:
+        warnings.warn(f"{loaded.source}: {text}", AccuracyWarning, stacklevel=2)
     if not result.completed():
         warnings.warn(f"{loaded.source}: the run stopped early: {result.describe_failure()}; "
                       f"the Dataset holds the {result.states_done() - 1} steps computed",

@@ -8,6 +8,7 @@ numbers), :mod:`pframe.model.load` (validation with messages that name the line)
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,10 +54,12 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     from pframe.model.expand import expand
     from pframe.model.scene import scene_class
 
+    unit_scales = ()
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
         check_numbers(data, lines, source)
+        unit_scales = _unit_scales(data)
         data = expand_pi_data(data, lines, source, base_dir or ".")
         # a Pi-form scene is the paper's formulation: its contacts use the published damping
         # formula of their law unless the expansion says otherwise (a note, not a warning)
@@ -73,6 +76,8 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         expanded = expand(scene, base_dir)
     except ModelError as exc:
         raise InputError(f"{where(source, lines, exc.path)}: {exc.message}") from None
+    if unit_scales:
+        expanded = dataclasses.replace(expanded, unit_scales=unit_scales)
     if scene.output.units == "dimensionless":  # fail now, not after the run
         from pframe.nondim.scene_variables import reference_scales
 
@@ -81,6 +86,17 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         except InputError as exc:
             raise InputError(f"{where(source, lines, ('output',))}: {exc}") from None
     return LoadedScene(scene, text, source, base_dir, lines, expanded)
+
+
+def _unit_scales(data: dict) -> tuple[str, ...]:
+    """The reference scales a Pi-form scene leaves at 1: m_b (kg) always unless given; w_p
+    (rad/s) unless given or taken from a record."""
+    scales = data.get("scales") if isinstance(data.get("scales"), dict) else {}
+    excitation = data.get("excitation") if isinstance(data.get("excitation"), dict) else {}
+    out = [] if "m_b" in scales else ["m_b"]
+    if "w_p" not in scales and excitation.get("kind") != "record":
+        out.append("w_p")
+    return tuple(out)
 
 
 def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = None) -> LoadedScene:

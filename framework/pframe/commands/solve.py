@@ -97,14 +97,24 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
                         "never replaces it)")
                 writer.path = out = elsewhere
         writer.finish(result)
+    from pframe.verdict import TRUSTED, of_result
+
+    verdict = of_result(result)
+    for warning in verdict.warnings:  # warnings are printed even with -q
+        print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     if not args.quiet:
-        _summary(loaded, plan, result, out, writer.peaks)
+        _summary(loaded, plan, result, out, writer.peaks, verdict)
     if not result.completed():
         print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
               f"{out} holds the {max(0, result.states_done() - 1)} steps computed, marked "
               f"incomplete{kept}",
               file=sys.stderr)
         return 1
+    if args.strict and (plan.warnings or verdict.level != TRUSTED):
+        print(f"pframe: {loaded.source}: the run's accuracy is in doubt ({verdict.level}, "
+              f"{len(plan.warnings) + len(verdict.warnings)} warnings above) and --strict was "
+              f"given; {out} is written", file=sys.stderr)
+        return 4
     return 0
 
 
@@ -112,7 +122,7 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
 _PEAKS = ("displacement", "story_drift", "contact_force")
 
 
-def _summary(loaded, plan, result, out: Path, streamed: dict | None = None):
+def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verdict=None):
     """What the run did; peaks come from the envelopes, else from the histories (``streamed``:
     the running peaks per column that the writer kept of the streamed histories)."""
     import numpy as np
@@ -142,9 +152,22 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
         print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
     print(f"  status: {result.describe_failure()}; energy balance error "
-          f"{result.energy_error():.2e}")
+          f"{verdict.balance_error:.2e}, numerical dissipation {verdict.algorithmic:.2e}: "
+          f"{_verdict_words(verdict, plan)}")
     print(f"  solve {result.solve_seconds:.3f} s ({result.iterations[0]} Newton solves), "
           f"kernel compile/load {result.compile_seconds:.2f} s; wrote {out}")
+
+
+def _verdict_words(verdict, plan) -> str:
+    """The summary's word on accuracy: the energy verdict, in doubt also for the warnings
+    made before the run (dt, inputs)."""
+    from pframe.verdict import TRUSTED, UNTRUSTED
+
+    if verdict.level == UNTRUSTED:
+        return "NOT TO BE TRUSTED (see the warnings)"
+    if verdict.level != TRUSTED or plan.warnings:
+        return "in doubt (see the warnings)"
+    return "balance closed"
 
 
 def register(sub) -> None:
@@ -156,4 +179,7 @@ def register(sub) -> None:
                        help="deflate the histories (shuffle + gzip: about 2/3 of the size, "
                             "several times the kernel's time to write)")
     solve.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    solve.add_argument("--strict", action="store_true",
+                       help="exit 4 when the run completed but its accuracy is in doubt (any "
+                            "warning: dt, inputs, energy balance); the result is still written")
     solve.set_defaults(run=_solve)

@@ -31,9 +31,11 @@ NODE, STORY, CONTACT = 0, 1, 2
 
 # energy[b, slot] (J): work of the ground motion, kinetic energy now, work of damping, of the
 # storeys, of the contacts, kinetic energy at t = 0, the ground motion's work counted in
-# absolute value, and the mechanical energy at t = 0 (the last two bound runaway growth)
-INPUT, KINETIC, DAMPING, STOREYS, CONTACTS, KINETIC_0, INPUT_ABS, START = range(8)
-ENERGY_SLOTS = 8
+# absolute value, the mechanical energy at t = 0 (the last two bound runaway growth), and the
+# energy the integrator's own relations remove (algorithmic dissipation: HHT, generalised
+# alpha, Newmark with gamma > 1/2; see pframe.kernel.energy)
+INPUT, KINETIC, DAMPING, STOREYS, CONTACTS, KINETIC_0, INPUT_ABS, START, ALGORITHMIC = range(9)
+ENERGY_SLOTS = 9
 
 # counters[b, slot]: linear solves, factorisations of the effective stiffness, evaluations of
 # the residual (each evaluates every element once), steps split into sub-steps, and values
@@ -113,9 +115,12 @@ Work = namedtuple("Work", [
     "scalars",                 # (SCALAR_SLOTS,) see H_FACTORED, STALE, MASS_MIN
 ])
 # w.scalars: the step length of the current factorisation (0 before the first), 1.0 when an
-# element tangent changed since, and the smallest mass of the member
-H_FACTORED, STALE, MASS_MIN = 0, 1, 2
-SCALAR_SLOTS = 3
+# element tangent changed since, the smallest mass of the member, the contact held on one
+# branch while an event is located (-1: none) and that branch (1.0 closed, 0.0 open; see
+# kernel/events.py), and the work of the non-inertial forces at the alpha point over the
+# whole (sub-)step (pframe.kernel.energy)
+H_FACTORED, STALE, MASS_MIN, HELD, HELD_CLOSED, ALPHA_WORK = 0, 1, 2, 3, 4, 5
+SCALAR_SLOTS = 6
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [

@@ -53,6 +53,12 @@ class Expanded:
     recorders: tuple
     #: the record as applied (pframe.excitation.characteristic.AppliedRecord), for a record
     record: object = None
+    #: the excitation's definition (Sine, Record, a pulse or None): its time scales are
+    #: checked against dt (pframe.assemble.timescales)
+    excitation: object = None
+    #: reference scales a Pi-form scene left at 1 ('m_b' kg, 'w_p' rad/s): its masses or
+    #: times are then ratios, not a building's, and are not judged as such
+    unit_scales: tuple[str, ...] = ()
     #: index of the reference building (its first floor mass is the mass scale m_b)
     reference: int = 0
     #: what the run will be told (pframe solve prints them; the result file keeps them)
@@ -204,6 +210,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
                                                 f"buildings; both nodes are in {building_of[left]!r}")
         name = contact.name or default_contact_name(contact.nodes)
+        _check_row_order(name, buildings, building_of[left], building_of[right], contact.nodes,
+                         path + ("nodes",))
         if name in seen:
             raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
         seen[name] = True
@@ -268,10 +276,27 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         max_iterations=analysis.newton.max_iterations,
         recorders=tuple(scene.recorders),
         record=record,
+        excitation=scene.excitation,
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0]),
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
+
+
+def _check_row_order(name, buildings, left, right, nodes, path) -> None:
+    """A contact's nodes are [left, right] in the row the scene declares: the buildings stand
+    from left to right in the order they are first declared (``buildings``, then the
+    buildings of ``nodes``). A contact written the other way round closes when its buildings
+    move apart, so it is refused (docs/yaml-reference.md)."""
+    if buildings.index(left) < buildings.index(right):
+        return
+    raise ModelError(path, f"contact {name!r} has {nodes[0]!r} on the left of {nodes[1]!r}, but "
+                           "the buildings stand from left to right in the order the scene "
+                           f"declares them ({', '.join(buildings)}), so {left} is right of "
+                           f"{right}: a contact's nodes are [left, right] (penetration u_left - "
+                           "u_right - gap) and this one would close when the buildings move "
+                           f"apart; write nodes [{nodes[1]}, {nodes[0]}], or declare the "
+                           "buildings in their left-to-right order")
 
 
 def _rebound_text(key, names) -> str:

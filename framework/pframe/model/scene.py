@@ -75,7 +75,9 @@ class ContactBase(Base):
 
     name: str | None = Field(None, description="Defaults to '<left>-<right>'.")
     nodes: tuple[NodeName, NodeName] = Field(
-        description="[left, right]: penetration = u_left - u_right - gap."
+        description="[left, right]: penetration = u_left - u_right - gap. The buildings "
+        "stand from left to right in the order the scene declares them; the left node's "
+        "building must come first (a contact written the other way round is refused)."
     )
     gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
 
@@ -377,8 +379,11 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         """A scene of adjacent buildings that may pound into each other."""
 
         title: str = Field("", description="A title copied into the result file.")
-        buildings: list[Building] = Field(default_factory=list, description="Shear buildings.")
-        nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes.")
+        buildings: list[Building] = Field(default_factory=list, description="Shear buildings, "
+                                          "from left to right.")
+        nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes (their "
+                                  "buildings stand right of the shorthand's, in the order first "
+                                  "named).")
         stories: list[_union(story_models, "material")] = Field(
             default_factory=list, description="Generic storeys between nodes.")
         contacts: list[_union(contact_models, "law")] = Field(

@@ -31,10 +31,10 @@ import numpy as np
 from pframe import outputs
 from pframe.quantities import QUANTITIES
 from pframe.record.netcdf import DatasetWriter, Writer, provenance
+from pframe.verdict import of_result
 
 UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
 DIMENSION = {q: dim for q, (dim, _, _) in QUANTITIES.items()}
-ENERGY_TERMS = ("input", "kinetic", "damping", "storeys", "contacts", "initial_kinetic")
 #: kernel counter (pframe.kernel.state.COUNTER_NAMES) -> file attribute, in the file's order
 COUNTER_ATTRIBUTES = (("solves", "newton_solves"), ("split_steps", "split_steps"),
                       ("factorisations", "factorisations"),
@@ -236,7 +236,8 @@ class ResultWriter:
         attrs["input_yaml"] = loaded.text
         attrs.update(record_attributes(loaded))
         attrs["integrator"] = integrator_text(plan)
-        attrs["warnings"] = "\n".join(plan.warnings)
+        verdict = of_result(result, member)
+        attrs["warnings"] = "\n".join(plan.warnings + verdict.warnings)
         attrs["dt"] = float(plan.dt[member])
         attrs["steps"] = np.int64(plan.steps)
         attrs["steps_completed"] = np.int64(result.states_done(member) - 1)
@@ -245,8 +246,11 @@ class ResultWriter:
             attrs[name] = np.int64(result.counter(counter, member))
         attrs["status"] = result.describe_failure(member)
         attrs["complete"] = np.int8(result.completed(member))
-        attrs["energy_balance_error"] = float(result.energy_error(member))
-        for term, value in zip(ENERGY_TERMS, result.energy[member]):
+        attrs["energy_balance_error"] = verdict.balance_error
+        attrs["algorithmic_dissipation"] = verdict.algorithmic
+        attrs["accuracy"] = verdict.level
+        attrs["trusted"] = np.int8(verdict.trusted)
+        for term, value in result.energy_terms(member).items():
             attrs[f"energy_{term}"] = float(convert.energy(value))
         attrs.update(reference_attributes(loaded))
         attrs.update(convert.attributes(float(plan.dt[member])))

@@ -1,0 +1,115 @@
+"""The verdict on a run's own evidence of accuracy: is its energy balance what the integrator
+promises?
+
+Every run closes the balance
+
+    W_input = dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic
+
+step by step (:mod:`pframe.kernel.energy`), with the integrator's own dissipation
+D_algorithmic counted from its defining relations. Two numbers are judged, each relative to the
+largest energy term of the run:
+
+- the **balance error**: what the identity leaves over. Every implicit integrator closes it to
+  round-off (at most 4e-12 on the shipped scenes at 1/2 to 4 times their step) and central
+  difference to its velocity corrector's O(h^2) (at most 2e-6 at 4 times the paper's step).
+  Above :data:`BALANCE_WARNING` the run did not solve the equations it claims to; above
+  :data:`BALANCE_UNTRUSTED` it is not a result.
+- **D_algorithmic**: zero for average acceleration; positive numerical damping for HHT,
+  generalised alpha and Newmark with gamma > 1/2 (at most 0.7 % of the energy on the shipped
+  scenes at 4 times their step). Evaluated at the alpha point, nonlinear laws (yield, contact
+  onset) make it slightly negative (HHT and generalised alpha on the paper's scene: -0.07 % to
+  -0.36 % at 1 to 4 times its step). More than :data:`DISSIPATION_WARNING` damped numerically
+  changes the response; energy created beyond :data:`CREATION_WARNING` is a step that is too
+  long for the nonlinearity or a law-integrator pair that does not conserve, and beyond
+  :data:`CREATION_UNTRUSTED` the run is not a result (the Kelvin-with-tension event failure
+  of issue 18 created 36 %).
+
+``python benchmarks/energy_verdict.py`` measures these numbers on the shipped scenes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+#: balance error above which a run is warned of
+BALANCE_WARNING = 1e-4
+#: balance error above which a run is not to be trusted
+BALANCE_UNTRUSTED = 1e-2
+#: numerical damping (fraction of the largest energy term) above which a run is warned of
+DISSIPATION_WARNING = 0.05
+#: energy created by the integrator above which a run is warned of
+CREATION_WARNING = 1e-2
+#: energy created by the integrator above which a run is not to be trusted
+CREATION_UNTRUSTED = 5e-2
+
+TRUSTED, IN_DOUBT, UNTRUSTED = "trusted", "in doubt", "not to be trusted"
+
+
+class AccuracyWarning(UserWarning):
+    """A run whose result may be wrong: its step, its energy balance or its inputs say so."""
+
+
+@dataclass(frozen=True)
+class Verdict:
+    """What a run's energy evidence says: ``level`` is :data:`TRUSTED`, :data:`IN_DOUBT` or
+    :data:`UNTRUSTED`; ``warnings`` say why and what to change."""
+
+    balance_error: float
+    algorithmic: float
+    level: str
+    warnings: tuple[str, ...]
+
+    @property
+    def trusted(self) -> bool:
+        return self.level != UNTRUSTED
+
+
+def judge(balance_error: float, algorithmic: float, completed: bool = True) -> Verdict:
+    """The verdict on a run with this balance error and algorithmic dissipation (both
+    relative to the largest energy term). A run that stopped early is judged on what it
+    computed; its incompleteness is said elsewhere."""
+    notes: list[str] = []
+    level = TRUSTED
+
+    def worse(new: str) -> None:
+        nonlocal level
+        if level == TRUSTED or new == UNTRUSTED:
+            level = new
+
+    if not (math.isfinite(balance_error) and math.isfinite(algorithmic)):
+        worse(UNTRUSTED)
+        notes.append("the energy balance is not a number: the run's arithmetic failed; the "
+                     "result is not to be trusted")
+        return Verdict(balance_error, algorithmic, level, tuple(notes))
+    if balance_error > BALANCE_WARNING:
+        bad = balance_error > BALANCE_UNTRUSTED
+        worse(UNTRUSTED if bad else IN_DOUBT)
+        notes.append(
+            f"the energy balance does not close: error {balance_error:.2g} of the largest "
+            f"energy term (integrators close it to about 1e-12; above {BALANCE_WARNING:g} "
+            "the equations were not solved as stated)"
+            + ("; the result is not to be trusted" if bad else "")
+            + ": use a smaller dt, a tighter Newton tolerance, or another integrator")
+    if algorithmic < -CREATION_WARNING:
+        bad = -algorithmic > CREATION_UNTRUSTED
+        worse(UNTRUSTED if bad else IN_DOUBT)
+        notes.append(
+            f"the integrator created energy: {-algorithmic:.2g} of the largest energy term "
+            f"(more than {CREATION_WARNING:g})"
+            + ("; the result is not to be trusted" if bad else "")
+            + ": use a smaller dt, 'events: false', or average acceleration (newmark)")
+    elif algorithmic > DISSIPATION_WARNING:
+        worse(IN_DOUBT)
+        notes.append(
+            f"the integrator's numerical damping removed {algorithmic:.2g} of the largest "
+            f"energy term (more than {DISSIPATION_WARNING:g}): the response is damped by the "
+            "step, not by the structure; use a smaller dt or less numerical dissipation")
+    return Verdict(balance_error, algorithmic, level, tuple(notes))
+
+
+def of_result(result, member: int = 0) -> Verdict:
+    """The verdict on member ``member`` of a kernel result."""
+    return judge(float(result.energy_error(member)),
+                 float(result.algorithmic_dissipation(member)),
+                 bool(result.completed(member)))
