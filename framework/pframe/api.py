@@ -8,8 +8,10 @@ Dataset that ``pframe solve`` writes (the file is laid out by one writer, in mem
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 import warnings
+import weakref
 from pathlib import Path
 
 from pframe.errors import InputError
@@ -128,10 +130,21 @@ def _from_result(path: Path):
                              f"{relative}; run it from its scene file")
         depth = sum(1 for part in relative.parts if part == "..")
         root = Path(tempfile.mkdtemp(prefix="pframe-record-"))
-        base = root.joinpath(*(["d"] * depth))
-        target = (base / relative).resolve()
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_text(attrs["record_text"], encoding="utf-8")
+        try:
+            base = root.joinpath(*(["d"] * depth))
+            base.mkdir(parents=True, exist_ok=True)  # base/../x needs base itself
+            target = (base / relative).resolve()
+            if root.resolve() not in target.parents:
+                raise InputError(f"{path}: the record name {str(relative)!r} leaves its folder")
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_text(attrs["record_text"], encoding="utf-8")
+            loaded = parse_scene(text, f"{path} (input_yaml)", base)
+        except BaseException:
+            shutil.rmtree(root, ignore_errors=True)
+            raise
+        # the folder lives as long as the scene (a variant re-reads the record), then goes
+        weakref.finalize(loaded, shutil.rmtree, str(root), ignore_errors=True)
+        return loaded
     return parse_scene(text, f"{path} (input_yaml)", base)
 
 
@@ -225,14 +238,19 @@ def check_output(output, overwrite: bool, loaded=None) -> Path:
     ``overwrite``, not the scene or record the run reads, not being written by another run."""
     from pframe import outputs
 
+    return outputs.check_output(output, inputs=run_inputs(loaded), overwrite=overwrite,
+                                what="result file")
+
+
+def run_inputs(loaded) -> list[Path]:
+    """The files a loaded scene reads (the scene, its record): never an output."""
     inputs = []
     if loaded is not None:
         inputs.append(Path(str(loaded.source)))
         excitation = getattr(loaded.scene, "excitation", None)
         if getattr(excitation, "kind", None) == "record":
             inputs.append(Path(loaded.base_dir) / excitation.file)
-    return outputs.check_output(output, inputs=inputs, overwrite=overwrite,
-                                what="result file")
+    return inputs
 
 
 def sweep(definition, *, output: str | Path | None = None, overwrite: bool = False,

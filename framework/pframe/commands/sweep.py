@@ -121,17 +121,27 @@ def _sweep(args) -> int:
     where = f" on the Dask cluster at {args.scheduler}" if args.scheduler else ""
     say(f"pframe sweep: {args.sweep}: {spec.count} variants ({spec.model.combine} of {axes}) "
         f"in {_plural(spec.chunks, 'chunk')} of up to {definition.chunk}{where}")
+    from pframe.sweep.store import kept
+
+    found = kept(out)
+    if found:
+        say(f"pframe sweep: resuming: {_plural(found, 'finished chunk')} of an earlier run "
+            f"found in {parts_folder(out)} (taken up if they are this sweep's; the other "
+            "chunks run now)")
     progress = None if args.quiet else _Progress(sys.stderr, sys.stderr.isatty())
     try:
         run = run_sweep(definition, out, restart=args.overwrite, threads=args.threads,
                         scheduler=args.scheduler, progress=progress,
                         call=getattr(args, "command_line", None))
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         if progress is not None:
             progress.close()
-        print(f"pframe: interrupted; the finished chunks are kept in {parts_folder(out)}: run "
-              "the same command to continue", file=sys.stderr)
-        return 130
+        signum = getattr(exc, "signum", None)
+        print(f"pframe: {'interrupted' if signum is None else f'stopped by signal {signum}'}; "
+              f"{_plural(kept(out), 'finished chunk')} of {spec.chunks} kept in "
+              f"{parts_folder(out)}, no sweep file written: run the same command to resume "
+              "from them", file=sys.stderr)
+        return 130 if signum is None else 128 + signum
     finally:
         if progress is not None:
             progress.close()

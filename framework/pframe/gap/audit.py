@@ -213,12 +213,14 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
                      records_folder=records_folder)
     for text in inputs.warnings:  # also in the result's `warnings` attribute
         warnings.warn(f"{inputs.loaded.source}: {text}", stacklevel=2)
-    if output is not None:
-        output = Path(output)
-        if output.exists() and not overwrite:
-            raise InputError(f"{output}: the output file exists; pass --overwrite to replace it")
-        if not output.parent.is_dir():
-            raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
+    if output is not None:  # never a device, the scene, the suite or a record it reads
+        from pframe import outputs
+        from pframe.api import run_inputs
+
+        reads = [*run_inputs(inputs.loaded), inputs.suite.source,
+                 *(m.source for m in inputs.suite.motions)]
+        output = outputs.check_output(output, inputs=[r for r in reads if r],
+                                      overwrite=overwrite, what="audit file")
     count = inputs.count
     chunk = count if chunk is None else int(chunk)
     if chunk < 1:

@@ -11,6 +11,8 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
+from pframe.excitation.describe import applied_motion, motion_warnings
+from pframe.excitation.records import RecordUnitsError
 from pframe.laws import ContactContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
@@ -191,6 +193,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             record = read_record(file, scene.excitation.format, scene.excitation.units)
         except FileNotFoundError:
             raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
+        except RecordUnitsError as exc:  # the header and the scene disagree on the units
+            where = "units" if scene.excitation.units is not None else "file"
+            raise ModelError(("excitation", where), str(exc)) from None
         except (ValueError, OSError) as exc:
             raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
         try:
@@ -278,7 +283,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         record=record,
         excitation=scene.excitation,
         reference=reference,
-        warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0]),
+        warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
+        + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt))),
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
 

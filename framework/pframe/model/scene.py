@@ -120,13 +120,16 @@ class Record(Base):
         "auto", description="File format; auto: PEER for the suffix .AT2 in any case (.AT2, "
                             ".at2, .At2), else two columns. pframe validate prints how the "
                             "file was read.")
-    units: Literal["m/s2", "g"] | None = Field(
-        None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
-    )
+    units: Literal["g", "m/s2", "cm/s2", "gal", "mm/s2", "in/s2", "ft/s2"] | None = Field(
+        None, description="Acceleration units of the file's values. Default: the units its "
+        "header states (PEER: 'UNITS OF G', 'UNITS OF CM/SEC/SEC'; two columns: a comment "
+        "'# units: cm/s2'), else g for .AT2 and m/s2 otherwise. Units that contradict the "
+        "header are refused.")
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
     pga: Positive | None = Field(
-        None, description="Scale the record to this peak ground acceleration (m/s^2); instead "
-        "of scale.")
+        None, description="Scale the record to this peak ground acceleration, in m/s^2 (not g: "
+        "0.4 g is 3.92); instead of scale. pframe validate and solve print the PGA applied, in "
+        "m/s^2 and g.")
     period: Literal["mean", "predominant"] | Positive = Field(
         "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
         "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
