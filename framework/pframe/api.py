@@ -287,10 +287,16 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
         if run.failed:
             warnings.warn(f"{definition}: {len(run.failed)} of {run.count} variants failed "
                           "(complete = 0; status says why)", IncompleteRun, stacklevel=2)
+        from pframe.verdict import AccuracyWarning
+
+        if run.untrusted:
+            warnings.warn(f"{definition}: {len(run.untrusted)} of {run.count} variants "
+                          "completed but are not to be trusted (their energy balance; trusted "
+                          "= 0)", AccuracyWarning, stacklevel=2)
         ds = open(out)
         for line in str(ds.attrs.get("warnings", "")).splitlines():
             if "the analysis stops at" in line:  # a record cut (docs/sweeps.md)
-                warnings.warn(f"{definition}: {line}", stacklevel=2)
+                warnings.warn(f"{definition}: {line}", AccuracyWarning, stacklevel=2)
         if folder is None:
             return ds
         with ds:

@@ -149,6 +149,12 @@ def _sweep(args) -> int:
         print(f"pframe: warning: {args.sweep}: {warning}", file=sys.stderr)
     if not args.quiet:
         _summary(run, spec)
+    if run.untrusted:
+        named = ", ".join(f"variant {i} ({spec.describe(i)})" for i in run.untrusted[:3])
+        more = f" and {len(run.untrusted) - 3} more" if len(run.untrusted) > 3 else ""
+        print(f"pframe: warning: {args.sweep}: {len(run.untrusted)} of {run.count} variants "
+              f"completed but are not to be trusted (their energy balance; the file's "
+              f"'trusted' variable is 0 for them): {named}{more}", file=sys.stderr)
     if run.failed:
         first = ", ".join(f"variant {i} ({spec.describe(i)}): {why}" for i, why in run.failed[:3])
         more = f" and {len(run.failed) - 3} more" if len(run.failed) > 3 else ""

@@ -18,10 +18,11 @@ from pframe.sweep.definition import RESPONSES
 from pframe.sweep.grid import Spec, parse
 from pframe.sweep.probing import TOPOLOGY_CHANGED, topology
 from pframe.sweep.spec import code_fingerprint
+from pframe.verdict import of_result
 
 #: per-variant bookkeeping kept beside the responses
 STATUS_FIELDS = ("complete", "status", "steps_completed", "energy_balance_error",
-                 "newton_solves", "split_steps")
+                 "algorithmic_dissipation", "trusted", "newton_solves", "split_steps")
 #: a variant that never ran (its scene is invalid) holds this in its integer responses
 MISSING_COUNT = -1
 
@@ -135,7 +136,8 @@ def _not_run(shapes: dict, reason: str) -> dict:
     row = {name: _placeholder(name, shape) for name, shape in shapes.items()}
     row.update(complete=np.int8(0), status=f"invalid scene: {reason}",
                steps_completed=np.int32(0), energy_balance_error=np.nan,
-               newton_solves=np.int64(0), split_steps=np.int64(0), scales=np.full(3, np.nan),
+               algorithmic_dissipation=np.nan, trusted=np.int8(0), newton_solves=np.int64(0),
+               split_steps=np.int64(0), scales=np.full(3, np.nan),
                dt=np.nan, duration=np.nan, record_duration=np.nan)
     return row
 
@@ -222,11 +224,14 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
             values = responses_of(spec, plan, result, member, convert)
             values.update(_histories_of(plan, result, member, convert))
             end = record_end(expanded)
+            verdict = of_result(result, member)
             values.update(
                 complete=np.int8(result.completed(member)),
                 status=result.describe_failure(member),
                 steps_completed=np.int32(result.states_done(member) - 1),
-                energy_balance_error=float(result.energy_error(member)),
+                energy_balance_error=verdict.balance_error,
+                algorithmic_dissipation=verdict.algorithmic,
+                trusted=np.int8(verdict.trusted),
                 newton_solves=np.int64(result.iterations[member]),
                 split_steps=np.int64(result.substeps[member]),
                 scales=(np.array([convert.scales[k] for k in ("m_b", "a_p", "w_p")], dtype=float)

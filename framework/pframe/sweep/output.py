@@ -39,6 +39,10 @@ _STATUS = {
     "steps_completed": ("int32", None, "time steps computed"),
     "energy_balance_error": ("float64", "1", "energy balance error relative to the largest "
                              "energy term"),
+    "algorithmic_dissipation": ("float64", "1", "the integrator's own dissipation relative to "
+                                "the largest energy term (negative: energy created)"),
+    "trusted": ("int8", None, "0 if the energy verdict says the variant is not to be trusted "
+                "(docs/theory.md, the verdict on a run), else 1"),
     "newton_solves": ("int32", None, "Newton iterations (linear solves)"),
     "split_steps": ("int32", None, "steps retried in sub-steps"),
     "dt": ("float64", "s", "time step"),
@@ -141,6 +145,7 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         "sweep_combine": spec.model.combine,
         "variants": np.int64(spec.count),
         "variants_failed": np.int64(np.count_nonzero(~complete)),
+        "variants_untrusted": np.int64(np.count_nonzero(complete & (small["trusted"] == 0))),
         "chunk": np.int64(definition.chunk),
         "integrator": run.integrator,
         "steps": np.int64(run.steps),
@@ -227,4 +232,6 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
                     var[np.unravel_index(index, shape)] = values
 
     failed = [(i, str(small["status"][i])) for i in np.flatnonzero(~complete)]
-    return {"failed": failed, "count": spec.count, "durations": small["duration"]}
+    untrusted = [int(i) for i in np.flatnonzero(complete & (small["trusted"] == 0))]
+    return {"failed": failed, "untrusted": untrusted, "count": spec.count,
+            "durations": small["duration"]}

@@ -37,6 +37,7 @@ class SweepRun:
     chunks: int
     resumed_chunks: int = 0
     failed: list = field(default_factory=list)  # (variant index, reason)
+    untrusted: list = field(default_factory=list)  # completed variants the verdict rejects
     wall_seconds: float = 0.0
     solve_seconds: float = 0.0  # kernel time summed over chunks (over threads/workers)
     compile_seconds: float = 0.0
@@ -107,6 +108,7 @@ def run_sweep(definition: SweepDefinition, output: str | Path, *, restart: bool 
     finally:
         parts.close()
     run.failed = summary["failed"]
+    run.untrusted = summary["untrusted"]
     run.durations = summary["durations"]
     run.wall_seconds = time.perf_counter() - start
     return run
