@@ -35,7 +35,8 @@ def load(source, *, base_dir: str | Path | None = None):
     YAML, or a scene object. Files are checked exactly as ``pframe validate`` checks them;
     a problem raises :class:`pframe.InputError` naming the file, line and field. Record files
     are found relative to the scene file (``base_dir`` for data and objects: default, the
-    current folder).
+    current folder); a copy of a loaded scene (``model_copy``, with or without ``update``)
+    keeps the folder its record was read from.
     """
     loaded = _loaded(source, base_dir)
     return _scene_of(loaded)
@@ -87,7 +88,9 @@ def _loaded(source, base_dir=None):
     if loaded is not None:
         return loaded
     if hasattr(source, "to_yaml"):
-        base = base_dir or (loaded.base_dir if loaded is not None else ".")
+        # a copy of a loaded scene (model_copy) finds its record where the original did
+        excitation = getattr(source, "excitation", None)
+        base = base_dir or getattr(excitation, "_folder", None) or "."
         return parse_scene(source.to_yaml(), "<python>", Path(base))
     if isinstance(source, (bytes, bytearray)):
         raise InputError("pframe.load: give a path, a dict or a scene object, not bytes")
@@ -284,9 +287,19 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
         if run.failed:
             warnings.warn(f"{definition}: {len(run.failed)} of {run.count} variants failed "
                           "(complete = 0; status says why)", IncompleteRun, stacklevel=2)
+        from pframe.verdict import AccuracyWarning
+
+        if run.untrusted:
+            warnings.warn(f"{definition}: {len(run.untrusted)} of {run.count} variants "
+                          "completed but are not to be trusted (their energy balance; trusted "
+                          "= 0)", AccuracyWarning, stacklevel=2)
+        ds = open(out)
+        for line in str(ds.attrs.get("warnings", "")).splitlines():
+            if "the analysis stops at" in line:  # a record cut (docs/sweeps.md)
+                warnings.warn(f"{definition}: {line}", AccuracyWarning, stacklevel=2)
         if folder is None:
-            return open(out)
-        with open(out) as ds:
+            return ds
+        with ds:
             return ds.load()
     finally:
         if progress_bar is not None:

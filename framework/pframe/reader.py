@@ -69,6 +69,9 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     plugins = plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")
+    if scene.excitation is not None and scene.excitation.kind == "record":
+        # copies of the scene (model_copy) read the record from here, whatever the cwd
+        scene.excitation._folder = str(base_dir.resolve())
     try:
         expanded = expand(scene, base_dir)
     except ModelError as exc:
@@ -129,4 +132,7 @@ def variant(loaded: LoadedScene, change) -> LoadedScene:
     data = copy.deepcopy(data)
     change(data)
     text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
-    return scene_from_data(data, lines, loaded.source, loaded.base_dir, text)
+    # the folder the record was read from (absolute), not base_dir again relative to a
+    # current folder that may have changed since
+    folder = getattr(loaded.scene.excitation, "_folder", None) or loaded.base_dir
+    return scene_from_data(data, lines, loaded.source, folder, text)

@@ -4,6 +4,7 @@ no-pounding gap, over a suite of records scaled to intensity levels."""
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -67,12 +68,14 @@ def _gap(args) -> int:
               f"a stopped audit found in {parts_folder(output)} (taken up if they are this "
               "audit's; the other batches run now)", file=sys.stderr)
     try:
-        ds = audit(args.scene, suite, gap=args.gap,
-                   levels=_levels(args.levels) if args.levels else None,
-                   measure=args.measure, en_coincident=args.en_coincident,
-                   duration=args.duration, dt=args.dt, records_folder=args.records_folder,
-                   output=output, overwrite=args.overwrite, chunk=args.chunk,
-                   threads=args.threads, progress=progress, timings=timings)
+        with warnings.catch_warnings():  # printed below from the result, as pframe: warning
+            warnings.simplefilter("ignore", UserWarning)
+            ds = audit(args.scene, suite, gap=args.gap,
+                       levels=_levels(args.levels) if args.levels else None,
+                       measure=args.measure, en_coincident=args.en_coincident,
+                       duration=args.duration, dt=args.dt, records_folder=args.records_folder,
+                       output=output, overwrite=args.overwrite, chunk=args.chunk,
+                       threads=args.threads, progress=progress, timings=timings)
     except KeyboardInterrupt as exc:
         if progress is not None:
             sys.stderr.write("\n")  # off the progress line
@@ -88,6 +91,8 @@ def _gap(args) -> int:
         return 130 if signum is None else 128 + signum
     if progress is not None:
         sys.stderr.write("\n")
+    for line in str(ds.attrs.get("warnings", "")).splitlines():
+        print(f"pframe: warning: {args.scene}: {line}", file=sys.stderr)
     if not args.quiet:
         print(table(ds, args.statistic))
         failed = int((ds.complete == 0).sum())

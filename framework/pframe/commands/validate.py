@@ -127,12 +127,11 @@ def _sweep(path: Path) -> int:
     # what a run would warn of, for the first and the last variant (every axis at its first
     # and at its last value): the others differ in numbers only
     from pframe.assemble import assemble
-    from pframe.sweep.variants import load_variant, materialise, variant_data
+    from pframe.sweep.variants import load_fitted, materialise
 
     said = set()
     for index in dict.fromkeys((0, spec.count - 1)):
-        variant = load_variant(variant_data(spec, index), spec.base_lines, spec.base_where,
-                               materialise(definition))
+        variant = load_fitted(spec, index, materialise(definition))
         for note in variant.expanded.notes:
             if note not in said:
                 print(f"  note: {note} (variant {index}: {spec.describe(index)})")

@@ -15,6 +15,7 @@ from pydantic import (
     ConfigDict,
     Discriminator,
     Field,
+    PrivateAttr,
     Tag,
     create_model,
     model_validator,
@@ -143,6 +144,17 @@ class Record(Base):
         if self.pga is not None and "scale" in self.model_fields_set:
             raise ValueError("give scale (a factor) or pga (a target peak), not both")
         return self
+
+    # The absolute folder ``file`` is relative to, set when the record is read from a scene
+    # file: a copy of the scene (model_copy, with or without update) keeps it, so the copy
+    # reads the same record from any current folder. Not a field: not in the YAML, the
+    # schema or equality.
+    _folder: str | None = PrivateAttr(None)
+
+    def __eq__(self, other):
+        if not isinstance(other, Record):
+            return NotImplemented
+        return self.__dict__ == other.__dict__
 
 
 class _Pulse(Base):
