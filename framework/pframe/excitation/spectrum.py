@@ -18,7 +18,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+
+try:
+    from numba import njit
+except ImportError:  # numba is the optional 'plugins' extra: the same recurrences in Python
+
+    def njit(*args, **kwargs):
+        return args[0] if args and callable(args[0]) else (lambda function: function)
 
 G = 9.80665
 
