@@ -207,6 +207,12 @@ def test_statistics_pounding_and_file(tmp_path):
     read = pframe.open(out).load()
     assert read.gap_required.dims == ("record", "level", "contact", "rule")
     assert list(read.rule_name.values) == ["ABS", "SRSS", "DDC", "SRSS_EN_0.7", "simulated"]
+    # names are the coordinate values of their dimensions, in the file's Dataset as in memory
+    assert read.rule.values.tolist() == read.rule_name.values.tolist()
+    assert read.gap_statistics.sel(rule="DDC", statistic="p84").to_series().index.names == [
+        "level", "contact"]
+    assert ds.gap_required.sel(rule="SRSS").to_series().index.get_level_values(
+        "record").tolist()[0] == str(ds.record_name.values[0])
     # the file holds the Dataset, and says when and how it was written
     assert {"date_created", "history"} <= set(read.attrs)
     xr.testing.assert_equal(read, ds)

@@ -303,15 +303,39 @@ def _opened(source, load_now: bool = False):
 
 
 def indexed(ds):
-    """``ds`` with an index on each label coordinate (``*_name``, swept record files), so
-    that ``.sel`` takes names; the data and attributes are unchanged."""
-    for name, coord in ds.coords.items():
-        if coord.ndim == 1 and name not in ds.indexes and coord.dtype == object \
-                and name.endswith("_name") and len(set(coord.values.tolist())) == coord.size:
+    """``ds`` with its named positions as coordinates: each dimension with a label
+    (``node_name`` along ``node``, ``story_name``, ``contact_name``, ``building_name``, ...)
+    gets the names as its coordinate values, so ``to_series``, ``to_dataframe``, xarray's
+    legends and ``.sel(node="A/3")`` show and take names; a swept record axis
+    (``<axis>_file``) gets the records' names (file names without folder and suffix, the
+    paths when two share a name). The labels stay, indexed (``.sel(node_name="A/3")``). The
+    file keeps the labels only (CF has no string coordinate variables): writing the Dataset
+    with :func:`pframe.record.netcdf.write_dataset` drops the name coordinates again."""
+    import numpy as np
+
+    for name, coord in list(ds.coords.items()):
+        if coord.ndim != 1 or coord.dtype.kind not in "OU" or name in ds.indexes:
+            continue
+        dim = coord.dims[0]
+        values = [str(v) for v in coord.values.tolist()]
+        if len(set(values)) != coord.size:
+            continue
+        if name == f"{dim}_name" and dim not in ds.coords:
+            ds = ds.assign_coords({dim: (dim, np.array(values, dtype=object),
+                                         _label_attrs(coord))})
+        elif name == f"{dim}_file" and dim not in ds.coords:
+            stems = [Path(v).stem for v in values]
+            names = stems if len(set(stems)) == len(stems) else values
+            attrs = {"long_name": "ground-motion record (file name)"}
+            ds = ds.assign_coords({dim: (dim, np.array(names, dtype=object), attrs)})
+            continue
+        if name.endswith("_name"):
             ds = ds.set_xindex(name)
     return ds
 
 
+def _label_attrs(coord) -> dict:
+    return {k: coord.attrs[k] for k in ("long_name",) if k in coord.attrs}
 
 
 # -- building blocks of a scene (the names and fields of the YAML) ---------------------------
