@@ -100,8 +100,6 @@ def _from_result(path: Path):
     finds it."""
     import h5py
 
-    from pframe.reader import parse_scene
-
     try:
         with h5py.File(path, "r") as f:
             attrs = {k: f.attrs[k] for k in ("input_yaml", "record_file", "record_text",
@@ -110,14 +108,22 @@ def _from_result(path: Path):
         raise InputError(f"{path}: no such result file") from None
     except OSError as exc:
         raise InputError(f"{path}: not a pframe result file (HDF5/netCDF-4): {exc}") from None
-    attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()}
+    return _from_attrs(attrs, path, Path(path).parent)
+
+
+def _from_attrs(attrs: dict, path, base: Path):
+    """The scene of a result's attributes (``input_yaml``, ``record_file``, ``record_text``:
+    a file's or a Dataset's); ``path`` names it in messages."""
+    from pframe.reader import parse_scene
+
+    attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()
+             if k in ("input_yaml", "record_file", "record_text", "sweep_yaml")}
     if "sweep_yaml" in attrs:
         raise InputError(f"{path}: a sweep's result file holds many scenes; load its base "
                          "scene from the sweep file, or a variant with pframe sweep --variant")
     text = attrs.get("input_yaml")
     if not text:
         raise InputError(f"{path}: the file holds no scene (no input_yaml attribute)")
-    base = Path(path).parent
     if "record_text" in attrs:
         relative = Path(attrs["record_file"])
         if relative.is_absolute():
