@@ -302,3 +302,25 @@ def test_command_prints_table_and_plot_draws_it(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     assert main(["plot", str(out), "-o", str(tmp_path / "gap.png")]) == 0
     assert (tmp_path / "gap.png").stat().st_size > 10_000
+    # the figure says what was run (not the scene's own title), and that a dispersion
+    # fitted to one record is rough
+    from pframe.plot.gap import gap_figure
+
+    fig, notes = gap_figure(out)
+    title = fig.get_suptitle()
+    assert "a soft and a stiff" not in title
+    assert title == "Gap audit of pair.yaml: record cycloidal, scaled to PGA = 0.2, 0.4, 0.8, 1.6 g"
+    # one record pounds at no level or every level: no fit; given one, the label says it
+    # rests on one record (the file rewritten through the Dataset, names and all)
+    from pframe.record.netcdf import write_dataset
+
+    assert not np.isfinite(float(ds.fragility_dispersion_any))
+    fitted = ds.assign(fragility_median_any=xr.full_like(ds.fragility_median_any, 0.5),
+                       fragility_dispersion_any=xr.full_like(ds.fragility_dispersion_any, 0.04))
+    write_dataset(fitted, tmp_path / "fitted.nc")
+    fig, notes = gap_figure(tmp_path / "fitted.nc")
+    labels = [line.get_label() for line in fig.axes[1].get_lines()
+              if line.get_label().startswith("lognormal fit")]
+    assert len(labels) == 1 and "dispersion 0.04" in labels[0]
+    assert "from 1 record: a rough estimate (use 10 or more)" in labels[0]
+    assert any("rough estimate" in note for note in notes)

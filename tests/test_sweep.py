@@ -444,3 +444,37 @@ def test_the_pi_d_spectrum_of_the_docs(tmp_path):
     assert peak[4, 1] == pytest.approx(0.29, abs=0.005) and pi_d[4] == pytest.approx(0.2)
     assert np.allclose(peak[pi_d >= 0.45 - 1e-9, 1], 0.20, atol=0.005)
     assert peak[:, 1].max() == peak[4, 1]
+
+
+def test_a_records_axis_is_named_by_the_records(tmp_path):
+    """A sweep over record files (in a folder): the Dataset's records axis has the records'
+    names (``.sel(record="two")``), the files stay in ``record_file``, and the spectrum's
+    legend names the records, not their relative paths."""
+    import pframe
+
+    (tmp_path / "rec").mkdir()
+    t = np.arange(0, 1.6, 0.01)
+    for name, scale in (("one.txt", 1.0), ("two.txt", 2.5)):
+        np.savetxt(tmp_path / "rec" / name, np.column_stack([t, scale * 9.81 * np.sin(2 * np.pi * t)]))
+    base = BASE.replace("excitation: {kind: sine, amplitude: 9.81, frequency: 6.283185307179586}",
+                        "excitation: {kind: record, file: rec/one.txt}")
+    (tmp_path / "base.yaml").write_text(base, encoding="utf-8")
+    (tmp_path / "records.yaml").write_text(
+        "base: base.yaml\n"
+        "axes:\n"
+        "  - {name: record, path: excitation.file, values: [rec/one.txt, rec/two.txt]}\n"
+        "  - {name: gap, path: contacts.*.gap, values: [0.01, 0.03], units: m}\n",
+        encoding="utf-8")
+    out = tmp_path / "records.nc"
+    assert run_sweep(load_sweep(tmp_path / "records.yaml"), out).completed
+    with pframe.open(out) as ds:
+        assert ds.record.values.tolist() == ["one", "two"]
+        assert ds.record_file.values.tolist() == ["rec/one.txt", "rec/two.txt"]
+        two = ds.peak_displacement.sel(record="two", gap=0.01)
+        assert float(two.max()) > 1.5 * float(ds.peak_displacement.sel(record="one", gap=0.01).max())
+    pytest.importorskip("matplotlib")
+    from pframe.plot.spectrum import spectrum
+
+    fig, _ = spectrum(out, response="peak_displacement", x="gap", curves="record")
+    legend = fig.axes[0].get_legend()
+    assert [text.get_text() for text in legend.get_texts()] == ["one", "two"]

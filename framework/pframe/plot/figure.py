@@ -219,7 +219,7 @@ def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | No
 
 def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
             time_range: tuple[float, float] | None = None, dimensionless: bool = False,
-            report: Callable[[str], None] | None = None) -> dict:
+            report: Callable[[str], None] | None = None, units=None) -> dict:
     """The paper's figures of a result file, one per floor level.
 
     Parameters
@@ -237,6 +237,9 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
         scene's sine excitation; a file written dimensionless is drawn so in any case.
     report : callable, optional
         Called with each note on panels left out (see :func:`notes`).
+    units : str or dict, optional
+        ``"engineering"`` (mm, mm/s, kN), a string such as ``"mm,kN"`` or a mapping
+        ``{"m": "mm", "N": "kN"}`` (not with ``dimensionless``).
 
     Returns
     -------
@@ -252,6 +255,10 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
         raise InputError(f"unknown kind {kind!r}; choose one of {', '.join(KINDS)}")
     matplotlib_figure()
     result = prepare(source, time_range=time_range, dimensionless=dimensionless)
+    if units is not None:
+        if dimensionless:
+            raise InputError("give units or dimensionless, not both")
+        result = result.in_units(units)
     found = notes(result, kind)
     order = result.levels.order
     if levels is not None:
