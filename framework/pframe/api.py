@@ -286,9 +286,10 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
 # -- results --------------------------------------------------------------------------------
 
 def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_dataset
-    """A pframe result file (``pframe solve`` or ``pframe sweep``) as an xarray Dataset,
-    opened lazily; the named positions (``node_name``, ``story_name``, ``contact_name``, ...)
-    are indexed, so ``ds.sel(node_name="A/3")`` selects by name."""
+    """A pframe result file (``pframe solve``, ``pframe sweep`` or ``pframe gap``) as an
+    xarray Dataset, opened lazily; the names of nodes, storeys, contacts, ... are the
+    coordinate values of their dimensions (:func:`indexed`), so ``ds.sel(node="A/3")`` and
+    ``ds.peak_displacement.to_series()`` take and show names."""
     path = Path(path)
     if not path.exists():
         raise InputError(f"{path}: no such result file")
