@@ -152,6 +152,10 @@ def test_figures_hold_the_file_data(result_file):
     assert panels["velocity"].get_xlabel() == "time (s)"
     assert panels["hysteresis L/2"].get_ylabel() == "storey shear (N)"
 
+    # the title says what ran: the scene's title and level, then its excitation
+    assert figs["2"].get_suptitle() == ("plot test, 3 + 2 storeys: level 2\n"
+                                        "sine, amplitude 3 m/s^2, frequency 6 rad/s")
+
     # level 3: building L only, no contact there
     assert set(axes_by_label(figs["3"])) == {"displacement", "velocity", "hysteresis L/3"}
     assert set(lines_by_label(axes_by_label(figs["1"])["contact_force"])) == {"lower"}
