@@ -100,3 +100,15 @@ def test_a_bad_summary_path_is_refused_before_the_run(tmp_path, capsys):
                  "--summary", str(tmp_path / "s.txt")]) == 2
     assert "a summary is written as .csv or .md" in capsys.readouterr().err
     assert not list(tmp_path.iterdir())
+
+
+def test_a_sweep_has_no_one_run_summary(tmp_path, capsys):
+    out = tmp_path / "sweep.nc"
+    text = (MODELS / "sweeps" / "wu2021-pi-d.yaml").read_text(encoding="utf-8")
+    (tmp_path / "sweep.yaml").write_text(
+        text.replace("base: ../wu2021-eq14-pi.yaml", f"base: {MODELS / 'wu2021-eq14-pi.yaml'}")
+        .replace("linspace: [0, 2, 41]", "linspace: [0, 2, 2]"), encoding="utf-8")
+    assert main(["sweep", str(tmp_path / "sweep.yaml"), "-o", str(out), "-q"]) == 0
+    assert main(["summary", str(out)]) == 2
+    assert "the summary is of one run (pframe solve); this is a sweep's result" in \
+        capsys.readouterr().err

@@ -49,6 +49,10 @@ def _dataset(result):
     return indexed(result)
 
 
+def _where(result) -> str:
+    return str(result) if isinstance(result, (str, Path)) else "the Dataset"
+
+
 def _peaks(ds, entity: str) -> dict[str, tuple]:
     """quantity -> (values along ``entity``, units): the envelopes ``peak_*``, else the
     largest absolute value of each history over time."""
@@ -104,6 +108,11 @@ def summary(result, output: str | Path | None = None):
     import pandas as pd
 
     ds = _dataset(result)
+    if "sweep_axes" in ds.attrs or _text(ds.attrs.get("pframe_kind", "")) == "gap_audit":
+        what = "a sweep" if "sweep_axes" in ds.attrs else "a gap audit"
+        raise InputError(f"{_where(result)}: the summary is of one run (pframe solve); this is "
+                         f"{what}'s result, which holds many: read it as a Dataset "
+                         "(pframe.open) or draw it with pframe plot")
     rows = []
     energy_units = "1" if _text(ds.attrs.get("units_system", "")) == "dimensionless" else "J"
     rows.append(("run", "", "title", _text(ds.attrs.get("title", "")), ""))
