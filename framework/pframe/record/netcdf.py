@@ -246,37 +246,54 @@ def _text_attribute(attrs, name: str, text: str) -> None:
     attribute.write(np.array(data.ljust(max(1, len(data)), b"\0")), mtype=kind)
 
 
-def _is_variable_text(attrs, name: str) -> bool:
+def _variable_text(attrs) -> dict[str, bool]:
+    """Each attribute of ``attrs`` (but the HDF5 structure's): whether it is a
+    variable-length text (a scalar NC_STRING)."""
     import h5py
 
-    kind = attrs.get_id(name).get_type()
-    return isinstance(kind, h5py.h5t.TypeStringID) and kind.is_variable_str() and (
-        attrs.get_id(name).shape == ())
+    out = {}
+    for name in attrs:
+        if name in _STRUCTURE:
+            continue
+        attribute = attrs.get_id(name)
+        kind = attribute.get_type()
+        out[name] = (isinstance(kind, h5py.h5t.TypeStringID) and kind.is_variable_str()
+                     and attribute.shape == ())
+    return out
+
+
+def _objects(group):
+    """A group and everything under it that carries netCDF attributes (variables, groups)."""
+    import h5py
+
+    yield group
+    for item in group.values():
+        if isinstance(item, h5py.Group):
+            yield from _objects(item)
+        else:
+            yield item
 
 
 def fixed_length_text(f) -> None:
-    """Turn every text attribute of an open h5py file (root and variables) from a
+    """Turn every text attribute of an open h5py file (root, groups and variables) from a
     variable-length string (netCDF's NC_STRING, which h5netcdf writes and which Octave's
     netcdf package, among others, cannot read) into a fixed-length one (NC_CHAR, what every
-    netCDF reader reads). Attributes keep their order: all of an object's are rewritten when
-    one is text."""
-    import h5py
-
-    objects = [f]
-    f.visititems(lambda _, obj: objects.append(obj) if isinstance(obj, h5py.Dataset) else None)
-    for obj in objects:
+    netCDF reader reads). Attributes keep their order: from an object's first text
+    attribute on, all are rewritten (about 20 ms for the paper's example)."""
+    for obj in _objects(f):
         attrs = obj.attrs
-        names = [n for n in attrs if n not in _STRUCTURE]
-        first = next((i for i, n in enumerate(names) if _is_variable_text(attrs, n)), None)
+        text = _variable_text(attrs)
+        names = list(text)
+        first = next((i for i, n in enumerate(names) if text[n]), None)
         if first is None:
             continue
         for n in names[first:]:  # from the first text on, in order
-            if _is_variable_text(attrs, n):
-                value = attrs[n]
+            value = attrs[n]
+            if text[n]:
                 _text_attribute(attrs, n, value.decode("utf-8") if isinstance(value, bytes)
                                 else str(value))
             else:
-                value, dtype = attrs[n], attrs.get_id(n).dtype
+                dtype = attrs.get_id(n).dtype
                 del attrs[n]
                 attrs.create(n, value, dtype=dtype)
 
