@@ -108,10 +108,10 @@ def _from_result(path: Path):
         raise InputError(f"{path}: no such result file") from None
     except OSError as exc:
         raise InputError(f"{path}: not a pframe result file (HDF5/netCDF-4): {exc}") from None
-    return _from_attrs(attrs, path, Path(path).parent)
+    return scene_of_attributes(attrs, path, Path(path).parent)
 
 
-def _from_attrs(attrs: dict, path, base: Path):
+def scene_of_attributes(attrs: dict, path, base: Path):
     """The scene of a result's attributes (``input_yaml``, ``record_file``, ``record_text``:
     a file's or a Dataset's); ``path`` names it in messages."""
     from pframe.reader import parse_scene

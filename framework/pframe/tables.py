@@ -31,19 +31,16 @@ def _text(value) -> str:
     return value.decode("utf-8") if isinstance(value, bytes) else str(value)
 
 
-def _dataset(result):
-    """The Dataset of ``result`` (a Dataset, or a result file's path) with names indexed."""
+def result_dataset(result):
+    """The Dataset of ``result`` (a Dataset, or a result file's path, read whole) with the
+    names as coordinates (:func:`pframe.api.indexed`)."""
     if isinstance(result, (str, Path)):
-        from pframe.api import _opened
+        from pframe.api import open as open_result
 
-        path = Path(result)
-        if not path.exists():
-            raise InputError(f"{path}: no such result file")
-        try:
-            return _opened(path, load_now=True)
-        except (OSError, ValueError) as exc:
-            raise InputError(f"{path}: not a pframe result file (netCDF-4/HDF5): {exc}") \
-                from None
+        ds = open_result(result)
+        ds.load()
+        ds.close()
+        return ds
     from pframe.api import indexed
 
     return indexed(result)
@@ -75,10 +72,10 @@ def _yield_drifts(ds) -> tuple[dict[str, float], str]:
     holds; with the reason when there is none."""
     if "input_yaml" not in ds.attrs:
         return {}, "the result holds no scene (input_yaml)"
-    from pframe.api import _from_attrs
+    from pframe.api import scene_of_attributes
 
     try:
-        loaded = _from_attrs(dict(ds.attrs), "the result", Path("."))
+        loaded = scene_of_attributes(dict(ds.attrs), "the result", Path("."))
     except InputError as exc:
         return {}, f"the result's scene cannot be read: {exc}"
     scale = 1.0
@@ -107,7 +104,7 @@ def summary(result, output: str | Path | None = None):
     import numpy as np
     import pandas as pd
 
-    ds = _dataset(result)
+    ds = result_dataset(result)
     if "sweep_axes" in ds.attrs or _text(ds.attrs.get("pframe_kind", "")) == "gap_audit":
         what = "a sweep" if "sweep_axes" in ds.attrs else "a gap audit"
         raise InputError(f"{_where(result)}: the summary is of one run (pframe solve); this is "
@@ -228,7 +225,7 @@ def export_csv(result, folder: str | Path) -> list[Path]:
 
     from pframe import outputs
 
-    ds = _dataset(result)
+    ds = result_dataset(result)
     folder = Path(folder)
     if folder.exists() and not folder.is_dir():
         raise InputError(f"{folder}: not a folder; give a folder for the CSV files")

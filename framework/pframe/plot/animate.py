@@ -225,13 +225,13 @@ def animation_html(ds, max_frames: int = MAX_FRAMES) -> str:
 def write_animation(result, output: str | Path, overwrite: bool = True) -> Path:
     """Write the page of ``result`` (a Dataset or a result file) to ``output`` (.html)."""
     from pframe import outputs
-    from pframe.tables import _dataset
+    from pframe.tables import result_dataset
 
     path = Path(output)
     if path.suffix.lower() not in (".html", ".htm"):
         raise InputError(f"{path}: the animation is an HTML page; give a name ending in .html")
     path = outputs.check_output(path, overwrite=overwrite, what="animation")
-    ds = _dataset(result)
+    ds = result_dataset(result)
     text = animation_html(ds)
     with outputs.replacing(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
