@@ -48,6 +48,11 @@ model, the same model that `pframe validate` applies and that `schemas/model.sch
   written beside `<<` replaces the merged one, any other key may be given once.
 - A *node name* is `<building>/<floor>`, e.g. `A/1` for the first floor above ground of
   building `A`; the building shorthand creates the nodes `A/1` .. `A/n`.
+- The buildings stand in a row from left to right in the order the scene declares them
+  (`buildings`, then the buildings first named in `nodes`). A contact's `nodes` are
+  `[left, right]`: the left node's building must come first in that order, and a contact
+  written the other way round (`[C/1, B/1]` in a row `A`, `B`, `C`) is refused, because it
+  would close when the buildings move apart.
 - Contact laws and materials from installed plug-in packages add their own `law:` or
   `material:` variants, which this page does not list (see
   [writing a contact law](contact-laws.md)). The equations behind each law are in

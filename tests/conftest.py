@@ -165,6 +165,113 @@ def hunt_crossley_restitution(chi: float) -> float:
     return brentq(g, 1e-9, upper, xtol=1e-15, rtol=4 * np.finfo(float).eps)
 
 
+# ---------------------------------------------------------------------------------------------
+# the free two-body impact (test_restitution.py, test_contact_matrix.py)
+# ---------------------------------------------------------------------------------------------
+
+M_LEFT, M_RIGHT = 1000.0, 3000.0
+M_EFF = M_LEFT * M_RIGHT / (M_LEFT + M_RIGHT)
+V_IMPACT = 0.5  # m/s, L/1 moving right into R/1 at rest
+K_LINEAR = 1.0e7  # N/m
+K_HERTZ = 1.0e9  # N/m^1.5
+
+#: The damped laws, one variant per row of docs/restitution.md's tables:
+#: (law, extra YAML keys, label).
+IMPACT_VARIANTS = {
+    "kelvin-tension": ("kelvin", {"stiffness": K_LINEAR, "keep_tension": True},
+                       "`kelvin`, `keep_tension: true`"),
+    "kelvin-clipped": ("kelvin", {"stiffness": K_LINEAR}, "`kelvin` (clipped)"),
+    "improved_kelvin": ("improved_kelvin", {"stiffness": K_LINEAR}, "`improved_kelvin`"),
+    "hertzdamp-muthukumar": ("hertzdamp", {"stiffness": K_HERTZ, "formula": "muthukumar"},
+                             "`hertzdamp`, `formula: muthukumar`"),
+    "hertzdamp-ye": ("hertzdamp", {"stiffness": K_HERTZ, "formula": "ye"},
+                     "`hertzdamp`, `formula: ye`"),
+    "jankowski": ("jankowski", {"stiffness": K_HERTZ}, "`jankowski`"),
+}
+#: The laws without damping (e = 1): (law, extra YAML keys, label).
+UNDAMPED_VARIANTS = {
+    "linear": ("linear", {"stiffness": K_LINEAR}, "`linear`"),
+    "hertz": ("hertz", {"stiffness": K_HERTZ}, "`hertz`"),
+}
+
+
+def _variant(case: str):
+    return IMPACT_VARIANTS.get(case) or UNDAMPED_VARIANTS[case]
+
+
+def contact_context():
+    from pframe.laws import ContactContext
+
+    return ContactContext(M_LEFT, M_RIGHT)
+
+
+CONTEXT = contact_context()
+
+
+def impact_contact(case: str, e: float | None = None, calibration: str | None = None) -> dict:
+    """The contact's YAML keys (law, stiffness, restitution, calibration, ...) of ``case``."""
+    law, extra, _ = _variant(case)
+    if case in UNDAMPED_VARIANTS:
+        return {"law": law} | extra
+    return {"law": law, "restitution": e, "calibration": calibration} | extra
+
+
+def impact_packed(case: str, e: float | None = None,
+                  calibration: str | None = None) -> tuple[float, ...]:
+    """The numbers the law packs for ``case`` (pframe's own calibration)."""
+    from pframe.laws import get_law
+
+    law = get_law("contact", _variant(case)[0])
+    return law.pack(law.Params(**impact_contact(case, e, calibration)), CONTEXT)
+
+
+def impact_force(case: str, packed):
+    """F(delta, delta') of the law with its packed numbers, written out here (not pframe's
+    force function) for a free impact at V_IMPACT."""
+    law = _variant(case)[0]
+    if law == "linear":
+        k, = packed
+        return lambda x, r: k * x
+    if law == "hertz":
+        k, = packed
+        return lambda x, r: k * x**1.5
+    if law == "kelvin":
+        k, c, tension = packed
+        if tension:
+            return lambda x, r: k * x + c * r
+        return lambda x, r: max(k * x + c * r, 0.0)
+    if law in ("improved_kelvin", "hertzdamp"):
+        k, n, chi, _ = packed
+        return lambda x, r: max(k * x**n * (1.0 + chi * r / V_IMPACT), 0.0)
+    beta, zeta, m_eff = packed
+    return lambda x, r: beta * x**1.5 + (2 * zeta * math.sqrt(beta * math.sqrt(x) * m_eff) * r
+                                         if r > 0 else 0.0)
+
+
+def impact_ode(force, m_eff: float, v: float):
+    """Integrate m_eff delta'' = -F(delta, delta') from delta = 0, delta' = v with DOP853
+    (rtol 1e-12) to the separation delta = 0: (restitution, contact duration)."""
+    from scipy.integrate import solve_ivp
+
+    def rhs(t, y):
+        x = y[0]
+        return [y[1], -force(x, y[1]) / m_eff if x > 0 else 0.0]
+
+    def separated(t, y):
+        return y[0]
+
+    separated.terminal, separated.direction = True, -1
+    sol = solve_ivp(rhs, (0.0, 10.0), [0.0, v], method="DOP853", rtol=1e-12, atol=1e-16,
+                    events=separated, first_step=1e-9)
+    assert sol.status == 1, "the reference impact did not separate"
+    return -sol.y_events[0][0][1] / v, sol.t_events[0][0]
+
+
+def reference_impact(case: str, e: float | None = None, calibration: str | None = None):
+    """(restitution, contact duration) of the two-mass impact of ``case``, from the ODE."""
+    return impact_ode(impact_force(case, impact_packed(case, e, calibration)), M_EFF, V_IMPACT)
+
+
 @pytest.fixture(scope="session")
 def wu2021_text() -> str:
     return WU2021.read_text(encoding="utf-8")

@@ -27,6 +27,8 @@ def page(tmp_path_factory):
     run = folder / "eq14.nc"
     assert main(["solve", str(MODELS / "wu2021-eq14.yaml"), "-o", str(run), "-q"]) == 0
     assert main(["animate", str(run), "-q"]) == 0
+    assert main(["animate", str(run), "-q"]) == 2  # an existing page: --overwrite replaces it
+    assert main(["animate", str(run), "-q", "--overwrite"]) == 0
     return run, run.with_suffix(".html")
 
 

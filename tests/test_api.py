@@ -63,7 +63,7 @@ def paper_scene():
                 alpha=0.1)),
         ],
         contacts=contacts,
-        damping=pframe.Rayleigh(ratio=0.05, modes=(1, 2), stiffness="initial"),
+        damping=pframe.Rayleigh(ratio=0.05, modes=(1, 2), stiffness="current"),
         excitation=pframe.Sine(amplitude=a_p, frequency=w_p),
         analysis=pframe.Analysis(integrator=pframe.Newmark(gamma=0.5, beta=0.25),
                                  dt=0.001 / w_p, duration=50 / w_p),
@@ -249,6 +249,58 @@ def test_record_run_reproduces_from_the_file_alone(tmp_path):
     np.testing.assert_array_equal(again.displacement.values, first.displacement.values)
     np.testing.assert_array_equal(again.contact_force.values, first.contact_force.values)
     assert int(first.impact_count.sum()) > 0
+
+
+def test_copies_and_variants_keep_their_record(tmp_path, monkeypatch):
+    """A loaded scene copied (model_copy, with or without update) or varied (reader.variant)
+    reads the record it was loaded with, from any current folder, not a same-named file
+    there (a decoy: another earthquake under the same name)."""
+    import hashlib
+    import shutil
+
+    from conftest import record_file
+
+    from pframe.api import loaded_scene
+    from pframe.reader import variant
+
+    # the decoy is another earthquake (Borrego Mountain 1968) under the real one's name
+    real, decoy = record_file("elCentro.AT2"), record_file("A-ELC180.AT2")
+    project, elsewhere = tmp_path / "project", tmp_path / "elsewhere"
+    for folder, record in ((project, real), (elsewhere, decoy)):
+        (folder / "records").mkdir(parents=True)
+        shutil.copy(record, folder / "records" / "elCentro.AT2")
+    (project / "scene.yaml").write_text(yaml.safe_dump({
+        "buildings": [{"name": "A", "floors": 2, "mass": 1000.0,
+                       "story": {"material": "bilinear", "stiffness": 4e5,
+                                 "yield_drift": 0.01, "alpha": 0.1}},
+                      {"name": "B", "floors": 2, "mass": 2000.0,
+                       "story": {"material": "elastic", "stiffness": 2e6}}],
+        "contacts": [{"nodes": ["A/2", "B/2"], "gap": 0.01, "law": "linear",
+                      "stiffness": 1e7}],
+        "excitation": {"kind": "record", "file": "records/elCentro.AT2"},
+        "analysis": {"dt": 0.002, "duration": 8.0},
+    }, sort_keys=False))
+    digest = hashlib.sha256(real.read_bytes()).hexdigest()
+    monkeypatch.chdir(tmp_path)
+    scene = pframe.load("project/scene.yaml")  # a relative path, then another cwd
+    loaded = loaded_scene("project/scene.yaml")
+    reference = pframe.solve(scene, progress=False)
+    monkeypatch.chdir(elsewhere)
+    copies = {
+        "model_copy": scene.model_copy(),
+        "model_copy(update=title)": scene.model_copy(update={"title": "a copy"}),
+        "model_copy(deep)": scene.model_copy(deep=True),
+        "model_copy(update=excitation)": scene.model_copy(update={
+            "excitation": scene.excitation.model_copy(update={"scale": 1.0})}),
+        "variant": variant(loaded, lambda data: data.update(title="a variant")),
+    }
+    for how, copy in copies.items():
+        ds = pframe.solve(copy, progress=False)
+        assert ds.attrs["record_sha256"] == digest, how
+        np.testing.assert_array_equal(ds.peak_displacement.values,
+                                      reference.peak_displacement.values, err_msg=how)
+    assert scene.model_copy() == scene  # the folder is no part of the scene's value
+    assert scene.excitation == pframe.Record(file="records/elCentro.AT2")
 
 
 def test_to_opensees_script_runs_and_agrees(tmp_path):

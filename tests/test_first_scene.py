@@ -110,6 +110,6 @@ def test_the_warning_the_page_quotes_for_a_coarse_step(tmp_path, monkeypatch, ca
     (tmp_path / "frames.yaml").write_text(scene.replace("dt: 0.002,", "dt: 0.01,"),
                                           encoding="utf-8")
     assert main(["validate", "frames.yaml"]) == 0
-    quoted = next(line for line in PAGE.read_text(encoding="utf-8").splitlines()
-                  if line.startswith("pframe: warning: frames.yaml: dt = 0.01 s"))
-    assert capsys.readouterr().err.strip() == quoted
+    quoted = [line for line in PAGE.read_text(encoding="utf-8").splitlines()
+              if line.startswith("pframe: warning: frames.yaml: dt = 0.01 s")]
+    assert capsys.readouterr().err.strip().splitlines() == quoted

@@ -712,3 +712,248 @@ def test_generated_scenes_never_replace_their_input(tmp_path, capsys, command):
     assert "one of this run's inputs" in err and target.read_bytes() == before
     refused(capsys, [*argv, "-o", ""])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["hust-pi.yaml", "hust.yaml"]
+
+
+# --- issue 20: one output lifecycle, bounded reads, every failure a pframe error -----------
+
+def test_a_device_or_fifo_is_never_replaced_even_with_overwrite(tmp_path, capsys):
+    model = write_scene(tmp_path, short(scene_data()))
+    fifo = tmp_path / "pipe.h5"
+    os.mkfifo(fifo)
+    for target in (fifo, Path(os.devnull)):
+        err = refused(capsys, ["solve", str(model), "-o", str(target), "--overwrite"])
+        assert "not a regular file" in err and str(target) in err
+    assert fifo.is_fifo() and Path(os.devnull).is_char_device()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.h5", "scene.yaml"]
+
+
+def test_schema_never_replaces_a_file_that_is_not_a_schema(tmp_path, capsys):
+    model = write_scene(tmp_path, short(scene_data()), "my-scene.yaml")
+    before = model.read_bytes()
+    err = refused(capsys, ["schema", "-o", str(model)])
+    assert "--overwrite" in err and model.read_bytes() == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["my-scene.yaml"]
+    fresh = tmp_path / "s" / "model.schema.json"
+    fresh.parent.mkdir()
+    assert main(["schema", "-o", str(fresh)]) == 0
+    assert main(["schema", "-o", str(fresh)]) == 0  # its own schema is refreshed
+    refused(capsys, ["schema", "-o", os.devnull, "--overwrite"])
+
+
+def test_opensees_may_not_write_onto_its_scene_or_record(tmp_path, capsys):
+    (tmp_path / "rec.txt").write_text("0 0\n0.01 0.1\n0.02 0\n", encoding="utf-8")
+    model = _record_scene(tmp_path, "", "rec.txt")
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    for target in (model, tmp_path / "rec.txt"):  # refused before the script is made
+        err = refused(capsys, ["opensees", str(model), "-o", str(target), "--overwrite"])
+        assert "one of this run's inputs" in err
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_loading_a_result_leaves_nothing_behind_and_follows_dotdot(tmp_path):
+    shared = tmp_path / "shared" / "records"
+    shared.mkdir(parents=True)
+    (shared / "x.txt").write_text("0 0\n0.01 0.1\n0.02 0\n0.03 -0.1\n", encoding="utf-8")
+    runs = tmp_path / "runs"
+    runs.mkdir()
+    model = _record_scene(runs, "", "../shared/records/x.txt")
+    out = runs / "run.h5"
+    assert main(["solve", str(model), "-o", str(out), "-q"]) == 0
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    script = ("import sys, pframe\n"
+              "for _ in range(5):\n"
+              "    scene = pframe.load(sys.argv[1])\n"
+              "    assert scene.excitation.file == '../shared/records/x.txt'\n"
+              "print(pframe.load(sys.argv[1]).excitation.file)\n")
+    done = subprocess.run([sys.executable, "-c", script, str(out)], capture_output=True,
+                          text=True, env={**os.environ, "TMPDIR": str(scratch)}, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == "../shared/records/x.txt"
+    assert list(scratch.iterdir()) == []
+
+
+GAP_PAIR = """
+buildings:
+  - {name: A, floors: 2, mass: 250.0, story: {material: elastic, stiffness: 197392.088}}
+  - {name: B, floors: 2, mass: 1000.0, story: {material: elastic, stiffness: 1973920.88}}
+contacts:
+  - {name: floor-1, nodes: [A/1, B/1], gap: 0.05, law: linear, stiffness: 2.0e7}
+damping: {ratio: 0.05}
+excitation: {kind: record, file: rec.txt}
+analysis: {dt: 0.01, duration: 0.5}
+"""
+
+
+def _gap_pair(folder: Path) -> Path:
+    (folder / "rec.txt").write_text("".join(f"{0.01 * i:.2f} {0.5 * (-1) ** i}\n"
+                                            for i in range(40)), encoding="utf-8")
+    scene = folder / "pair.yaml"
+    scene.write_text(GAP_PAIR, encoding="utf-8")
+    return scene
+
+
+def test_gap_may_not_write_onto_its_scene_or_record(tmp_path, capsys):
+    scene = _gap_pair(tmp_path)
+    before = {p.name: p.read_bytes() for p in tmp_path.iterdir()}
+    for target in ("pair.yaml", "rec.txt"):
+        err = refused(capsys, ["gap", str(scene), "-o", str(tmp_path / target), "--overwrite"])
+        assert "one of this run's inputs" in err
+    err = refused(capsys, ["gap", str(scene), "--suite", str(tmp_path / "rec.txt"), "-o",
+                           str(tmp_path / "rec.txt"), "--overwrite"])
+    assert "one of this run's inputs" in err
+    assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
+
+
+def test_plot_never_replaces_without_overwrite_nor_a_fifo(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    model = write_scene(tmp_path, short(scene_data()))
+    result = tmp_path / "run.h5"
+    assert main(["solve", str(model), "-o", str(result), "-q"]) == 0
+    mine = tmp_path / "mine.pdf"
+    mine.write_bytes(SENTINEL)
+    err = refused(capsys, ["plot", str(result), "-o", str(mine)])
+    assert "--overwrite" in err and mine.read_bytes() == SENTINEL
+    fifo = tmp_path / "fig.pdf"
+    os.mkfifo(fifo)
+    err = refused(capsys, ["plot", str(result), "-o", str(fifo), "--overwrite"])
+    assert "not a regular file" in err and fifo.is_fifo()
+    assert main(["plot", str(result), "-o", str(mine), "--overwrite", "-q"]) == 0
+    assert mine.read_bytes()[:4] == b"%PDF"
+
+
+def test_accuracy_never_replaces_its_files_without_overwrite(tmp_path, capsys):
+    folder = tmp_path / "acc"
+    folder.mkdir()
+    (folder / "accuracy.csv").write_bytes(SENTINEL)
+    err = refused(capsys, ["accuracy", str(WU2021), "-o", str(folder), "--factors", "1"])
+    assert "accuracy.csv" in err and "--overwrite" in err
+    assert (folder / "accuracy.csv").read_bytes() == SENTINEL
+
+
+def test_a_damaged_chunk_is_run_again_not_a_traceback(tmp_path, capsys):
+    from pframe.sweep.store import Parts
+
+    class Spec:
+        count, chunks = 4, 2
+
+    class Definition:
+        digest, source, chunk = "d", "s.yaml", 2
+
+    out = tmp_path / "out.nc"
+    parts = Parts(out, Definition, Spec)
+    assert parts.open() == set()
+    parts.save(0, {"x": np.arange(3.0)})
+    parts.save(1, {"x": np.arange(3.0)})
+    parts.close()
+    whole = parts.path(1).read_bytes()
+    parts.path(1).write_bytes(whole[: len(whole) // 2])  # truncated (a disk that filled up)
+    again = Parts(out, Definition, Spec)
+    assert again.open() == {0}
+    again.close()
+    assert "damaged" in capsys.readouterr().err and not parts.path(1).exists()
+    parts.path(0).write_bytes(b"PK\x03\x04 not a chunk")
+    with pytest.raises(InputError, match="chunk-00000.npz"):
+        again.load(0)
+
+
+def test_a_stopped_audit_says_what_it_kept_and_resumes_saying_so(tmp_path, capsys,
+                                                                 monkeypatch):
+    from pframe.gap import runs
+
+    scene = _gap_pair(tmp_path)
+    real, calls = runs.run_batch, []
+
+    def stop_second(*args, **kwargs):
+        calls.append(1)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(runs, "run_batch", stop_second)
+    out = tmp_path / "audit.nc"
+    argv = ["gap", str(scene), "--levels", "0.1,0.2,0.3", "--chunk", "1", "-o", str(out)]
+    assert main(argv) == 130
+    err = capsys.readouterr().err
+    assert "1 finished batch kept in" in err and "resume" in err and "no output" not in err
+    assert main(argv) == 0
+    err = capsys.readouterr().err
+    assert "resuming: 1 finished batch" in err
+    assert out.exists() and not (tmp_path / "audit.nc.parts").exists()
+
+
+def test_devices_and_fifos_are_refused_at_once_never_read(tmp_path, capsys):
+    fifo = tmp_path / "rec.txt"
+    os.mkfifo(fifo)  # no writer: reading it would wait for ever
+    model = _record_scene(tmp_path, "", "rec.txt")
+    err, peak = bounded(refused, capsys, ["validate", str(model)])
+    assert "rec.txt" in err and "FIFO" in err
+    err, peak = bounded(refused, capsys, ["validate", "/dev/zero"])
+    assert "/dev/zero" in err and "device" in err and peak < BOUNDED_BYTES
+    zero = _record_scene(tmp_path, "", "/dev/zero")
+    err, peak = bounded(refused, capsys, ["validate", str(zero)])
+    assert "/dev/zero" in err and "device" in err and peak < BOUNDED_BYTES
+
+
+def test_a_scene_beyond_the_size_limit_is_refused_before_it_is_parsed(tmp_path, capsys):
+    from pframe.yamltext import MAX_YAML_BYTES
+
+    model = write_scene(tmp_path, short(scene_data()))
+    with open(model, "a", encoding="utf-8") as handle:
+        handle.write("# padding\n" * (MAX_YAML_BYTES // 10 + 1))
+    err, peak = bounded(refused, capsys, ["validate", str(model)])
+    assert str(model) in err and f"{MAX_YAML_BYTES / 2**20:g} MiB" in err
+    assert "getting-started.md#limits" in err and peak < 4 * MAX_YAML_BYTES
+
+
+def test_a_disk_that_fills_during_the_run_stops_it_before_hdf5_meets_it(tmp_path, capsys,
+                                                                        monkeypatch):
+    # libhdf5 that meets ENOSPC while writing crashes the process when the file is closed
+    # (segmentation fault, exit 139, its hidden temporary file left): the writer checks the
+    # free space before each block and stops with exit 3 while HDF5 is still whole
+    from pframe.record import hdf5
+
+    model = write_scene(tmp_path, short(scene_data(), 2000))
+    out = tmp_path / "out.h5"
+    out.write_bytes(SENTINEL)
+    calls = []
+
+    def filling(folder):
+        calls.append(folder)
+        return 2**40 if len(calls) < 3 else 2**20
+
+    monkeypatch.setattr(hdf5, "_free_bytes", filling)
+    err = refused(capsys, ["solve", str(model), "-o", str(out), "--overwrite"], code=3)
+    assert "disk is full" in err and str(out) in err and "unchanged" in err
+    assert out.read_bytes() == SENTINEL
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "scene.yaml"]
+
+
+@pytest.mark.parametrize("value", ["1e400", "1e30TiB", "0", "inf"])
+def test_an_absurd_memory_limit_is_bad_input(capsys, monkeypatch, value):
+    monkeypatch.setenv("PFRAME_MEMORY_LIMIT", value)
+    err = refused(capsys, ["validate", str(WU2021)])
+    assert "PFRAME_MEMORY_LIMIT" in err and value in err
+
+
+def test_a_record_with_an_absurd_step_is_answered_not_a_traceback(tmp_path, capsys):
+    (tmp_path / "rec.AT2").write_text(AT2_HEAD + "NPTS= 3, DT= 1e-300 SEC\n0.1 0.2 0.3\n",
+                                      encoding="utf-8")
+    model = _record_scene(tmp_path, "", "rec.AT2")
+    code = main(["solve", str(model), "-o", str(tmp_path / "out.h5"), "-q"])
+    err = capsys.readouterr().err
+    assert code in (0, 1, 2, 3) and "Traceback" not in err
+    if code == 0:  # the reference scales overflow: the file has none, not inf
+        with h5py.File(tmp_path / "out.h5", "r") as f:
+            assert all(np.isfinite(f.attrs[k]) for k in f.attrs if k.startswith("reference_"))
+
+
+def test_validate_announces_a_large_run_with_its_time_and_file(tmp_path, capsys,
+                                                              monkeypatch):
+    # solve warned of a 6.4 GiB file for a 35,000 s run, validate said nothing: the same
+    # estimate and threshold now apply to both (threshold lowered here: a short run)
+    monkeypatch.setattr(resources, "WARN_FILE_BYTES", 2**20)
+    model = write_scene(tmp_path, short(scene_data(), 20_000))
+    assert main(["validate", str(model)]) == 0
+    err = capsys.readouterr().err
+    assert "pframe: warning:" in err and "a large run" in err and "result file" in err

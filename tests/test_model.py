@@ -61,3 +61,36 @@ def test_one_scene_class_per_set_of_laws():
     """However the plug-in law names are passed, the same laws give the same class (so the
     scenes of a file and of Python objects compare equal)."""
     assert scene_class() is scene_class((), ()) is scene_class(contact_laws=[])
+
+
+ROW = """\
+buildings:
+  - {name: A, floors: 1, mass: 1000.0, story: {material: elastic, stiffness: 1.0e6}}
+  - {name: B, floors: 1, mass: 1000.0, story: {material: elastic, stiffness: 2.0e6}}
+  - {name: C, floors: 1, mass: 1000.0, story: {material: elastic, stiffness: 4.0e6}}
+contacts:
+  - {nodes: [A/1, B/1], gap: 0.01, law: linear, stiffness: 1.0e8}
+  - {nodes: [B/1, C/1], gap: 0.01, law: linear, stiffness: 1.0e8}
+initial_conditions: {velocity: {B/1: 1.0}}
+analysis: {dt: 0.001, duration: 0.5}
+"""
+
+
+def test_a_contact_against_the_row_order_is_refused_at_its_line():
+    """The buildings stand left to right in the order they are declared; a contact written
+    [right, left] would close when its buildings move apart (the issue's row A, B, C with
+    [C/1, B/1]: 5 impacts instead of 1), so it is refused, naming it and its line."""
+    ex = parse_scene(ROW).expanded
+    assert ex.buildings == ("A", "B", "C") and [c.name for c in ex.contacts] == [
+        "A/1-B/1", "B/1-C/1"]
+    text = ROW.replace("[B/1, C/1]", "[C/1, B/1]")
+    with pytest.raises(InputError) as info:
+        parse_scene(text, source="row.yaml")
+    message = str(info.value)
+    assert message.startswith("row.yaml, line 7, contacts[1].nodes: contact 'C/1-B/1'")
+    assert "declares them (A, B, C)" in message and "write nodes [B/1, C/1]" in message
+    # generic nodes follow the same rule: their buildings come after the shorthand's
+    generic = ROW.replace("contacts:", "nodes:\n  - {name: D/1, mass: 10.0}\ncontacts:\n"
+                          "  - {nodes: [D/1, C/1], gap: 0.01, law: linear, stiffness: 1.0e8}")
+    with pytest.raises(InputError, match="contact 'D/1-C/1' has 'D/1' on the left of 'C/1'"):
+        parse_scene(generic)

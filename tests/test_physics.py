@@ -237,18 +237,22 @@ def _check_paper(plan, result):
     assert result.completed(0), result.describe_failure(0)
     assert plan.contact_names == ("floor-1", "floor-2", "floor-3")
     assert result.impacts[0].tolist() == [8, 8, 8]
-    uy_a = 0.02484902028828334
+    uy_a, uy_b = 0.02484902028828334, 0.014909412172970003
     drift = dict(zip(plan.story_names, result.envelope["story_drift"][0]))
-    assert drift["A/1"] > uy_a and drift["A/2"] > uy_a  # the lower storeys of A yield
-    assert drift["A/3"] < uy_a  # the top storey stays elastic
+    # "the first and the second story of both structures are entering the plastic stage;
+    # ... the third story ... is already in the elastic stage" (section 3)
+    assert drift["A/1"] > uy_a and drift["A/2"] > uy_a
+    assert drift["B/1"] > uy_b and drift["B/2"] > uy_b
+    assert drift["A/3"] < uy_a and drift["B/3"] < uy_b
     # the envelope is the peak of the history
     history = np.abs(result.history["story_drift"][0]).max(axis=0)
     assert np.array_equal(history, result.envelope["story_drift"][0])
 
 
 def test_wu2021_improved_kelvin(wu2021_run):
-    """The shipped example (improved Kelvin, e = 0.4, Pi_wcon = 65): 8 impacts at each floor,
-    storeys A/1 and A/2 yield and A/3 stays elastic, and the improved Kelvin force is never
+    """The shipped example (improved Kelvin, e = 0.4, Pi_wcon = 65, Rayleigh damping on the
+    current stiffness as eq. 5b writes it): 8 impacts at each floor, storeys 1 and 2 of both
+    buildings yield and storey 3 stays elastic, and the improved Kelvin force is never
     tensile (it vanishes with the penetration and is clipped in fast rebound)."""
     loaded, plan, result = wu2021_run
     assert plan.steps == 50000  # tau = 0..50 with dtau = 0.001
@@ -260,8 +264,8 @@ def test_wu2021_improved_kelvin(wu2021_run):
 
 
 def test_wu2021_kelvin(wu2021_text):
-    """The same example with the (clipped) Kelvin law: 8 impacts at each floor, A/1 and A/2
-    yield, A/3 elastic, and the clipped force is never negative."""
+    """The same example with the (clipped) Kelvin law: 8 impacts at each floor, storeys 1 and
+    2 of both buildings yield, storey 3 elastic, and the clipped force is never negative."""
     plan, result = _wu2021_variant(wu2021_text, "kelvin")
     _check_paper(plan, result)
     assert np.min(result.history["contact_force"][0]) >= 0.0

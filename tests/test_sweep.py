@@ -81,11 +81,13 @@ def grid(folder):
 def _single(definition, index: int, recorders=None):
     """Variant ``index`` as its own scene: the text ``pframe sweep --variant`` prints, parsed
     by the scene loader, assembled alone and run (with the scene's recorders, or these)."""
-    from pframe.sweep.variants import variant_data
+    from pframe.sweep.variants import materialise, steps_override, variant_data
 
     spec = parse(definition)
     paths = {key: path for _, _, key, path in definition.records}
-    text = yaml.safe_dump(variant_data(spec, index, record_path=lambda key: paths[key]))
+    steps = steps_override(spec, index, materialise(definition))
+    text = yaml.safe_dump(variant_data(spec, index, record_path=lambda key: paths[key],
+                                       steps=steps))
     expanded = parse_scene(text, base_dir=definition.base_dir).expanded
     if recorders is not None:
         expanded = dataclasses.replace(expanded, recorders=recorders)
@@ -426,8 +428,8 @@ def test_chunks_of_other_pframe_code_are_refused(folder):
 
 def test_the_pi_d_spectrum_of_the_docs(tmp_path):
     """models/sweeps/wu2021-pi-d.yaml gives the spectrum docs/sweeps.md describes: A's peak
-    0.97 l_e with the gap closed and its own 1.27 l_e once no floor pounds (Pi_d >= 1.3);
-    B's peak 0.29 at Pi_d = 0.2 and its own 0.20 from Pi_d = 0.45 on."""
+    1.04 l_e with the gap closed and its own 1.40 l_e once no floor pounds (Pi_d >= 1.4);
+    B's peak 0.31 at Pi_d = 0.2 and its own 0.205 at Pi_d = 0.5 and from Pi_d = 1.1 on."""
     out = tmp_path / "pi-d.h5"
     assert main(["sweep", str(REPO / "models" / "sweeps" / "wu2021-pi-d.yaml"), "-o", str(out),
                  "-q"]) == 0
@@ -437,12 +439,14 @@ def test_the_pi_d_spectrum_of_the_docs(tmp_path):
         impacts = f["impact_count"][...].sum(axis=1)
         assert f["building_peak_displacement"].attrs["units"] == b"1"
     assert len(pi_d) == 41 and pi_d[-1] == 2.0
-    free = pi_d >= 1.3 - 1e-9
+    free = pi_d >= 1.4 - 1e-9
     assert np.all(impacts[free] == 0) and np.all(impacts[~free] > 0)
-    assert peak[0, 0] == pytest.approx(0.97, abs=0.005)
-    assert np.allclose(peak[free, 0], 1.27, atol=0.005)
-    assert peak[4, 1] == pytest.approx(0.29, abs=0.005) and pi_d[4] == pytest.approx(0.2)
-    assert np.allclose(peak[pi_d >= 0.45 - 1e-9, 1], 0.20, atol=0.005)
+    assert peak[0, 0] == pytest.approx(1.04, abs=0.005)
+    assert np.allclose(peak[free, 0], 1.40, atol=0.005)
+    assert peak[4, 1] == pytest.approx(0.31, abs=0.005) and pi_d[4] == pytest.approx(0.2)
+    assert peak[10, 1] == pytest.approx(0.2055, abs=0.001) and pi_d[10] == pytest.approx(0.5)
+    assert np.allclose(peak[pi_d >= 1.1 - 1e-9, 1], 0.2055, atol=0.001)
+    assert np.all(peak[pi_d >= 0.5 - 1e-9, 1] < 0.22)
     assert peak[:, 1].max() == peak[4, 1]
 
 

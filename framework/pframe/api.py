@@ -8,8 +8,10 @@ Dataset that ``pframe solve`` writes (the file is laid out by one writer, in mem
 from __future__ import annotations
 
 import os
+import shutil
 import tempfile
 import warnings
+import weakref
 from pathlib import Path
 
 from pframe.errors import InputError
@@ -33,7 +35,8 @@ def load(source, *, base_dir: str | Path | None = None):
     YAML, or a scene object. Files are checked exactly as ``pframe validate`` checks them;
     a problem raises :class:`pframe.InputError` naming the file, line and field. Record files
     are found relative to the scene file (``base_dir`` for data and objects: default, the
-    current folder).
+    current folder); a copy of a loaded scene (``model_copy``, with or without ``update``)
+    keeps the folder its record was read from.
     """
     loaded = _loaded(source, base_dir)
     return _scene_of(loaded)
@@ -85,7 +88,9 @@ def _loaded(source, base_dir=None):
     if loaded is not None:
         return loaded
     if hasattr(source, "to_yaml"):
-        base = base_dir or (loaded.base_dir if loaded is not None else ".")
+        # a copy of a loaded scene (model_copy) finds its record where the original did
+        excitation = getattr(source, "excitation", None)
+        base = base_dir or getattr(excitation, "_folder", None) or "."
         return parse_scene(source.to_yaml(), "<python>", Path(base))
     if isinstance(source, (bytes, bytearray)):
         raise InputError("pframe.load: give a path, a dict or a scene object, not bytes")
@@ -131,10 +136,21 @@ def scene_of_attributes(attrs: dict, path, base: Path):
                              f"{relative}; run it from its scene file")
         depth = sum(1 for part in relative.parts if part == "..")
         root = Path(tempfile.mkdtemp(prefix="pframe-record-"))
-        base = root.joinpath(*(["d"] * depth))
-        target = (base / relative).resolve()
-        target.parent.mkdir(parents=True, exist_ok=True)
-        target.write_text(attrs["record_text"], encoding="utf-8")
+        try:
+            base = root.joinpath(*(["d"] * depth))
+            base.mkdir(parents=True, exist_ok=True)  # base/../x needs base itself
+            target = (base / relative).resolve()
+            if root.resolve() not in target.parents:
+                raise InputError(f"{path}: the record name {str(relative)!r} leaves its folder")
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_text(attrs["record_text"], encoding="utf-8")
+            loaded = parse_scene(text, f"{path} (input_yaml)", base)
+        except BaseException:
+            shutil.rmtree(root, ignore_errors=True)
+            raise
+        # the folder lives as long as the scene (a variant re-reads the record), then goes
+        weakref.finalize(loaded, shutil.rmtree, str(root), ignore_errors=True)
+        return loaded
     return parse_scene(text, f"{path} (input_yaml)", base)
 
 
@@ -228,14 +244,19 @@ def check_output(output, overwrite: bool, loaded=None) -> Path:
     ``overwrite``, not the scene or record the run reads, not being written by another run."""
     from pframe import outputs
 
+    return outputs.check_output(output, inputs=run_inputs(loaded), overwrite=overwrite,
+                                what="result file")
+
+
+def run_inputs(loaded) -> list[Path]:
+    """The files a loaded scene reads (the scene, its record): never an output."""
     inputs = []
     if loaded is not None:
         inputs.append(Path(str(loaded.source)))
         excitation = getattr(loaded.scene, "excitation", None)
         if getattr(excitation, "kind", None) == "record":
             inputs.append(Path(loaded.base_dir) / excitation.file)
-    return outputs.check_output(output, inputs=inputs, overwrite=overwrite,
-                                what="result file")
+    return inputs
 
 
 def sweep(definition, *, output: str | Path | None = None, overwrite: bool = False,
@@ -272,9 +293,19 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
         if run.failed:
             warnings.warn(f"{definition}: {len(run.failed)} of {run.count} variants failed "
                           "(complete = 0; status says why)", IncompleteRun, stacklevel=2)
+        from pframe.verdict import AccuracyWarning
+
+        if run.untrusted:
+            warnings.warn(f"{definition}: {len(run.untrusted)} of {run.count} variants "
+                          "completed but are not to be trusted (their energy balance; trusted "
+                          "= 0)", AccuracyWarning, stacklevel=2)
+        ds = open(out)
+        for line in str(ds.attrs.get("warnings", "")).splitlines():
+            if "the analysis stops at" in line:  # a record cut (docs/sweeps.md)
+                warnings.warn(f"{definition}: {line}", AccuracyWarning, stacklevel=2)
         if folder is None:
-            return open(out)
-        with open(out) as ds:
+            return ds
+        with ds:
             return ds.load()
     finally:
         if progress_bar is not None:

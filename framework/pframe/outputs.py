@@ -3,7 +3,8 @@
 Every file pframe writes (result files, sweep files and their chunks, figures, CSV tables)
 goes through this module, so that
 
-- an output that is one of the run's inputs, a folder, an empty name or an existing file
+- an output that is one of the run's inputs, a folder, an empty name, anything but a regular
+  file (``/dev/null``, a device, a FIFO: even with ``--overwrite``) or an existing file
   (without ``--overwrite``) is refused before anything runs (:func:`check_output`);
 - the data is written to ``.NAME.PID-N.tmp`` in the output's folder, created exclusively
   (:func:`temporary`), and moved into place in one step when complete (:func:`commit`):
@@ -27,6 +28,7 @@ import itertools
 import os
 import re
 import signal
+import stat
 import sys
 import threading
 from pathlib import Path
@@ -140,10 +142,39 @@ def _scan(folder: Path, name: str | None) -> list[tuple[Path, int]]:
     return found
 
 
+_KINDS = ((stat.S_ISCHR, "a character device (such as /dev/null)"),
+          (stat.S_ISBLK, "a block device (a disk)"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
+          (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a folder"))
+
+
+def not_regular(path) -> str | None:
+    """What ``path`` is when it exists and is not a regular file (``"a named pipe (FIFO)"``,
+    ...), else None. A symbolic link is followed."""
+    try:
+        mode = os.stat(path).st_mode
+    except OSError:
+        return None
+    if stat.S_ISREG(mode):
+        return None
+    for test, kind in _KINDS:
+        if test(mode):
+            return kind
+    return "not a regular file"
+
+
+def _refuse_special(path: Path, what: str) -> None:
+    kind = not_regular(path)
+    if kind is not None and kind != "a folder":
+        raise InputError(f"{path}: is {kind}, not a regular file; pframe writes its {what} "
+                         "only to regular files, and never replaces anything else (even with "
+                         "--overwrite); choose a file name with -o")
+
+
 def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "output file") -> Path:
     """Refuse an output path that cannot or must not be written, before any work is done.
 
-    Raises :class:`InputError` (exit 2) for an empty name, a folder, one of the run's
+    Raises :class:`InputError` (exit 2) for an empty name, a folder, a device, FIFO or
+    socket (anything but a regular file, even with ``overwrite``), one of the run's
     ``inputs``, an existing file without ``overwrite`` or a missing folder, and
     :class:`EnvironmentFailure` (exit 3) for a folder that cannot be written or another
     pframe process writing the same output. Stale temporary files of killed runs are removed.
@@ -153,6 +184,7 @@ def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "outpu
     path = Path(path)
     if path.is_dir():
         raise InputError(f"{path}: is a folder; give a file name for the {what} (-o)")
+    _refuse_special(path, what)
     for source in inputs:
         if source is not None and Path(source).exists() and _same_file(path, Path(source)):
             raise InputError(f"{path}: is one of this run's inputs ({source}); writing the "
@@ -199,10 +231,13 @@ def temporary(path, clean: bool = True) -> Path:
 def discard(tmp) -> None:
     """Remove a temporary file (no error if it is gone)."""
     tmp = Path(tmp)
-    with _lock:
-        _live.discard(tmp)
-    with contextlib.suppress(FileNotFoundError):
-        tmp.unlink()
+    try:
+        with contextlib.suppress(FileNotFoundError):
+            tmp.unlink()
+    finally:  # forgotten only once gone (a stop arriving here still finds it at exit)
+        with _lock:
+            if not tmp.exists():
+                _live.discard(tmp)
 
 
 def commit(tmp, path, overwrite: bool | None = None) -> Path:
@@ -216,6 +251,7 @@ def commit(tmp, path, overwrite: bool | None = None) -> Path:
     if overwrite is None:
         overwrite = _claims.get(str(path.resolve()), True)
     try:
+        _refuse_special(path, "output")  # a device or FIFO put there while this run wrote
         if overwrite:
             os.replace(tmp, path)
         else:

@@ -8,6 +8,7 @@ numbers), :mod:`pframe.model.load` (validation with messages that name the line)
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -53,10 +54,12 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     from pframe.model.expand import expand
     from pframe.model.scene import scene_class
 
+    unit_scales = ()
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
         check_numbers(data, lines, source)
+        unit_scales = _unit_scales(data)
         data = expand_pi_data(data, lines, source, base_dir or ".")
         # a Pi-form scene is the paper's formulation: its contacts use the published damping
         # formula of their law unless the expansion says otherwise (a note, not a warning)
@@ -66,10 +69,15 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     plugins = plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")
+    if scene.excitation is not None and scene.excitation.kind == "record":
+        # copies of the scene (model_copy) read the record from here, whatever the cwd
+        scene.excitation._folder = str(base_dir.resolve())
     try:
         expanded = expand(scene, base_dir)
     except ModelError as exc:
         raise InputError(f"{where(source, lines, exc.path)}: {exc.message}") from None
+    if unit_scales:
+        expanded = dataclasses.replace(expanded, unit_scales=unit_scales)
     if scene.output.units == "dimensionless":  # fail now, not after the run
         from pframe.nondim.scene_variables import reference_scales
 
@@ -78,6 +86,17 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         except InputError as exc:
             raise InputError(f"{where(source, lines, ('output',))}: {exc}") from None
     return LoadedScene(scene, text, source, base_dir, lines, expanded)
+
+
+def _unit_scales(data: dict) -> tuple[str, ...]:
+    """The reference scales a Pi-form scene leaves at 1: m_b (kg) always unless given; w_p
+    (rad/s) unless given or taken from a record."""
+    scales = data.get("scales") if isinstance(data.get("scales"), dict) else {}
+    excitation = data.get("excitation") if isinstance(data.get("excitation"), dict) else {}
+    out = [] if "m_b" in scales else ["m_b"]
+    if "w_p" not in scales and excitation.get("kind") != "record":
+        out.append("w_p")
+    return tuple(out)
 
 
 def parse_scene(text: str, source: str = "<string>", base_dir: Path | None = None) -> LoadedScene:
@@ -113,4 +132,7 @@ def variant(loaded: LoadedScene, change) -> LoadedScene:
     data = copy.deepcopy(data)
     change(data)
     text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
-    return scene_from_data(data, lines, loaded.source, loaded.base_dir, text)
+    # the folder the record was read from (absolute), not base_dir again relative to a
+    # current folder that may have changed since
+    folder = getattr(loaded.scene.excitation, "_folder", None) or loaded.base_dir
+    return scene_from_data(data, lines, loaded.source, folder, text)

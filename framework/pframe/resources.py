@@ -61,7 +61,14 @@ def size(text: str) -> int:
     match = re.fullmatch(r"\s*([0-9.eE+]+)\s*([A-Za-z]*)\s*", str(text))
     if not match or match.group(2).lower() not in _SUFFIX:
         raise ValueError(f"{text!r} is not a size (bytes, or a number with KiB, MiB, GiB, TiB)")
-    return int(float(match.group(1)) * _SUFFIX[match.group(2).lower()])
+    try:
+        value = float(match.group(1)) * _SUFFIX[match.group(2).lower()]
+    except ValueError:
+        raise ValueError(f"{text!r} is not a size (bytes, or a number with KiB, MiB, GiB, "
+                         "TiB)") from None
+    if not (math.isfinite(value) and 0 < value <= 2**60):
+        raise ValueError(f"{text!r} is not a size a machine has (bytes, at most 1 EiB)")
+    return int(value)
 
 
 def physical_memory() -> int:

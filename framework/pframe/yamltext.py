@@ -17,7 +17,9 @@ to a line number), which :func:`where` turns into ``file, line N, a.b[2].c`` for
 
 from __future__ import annotations
 
+import os
 import re
+import stat
 
 import yaml
 
@@ -30,6 +32,53 @@ MAX_NODES = 5_000_000
 MAX_DEPTH = 100
 #: values reached through aliases (``*name``): real files reuse a block a few times
 MAX_ALIAS_NODES = 100_000
+
+#: bytes of a scene, sweep or suite file pframe reads: real ones are a few kB, and a
+#: 10,000-floor building written out floor by floor about 0.5 MiB; reading YAML takes some
+#: 10 s per MiB, so a larger file is refused at once rather than read for minutes
+MAX_YAML_BYTES = 2**20
+
+
+def read_bounded(path, what: str, limit: int = MAX_YAML_BYTES, errors: str = "strict") -> str:
+    """The text of an input file, read only if it is a regular file of at most ``limit``
+    bytes: a device (``/dev/zero``), a FIFO or a folder is refused at once, never read.
+
+    The one guard of every input pframe reads (scenes, sweeps, suites, records). Raises
+    :class:`InputError` naming the file and the limit; ``FileNotFoundError`` when it does
+    not exist (the callers say which file is missing).
+    """
+    path = os.fspath(path)
+    try:  # O_NONBLOCK: opening a FIFO must not wait for a writer
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except FileNotFoundError:
+        raise
+    except IsADirectoryError:
+        raise InputError(f"{path}: is a folder, not a {what} file") from None
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the {what} file: "
+                         f"{exc.strerror or exc}") from None
+    with os.fdopen(fd, "rb") as handle:
+        mode = os.fstat(fd).st_mode
+        if not stat.S_ISREG(mode):
+            kind = ("a folder" if stat.S_ISDIR(mode) else "a named pipe (FIFO)"
+                    if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or
+                    stat.S_ISBLK(mode) else "not a regular file")
+            raise InputError(f"{path}: is {kind}; pframe reads a {what} only from a regular "
+                             "file")
+        size = os.fstat(fd).st_size
+        data = handle.read(limit + 1) if size <= limit else b""
+        if size > limit or len(data) > limit:
+            size = max(size, len(data))
+            raise InputError(
+                f"{path}: the {what} file is {size / 2**20:.1f} MiB; pframe reads {what} files "
+                f"of up to {limit / 2**20:g} MiB (docs/getting-started.md#limits): is it "
+                f"the right file?")
+    try:
+        return data.decode("utf-8", errors=errors)
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: the {what} file is not UTF-8 text (byte {exc.start + 1}); "
+                         "save it as UTF-8") from None
+
 
 _INT = re.compile(r"^[-+]?[0-9]+$|^0o[0-7]+$|^0x[0-9a-fA-F]+$")
 _FLOAT = re.compile(r"^[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?$"

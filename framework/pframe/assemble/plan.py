@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pframe.assemble import stability
+from pframe.assemble import stability, timescales
 from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.model.expand import Expanded
@@ -306,8 +306,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         envelope=tuple(envelope),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
-    return dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts,
-                               warnings=first.warnings + warnings)
+    plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
+    return dataclasses.replace(plan, warnings=first.warnings + warnings
+                               + timescales.check(plan, variants))
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:

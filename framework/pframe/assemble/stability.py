@@ -129,6 +129,7 @@ def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, .
     if not explicit and not plan.contact_names:
         return cd_parts, event_parts, ()
     worst = None  # (steps per contact period, member, dt, period) of the worst member
+    split = None  # (sub-steps, member, dt, limit, w_max) of the most split member
     for b in range(batch):
         dt = float(plan.dt[b])
         w_max, periods = highest_frequency(plan, b)
@@ -142,6 +143,8 @@ def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, .
                         f"{w_max:.4g} rad/s with the contacts closed); use dt <= {limit:.4g} s "
                         "or 'substeps: auto' on the integrator, or an implicit integrator")
                 cd_parts[b] = _parts(dt / limit, "central-difference sub-steps", dt, limit)
+                if split is None or cd_parts[b] > split[0]:
+                    split = (int(cd_parts[b]), b, dt, limit, w_max)
         if np.isfinite(periods).any():
             shortest = float(np.min(periods))
             steps = shortest / dt
@@ -159,4 +162,19 @@ def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, .
             f"with {steps:.1f} steps, fewer than {STEPS_PER_CONTACT}{member}: impacts may be "
             f"inaccurate; use dt <= {shortest / STEPS_PER_CONTACT:.4g} s or "
             "'events: true' on the integrator")
+    if split is not None:
+        warnings.append(_split_text(split, batch, bool(plan.contact_names)))
     return cd_parts, event_parts, tuple(warnings)
+
+
+def _split_text(split, batch: int, contacts: bool) -> str:
+    """Why and how often central difference with ``substeps: auto`` splits a step."""
+    parts, b, dt, limit, w_max = split
+    member = f" (member {b} of this batch of {batch}, the most split)" if batch > 1 else ""
+    closed = " with the contacts closed" if contacts else ""
+    return (f"central difference takes {parts} sub-steps of {dt / parts:.4g} s per step of "
+            f"dt = {dt:.4g} s{member}: dt is above its stability limit {limit:.4g} s (safety "
+            f"x 2 / w_max, w_max = {w_max:.4g} rad/s{closed}, a period of "
+            f"{2.0 * math.pi / w_max:.4g} s); the ground motion is interpolated within a step "
+            f"and histories are recorded at the steps only; to integrate at the step itself use "
+            f"dt <= {limit:.4g} s")

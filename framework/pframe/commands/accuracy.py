@@ -31,6 +31,10 @@ def _accuracy(args) -> int:
                          "accuracy.csv and work-precision.png")
     if not out.parent.exists():
         raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    if out.is_dir():  # its two files: never replaced without --overwrite, nor a device
+        for name in ("accuracy.csv", "work-precision.png"):
+            outputs.check_output(out / name, inputs=[args.model], overwrite=args.overwrite,
+                                 what="accuracy file")
     print(f"{loaded.source}: reference solution, then {len(names)} integrators x "
           f"{len(factors)} time steps", file=sys.stderr)
     rows, reference = accuracy.study(
@@ -77,4 +81,6 @@ def register(sub) -> None:
                    help="dt factors on the scene's dt, powers of two (default 4,2,1,0.5,0.25)")
     p.add_argument("--repeats", type=int, default=3, help="timed runs per case, best kept")
     p.add_argument("-o", "--output", help="folder for accuracy.csv and work-precision.png")
+    p.add_argument("--overwrite", action="store_true",
+                   help="replace accuracy.csv and work-precision.png in that folder")
     p.set_defaults(run=_accuracy)

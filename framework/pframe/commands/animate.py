@@ -10,7 +10,7 @@ def _animate(args) -> int:
     from pframe.plot.animate import write_animation
 
     output = args.output if args.output is not None else Path(args.result).with_suffix(".html")
-    path = write_animation(args.result, output, overwrite=True)
+    path = write_animation(args.result, output, overwrite=args.overwrite)
     if not args.quiet:
         print(f"{args.result}: wrote {path} (open it in a web browser)")
     return 0
@@ -21,6 +21,7 @@ def register(sub) -> None:
                        "up when closed")
     p.add_argument("result", help="result file of pframe solve with a displacement history (.nc)")
     p.add_argument("-o", "--output", metavar="PAGE.html",
-                   help="the page (default: RESULT's name with .html; replaced if it exists)")
+                   help="the page (default: RESULT's name with .html)")
+    p.add_argument("--overwrite", action="store_true", help="replace an existing page")
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(run=_animate)

@@ -53,7 +53,9 @@ def _expand(args) -> int:
     if text is None:
         print(f"pframe: {path} is a dimensional scene already; printed unchanged",
               file=sys.stderr)
-        text = path.read_text(encoding="utf-8")
+        from pframe.yamltext import read_bounded
+
+        text = read_bounded(path, "model")
     write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
 

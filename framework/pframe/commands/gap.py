@@ -4,6 +4,7 @@ no-pounding gap, over a suite of records scaled to intensity levels."""
 from __future__ import annotations
 
 import sys
+import warnings
 from pathlib import Path
 
 
@@ -59,13 +60,39 @@ def _gap(args) -> int:
         def progress(done, total):
             sys.stderr.write(f"\r  pframe gap: {done:,.0f}/{total} runs ")
             sys.stderr.flush()
-    ds = audit(args.scene, suite, gap=args.gap, levels=_levels(args.levels) if args.levels else None,
-               measure=args.measure, en_coincident=args.en_coincident, duration=args.duration,
-               dt=args.dt, records_folder=args.records_folder,
-               output=output, overwrite=args.overwrite, chunk=args.chunk, threads=args.threads,
-               progress=progress, timings=timings)
+    from pframe.sweep.store import kept, parts_folder
+
+    found = kept(output)
+    if found and not args.quiet:
+        print(f"pframe gap: resuming: {found} finished batch{'es' if found != 1 else ''} of "
+              f"a stopped audit found in {parts_folder(output)} (taken up if they are this "
+              "audit's; the other batches run now)", file=sys.stderr)
+    try:
+        with warnings.catch_warnings():  # printed below from the result, as pframe: warning
+            warnings.simplefilter("ignore", UserWarning)
+            ds = audit(args.scene, suite, gap=args.gap,
+                       levels=_levels(args.levels) if args.levels else None,
+                       measure=args.measure, en_coincident=args.en_coincident,
+                       duration=args.duration, dt=args.dt, records_folder=args.records_folder,
+                       output=output, overwrite=args.overwrite, chunk=args.chunk,
+                       threads=args.threads, progress=progress, timings=timings)
+    except KeyboardInterrupt as exc:
+        if progress is not None:
+            sys.stderr.write("\n")  # off the progress line
+        signum = getattr(exc, "signum", None)
+        now = kept(output)
+        what = "interrupted" if signum is None else f"stopped by signal {signum}"
+        if not now:
+            print(f"pframe: {what}; no output written", file=sys.stderr)
+        else:
+            print(f"pframe: {what}; {now} finished batch{'es' if now != 1 else ''} kept in "
+                  f"{parts_folder(output)}, no audit file written: run the same command to "
+                  "resume from them", file=sys.stderr)
+        return 130 if signum is None else 128 + signum
     if progress is not None:
         sys.stderr.write("\n")
+    for line in str(ds.attrs.get("warnings", "")).splitlines():
+        print(f"pframe: warning: {args.scene}: {line}", file=sys.stderr)
     if not args.quiet:
         print(table(ds, args.statistic))
         failed = int((ds.complete == 0).sum())

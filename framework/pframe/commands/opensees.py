@@ -4,11 +4,16 @@ from __future__ import annotations
 
 
 def _opensees(args) -> int:
-    from pframe.api import load
+    from pframe import outputs
+    from pframe.api import _loaded, _scene_of, run_inputs
     from pframe.commands import write_text_output
 
-    scene = load(args.model)
-    write_text_output(scene.to_opensees(), args.output, args.overwrite)
+    loaded = _loaded(args.model)
+    if args.output is not None:  # before the script is made: the scene and record stay
+        outputs.check_output(args.output, inputs=[args.model, *run_inputs(loaded)],
+                             overwrite=args.overwrite, what="script")
+    write_text_output(_scene_of(loaded).to_opensees(), args.output, args.overwrite,
+                      inputs=[args.model, *run_inputs(loaded)])
     return 0
 
 

@@ -27,6 +27,11 @@ def _plot(args) -> int:
         raise InputError("-o '': the figure needs a name ending in .png, .svg or .pdf")
     output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
+    from pframe import outputs
+
+    if output.suffix.lower() == ".pdf":  # PNG names per level are checked when saved
+        outputs.check_output(output, inputs=[args.result], overwrite=args.overwrite,
+                             what="figure")
     sweep_file = is_sweep(args.result)
     _check_options(args, sweep_file)
     if sweep_file:
@@ -41,7 +46,8 @@ def _plot(args) -> int:
     figs = figures(args.result, kind=args.kind or "all", levels=args.story,
                    time_range=time_range, dimensionless=args.dimensionless, report=say,
                    units=args.units)
-    written = save(figs, output, title=f"pframe plot {args.result}")
+    written = save(figs, output, title=f"pframe plot {args.result}",
+                   overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
         levels = ", ".join(figs)
         print(f"{args.result}: {len(figs)} figure{'s' if len(figs) > 1 else ''} "
@@ -84,7 +90,8 @@ def _plot_sweep(args, output: Path) -> int:
         at[key.strip()] = value.strip()
     fig, notes = spectrum(args.result, response=args.response, x=args.x, curves=args.curves,
                           at=at)
-    written = save({"spectrum": fig}, output, title=f"pframe plot {args.result}")
+    written = save({"spectrum": fig}, output, title=f"pframe plot {args.result}",
+                   overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
         print(f"{args.result}: response spectrum ({fig.axes[0].get_label().split()[-1]}"
               + (f"; {', '.join(notes)}" if notes else "") + "); wrote "
@@ -103,7 +110,8 @@ def _plot_gap(args, output: Path) -> int:
         if key.strip() == "level":
             level = float(value)
     fig, notes = gap_figure(args.result, statistic=args.statistic or "p84", level=level)
-    written = save({"gap": fig}, output, title=f"pframe plot {args.result}")
+    written = save({"gap": fig}, output, title=f"pframe plot {args.result}",
+                   overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
         print(f"{args.result}: gap audit ({'; '.join(notes)}); wrote "
               + ", ".join(str(p) for p in written))
@@ -150,5 +158,7 @@ def register(sub) -> None:
     plot.add_argument("--statistic", choices=("median", "p84", "max"),
                       help="gap-audit files (pframe gap): the statistic over the records "
                            "drawn (default: p84); --at level=L picks the intensity level")
+    plot.add_argument("--overwrite", action="store_true",
+                      help="replace existing figure files (never the result, nor a device)")
     plot.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     plot.set_defaults(run=_plot)

@@ -8,8 +8,21 @@ rewrites those too, and ``--check`` fails when either copy is stale.
 
 from __future__ import annotations
 
+import json
 import sys
 from pathlib import Path
+
+
+def _is_pframe_schema(file: Path) -> bool:
+    """Whether ``file`` is a regular file holding one of pframe's JSON Schemas (its ``$id``
+    starts with ``urn:pframe:schema:``): that file is refreshed without ``--overwrite``."""
+    try:
+        if not file.is_file() or file.stat().st_size > 2**22:
+            return False
+        data = json.loads(file.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(data, dict) and str(data.get("$id", "")).startswith("urn:pframe:schema:")
 
 
 def _source_checkout() -> bool:
@@ -40,9 +53,16 @@ def _schema(args) -> int:
             else:
                 print(f"{file} is up to date")
         return 1 if stale else 0
+    from pframe import outputs
+
+    for file, _ in files:  # every file checked before any is written
+        if file.parent != packaged():
+            outputs.make_folder(file.parent)
+        outputs.check_output(file, overwrite=args.overwrite or _is_pframe_schema(file),
+                             what="schema file")
     for file, text in files:
-        file.parent.mkdir(parents=True, exist_ok=True)
-        file.write_text(text, encoding="utf-8")
+        with outputs.replacing(file) as tmp:
+            tmp.write_text(text, encoding="utf-8")
         print(f"wrote {file}")
     return 0
 
@@ -50,6 +70,9 @@ def _schema(args) -> int:
 def register(sub) -> None:
     schema = sub.add_parser("schema", help="write the JSON Schemas of the input files")
     schema.add_argument("--check", action="store_true", help="fail if a file is stale")
+    schema.add_argument("--overwrite", action="store_true",
+                        help="replace existing files that are not pframe schemas (a file "
+                             "holding one of pframe's schemas is refreshed without it)")
     schema.add_argument("-o", "--output", default="schemas/model.schema.json",
                         help="the scene schema; pi-scene.schema.json, sweep.schema.json and "
                              "suite.schema.json are written next to it")

@@ -137,6 +137,10 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     the running peaks per column that the writer kept of the streamed histories)."""
     import numpy as np
 
+    if verdict is None:
+        from pframe.verdict import of_result
+
+        verdict = of_result(result)
     dt = float(plan.dt[0])
     print(f"{loaded.source}: {plan.steps} steps of dt = {dt:.4g} s ({plan.steps * dt:.4g} s), "
           f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "

@@ -69,13 +69,15 @@ def _show_variant(definition, index: int) -> int:
     import yaml
 
     from pframe.sweep import parse
-    from pframe.sweep.variants import variant_data
+    from pframe.sweep.variants import materialise, steps_override, variant_data
 
     spec = parse(definition)
     if not 0 <= index < spec.count:
         raise InputError(f"--variant {index}: the sweep has variants 0 to {spec.count - 1}")
     paths = {key: path for _, _, key, path in definition.records}
-    data = variant_data(spec, index, record_path=lambda key: paths[key])
+    # under records, its duration follows its record (docs/sweeps.md)
+    steps = steps_override(spec, index, materialise(definition))
+    data = variant_data(spec, index, record_path=lambda key: paths[key], steps=steps)
     print(f"# variant {index} of {definition.source}: {spec.describe(index)}")
     print(f"# base scene: {definition.base_source or '(inline)'}; record files as absolute paths")
     sys.stdout.write(yaml.safe_dump(data, sort_keys=False))
@@ -119,17 +121,27 @@ def _sweep(args) -> int:
     where = f" on the Dask cluster at {args.scheduler}" if args.scheduler else ""
     say(f"pframe sweep: {args.sweep}: {spec.count} variants ({spec.model.combine} of {axes}) "
         f"in {_plural(spec.chunks, 'chunk')} of up to {definition.chunk}{where}")
+    from pframe.sweep.store import kept
+
+    found = kept(out)
+    if found:
+        say(f"pframe sweep: resuming: {_plural(found, 'finished chunk')} of an earlier run "
+            f"found in {parts_folder(out)} (taken up if they are this sweep's; the other "
+            "chunks run now)")
     progress = None if args.quiet else _Progress(sys.stderr, sys.stderr.isatty())
     try:
         run = run_sweep(definition, out, restart=args.overwrite, threads=args.threads,
                         scheduler=args.scheduler, progress=progress,
                         call=getattr(args, "command_line", None))
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         if progress is not None:
             progress.close()
-        print(f"pframe: interrupted; the finished chunks are kept in {parts_folder(out)}: run "
-              "the same command to continue", file=sys.stderr)
-        return 130
+        signum = getattr(exc, "signum", None)
+        print(f"pframe: {'interrupted' if signum is None else f'stopped by signal {signum}'}; "
+              f"{_plural(kept(out), 'finished chunk')} of {spec.chunks} kept in "
+              f"{parts_folder(out)}, no sweep file written: run the same command to resume "
+              "from them", file=sys.stderr)
+        return 130 if signum is None else 128 + signum
     finally:
         if progress is not None:
             progress.close()
@@ -137,6 +149,12 @@ def _sweep(args) -> int:
         print(f"pframe: warning: {args.sweep}: {warning}", file=sys.stderr)
     if not args.quiet:
         _summary(run, spec)
+    if run.untrusted:
+        named = ", ".join(f"variant {i} ({spec.describe(i)})" for i in run.untrusted[:3])
+        more = f" and {len(run.untrusted) - 3} more" if len(run.untrusted) > 3 else ""
+        print(f"pframe: warning: {args.sweep}: {len(run.untrusted)} of {run.count} variants "
+              f"completed but are not to be trusted (their energy balance; the file's "
+              f"'trusted' variable is 0 for them): {named}{more}", file=sys.stderr)
     if run.failed:
         first = ", ".join(f"variant {i} ({spec.describe(i)}): {why}" for i, why in run.failed[:3])
         more = f" and {len(run.failed) - 3} more" if len(run.failed) > 3 else ""
@@ -190,6 +208,9 @@ def _summary(run, spec):
     print(f"{spec.definition.source}: {_plural(run.count, 'variant')} in "
           f"{_plural(run.chunks, 'chunk')}{resumed}; "
           f"{run.count - len(run.failed)} completed, {len(run.failed)} failed")
+    lines = run.duration_lines(spec.describe)
+    if spec.base_record is not None or len(lines) > 1:  # records: each runs its own length
+        print("  time analysed: " + "; ".join(lines))
     if run.variant_steps:
         computing = max(run.wall_seconds - run.compile_seconds, 1e-9)
         print(f"  {run.wall_seconds:.2f} s wall, of which kernel compile/load "

@@ -30,15 +30,28 @@ def _warn(source: str, warnings) -> None:
 
 
 def record_lines(loaded) -> list[str]:
-    """The facts of the record a loaded scene reads, as lines (none for other excitations)."""
-    from pframe.excitation.describe import describe_line, describe_record
+    """The facts of the record a loaded scene reads, as lines (none for other excitations):
+    how the file was read, its units and where they were read, the PGA after every scaling
+    and when it occurs, what part the analysis covers. ``pframe solve`` prints them too."""
+    from pframe.excitation.describe import describe_line, describe_scene_record
 
     excitation = loaded.scene.excitation
     if excitation is None or excitation.kind != "record":
         return []
-    facts = describe_record(Path(loaded.base_dir) / excitation.file, excitation.format,
-                            excitation.units, excitation.scale)
+    facts = describe_scene_record(excitation, loaded.base_dir)
     return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+
+
+def excitation_lines(loaded) -> list[str]:
+    """The motion a loaded scene applies, as lines: :func:`record_lines` for a record, the
+    amplitude, period, peak and end of a sine or pulse; none without excitation."""
+    from pframe.excitation.describe import applied_motion, motion_line
+
+    excitation = loaded.scene.excitation
+    if excitation is None or excitation.kind == "record":
+        return record_lines(loaded)
+    duration = loaded.expanded.dt * loaded.expanded.steps
+    return [motion_line(applied_motion(excitation, None, duration))]
 
 
 def period_lines(expanded, plan) -> list[str]:
@@ -48,6 +61,10 @@ def period_lines(expanded, plan) -> list[str]:
     lines = []
     for b, name in enumerate(expanded.buildings):
         nodes = np.flatnonzero(expanded.node_building == b)
+        if len(nodes) > 2000:  # a dense eigen-solve of n^2 values: not for a tall building
+            lines.append(f"building {name}: {len(nodes)} floors (periods not computed above "
+                         "2,000 floors)")
+            continue
         local = {node: i for i, node in enumerate(nodes)}
         stiffness = np.zeros((len(nodes), len(nodes)))
         for s in np.flatnonzero(expanded.story_building == b):
@@ -69,24 +86,28 @@ def period_lines(expanded, plan) -> list[str]:
 
 
 def _scene(path: Path, kind: str) -> int:
+    from pframe import resources
     from pframe.assemble import assemble
     from pframe.reader import load_scene
 
     loaded = load_scene(path)
     ex = loaded.expanded
+    # announced before anything large is built: the time and file a run would take
+    _warn(loaded.source, resources.check(resources.of_expanded(ex, streaming=True),
+                                         loaded.source))
     plan = assemble(ex)
     what = "a scene in Pi numbers: " if kind == "pi-scene" else ""
     print(f"{loaded.source}: valid; {what}{len(ex.node_names)} nodes in {len(ex.buildings)} "
           f"buildings, {len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps "
           f"of dt = {ex.dt:g} s")
-    for line in period_lines(ex, plan) + record_lines(loaded) + [f"note: {n}" for n in ex.notes]:
+    for line in period_lines(ex, plan) + excitation_lines(loaded) + [f"note: {n}" for n in ex.notes]:
         print(f"  {line}")
     _warn(loaded.source, plan.warnings)
     return 0
 
 
 def _sweep(path: Path) -> int:
-    from pframe.excitation.describe import describe_line, describe_record
+    from pframe.excitation.describe import describe_line, describe_scene_record
     from pframe.sweep import load_sweep, parse
 
     definition = load_sweep(path)
@@ -101,18 +122,16 @@ def _sweep(path: Path) -> int:
         if key in seen:
             continue
         seen.add(key)
-        facts = describe_record(file, excitation.get("format", "auto"), excitation.get("units"),
-                                excitation.get("scale", 1.0))
+        facts = describe_scene_record(excitation, file=file)
         print(f"  {describe_line(facts)}")
     # what a run would warn of, for the first and the last variant (every axis at its first
     # and at its last value): the others differ in numbers only
     from pframe.assemble import assemble
-    from pframe.sweep.variants import load_variant, materialise, variant_data
+    from pframe.sweep.variants import load_fitted, materialise
 
     said = set()
     for index in dict.fromkeys((0, spec.count - 1)):
-        variant = load_variant(variant_data(spec, index), spec.base_lines, spec.base_where,
-                               materialise(definition))
+        variant = load_fitted(spec, index, materialise(definition))
         for note in variant.expanded.notes:
             if note not in said:
                 print(f"  note: {note} (variant {index}: {spec.describe(index)})")

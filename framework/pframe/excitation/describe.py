@@ -1,25 +1,33 @@
-"""How a ground-motion record was read: format, samples, step, duration, peak and units.
+"""How a ground motion was read and what a run applies: format, samples, step, units (and
+where they were read), the PGA after every scaling, when it occurs, and what part of the motion
+the analysis covers.
 
-``pframe validate`` and ``pframe solve`` print these facts for every record a scene or sweep
-uses, so that a record can be confirmed before (and after) a run::
+``pframe validate`` and ``pframe solve`` print these facts for the excitation of every scene
+(and every record a sweep uses), and the result file keeps them, so that the motion a run
+applied can be confirmed before (and after) it::
 
-    from pframe.excitation.describe import describe_record, describe_line
+    from pframe.excitation.describe import describe_record, describe_line, applied_motion
 
-    facts = describe_record("records/A-ELC180.AT2")
-    print(describe_line(facts))   # A-ELC180.AT2: PEER .AT2, 4000 points, dt = 0.01 s, ...
+    facts = describe_record("records/A-ELC180.AT2", pga=4.0)
+    print(describe_line(facts, duration=40.0))   # A-ELC180.AT2: PEER .AT2, 4000 points, ...
+    applied_motion(scene.excitation, expanded.record, duration)   # any kind of excitation
 """
 
 from __future__ import annotations
 
 import hashlib
+import math
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 
-from pframe.excitation.records import G, read_record
+from pframe.excitation.records import UNIT_NAMES, G, read_record_file
 
 #: how the two formats are named in messages
 FORMAT_NAMES = {"at2": "PEER NGA .AT2", "columns": "two columns (time, acceleration)"}
+#: a motion is "cut before its peak" when the analysis applies less than this part of it
+PEAK_COVERED = 0.999
 
 
 def record_format(path: str | Path, format: str = "auto") -> str:
@@ -30,9 +38,26 @@ def record_format(path: str | Path, format: str = "auto") -> str:
     return "at2" if Path(path).suffix.lower() == ".at2" else "columns"
 
 
+def _get(excitation, name, default=None):
+    if isinstance(excitation, dict):
+        return excitation.get(name, default)
+    return getattr(excitation, name, default)
+
+
+def describe_scene_record(excitation, base_dir: str | Path = ".", file=None) -> dict:
+    """:func:`describe_record` of a scene's record excitation (a model object or its YAML
+    mapping), every scaling it states included; ``file`` replaces its file (a sweep's)."""
+    path = Path(file) if file is not None else Path(base_dir) / _get(excitation, "file")
+    return describe_record(path, _get(excitation, "format", "auto"),
+                           _get(excitation, "units"), _get(excitation, "scale", 1.0),
+                           pga=_get(excitation, "pga"), frequency=_get(excitation, "frequency"),
+                           period=_get(excitation, "period", "mean"))
+
+
 def describe_record(path: str | Path, format: str = "auto", units: str | None = None,
-                    scale: float = 1.0) -> dict:
-    """The facts of one record file as pframe reads it.
+                    scale: float = 1.0, *, pga: float | None = None,
+                    frequency: float | None = None, period="mean") -> dict:
+    """The facts of one record file as pframe reads and applies it.
 
     Parameters
     ----------
@@ -40,22 +65,30 @@ def describe_record(path: str | Path, format: str = "auto", units: str | None = 
         The record file.
     format : {"auto", "at2", "columns"}
         As the scene's ``excitation.format``.
-    units : {"g", "m/s2"} or None
-        As the scene's ``excitation.units`` (None: g for PEER files, m/s^2 otherwise).
-    scale : float
-        The scene's ``excitation.scale``, applied to the peak.
+    units : str or None
+        As the scene's ``excitation.units`` (None: the header's, else g for PEER files and
+        m/s^2 otherwise).
+    scale, pga, frequency, period :
+        The scene's ``excitation.scale``, ``pga`` (target PGA, m/s^2), ``frequency`` (target
+        characteristic circular frequency, rad/s) and ``period`` (how that is found).
 
     Returns
     -------
     dict
-        ``file`` (str, the path as given), ``sha256`` (hex digest of the file's bytes),
-        ``format`` (``"at2"`` or ``"columns"``), ``units`` (the file's acceleration units,
-        ``"g"`` or ``"m/s2"``), ``points`` (int, samples read), ``step`` (float s, the sample
-        step; the mean step when the times are uneven), ``uniform`` (bool, whether every step
-        equals ``step`` to 1e-6 relative), ``start`` and ``duration`` (float s: first time and
-        last minus first), ``scale`` (float), ``pga`` (float m/s^2, the peak absolute ground
-        acceleration after units and scale), ``pga_g`` (the same in g, g = 9.80665 m/s^2) and
-        ``pga_time`` (float s, when it occurs).
+        Of the file: ``file`` (str, the path as given), ``sha256`` (hex digest of the file's
+        bytes), ``format`` (``"at2"`` or ``"columns"``), ``units`` (the units its values were
+        read in, a name of :data:`pframe.excitation.records.UNITS`), ``units_from``
+        (``"header, line N"``, ``"scene"`` or ``"default"``), ``units_header`` (the units text
+        of the header, or None), ``points`` (int), ``step`` (float s; the mean step when the
+        times are uneven), ``uniform`` (bool, every step equals ``step`` to 1e-6 relative),
+        ``start`` and ``duration`` (float s: first time and last minus first), ``file_pga``
+        (m/s^2) and ``file_pga_time`` (s).
+        As applied: ``scale``, ``target_pga`` and ``frequency`` (as given, or None),
+        ``amplitude_factor`` and ``time_factor`` (what the file's accelerations, ``scale``
+        apart, and times were multiplied by), ``pga`` (float m/s^2, the peak absolute ground
+        acceleration after units and every scaling), ``pga_g`` (the same in g, g = 9.80665
+        m/s^2), ``pga_time`` (float s, when it occurs on the applied time axis) and ``end``
+        (s, when the applied record ends).
 
     Raises
     ------
@@ -65,27 +98,63 @@ def describe_record(path: str | Path, format: str = "auto", units: str | None = 
     path = Path(path)
     content = path.read_bytes()
     kind = record_format(path, format)
-    times, acceleration = read_record(path, kind, units)
-    acceleration = np.asarray(acceleration, dtype=float) * scale
+    read = read_record_file(path, kind, units)
+    times, acceleration = read.times, np.asarray(read.acceleration, dtype=float)
     steps = np.diff(times)
     step = float(np.mean(steps)) if steps.size else 0.0
-    peak = int(np.argmax(np.abs(acceleration))) if acceleration.size else 0
-    pga = float(abs(acceleration[peak])) if acceleration.size else 0.0
+    file_peak = int(np.argmax(np.abs(acceleration))) if acceleration.size else 0
+    amplitude_factor, time_factor = 1.0, 1.0
+    if pga is not None or frequency is not None:
+        from pframe.excitation.characteristic import apply_record
+
+        applied = apply_record(SimpleNamespace(pga=pga, frequency=frequency, period=period,
+                                               scale=scale), times, acceleration)
+        amplitude_factor, time_factor = applied.amplitude_factor, applied.time_factor
+    values = acceleration * amplitude_factor * scale
+    peak = int(np.argmax(np.abs(values))) if values.size else 0
+    peak_value = float(abs(values[peak])) if values.size else 0.0
     return {
         "file": str(path),
         "sha256": hashlib.sha256(content).hexdigest(),
         "format": kind,
-        "units": units or ("g" if kind == "at2" else "m/s2"),
+        "units": read.units,
+        "units_from": read.units_from,
+        "units_header": read.header,
         "points": int(times.size),
         "step": step,
         "uniform": bool(steps.size == 0 or np.allclose(steps, step, rtol=1e-6, atol=0.0)),
         "start": float(times[0]) if times.size else 0.0,
         "duration": float(times[-1] - times[0]) if times.size else 0.0,
+        "file_pga": float(abs(acceleration[file_peak])) if acceleration.size else 0.0,
+        "file_pga_time": float(times[file_peak]) if times.size else 0.0,
         "scale": float(scale),
-        "pga": pga,
-        "pga_g": pga / G,
-        "pga_time": float(times[peak]) if times.size else 0.0,
+        "target_pga": None if pga is None else float(pga),
+        "frequency": None if frequency is None else float(frequency),
+        "amplitude_factor": float(amplitude_factor),
+        "time_factor": float(time_factor),
+        "pga": peak_value,
+        "pga_g": peak_value / G,
+        "pga_time": float(times[peak] * time_factor) if times.size else 0.0,
+        "end": float(times[-1] * time_factor) if times.size else 0.0,
     }
+
+
+def _units_clause(facts: dict) -> str:
+    name = UNIT_NAMES.get(facts["units"], facts["units"])
+    where = facts.get("units_from", "default")
+    if where.startswith("header"):
+        return f"units {name} as its header states ({where.removeprefix('header, ')}, " \
+               f"{facts['units_header']!r})"
+    if where == "scene":
+        said = (f"; the header's {facts['units_header']!r} is not a unit pframe reads"
+                if facts.get("units_header") else "; the file states none")
+        return f"units {name} as the scene states{said}"
+    return f"units {name} by default: the file states none (give excitation.units if they " \
+           "are not)"
+
+
+def _g(value: float) -> str:
+    return f"{value:.4g} m/s^2 ({value / G:.4g} g)"
 
 
 def describe_line(facts: dict, duration: float | None = None) -> str:
@@ -93,18 +162,162 @@ def describe_line(facts: dict, duration: float | None = None) -> str:
     part of the record the analysis covers."""
     step = f"dt = {facts['step']:.6g} s" if facts["uniform"] else \
         f"uneven steps (mean {facts['step']:.6g} s)"
-    scaled = f" x {facts['scale']:g}" if facts["scale"] != 1.0 else ""
-    line = (f"record {facts['file']}: {FORMAT_NAMES[facts['format']]} in "
-            f"{'g' if facts['units'] == 'g' else 'm/s^2'}, {facts['points']} points, {step}, "
-            f"{facts['duration']:.6g} s; PGA{scaled} {facts['pga']:.4g} m/s^2 "
-            f"({facts['pga_g']:.4g} g) at t = {facts['pga_time']:.4g} s; "
-            f"sha256 {facts['sha256'][:12]}")
+    units = "g" if facts["units"] == "g" else UNIT_NAMES.get(facts["units"], facts["units"])
+    line = (f"record {facts['file']}: {FORMAT_NAMES[facts['format']]} in {units}, "
+            f"{facts['points']} points, {step}, {facts['duration']:.6g} s; ")
+    target, frequency = facts.get("target_pga"), facts.get("frequency")
+    if target is None and frequency is None:
+        scaled = f" x {facts['scale']:g}" if facts["scale"] != 1.0 else ""
+        line += f"PGA{scaled} {_g(facts['pga'])} at t = {facts['pga_time']:.4g} s"
+    else:
+        how = []
+        if target is not None:
+            how.append(f"scaled to pga {target:g} m/s^2 (x {facts['amplitude_factor']:.4g})")
+        if facts["scale"] != 1.0:
+            how.append(f"x {facts['scale']:g}")
+        if frequency is not None:
+            how.append(f"time x {facts['time_factor']:.4g} for frequency {frequency:g} rad/s, "
+                       f"the record lasts {facts['end']:.6g} s")
+        line += (f"PGA applied {_g(facts['pga'])} at t = {facts['pga_time']:.4g} s "
+                 f"({'; '.join(how)}; the file's PGA {_g(facts['file_pga'])} at t = "
+                 f"{facts['file_pga_time']:.4g} s)")
+    line += f"; {_units_clause(facts)}; sha256 {facts['sha256'][:12]}"
     if duration is not None:
-        end = facts["start"] + facts["duration"]
-        if duration < end - 1e-9:
-            line += f"; the analysis ({duration:g} s) stops before the record ends"
-            if duration < facts["pga_time"]:
-                line += " and before its PGA"
-        elif duration > end + 1e-9:
-            line += f"; the ground is at rest after {end:.6g} s of the {duration:g} s analysed"
+        line += "; " + coverage(facts, duration, "record")
     return line
+
+
+def coverage(facts: dict, duration: float, what: str) -> str:
+    """What part of a motion of ``facts`` (``end``, ``pga``, ``pga_time``) an analysis of
+    ``duration`` (s) applies."""
+    end = facts["end"]
+    if not math.isfinite(end):
+        return f"the analysis applies it for {duration:g} s"
+    if duration < end - 1e-9:
+        text = f"the analysis ({duration:g} s) stops before the {what} ends (at {end:.6g} s)"
+        if duration < facts["pga_time"]:
+            text += f" and before its PGA (t = {facts['pga_time']:.4g} s)"
+        return text
+    if duration > end + 1e-9:
+        return f"the ground is at rest after {end:.6g} s of the {duration:g} s analysed"
+    return f"the analysis ({duration:g} s) covers the whole {what}"
+
+
+def applied_motion(excitation, record=None, duration: float | None = None) -> dict | None:
+    """The ground motion a scene's excitation applies, for every kind; None without one.
+
+    Parameters
+    ----------
+    excitation : Sine, Record, a pulse or None
+        The scene's excitation.
+    record : AppliedRecord, optional
+        For a record: the record as applied (``Expanded.record``: ``pga`` and ``frequency``
+        done; ``scale`` is applied here).
+    duration : float, optional
+        The analysis duration (s).
+
+    Returns
+    -------
+    dict
+        ``kind``, ``description`` (the motion in words), ``amplitude`` (m/s^2: the sine's or
+        pulse's a_p, a record's PGA), ``pga`` (m/s^2, the peak |a_g| of the whole motion),
+        ``pga_g``, ``pga_time`` (s, its first time), ``end`` (s, when the ground comes to
+        rest for good; inf for a sine without end), ``duration`` (s or None) and, with a
+        duration, ``applied_peak`` (m/s^2, the peak |a_g| within the analysis) and
+        ``cut_before_peak`` (bool: the analysis applies less than 0.999 of the PGA).
+    """
+    if excitation is None:
+        return None
+    from pframe.excitation.sample import motion
+
+    m = motion(excitation, record)
+    kind = excitation.kind
+    if kind == "record":
+        times = np.asarray(m.breakpoints, dtype=float)
+        values = np.abs(np.asarray(m(times), dtype=float))
+        peak = int(np.argmax(values))
+        pga, pga_time = float(values[peak]), float(times[peak])
+        description = f"record {excitation.file}"
+        amplitude = pga
+    else:
+        horizon = m.end if math.isfinite(m.end) else 2.0 * math.pi / excitation.frequency
+        pga, pga_time = _peak(m, horizon)
+        amplitude = abs(float(excitation.amplitude))
+        if kind == "sine":
+            w = float(excitation.frequency)
+            until = "without end" if not math.isfinite(m.end) else f"until t = {m.end:.6g} s"
+            description = (f"sine a_p = {_g(float(excitation.amplitude))}, w_p = {w:g} rad/s (T = "
+                           f"{2.0 * math.pi / w:.4g} s), {until}")
+        else:
+            name = "ricker" if kind == "ricker" else f"cycloidal type {excitation.type}" + (
+                f"{excitation.n}" if excitation.type == "C" else "")
+            description = (f"{name} pulse a_p = {_g(float(excitation.amplitude))}, T_p = "
+                           f"{float(excitation.period):g} s, over 0-{m.end:.6g} s")
+    facts = {"kind": kind, "description": description, "amplitude": amplitude, "pga": pga,
+             "pga_g": pga / G, "pga_time": pga_time, "end": float(m.end), "duration": duration}
+    if duration is not None:
+        if kind == "record":
+            inside = times <= duration
+            applied = float(np.max(values[inside], initial=0.0))
+            applied = max(applied, float(abs(m(float(duration))))) if duration < m.end \
+                else applied
+        else:
+            applied = _peak(m, min(duration, horizon))[0]
+        facts["applied_peak"] = applied
+        facts["cut_before_peak"] = bool(applied < PEAK_COVERED * pga)
+    return facts
+
+
+def _peak(m, horizon: float) -> tuple[float, float]:
+    """(peak |a|, first time of it) of a smooth motion over [0, horizon]: on 20001 points and
+    the breakpoints, then refined by a golden-section search around the best point."""
+    if horizon <= 0.0:
+        return float(abs(m(0.0))), 0.0
+    grid = np.union1d(np.linspace(0.0, horizon, 20001),
+                      [b for b in np.asarray(m.breakpoints, float) if 0.0 <= b <= horizon])
+    values = np.abs(np.asarray(m(grid), dtype=float))
+    k = int(np.flatnonzero(values >= np.max(values) * (1.0 - 1e-6))[0])  # the first peak...
+    while k + 1 < values.size and values[k + 1] >= values[k]:  # ...at its top
+        k += 1
+    lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]
+    best_t, best = float(grid[k]), float(values[k])
+    ratio = (math.sqrt(5.0) - 1.0) / 2.0
+    a, b = lo, hi
+    for _ in range(60):
+        c, d = b - ratio * (b - a), a + ratio * (b - a)
+        if abs(m(c)) >= abs(m(d)):
+            b = d
+        else:
+            a = c
+    t = 0.5 * (a + b)
+    if abs(m(t)) > best * (1.0 + 1e-12):
+        best_t, best = float(t), float(abs(m(t)))
+    return best, best_t
+
+
+def motion_line(facts: dict) -> str:
+    """One line of :func:`applied_motion`'s facts (a sine or a pulse; records have
+    :func:`describe_line`)."""
+    line = (f"excitation: {facts['description']}; peak {_g(facts['pga'])} at t = "
+            f"{facts['pga_time']:.4g} s")
+    if facts.get("duration") is not None:
+        kind = facts["kind"]
+        line += "; " + coverage(facts, facts["duration"],
+                                kind if kind == "sine" else f"{kind} pulse")
+    return line
+
+
+def motion_warnings(facts: dict | None) -> list[str]:
+    """Warnings about the motion a run applies: the analysis stops before the peak of a
+    record or a pulse (it applies less than 0.999 of the PGA the scene asks for). A sine is
+    not warned of: it reaches its amplitude every cycle, and a run shorter than a quarter
+    of one is a choice."""
+    if not facts or not facts.get("cut_before_peak") or facts["kind"] == "sine":
+        return []
+    what = facts["kind"] if facts["kind"] in ("record", "sine") else f"{facts['kind']} pulse"
+    needed = facts["pga_time"]
+    return [f"the analysis stops at t = {facts['duration']:g} s, before the {what}'s peak "
+            f"ground acceleration {_g(facts['pga'])} at t = {needed:.4g} s: the run applies "
+            f"at most {_g(facts['applied_peak'])}. Set analysis.duration to at least "
+            f"{needed:.4g} s (the {what} lasts {facts['end']:.6g} s) to apply the motion "
+            "asked for"]

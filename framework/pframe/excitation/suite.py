@@ -38,8 +38,9 @@ class RecordEntry(_Base):
     scale: float = Field(1.0, gt=0, allow_inf_nan=False, description="Factor on the record "
                          "(used when the suite is not scaled to levels).")
     format: Literal["auto", "columns", "at2"] = Field("auto", description="File format.")
-    units: Literal["m/s2", "g"] | None = Field(None, description="Default: g for .AT2, m/s2 "
-                                               "otherwise.")
+    units: Literal["g", "m/s2", "cm/s2", "gal", "mm/s2", "in/s2", "ft/s2"] | None = Field(
+        None, description="Default: the units the file's header states, else g for .AT2 and "
+        "m/s2 otherwise; units that contradict the header are refused.")
 
 
 class Measure(_Base):

@@ -7,6 +7,7 @@ import dataclasses
 import hashlib
 import math
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +32,7 @@ class AuditInputs:
     periods: np.ndarray  # (buildings,)
     damping: np.ndarray
     scaled: bool
+    warnings: tuple = ()  # what the runs leave out (records cut by the duration)
 
     @property
     def count(self) -> int:
@@ -88,6 +90,32 @@ def _scene_motion(loaded) -> GroundMotion:
     return GroundMotion(name, times, ex.ground_acceleration.copy(), loaded.source)
 
 
+def _record_extent(loaded, suite: Suite, own: bool) -> tuple[np.ndarray, np.ndarray]:
+    """End time and time of the peak (s) of each record as it is applied; for the scene's
+    own record, of the whole record (the scene's duration may stop before its end)."""
+    if own and loaded.expanded.record is not None:
+        record = loaded.expanded.record
+        return (np.array([record.times[-1]]),
+                np.array([record.times[int(np.abs(record.acceleration).argmax())]]))
+    ends = np.array([m.duration for m in suite.motions])
+    peaks = np.array([m.time[int(np.abs(m.acceleration).argmax())] for m in suite.motions])
+    return ends, peaks
+
+
+def cut_warnings(names, ends, peaks, analysed: float, dt: float, remedy: str) -> list[str]:
+    """One warning per record the analysed time stops before the end of."""
+    out = []
+    for name, end, peak in zip(names, ends, peaks):
+        if end <= analysed + 0.5 * dt:
+            continue
+        missed = (f"its peak ground acceleration (t = {peak:.4g} s) is past the end, so the "
+                  "response to it is missing" if peak > analysed else
+                  "its peak ground acceleration is inside")
+        out.append(f"record {name}: the runs stop at {analysed:.4g} s, but the record runs to "
+                   f"{end:.4g} s ({missed}); {remedy}")
+    return out
+
+
 def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | None = None,
             dt: float | None = None, records_folder=None) -> AuditInputs:
     """Read the scene and the suite, find the buildings' first modes and every record's
@@ -124,13 +152,22 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
     dt = float(dt or loaded.expanded.dt)
     if own:
         steps = loaded.expanded.steps
+        remedy = ("lengthen the scene's analysis.duration to at least its record's length "
+                  "to audit the whole record")
     else:
+        if duration is not None and not (duration > 0 and math.isfinite(duration)):
+            raise InputError(f"--duration {duration}: the analysed time is a number > 0 (s)")
+        remedy = ("leave out --duration (the default runs the longest record plus three "
+                  "first periods) or give at least the record's length")
         if duration is None:
             longest = max(m.duration for m in suite.motions)
             duration = longest + runs.TAIL_PERIODS * float(np.max(periods[np.isfinite(periods)]))
         steps = int(math.ceil(duration / dt - 1e-9))
+    ends, peaks = _record_extent(loaded, suite, own)
+    warnings = cut_warnings(suite.names, ends, peaks, steps * dt, dt, remedy)
     return AuditInputs(loaded, pairs, suite, np.asarray(level_values, float), factors, ims,
-                       steps, dt, periods, damping, levels is not None or suite.levels is not None)
+                       steps, dt, periods, damping, levels is not None or suite.levels is not None,
+                       tuple(warnings))
 
 
 class _Definition:
@@ -174,12 +211,16 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
         raise InputError(f"--gap {gap}: the provided gap is a number >= 0 (m)")
     inputs = prepare(scene, suite, levels=levels, measure=measure, duration=duration, dt=dt,
                      records_folder=records_folder)
-    if output is not None:
-        output = Path(output)
-        if output.exists() and not overwrite:
-            raise InputError(f"{output}: the output file exists; pass --overwrite to replace it")
-        if not output.parent.is_dir():
-            raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
+    for text in inputs.warnings:  # also in the result's `warnings` attribute
+        warnings.warn(f"{inputs.loaded.source}: {text}", stacklevel=2)
+    if output is not None:  # never a device, the scene, the suite or a record it reads
+        from pframe import outputs
+        from pframe.api import run_inputs
+
+        reads = [*run_inputs(inputs.loaded), inputs.suite.source,
+                 *(m.source for m in inputs.suite.motions)]
+        output = outputs.check_output(output, inputs=[r for r in reads if r],
+                                      overwrite=overwrite, what="audit file")
     count = inputs.count
     chunk = count if chunk is None else int(chunk)
     if chunk < 1:

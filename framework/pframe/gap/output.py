@@ -119,6 +119,10 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
                        {"long_name": "right node of the contact"}),
         "scene_gap": (("contact",), pairs.gaps, {
             "units": "m", "long_name": "the gap the scene gives the contact"}),
+        "record_duration": (("record",), np.array(
+            [m.duration for m in inputs.suite.motions], dtype=float), {
+            "units": "s", "long_name": "time of the record's last sample (every run goes on "
+            "to the analysed duration: free vibration after its record)"}),
     }
     attrs = {
         "title": f"gap audit: {inputs.loaded.scene.title or inputs.loaded.source}",
@@ -129,6 +133,8 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "input_yaml": inputs.loaded.text,
         "dt": inputs.dt,
         "steps": inputs.steps,
+        "duration": inputs.steps * inputs.dt,
+        "warnings": "\n".join(inputs.warnings),
         "en_coincident_floor_factor": int(en_coincident),
         "pframe_version": pframe.__version__,
         "Conventions": "CF-1.8",

@@ -17,6 +17,8 @@ from pframe.kernel.state import (
     CONTACT,
     EVALUATIONS,
     FACTORISATIONS,
+    HELD,
+    HELD_CLOSED,
     NODE,
     NOT_DEFINITE,
     NOT_FINITE,
@@ -29,6 +31,10 @@ from pframe.kernel.state import (
 from pframe.kernel.views import row
 
 from .dispatch import contact_force, material_force
+
+#: where a contact held closed is evaluated once its penetration is below it: the smallest
+#: penetration a law sees as contact (any law's spring term vanishes there)
+HELD_DEPTH = 1e-300
 
 
 @inline
@@ -109,6 +115,7 @@ def evaluate(m, st, w, b, age, c1, wf, tangent):
     params, committed, trial = m.contact_params[b], st.contact_committed[b], st.contact_trial[b]
     gap, calls = m.gap[b], st.contact_calls[b]
     force, penetration, kks = w.contact_force, w.penetration, w.contact_kk
+    held = int(w.scalars[HELD])
     for j in range(order.shape[0]):
         e = order[j]
         left = dofs[e, 0]
@@ -116,7 +123,17 @@ def evaluate(m, st, w, b, age, c1, wf, tangent):
         d = ue[left] - ue[right] - gap[e]
         r = ve[left] - ve[right]
         law = laws[e]
-        f, kd, kr = contact_force(law, row(params, e), row(committed, e), row(trial, e), d, r)
+        at = d
+        if e == held:
+            # Located events (kernel/events.py) hold the contact on one branch, so that its
+            # penetration is a continuous function of the sub-step length: held open, no
+            # force on either side of delta = 0; held closed, the law's force at delta = 0+
+            # continued to delta < 0 (the jump of a dashpot, c delta', at delta = 0 stays off
+            # the search).
+            at = max(d, HELD_DEPTH) if w.scalars[HELD_CLOSED] != 0.0 else min(d, 0.0)
+        f, kd, kr = contact_force(law, row(params, e), row(committed, e), row(trial, e), at, r)
+        if at > d:
+            kd = 0.0
         calls[law] += 1
         force[e] = f
         penetration[e] = d

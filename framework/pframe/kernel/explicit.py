@@ -3,7 +3,9 @@
 u(n+1) = u + h v + h^2 a / 2; the forces at t(n+1) also depend on the velocity (damping,
 contact dashpots), so a(n+1) is found from the predicted velocity v + h a and corrected once
 with the trapezoidal velocity. A step longer than the stability limit allows is split into
-``cd_parts`` equal sub-steps (``substeps: auto``), with the ground motion interpolated.
+``cd_parts`` equal sub-steps (``substeps: auto``), with the ground motion interpolated; every
+sub-step counts its impacts and updates the envelopes (a contact can open and close between
+two recorded steps).
 """
 
 from __future__ import annotations
@@ -13,10 +15,11 @@ from pframe.kernel.state import SOLVES
 
 from .assembly import check_finite, evaluate_call, ground_between
 from .energy import commit_call
+from .record import record_substep
 
 
 @compiled
-def explicit_step(m, s, st, w, b, k, h):
+def explicit_step(m, s, st, w, b, k, h, rec):
     """Advance member ``b`` from step k - 1 to step k; False (after recording why) on failure."""
     U, V, A = st.U[b], st.V[b], st.A[b]
     u, v, a, R = w.u, w.v, w.a, w.R
@@ -38,4 +41,6 @@ def explicit_step(m, s, st, w, b, k, h):
         st.counters[b, SOLVES] += 1  # the diagonal mass 'solve' of central difference
         if not commit_call(m, s, st, w, b, k, hs, ag_old, ag_new):
             return False
+        if parts > 1:
+            record_substep(m, st, rec, b, k)
     return True

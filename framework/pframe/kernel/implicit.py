@@ -16,6 +16,7 @@ from .assembly import ground_between
 from .energy import commit_call
 from .events import event_substeps
 from .newton import solve_step_call
+from .record import record_substep
 
 
 @inline
@@ -63,7 +64,7 @@ def restore(st, sv, b):
 
 
 @inline
-def split_step(m, s, st, w, sv, b, k, h, split):
+def split_step(m, s, st, w, sv, b, k, h, split, rec):
     """Take step k (of length h) as 2^split parts, and in twice as many from its start (saved
     in ``sv``) while one fails, up to 2^max_split; False (after recording why in st.status,
     and restoring the step's start) if it failed even then. With events, each part is further
@@ -73,7 +74,7 @@ def split_step(m, s, st, w, sv, b, k, h, split):
         ok = True
         for part in range(parts):
             if s.events:
-                ok = event_substeps(m, s, st, w, b, k, h, part, parts)
+                ok = event_substeps(m, s, st, w, b, k, h, part, parts, rec)
             else:
                 pos = part / parts
                 stop = (part + 1) / parts
@@ -81,6 +82,8 @@ def split_step(m, s, st, w, sv, b, k, h, split):
                 ag_old, ag_new = ground_between(m, b, k, pos, stop)
                 ok = (solve_step_call(m, s, st, w, b, k, hs, ag_old, ag_new)
                       and commit_call(m, s, st, w, b, k, hs, ag_old, ag_new))
+                if ok:
+                    record_substep(m, st, rec, b, k)
             if not ok:
                 break
         if ok:
@@ -96,7 +99,7 @@ def split_step(m, s, st, w, sv, b, k, h, split):
 
 
 @compiled
-def step_in_parts(m, s, st, w, sv, b, k, h):
+def step_in_parts(m, s, st, w, sv, b, k, h, rec):
     """Step k (of length h) in sub-steps, after the whole step failed in the time loop or,
     with event location, from the start; False (after recording why in st.status) if it
     failed even in 2^max_split sub-steps. The whole step is the common case, and the time
@@ -112,4 +115,4 @@ def step_in_parts(m, s, st, w, sv, b, k, h):
     # nothing was committed yet: this is the step's start (with events, several sub-steps
     # may be committed before a failure)
     save(st, sv, b)
-    return split_step(m, s, st, w, sv, b, k, h, split)
+    return split_step(m, s, st, w, sv, b, k, h, split, rec)

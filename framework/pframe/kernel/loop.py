@@ -12,7 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from pframe.kernel.cache import inline, jit
-from pframe.kernel.state import MASS_MIN, OK, STATUS_CODE
+from pframe.kernel.state import HELD, MASS_MIN, OK, STATUS_CODE
 from pframe.kernel.views import borrowed
 
 from .assembly import check_finite, evaluate_call, ground_between
@@ -29,6 +29,7 @@ def reset_work(m, w, b):
     w.story_kk[:] = np.nan
     w.contact_kk[:] = np.nan
     w.scalars[:] = 0.0
+    w.scalars[HELD] = -1.0
     mass = m.mass[b]
     smallest = mass[0]
     for i in range(mass.shape[0]):
@@ -81,15 +82,15 @@ def run(m, s, st, rec, w, sv, begin, end):
             if k == 0:
                 ok = initial_state(m, s, st, w, b, k, h / m.cd_parts[b] if s.explicit else h)
             elif s.explicit:
-                ok = explicit_step(m, s, st, w, b, k, h)
+                ok = explicit_step(m, s, st, w, b, k, h, rec)
             elif s.events:
-                ok = step_in_parts(m, s, st, w, sv, b, k, h)
+                ok = step_in_parts(m, s, st, w, sv, b, k, h, rec)
             else:
                 ag_old, ag_new = ground_between(m, b, k, 0.0, 1.0)
                 if solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
                     ok = commit(m, s, st, w, b, k, h, ag_old, ag_new)
                 else:
-                    ok = step_in_parts(m, s, st, w, sv, b, k, h)
+                    ok = step_in_parts(m, s, st, w, sv, b, k, h, rec)
             if not ok:
                 break
             if k == due:

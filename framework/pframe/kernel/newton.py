@@ -114,20 +114,29 @@ def solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
     wm = 1.0 - s.alpha_m
     wf = 1.0 - s.alpha_f
     inv_c0_mmin = 1.0 / (c0 * wm * scalars[MASS_MIN])
-    # Predictor of a nonlinear scene: constant acceleration (a = A, v = V + h A). A storey that
+    # Predictor: constant acceleration (a = A, v = V + h A). A storey that
     # keeps yielding or a contact that stays closed is then met on its current branch with
     # the tangent of the direction it moves in, and one solve ends the step. u = U would
     # evaluate every law at its committed point, where a yielding storey reports its elastic
     # slope (four steps in five of the paper's example took a second solve). A linear scene's
     # single solve is exact from any predictor.
+    #
+    # The unknown iterated is the acceleration a, from which u and v follow forward,
+    # u = U + h V + h^2 (1/2 - beta) A + beta h^2 a and v = V + h (1 - gamma) A + gamma h a.
+    # Iterating on u and taking a = c0 (u - U) - c2 V - c3 A would lose every bit of a in a
+    # short (sub-)step: u - U cancels to eps |u| and c0 ~ 1/h^2 amplifies it (a sub-step of
+    # 1e-12 s that an event ends gave accelerations of 1e5 m/s^2 from round-off, which the next
+    # step turned into kinetic energy). The effective stiffness and the solves are the same;
+    # a solve's displacement increment du gives a += c0 du.
+    bh2 = s.beta * h * h
     for i in range(n):
-        u[i] = U[i] if s.linear else U[i] + h * V[i] + 0.5 * h * h * A[i]
+        a[i] = A[i]
     converged = False
     norm_u = 0.0
     age = ag_new
     for it in range(s.max_iterations + 1):
         for i in range(n):
-            a[i] = c0 * (u[i] - U[i]) - c2 * V[i] - c3 * A[i]
+            u[i] = U[i] + (h * V[i] + (0.5 * h * h - bh2) * A[i] + bh2 * a[i])
             v[i] = V[i] + c4 * A[i] + c5 * a[i]
         age = at_alpha_point(m, s, st, w, b, ag_old, ag_new)
         if evaluate(m, st, w, b, age, c1, wf, not s.linear):
@@ -165,15 +174,15 @@ def solve_step(m, s, st, w, b, k, h, ag_old, ag_new):
         counters[SOLVES] += 1
         if s.linear:
             for i in range(n):
-                u[i] += R[i]
+                a[i] += c0 * R[i]
             converged = True
         else:
             norm_du = 0.0
             norm_u = 0.0
             for i in range(n):
-                u[i] += R[i]
+                a[i] += c0 * R[i]
                 norm_du += R[i] * R[i]
-                norm_u += u[i] * u[i]
+                norm_u += (u[i] + R[i]) * (u[i] + R[i])
             converged = np.sqrt(norm_du) <= s.tolerance * np.sqrt(norm_u) + s.absolute_tolerance
     if s.alpha:
         scalars[ALPHA_WORK] = alpha_work(m, st, w, b, age, wf)

@@ -95,3 +95,12 @@ def record_envelopes(m, st, rec, b, k):
                 peak[b, i] = max(peak[b, i], abs(value(m, st, q, values, b, k, i)))
             gathered += peak.shape[1]
     st.counters[b, GATHERS] += gathered
+
+
+@inline
+def record_substep(m, st, rec, b, k):
+    """Envelopes see the state committed at the end of every sub-step of step ``k`` (central
+    difference's ``substeps``, event location, split steps), not only at the step end: a
+    contact that opens and closes inside one step has its peak force recorded."""
+    if rec.enveloped.sum() > 0:
+        record_envelopes(m, st, rec, b, k)

@@ -115,10 +115,12 @@ Work = namedtuple("Work", [
     "scalars",                 # (SCALAR_SLOTS,) see H_FACTORED, STALE, MASS_MIN
 ])
 # w.scalars: the step length of the current factorisation (0 before the first), 1.0 when an
-# element tangent changed since, the smallest mass of the member, and the work of the
-# non-inertial forces at the alpha point over the whole (sub-)step (pframe.kernel.energy)
-H_FACTORED, STALE, MASS_MIN, ALPHA_WORK = 0, 1, 2, 3
-SCALAR_SLOTS = 4
+# element tangent changed since, the smallest mass of the member, the contact held on one
+# branch while an event is located (-1: none) and that branch (1.0 closed, 0.0 open; see
+# kernel/events.py), and the work of the non-inertial forces at the alpha point over the
+# whole (sub-)step (pframe.kernel.energy)
+H_FACTORED, STALE, MASS_MIN, HELD, HELD_CLOSED, ALPHA_WORK = 0, 1, 2, 3, 4, 5
+SCALAR_SLOTS = 6
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [

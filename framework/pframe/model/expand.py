@@ -11,6 +11,8 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
+from pframe.excitation.describe import applied_motion, motion_warnings
+from pframe.excitation.records import RecordUnitsError
 from pframe.laws import ContactContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
@@ -53,6 +55,12 @@ class Expanded:
     recorders: tuple
     #: the record as applied (pframe.excitation.characteristic.AppliedRecord), for a record
     record: object = None
+    #: the excitation's definition (Sine, Record, a pulse or None): its time scales are
+    #: checked against dt (pframe.assemble.timescales)
+    excitation: object = None
+    #: reference scales a Pi-form scene left at 1 ('m_b' kg, 'w_p' rad/s): its masses or
+    #: times are then ratios, not a building's, and are not judged as such
+    unit_scales: tuple[str, ...] = ()
     #: index of the reference building (its first floor mass is the mass scale m_b)
     reference: int = 0
     #: what the run will be told (pframe solve prints them; the result file keeps them)
@@ -185,6 +193,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             record = read_record(file, scene.excitation.format, scene.excitation.units)
         except FileNotFoundError:
             raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
+        except RecordUnitsError as exc:  # the header and the scene disagree on the units
+            where = "units" if scene.excitation.units is not None else "file"
+            raise ModelError(("excitation", where), str(exc)) from None
         except (ValueError, OSError) as exc:
             raise ModelError(("excitation", "file"), f"malformed record: {exc}") from None
         try:
@@ -204,6 +215,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
                                                 f"buildings; both nodes are in {building_of[left]!r}")
         name = contact.name or default_contact_name(contact.nodes)
+        _check_row_order(name, buildings, building_of[left], building_of[right], contact.nodes,
+                         path + ("nodes",))
         if name in seen:
             raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
         seen[name] = True
@@ -268,10 +281,28 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         max_iterations=analysis.newton.max_iterations,
         recorders=tuple(scene.recorders),
         record=record,
+        excitation=scene.excitation,
         reference=reference,
-        warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0]),
+        warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
+        + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt))),
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
+
+
+def _check_row_order(name, buildings, left, right, nodes, path) -> None:
+    """A contact's nodes are [left, right] in the row the scene declares: the buildings stand
+    from left to right in the order they are first declared (``buildings``, then the
+    buildings of ``nodes``). A contact written the other way round closes when its buildings
+    move apart, so it is refused (docs/yaml-reference.md)."""
+    if buildings.index(left) < buildings.index(right):
+        return
+    raise ModelError(path, f"contact {name!r} has {nodes[0]!r} on the left of {nodes[1]!r}, but "
+                           "the buildings stand from left to right in the order the scene "
+                           f"declares them ({', '.join(buildings)}), so {left} is right of "
+                           f"{right}: a contact's nodes are [left, right] (penetration u_left - "
+                           "u_right - gap) and this one would close when the buildings move "
+                           f"apart; write nodes [{nodes[1]}, {nodes[0]}], or declare the "
+                           "buildings in their left-to-right order")
 
 
 def _rebound_text(key, names) -> str:

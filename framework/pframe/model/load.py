@@ -181,8 +181,10 @@ def validated(model: type[BaseModel], data, lines: dict, source: str):
 
 def read_input(path: Path, what: str) -> str:
     """The text of an input file (``what``: 'model', 'sweep'); InputError if unreadable."""
-    try:
-        return path.read_text(encoding="utf-8")
+    from pframe.yamltext import read_bounded
+
+    try:  # a regular file of bounded size: a device or FIFO is refused, never read
+        return read_bounded(path, what)
     except FileNotFoundError:
         raise InputError(f"{path}: no such {what} file") from None
     except (OSError, UnicodeDecodeError) as exc:

@@ -15,6 +15,7 @@ from pydantic import (
     ConfigDict,
     Discriminator,
     Field,
+    PrivateAttr,
     Tag,
     create_model,
     model_validator,
@@ -177,7 +178,9 @@ class ContactBase(Base):
 
     name: str | None = Field(None, description="Defaults to '<left>-<right>'.")
     nodes: tuple[NodeName, NodeName] = Field(
-        description="[left, right]: penetration = u_left - u_right - gap."
+        description="[left, right]: penetration = u_left - u_right - gap. The buildings "
+        "stand from left to right in the order the scene declares them; the left node's "
+        "building must come first (a contact written the other way round is refused)."
     )
     gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
 
@@ -220,13 +223,16 @@ class Record(Base):
         "auto", description="File format; auto: PEER for the suffix .AT2 in any case (.AT2, "
                             ".at2, .At2), else two columns. pframe validate prints how the "
                             "file was read.")
-    units: Literal["m/s2", "g"] | None = Field(
-        None, description="Acceleration units of the file (default: g for .AT2, m/s2 otherwise)."
-    )
+    units: Literal["g", "m/s2", "cm/s2", "gal", "mm/s2", "in/s2", "ft/s2"] | None = Field(
+        None, description="Acceleration units of the file's values. Default: the units its "
+        "header states (PEER: 'UNITS OF G', 'UNITS OF CM/SEC/SEC'; two columns: a comment "
+        "'# units: cm/s2'), else g for .AT2 and m/s2 otherwise. Units that contradict the "
+        "header are refused.")
     scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
     pga: Positive | None = Field(
-        None, description="Scale the record to this peak ground acceleration (m/s^2); instead "
-        "of scale.")
+        None, description="Scale the record to this peak ground acceleration, in m/s^2 (not g: "
+        "0.4 g is 3.92); instead of scale. pframe validate and solve print the PGA applied, in "
+        "m/s^2 and g.")
     period: Literal["mean", "predominant"] | Positive = Field(
         "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
         "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
@@ -241,6 +247,17 @@ class Record(Base):
         if self.pga is not None and "scale" in self.model_fields_set:
             raise ValueError("give scale (a factor) or pga (a target peak), not both")
         return self
+
+    # The absolute folder ``file`` is relative to, set when the record is read from a scene
+    # file: a copy of the scene (model_copy, with or without update) keeps it, so the copy
+    # reads the same record from any current folder. Not a field: not in the YAML, the
+    # schema or equality.
+    _folder: str | None = PrivateAttr(None)
+
+    def __eq__(self, other):
+        if not isinstance(other, Record):
+            return NotImplemented
+        return self.__dict__ == other.__dict__
 
 
 class _Pulse(Base):
@@ -468,8 +485,11 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         """A scene of adjacent buildings that may pound into each other."""
 
         title: str = Field("", description="A title copied into the result file.")
-        buildings: list[Building] = Field(default_factory=list, description="Shear buildings.")
-        nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes.")
+        buildings: list[Building] = Field(default_factory=list, description="Shear buildings, "
+                                          "from left to right.")
+        nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes (their "
+                                  "buildings stand right of the shorthand's, in the order first "
+                                  "named).")
         stories: list[_union(story_models, "material")] = Field(
             default_factory=list, description="Generic storeys between nodes.")
         contacts: list[_union(contact_models, "law")] = Field(

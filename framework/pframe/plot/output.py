@@ -35,9 +35,11 @@ def output_paths(output: str | Path, levels) -> list[Path]:
     return [output.with_name(f"{output.stem}-{level}{output.suffix}") for level in levels]
 
 
-def save(figs: dict, output: str | Path, title: str | None = None) -> list[Path]:
+def save(figs: dict, output: str | Path, title: str | None = None, *, overwrite: bool = True,
+         inputs=()) -> list[Path]:
     """Write ``level -> Figure`` to ``output`` (.png, .svg or .pdf); existing files are
-    replaced.
+    replaced only with ``overwrite`` (``pframe plot`` passes its ``--overwrite``), never one
+    of ``inputs`` (the result drawn) nor anything but a regular file.
 
     Parameters
     ----------
@@ -56,6 +58,8 @@ def save(figs: dict, output: str | Path, title: str | None = None) -> list[Path]
     import pframe
 
     paths = output_paths(output, figs)
+    for path in paths:  # every name checked before any is written
+        outputs.check_output(path, inputs=inputs, overwrite=overwrite, what="figure")
     if paths[0].suffix.lower() == ".pdf":
         from matplotlib.backends.backend_pdf import PdfPages
 

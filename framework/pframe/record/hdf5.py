@@ -24,6 +24,10 @@ file agree by construction (and a test checks they are identical).
 
 from __future__ import annotations
 
+import contextlib
+import errno
+import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -39,6 +43,8 @@ DIMENSION = {q: dim for q, (dim, _, _) in QUANTITIES.items()}
 COUNTER_ATTRIBUTES = (("solves", "newton_solves"), ("split_steps", "split_steps"),
                       ("factorisations", "factorisations"),
                       ("evaluations", "residual_evaluations"), ("gathers", "gathered_values"))
+#: files whose writing failed inside HDF5: never closed (closing one crashes libhdf5)
+_FAILED: list = []
 #: rows of a time coordinate computed at once (bounded memory for long runs)
 _TIME_BLOCK = 2**16
 #: the label variable and long name of each named dimension
@@ -46,6 +52,15 @@ LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "story": ("story_name", "storey (named by the floor above it)"),
           "contact": ("contact_name", "contact element"),
           "building": ("building_name", "building")}
+
+
+def _free_bytes(folder: Path) -> int | None:
+    """Bytes an unprivileged writer may still use on the disk of ``folder`` (None: unknown)."""
+    try:
+        stat = os.statvfs(folder)
+    except (OSError, AttributeError):
+        return None
+    return stat.f_bavail * stat.f_frsize
 
 
 def _temporary(path: Path) -> Path:
@@ -117,6 +132,7 @@ class ResultWriter:
             var = f.rows(dim)
             for lo in range(0, rows, _TIME_BLOCK):
                 hi = min(rows, lo + _TIME_BLOCK)
+                self.room(8 * (hi - lo))
                 var[lo:hi] = self.convert.time(np.arange(lo, hi) * every * dt)[0]
             self.time_dims[every] = dim
         names = {"node": plan.node_names, "story": plan.story_names,
@@ -182,7 +198,24 @@ class ResultWriter:
             seen = self.peaks.get(quantity)
             self.peaks[quantity] = peak if seen is None else np.fmax(seen, peak)
         data, _, _ = self.convert.variable(self._columns(quantity, rows), *UNITS[quantity])
-        var[first_row:stop] = data
+        self.room(data.nbytes)
+        try:
+            var[first_row:stop] = data
+        except OSError:
+            self.failed = True  # HDF5 met a failing disk: never flushed again (see abort)
+            raise
+
+    def room(self, nbytes: int) -> None:
+        """Raise ENOSPC *before* a block of ``nbytes`` is handed to HDF5 if the disk cannot
+        take it and what HDF5 still holds (its chunk caches, 1 MiB a variable, and the
+        metadata written on closing). libhdf5 that meets ENOSPC while writing leaves its
+        metadata cache damaged, and closing the file then crashes the process (segmentation
+        fault): pframe never lets it meet a full disk it can see coming."""
+        if self.tmp is None:
+            return
+        free = _free_bytes(self.tmp.parent)
+        if free is not None and free < nbytes + (len(self.plan.history) + 4) * 2**20:
+            raise OSError(errno.ENOSPC, "no space left on the device", str(self.tmp))
 
     def finish(self, result):
         """Cut the histories to the states computed, write envelopes, impact counts and
@@ -195,19 +228,33 @@ class ResultWriter:
             if self.in_memory:
                 return None
             outputs.commit(self.tmp, self.path)
-        except BaseException:
+        except BaseException as exc:
+            if isinstance(exc, OSError) and self.file is not None:
+                self.failed = True  # HDF5 met a failing disk: never flushed again (abort)
             self.abort()
             raise
         return self.path
 
     def abort(self) -> None:
-        """Close and remove the temporary file (nothing is left behind)."""
+        """Remove the temporary file, then close it (nothing is left behind). Its space is
+        freed first (truncated to nothing), so that closing, which flushes HDF5's metadata,
+        finds room on a disk that filled up; and its name is gone even if closing fails."""
         try:
-            if self.file is not None:
-                self.file.close()
-        finally:
+            if self.tmp is not None:
+                with contextlib.suppress(OSError):
+                    os.truncate(self.tmp, 0)
+        finally:  # whatever arrives meanwhile (a second Ctrl-C), the name goes
             if self.tmp is not None:
                 outputs.discard(self.tmp)
+        if self.file is not None:
+            file, self.file = self.file, None
+            if getattr(self, "failed", False):
+                # closing flushes HDF5's metadata, which a failed write left damaged (libhdf5
+                # crashes): the handle is kept, unflushed, until the process ends
+                _FAILED.append(file)
+                return
+            with contextlib.suppress(Exception):  # the file is gone: its errors do not matter
+                file.close()
 
     def _trim(self, done: int):
         for every, dim in self.time_dims.items():
@@ -269,33 +316,68 @@ def reference_attributes(loaded) -> dict:
     except (InputError, ValueError, TypeError, AttributeError):
         return {}
     m, a, w = float(scales["m_b"]), float(scales["a_p"]), float(scales["w_p"])
-    return {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
-            "reference_l_e": a / w**2}
+    try:  # scales from an absurd record (DT = 1e-300 s) overflow: then there are none
+        values = {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
+                  "reference_l_e": a / w**2}
+    except (OverflowError, ZeroDivisionError):
+        return {}
+    return values if all(math.isfinite(v) for v in values.values()) else {}
 
 
 def record_attributes(loaded) -> dict:
-    """The ground-motion record a run read, so that the file alone reproduces the run:
+    """The ground motion a run applied, so that the file alone reproduces and confirms the run.
+
+    For every excitation: ``excitation_applied`` (the motion in words, as ``pframe validate``
+    prints it), ``excitation_pga`` (m/s^2, the peak |a_g| after every scaling),
+    ``excitation_pga_g`` (the same in g), ``excitation_pga_time`` (s, when it occurs),
+    ``excitation_end`` (s, when the ground comes to rest; inf for a sine without end) and
+    ``excitation_applied_peak`` (m/s^2, the peak within the analysis). For a record besides:
     ``record_file`` (as the scene names it), ``record_sha256``, ``record_text`` (the file's
-    whole text) and ``record_read_as`` (format, points, step, duration, PGA, units)."""
+    whole text) and ``record_read_as`` (format, units and where they were read, points, step,
+    duration, PGA applied and when, what part the analysis covers)."""
     excitation = getattr(loaded.scene, "excitation", None)
-    if getattr(excitation, "kind", None) != "record":
+    if excitation is None:
         return {}
+    out = {}
+    expanded = getattr(loaded, "expanded", None)
+    duration = None if expanded is None else float(expanded.dt * expanded.steps)
+    try:  # what the ground did: a fact we cannot state is left out, never a failed write
+        from pframe.excitation.describe import (
+            applied_motion,
+            describe_line,
+            describe_scene_record,
+            motion_line,
+        )
+
+        facts = applied_motion(excitation, getattr(expanded, "record", None), duration)
+        out.update({"excitation_pga": facts["pga"], "excitation_pga_g": facts["pga_g"],
+                    "excitation_pga_time": facts["pga_time"]})
+        if np.isfinite(facts["end"]):  # a sine without end has none
+            out["excitation_end"] = facts["end"]
+        if duration is not None:
+            out["excitation_applied_peak"] = facts["applied_peak"]
+        if excitation.kind != "record":
+            out["excitation_applied"] = motion_line(facts).removeprefix("excitation: ")
+    except Exception:
+        pass
+    if excitation.kind != "record":
+        return out
     import hashlib
 
     path = Path(loaded.base_dir) / excitation.file
     try:
         content = path.read_bytes()
     except OSError:
-        return {"record_file": excitation.file}
-    out = {"record_file": excitation.file,
-           "record_sha256": hashlib.sha256(content).hexdigest(),
-           "record_text": content.decode("utf-8", errors="replace")}
-    try:  # how the record was read: format, points, step, PGA (pframe validate prints it)
-        from pframe.excitation.describe import describe_line, describe_record
-
-        facts = describe_record(path, excitation.format, excitation.units, excitation.scale)
-        out["record_read_as"] = describe_line(facts).removeprefix(f"record {facts['file']}: ")
-    except Exception:  # a fact we cannot state is left out, never a failed write
+        return out | {"record_file": excitation.file}
+    out.update({"record_file": excitation.file,
+                "record_sha256": hashlib.sha256(content).hexdigest(),
+                "record_text": content.decode("utf-8", errors="replace")})
+    try:  # how the record was read and applied (pframe validate prints it)
+        read = describe_scene_record(excitation, loaded.base_dir)
+        line = describe_line(read, duration).removeprefix(f"record {read['file']}: ")
+        out["record_read_as"] = line
+        out["excitation_applied"] = f"record {excitation.file}: {line}"
+    except Exception:
         pass
     return out
 

@@ -53,23 +53,17 @@ def sine(amplitude: float, frequency: float, end: float = np.inf) -> Ground:
 
 
 def of_scene(loaded) -> Ground:
-    """The ground motion a scene defines, in continuous time: the exact sine of a sine
-    excitation (with its cut-off), the record interpolated linearly between its own samples
-    (breakpoints at the record's times), zero without excitation. This is what the kernel
-    converges to as dt -> 0, whereas the plan's samples change with dt."""
-    from pframe.excitation import read_record
-    from pframe.excitation.sample import sine_end
+    """The ground motion a scene applies, in continuous time: the very function whose samples
+    the scene's plan holds (:func:`pframe.excitation.sample.motion`), for every kind of
+    excitation: the exact sine with its cut-off, each pulse in closed form, the record as
+    applied (``scale``, ``pga``, ``frequency``: the scene's resolved record, not the file read
+    again) interpolated linearly between its samples, zero without excitation. Breakpoints at
+    every kink or jump. This is what the kernel converges to as dt -> 0, whereas the plan's
+    samples change with dt."""
+    from pframe.excitation.sample import motion
 
     excitation = loaded.scene.excitation
     if excitation is None:
         return Ground(lambda t: np.zeros(np.shape(t)), np.empty(0), "none")
-    if excitation.kind == "sine":
-        return sine(excitation.amplitude, excitation.frequency, sine_end(excitation))
-    t, a = read_record(loaded.base_dir / excitation.file, excitation.format, excitation.units)
-    t = np.asarray(t, dtype=float)
-    a = excitation.scale * np.asarray(a, dtype=float)
-
-    def function(x):
-        return np.interp(x, t, a, left=0.0, right=0.0)
-
-    return Ground(function, t, f"record {excitation.file}")
+    applied = motion(excitation, getattr(loaded.expanded, "record", None))
+    return Ground(applied.function, applied.breakpoints, applied.description)

@@ -18,10 +18,11 @@ from pframe.sweep.definition import RESPONSES
 from pframe.sweep.grid import Spec, parse
 from pframe.sweep.probing import TOPOLOGY_CHANGED, topology
 from pframe.sweep.spec import code_fingerprint
+from pframe.verdict import of_result
 
 #: per-variant bookkeeping kept beside the responses
 STATUS_FIELDS = ("complete", "status", "steps_completed", "energy_balance_error",
-                 "newton_solves", "split_steps")
+                 "algorithmic_dissipation", "trusted", "newton_solves", "split_steps")
 #: a variant that never ran (its scene is invalid) holds this in its integer responses
 MISSING_COUNT = -1
 
@@ -135,8 +136,9 @@ def _not_run(shapes: dict, reason: str) -> dict:
     row = {name: _placeholder(name, shape) for name, shape in shapes.items()}
     row.update(complete=np.int8(0), status=f"invalid scene: {reason}",
                steps_completed=np.int32(0), energy_balance_error=np.nan,
-               newton_solves=np.int64(0), split_steps=np.int64(0), scales=np.full(3, np.nan),
-               dt=np.nan)
+               algorithmic_dissipation=np.nan, trusted=np.int8(0), newton_solves=np.int64(0),
+               split_steps=np.int64(0), scales=np.full(3, np.nan),
+               dt=np.nan, duration=np.nan, record_duration=np.nan)
     return row
 
 
@@ -167,15 +169,19 @@ def _assemble(spec: Spec, loaded: dict, rows: dict, shapes: dict):
 def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.ndarray]:
     """Run chunk ``chunk`` of a sweep; return its arrays, one row per variant.
 
-    Keys: each kept response (``peak_displacement`` ...) and history, the
-    :data:`STATUS_FIELDS`, ``scales`` (m_b, a_p, w_p of dimensionless output, NaN for SI),
-    ``dt``, ``warnings``, and ``solve_seconds`` / ``compile_seconds`` (this computation's
-    timing, which the result file leaves out). A variant whose scene is invalid is not run:
-    NaN (-1 for counts) and its reason in ``status``.
+    Keys: each kept response (``peak_displacement`` ...) and history (NaN after a variant's
+    last step when the chunk's variants run for different times), the :data:`STATUS_FIELDS`,
+    ``scales`` (m_b, a_p, w_p of dimensionless output, NaN for SI), ``dt``, ``duration`` (s,
+    analysed), ``record_duration`` (s, the record as applied; NaN without one),
+    ``warnings``, and ``solve_seconds`` / ``compile_seconds`` (this computation's timing,
+    which the result file leaves out). A variant whose scene is invalid is not run: NaN (-1
+    for counts) and its reason in ``status``. Variants of different numbers of steps (records
+    of different lengths, docs/sweeps.md#durations-under-records) run as one batch per number
+    of steps.
     """
     from pframe.kernel import simulate
     from pframe.nondim.output import output_units
-    from pframe.sweep.variants import load_variant, materialise, variant_data
+    from pframe.sweep.variants import cut_warning, load_fitted, materialise, record_end
 
     if definition.code != code_fingerprint():
         raise PframeError(
@@ -186,41 +192,64 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     folder = materialise(definition)
     reference, shapes = _reference(definition)
     loaded, rows = {}, {}
+    warnings: list[str] = []
     for index in spec.chunk_range(chunk):
         try:
-            scene = load_variant(variant_data(spec, index), spec.base_lines, spec.base_where,
-                                 folder)
-            if topology(scene.expanded, spec.recorders) != reference:
+            scene = load_fitted(spec, index, folder)
+            if topology(scene.expanded, spec.recorders, spec) != reference:
                 raise InputError(TOPOLOGY_CHANGED)
             loaded[index] = scene
         except InputError as exc:
             rows[index] = _not_run(shapes, str(exc).replace(str(folder) + "/", ""))
+            continue
+        cut = cut_warning(spec, index, scene.expanded)
+        if cut is not None:
+            warnings.append(cut)
 
     solve_seconds = compile_seconds = 0.0
-    warnings: list[str] = []
-    members, plan = _assemble(spec, loaded, rows, shapes)
-    if members:
-        warnings = list(plan.warnings)
+    by_steps: dict[int, dict] = {}
+    for index in sorted(loaded):
+        by_steps.setdefault(loaded[index].expanded.steps, {})[index] = loaded[index]
+    for _, group in sorted(by_steps.items()):
+        members, plan = _assemble(spec, group, rows, shapes)
+        if not members:
+            continue
+        warnings += [w for w in plan.warnings if w not in warnings]
         result = simulate(plan, threads=threads)
-        solve_seconds, compile_seconds = result.solve_seconds, result.compile_seconds
+        solve_seconds += result.solve_seconds
+        compile_seconds += result.compile_seconds
         for member, index in enumerate(members):
-            convert = output_units(loaded[index].scene, loaded[index].expanded)
+            expanded = loaded[index].expanded
+            convert = output_units(loaded[index].scene, expanded)
             values = responses_of(spec, plan, result, member, convert)
             values.update(_histories_of(plan, result, member, convert))
+            end = record_end(expanded)
+            verdict = of_result(result, member)
             values.update(
                 complete=np.int8(result.completed(member)),
                 status=result.describe_failure(member),
                 steps_completed=np.int32(result.states_done(member) - 1),
-                energy_balance_error=float(result.energy_error(member)),
+                energy_balance_error=verdict.balance_error,
+                algorithmic_dissipation=verdict.algorithmic,
+                trusted=np.int8(verdict.trusted),
                 newton_solves=np.int64(result.iterations[member]),
                 split_steps=np.int64(result.substeps[member]),
                 scales=(np.array([convert.scales[k] for k in ("m_b", "a_p", "w_p")], dtype=float)
                         if convert.dimensionless else np.full(3, np.nan)),
                 dt=float(plan.dt[member]),
+                duration=float(plan.steps * plan.dt[member]),
+                record_duration=np.nan if end is None else end,
             )
             rows[index] = values
 
     ordered = [rows[i] for i in spec.chunk_range(chunk)]
+    for q in spec.model.keep.histories:  # pad shorter runs with NaN to the chunk's longest
+        if q in ordered[0]:
+            longest = max(len(row[q]) for row in ordered)
+            for row in ordered:
+                if len(row[q]) < longest:
+                    pad = np.full((longest - len(row[q]),) + row[q].shape[1:], np.nan)
+                    row[q] = np.concatenate([row[q], pad])
     arrays = {key: np.array([row[key] for row in ordered]) for key in ordered[0]}
     arrays["status"] = np.array([row["status"] for row in ordered], dtype=str)
     arrays["warnings"] = np.array(warnings, dtype=str)
@@ -236,7 +265,7 @@ def _reference(definition) -> tuple[tuple, dict]:
     if cached is None:
         spec = parse(definition)
         base = spec.base_scene()
-        cached = (topology(base.expanded, spec.recorders), layout(spec, base.expanded))
+        cached = (topology(base.expanded, spec.recorders, spec), layout(spec, base.expanded))
         _references[definition.digest] = cached
     return cached
 

@@ -163,6 +163,15 @@ def parse(definition: SweepDefinition) -> Spec:
         path_text = axis.path if isinstance(axis.path, str) else ".".join(map(str, axis.path))
         axes.append(AxisSpec(axis.name, i, tuple(paths), values, coordinates, axis.units,
                              path_text, axis.is_file))
+    for axis in axes:
+        timed = [p for p in axis.paths if p in (("analysis", "duration"), ("analysis", "tau"))]
+        if timed and base_record is not None:
+            raise InputError(
+                f"{_where(source, lines, ('axes', axis.index, 'path'))}: axis {axis.name!r} "
+                f"sets {'.'.join(timed[0])}, but under a record each variant runs its own "
+                "record to its end, plus the time the base scene analyses after its record "
+                "(docs/sweeps.md#durations-under-records); set that time in the base scene's "
+                "duration instead")
     taken = {}
     for axis in axes:
         for path in axis.paths:

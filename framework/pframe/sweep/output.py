@@ -39,9 +39,17 @@ _STATUS = {
     "steps_completed": ("int32", None, "time steps computed"),
     "energy_balance_error": ("float64", "1", "energy balance error relative to the largest "
                              "energy term"),
+    "algorithmic_dissipation": ("float64", "1", "the integrator's own dissipation relative to "
+                                "the largest energy term (negative: energy created)"),
+    "trusted": ("int8", None, "0 if the energy verdict says the variant is not to be trusted "
+                "(docs/theory.md, the verdict on a run), else 1"),
     "newton_solves": ("int32", None, "Newton iterations (linear solves)"),
     "split_steps": ("int32", None, "steps retried in sub-steps"),
     "dt": ("float64", "s", "time step"),
+    "duration": ("float64", "s", "time analysed (steps x dt; under records: the variant's "
+                 "record plus the base scene's time after its own record)"),
+    "record_duration": ("float64", "s", "time of the last sample of the variant's record as "
+                        "applied"),
 }
 
 
@@ -112,10 +120,13 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
     warnings: list[str] = []
     histories = [q for q in spec.model.keep.histories
                  if not (QUANTITIES[q][0] == "contact" and not run.contact_names)]
+    rows = run.steps // spec.model.keep.every + 1  # the longest variant's, for histories
     for chunk in range(spec.chunks):
         arrays = load_chunk(chunk)
         warnings += [str(w) for w in arrays["warnings"]]
         for key, value in arrays.items():
+            if key in histories:
+                rows = max(rows, value.shape[1])
             if key in histories or key in ("warnings", "solve_seconds", "compile_seconds"):
                 continue
             small.setdefault(key, []).append(value)
@@ -134,6 +145,7 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         "sweep_combine": spec.model.combine,
         "variants": np.int64(spec.count),
         "variants_failed": np.int64(np.count_nonzero(~complete)),
+        "variants_untrusted": np.int64(np.count_nonzero(complete & (small["trusted"] == 0))),
         "chunk": np.int64(definition.chunk),
         "integrator": run.integrator,
         "steps": np.int64(run.steps),
@@ -170,7 +182,6 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
                 "contact": run.contact_names, "building": run.buildings}
     every = spec.model.keep.every
     if histories:
-        rows = run.steps // every + 1
         values, units, long_name = run.convert.time(np.arange(rows) * every * run.dt)
         f.coordinate("t", values, units=units, long_name=long_name)
     for entity, names in entities.items():
@@ -189,6 +200,8 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         f.variable(name, dims + ((entity,) if entity else ()), data, fill=fill, units=units,
                    long_name=long_name)
     for name, (dtype, units, long_name) in _STATUS.items():
+        if name == "record_duration" and spec.base_record is None:
+            continue
         data = small[name].reshape(shape)
         if dtype == "str":
             f.strings(name, dims, np.array(data.tolist(), dtype=object), long_name=long_name)
@@ -212,7 +225,13 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
             arrays = load_chunk(chunk)
             for q, var in datasets.items():
                 for row, index in enumerate(spec.chunk_range(chunk)):
-                    var[np.unravel_index(index, shape)] = arrays[q][row]
+                    values = arrays[q][row]
+                    if len(values) < rows:  # a shorter run: NaN after its end
+                        values = np.concatenate([values, np.full(
+                            (rows - len(values),) + values.shape[1:], np.nan)])
+                    var[np.unravel_index(index, shape)] = values
 
     failed = [(i, str(small["status"][i])) for i in np.flatnonzero(~complete)]
-    return {"failed": failed, "count": spec.count}
+    untrusted = [int(i) for i in np.flatnonzero(complete & (small["trusted"] == 0))]
+    return {"failed": failed, "untrusted": untrusted, "count": spec.count,
+            "durations": small["duration"]}

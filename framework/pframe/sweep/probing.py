@@ -18,12 +18,15 @@ TOPOLOGY_CHANGED = ("the variant differs from the base scene in topology (nodes,
                     "each variant may have on its own")
 
 
-def topology(expanded, recorders) -> tuple:
-    """What variants of one batch must share (as :func:`pframe.assemble.assemble_batch`
-    requires), with the sweep's recorders."""
+def topology(expanded, recorders, spec=None) -> tuple:
+    """What variants of one sweep must share (as :func:`pframe.assemble.assemble_batch`
+    requires), with the sweep's recorders. Under a record (``spec.base_record``) the number
+    of steps may differ: each variant runs its own record's length, and a chunk runs one
+    batch per number of steps (docs/sweeps.md#durations-under-records)."""
     from pframe.assemble import batch_key
 
-    return batch_key(dataclasses.replace(expanded, recorders=recorders))
+    steps = 0 if spec is not None and spec.base_record is not None else expanded.steps
+    return batch_key(dataclasses.replace(expanded, recorders=recorders, steps=steps))
 
 
 def check(definition: SweepDefinition) -> None:
@@ -32,12 +35,12 @@ def check(definition: SweepDefinition) -> None:
     through the whole loader (expansion to numbers and the topology check). A problem only
     some combination of values has is found when its chunk runs (the variant is recorded as
     failed, with the reason)."""
-    from pframe.sweep.variants import load_variant, materialise, variant_data
+    from pframe.sweep.variants import load_fitted, materialise, variant_data
 
     spec = parse(definition)
     folder = materialise(definition)
     base = spec.base_scene()
-    reference = topology(base.expanded, spec.recorders)
+    reference = topology(base.expanded, spec.recorders, spec)
     probes: dict[int, tuple[AxisSpec | None, bool]] = {0: (None, True)}
     for axis in spec.axes:
         count = len(axis.values)
@@ -50,8 +53,8 @@ def check(definition: SweepDefinition) -> None:
         try:
             data = variant_data(spec, index)
             if whole:
-                loaded = load_variant(data, spec.base_lines, spec.base_where, folder)
-                if topology(loaded.expanded, spec.recorders) != reference:
+                loaded = load_fitted(spec, index, folder)
+                if topology(loaded.expanded, spec.recorders, spec) != reference:
                     raise InputError(TOPOLOGY_CHANGED)
             else:
                 _validate_model(data, spec, folder)

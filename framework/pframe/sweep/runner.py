@@ -37,10 +37,28 @@ class SweepRun:
     chunks: int
     resumed_chunks: int = 0
     failed: list = field(default_factory=list)  # (variant index, reason)
+    untrusted: list = field(default_factory=list)  # completed variants the verdict rejects
     wall_seconds: float = 0.0
     solve_seconds: float = 0.0  # kernel time summed over chunks (over threads/workers)
     compile_seconds: float = 0.0
     variant_steps: int = 0  # steps integrated in this run (variants x steps)
+    durations: object = None  # (count,) time analysed per variant (s), NaN if not run
+
+    def duration_lines(self, describe, limit: int = 3) -> list[str]:
+        """``80 s: 2 variants (record=b.AT2, ...)``, one line per distinct duration run."""
+        if self.durations is None:
+            return []
+        import numpy as np
+
+        values = np.asarray(self.durations, dtype=float)
+        out = []
+        for value in np.unique(values[np.isfinite(values)]):
+            which = np.flatnonzero(values == value)
+            named = ", ".join(describe(int(i)) for i in which[:limit])
+            more = f", and {which.size - limit} more" if which.size > limit else ""
+            out.append(f"{value:.6g} s: {which.size} variant{'s' if which.size > 1 else ''} "
+                       f"({named}{more})")
+        return out
 
     @property
     def completed(self) -> bool:
@@ -90,6 +108,8 @@ def run_sweep(definition: SweepDefinition, output: str | Path, *, restart: bool 
     finally:
         parts.close()
     run.failed = summary["failed"]
+    run.untrusted = summary["untrusted"]
+    run.durations = summary["durations"]
     run.wall_seconds = time.perf_counter() - start
     return run
 

@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 #: bumped when the chunk files' contents change meaning
-FORMAT_VERSION = "1"
+FORMAT_VERSION = "2"
 #: envelopes every sweep kernel records (one kernel structure for all default sweeps)
 ENVELOPES = ("displacement", "story_drift", "contact_force")
 

@@ -13,6 +13,8 @@ import json
 import os
 import re
 import shutil
+import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -21,11 +23,34 @@ from pframe import outputs
 from pframe.errors import InputError
 
 MANIFEST = "sweep.json"
+#: what reading a damaged chunk file raises
+_DAMAGED = (OSError, ValueError, EOFError, KeyError, TypeError, AttributeError,
+            zipfile.BadZipFile)
+
+
+def _whole(path: Path) -> bool:
+    """Whether a chunk file reads back whole (every array; a zip checks its CRCs)."""
+    try:
+        with np.load(path, allow_pickle=False) as data:
+            for key in data.files:
+                data[key]
+            return bool(data.files)
+    except _DAMAGED:
+        return False
 _CHUNK = re.compile(r"^chunk-(\d{5,})\.npz$")
 
 
 def parts_folder(output: Path) -> Path:
     return output.with_name(output.name + ".parts")
+
+
+def kept(output: Path) -> int:
+    """How many finished chunk files ``OUT.parts`` holds (for the messages on stop and
+    resume; whether they belong to this run is decided when it opens them)."""
+    try:
+        return sum(1 for p in parts_folder(Path(output)).iterdir() if _CHUNK.match(p.name))
+    except OSError:
+        return 0
 
 
 class Parts:
@@ -103,10 +128,17 @@ class Parts:
                 path.unlink()
 
     def finished(self) -> set[int]:
+        """The chunks saved whole; a damaged one (truncated, not an archive) is removed, with
+        a note, and runs again."""
         done = set()
-        for path in self.folder.iterdir():
+        for path in sorted(self.folder.iterdir()):
             match = _CHUNK.match(path.name)
             if match and int(match.group(1)) < self.spec.chunks:
+                if not _whole(path):
+                    path.unlink(missing_ok=True)
+                    print(f"pframe: {path}: damaged (not a whole chunk); removed, it runs again",
+                          file=sys.stderr)
+                    continue
                 done.add(int(match.group(1)))
         return done
 
@@ -127,8 +159,12 @@ class Parts:
         self._write_atomic(self.path(chunk), arrays=arrays)
 
     def load(self, chunk: int) -> dict:
-        with np.load(self.path(chunk), allow_pickle=False) as data:
-            return {key: data[key] for key in data.files}
+        try:
+            with np.load(self.path(chunk), allow_pickle=False) as data:
+                return {key: data[key] for key in data.files}
+        except _DAMAGED as exc:
+            raise InputError(f"{self.path(chunk)}: a finished chunk is damaged ({exc}); "
+                             "delete it and run the same command again") from None
 
     def close(self):
         if self._lock is not None:

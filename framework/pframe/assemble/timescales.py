@@ -1,0 +1,333 @@
+"""dt against every time scale of a scene, and scenes no building has (docs/accuracy.md).
+
+A step resolves a vibration of period T with ``N = T / h`` steps. Every integrator pframe has
+is second order: its numerical period is longer (or, for central difference, shorter) by a
+relative error of order ``(w h)^2`` -- Newmark's average acceleration lengthens it by
+``(w h)^2 / 12 = pi^2 / (3 N^2)``, 0.8 % at ``N = 20`` and 3.3 % at ``N = 10``
+(:func:`period_error` computes it exactly for any of them). pframe warns below
+:data:`STEPS_PER_PERIOD` steps per period of
+
+- the modes that carry the response of each building: its lowest modes whose effective
+  modal masses add up to :data:`MASS_SHARE` of its mass (fixed base, initial -- elastic --
+  stiffness, so a yielding storey is judged on its elastic period);
+- a sine's period and a pulse's period T_p;
+
+and below 2 steps per period (the step's Nyquist limit: the vibration or the motion cannot be
+represented, an alias is computed instead) the warning says that the result is not valid. A
+record analysed with a step longer than its own skips samples (its peaks between them) and
+aliases its content above the step's Nyquist frequency: the warning says by how much.
+
+A first period outside :data:`PLAUSIBLE_PERIODS` is no building's: buildings have about
+``T = 0.1 N`` s for N storeys, and a mass in tonnes or a stiffness in kN/m (a factor 1000)
+moves the period by ``sqrt(1000) = 31.6``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
+STEPS_PER_PERIOD = 20
+#: the modes judged are the lowest ones whose effective modal masses reach this share of the
+#: building's mass (the 90 % that seismic codes ask a modal analysis to include)
+MASS_SHARE = 0.90
+#: below this many steps per period the step cannot represent the vibration (Nyquist)
+NYQUIST_STEPS = 2.0
+#: a record with more than this share of its energy above the step's Nyquist frequency is
+#: aliased beyond use
+ALIASED_SHARE = 0.10
+#: first periods (s) that buildings have: 0.1 s per storey gives 0.1 s (one storey) to 10 s
+#: (100 storeys); the bounds leave a factor 3 below (stiff one-storey frames, shaking-table
+#: models) and none above (the tallest buildings have T_1 of 6 to 10 s)
+PLAUSIBLE_PERIODS = (0.03, 10.0)
+#: modes computed at most for a building of more floors than the dense limit, so many at a
+#: time (a chain of storeys), or at once (other layouts)
+LOWEST_MODES = 64
+MODES_AT_A_TIME = 8
+SPARSE_MODES = 16
+#: buildings of up to this many floors get all their modes (a dense eigenproblem)
+DENSE_FLOORS = 256
+
+
+def period_error(coefficients, steps: float) -> float:
+    """The relative period error ``T_numerical / T - 1`` of an undamped vibration integrated
+    with ``steps`` steps per period, from the amplification matrix of the generalised-alpha
+    family (Newmark, HHT, generalised-alpha and central difference are members); ``inf``
+    when the step cannot carry the vibration (no oscillating eigenvalue, or fewer than two
+    steps per period)."""
+    if not steps > NYQUIST_STEPS:
+        return math.inf
+    w = 2.0 * math.pi / steps  # w h
+    g, b = coefficients.gamma, coefficients.beta
+    am, af = coefficients.alpha_m, coefficients.alpha_f
+    # x = (u, h v, h^2 a): A x(n+1) = B x(n)
+    lhs = np.array([[1.0, 0.0, -b], [0.0, 1.0, -g], [w * w * (1.0 - af), 0.0, 1.0 - am]])
+    rhs = np.array([[1.0, 1.0, 0.5 - b], [0.0, 1.0, 1.0 - g], [-w * w * af, 0.0, -am]])
+    values = np.linalg.eigvals(np.linalg.solve(lhs, rhs))
+    angles = np.abs(np.angle(values[np.abs(values.imag) > 1e-12]))
+    if angles.size == 0 or np.max(np.abs(values)) > 1.0 + 1e-9:
+        return math.inf
+    return w / float(np.max(angles)) - 1.0
+
+
+def _building_matrix(ex, b: int, k0: np.ndarray):
+    """(nodes, springs (i, j, k) local to building b, i = -1 the ground, half-bandwidth)."""
+    nodes = np.flatnonzero(ex.node_building == b)
+    local = {node: i for i, node in enumerate(nodes)}
+    springs = []
+    for s in np.flatnonzero(ex.story_building == b):
+        low, up = ex.stories[s].nodes
+        springs.append((local[low] if low >= 0 else -1, local[up], float(k0[s])))
+    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
+    return nodes, springs, width
+
+
+def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Circular frequencies (rad/s, ascending) and effective modal mass shares of building
+    ``b`` on a fixed base with its storeys' initial stiffnesses ``k0`` (one per storey of the
+    scene): all its modes up to :data:`DENSE_FLOORS` floors, else the lowest ones, a few at a
+    time, until they carry :data:`MASS_SHARE` (at most :data:`LOWEST_MODES`; memory stays
+    linear in the floors). The share of mode n is ``(phi_n^T M 1)^2 / sum(m)`` for ``phi_n``
+    normalised on the mass: the shares of all modes add up to 1."""
+    from pframe.assemble.stability import spring_matrix
+
+    nodes, springs, width = _building_matrix(ex, b, k0)
+    mass = ex.masses[nodes]
+    n = len(nodes)
+    root = np.sqrt(mass)
+    scale = 1.0 / root
+    total = float(np.sum(mass))
+    if n <= DENSE_FLOORS:
+        values, vectors = np.linalg.eigh(spring_matrix(springs, n) * np.outer(scale, scale))
+        return np.sqrt(np.clip(values, 0.0, None)), (vectors.T @ root) ** 2 / total
+    if width > 1:  # not a chain of storeys: a sparse shift-invert solve of the lowest modes
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.linalg import eigsh
+
+        matrix = coo_matrix(_triplets(springs, scale, n), shape=(n, n)).tocsc()
+        values, vectors = eigsh(matrix, k=min(SPARSE_MODES, n - 1), sigma=0, which="LM")
+        order = np.argsort(values)
+        return (np.sqrt(np.clip(values[order], 0.0, None)),
+                (vectors[:, order].T @ root) ** 2 / total)
+    from scipy.linalg import eigh_tridiagonal
+
+    diagonal, off = np.zeros(n), np.zeros(max(n - 1, 0))
+    for il, iu, k in springs:
+        diagonal[iu] += k * scale[iu] ** 2
+        if il >= 0:
+            diagonal[il] += k * scale[il] ** 2
+            off[min(il, iu)] -= k * scale[il] * scale[iu]
+    omegas, shares = [], []
+    for first in range(0, min(LOWEST_MODES, n), MODES_AT_A_TIME):
+        last = min(first + MODES_AT_A_TIME, LOWEST_MODES, n) - 1
+        values, vectors = eigh_tridiagonal(diagonal, off, select="i",
+                                           select_range=(first, last))
+        omegas.append(np.sqrt(np.clip(values, 0.0, None)))
+        shares.append((vectors.T @ root) ** 2 / total)
+        if float(np.sum(np.concatenate(shares))) >= MASS_SHARE:
+            break
+    return np.concatenate(omegas), np.concatenate(shares)
+
+
+def _triplets(springs, scale, n):
+    rows, cols, vals = [], [], []
+    for il, iu, k in springs:
+        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
+        if il >= 0:
+            off = -k * scale[il] * scale[iu]
+            rows += [il, il, iu]
+            cols += [il, iu, il]
+            vals += [k * scale[il] ** 2, off, off]
+    return vals, (rows, cols)
+
+
+def carrying_modes(omega: np.ndarray, shares: np.ndarray) -> int:
+    """How many of the lowest modes carry :data:`MASS_SHARE` of the mass (all computed modes
+    when they do not)."""
+    reached = np.flatnonzero(np.cumsum(shares) >= MASS_SHARE - 1e-9)
+    return int(reached[0]) + 1 if reached.size else len(omega)
+
+
+class _Findings:
+    """The worst member of a batch for each kind of warning."""
+
+    def __init__(self, batch: int):
+        self.batch = batch
+        self.worst: dict = {}
+
+    def add(self, key, badness: float, member: int, text: str) -> None:
+        if key not in self.worst or badness > self.worst[key][0]:
+            self.worst[key] = (badness, member, text)
+
+    def texts(self) -> tuple[str, ...]:
+        out = []
+        for _, member, text in self.worst.values():
+            if self.batch > 1:
+                text += f" (member {member} of this batch of {self.batch}, the worst)"
+            out.append(text)
+        return tuple(out)
+
+
+def _resolution(steps: float, coefficients) -> str:
+    """What ``steps`` per period do to a vibration: the period error, or not valid."""
+    if steps < NYQUIST_STEPS:
+        return "fewer than 2 steps per period cannot represent it: the result is not valid"
+    error = period_error(coefficients, steps)
+    reference = period_error(coefficients, STEPS_PER_PERIOD)
+    if not math.isfinite(error):
+        return "the integrator cannot carry it at this step: the result is not valid"
+    sense = "longer" if error > 0 else "shorter"
+    return (f"the integrator makes its period {abs(error):.1%} {sense} "
+            f"({abs(reference):.1%} at {STEPS_PER_PERIOD} steps)")
+
+
+def _buildings(plan, ex, member: int, h: float, coefficients, findings, plausible: bool):
+    k0 = plan.story_k0[member]
+    for b, name in enumerate(ex.buildings):
+        try:
+            with np.errstate(all="ignore"):
+                omega, shares = building_modes(ex, b, k0)
+        except (np.linalg.LinAlgError, ArithmeticError, ValueError):
+            continue
+        if not (np.all(np.isfinite(omega)) and np.all(np.isfinite(shares))):
+            continue
+        count = carrying_modes(omega, shares)
+        vibrating = omega > 1e-9 * max(float(np.max(omega)), 1e-300)
+        if not vibrating[:count].any():
+            continue  # free masses: no vibration of their own
+        mode = count  # the highest (shortest) of the carrying modes
+        shortest = 2.0 * math.pi / float(omega[count - 1])
+        steps = shortest / h
+        yielding = any(not ex.stories[s].law.linear
+                       for s in np.flatnonzero(ex.story_building == b))
+        elastic = " (elastic: its storeys' initial stiffness)" if yielding else ""
+        if steps < STEPS_PER_PERIOD:
+            carried = (f"mode {mode}, the shortest of the modes 1-{mode} that carry "
+                       f"{float(np.sum(shares[:mode])):.0%} of its mass" if mode > 1
+                       else f"mode 1, which carries {float(shares[0]):.0%} of its mass")
+            step = f"dt = {h:.4g} s" if h == plan.dt[member] else \
+                f"the central-difference sub-step h = {h:.4g} s"
+            findings.add(("building", name), -steps, member,
+                         f"{step} resolves the period {shortest:.4g} s{elastic} of "
+                         f"building {name} ({carried}) with {steps:.2f} steps, fewer than "
+                         f"{STEPS_PER_PERIOD}: {_resolution(steps, coefficients)}; use dt <= "
+                         f"{shortest / STEPS_PER_PERIOD:.4g} s")
+        if plausible is not None:
+            first = 2.0 * math.pi / float(omega[vibrating][0])
+            _plausibility(ex, b, name, first, elastic, k0, member, findings, plausible)
+
+
+def _plausibility(ex, b, name, first, elastic, k0, member, findings, unit_hint: bool):
+    low, high = PLAUSIBLE_PERIODS
+    if low <= first <= high:
+        return
+    factor = math.sqrt(1000.0)
+    nodes = np.flatnonzero(ex.node_building == b)
+    stiff = k0[np.flatnonzero(ex.story_building == b)]
+    which = "shorter" if first < low else "longer"
+    text = (f"building {name}: its first period {first:.3g} s{elastic} is {which} than "
+            f"buildings have ({low:g} s to {high:g} s, about 0.1 s per storey)")
+    if unit_hint:
+        masses = f"{np.min(ex.masses[nodes]):.3g}" + (
+            f" to {np.max(ex.masses[nodes]):.3g}" if np.ptp(ex.masses[nodes]) else "")
+        springs = (f"{np.min(stiff):.3g}" + (f" to {np.max(stiff):.3g}" if np.ptp(stiff) else "")
+                   if stiff.size else "none")
+        if first < low:
+            hint = (f"if the masses are in tonnes, not kg, or the stiffnesses 1000 times too "
+                    f"large, the first period is {first * factor:.3g} s")
+        else:
+            hint = (f"if the stiffnesses are in kN/m (or N/mm), not N/m, or the masses 1000 "
+                    f"times too large, the first period is {first / factor:.3g} s")
+        text += (f"; its floor masses are {masses} kg and storey stiffnesses {springs} N/m: "
+                 f"{hint}; check the units (kg, N/m)")
+    else:
+        text += ("; this Pi-form scene sets a physical time scale (scales.w_p): check Pi_k "
+                 "and w_p")
+    findings.add(("plausible", name), abs(math.log(first / math.sqrt(low * high))), member,
+                 text)
+
+
+def _excitation(plan, ex, member: int, dt: float, coefficients, findings):
+    excitation = ex.excitation
+    if excitation is None or excitation.kind == "record":
+        return
+    if excitation.kind == "sine":
+        period = 2.0 * math.pi / float(excitation.frequency)
+        what = (f"the sine's period {period:.4g} s (w = {float(excitation.frequency):.4g} rad/s, "
+                f"f = {1.0 / period:.4g} Hz)")
+    else:
+        period = float(excitation.period)
+        kind = "Ricker wavelet" if excitation.kind == "ricker" else \
+            f"cycloidal pulse (type {excitation.type})"
+        what = f"the {kind}'s period T_p = {period:.4g} s"
+    steps = period / dt
+    if steps >= STEPS_PER_PERIOD:
+        return
+    if steps < NYQUIST_STEPS:
+        frequency, rate = 1.0 / period, 1.0 / dt
+        alias = abs(frequency - round(frequency / rate) * rate)
+        consequence = (f"its frequency {frequency:.4g} Hz is above the step's Nyquist frequency "
+                       f"{0.5 * rate:.4g} Hz, so the run sees an alias of {alias:.4g} Hz: the "
+                       "result is not valid")
+    else:
+        consequence = (f"the motion is sampled coarsely and {_resolution(steps, coefficients)} "
+                       "in the response to it")
+    findings.add(("excitation",), -steps, member,
+                 f"dt = {dt:.4g} s resolves {what} with {steps:.2f} steps, fewer than "
+                 f"{STEPS_PER_PERIOD}: {consequence}; use dt <= {period / STEPS_PER_PERIOD:.4g} s")
+
+
+def aliased_share(times: np.ndarray, acceleration: np.ndarray, dt: float) -> float:
+    """The share of a record's energy (squared Fourier amplitude) above the Nyquist frequency
+    ``1 / (2 dt)`` of a step ``dt``; the samples are taken as equally spaced (PEER records
+    are)."""
+    if len(times) < 4:
+        return 0.0
+    step = float(times[-1] - times[0]) / (len(times) - 1)
+    power = np.abs(np.fft.rfft(acceleration)) ** 2
+    total = float(np.sum(power))
+    if total == 0.0:
+        return 0.0
+    frequencies = np.fft.rfftfreq(len(acceleration), step)
+    return float(np.sum(power[frequencies > 0.5 / dt])) / total
+
+
+def _record(plan, ex, member: int, dt: float, findings):
+    record = ex.record
+    if record is None or len(record.times) < 2:
+        return
+    step = float(record.times[-1] - record.times[0]) / (len(record.times) - 1)
+    if not dt > step * (1.0 + 1e-6):
+        return
+    ratio = dt / step
+    share = aliased_share(record.times, record.acceleration, dt)
+    sampled = float(np.max(np.abs(plan.ground_acceleration[member]))) if plan.steps else 0.0
+    full = float(np.max(np.abs(record.acceleration))) * abs(float(ex.excitation.scale))
+    verdict = "the result is not valid" if share > ALIASED_SHARE else "results may be inaccurate"
+    times = f"{ratio:.0f}" if abs(ratio - round(ratio)) < 1e-6 else f"{ratio:.3g}"
+    findings.add(("record",), ratio, member,
+                 f"dt = {dt:.4g} s is {times} times the record's own step {step:.4g} s: the "
+                 f"run reads the record between its samples and misses its peaks (its PGA "
+                 f"as sampled is {sampled:.4g} m/s^2 of {full:.4g}), and {share:.1%} of its "
+                 f"energy lies above the step's Nyquist frequency {0.5 / dt:.4g} Hz and is "
+                 f"aliased: {verdict}; use dt <= {step:.4g} s (the record's step or a "
+                 "fraction of it)")
+
+
+def check(plan, variants) -> tuple[str, ...]:
+    """Warnings of a plan whose step is coarse for one of its time scales, or whose buildings
+    no building has (``variants``: the expanded scenes of its batch members)."""
+    findings = _Findings(plan.batch)
+    coefficients = plan.integrator
+    for member, ex in enumerate(variants):
+        dt = float(plan.dt[member])
+        parts = int(plan.cd_parts[member]) if plan.cd_parts is not None else 1
+        h = dt / parts if coefficients.explicit else dt
+        unit = set(ex.unit_scales)
+        plausible = None if "w_p" in unit else ("m_b" not in unit)
+        _buildings(plan, ex, member, h, coefficients, findings, plausible)
+        _excitation(plan, ex, member, dt, coefficients, findings)
+        _record(plan, ex, member, dt, findings)
+    return findings.texts()
