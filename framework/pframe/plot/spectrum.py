@@ -28,6 +28,7 @@ ENTITIES = ("node", "story", "contact", "building")
 PREFERRED = ("building_peak_displacement", "peak_displacement", "peak_contact_force",
              "building_peak_ductility", "ductility", "peak_story_drift", "impact_count")
 _NOT_RESPONSES = {"complete", "status", "steps_completed", "energy_balance_error",
+                  "algorithmic_dissipation", "trusted",
                   "newton_solves", "split_steps", "dt", "duration", "record_duration",
                   "scale_m_b", "scale_a_p", "scale_w_p"}
 
