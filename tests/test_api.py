@@ -30,6 +30,13 @@ def _pframe() -> list[str]:
     return [str(script)] if script.exists() else [sys.executable, "-m", "pframe.cli"]
 
 
+def _as_in_the_file(ds):
+    """A Dataset of pframe as xarray reads its file: without the names as coordinate values
+    of their dimensions and the indexes on the labels (``pframe.indexed``)."""
+    ds = ds.drop_vars([d for d in ds.dims if d in ds.coords and ds[d].dtype == object])
+    return ds.drop_indexes([n for n in ds.indexes if n.endswith("_name")])
+
+
 def _without_run_facts(ds):
     ds = ds.copy()
     for key in RUN_FACTS:
@@ -105,7 +112,7 @@ def test_solve_equals_the_cli_file(cli_file):
     ds = pframe.solve(paper_scene(), progress=False)
     with xr.open_dataset(cli_file, engine="h5netcdf") as cli:
         cli = _without_run_facts(cli.load())
-    mine = _without_run_facts(ds.drop_indexes(LABELS))
+    mine = _without_run_facts(_as_in_the_file(ds))
     # the scene text differs (the file's comments): the scene it describes does not
     assert pframe.load(yaml.safe_load(mine.attrs.pop("input_yaml"))) == paper_scene()
     cli.attrs.pop("input_yaml")
@@ -117,6 +124,34 @@ def test_solve_equals_the_cli_file(cli_file):
     top = ds.displacement.sel(node_name="A/3")
     assert top.dims == ("t",) and float(abs(top).max()) == pytest.approx(
         float(ds.peak_displacement.sel(node_name="A/3")), rel=0, abs=0)
+
+
+def test_names_are_the_coordinates_of_their_dimensions(tmp_path):
+    """pandas, xarray's legends and ``.sel`` show and take the names of nodes, storeys and
+    contacts (in memory and read back from the file), and the file keeps labels only."""
+    import h5py
+    import matplotlib
+
+    matplotlib.use("Agg")
+    nodes = ["A/1", "A/2", "A/3", "B/1", "B/2", "B/3"]
+    out = tmp_path / "linear.nc"
+    memory = pframe.solve(MODELS / "wu2021-eq14-linear.yaml", progress=False)
+    with pframe.solve(MODELS / "wu2021-eq14-linear.yaml", output=out, progress=False) as read:
+        for ds in (memory, read):
+            series = ds.peak_displacement.to_series()
+            assert series.index.name == "node" and series.index.tolist() == nodes
+            assert series["A/3"] == float(ds.peak_displacement.isel(node=2))
+            frame = ds[["peak_contact_force", "impact_count"]].to_dataframe()
+            assert frame.index.tolist() == ["floor-1", "floor-2", "floor-3"]
+            assert ds.story_drift.sel(story="B/2").equals(ds.story_drift.isel(story=4))
+            assert ds.displacement.sel(node_name="A/3").equals(ds.displacement.sel(node="A/3"))
+            lines = ds.displacement.isel(t=slice(0, 5)).plot.line(x="t")
+            legend = lines[0].axes.get_legend()
+            assert [text.get_text() for text in legend.get_texts()] == nodes
+            matplotlib.pyplot.close("all")
+    with h5py.File(out, "r") as f:  # CF: no string coordinate variables
+        assert "node" not in f or f["node"].dtype.kind == "f"
+        assert b"".join(f["node_name"][2]).decode() == "A/3"
 
 
 def test_open_equals_solve_to_file(tmp_path, cli_file):
@@ -306,8 +341,9 @@ def test_sweep_returns_the_file_dataset(tmp_path):
     with xr.open_dataset(out, engine="h5netcdf") as cli:
         xr.testing.assert_identical(
             _without_run_facts(cli.load()),
-            _without_run_facts(ds.drop_indexes([n for n in ds.indexes if n.endswith("_name")])))
+            _without_run_facts(_as_in_the_file(ds)))
     assert ds.building_peak_displacement.dims == ("Pi_d", "building")
+    assert ds.building_peak_displacement.to_series().unstack().columns.tolist() == ["A", "B"]
 
 
 def test_progress_is_silent_when_not_interactive(capfd):
@@ -357,3 +393,35 @@ def test_python_page_runs_as_a_notebook_would(tmp_path):
     assert done.returncode == 0, done.stderr[-3000:]
     assert "done" in done.stdout
     assert (tmp_path / "eq14.nc").exists()  # ds.to_netcdf of the first block
+
+
+def test_a_scene_prints_as_the_calls_that_build_it():
+    """``repr`` of a scene: a line per building, contact and setting, public names only
+    (``Contact``, not ``Contact_improved_kelvin``), which evaluates to an equal scene."""
+    scene = pframe.load({
+        "title": "two towers",
+        "buildings": [{"name": "A", "floors": 3, "mass": 250.0,
+                       "story": {"material": "bilinear", "stiffness": 2.0e5, "yield_drift": 0.025,
+                                 "alpha": 0.1}},
+                      {"name": "B", "floors": 2, "mass": [1000.0, 900.0],
+                       "story": {"material": "elastic", "stiffness": 2.0e6}}],
+        "contacts": [{"name": f"floor-{i}", "nodes": [f"A/{i}", f"B/{i}"], "gap": 0.125,
+                      "law": "improved_kelvin", "frequency_ratio": 65, "restitution": 0.4,
+                      "calibration": "published"} for i in (1, 2)],
+        "excitation": {"kind": "sine", "amplitude": 9.81, "frequency": 6.25},
+        "analysis": {"dt": 0.0005, "duration": 2.0},
+    })
+    text = repr(scene)
+    lines = text.splitlines()
+    assert "Contact_" not in text and "Storeys(" not in text and str(scene) == text
+    assert [line.strip()[:9] for line in lines if line.startswith("    ")] == [
+        "Building(", "Building(", "Contact(l", "Contact(l"]
+    assert len(lines) == 13 and max(map(len, lines)) < 160
+    namespace = {name: getattr(pframe, name) for name in pframe._API}
+    assert eval(text, namespace) == scene  # noqa: S307 - the test of a repr
+    assert eval(repr(scene.contacts[1]), namespace) == scene.contacts[1]  # noqa: S307
+    html = scene._repr_html_()
+    assert html.count("<tr>") == 5 and "Contact(law=&#x27;improved_kelvin&#x27;" in html
+    many = pframe.Building(name="C", floors=20, mass=[100.0 + i for i in range(20)],
+                           story=pframe.StoryProperties(material="elastic", stiffness=1e6))
+    assert "mass=[100, 101, 102, ... 15 more ..., 118, 119]" in repr(many)

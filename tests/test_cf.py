@@ -80,3 +80,34 @@ def test_cfchecks_finds_nothing(files, kind, tmp_path):
     report = done.stdout + done.stderr
     assert "Traceback" not in report, report
     assert "ERRORS detected: 0" in report and "WARNINGS given: 0" in report, report
+
+
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+def test_every_text_attribute_is_nc_char(files, kind):
+    """Text attributes are fixed-length strings (netCDF's NC_CHAR), which every netCDF
+    reader reads (Octave's netcdf package cannot read NC_STRING): checked in the HDF5
+    types, and by netCDF-C's ncdump when it is installed (it prints NC_STRING attributes
+    with a ``string`` type)."""
+    import h5py
+
+    texts = 0
+    with h5py.File(files[kind], "r") as f:
+        objects = [f]
+        f.visititems(lambda _, obj: objects.append(obj) if isinstance(obj, h5py.Dataset)
+                     else None)
+        for obj in objects:
+            for name in obj.attrs:
+                kind_of = obj.attrs.get_id(name).get_type()
+                if isinstance(kind_of, h5py.h5t.TypeStringID):
+                    assert not kind_of.is_variable_str(), f"{obj.name}: {name} is NC_STRING"
+                    texts += 1
+    assert texts > 20  # units, long_name, title, status, history, ...
+    ncdump = shutil.which("ncdump")
+    if ncdump is None:
+        pytest.skip("ncdump is not installed (apt-get install netcdf-bin): HDF5 types checked")
+    done = subprocess.run([ncdump, "-h", str(files[kind])], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    header = done.stdout
+    assert ":Conventions = \"CF-1.8\" ;" in header and ":units = " in header
+    assert not re.search(r"^\s*string \S*:", header, re.MULTILINE), header

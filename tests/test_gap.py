@@ -207,6 +207,12 @@ def test_statistics_pounding_and_file(tmp_path):
     read = pframe.open(out).load()
     assert read.gap_required.dims == ("record", "level", "contact", "rule")
     assert list(read.rule_name.values) == ["ABS", "SRSS", "DDC", "SRSS_EN_0.7", "simulated"]
+    # names are the coordinate values of their dimensions, in the file's Dataset as in memory
+    assert read.rule.values.tolist() == read.rule_name.values.tolist()
+    assert read.gap_statistics.sel(rule="DDC", statistic="p84").to_series().index.names == [
+        "level", "contact"]
+    assert ds.gap_required.sel(rule="SRSS").to_series().index.get_level_values(
+        "record").tolist()[0] == str(ds.record_name.values[0])
     # the file holds the Dataset, and says when and how it was written
     assert {"date_created", "history"} <= set(read.attrs)
     xr.testing.assert_equal(read, ds)
@@ -296,3 +302,25 @@ def test_command_prints_table_and_plot_draws_it(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     assert main(["plot", str(out), "-o", str(tmp_path / "gap.png")]) == 0
     assert (tmp_path / "gap.png").stat().st_size > 10_000
+    # the figure says what was run (not the scene's own title), and that a dispersion
+    # fitted to one record is rough
+    from pframe.plot.gap import gap_figure
+
+    fig, notes = gap_figure(out)
+    title = fig.get_suptitle()
+    assert "a soft and a stiff" not in title
+    assert title == "Gap audit of pair.yaml: record cycloidal, scaled to PGA = 0.2, 0.4, 0.8, 1.6 g"
+    # one record pounds at no level or every level: no fit; given one, the label says it
+    # rests on one record (the file rewritten through the Dataset, names and all)
+    from pframe.record.netcdf import write_dataset
+
+    assert not np.isfinite(float(ds.fragility_dispersion_any))
+    fitted = ds.assign(fragility_median_any=xr.full_like(ds.fragility_median_any, 0.5),
+                       fragility_dispersion_any=xr.full_like(ds.fragility_dispersion_any, 0.04))
+    write_dataset(fitted, tmp_path / "fitted.nc")
+    fig, notes = gap_figure(tmp_path / "fitted.nc")
+    labels = [line.get_label() for line in fig.axes[1].get_lines()
+              if line.get_label().startswith("lognormal fit")]
+    assert len(labels) == 1 and "dispersion 0.04" in labels[0]
+    assert "from 1 record: a rough estimate (use 10 or more)" in labels[0]
+    assert any("rough estimate" in note for note in notes)

@@ -324,7 +324,7 @@ def test_existing_output_needs_overwrite(tmp_path, capsys):
     assert captured.out == "" and captured.err == ""
     with h5py.File(out, "r") as f:
         assert f.attrs["complete"] == 1
-        assert f.attrs["input_yaml"] == BASE
+        assert f.attrs["input_yaml"].decode() == BASE  # NC_CHAR: bytes in h5py
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "scene.yaml"]
 
 

@@ -45,7 +45,7 @@ def test_model_solves(model, tmp_path, capsys):
     with h5py.File(out, "r") as f:
         attrs = f.attrs
         assert attrs["complete"] == 1
-        assert attrs["status"] == "completed"
+        assert attrs["status"] == b"completed"  # NC_CHAR: bytes in h5py
         assert attrs["steps_completed"] == attrs["steps"] == load_scene(model).expanded.steps
-        assert attrs["input_yaml"] == model.read_text(encoding="utf-8")
+        assert attrs["input_yaml"].decode() == model.read_text(encoding="utf-8")
         assert 0.0 <= attrs["energy_balance_error"] < 1e-8

@@ -152,9 +152,42 @@ def test_figures_hold_the_file_data(result_file):
     assert panels["velocity"].get_xlabel() == "time (s)"
     assert panels["hysteresis L/2"].get_ylabel() == "storey shear (N)"
 
+    # the title says what ran: the scene's title and level, then its excitation
+    assert figs["2"].get_suptitle() == ("plot test, 3 + 2 storeys: level 2\n"
+                                        "sine, amplitude 3 m/s^2, frequency 6 rad/s")
+
     # level 3: building L only, no contact there
     assert set(axes_by_label(figs["3"])) == {"displacement", "velocity", "hysteresis L/3"}
     assert set(lines_by_label(axes_by_label(figs["1"])["contact_force"])) == {"lower"}
+
+
+def test_units_and_svg_from_the_command_line(result_file, tmp_path, capsys):
+    """``--units engineering`` draws mm and kN (the numbers scaled, the labels saying so),
+    as ``pframe.plot(..., units="engineering")`` does; ``-o FIG.svg`` writes SVG."""
+    figs = figures(result_file, levels=[2], units="engineering")
+    panels = axes_by_label(figs["2"])
+    nodes = read(result_file, "node")
+    line = lines_by_label(panels["displacement"])["L/2"]
+    np.testing.assert_allclose(line.get_ydata(),
+                               1000 * read(result_file, "displacement")[:, nodes.index("L/2")],
+                               rtol=1e-12)
+    assert panels["displacement"].get_ylabel() == "displacement (mm)"
+    assert panels["hysteresis L/2"].get_ylabel() == "storey shear (kN)"
+    out = tmp_path / "level2.svg"
+    assert main(["plot", str(result_file), "--story", "2", "--units", "engineering", "-o",
+                 str(out), "-q"]) == 0
+    text = out.read_text(encoding="utf-8")
+    assert text.lstrip().startswith("<?xml") and "<svg" in text
+    assert f"<title>pframe plot {result_file}</title>" in text
+    assert main(["plot", str(result_file), "--units", "furlong"]) == 2
+    assert "furlong" in capsys.readouterr().err
+
+
+def test_the_help_names_the_formats_and_units(capsys):
+    with pytest.raises(SystemExit):
+        main(["plot", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "(.nc)" in text and ".svg" in text and "--units" in text and "(.h5)" not in text
 
 
 def test_kinds_and_time_range(result_file):
@@ -285,13 +318,13 @@ def test_bad_files_exit_2_naming_the_file(copy, capsys, damage, message):
 
 
 @pytest.mark.parametrize(("args", "message"), [
-    (["-o", "figure.svg"], "must end in .png or .pdf"),
+    (["-o", "figure.tiff"], "must end in .png, .svg or .pdf"),
     (["--story", "7"], "no floor level 7; the levels are 1, 2, 3"),
     (["--time-range", "3", "4"], "no recorded time in --time-range 3 4"),
     (["--time-range", "0.5", "0.1"], "the start must be before the end"),
 ], ids=["format", "level", "empty-range", "reversed-range"])
 def test_bad_arguments_exit_2(result_file, tmp_path, capsys, args, message):
-    args = [a if a != "figure.svg" else str(tmp_path / a) for a in args]
+    args = [a if a != "figure.tiff" else str(tmp_path / a) for a in args]
     assert main(["plot", str(result_file), *args]) == 2
     assert message in capsys.readouterr().err
 

@@ -21,7 +21,7 @@ def test_labels_are_character_arrays_that_xarray_reads_as_strings(tmp_path):
     f.close()
     with h5py.File(path, "r") as h:
         assert h["node_name"].dtype == np.dtype("S1") and h["node_name"].shape == (3, 4)  # UTF-8 bytes
-        assert h["u"].attrs["coordinates"] == "node_name"
+        assert h["u"].attrs["coordinates"] == b"node_name"  # NC_CHAR: bytes in h5py
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         assert ds.node_name.values.tolist() == ["A/1", "B/10", "Ü/2"]
         assert "node_name" in ds.u.coords
@@ -89,16 +89,54 @@ def test_the_dataset_backend_builds_what_xarray_reads_from_the_file(tmp_path):
         xr.testing.assert_identical(ds.load(), memory.dataset())
 
 
-def test_write_dataset_refuses_string_coordinates_and_writes_labels(tmp_path):
+def test_write_dataset_writes_names_as_labels(tmp_path):
+    """A Dataset with names as coordinate values (``pframe.indexed``) is written with a label
+    ``<dim>_name`` instead (CF: no string coordinate variables), and reads back with them."""
+    from pframe.api import indexed
+
     ds = xr.Dataset({"g": ("rule", [1.0, 2.0])}, coords={"rule": ["ABS", "SRSS"]})
-    with pytest.raises(TypeError, match="rule_name"):
-        write_dataset(ds, tmp_path / "bad.nc")
-    assert not list(tmp_path.iterdir())  # nothing written, no temporary file left
-    good = ds.drop_vars("rule").assign_coords(rule_name=("rule", ["ABS", "SRSS"]))
-    write_dataset(good, tmp_path / "good.nc")
-    with xr.open_dataset(tmp_path / "good.nc", engine="h5netcdf") as back:
+    write_dataset(ds, tmp_path / "names.nc")
+    with xr.open_dataset(tmp_path / "names.nc", engine="h5netcdf") as back:
+        assert "rule" not in back.variables
         assert back.rule_name.values.tolist() == ["ABS", "SRSS"]
         assert {"date_created", "history", "Conventions"} <= set(back.attrs)
+        assert indexed(back).g.to_series().index.tolist() == ["ABS", "SRSS"]
+    with_label = indexed(ds.drop_vars("rule").assign_coords(
+        rule_name=("rule", ["ABS", "SRSS"])))
+    assert with_label.rule.values.tolist() == ["ABS", "SRSS"]
+    write_dataset(with_label, tmp_path / "labels.nc")
+    with xr.open_dataset(tmp_path / "labels.nc", engine="h5netcdf") as back:
+        assert "rule" not in back.variables and back.rule_name.values.tolist() == ["ABS", "SRSS"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["labels.nc", "names.nc"]
+
+
+def _fixed_length_text(attrs, name: str) -> bool:
+    """Whether attribute ``name`` is a fixed-length string (netCDF's NC_CHAR), not a
+    variable-length one (NC_STRING, which Octave's netcdf package cannot read)."""
+    kind = attrs.get_id(name).get_type()
+    return isinstance(kind, h5py.h5t.TypeStringID) and not kind.is_variable_str()
+
+
+def test_text_attributes_are_fixed_length_characters(tmp_path):
+    path = tmp_path / "text.nc"
+    f = Writer(path)
+    f.attrs.update({"title": "Ü-Bahn pounding", "warnings": "", "steps": np.int64(3)})
+    f.coordinate("t", [0.0, 1.0], units="s", long_name="time")
+    f.variable("u", ("t",), np.array([1.0, 2.0]), units="m", long_name="u")
+    f.close()
+    with h5py.File(path, "r") as h:
+        for obj, names in ((h, ("title", "warnings")),
+                           (h["t"], ("units", "long_name")), (h["u"], ("units", "long_name"))):
+            for name in names:
+                assert _fixed_length_text(obj.attrs, name), name
+        assert list(h.attrs)[:3] == ["title", "warnings", "steps"]  # the order kept
+    with xr.open_dataset(path, engine="h5netcdf") as back:
+        assert back.attrs["title"] == "Ü-Bahn pounding" and back.attrs["warnings"] == ""
+        assert back.attrs["steps"] == 3 and back.u.attrs == {"units": "m", "long_name": "u"}
+    write_dataset(xr.Dataset({"u": ("t", [1.0])}, attrs={"title": "x"}), tmp_path / "ds.nc")
+    with h5py.File(tmp_path / "ds.nc", "r") as h:
+        assert all(_fixed_length_text(h.attrs, n) for n in ("title", "history"))
+        assert _fixed_length_text(h["u"].attrs, "_FillValue") is False
 
 
 @pytest.mark.filterwarnings("error::pytest.PytestUnraisableExceptionWarning")

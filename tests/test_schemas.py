@@ -175,3 +175,27 @@ def test_ajv_strict_mode_compiles_every_schema():
     files = [str(packaged() / name) for name in FILES]
     result = subprocess.run([node, "-e", AJV, *files], capture_output=True, text=True)
     assert result.returncode == 0, result.stdout + result.stderr
+
+
+def test_a_named_pi_number_is_checked_by_its_own_rule_only(tmp_path):
+    """A Pi number named in the schema (Pi_alpha: 0 to 1) is not also held to the rule of
+    the other Pi numbers (a number > 0): Pi_alpha = 0, which pframe accepts, passes the
+    schema (it failed when the pattern matched the named properties too), a made-up
+    Pi_foo = 0 still fails, and pframe agrees on both."""
+    from pframe.api import load
+    from pframe.errors import InputError
+
+    text = (REPO / "models" / "wu2021-eq14-pi.yaml").read_text(encoding="utf-8")
+    assert "  Pi_alpha: 0.1" in text
+    elastic = tmp_path / "pi-alpha-0.yaml"
+    elastic.write_text(text.replace("  Pi_alpha: 0.1", "  Pi_alpha: 0"), encoding="utf-8")
+    result = _validate(SCHEMAS / "pi-scene.schema.json", elastic)
+    assert result.returncode == 0, result.stdout + result.stderr
+    load(elastic)  # pframe accepts it too
+    unknown = tmp_path / "pi-foo-0.yaml"
+    unknown.write_text(text.replace("  Pi_alpha: 0.1", "  Pi_alpha: 0.1\n  Pi_foo: 0"),
+                       encoding="utf-8")
+    result = _validate(SCHEMAS / "pi-scene.schema.json", unknown)
+    assert result.returncode == 1 and "Pi_foo" in result.stdout + result.stderr
+    with pytest.raises(InputError):
+        load(unknown)

@@ -60,6 +60,11 @@ def _pi_data(**changes) -> dict:
     return data
 
 
+def _text(value):
+    """A text attribute as h5py gives it (NC_CHAR: bytes) as a string."""
+    return value.decode() if isinstance(value, bytes) else value
+
+
 def _run(text: str, path: Path) -> dict:
     """Solve a scene and read its result file back: {variable: array} plus attributes."""
     loaded = parse_scene(text, source=path.stem)
@@ -74,8 +79,8 @@ def _run(text: str, path: Path) -> dict:
         # netCDF attributes are 1-D arrays: one value each here
         out["attrs"] = {k: np.asarray(f.attrs[k]).item() for k in f.attrs
                         if k.startswith("energy_")}
-        out["units"] = {name: f[name].attrs.get("units") for name in f}
-        out["labels"] = {k: f.attrs[k] for k in f.attrs
+        out["units"] = {name: _text(f[name].attrs.get("units")) for name in f}
+        out["labels"] = {k: _text(f.attrs[k]) for k in f.attrs
                          if k.startswith(("scale_", "units_system", "nondimensional", "dtau"))}
     return out
 

@@ -267,8 +267,8 @@ def test_pi_form_base_and_dimensionless_output(tmp_path):
     out = tmp_path / "pi.h5"
     assert run_sweep(load_sweep(tmp_path / "sweep.yaml"), out).completed
     with h5py.File(out, "r") as f:
-        assert f.attrs["units_system"] == "dimensionless"
-        assert f["building_peak_displacement"].attrs["units"] == "1"
+        assert f.attrs["units_system"] == b"dimensionless"  # NC_CHAR: bytes in h5py
+        assert f["building_peak_displacement"].attrs["units"] == b"1"
         assert [b"".join(row).decode() for row in f["building_name"][...]] == ["A", "B"]
         assert f["peak_contact_force"][1].max() == 0.0  # a gap of 5 l_e: no pounding
         assert f["peak_contact_force"][0].max() > 0.0
@@ -437,7 +437,7 @@ def test_the_pi_d_spectrum_of_the_docs(tmp_path):
         pi_d = f["Pi_d"][...]
         peak = f["building_peak_displacement"][...]  # (Pi_d, building A B)
         impacts = f["impact_count"][...].sum(axis=1)
-        assert f["building_peak_displacement"].attrs["units"] == "1"
+        assert f["building_peak_displacement"].attrs["units"] == b"1"
     assert len(pi_d) == 41 and pi_d[-1] == 2.0
     free = pi_d >= 1.4 - 1e-9
     assert np.all(impacts[free] == 0) and np.all(impacts[~free] > 0)
@@ -448,3 +448,37 @@ def test_the_pi_d_spectrum_of_the_docs(tmp_path):
     assert np.allclose(peak[pi_d >= 1.1 - 1e-9, 1], 0.2055, atol=0.001)
     assert np.all(peak[pi_d >= 0.5 - 1e-9, 1] < 0.22)
     assert peak[:, 1].max() == peak[4, 1]
+
+
+def test_a_records_axis_is_named_by_the_records(tmp_path):
+    """A sweep over record files (in a folder): the Dataset's records axis has the records'
+    names (``.sel(record="two")``), the files stay in ``record_file``, and the spectrum's
+    legend names the records, not their relative paths."""
+    import pframe
+
+    (tmp_path / "rec").mkdir()
+    t = np.arange(0, 1.6, 0.01)
+    for name, scale in (("one.txt", 1.0), ("two.txt", 2.5)):
+        np.savetxt(tmp_path / "rec" / name, np.column_stack([t, scale * 9.81 * np.sin(2 * np.pi * t)]))
+    base = BASE.replace("excitation: {kind: sine, amplitude: 9.81, frequency: 6.283185307179586}",
+                        "excitation: {kind: record, file: rec/one.txt}")
+    (tmp_path / "base.yaml").write_text(base, encoding="utf-8")
+    (tmp_path / "records.yaml").write_text(
+        "base: base.yaml\n"
+        "axes:\n"
+        "  - {name: record, path: excitation.file, values: [rec/one.txt, rec/two.txt]}\n"
+        "  - {name: gap, path: contacts.*.gap, values: [0.01, 0.03], units: m}\n",
+        encoding="utf-8")
+    out = tmp_path / "records.nc"
+    assert run_sweep(load_sweep(tmp_path / "records.yaml"), out).completed
+    with pframe.open(out) as ds:
+        assert ds.record.values.tolist() == ["one", "two"]
+        assert ds.record_file.values.tolist() == ["rec/one.txt", "rec/two.txt"]
+        two = ds.peak_displacement.sel(record="two", gap=0.01)
+        assert float(two.max()) > 1.5 * float(ds.peak_displacement.sel(record="one", gap=0.01).max())
+    pytest.importorskip("matplotlib")
+    from pframe.plot.spectrum import spectrum
+
+    fig, _ = spectrum(out, response="peak_displacement", x="gap", curves="record")
+    legend = fig.axes[0].get_legend()
+    assert [text.get_text() for text in legend.get_texts()] == ["one", "two"]

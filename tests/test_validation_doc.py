@@ -73,7 +73,7 @@ def _run(model: str, law: str | None = None, keep_tension: bool = False,
     with tempfile.TemporaryDirectory() as folder:
         out = write_result(Path(folder) / "run.h5", result, loaded)
         with h5py.File(out, "r") as f:
-            assert f.attrs["units_system"] == "dimensionless"
+            assert f.attrs["units_system"] == b"dimensionless"  # NC_CHAR: bytes in h5py
             run = {name: f[name][()] for name in f}
         with xr.open_dataset(out, engine="h5netcdf") as ds:  # names: decoded char arrays
             for key in ("node", "story", "contact"):

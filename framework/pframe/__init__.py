@@ -20,6 +20,7 @@ _API = {
     # reading, running, results
     "load": "pframe.api", "solve": "pframe.api", "sweep": "pframe.sweep", "open": "pframe.api",
     "IncompleteRun": "pframe.api", "AccuracyWarning": "pframe.verdict",
+    "summary": "pframe.tables",
     # figures (matplotlib: pip install "pframe[plot]"); pframe.plot and pframe.sweep are also
     # packages, made callable (pframe._callable)
     "plot": "pframe.plot",
@@ -42,7 +43,7 @@ __all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Cont
            "InitialConditions", "InputError", "Newmark", "Newton", "Node", "Output",
            "OutputScales", "PframeError",
            "Rayleigh", "Record", "Ricker", "Scene", "Sine", "Story", "StoryProperties",
-           "__version__", "load", "open", "plot", "solve", "sweep"]
+           "__version__", "load", "open", "plot", "solve", "summary", "sweep"]
 
 
 def __getattr__(name: str):

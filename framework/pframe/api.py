@@ -105,8 +105,6 @@ def _from_result(path: Path):
     finds it."""
     import h5py
 
-    from pframe.reader import parse_scene
-
     try:
         with h5py.File(path, "r") as f:
             attrs = {k: f.attrs[k] for k in ("input_yaml", "record_file", "record_text",
@@ -115,14 +113,22 @@ def _from_result(path: Path):
         raise InputError(f"{path}: no such result file") from None
     except OSError as exc:
         raise InputError(f"{path}: not a pframe result file (HDF5/netCDF-4): {exc}") from None
-    attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()}
+    return scene_of_attributes(attrs, path, Path(path).parent)
+
+
+def scene_of_attributes(attrs: dict, path, base: Path):
+    """The scene of a result's attributes (``input_yaml``, ``record_file``, ``record_text``:
+    a file's or a Dataset's); ``path`` names it in messages."""
+    from pframe.reader import parse_scene
+
+    attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()
+             if k in ("input_yaml", "record_file", "record_text", "sweep_yaml")}
     if "sweep_yaml" in attrs:
         raise InputError(f"{path}: a sweep's result file holds many scenes; load its base "
                          "scene from the sweep file, or a variant with pframe sweep --variant")
     text = attrs.get("input_yaml")
     if not text:
         raise InputError(f"{path}: the file holds no scene (no input_yaml attribute)")
-    base = Path(path).parent
     if "record_text" in attrs:
         relative = Path(attrs["record_file"])
         if relative.is_absolute():
@@ -311,9 +317,10 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
 # -- results --------------------------------------------------------------------------------
 
 def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_dataset
-    """A pframe result file (``pframe solve`` or ``pframe sweep``) as an xarray Dataset,
-    opened lazily; the named positions (``node_name``, ``story_name``, ``contact_name``, ...)
-    are indexed, so ``ds.sel(node_name="A/3")`` selects by name."""
+    """A pframe result file (``pframe solve``, ``pframe sweep`` or ``pframe gap``) as an
+    xarray Dataset, opened lazily; the names of nodes, storeys, contacts, ... are the
+    coordinate values of their dimensions (:func:`indexed`), so ``ds.sel(node="A/3")`` and
+    ``ds.peak_displacement.to_series()`` take and show names."""
     path = Path(path)
     if not path.exists():
         raise InputError(f"{path}: no such result file")
@@ -334,15 +341,39 @@ def _opened(source, load_now: bool = False):
 
 
 def indexed(ds):
-    """``ds`` with an index on each label coordinate (``*_name``, swept record files), so
-    that ``.sel`` takes names; the data and attributes are unchanged."""
-    for name, coord in ds.coords.items():
-        if coord.ndim == 1 and name not in ds.indexes and coord.dtype == object \
-                and name.endswith("_name") and len(set(coord.values.tolist())) == coord.size:
+    """``ds`` with its named positions as coordinates: each dimension with a label
+    (``node_name`` along ``node``, ``story_name``, ``contact_name``, ``building_name``, ...)
+    gets the names as its coordinate values, so ``to_series``, ``to_dataframe``, xarray's
+    legends and ``.sel(node="A/3")`` show and take names; a swept record axis
+    (``<axis>_file``) gets the records' names (file names without folder and suffix, the
+    paths when two share a name). The labels stay, indexed (``.sel(node_name="A/3")``). The
+    file keeps the labels only (CF has no string coordinate variables): writing the Dataset
+    with :func:`pframe.record.netcdf.write_dataset` drops the name coordinates again."""
+    import numpy as np
+
+    for name, coord in list(ds.coords.items()):
+        if coord.ndim != 1 or coord.dtype.kind not in "OU" or name in ds.indexes:
+            continue
+        dim = coord.dims[0]
+        values = [str(v) for v in coord.values.tolist()]
+        if len(set(values)) != coord.size:
+            continue
+        if name == f"{dim}_name" and dim not in ds.coords:
+            ds = ds.assign_coords({dim: (dim, np.array(values, dtype=object),
+                                         _label_attrs(coord))})
+        elif name == f"{dim}_file" and dim not in ds.coords:
+            stems = [Path(v).stem for v in values]
+            names = stems if len(set(stems)) == len(stems) else values
+            attrs = {"long_name": "ground-motion record (file name)"}
+            ds = ds.assign_coords({dim: (dim, np.array(names, dtype=object), attrs)})
+            continue
+        if name.endswith("_name"):
             ds = ds.set_xindex(name)
     return ds
 
 
+def _label_attrs(coord) -> dict:
+    return {k: coord.attrs[k] for k in ("long_name",) if k in coord.attrs}
 
 
 # -- building blocks of a scene (the names and fields of the YAML) ---------------------------

@@ -12,6 +12,7 @@ terminal or a notebook, and stays silent otherwise (logs, pipes, CI).
 from __future__ import annotations
 
 import sys
+import time
 
 #: seconds a run must last before its bar appears
 DELAY = 1.0
@@ -35,17 +36,27 @@ def wanted(show: bool | None, stream=None) -> bool:
     return in_notebook() or bool(getattr(stream, "isatty", lambda: False)())
 
 
-def _bar_class():
-    if in_notebook():
-        from tqdm.auto import tqdm
-    else:
-        from tqdm import tqdm
-    return tqdm
+def _widget_bar(**kwargs):
+    """A notebook widget bar that pframe displays itself (None without ipywidgets)."""
+    try:
+        from tqdm.notebook import tqdm as notebook_tqdm
+
+        widget = notebook_tqdm(display=False, delay=0, leave=True, **kwargs)
+    except ImportError:  # no ipywidgets: tqdm says "IProgress not found"
+        return None
+    return widget if hasattr(widget, "container") else None
 
 
 class Bar:
     """A progress callback ``bar(done, total[, failed])`` that draws once the run has lasted
-    :data:`DELAY` seconds; ``unit``: what is counted (steps, variants)."""
+    :data:`DELAY` seconds; ``unit``: what is counted (steps, variants). The bar shows the
+    elapsed time, the rate and an estimate of the time left.
+
+    In a notebook the bar is kept when the run ends, at its final state: a widget is
+    displayed with a display id and its display updated on :meth:`close`, so the saved
+    notebook (whose text form of a widget is the one last sent) ends at 100 %, not at the
+    state when it first appeared; without ipywidgets a text bar is left on its last line.
+    On a terminal the bar is cleared when the run ends (the command prints a summary)."""
 
     def __init__(self, unit: str, description: str = "", stream=None):
         self.unit = unit
@@ -53,24 +64,45 @@ class Bar:
         self.stream = sys.stderr if stream is None else stream
         self.bar = None
         self.last = 0
+        self.handle = None  # the notebook display of a widget bar
+        self.widget = False
+        self.started = 0.0
+
+    def _make(self, done: int, total: int):
+        kwargs = {"total": total, "initial": done, "unit": f" {self.unit}", "unit_scale": True,
+                  "desc": self.description or None, "dynamic_ncols": True, "smoothing": 0.1}
+        notebook = in_notebook()
+        if notebook:
+            widget = _widget_bar(**kwargs)
+            if widget is not None:
+                self.widget = True
+                return widget
+        from tqdm import tqdm
+
+        return tqdm(file=self.stream, delay=DELAY, leave=notebook, **kwargs)
 
     def __call__(self, done: int, total: int, failed: int = 0) -> None:
         if self.bar is None:
-            tqdm = _bar_class()
-            self.bar = tqdm(total=total, initial=done, unit=f" {self.unit}", unit_scale=True,
-                            desc=self.description or None, file=self.stream, delay=DELAY,
-                            dynamic_ncols=True, leave=False, smoothing=0.1)
+            self.started = time.monotonic()
+            self.bar = self._make(done, total)
             self.last = done
             return
         if failed:
             self.bar.set_postfix_str(f"{failed} failed", refresh=False)
         self.bar.update(done - self.last)
         self.last = done
+        if self.widget and self.handle is None and time.monotonic() - self.started >= DELAY:
+            from IPython.display import display
+
+            self.handle = display(self.bar.container, display_id=True)
 
     def close(self) -> None:
         if self.bar is not None:
             self.bar.close()
+            if self.handle is not None:  # the saved output: the final state
+                self.handle.update(self.bar.container)
             self.bar = None
+            self.handle = None
 
 
 def bar(show: bool | None, unit: str, description: str = "", stream=None) -> Bar | None:

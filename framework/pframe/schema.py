@@ -85,6 +85,30 @@ def _strict(node) -> None:
             _strict(value)
 
 
+def _patterns_without_named(node) -> None:
+    """A property named in ``properties`` must also satisfy every ``patternProperties``
+    pattern that matches its name (JSON Schema), which ajv's strict mode flags: a named
+    ``Pi_alpha`` (0 to 1, or null) matched ``^Pi_[A-Za-z0-9_]+$`` (a number > 0), so the
+    schema refused the valid ``Pi_alpha: 0``. Each pattern is made to leave the named
+    properties out (a negative lookahead, which ECMA-262 regexes have)."""
+    if isinstance(node, dict):
+        patterns, named = node.get("patternProperties"), node.get("properties")
+        if isinstance(patterns, dict) and isinstance(named, dict) and named:
+            rewritten = {}
+            for pattern, rule in patterns.items():
+                matched = sorted(n for n in named if re.search(pattern, n))
+                if matched and pattern.startswith("^"):
+                    names = "|".join(re.escape(n) for n in matched)
+                    pattern = f"^(?!(?:{names})$){pattern[1:]}"
+                rewritten[pattern] = rule
+            node["patternProperties"] = rewritten
+        for value in node.values():
+            _patterns_without_named(value)
+    elif isinstance(node, list):
+        for value in node:
+            _patterns_without_named(value)
+
+
 def _describe_references(schema: dict) -> None:
     """A property that only refers to a model takes that model's first sentence."""
     defs = schema.get("$defs", {})
@@ -101,6 +125,7 @@ def finish(schema: dict, name: str) -> dict:
     """A pydantic JSON Schema made into the file ``name`` (see the module docstring)."""
     title, schema_id = FILES[name]
     _strict(schema)
+    _patterns_without_named(schema)
     _describe_selectors(schema)
     _describe_references(schema)
     return {"$schema": JSON_SCHEMA, "$id": schema_id, "title": title,

@@ -1,4 +1,4 @@
-"""``pframe plot OUT.h5``: the paper's figures (histories and hysteresis loops) of a result.
+"""``pframe plot OUT.nc``: the paper's figures (histories and hysteresis loops) of a result.
 
 matplotlib is imported only when this command runs, with the Agg backend, so the command works
 on servers without a display and the other commands never load it.
@@ -24,7 +24,7 @@ def _plot(args) -> int:
     if args.output == "":
         from pframe.errors import InputError
 
-        raise InputError("-o '': the figure needs a name ending in .png or .pdf")
+        raise InputError("-o '': the figure needs a name ending in .png, .svg or .pdf")
     output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
     from pframe import outputs
@@ -44,7 +44,8 @@ def _plot(args) -> int:
         lambda text: print(f"pframe: {args.result}: {text}", file=sys.stderr))
     time_range = tuple(args.time_range) if args.time_range else None
     figs = figures(args.result, kind=args.kind or "all", levels=args.story,
-                   time_range=time_range, dimensionless=args.dimensionless, report=say)
+                   time_range=time_range, dimensionless=args.dimensionless, report=say,
+                   units=args.units)
     written = save(figs, output, title=f"pframe plot {args.result}",
                    overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
@@ -57,7 +58,7 @@ def _plot(args) -> int:
 
 #: options of a single run's figures and of a sweep's spectrum (argparse destinations)
 _RUN_OPTIONS = {"kind": "--kind", "story": "--story", "time_range": "--time-range",
-                "dimensionless": "--dimensionless"}
+                "dimensionless": "--dimensionless", "units": "--units"}
 _SWEEP_OPTIONS = {"response": "--response", "x": "--x", "curves": "--curves", "at": "--at"}
 
 
@@ -119,15 +120,16 @@ def _plot_gap(args, output: Path) -> int:
 
 def register(sub) -> None:
     plot = sub.add_parser(
-        "plot", help="draw a result's histories and hysteresis loops (PNG or PDF)",
+        "plot", help="draw a result's histories and hysteresis loops (PNG, SVG or PDF)",
         description="Draw the paper's figures from a result file: one figure per floor level "
                     "with (a) displacement, (b) pounding force and (c) velocity histories of "
                     "the buildings' floors at that level and (d), (e) the hysteresis loops of "
                     "their storeys. Needs matplotlib (pip install \"pframe[plot]\").")
-    plot.add_argument("result", help="result file written by pframe solve (.h5)")
+    plot.add_argument("result", help="result file written by pframe solve, sweep or gap (.nc)")
     plot.add_argument("-o", "--output", metavar="FIGURE",
-                      help="FIGURE.pdf (one page per level) or FIGURE.png (FIGURE-<level>.png "
-                           "for several levels); default: RESULT's name with .pdf")
+                      help="FIGURE.pdf (one page per level), FIGURE.png or FIGURE.svg "
+                           "(FIGURE-<level>.png for several levels); default: RESULT's name "
+                           "with .pdf")
     plot.add_argument("--kind", choices=("all", "histories", "hysteresis"), default=None,
                       help="panels to draw (default: all)")
     plot.add_argument("--story", action="append", metavar="N",
@@ -137,6 +139,9 @@ def register(sub) -> None:
     plot.add_argument("--dimensionless", action="store_true",
                       help="draw the paper's tau, x = X / l_e, ... scaled by the scene's sine "
                            "excitation (a file written dimensionless is drawn so anyway)")
+    plot.add_argument("--units", metavar="UNITS",
+                      help="units drawn: 'engineering' (mm, mm/s, kN) or a list such as "
+                           "'mm,kN' or 'cm,kN' (default: the file's, SI)")
     sweep = plot.add_argument_group(
         "sweep files", "A file written by pframe sweep gives one response spectrum: a response "
         "against a swept axis, one curve per building (contact, storey, node) or per value of "

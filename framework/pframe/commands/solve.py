@@ -17,6 +17,10 @@ def _solve(args) -> int:
     outputs.check_output(out, inputs=[args.model], overwrite=args.overwrite, what="result file")
     loaded = load_scene(args.model)
     out = check_output(out, args.overwrite, loaded)
+    if args.summary is not None:
+        from pframe.tables import check_summary_path
+
+        check_summary_path(args.summary, args.overwrite, inputs=[args.model, out])
     _check_resources(loaded, out)
 
     from pframe.assemble import assemble
@@ -104,6 +108,12 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     if not args.quiet:
         _summary(loaded, plan, result, out, writer.peaks, verdict)
+    if args.summary is not None:  # the summary table of the file written (pframe.tables)
+        from pframe.tables import summary
+
+        summary(out, args.summary)
+        if not args.quiet:
+            print(f"  summary table: {args.summary}")
     if not result.completed():
         print(f"pframe: {loaded.source}: the run stopped early: {result.describe_failure()}; "
               f"{out} holds the {max(0, result.states_done() - 1)} steps computed, marked "
@@ -186,4 +196,7 @@ def register(sub) -> None:
     solve.add_argument("--strict", action="store_true",
                        help="exit 4 when the run completed but its accuracy is in doubt (any "
                             "warning: dt, inputs, energy balance); the result is still written")
+    solve.add_argument("--summary", metavar="FILE",
+                       help="also write the run's summary table, as FILE.csv or FILE.md "
+                            "(peaks, ductility, impacts, energy balance, warnings)")
     solve.set_defaults(run=_solve)

@@ -42,6 +42,109 @@ Quantity = Literal[QUANTITIES]
 class Base(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
+    def __repr__(self) -> str:
+        return brief(self)
+
+    __str__ = __repr__
+
+
+# -- how a scene and its parts print (repr): the fields given, under their public names --------
+
+#: fields shown first (which object, which nodes), then the others in the model's order
+_FIRST = ("kind", "type", "law", "material", "name", "nodes", "gap")
+#: items of a list shown in full; a longer list shows its first and last ones
+_LIST_ITEMS = 8
+
+
+def _public_name(cls) -> str:
+    """The name a user builds the object with: ``Contact`` (not ``Contact_improved_kelvin``),
+    ``Story``, ``StoryProperties``, else the class name."""
+    name = cls.__name__
+    if name.startswith("Contact_"):
+        return "Contact"
+    if name.startswith("Story_"):
+        return "Story"
+    if name.endswith("Storeys"):
+        return "StoryProperties"
+    return name
+
+
+def _shown_fields(model) -> list[str]:
+    """The fields given and the tags that say what the object is (not ``kind``/``type``
+    where the class says it: ``Sine``, ``Newmark``)."""
+    info = type(model).model_fields
+    fields = [n for n in info if (n in model.model_fields_set or n in TAGS) and not (
+        n in ("kind", "type") and not info[n].is_required())]
+    return sorted(fields, key=lambda n: (_FIRST.index(n) if n in _FIRST else len(_FIRST)))
+
+
+def _items(values, show) -> list[str]:
+    values = list(values)
+    if len(values) <= _LIST_ITEMS:
+        return [show(v) for v in values]
+    return ([show(v) for v in values[:3]] + [f"... {len(values) - 5} more ..."]
+            + [show(v) for v in values[-2:]])
+
+
+def brief(value) -> str:
+    """One line: ``Contact(law='improved_kelvin', name='floor-1', nodes=('A/1', 'B/1'),
+    gap=0.124245, ...)``: the fields that were given (and the tags), numbers to 6 digits,
+    long lists cut in the middle; what ``pframe.Contact(...)`` etc. would be called with."""
+    if isinstance(value, BaseModel):
+        args = ", ".join(f"{n}={brief(getattr(value, n))}" for n in _shown_fields(value))
+        return f"{_public_name(type(value))}({args})"
+    if isinstance(value, bool) or value is None:
+        return repr(value)
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, (list, tuple)):
+        inner = ", ".join(_items(value, brief))
+        return f"({inner}{',' if len(value) == 1 else ''})" if isinstance(value, tuple) \
+            else f"[{inner}]"
+    if isinstance(value, dict):
+        return "{" + ", ".join(_items(value.items(), lambda kv: f"{kv[0]!r}: {brief(kv[1])}"))\
+            + "}"
+    return repr(value)
+
+
+def _scene_lines(scene) -> list[tuple[str, list[str]]]:
+    """(field, one line per item) of the fields a scene was given, in the model's order."""
+    out = []
+    for name in _shown_fields(scene):
+        value = getattr(scene, name)
+        if isinstance(value, list):
+            out.append((name, _items(value, brief)))
+        else:
+            out.append((name, [brief(value)]))
+    return out
+
+
+def scene_text(scene) -> str:
+    """A scene in a few lines: its title, then one line per building, storey, contact and
+    setting (the repr of a scene)."""
+    lines = [f"{type(scene).__name__}("]
+    for name, items in _scene_lines(scene):
+        if name == "title" or len(items) == 1 and not isinstance(getattr(scene, name), list):
+            lines.append(f"  {name}={items[0]},")
+        elif not items:
+            lines.append(f"  {name}=[],")
+        else:
+            lines.append(f"  {name}=[")
+            lines += [f"    {item}," for item in items]
+            lines.append("  ],")
+    return "\n".join(lines) + "\n)"
+
+
+def scene_html(scene) -> str:
+    """The HTML form of a scene for notebooks: a table of its fields, one item per line."""
+    from html import escape
+
+    rows = "".join(
+        f"<tr><th style='text-align:left;vertical-align:top'>{escape(name)}</th>"
+        f"<td style='text-align:left'><code>{'<br>'.join(escape(i) for i in items) or '[]'}"
+        f"</code></td></tr>" for name, items in _scene_lines(scene))
+    return f"<div><strong>pframe Scene</strong><table>{rows}</table></div>"
+
 
 class Node(Base):
     """A floor: one lateral degree of freedom with a lumped mass."""
@@ -407,6 +510,14 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
                         "envelope); default: the peaks of displacement, story_drift and "
                         "contact_force.")
         output: Output = Field(Output(), description="Units of the result file.")
+
+        def __repr__(self) -> str:
+            return scene_text(self)
+
+        __str__ = __repr__
+
+        def _repr_html_(self) -> str:
+            return scene_html(self)
 
         def to_yaml(self) -> str:
             """The scene as YAML: the fields that were given (defaults left out), in the

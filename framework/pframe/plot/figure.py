@@ -197,10 +197,54 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
     heading = f"{result.title}: level {level}"
     if not result.complete:
         heading += " (run stopped early)"
+    ran = what_ran(result)
+    if ran:
+        heading += f"\n{ran}"
     fig.suptitle(heading, fontsize="large")
     if result.reference is not None:
         fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
     return fig
+
+
+def _number(value) -> str:
+    return f"{value:.4g}" if isinstance(value, (int, float)) else str(value)
+
+
+def what_ran(result: Result) -> str:
+    """One line saying what the run was, from the scene it holds: the excitation as given
+    (a record's file name and scale, a sine's amplitude and frequency, a pulse), and the
+    verdict on its accuracy when it is not 'trusted'."""
+    import yaml
+
+    parts = []
+    try:
+        scene = yaml.safe_load(result.input_yaml) if result.input_yaml else None
+    except yaml.YAMLError:
+        scene = None
+    excitation = scene.get("excitation") if isinstance(scene, dict) else None
+    if isinstance(excitation, dict):
+        kind = excitation.get("kind")
+        if kind == "record":
+            text = f"record {Path(str(excitation.get('file', ''))).name}"
+            if excitation.get("pga") is not None:
+                text += f" scaled to PGA {_number(excitation['pga'])}"
+            elif excitation.get("scale", 1) != 1:
+                text += f" x {_number(excitation['scale'])}"
+            parts.append(text)
+        elif kind == "sine":
+            parts.append(f"sine, amplitude {_number(excitation.get('amplitude'))} m/s^2, "
+                         f"frequency {_number(excitation.get('frequency'))} rad/s")
+        elif kind in ("cycloidal", "ricker"):
+            parts.append(f"{kind} pulse, amplitude {_number(excitation.get('amplitude'))} m/s^2, "
+                         f"period {_number(excitation.get('period'))} s")
+    elif isinstance(scene, dict) and "pi" not in scene and "buildings" in scene:
+        parts.append("free vibration")
+    accuracy = result.attributes.get("accuracy")
+    if accuracy is not None:
+        accuracy = accuracy.decode() if isinstance(accuracy, bytes) else str(accuracy)
+        if accuracy != "trusted":
+            parts.append(f"accuracy: {accuracy}")
+    return "; ".join(parts)
 
 
 def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | None = None,
@@ -219,7 +263,7 @@ def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | No
 
 def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
             time_range: tuple[float, float] | None = None, dimensionless: bool = False,
-            report: Callable[[str], None] | None = None) -> dict:
+            report: Callable[[str], None] | None = None, units=None) -> dict:
     """The paper's figures of a result file, one per floor level.
 
     Parameters
@@ -237,6 +281,9 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
         scene's sine excitation; a file written dimensionless is drawn so in any case.
     report : callable, optional
         Called with each note on panels left out (see :func:`notes`).
+    units : str or dict, optional
+        ``"engineering"`` (mm, mm/s, kN), a string such as ``"mm,kN"`` or a mapping
+        ``{"m": "mm", "N": "kN"}`` (not with ``dimensionless``).
 
     Returns
     -------
@@ -252,6 +299,10 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
         raise InputError(f"unknown kind {kind!r}; choose one of {', '.join(KINDS)}")
     matplotlib_figure()
     result = prepare(source, time_range=time_range, dimensionless=dimensionless)
+    if units is not None:
+        if dimensionless:
+            raise InputError("give units or dimensionless, not both")
+        result = result.in_units(units)
     found = notes(result, kind)
     order = result.levels.order
     if levels is not None:

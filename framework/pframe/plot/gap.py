@@ -15,6 +15,10 @@ STYLE = {"ABS": ("s", "tab:red"), "SRSS": ("D", "tab:orange"), "SRSS_EN_0.7": ("
          "DDC": ("^", "tab:green"), "simulated": ("o", "tab:blue")}
 
 
+#: records below which a fitted fragility dispersion is flagged as rough
+FEW_RECORDS = 10
+
+
 def is_gap_audit(path: str | Path) -> bool:
     """Whether ``path`` is a result file written by ``pframe gap``."""
     import h5py
@@ -87,8 +91,13 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
         median, beta = float(ds.fragility_median_any), float(ds.fragility_dispersion_any)
         if np.isfinite(median) and np.isfinite(beta):
             x = np.linspace(0, levels.max() * 1.3, 200)[1:]
-            ax2.plot(x, lognormal_probability(x, median, beta), "k-",
-                     label=f"lognormal fit: median {median:.3g} {units}, dispersion {beta:.2f}")
+            label = f"lognormal fit: median {median:.3g} {units}, dispersion {beta:.2f}"
+            if count < FEW_RECORDS:
+                caveat = (f"from {count} record{'s' if count > 1 else ''}: a rough estimate "
+                          f"(use {FEW_RECORDS} or more)")
+                label += f"\n{caveat}"
+                notes.append(f"fragility {caveat}")
+            ax2.plot(x, lognormal_probability(x, median, beta), "k-", label=label)
         else:
             notes.append("fragility not fitted")
         ax2.set_xlabel(f"{ds.attrs.get('measure', 'IM')} ({units})")
@@ -98,5 +107,22 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
         ax2.grid(True, alpha=0.3)
         ax2.legend(fontsize=8, loc="upper left")
         ax2.set_title("pounding fragility", fontsize=10)
-    fig.suptitle(ds.attrs.get("title", "gap audit"), fontsize=11)
+    fig.suptitle(audit_title(ds), fontsize=11)
     return fig, notes
+
+
+def audit_title(ds) -> str:
+    """What the audit ran, for the figure's title: the scene's file, the records and the
+    levels (not the scene's own title, which may describe another excitation or scaling)."""
+    source = Path(str(ds.attrs.get("source", "the scene"))).name
+    count = ds.sizes.get("record", 0)
+    records = (f"record {ds.record_name.values[0]}" if count == 1
+               else f"{count} records of {Path(str(ds.attrs.get('suite', ''))).name or 'a suite'}")
+    levels = ds.level.values
+    units = ds.level.attrs.get("units", "")
+    if units == "g":
+        scaled = (f"scaled to {ds.attrs.get('measure', 'IM')} = "
+                  + ", ".join(f"{v:g}" for v in levels) + " g")
+    else:
+        scaled = "as given"
+    return f"Gap audit of {source}: {records}, {scaled}"

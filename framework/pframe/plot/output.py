@@ -1,7 +1,7 @@
-"""Write figures to PNG or PDF.
+"""Write figures to PNG, SVG or PDF.
 
-PDF: one file, one page per figure (floor level). PNG: one image per figure; when there are
-several, ``FIGURE-<level>.png`` beside the name given (``eq14.png`` gives ``eq14-1.png``,
+PDF: one file, one page per figure (floor level). PNG and SVG: one image per figure; when
+there are several, ``FIGURE-<level>.png`` beside the name given (``eq14.png`` gives ``eq14-1.png``,
 ``eq14-2.png``, ...), and the name itself when there is one.
 """
 
@@ -12,7 +12,7 @@ from pathlib import Path
 from pframe import outputs
 from pframe.errors import InputError
 
-FORMATS = (".png", ".pdf")
+FORMATS = (".png", ".svg", ".pdf")
 #: pixels per inch of PNG images: legible at 100 % on a screen, small enough for docs
 PNG_DPI = 100
 
@@ -22,12 +22,13 @@ def output_paths(output: str | Path, levels) -> list[Path]:
     output = Path(output)
     suffix = output.suffix.lower()
     if suffix not in FORMATS:
-        raise InputError(f"{output}: the figure name must end in .png or .pdf (the format is "
-                         "taken from it)")
+        raise InputError(f"{output}: the figure name must end in .png, .svg or .pdf (the "
+                         "format is taken from it)")
     if not output.parent.exists():
         raise InputError(f"{output}: the folder {str(output.parent)!r} does not exist")
     if output.is_dir():
-        raise InputError(f"{output}: is a folder; give a file name ending in .png or .pdf")
+        raise InputError(f"{output}: is a folder; give a file name ending in .png, .svg or "
+                         ".pdf")
     levels = list(levels)
     if suffix == ".pdf" or len(levels) == 1:
         return [output]
@@ -36,9 +37,9 @@ def output_paths(output: str | Path, levels) -> list[Path]:
 
 def save(figs: dict, output: str | Path, title: str | None = None, *, overwrite: bool = True,
          inputs=()) -> list[Path]:
-    """Write ``level -> Figure`` to ``output`` (.png or .pdf); existing files are replaced
-    only with ``overwrite`` (``pframe plot`` passes its ``--overwrite``), never one of
-    ``inputs`` (the result drawn) nor anything but a regular file.
+    """Write ``level -> Figure`` to ``output`` (.png, .svg or .pdf); existing files are
+    replaced only with ``overwrite`` (``pframe plot`` passes its ``--overwrite``), never one
+    of ``inputs`` (the result drawn) nor anything but a regular file.
 
     Parameters
     ----------
@@ -47,7 +48,7 @@ def save(figs: dict, output: str | Path, title: str | None = None, *, overwrite:
     output : str or Path
         The figure file; its suffix chooses the format (rules in the module docstring).
     title : str, optional
-        The PDF's document title.
+        The document title (PDF, SVG).
 
     Returns
     -------
@@ -70,6 +71,10 @@ def save(figs: dict, output: str | Path, title: str | None = None, *, overwrite:
                 pdf.savefig(fig)
         return paths
     for path, fig in zip(paths, figs.values()):
+        kind = path.suffix.lower()[1:]
+        options = {"dpi": PNG_DPI} if kind == "png" else {
+            "metadata": {"Creator": f"pframe {pframe.__version__} (pframe plot)",
+                         **({"Title": title} if title else {})}}
         with outputs.replacing(path) as tmp:
-            fig.savefig(tmp, dpi=PNG_DPI, format="png")
+            fig.savefig(tmp, format=kind, **options)
     return paths

@@ -28,6 +28,7 @@ ENTITIES = ("node", "story", "contact", "building")
 PREFERRED = ("building_peak_displacement", "peak_displacement", "peak_contact_force",
              "building_peak_ductility", "ductility", "peak_story_drift", "impact_count")
 _NOT_RESPONSES = {"complete", "status", "steps_completed", "energy_balance_error",
+                  "algorithmic_dissipation", "trusted",
                   "newton_solves", "split_steps", "dt", "duration", "record_duration",
                   "scale_m_b", "scale_a_p", "scale_w_p"}
 
@@ -67,10 +68,16 @@ class _Sweep:
             self.axes = _text(ds.attrs["sweep_axes"]).split()
             self.zipped = _text(ds.attrs.get("sweep_combine", "product")) == "zip"
             self.sweep_dims = ["variant"] if self.zipped else list(self.axes)
-            self.coordinates, self.axis_units = {}, {}
+            self.coordinates, self.axis_units, self.shown = {}, {}, {}
             for a in self.axes:
                 var = ds[a] if a in ds.variables else ds[f"{a}_file"]
                 self.coordinates[a] = _strings_or_numbers(var.values)
+                if a not in ds.variables or var.attrs.get("long_name", "").startswith(
+                        "record file"):  # records: their names (file names) in legends
+                    files = [str(v) for v in self.coordinates[a]]
+                    stems = [Path(v).stem for v in files]
+                    if len(set(stems)) == len(stems):
+                        self.shown[a] = dict(zip(files, stems))
                 self.axis_units[a] = _text(var.attrs.get("units", ""))
             self.entities = {e: _strings_or_numbers(ds[f"{e}_name"].values)
                              for e in ENTITIES if f"{e}_name" in ds.variables}
@@ -240,8 +247,10 @@ def spectrum(path: str | Path, *, response: str | None = None, x: str | None = N
             chosen = column[mask & (xs == value)]
             if np.any(~np.isnan(chosen)):
                 peak[k] = np.nanmax(chosen)
-        label = None if key is None else (f"{curves} {key}" if curves in ENTITIES
-                                           else f"{curves} = {_shown(key)}")
+        label = None if key is None else (
+            f"{curves} {key}" if curves in ENTITIES
+            else sweep.shown[curves].get(str(key), str(key)) if curves in sweep.shown
+            else f"{curves} = {_shown(key)}")
         ax.plot(grid.astype(float), peak, marker="o", markersize=3, linewidth=1.2,
                 label=label, color=f"C{i % 10}")
     if _geometric(xs):

@@ -1,0 +1,238 @@
+"""An animation of a run as one self-contained HTML page (``pframe animate RUN.nc``).
+
+The buildings stand side by side, their floors at their floor numbers (scenes have no storey
+heights), each floor displaced sideways by its recorded displacement, drawn at one scale for
+the whole page: displacements and gaps are multiplied by the same factor, so two floors
+touch on the page when they touch in the run. A contact is drawn between its floors, red
+while its force is positive (closed), grey when open. Play, pause, a time slider and a speed
+choice; no file, script or font is loaded from elsewhere.
+
+The page's geometry is one pure function (``layout(data, frame)`` in the page's script), so
+a test can evaluate it outside a browser and compare it with the file.
+"""
+
+from __future__ import annotations
+
+import html
+import json
+from pathlib import Path
+
+import numpy as np
+
+from pframe.errors import InputError
+
+#: frames kept in the page at most (the histories are sampled evenly down to this)
+MAX_FRAMES = 2000
+#: drawing units: a floor is 1 high; a building is this wide
+WIDTH = 1.0
+#: the largest displacement is drawn this wide (in drawing units), gaps at the same scale
+SWAY = 0.6
+
+
+def _floor_of(name: str, index_in_building: int) -> float:
+    tail = name.split("/", 1)[1] if "/" in name else ""
+    return float(tail) if tail.isdigit() else float(index_in_building + 1)
+
+
+def animation_data(ds, max_frames: int = MAX_FRAMES) -> dict:
+    """What the page draws, from a result Dataset with a displacement history: times, the
+    floors of each building (name, height, displacement per frame), the contacts (floors
+    joined, closed per frame), and the drawing scale."""
+    if "displacement" not in ds:
+        raise InputError("the result holds no displacement history to animate; add "
+                         "displacement to a 'kind: history' recorder and solve again")
+    u = ds.displacement
+    time_dim = u.dims[0]
+    steps = ds.sizes[time_dim]
+    pick = np.unique(np.linspace(0, steps - 1, min(steps, max_frames)).round().astype(int))
+    t = np.asarray(ds[time_dim].values)[pick]
+    disp = np.asarray(u.values)[pick]
+    nodes = [str(n) for n in u[u.dims[1]].values]
+    buildings: dict[str, list[int]] = {}
+    for i, name in enumerate(nodes):
+        buildings.setdefault(name.split("/", 1)[0], []).append(i)
+
+    contacts = []
+    gaps_between: dict[tuple[str, str], float] = {}
+    if "contact_left" in ds.coords and "contact" in ds.dims:
+        force = None
+        if "contact_force" in ds and ds.contact_force.dims[0] == time_dim:
+            force = np.asarray(ds.contact_force.values)[pick]
+        for c, name in enumerate(str(n) for n in ds.contact.values):
+            left, right = str(ds.contact_left.values[c]), str(ds.contact_right.values[c])
+            if left not in nodes or right not in nodes:
+                continue
+            gap = float(ds.contact_gap.values[c]) if "contact_gap" in ds.coords else 0.0
+            pair = (left.split("/", 1)[0], right.split("/", 1)[0])
+            gaps_between[pair] = min(gap, gaps_between.get(pair, np.inf))
+            contacts.append({"name": name, "left": nodes.index(left),
+                             "right": nodes.index(right), "gap": gap,
+                             "closed": (None if force is None else
+                                        [int(v) for v in (force[:, c] > 0)])})
+    peak = float(np.nanmax(np.abs(disp))) if disp.size else 0.0
+    scale = SWAY / peak if peak > 0 else 1.0
+    # the bases: each building WIDTH wide; the space to the next is its smallest contact gap
+    # at the page's scale (a pair without contacts: half a width)
+    names = list(buildings)
+    base, x = {}, 0.0
+    for k, b in enumerate(names):
+        base[b] = x
+        if k + 1 < len(names):
+            gap = gaps_between.get((b, names[k + 1]), gaps_between.get((names[k + 1], b)))
+            x += WIDTH + (gap * scale if gap is not None and np.isfinite(gap) else 0.5 * WIDTH)
+    floors = []
+    for b, indices in buildings.items():
+        for k, i in enumerate(indices):
+            floors.append({"node": nodes[i], "building": b, "height": _floor_of(nodes[i], k),
+                           "base": base[b], "index": i})
+    units = str(u.attrs.get("units", ""))
+    return {
+        "title": str(ds.attrs.get("title", "")), "source": str(ds.attrs.get("source", "")),
+        "time": [float(v) for v in t], "time_units": str(ds[time_dim].attrs.get("units", "")),
+        "units": units, "scale": scale, "width": WIDTH,
+        "displacement": [[float(f"{v:.6g}") for v in row] for row in disp],
+        "floors": floors, "contacts": contacts,
+        "buildings": [{"name": b, "base": base[b]} for b in names],
+    }
+
+
+GEOMETRY = r"""
+// floor positions of one frame, in drawing units (pure: tests evaluate it outside a browser)
+function layout(data, frame) {
+  const row = data.displacement[frame];
+  const floors = data.floors.map(f => ({
+    node: f.node, building: f.building, y: f.height,
+    left: f.base + data.scale * row[f.index], right: f.base + data.width + data.scale * row[f.index]}));
+  const byIndex = {};
+  data.floors.forEach((f, k) => { byIndex[f.index] = floors[k]; });
+  const contacts = data.contacts.map(c => ({
+    name: c.name, closed: c.closed ? c.closed[frame] === 1 : false,
+    from: byIndex[c.left], to: byIndex[c.right]}));
+  return {floors: floors, contacts: contacts};
+}
+"""
+
+PAGE = """<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8">
+<title>{title}</title>
+<style>
+body {{ font-family: sans-serif; margin: 1em; }}
+#controls {{ display: flex; gap: 0.8em; align-items: center; margin: 0.5em 0; }}
+#slider {{ flex: 1; }}
+canvas {{ border: 1px solid #ccc; max-width: 100%; }}
+.note {{ color: #555; font-size: small; }}
+</style></head>
+<body>
+<h2>{heading}</h2>
+<div class="note">{note}</div>
+<div id="controls">
+<button id="play" type="button">Play</button>
+<input id="slider" type="range" min="0" max="{last}" value="0" step="1" aria-label="time">
+<span id="clock"></span>
+<label>speed <select id="speed">
+<option value="0.1">0.1 x</option><option value="0.25">0.25 x</option>
+<option value="0.5">0.5 x</option><option value="1" selected>1 x</option>
+<option value="2">2 x</option><option value="5">5 x</option></select></label>
+</div>
+<canvas id="view" width="900" height="560"></canvas>
+<script id="pframe-data" type="application/json">{data}</script>
+<script id="pframe-geometry">{geometry}</script>
+<script>
+const data = JSON.parse(document.getElementById("pframe-data").textContent);
+const canvas = document.getElementById("view"), ctx = canvas.getContext("2d");
+const slider = document.getElementById("slider"), clock = document.getElementById("clock");
+const button = document.getElementById("play"), speed = document.getElementById("speed");
+const highest = Math.max(1, ...data.floors.map(f => f.height));
+const xs = data.buildings.map(b => b.base);
+const xmin = Math.min(...xs) - 1.0, xmax = Math.max(...xs) + data.width + 1.0;
+const sx = canvas.width / (xmax - xmin), sy = (canvas.height - 60) / (highest + 0.6);
+const px = x => (x - xmin) * sx, py = y => canvas.height - 30 - y * sy;
+const colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf"];
+let frame = 0, playing = false, last = null;
+function draw(k) {{
+  frame = k; slider.value = k;
+  const g = layout(data, k);
+  ctx.clearRect(0, 0, canvas.width, canvas.height);
+  ctx.strokeStyle = "#444"; ctx.lineWidth = 2;
+  ctx.beginPath(); ctx.moveTo(0, py(0)); ctx.lineTo(canvas.width, py(0)); ctx.stroke();
+  data.buildings.forEach((b, n) => {{
+    const mine = g.floors.filter(f => f.building === b.name).sort((p, q) => p.y - q.y);
+    ctx.strokeStyle = colours[n % colours.length]; ctx.lineWidth = 3;
+    for (const side of ["left", "right"]) {{
+      ctx.beginPath(); ctx.moveTo(px(side === "left" ? b.base : b.base + data.width), py(0));
+      mine.forEach(f => ctx.lineTo(px(f[side]), py(f.y))); ctx.stroke();
+    }}
+    ctx.lineWidth = 5;
+    mine.forEach(f => {{ ctx.beginPath(); ctx.moveTo(px(f.left), py(f.y));
+      ctx.lineTo(px(f.right), py(f.y)); ctx.stroke(); }});
+    ctx.fillStyle = "#222"; ctx.font = "14px sans-serif";
+    ctx.fillText(b.name, px(b.base + data.width / 2) - 4, py(0) + 20);
+  }});
+  g.contacts.forEach(c => {{
+    ctx.strokeStyle = c.closed ? "#d62728" : "#bbbbbb"; ctx.lineWidth = c.closed ? 6 : 1.5;
+    const a = c.from.right <= c.to.left ? [c.from.right, c.to.left] : [c.from.left, c.to.right];
+    ctx.beginPath(); ctx.arc(px(a[0]), py(c.from.y), c.closed ? 7 : 3, 0, 2 * Math.PI);
+    ctx.moveTo(px(a[0]), py(c.from.y)); ctx.lineTo(px(a[1]), py(c.to.y)); ctx.stroke();
+  }});
+  clock.textContent = "t = " + data.time[k].toFixed(3) + " " + data.time_units;
+}}
+function tick(now) {{
+  if (!playing) return;
+  if (last !== null) {{
+    const target = data.time[frame] + (now - last) / 1000 * parseFloat(speed.value);
+    let k = frame;
+    while (k < data.time.length - 1 && data.time[k + 1] <= target) k++;
+    if (k === data.time.length - 1) {{ playing = false; button.textContent = "Play"; }}
+    if (k !== frame) {{ draw(k); last = now; }}
+  }} else {{ last = now; }}
+  requestAnimationFrame(tick);
+}}
+button.onclick = () => {{
+  playing = !playing; button.textContent = playing ? "Pause" : "Play"; last = null;
+  if (playing && frame === data.time.length - 1) draw(0);
+  if (playing) requestAnimationFrame(tick);
+}};
+slider.oninput = () => draw(parseInt(slider.value));
+// a page opened with #t=<time> shows that time (tests and links)
+const asked = /t=([0-9.eE+-]+)/.exec(location.hash);
+let start = 0;
+if (asked) {{ const t = parseFloat(asked[1]);
+  while (start < data.time.length - 1 && data.time[start + 1] <= t) start++; }}
+draw(start);
+// #t=<time>&frame: the drawn frame as a PNG in the page (headless browsers dump the DOM)
+if (/frame/.test(location.hash)) {{
+  const img = document.createElement("img"); img.id = "pframe-frame";
+  img.src = canvas.toDataURL("image/png"); document.body.appendChild(img);
+}}
+</script>
+</body></html>
+"""
+
+
+def animation_html(ds, max_frames: int = MAX_FRAMES) -> str:
+    """The page (see the module docstring) of a result Dataset."""
+    data = animation_data(ds, max_frames)
+    title = data["title"] or data["source"] or "pframe run"
+    note = (f"{len(data['time'])} frames; displacements and gaps drawn "
+            f"{data['scale']:.3g} times their size ({data['units']}); floors at their floor "
+            "numbers; a contact is red while it is closed.")
+    text = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
+    return PAGE.format(title=html.escape(f"pframe animate: {title}"),
+                       heading=html.escape(title), note=html.escape(note),
+                       last=len(data["time"]) - 1, data=text, geometry=GEOMETRY)
+
+
+def write_animation(result, output: str | Path, overwrite: bool = True) -> Path:
+    """Write the page of ``result`` (a Dataset or a result file) to ``output`` (.html)."""
+    from pframe import outputs
+    from pframe.tables import result_dataset
+
+    path = Path(output)
+    if path.suffix.lower() not in (".html", ".htm"):
+        raise InputError(f"{path}: the animation is an HTML page; give a name ending in .html")
+    path = outputs.check_output(path, overwrite=overwrite, what="animation")
+    ds = result_dataset(result)
+    text = animation_html(ds)
+    with outputs.replacing(path) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return path

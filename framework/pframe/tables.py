@@ -1,0 +1,261 @@
+"""What a run did, as tables people read: the summary of a result (``pframe.summary``,
+``pframe summary``, ``pframe solve --summary``) and its histories as CSV (``pframe export``).
+
+The summary is one long table (pandas DataFrame), a row per fact: ``part`` (run, energy,
+node, story, contact, warning), ``name`` (the node, storey or contact; empty for the run),
+``quantity``, ``value`` and ``units``. It is written as CSV (that table) or Markdown (a
+section per part, one row per node, storey or contact). Peaks come from the envelopes when
+the run recorded them, else from the histories. Storey ductility is the peak drift over the
+yield drift of a yielding storey (bilinear: yield force / stiffness, or its yield drift),
+read from the scene the result holds. Scenes have no storey heights, so drifts are given as
+lengths, not ratios.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pframe.errors import InputError
+
+#: the entities of a result, in the order the summary shows them
+ENTITIES = ("node", "story", "contact", "building")
+#: run attributes shown (attribute, quantity, units)
+RUN = (("status", "status", ""), ("accuracy", "accuracy (energy verdict)", ""),
+       ("trusted", "trusted (1: yes)", "1"), ("complete", "complete (1: yes)", "1"),
+       ("steps_completed", "steps computed", "1"), ("dt", "time step", "s"),
+       ("energy_balance_error", "energy balance error (of the input)", "1"),
+       ("algorithmic_dissipation", "numerical dissipation (of the input)", "1"))
+
+
+def _text(value) -> str:
+    return value.decode("utf-8") if isinstance(value, bytes) else str(value)
+
+
+def result_dataset(result):
+    """The Dataset of ``result`` (a Dataset, or a result file's path, read whole) with the
+    names as coordinates (:func:`pframe.api.indexed`)."""
+    if isinstance(result, (str, Path)):
+        from pframe.api import open as open_result
+
+        ds = open_result(result)
+        ds.load()
+        ds.close()
+        return ds
+    from pframe.api import indexed
+
+    return indexed(result)
+
+
+def _where(result) -> str:
+    return str(result) if isinstance(result, (str, Path)) else "the Dataset"
+
+
+def _peaks(ds, entity: str) -> dict[str, tuple]:
+    """quantity -> (values along ``entity``, units): the envelopes ``peak_*``, else the
+    largest absolute value of each history over time."""
+    import numpy as np
+
+    out = {}
+    for name, var in ds.data_vars.items():
+        if var.dims == (entity,) and name.startswith("peak_"):
+            out[name[len("peak_"):]] = (np.asarray(var.values, float), var.attrs.get("units", ""))
+    for name, var in ds.data_vars.items():
+        if len(var.dims) == 2 and var.dims[1] == entity and var.dims[0].startswith("t") \
+                and name not in out and var.dtype.kind == "f":
+            values = np.nanmax(np.abs(np.asarray(var.values)), axis=0)
+            out[name] = (values, var.attrs.get("units", ""))
+    return out
+
+
+def _yield_drifts(ds) -> tuple[dict[str, float], str]:
+    """Yield drift of each yielding storey, in the file's units, from the scene the result
+    holds; with the reason when there is none."""
+    if "input_yaml" not in ds.attrs:
+        return {}, "the result holds no scene (input_yaml)"
+    from pframe.api import scene_of_attributes
+
+    try:
+        loaded = scene_of_attributes(dict(ds.attrs), "the result", Path("."))
+    except InputError as exc:
+        return {}, f"the result's scene cannot be read: {exc}"
+    scale = 1.0
+    if _text(ds.attrs.get("units_system", "")) == "dimensionless":
+        if "scale_l_e" not in ds.attrs:
+            return {}, "a dimensionless result without its length scale (scale_l_e)"
+        scale = float(ds.attrs["scale_l_e"])
+    out = {}
+    for story in loaded.expanded.stories:
+        names = tuple(getattr(story.law, "param_names", ()))
+        values = dict(zip(names, story.packed))
+        if "yield_force" in values and "stiffness" in values:
+            out[story.name] = values["yield_force"] / values["stiffness"] / scale
+        elif "yield_drift" in values:
+            out[story.name] = values["yield_drift"] / scale
+    return out, ""
+
+
+def summary(result, output: str | Path | None = None):
+    """The summary of a run (a Dataset of :func:`pframe.solve` or :func:`pframe.open`, or a
+    result file's path) as a pandas DataFrame with columns part, name, quantity, value,
+    units: the run's status and energy verdict, its energy balance, the peaks per node and
+    storey, storey ductility (peak drift / yield drift, yielding storeys), impacts and peak
+    force per contact, and its warnings. ``output``: also write it, as CSV (``.csv``) or
+    Markdown (``.md``)."""
+    import numpy as np
+    import pandas as pd
+
+    ds = result_dataset(result)
+    if "sweep_axes" in ds.attrs or _text(ds.attrs.get("pframe_kind", "")) == "gap_audit":
+        what = "a sweep" if "sweep_axes" in ds.attrs else "a gap audit"
+        raise InputError(f"{_where(result)}: the summary is of one run (pframe solve); this is "
+                         f"{what}'s result, which holds many: read it as a Dataset "
+                         "(pframe.open) or draw it with pframe plot")
+    rows = []
+    energy_units = "1" if _text(ds.attrs.get("units_system", "")) == "dimensionless" else "J"
+    rows.append(("run", "", "title", _text(ds.attrs.get("title", "")), ""))
+    for key, quantity, units in RUN:
+        if key in ds.attrs:
+            value = ds.attrs[key]
+            value = _text(value) if isinstance(value, (str, bytes)) else float(
+                np.asarray(value).item())
+            rows.append(("run", "", quantity, value, units))
+    for key, value in ds.attrs.items():
+        if key.startswith("energy_") and key != "energy_balance_error":
+            rows.append(("energy", "", key[len("energy_"):].replace("_", " "), float(value),
+                         energy_units))
+    ductility, why = _yield_drifts(ds) if "story" in ds.dims else ({}, "")
+    for entity in ENTITIES:
+        if entity not in ds.dims:
+            continue
+        names = [str(n) for n in ds[entity].values]
+        peaks = _peaks(ds, entity)
+        for i, name in enumerate(names):
+            for quantity, (values, units) in peaks.items():
+                rows.append((entity, name, f"peak {quantity.replace('_', ' ')}",
+                             float(values[i]), units))
+            if entity == "story" and "story_drift" in peaks and name in ductility:
+                drift, units = peaks["story_drift"]
+                rows.append((entity, name, "yield drift", float(ductility[name]), units))
+                rows.append((entity, name, "ductility (peak drift / yield drift)",
+                             float(drift[i] / ductility[name]), "1"))
+            if entity == "contact" and "impact_count" in ds:
+                rows.append((entity, name, "impacts", int(ds.impact_count.values[i]), "1"))
+    if why and not ductility:
+        rows.append(("warning", "", "ductility not computed", why, ""))
+    for line in _text(ds.attrs.get("warnings", "")).splitlines():
+        if line.strip():
+            rows.append(("warning", "", "warning", line, ""))
+    table = pd.DataFrame(rows, columns=["part", "name", "quantity", "value", "units"])
+    if output is not None:
+        write(table, output)
+    return table
+
+
+def markdown(table) -> str:
+    """The summary as Markdown: the run, its energies, then a table per part (one row per
+    node, storey or contact, a column per quantity), then the warnings."""
+    lines = []
+    title = table[(table.part == "run") & (table.quantity == "title")]
+    lines.append(f"# Summary: {title.value.iloc[0]}" if len(title) else "# Summary")
+    for part, heading in (("run", "Run"), ("energy", "Energy balance")):
+        rows = table[(table.part == part) & (table.quantity != "title")]
+        if len(rows):
+            lines += ["", f"## {heading}", "", "| quantity | value | units |", "|---|---|---|"]
+            lines += [f"| {r.quantity} | {_cell(r.value)} | {r.units} |"
+                      for r in rows.itertuples()]
+    for part, heading in (("node", "Nodes"), ("story", "Storeys"), ("contact", "Contacts"),
+                          ("building", "Buildings")):
+        rows = table[table.part == part]
+        if not len(rows):
+            continue
+        quantities = list(dict.fromkeys(rows.quantity))
+        units = {q: rows[rows.quantity == q].units.iloc[0] for q in quantities}
+        header = [part] + [f"{q} ({units[q]})" if units[q] else q for q in quantities]
+        lines += ["", f"## {heading}", "", "| " + " | ".join(header) + " |",
+                  "|" + "---|" * len(header)]
+        for name in dict.fromkeys(rows.name):
+            mine = rows[rows.name == name].set_index("quantity").value
+            lines.append("| " + " | ".join([name] + [_cell(mine.get(q, "")) for q in quantities])
+                         + " |")
+    warnings = table[table.part == "warning"]
+    lines += ["", "## Warnings", ""]
+    lines += [f"- {r.quantity}: {r.value}" if r.quantity != "warning" else f"- {r.value}"
+              for r in warnings.itertuples()] or ["none"]
+    return "\n".join(lines) + "\n"
+
+
+def _cell(value) -> str:
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    return str(value).replace("|", "\\|")
+
+
+def check_summary_path(output: str | Path, overwrite: bool = True, inputs=()) -> Path:
+    """The path of a summary file, checked before any work: ``.csv`` or ``.md``, its folder
+    exists, not an existing file unless ``overwrite``."""
+    from pframe import outputs
+
+    path = Path(output)
+    kind = path.suffix.lower()
+    if kind not in (".csv", ".md"):
+        raise InputError(f"{path}: a summary is written as .csv or .md, not "
+                         f"{kind or 'a file without a suffix'}")
+    return outputs.check_output(path, inputs=inputs, overwrite=overwrite, what="summary file")
+
+
+def write(table, output: str | Path, overwrite: bool = True) -> Path:
+    """Write a summary table as CSV (``.csv``) or Markdown (``.md``), whole or not at all."""
+    from pframe import outputs
+
+    path = check_summary_path(output, overwrite)
+    kind = path.suffix.lower()
+    with outputs.replacing(path) as tmp:
+        if kind == ".csv":
+            table.to_csv(tmp, index=False)
+        else:
+            tmp.write_text(markdown(table), encoding="utf-8")
+    return path
+
+
+def export_csv(result, folder: str | Path) -> list[Path]:
+    """Every history of a result as CSV, one file per variable (``displacement.csv``: a
+    column of time, then one per node, each header with its units, e.g. ``A/3 [m]``), in
+    ``folder`` (made if missing). Returns the files written."""
+    import numpy as np
+
+    from pframe import outputs
+
+    ds = result_dataset(result)
+    folder = Path(folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{folder}: not a folder; give a folder for the CSV files")
+    if not folder.parent.exists():
+        raise InputError(f"{folder}: the folder {str(folder.parent)!r} does not exist")
+    folder.mkdir(exist_ok=True)
+    written = []
+    for name, var in ds.data_vars.items():
+        if var.ndim not in (1, 2) or not var.dims[0].startswith("t") or var.dtype.kind not in "fi":
+            continue
+        time = ds[var.dims[0]]
+        columns = [f"{var.dims[0]} [{_text(time.attrs.get('units', ''))}]"]
+        units = _text(var.attrs.get("units", ""))
+        if var.ndim == 2:
+            columns += [f"{n} [{units}]" for n in ds[var.dims[1]].values]
+        else:
+            columns += [f"{name} [{units}]"]
+        data = np.column_stack([np.asarray(time.values), np.asarray(var.values).reshape(
+            time.size, -1)])
+        path = folder / f"{name}.csv"
+        with outputs.replacing(path) as tmp:
+            with open(tmp, "w", encoding="utf-8", newline="") as f:
+                f.write(",".join(_csv_field(c) for c in columns) + "\n")
+                np.savetxt(f, data, delimiter=",", fmt="%.10g")
+        written.append(path)
+    if not written:
+        raise InputError("the result holds no histories to export (its recorders kept "
+                         "envelopes only); add a 'kind: history' recorder")
+    return written
+
+
+def _csv_field(text: str) -> str:
+    return f'"{text}"' if any(c in text for c in ',"\n') else text
