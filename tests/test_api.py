@@ -304,13 +304,14 @@ def test_copies_and_variants_keep_their_record(tmp_path, monkeypatch):
 
 
 def test_to_opensees_script_runs_and_agrees(tmp_path):
-    """The script of ``scene.to_opensees()`` runs on its own and gives pframe's histories."""
+    """The script of ``pframe.to_opensees(scene)`` runs on its own and gives pframe's
+    histories."""
     pytest.importorskip("openseespy.opensees", reason="OpenSeesPy (peers extra) is absent",
                         exc_type=ImportError)
     scene = pframe.load(MODELS / "wu2021-eq14-linear.yaml")
     script = tmp_path / "model_ops.py"
-    script.write_text(scene.to_opensees().replace("OUT_NPZ = None",
-                                                  f"OUT_NPZ = {str(tmp_path / 'o.npz')!r}"))
+    script.write_text(pframe.to_opensees(scene).replace(
+        "OUT_NPZ = None", f"OUT_NPZ = {str(tmp_path / 'o.npz')!r}"))
     done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
                           timeout=600, cwd=tmp_path)
     assert done.returncode == 0, done.stderr
@@ -326,7 +327,7 @@ def test_to_opensees_script_runs_and_agrees(tmp_path):
 
 def test_opensees_refuses_laws_it_cannot_model():
     with pytest.raises(pframe.InputError, match="improved_kelvin"):
-        pframe.load(MODELS / "wu2021-eq14.yaml").to_opensees()
+        pframe.to_opensees(pframe.load(MODELS / "wu2021-eq14.yaml"))
 
 
 def test_sweep_returns_the_file_dataset(tmp_path):

@@ -2,8 +2,9 @@
 
 An import circle makes the result of an import depend on which module was imported first;
 a private name (``_x``) used from another package is a dependency its owner cannot see. Both
-are checked on the source (``ast``), for the imports made when a module is imported (its
-top level), which are the ones that can go round in a circle at import time.
+are checked on the source (``ast``), over every import: those made when a module is imported
+(its top level), which can go round in a circle at import time, and those inside functions,
+which can hide a layer reaching above itself (a scene model that imports the API).
 """
 
 from __future__ import annotations
@@ -23,11 +24,11 @@ def _modules() -> dict[str, Path]:
     return out
 
 
-def _top_level_imports(path: Path, modules: dict) -> set[str]:
-    """The pframe modules a module imports when it is imported (including the packages
-    those imports run first)."""
+def _imports(path: Path, modules: dict) -> set[str]:
+    """The pframe modules a module imports, at its top level or inside its functions
+    (including the packages those imports run first)."""
     found = set()
-    for node in ast.parse(path.read_text(encoding="utf-8")).body:
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
         names = []
         if isinstance(node, ast.ImportFrom) and node.module and node.module.startswith("pframe"):
             names = [f"{node.module}.{a.name}" if f"{node.module}.{a.name}" in modules
@@ -43,7 +44,7 @@ def _top_level_imports(path: Path, modules: dict) -> set[str]:
 
 def test_no_import_circle():
     modules = _modules()
-    graph = {m: _top_level_imports(p, modules) - {m} for m, p in modules.items()}
+    graph = {m: _imports(p, modules) - {m} for m, p in modules.items()}
     for m in graph:  # a package's own __init__ is run before its modules: not an edge back
         graph[m] = {t for t in graph[m] if not m.startswith(t + ".")}
     state: dict[str, int] = {}
@@ -70,7 +71,7 @@ def test_the_check_finds_a_circle(tmp_path, monkeypatch):
     package.mkdir()
     (package / "__init__.py").write_text("")
     (package / "a.py").write_text("from pframe.b import x\n")
-    (package / "b.py").write_text("from pframe.a import y\n")
+    (package / "b.py").write_text("def f():\n    from pframe.a import y\n")  # inside a function
     monkeypatch.setattr(__import__(__name__), "PACKAGE", package)
     try:
         test_no_import_circle()

@@ -19,6 +19,7 @@ from pframe.errors import EnvironmentFailure, InputError, PframeError  # noqa: E
 _API = {
     # reading, running, results
     "load": "pframe.api", "solve": "pframe.api", "sweep": "pframe.sweep", "open": "pframe.api",
+    "to_opensees": "pframe.api",
     "IncompleteRun": "pframe.api", "AccuracyWarning": "pframe.verdict",
     "summary": "pframe.tables",
     # figures (matplotlib: pip install "pframe[plot]"); pframe.plot and pframe.sweep are also
@@ -38,12 +39,12 @@ _API = {
     "GeneralizedAlpha": "pframe.integrators", "CentralDifference": "pframe.integrators",
 }
 
-__all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Contact", "Cycloidal", "Envelope",
-           "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History", "IncompleteRun",
-           "InitialConditions", "InputError", "Newmark", "Newton", "Node", "Output",
-           "OutputScales", "PframeError",
-           "Rayleigh", "Record", "Ricker", "Scene", "Sine", "Story", "StoryProperties",
-           "__version__", "load", "open", "plot", "solve", "summary", "sweep"]
+__all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Contact",
+           "Cycloidal", "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History",
+           "IncompleteRun", "InitialConditions", "InputError", "Newmark", "Newton", "Node",
+           "Output", "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene",
+           "Sine", "Story", "StoryProperties", "__version__", "load", "open", "plot", "solve",
+           "summary", "sweep", "to_opensees"]
 
 
 def __getattr__(name: str):

@@ -62,6 +62,17 @@ def _origin(scene):
     return entry[1] if entry is not None and entry[0]() is scene else None
 
 
+def to_opensees(scene, *, base_dir: str | Path | None = None) -> str:
+    """A standalone OpenSeesPy script of a scene (anything :func:`load` takes): linear
+    contacts, elastic or bilinear storeys, starting at rest; it runs without pframe, to
+    cross-check it. Laws OpenSees cannot model are refused with every reason at once."""
+    from pframe.assemble import assemble
+    from pframe.assemble.plan import peer_scene
+    from pframe.peers.opensees import script_text
+
+    return script_text(peer_scene(assemble(_loaded(scene, base_dir).expanded)))
+
+
 def loaded_scene(source, base_dir=None):
     """The validated scene with where it came from (:class:`pframe.reader.LoadedScene`)
     of anything :func:`load` takes."""

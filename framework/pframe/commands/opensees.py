@@ -5,14 +5,14 @@ from __future__ import annotations
 
 def _opensees(args) -> int:
     from pframe import outputs
-    from pframe.api import load, loaded_scene, run_inputs
+    from pframe.api import loaded_scene, run_inputs, to_opensees
     from pframe.commands import write_text_output
 
     loaded = loaded_scene(args.model)
     if args.output is not None:  # before the script is made: the scene and record stay
         outputs.check_output(args.output, inputs=[args.model, *run_inputs(loaded)],
                              overwrite=args.overwrite, what="script")
-    write_text_output(load(loaded).to_opensees(), args.output, args.overwrite,
+    write_text_output(to_opensees(loaded), args.output, args.overwrite,
                       inputs=[args.model, *run_inputs(loaded)])
     return 0
 

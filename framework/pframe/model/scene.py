@@ -527,16 +527,6 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             return yaml.safe_dump(given_fields(self), sort_keys=False, allow_unicode=True,
                                   width=100)
 
-        def to_opensees(self) -> str:
-            """A standalone OpenSeesPy script of this scene (linear contacts, elastic or
-            bilinear storeys, starting at rest): runs without pframe, to cross-check it."""
-            from pframe.api import loaded_scene
-            from pframe.assemble import assemble
-            from pframe.assemble.plan import peer_scene
-            from pframe.peers.opensees import script_text
-
-            return script_text(peer_scene(assemble(loaded_scene(self).expanded)))
-
     return Scene
 
 

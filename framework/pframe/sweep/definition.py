@@ -19,9 +19,12 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import Field, model_validator
 
+from pframe.errors import InputError
+from pframe.model.load import validated
 from pframe.model.scene import Base
 from pframe.quantities import QUANTITIES
 from pframe.resources import MAX_AXIS_VALUES, MAX_VARIANTS, product
+from pframe.yamltext import compose
 
 #: dimension names a sweep file may not take for an axis (they are the file's own)
 RESERVED = ("node", "story", "contact", "building", "time", "variant")
@@ -158,3 +161,12 @@ class SweepFile(Base):
                 f"{' x '.join(f'{c:,}' for c in counts)} = {count:,} variants; a sweep has at "
                 f"most {MAX_VARIANTS:,}: use fewer values per axis, or split the study")
         return self
+
+
+def validated_sweep(text: str, source: str) -> tuple[SweepFile, dict]:
+    """The sweep file's model and the line of every value, or an InputError at its line."""
+    data, lines = compose(text, source)
+    if not isinstance(data, dict):
+        raise InputError(f"{source}: a sweep file is a YAML mapping (base or scene, axes, "
+                         "combine, keep, chunk)")
+    return validated(SweepFile, data, lines, source), lines

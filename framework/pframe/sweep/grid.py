@@ -9,9 +9,8 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.model.scene import Envelope, History
-from pframe.sweep.definition import RESPONSES, SweepFile
+from pframe.sweep.definition import RESPONSES, SweepFile, validated_sweep
 from pframe.sweep.paths import check_targets, resolve
-from pframe.sweep.reading import validated_sweep
 from pframe.sweep.spec import ENVELOPES, SweepDefinition
 from pframe.yamltext import compose as _compose
 from pframe.yamltext import where as _where

@@ -7,8 +7,8 @@ import os
 from pathlib import Path
 
 from pframe.errors import InputError
-from pframe.model.load import read_input, validated
-from pframe.sweep.definition import SweepFile
+from pframe.model.load import read_input
+from pframe.sweep.definition import validated_sweep
 from pframe.sweep.spec import SweepDefinition, code_fingerprint
 from pframe.yamltext import compose as _compose
 from pframe.yamltext import where as _where
@@ -25,15 +25,6 @@ def _read_bytes(path: Path, where: str, what: str) -> bytes:
 
 def _record_key(content: bytes, name: str) -> str:
     return f"{hashlib.sha256(content).hexdigest()[:16]}-{Path(name).name}"
-
-
-def validated_sweep(text: str, source: str) -> tuple[SweepFile, dict]:
-    """The sweep file's model and the line of every value, or an InputError at its line."""
-    data, lines = _compose(text, source)
-    if not isinstance(data, dict):
-        raise InputError(f"{source}: a sweep file is a YAML mapping (base or scene, axes, "
-                         "combine, keep, chunk)")
-    return validated(SweepFile, data, lines, source), lines
 
 
 def load_sweep(path: str | Path, chunk: int | None = None) -> SweepDefinition:
