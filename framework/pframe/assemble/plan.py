@@ -143,15 +143,7 @@ def _sparse_lowest(springs, scale, n: int, count: int) -> np.ndarray:
     from scipy.sparse import coo_matrix
     from scipy.sparse.linalg import eigsh
 
-    rows, cols, vals = [], [], []
-    for il, iu, k in springs:
-        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
-        if il >= 0:
-            off = -k * scale[il] * scale[iu]
-            rows += [il, il, iu]
-            cols += [il, iu, il]
-            vals += [k * scale[il] ** 2, off, off]
-    matrix = coo_matrix((vals, (rows, cols)), shape=(n, n)).tocsc()
+    matrix = coo_matrix(timescales.scaled_triplets(springs, scale), shape=(n, n)).tocsc()
     values = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM", return_eigenvectors=False)
     return np.sqrt(np.clip(np.sort(values), 0, None))
 

@@ -106,7 +106,7 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from scipy.sparse import coo_matrix
         from scipy.sparse.linalg import eigsh
 
-        matrix = coo_matrix(_triplets(springs, scale, n), shape=(n, n)).tocsc()
+        matrix = coo_matrix(scaled_triplets(springs, scale), shape=(n, n)).tocsc()
         values, vectors = eigsh(matrix, k=min(SPARSE_MODES, n - 1), sigma=0, which="LM")
         order = np.argsort(values)
         return (np.sqrt(np.clip(values[order], 0.0, None)),
@@ -131,7 +131,9 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.concatenate(omegas), np.concatenate(shares)
 
 
-def _triplets(springs, scale, n):
+def scaled_triplets(springs, scale):
+    """(values, (rows, cols)) of M^-1/2 K M^-1/2 (``scale`` = M^-1/2) from springs
+    ``(i, j, k)`` between DOFs i and j (i = -1: the ground), for a sparse matrix."""
     rows, cols, vals = [], [], []
     for il, iu, k in springs:
         rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
