@@ -7,9 +7,9 @@ ground motion. The reference shares the constitutive laws with the kernel (it ca
 ``force``) but not the time stepping. See ``docs/reference-solution.md``.
 """
 
-from pframe.reference.ground import Ground, of_scene, sampled, sine
+from pframe.reference.ground import Ground, of_scene, sampled
 from pframe.reference.result import Event, Impact, ReferenceResult
 from pframe.reference.solver import METHODS, default_atol, solve
 
 __all__ = ["METHODS", "Event", "Ground", "Impact", "ReferenceResult", "default_atol",
-           "of_scene", "sampled", "sine", "solve"]
+           "of_scene", "sampled", "solve"]

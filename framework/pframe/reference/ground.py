@@ -6,7 +6,6 @@ one: a Runge-Kutta step across a kink of the forcing loses its order and its err
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -36,20 +35,6 @@ def sampled(times: np.ndarray, values: np.ndarray) -> Ground:
         return np.interp(t, times, values, left=0.0, right=0.0)
 
     return Ground(function, times, "samples, interpolated linearly")
-
-
-def sine(amplitude: float, frequency: float, end: float = np.inf) -> Ground:
-    """a_p sin(w_p t) until ``end`` (s), then zero (the kernel's samples: ``t <= end``)."""
-    limit = end * (1.0 + 1e-12) if np.isfinite(end) else np.inf
-
-    def function(t):
-        if np.ndim(t) == 0:  # the integrator's calls: keep them cheap
-            return amplitude * math.sin(frequency * t) if t <= limit else 0.0
-        t = np.asarray(t, dtype=float)
-        return np.where(t <= limit, amplitude * np.sin(frequency * t), 0.0)
-
-    breaks = np.array([limit]) if np.isfinite(limit) else np.empty(0)
-    return Ground(function, breaks, f"{amplitude:g} sin({frequency:g} t)")
 
 
 def of_scene(loaded) -> Ground:
