@@ -311,6 +311,18 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     problems = []  # every reason at once
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
+    c = plan.integrator
+    if c.explicit:
+        problems.append("it integrates with an implicit integrator (newmark, hht, "
+                        "generalized_alpha or wilson_theta), not central_difference")
+    if c.scheme == "alpha_family" and c.alpha_m != 0.0:
+        problems.append("OpenSees' GeneralizedAlpha does not integrate the generalised-alpha "
+                        "method (its Newton update takes the inertia at the step end instead "
+                        "of at t(n+1-alpha_m), and a linear oscillator's amplitude grows under "
+                        "it): compare with newmark, hht or wilson_theta")
+    if c.events and plan.contact_names:
+        problems.append("OpenSees has no event-aware stepping: set 'events: false' on the "
+                        "integrator")
     if np.any(plan.story_damping_stiffness):
         problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
     for group in plan.story_groups:
@@ -363,4 +375,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
+        integrator=(("wilson_theta", c.theta) if c.scheme == "wilson_theta"
+                    else ("newmark", c.gamma, c.beta) if not c.alpha
+                    else ("hht", c.alpha_f, c.gamma, c.beta)),
     )

@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pframe.integrators import SCHEMES
 from pframe.kernel import state as slots
 from pframe.kernel.state import (
     CONTACT,
@@ -190,7 +191,8 @@ def _settings(plan, laws) -> Settings:
     c = plan.integrator
     return Settings(
         gamma=float(c.gamma), beta=float(c.beta), alpha_m=float(c.alpha_m),
-        alpha_f=float(c.alpha_f), tolerance=float(plan.tolerance),
+        alpha_f=float(c.alpha_f), scheme=SCHEMES.index(c.scheme), theta=float(c.theta),
+        tolerance=float(plan.tolerance),
         absolute_tolerance=float(plan.absolute_tolerance),
         max_iterations=int(plan.max_iterations), bandwidth=int(plan.bandwidth),
         max_split=int(MAX_SPLIT), linear=bool(plan.linear and not c.explicit),

@@ -33,6 +33,9 @@ STATUS_CODE, STATUS_STEP, STATUS_KIND, STATUS_INDEX = 0, 1, 2, 3
 STATUS_SLOTS = 4
 # element kinds in status[b, STATUS_KIND]
 NODE, STORY, CONTACT = 0, 1, 2
+# Settings.scheme: the implicit integrator (kernel/c/integrator.c): the generalised-alpha family
+# (Newmark, HHT, Chung-Hulbert) or Wilson's theta method
+ALPHA_FAMILY, WILSON_THETA = 0, 1
 
 # energy[b, slot] (J): work of the ground motion, kinetic energy now, work of damping, of the
 # storeys, of the contacts, kinetic energy at t = 0, the ground motion's work counted in
@@ -78,7 +81,9 @@ Model = namedtuple("Model", [
 ])
 
 Settings = namedtuple("Settings", [
-    "gamma", "beta", "alpha_m", "alpha_f",  # generalised-alpha coefficients
+    "gamma", "beta", "alpha_m", "alpha_f",  # Newmark's gamma and beta, the inertia and force
+                                            # weights of the previous step (alpha family)
+    "scheme", "theta",                      # ALPHA_FAMILY or WILSON_THETA, and Wilson's theta
     "tolerance", "absolute_tolerance",      # Newton: |du| <= tolerance |u| + absolute_tolerance
     "max_iterations",                       # Newton iterations per (sub-)step
     "bandwidth",                            # half-bandwidth of the effective stiffness
@@ -86,7 +91,7 @@ Settings = namedtuple("Settings", [
     "linear",     # constant effective stiffness: factor once, one solve per step
     "explicit",   # central difference: no solve
     "events",     # locate contact onset and separation inside steps
-    "alpha",      # equilibrium off the step end (HHT, generalised-alpha)
+    "alpha",      # equilibrium off the step end (HHT, generalised-alpha, Wilson-theta)
     "always_refactor",  # refactor before every solve (a test's check that reuse changes no bit)
     "material_plugins", "contact_plugins",  # function pointers of plug-in laws (ids after
                                             # the built-in ones; see pframe.kernel.plugins)
@@ -146,6 +151,7 @@ C_TYPES = {
               "cd_parts": "int64_t *", "event_parts": "int64_t *",
               **{name: "int64_t" for name in SIZES}},
     "Settings": {"gamma": "double", "beta": "double", "alpha_m": "double", "alpha_f": "double",
+                 "scheme": "int64_t", "theta": "double",
                  "tolerance": "double", "absolute_tolerance": "double",
                  "max_iterations": "int64_t", "bandwidth": "int64_t", "max_split": "int64_t",
                  "linear": "int64_t", "explicit": "int64_t", "events": "int64_t",
@@ -170,6 +176,7 @@ C_CONSTANTS = {
     "status columns": ("STATUS_CODE", "STATUS_STEP", "STATUS_KIND", "STATUS_INDEX",
                        "STATUS_SLOTS"),
     "element kinds": ("NODE", "STORY", "CONTACT"),
+    "integrator schemes": ("ALPHA_FAMILY", "WILSON_THETA"),
     "energy slots": ("INPUT", "KINETIC", "DAMPING", "STOREYS", "CONTACTS", "KINETIC_0",
                      "INPUT_ABS", "START", "ALGORITHMIC", "ENERGY_SLOTS"),
     "counters": ("SOLVES", "FACTORISATIONS", "EVALUATIONS", "SPLIT_STEPS", "GATHERS",

@@ -21,7 +21,7 @@ from pydantic import (
     model_validator,
 )
 
-from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark
+from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark, WilsonTheta
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.quantities import QUANTITIES as _QUANTITIES
@@ -328,6 +328,7 @@ Integrator = Annotated[
         Annotated[Newmark, Tag("newmark")],
         Annotated[HHT, Tag("hht")],
         Annotated[GeneralizedAlpha, Tag("generalized_alpha")],
+        Annotated[WilsonTheta, Tag("wilson_theta")],
         Annotated[CentralDifference, Tag("central_difference")],
     ],
     Discriminator(_integrator_tag),
@@ -348,7 +349,7 @@ class Analysis(Base):
     """Time integration: integrator, step, duration and Newton settings."""
 
     integrator: Integrator = Field(Newmark(), description="The time integrator (type: newmark, "
-                                   "hht, generalized_alpha or central_difference).")
+                                   "hht, generalized_alpha, wilson_theta or central_difference).")
     dt: Positive = Field(description="Time step (s).")
     duration: Positive = Field(description="Analysed time (s).")
     newton: Newton = Field(Newton(), description="Newton-Raphson settings (nonlinear scenes).")

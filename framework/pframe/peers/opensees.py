@@ -17,8 +17,17 @@ Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node
   its storeys (``-doRayleigh 1``); contacts are undamped;
 * ground motion: ``Path`` series driving a ``UniformExcitation`` (load ``-m a_g`` in relative
   coordinates), its sample times accumulated as OpenSees accumulates time, so that step ``n``
-  sees ``a_g[n]`` exactly; Newmark average acceleration, Newton iterations with a
-  ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and binary recorders.
+  sees ``a_g[n]`` exactly; Newton iterations with a ``NormDispIncr`` test, one
+  ``analyze(steps, dt)`` call and binary recorders;
+* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's) or ``WilsonTheta``.
+  Not generalised-alpha: OpenSees' ``GeneralizedAlpha`` sets the nodes' accelerations to
+  a(n+1) in its Newton update (``GeneralizedAlpha::update``) where its tangent and the method
+  have a(n+1-alpha_m); a linear oscillator (w dt = 5, rho_inf = 0.6) grows in amplitude under
+  it, where the method's amplification matrix and pframe decay.
+  OpenSees' Wilson-theta reads the ground motion at t + theta dt from the record (between the
+  next two samples) where the method, as pframe has it, extrapolates the step's own samples
+  linearly (Wilson, Farhoomand & Bathe 1973): the two agree to round-off under a ground
+  motion linear in time, and differ by O(dt^2) under others.
 
 Known difference from pframe, far below any tolerance: ``Steel01`` ignores a trial strain
 within ``DBL_EPSILON`` (2.2e-16, here metres of drift) of its committed strain and keeps the
@@ -148,7 +157,7 @@ def simulate(workdir):
     ops.system("BandGeneral")
     ops.test("NormDispIncr", TOL, MAX_ITER)
     ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
+    ops.integrator(*INTEGRATOR)
     ops.analysis("Transient")
 
     start = time.perf_counter()
@@ -183,6 +192,18 @@ if __name__ == "__main__":
 '''
 
 
+def opensees_integrator(integrator: tuple) -> tuple:
+    """OpenSees' ``integrator`` arguments for a :class:`PeerScene` integrator."""
+    kind = integrator[0]
+    if kind == "newmark":
+        return ("Newmark", float(integrator[1]), float(integrator[2]))
+    if kind == "wilson_theta":
+        return ("WilsonTheta", float(integrator[1]))
+    if kind == "hht":  # OpenSees weighs the step end by its alpha
+        return ("HHT", 1.0 - float(integrator[1]), float(integrator[2]), float(integrator[3]))
+    raise ValueError(f"unknown integrator {kind!r}")
+
+
 def _data_block(scene: PeerScene, out_npz: str | None) -> str:
     """Python assignments holding the scene; ``repr`` of floats round-trips exactly."""
     if len(scene.masses) != len(scene.node_names):
@@ -214,6 +235,7 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         "STEPS": int(scene.steps),
         "TOL": float(scene.tolerance),
         "MAX_ITER": int(scene.max_iterations),
+        "INTEGRATOR": opensees_integrator(scene.integrator),
         "OUT_NPZ": out_npz,
     }
     lines = [

@@ -42,6 +42,9 @@ class PeerScene:
     tolerance : float
         Newton test NormDispIncr tolerance (m).
     max_iterations : int
+    integrator : tuple
+        ``("newmark", gamma, beta)``, ``("hht", alpha, gamma, beta)`` with alpha the weight of
+        the step's start (pframe's convention), or ``("wilson_theta", theta)``.
     """
 
     node_names: list
@@ -59,3 +62,4 @@ class PeerScene:
     steps: int
     tolerance: float = 1e-12
     max_iterations: int = 50
+    integrator: tuple = ("newmark", 0.5, 0.25)

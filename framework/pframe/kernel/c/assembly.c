@@ -104,6 +104,14 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         int64_t *calls = st->contact_calls + b * m->contact_laws;
         double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
         const int64_t held = (int64_t)w->scalars[HELD];
+        /* With located events, Wilson-theta's evaluation point (t + theta h, past the
+         * sub-step's end) holds every contact on the branch it has at the sub-step start: a
+         * contact that closes or opens beyond the sub-step's end must not act inside it (a
+         * dashpot's jump there changed the sub-step before an impact by O(h)); one that
+         * crosses inside it is located (events.c) and the sub-step cut there. The step end
+         * (tangent off: the commit's evaluation) sees the real law. */
+        const int hold_start = tangent && s->events && s->scheme == WILSON_THETA;
+        const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
         for (j = 0; j < nc; j++) {
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
@@ -118,6 +126,10 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                  * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
                  * delta = 0 stays off the search). */
                 at = w->scalars[HELD_CLOSED] != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
+            } else if (hold_start) {
+                /* closed: in contact, or touching with a force (restarted at its onset) */
+                at = (pen_c[e] > 0.0 || force_c[e] > 0.0) ? py_max(d, HELD_DEPTH)
+                                                           : py_min(d, 0.0);
             }
             contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, at, r, out);
             f = out[0];

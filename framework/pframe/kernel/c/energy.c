@@ -19,6 +19,12 @@
  * closes to round-off for every integrator of the family: its error measures the run's
  * arithmetic and the integrator's consistency (a pair that creates energy shows there), while
  * D_algorithmic says how much the integrator damped (pframe.verdict judges both).
+ *
+ * For a scheme whose evaluation point is not a weighted mean of the step's ends (Wilson-theta,
+ * integrator.c) the last two terms are replaced by the work over the step of the forces at the
+ * evaluation point, G_e . du, less the trapezoidal works: the identity behind the balance needs
+ * only Newmark's end relations and ae = alpha_m A + (1 - alpha_m) a, so it holds there too (the
+ * code below takes that form for every scheme off the step end).
  */
 
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
@@ -74,11 +80,10 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
             }
             energy[CONTACTS] += work_contact;
         }
-        inertial = ((0.25 - 0.5 * s->gamma) * h * h * d_aMa - (s->gamma - 0.5) * h * v_Mda
-                    + (0.5 - s->alpha_m) * du_Mda);
+        inertial = inertial_dissipation(s, h, d_aMa, v_Mda, du_Mda);
         if (s->alpha) {
-            /* equilibrium holds at the alpha point, with the forces evaluated there (not the
-             * weighted end forces: the two differ where a law is nonlinear) */
+            /* equilibrium holds at the evaluation point, with the forces evaluated there (not
+             * the weighted end forces: the two differ where a law is nonlinear) */
             const double trapezoid = work_damp + work_story + work_contact - work_in;
             energy[ALGORITHMIC] += inertial + w->scalars[ALPHA_WORK] - trapezoid;
         } else {
@@ -86,7 +91,7 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         }
     }
 
-    shadow = (s->beta - 0.25) * h * h;
+    shadow = kinetic_shadow(s, h);
     kinetic = 0.0;
     raw = 0.0;
     for (i = 0; i < n; i++) {

@@ -29,6 +29,10 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define STORY 1
 #define CONTACT 2
 
+/* integrator schemes */
+#define ALPHA_FAMILY 0
+#define WILSON_THETA 1
+
 /* energy slots */
 #define INPUT 0
 #define KINETIC 1
@@ -107,6 +111,8 @@ typedef struct Settings {
     double beta;
     double alpha_m;
     double alpha_f;
+    int64_t scheme;
+    double theta;
     double tolerance;
     double absolute_tolerance;
     int64_t max_iterations;
