@@ -331,3 +331,32 @@ def test_generalised_alpha_is_not_exported():
     plan = dataclasses.replace(plan, integrator=GeneralizedAlpha(rho_infinity=0.6).coefficients())
     with pytest.raises(InputError, match="GeneralizedAlpha"):
         peer_scene(plan)
+
+
+def test_walls_agree():
+    """Walls (contacts to the ground, OpenSees: zeroLength to the fixed node) on both sides of
+    a yielding building under a sine: both programs to round-off."""
+    scene = {
+        "title": "walls",
+        "buildings": [{"name": "A", "floors": 2, "mass": 1000.0,
+                       "story": {"material": "bilinear", "stiffness": 4.0e5,
+                                 "yield_drift": 0.01, "alpha": 0.1}}],
+        "contacts": [
+            {"name": "east", "nodes": ["A/1", "ground"], "gap": 0.01, "law": "linear",
+             "stiffness": 1.0e8},
+            {"name": "west", "nodes": ["ground", "A/2"], "gap": 0.02, "law": "linear",
+             "stiffness": 1.0e8}],
+        "damping": {"ratio": 0.05, "stiffness": "initial"},
+        "excitation": {"kind": "sine", "amplitude": 4.0, "frequency": 9.0},
+        "analysis": {"dt": 0.0002, "duration": 3.0,
+                     "newton": {"tolerance": 1.0e-14, "absolute_tolerance": 1.0e-15}},
+        "recorders": [{"kind": "history", "quantities": ["displacement", "contact_force"]}],
+    }
+    plan = assemble(parse_scene(json.dumps(scene)).expanded)
+    result = simulate(plan)
+    assert result.completed(), result.describe_failure()
+    assert np.all(result.impacts[0] > 2)
+    opensees = run(peer_scene(plan))
+    for quantity in ("displacement", "contact_force"):
+        difference = max_relative_difference(result.history[quantity][0], opensees[quantity])
+        assert difference <= DISPLACEMENT_RTOL, f"{quantity}: {difference:.3e}"

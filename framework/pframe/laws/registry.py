@@ -63,7 +63,9 @@ class ContactContext:
 
     @property
     def effective_mass(self) -> float:
-        """m1 m2 / (m1 + m2) (kg); a node of infinite mass would give m1."""
+        """m1 m2 / (m1 + m2) (kg); a wall (the ground: infinite mass) gives the floor's."""
+        if math.isinf(self.mass_left) or math.isinf(self.mass_right):
+            return min(self.mass_left, self.mass_right)
         return self.mass_left * self.mass_right / (self.mass_left + self.mass_right)
 
 

@@ -3,6 +3,7 @@ indices, law parameters packed into numbers. Every problem is reported at its YA
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -209,20 +210,27 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     contacts, seen, rebounds = [], {}, {}
     for c, contact in enumerate(scene.contacts):
         path = ("contacts", c)
-        left = node_index(contact.nodes[0], path + ("nodes", 0))
-        right = node_index(contact.nodes[1], path + ("nodes", 1))
-        if building_of[left] == building_of[right]:
-            raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
-                                                f"buildings; both nodes are in {building_of[left]!r}")
+        if contact.nodes[0] == "ground" and contact.nodes[1] == "ground":
+            raise ModelError(path + ("nodes",), "a contact needs a node on at least one side; "
+                                                "'ground' on one side is a wall")
+        left, right = (-1 if node == "ground" else node_index(node, path + ("nodes", i))
+                       for i, node in enumerate(contact.nodes))
         name = contact.name or default_contact_name(contact.nodes)
-        _check_row_order(name, buildings, building_of[left], building_of[right], contact.nodes,
-                         path + ("nodes",))
+        if left >= 0 and right >= 0:
+            if building_of[left] == building_of[right]:
+                raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
+                                 f"buildings (or a node and a wall: 'ground'); both nodes are "
+                                 f"in {building_of[left]!r}")
+            _check_row_order(name, buildings, building_of[left], building_of[right],
+                             contact.nodes, path + ("nodes",))
         if name in seen:
             raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
         seen[name] = True
         law = get_law("contact", contact.law)
         params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
-        context = ContactContext(masses[left], masses[right], excitation_frequency)
+        # a wall is the ground: of infinite mass, the impact's effective mass is the floor's
+        context = ContactContext(masses[left] if left >= 0 else math.inf,
+                                 masses[right] if right >= 0 else math.inf, excitation_frequency)
         try:
             with np.errstate(all="ignore"):
                 packed = _finite(law.pack(params, context), path)

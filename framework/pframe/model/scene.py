@@ -153,6 +153,14 @@ class Node(Base):
     mass: Positive = Field(description="Lumped floor mass (kg).")
 
 
+#: a node's name, or the ground (a storey's base, a wall's side of a contact, a link's anchor)
+NodeOrGround = Annotated[
+    str,
+    Field(pattern=r"^(ground|[A-Za-z0-9_.-]+/[A-Za-z0-9_.-]+)$",
+          description="A node name '<building>/<floor>', or 'ground'."),
+]
+
+
 class StoryBase(Base):
     """A storey shear spring between two nodes, or a node and the ground."""
 
@@ -174,13 +182,16 @@ def default_story_name(nodes) -> str:
 
 
 class ContactBase(Base):
-    """A compression-only contact element across the gap between two buildings."""
+    """A compression-only contact element across the gap between two buildings, or between a
+    floor and a wall (the ground)."""
 
     name: str | None = Field(None, description="Defaults to '<left>-<right>'.")
-    nodes: tuple[NodeName, NodeName] = Field(
+    nodes: tuple[NodeOrGround, NodeOrGround] = Field(
         description="[left, right]: penetration = u_left - u_right - gap. The buildings "
         "stand from left to right in the order the scene declares them; the left node's "
-        "building must come first (a contact written the other way round is refused)."
+        "building must come first (a contact written the other way round is refused). "
+        "'ground' on one side is a wall moving with the ground (a moat or retaining wall, a "
+        "stop): [A/1, ground] stands right of A/1, [ground, A/1] left of it."
     )
     gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
 

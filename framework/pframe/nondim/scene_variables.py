@@ -35,6 +35,7 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.excitation.characteristic import characteristic
+from pframe.laws import ContactContext
 from pframe.nondim.buckingham import Variable
 from pframe.nondim.dimensions import QUANTITY, Dimension
 from pframe.nondim.fields import dimension_of
@@ -80,8 +81,9 @@ def _material_values(law, packed) -> dict[str, tuple[Dimension, float]]:
 
 def _contact_values(contact, element, masses) -> dict[str, tuple[Dimension, float]]:
     law = element.law
-    left, right = element.nodes
-    m_eff = masses[left] * masses[right] / (masses[left] + masses[right])
+    left, right = element.nodes  # -1: a wall (the ground), of infinite mass
+    m_eff = ContactContext(masses[left] if left >= 0 else math.inf,
+                           masses[right] if right >= 0 else math.inf).effective_mass
     out = {root: (dimension_of(what, "contact", law.name, root), value)
            for root, (what, value) in law.governing(element.packed, m_eff).items()}
     if getattr(contact, "restitution", None) is not None:

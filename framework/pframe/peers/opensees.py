@@ -92,7 +92,9 @@ def build():
         # left -> right: deformation u_right - u_left drops below -gap when the floors
         # overlap, where ElasticPPGap (negative Fy and gap) gives stress k (defo + gap) < 0.
         ops.uniaxialMaterial("ElasticPPGap", tag, k, -HUGE_FY, -gap, 0.0)
-        ops.element("zeroLength", tag, left + 1, right + 1, "-mat", tag, "-dir", 1)
+        # a wall: the ground's node on its side (-1)
+        ops.element("zeroLength", tag, ground if left < 0 else left + 1,
+                    ground if right < 0 else right + 1, "-mat", tag, "-dir", 1)
         contacts.append(tag)
 
     for b, (alpha_m, beta_k, nodes, story_ids) in enumerate(RAYLEIGH):

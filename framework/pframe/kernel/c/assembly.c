@@ -3,6 +3,7 @@
  * The residual is R = P - M (a_g + a) - C_m v - sum of element forces, at the point held in
  * w->ue, w->ve, w->ae (the step end for Newmark, the alpha point for HHT and
  * generalised-alpha). Storeys and contacts are visited in the plan's order (grouped by law);
+ * a DOF of -1 is the ground (a storey's base, a wall's side of a contact);
  * each calls its law through the law-id switch of laws.c. A scene without contacts has no
  * contact elements, so the contact loop does not run.
  */
@@ -116,8 +117,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
-            const double d = ue[left] - ue[right] - gap[e];
-            const double r = ve[left] - ve[right];
+            const double d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
+            const double r = dof_value(ve, left) - dof_value(ve, right);
             double f, kd, kr, at = d;
             if (e == held) {
                 /* Located events (events.c) hold the contact on one branch, so that its
@@ -140,8 +141,10 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             calls[law] += 1;
             force[e] = f;
             penetration[e] = d;
-            R[left] -= f;
-            R[right] += f;
+            if (left >= 0) /* -1: a wall, the ground's side */
+                R[left] -= f;
+            if (right >= 0)
+                R[right] += f;
             if (tangent) {
                 double kk = (kd + c1 * kr) * wf;
                 if (kk != kks[e]) {
@@ -213,9 +216,12 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->contacts; e++) {
         const double kk = kks[e];
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-        band[left * (bw + 1)] += kk;
-        band[right * (bw + 1)] += kk;
-        band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
+        if (left >= 0)
+            band[left * (bw + 1)] += kk;
+        if (right >= 0)
+            band[right * (bw + 1)] += kk;
+        if (left >= 0 && right >= 0)
+            band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
     }
     st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
     if (ldl_factor(band, n, bw))

@@ -166,12 +166,13 @@ static double evaluation_work(const Model *m, State *st, Work *w, int64_t b, dou
         work += (damping[i] * ve[i] + mass[i] * age) * (u[i] - U[i]);
     for (e = 0; e < ns; e++) {
         const int64_t lo = m->story_dofs[2 * e], up = m->story_dofs[2 * e + 1];
-        const double d = lo >= 0 ? u[up] - u[lo] : u[up];
+        const double d = u[up] - dof_value(u, lo);
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
     }
     for (e = 0; e < nc; e++) {
         const int64_t left = m->contact_dofs[2 * e], right = m->contact_dofs[2 * e + 1];
-        work += w->contact_force[e] * ((u[left] - u[right] - gap[e]) - pen_c[e]);
+        work += w->contact_force[e]
+                * ((dof_value(u, left) - dof_value(u, right) - gap[e]) - pen_c[e]);
     }
     return work;
 }

@@ -42,6 +42,8 @@ static double py_min(double a, double b) { return b < a ? b : a; }
 static int64_t imax(int64_t a, int64_t b) { return a > b ? a : b; }
 static int64_t imin(int64_t a, int64_t b) { return a < b ? a : b; }
 static int64_t iabs(int64_t a) { return a < 0 ? -a : a; }
+/* x[i] of a DOF, or 0 for the ground (-1): a storey's lower end, a wall's side */
+static double dof_value(const double *x, int64_t i) { return i >= 0 ? x[i] : 0.0; }
 
 /* functions used before the file that defines them */
 static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
