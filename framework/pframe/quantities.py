@@ -10,4 +10,7 @@ QUANTITIES = {
     "contact_force": ("contact", "N", "contact force, compression positive"),
     "contact_penetration": ("contact", "m", "contact penetration (0 while the gap is open)"),
     "ground_acceleration": (None, "m/s^2", "ground acceleration"),
+    "link_deformation": ("link", "m", "link deformation (second minus first node displacement)"),
+    "link_force": ("link", "N", "link force, tension positive (the material's force at the "
+                   "link's deformation and rate)"),
 }

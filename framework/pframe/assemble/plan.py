@@ -52,6 +52,8 @@ class Plan:
     dt: np.ndarray  # (B,)
     mass: np.ndarray  # (B, n) kg
     mass_damping: np.ndarray  # (B, n) a0 m (N s/m)
+    # the spring elements, s of them: the storeys, then the links (link_names; no Rayleigh
+    # damping, a1 = 0)
     story_dofs: np.ndarray  # (s, 2), -1 = ground
     story_k0: np.ndarray  # (B, s) initial stiffness (N/m)
     story_beta: np.ndarray  # (B, s) stiffness-proportional damping coefficient a1 (s)
@@ -68,6 +70,12 @@ class Plan:
     cd_parts: np.ndarray = None  # (B,) central-difference sub-steps per step
     event_parts: np.ndarray = None  # (B,) event-aware sub-steps per step while in contact
     warnings: tuple[str, ...] = ()
+    link_names: tuple[str, ...] = ()  # the last len(link_names) spring elements
+
+    @property
+    def n_springs(self) -> int:
+        """Spring elements in the kernel: the storeys, then the links."""
+        return len(self.story_names) + len(self.link_names)
 
     @property
     def batch(self) -> int:
@@ -154,8 +162,9 @@ def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
     a1 = np.zeros(len(ex.stories))
     for b, name in enumerate(ex.buildings):
         damping = ex.damping[b]
-        if damping.ratio == 0.0:
-            continue
+        if damping.ratio == 0.0 or not np.any(ex.story_building == b):
+            continue  # no storeys: masses carried by links only (a tuned mass) are damped by
+            # their links, not by a Rayleigh fit
         nodes = np.flatnonzero(ex.node_building == b)
         modes = damping.modes
         try:
@@ -205,6 +214,7 @@ def batch_key(ex: Expanded) -> tuple:
         ex.node_names,
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
         tuple((e.name, e.nodes, e.law) for e in ex.contacts),
+        tuple((e.name, e.nodes, e.law) for e in ex.links),
         ex.steps,
         ex.integrator,
         ex.recorders,
@@ -228,7 +238,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
             raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps, "
                              "recorders or Newton settings; a batch may vary numbers only")
     n = len(first.node_names)
-    edges = [e.nodes for e in first.stories] + [e.nodes for e in first.contacts]
+    springs = first.stories + first.links  # the kernel's spring elements: storeys, then links
+    edges = [e.nodes for e in springs] + [e.nodes for e in first.contacts]
     order = reverse_cuthill_mckee(n, edges)
     dof_of_node = np.empty(n, dtype=np.int64)
     dof_of_node[order] = np.arange(n)
@@ -238,13 +249,14 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                        dtype=np.int64)
         return out.reshape(len(elements), 2)
 
-    k0 = np.array([[_initial_tangent(e.law, e.packed) for e in ex.stories] for ex in variants])
-    k0 = k0.reshape(len(variants), len(first.stories))
+    k0 = np.array([[_initial_tangent(e.law, e.packed) for e in ex.stories + ex.links]
+                   for ex in variants])
+    k0 = k0.reshape(len(variants), len(springs))
     mass_damping, story_beta = [], []
     for b, ex in enumerate(variants):
         a0, a1 = _rayleigh(ex, k0[b], dof_of_node, n)
         mass_damping.append(a0 * ex.masses[order])
-        story_beta.append(a1)
+        story_beta.append(np.concatenate([a1, np.zeros(len(first.links))]))
 
     history: dict[str, int] = {}
     envelope: list[str] = []
@@ -257,12 +269,14 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if not first.contacts:
-        history = {q: k for q, k in history.items() if not q.startswith("contact_")}
-        envelope = [q for q in envelope if not q.startswith("contact_")]
+    for kind, elements in (("contact_", first.contacts), ("link_", first.links)):
+        if not elements:
+            history = {q: k for q, k in history.items() if not q.startswith(kind)}
+            envelope = [q for q in envelope if not q.startswith(kind)]
 
     damping_codes = np.array(
-        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building],
+        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building]
+        + [0] * len(first.links),  # links: no Rayleigh term (a1 = 0)
         dtype=np.int64,
     )
     plan = Plan(
@@ -281,11 +295,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         dt=np.array([ex.dt for ex in variants]),
         mass=np.array([ex.masses[order] for ex in variants]),
         mass_damping=np.array(mass_damping),
-        story_dofs=dofs(first.stories),
+        story_dofs=dofs(springs),
         story_k0=k0,
-        story_beta=np.array(story_beta).reshape(len(variants), len(first.stories)),
+        story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
-        story_groups=_groups(first.stories, [[e.packed for e in ex.stories] for ex in variants]),
+        story_groups=_groups(springs, [[e.packed for e in ex.stories + ex.links]
+                                       for ex in variants]),
         contact_dofs=dofs(first.contacts),
         contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
             len(variants), len(first.contacts)),
@@ -296,6 +311,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         initial_velocity=np.array([ex.initial_velocity[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
+        link_names=tuple(e.name for e in first.links),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
@@ -325,7 +341,14 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                         "integrator")
     if np.any(plan.story_damping_stiffness):
         problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
+    ns = len(plan.story_names)
     for group in plan.story_groups:
+        if np.any(group.index >= ns) and group.law.name not in (
+                "elastic", "bilinear", "viscous", "kelvin_voigt"):
+            problems.append(f"it models links with Elastic, Steel01, Viscous or a Parallel of "
+                            f"Elastic and Viscous; the scene's links use {group.law.name!r}")
+        if not np.any(group.index < ns):
+            continue
         if group.law.opensees not in ("Elastic", "Steel01"):
             problems.append(f"it models storeys with Elastic or Steel01 (the laws elastic and "
                             f"bilinear); the scene's storeys use {group.law.name!r}, which has "
@@ -340,10 +363,20 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     materials = []
     for group in plan.story_groups:
         for j, i in enumerate(group.index):
+            if i >= ns:
+                continue
             p = group.params[member, j]
             materials.append((i, ("elastic", p[0]) if group.law.opensees == "Elastic"
                               else ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
+    ns = len(plan.story_names)
+    links = sorted((i, ("elastic", p[0]) if group.law.name == "elastic"
+                    else ("bilinear", p[0], p[1], p[2]) if group.law.name == "bilinear"
+                    else ("viscous", p[0], p[1]) if group.law.name == "viscous"
+                    else ("kelvin_voigt", p[0], p[1], p[2]))
+                   for group in plan.story_groups
+                   for i, p in zip(group.index, group.params[member]) if i >= ns)
+    link_materials = [m for _, m in links]
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         stiffness[group.index] = group.params[member, :, 0]
@@ -352,7 +385,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     for name, dof in zip(plan.node_names, plan.node_dof):
         names[dof] = name
     building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
-    story_building = building_of_node[plan.story_dofs[:, 1]]
+    story_building = building_of_node[plan.story_dofs[:ns, 1]]
     for b in range(len(plan.buildings)):
         nodes = np.flatnonzero(building_of_node == b)
         stories = np.flatnonzero(story_building == b)
@@ -362,7 +395,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
-        story_nodes=plan.story_dofs.copy(),
+        story_nodes=plan.story_dofs[:ns].copy(),
         story_names=list(plan.story_names),
         story_materials=materials,
         contact_nodes=plan.contact_dofs.copy(),
@@ -375,6 +408,8 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
+        link_nodes=plan.story_dofs[ns:].copy(),
+        link_materials=link_materials,
         integrator=(("wilson_theta", c.theta) if c.scheme == "wilson_theta"
                     else ("newmark", c.gamma, c.beta) if not c.alpha
                     else ("hht", c.alpha_f, c.gamma, c.beta)),

@@ -129,7 +129,7 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
 
 
 #: the quantities whose peaks the summary prints
-_PEAKS = ("displacement", "story_drift", "contact_force")
+_PEAKS = ("displacement", "story_drift", "contact_force", "link_force")
 
 
 def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verdict=None):
@@ -144,7 +144,8 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     dt = float(plan.dt[0])
     print(f"{loaded.source}: {plan.steps} steps of dt = {dt:.4g} s ({plan.steps * dt:.4g} s), "
           f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
-          f"{len(plan.contact_names)} contacts")
+          f"{len(plan.contact_names)} contacts"
+          + (f", {len(plan.link_names)} links" if plan.link_names else ""))
     peaks = {}
     for q in _PEAKS:
         if q in result.envelope:
@@ -165,6 +166,14 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     for c, name in enumerate(plan.contact_names):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
         print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
+    if plan.link_names:
+        work = result.energy_terms(0)["links"]
+        forces = peaks.get("link_force")
+        for j, name in enumerate(plan.link_names):
+            force = f": peak force {forces[j]:.4g} N" if forces is not None else ""
+            print(f"  link {name}{force}")
+        print(f"  links: work {work:.4g} J (dissipated by their dampers and held in their "
+              "springs at the end)")
     print(f"  status: {result.describe_failure()}; energy balance error "
           f"{verdict.balance_error:.2e}, numerical dissipation {verdict.algorithmic:.2e}: "
           f"{_verdict_words(verdict, plan)}")

@@ -40,8 +40,8 @@ from pframe.quantities import QUANTITIES
 #: the energy balance's terms as result files name them, and their slots
 ENERGY_TERMS = (("input", slots.INPUT), ("kinetic", slots.KINETIC),
                 ("damping", slots.DAMPING), ("storeys", slots.STOREYS),
-                ("contacts", slots.CONTACTS), ("initial_kinetic", slots.KINETIC_0),
-                ("algorithmic", slots.ALGORITHMIC))
+                ("contacts", slots.CONTACTS), ("links", slots.LINKS),
+                ("initial_kinetic", slots.KINETIC_0), ("algorithmic", slots.ALGORITHMIC))
 
 #: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
 MAX_SPLIT = 10
@@ -51,7 +51,7 @@ ALWAYS_REFACTOR = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
-_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3}
+_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4}
 
 
 @dataclass
@@ -98,15 +98,17 @@ class Result:
         e = self.energy[b]
         return max(abs(e[slots.INPUT]), e[slots.KINETIC] + e[slots.KINETIC_0]
                    + abs(e[slots.DAMPING]) + abs(e[slots.STOREYS]) + abs(e[slots.CONTACTS])
-                   + abs(e[slots.ALGORITHMIC]), 1e-300)
+                   + abs(e[slots.LINKS]) + abs(e[slots.ALGORITHMIC]), 1e-300)
 
     def energy_error(self, b: int = 0) -> float:
-        """|W_input - (dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic)|
+        """|W_input - (dE_kinetic + W_damping + W_storeys + W_contacts + W_links +
+        D_algorithmic)|
         relative to the largest energy term of the run: zero but for round-off, Newton's
         tolerance and an inconsistent step (kernel/c/energy.c)."""
         e = self.energy[b]
         balance = e[slots.INPUT] - (e[slots.KINETIC] - e[slots.KINETIC_0] + e[slots.DAMPING]
-                                    + e[slots.STOREYS] + e[slots.CONTACTS] + e[slots.ALGORITHMIC])
+                                    + e[slots.STOREYS] + e[slots.CONTACTS] + e[slots.LINKS]
+                                    + e[slots.ALGORITHMIC])
         return abs(balance) / self.energy_scale(b)
 
     def energy_terms(self, b: int = 0) -> dict[str, float]:
@@ -124,7 +126,9 @@ class Result:
             return "completed"
         plan = self.plan
         t = state * float(plan.dt[b])
-        if kind == STORY:
+        if kind == STORY and index >= len(plan.story_names):
+            where = f"link {plan.link_names[index - len(plan.story_names)]}"
+        elif kind == STORY:
             where = f"storey {plan.story_names[index]}"
         elif kind == CONTACT:
             where = f"contact {plan.contact_names[index]}"
@@ -157,7 +161,7 @@ def _law_table(groups, count: int, batch: int, ids: dict) -> tuple:
 def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
     B = plan.batch
     story_law, story_order, story_params, story_state = _law_table(
-        plan.story_groups, len(plan.story_names), B, ids)
+        plan.story_groups, plan.n_springs, B, ids)
     contact_law, contact_order, contact_params, contact_state = _law_table(
         plan.contact_groups, len(plan.contact_names), B, ids)
     ones = np.ones(B, dtype=np.int64)
@@ -205,7 +209,7 @@ def _settings(plan, laws) -> Settings:
 
 def _state(plan, story_state, contact_state, n_materials: int, n_contact_laws: int) -> State:
     B, n = plan.mass.shape
-    s, c = len(plan.story_names), len(plan.contact_names)
+    s, c = plan.n_springs, len(plan.contact_names)
     return _normalised(State(
         U=plan.initial_displacement.copy(), V=plan.initial_velocity.copy(), A=np.zeros((B, n)),
         drift=np.zeros((B, s)), story_force=np.zeros((B, s)),
@@ -228,8 +232,8 @@ class _Recorders:
     def __init__(self, plan, sink):
         B = plan.batch
         self.plan, self.sink = plan, sink
-        self.widths = [(plan.n_dof, len(plan.story_names), len(plan.contact_names), 1)[
-            _SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
+        self.widths = [(plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
+                        len(plan.link_names))[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
         self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
         for q, every in plan.history:
             self.every[RECORDABLE.index(q)] = every
@@ -295,7 +299,7 @@ class _Recorders:
 def work_arrays(plan) -> Work:
     """Scratch arrays of one member at a time: its trial state (for Newmark the evaluation
     point is the step end itself), the band, the tangents in its factorisation."""
-    n, s, c = plan.n_dof, len(plan.story_names), len(plan.contact_names)
+    n, s, c = plan.n_dof, plan.n_springs, len(plan.contact_names)
     u, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
     if plan.integrator.alpha:
         ue, ve, ae = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -368,7 +372,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     structs = []
     for (lo, hi), (work, saved) in zip(pieces, scratch):
         sliced = _slice(model, lo, hi)
-        sizes = dict(batch=hi - lo, dofs=plan.n_dof, stories=len(plan.story_names),
+        sizes = dict(batch=hi - lo, dofs=plan.n_dof, stories=plan.n_springs,
+                     links=len(plan.link_names),
                      contacts=len(plan.contact_names), story_width=model.story_params.shape[2],
                      story_states=st.story_committed.shape[2],
                      contact_width=model.contact_params.shape[2],

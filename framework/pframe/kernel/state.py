@@ -42,8 +42,9 @@ ALPHA_FAMILY, WILSON_THETA = 0, 1
 # absolute value, the mechanical energy at t = 0 (the last two bound runaway growth), and the
 # energy the integrator's own relations remove (algorithmic dissipation: HHT, generalised
 # alpha, Newmark with gamma > 1/2; see kernel/c/energy.c)
-INPUT, KINETIC, DAMPING, STOREYS, CONTACTS, KINETIC_0, INPUT_ABS, START, ALGORITHMIC = range(9)
-ENERGY_SLOTS = 9
+INPUT, KINETIC, DAMPING, STOREYS, CONTACTS, KINETIC_0, INPUT_ABS, START, ALGORITHMIC, \
+    LINKS = range(10)
+ENERGY_SLOTS = 10
 
 # counters[b, slot]: linear solves, factorisations of the effective stiffness, evaluations of
 # the residual (each evaluates every element once), steps split into sub-steps, and values
@@ -54,14 +55,18 @@ COUNTER_NAMES = ("solves", "factorisations", "evaluations", "split_steps", "gath
 
 # recordable quantities, in the order of Recording.history and Recording.envelope
 DISPLACEMENT, VELOCITY, ACCELERATION, STORY_DRIFT, STORY_FORCE, CONTACT_FORCE, \
-    CONTACT_PENETRATION, GROUND_ACCELERATION = range(8)
+    CONTACT_PENETRATION, GROUND_ACCELERATION, LINK_DEFORMATION, LINK_FORCE = range(10)
 RECORDABLE = ("displacement", "velocity", "acceleration", "story_drift", "story_force",
-              "contact_force", "contact_penetration", "ground_acceleration")
+              "contact_force", "contact_penetration", "ground_acceleration", "link_deformation",
+              "link_force")
 RECORDABLE_COUNT = len(RECORDABLE)
 
 Model = namedtuple("Model", [
     "mass",             # (B, n) kg, DOFs in band order
     "mass_damping",     # (B, n) a0 m (N s/m)
+    # the spring elements: the storeys, then the links (the last `links` of them; a link is a
+    # spring between any two DOFs, without Rayleigh damping: kernel/c/energy.c books its work
+    # apart), s in all
     "story_dofs",       # (s, 2) lower and upper DOF; -1 is the ground
     "story_order",      # (s,) storeys in evaluation order (grouped by law)
     "story_law",        # (s,) material id (the registry order: kernel/c/laws.c)
@@ -111,11 +116,11 @@ State = namedtuple("State", [
 ])
 
 Recording = namedtuple("Recording", [
-    "history",     # 8 arrays (B, rows, width), one per RECORDABLE; (B, 0, 0) if unrecorded
-    "every",       # (8,) record every k-th step; 0 if unrecorded
-    "first_row",   # (8,) the row of the whole history held in row 0 of this call's buffer
-    "envelope",    # 8 arrays (B, width), one per RECORDABLE; (B, 0) if unrecorded
-    "enveloped",   # (8,) 1 where the envelope is recorded
+    "history",     # RECORDABLE_COUNT arrays (B, rows, width), one per RECORDABLE; (B, 0, 0) if unrecorded
+    "every",       # (RECORDABLE_COUNT,) record every k-th step; 0 if unrecorded
+    "first_row",   # (RECORDABLE_COUNT,) the row of the whole history held in row 0 of this call's buffer
+    "envelope",    # RECORDABLE_COUNT arrays (B, width), one per RECORDABLE; (B, 0) if unrecorded
+    "enveloped",   # (RECORDABLE_COUNT,) 1 where the envelope is recorded
 ])
 
 Work = namedtuple("Work", [
@@ -139,7 +144,7 @@ H_FACTORED, STALE, MASS_MIN, HELD, HELD_CLOSED, ALPHA_WORK, ZERO_DIVISION = rang
 SCALAR_SLOTS = 7
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
-SIZES = ("batch", "dofs", "stories", "contacts", "story_width", "story_states",
+SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
          "contact_width", "contact_states", "ground_width", "materials", "contact_laws")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
@@ -178,12 +183,13 @@ C_CONSTANTS = {
     "element kinds": ("NODE", "STORY", "CONTACT"),
     "integrator schemes": ("ALPHA_FAMILY", "WILSON_THETA"),
     "energy slots": ("INPUT", "KINETIC", "DAMPING", "STOREYS", "CONTACTS", "KINETIC_0",
-                     "INPUT_ABS", "START", "ALGORITHMIC", "ENERGY_SLOTS"),
+                     "INPUT_ABS", "START", "ALGORITHMIC", "LINKS", "ENERGY_SLOTS"),
     "counters": ("SOLVES", "FACTORISATIONS", "EVALUATIONS", "SPLIT_STEPS", "GATHERS",
                  "COUNTER_SLOTS"),
     "recordable quantities": ("DISPLACEMENT", "VELOCITY", "ACCELERATION", "STORY_DRIFT",
                               "STORY_FORCE", "CONTACT_FORCE", "CONTACT_PENETRATION",
-                              "GROUND_ACCELERATION", "RECORDABLE_COUNT"),
+                              "GROUND_ACCELERATION", "LINK_DEFORMATION", "LINK_FORCE",
+                              "RECORDABLE_COUNT"),
     "work scalars": ("H_FACTORED", "STALE", "MASS_MIN", "HELD", "HELD_CLOSED", "ALPHA_WORK",
                      "ZERO_DIVISION", "SCALAR_SLOTS"),
 }

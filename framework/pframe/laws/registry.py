@@ -38,6 +38,8 @@ _BUILTIN_MODULES = {
     "material": (
         "pframe.laws.material.elastic",
         "pframe.laws.material.bilinear",
+        "pframe.laws.material.viscous",
+        "pframe.laws.material.kelvin_voigt",
     ),
 }
 _GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}

@@ -17,7 +17,7 @@ from pframe.excitation.records import RecordUnitsError
 from pframe.laws import ContactContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
-from pframe.model.scene import default_contact_name, default_story_name
+from pframe.model.scene import default_contact_name, default_link_name, default_story_name
 from pframe.resources import check_floors, check_steps, steps_of
 
 
@@ -43,6 +43,7 @@ class Expanded:
     stories: tuple[Element, ...]
     story_building: np.ndarray  # (s,)
     contacts: tuple[Element, ...]
+    links: tuple[Element, ...]  # (first, second): deformation u_second - u_first
     damping: tuple  # Rayleigh definition per building
     ground_acceleration: np.ndarray  # (steps + 1,) m/s^2
     initial_displacement: np.ndarray
@@ -187,6 +188,30 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
         story_building.append(buildings.index(building_of[up]))
 
+    for name, (_, _), law, _, path in stories:
+        if getattr(law, "stiffness_free", False):
+            raise ModelError(path + ("material",), f"storey {name!r}: a {law.name} has no "
+                             "stiffness and cannot carry a storey; put it in links (a damper "
+                             "across the storey: nodes [lower, upper])")
+    link_elements = []
+    for i, link in enumerate(scene.links):
+        path = ("links", i)
+        if link.nodes[0] == "ground" and link.nodes[1] == "ground":
+            raise ModelError(path + ("nodes",), "a link needs a node on at least one side")
+        first, second = (-1 if node == "ground" else node_index(node, path + ("nodes", j))
+                         for j, node in enumerate(link.nodes))
+        if first == second:
+            raise ModelError(path + ("nodes",), "a link needs two different nodes")
+        name = link.name or default_link_name(link.nodes)
+        if name in seen:
+            raise ModelError(path + ("name",), f"link name {name!r} is used twice (storeys "
+                                               "and links share their names)")
+        seen[name] = True
+        law = get_law("material", link.material)
+        params = law.Params.model_validate(link.model_dump(include=set(law.Params.model_fields)))
+        link_elements.append(Element(name, (first, second), law,
+                                     _finite(law.pack(params), path)))
+
     record = None
     if scene.excitation is not None and scene.excitation.kind == "record":
         file = Path(base_dir) / scene.excitation.file
@@ -277,6 +302,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         stories=tuple(story_elements),
         story_building=np.array(story_building, dtype=np.int64),
         contacts=tuple(contacts),
+        links=tuple(link_elements),
         damping=tuple(damping.get(b) or scene.damping for b in buildings),
         ground_acceleration=ag,
         initial_displacement=u0,

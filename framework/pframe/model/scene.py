@@ -64,6 +64,8 @@ def _public_name(cls) -> str:
         return "Contact"
     if name.startswith("Story_"):
         return "Story"
+    if name.startswith("Link_"):
+        return "Link"
     if name.endswith("Storeys"):
         return "StoryProperties"
     return name
@@ -168,6 +170,23 @@ class StoryBase(Base):
         description="[lower, upper]: 'ground' or a node name, then the node above it."
     )
     name: str | None = Field(None, description="Defaults to the upper node's name.")
+
+
+class LinkBase(Base):
+    """A link: a material element between any two nodes, or a node and the ground, acting in
+    tension and compression with no gap (dampers and springs between buildings, the spring
+    and dashpot of a tuned mass, a device to the ground)."""
+
+    name: str | None = Field(None, description="Defaults to '<first>~<second>'.")
+    nodes: tuple[NodeOrGround, NodeOrGround] = Field(
+        description="[first, second]: deformation = u_second - u_first (a storey's drift when "
+        "first is below second); 'ground' on one side anchors the link to the ground."
+    )
+
+
+def default_link_name(nodes) -> str:
+    """The name of a link the scene does not name: ``<first>~<second>``."""
+    return f"{nodes[0]}~{nodes[1]}"
 
 
 def default_contact_name(nodes) -> str:
@@ -481,6 +500,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         create_model(f"Contact_{n}", __base__=(ContactBase, p))
         for n, p in zip(contact_names, contact_params)
     ]
+    link_models = [
+        create_model(f"Link_{n}", __base__=(LinkBase, p))
+        for n, p in zip(material_names, material_params)
+    ]
     storey_models = [_broadcast(p, "material") for p in material_params]
 
     class Building(Base):
@@ -506,6 +529,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             default_factory=list, description="Generic storeys between nodes.")
         contacts: list[_union(contact_models, "law")] = Field(
             default_factory=list, description="Contact elements between buildings.")
+        links: list[_union(link_models, "material")] = Field(
+            default_factory=list, description="Links: a material (viscous, kelvin_voigt, "
+            "elastic, bilinear, ...) between two nodes or a node and the ground, in tension and "
+            "compression (dampers, couplings, tuned masses).")
         damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
         excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker],  # noqa: UP007
                               Field(discriminator="kind")] | None = Field(

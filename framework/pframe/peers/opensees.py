@@ -59,7 +59,7 @@ HUGE_FY = 1.0e30  # ElasticPPGap yield force: contacts must never yield
 
 
 def build():
-    """Create the model in the OpenSees domain; return storey and contact element tags."""
+    """Create the model in the OpenSees domain; return storey, contact and link element tags."""
     n = len(MASSES)
     ground = n + 1
     ops.wipe()
@@ -97,6 +97,24 @@ def build():
                     ground if right < 0 else right + 1, "-mat", tag, "-dir", 1)
         contacts.append(tag)
 
+    links = []
+    for j, ((first, second), mat) in enumerate(zip(LINK_NODES, LINK_MATERIALS, strict=True)):
+        tag = len(stories) + len(contacts) + j + 1
+        if mat[0] == "elastic":
+            ops.uniaxialMaterial("Elastic", tag, mat[1])
+        elif mat[0] == "bilinear":
+            ops.uniaxialMaterial("Steel01", tag, mat[2], mat[1], mat[3])
+        elif mat[0] == "viscous":
+            ops.uniaxialMaterial("Viscous", tag, mat[1], mat[2])
+        else:  # kelvin_voigt: a spring and a dashpot in parallel
+            ops.uniaxialMaterial("Elastic", 100000 + tag, mat[1])
+            ops.uniaxialMaterial("Viscous", 200000 + tag, mat[2], mat[3])
+            ops.uniaxialMaterial("Parallel", tag, 100000 + tag, 200000 + tag)
+        # zeroLength deformation is u_j - u_i: first -> second (no Rayleigh on links)
+        ops.element("zeroLength", tag, ground if first < 0 else first + 1,
+                    ground if second < 0 else second + 1, "-mat", tag, "-dir", 1)
+        links.append(tag)
+
     for b, (alpha_m, beta_k, nodes, story_ids) in enumerate(RAYLEIGH):
         # The "Only" flags matter: a -node region also takes every element whose nodes
         # are all listed, an -ele region takes the elements' nodes, and each region
@@ -124,7 +142,7 @@ def build():
     if ag[0] != 0.0:
         for i in range(n):
             ops.setNodeAccel(i + 1, 1, -ag[0], "-commit")
-    return stories, contacts
+    return stories, contacts, links
 
 
 def _read_binary(path, columns):
@@ -141,13 +159,14 @@ def _read_binary(path, columns):
 
 def simulate(workdir):
     """Build, run one ``analyze(STEPS, DT)`` and return the histories (row 0 is t = 0)."""
-    stories, contacts = build()
+    stories, contacts, links = build()
     nodes = list(range(1, len(MASSES) + 1))
     recorders = {
         "displacement": ("Node", nodes, ("-node", *nodes, "-dof", 1, "disp")),
         "velocity": ("Node", nodes, ("-node", *nodes, "-dof", 1, "vel")),
         "story_force": ("Element", stories, ("-ele", *stories, "basicForce")),
         "contact_force": ("Element", contacts, ("-ele", *contacts, "basicForce")),
+        "link_force": ("Element", links, ("-ele", *links, "basicForce")),
     }
     for name, (kind, tags, args) in recorders.items():
         if tags:
@@ -238,6 +257,10 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         "TOL": float(scene.tolerance),
         "MAX_ITER": int(scene.max_iterations),
         "INTEGRATOR": opensees_integrator(scene.integrator),
+        "LINK_NODES": np.asarray(scene.link_nodes if scene.link_nodes is not None else [],
+                                 dtype=int).reshape(-1, 2).tolist(),
+        "LINK_MATERIALS": [tuple(m[:1]) + tuple(float(v) for v in m[1:])
+                           for m in (scene.link_materials or [])],
         "OUT_NPZ": out_npz,
     }
     lines = [

@@ -96,7 +96,7 @@ class System:
         self.contact_incidence = _incidence(plan.contact_dofs, n)  # +1 left, -1 right
         self.story_damping = np.array(plan.story_beta[member] * plan.story_k0[member])
         self.gap = np.array(plan.contact_gap[member], dtype=float)
-        self.n_story = len(plan.story_names)
+        self.n_story = plan.n_springs  # the storeys, then the links
         self.n_contact = len(plan.contact_names)
         self.story_groups = self._groups(plan.story_groups, jit, 0)
         offset = sum(g.branches.n_events * len(g.elements) for g in self.story_groups)

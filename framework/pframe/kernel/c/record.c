@@ -23,6 +23,9 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     case STORY_FORCE: *width = ns; return st->story_force + b * ns;
     case CONTACT_FORCE: *width = nc; return st->contact_force + b * nc;
     case CONTACT_PENETRATION: *width = nc; return st->penetration + b * nc;
+    /* the links are the last m->links spring elements, after the storeys */
+    case LINK_DEFORMATION: *width = m->links; return st->drift + b * ns + (ns - m->links);
+    case LINK_FORCE: *width = m->links; return st->story_force + b * ns + (ns - m->links);
     default: *width = 1; return NULL;
     }
 }

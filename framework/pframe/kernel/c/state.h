@@ -43,7 +43,8 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define INPUT_ABS 6
 #define START 7
 #define ALGORITHMIC 8
-#define ENERGY_SLOTS 9
+#define LINKS 9
+#define ENERGY_SLOTS 10
 
 /* counters */
 #define SOLVES 0
@@ -62,7 +63,9 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define CONTACT_FORCE 5
 #define CONTACT_PENETRATION 6
 #define GROUND_ACCELERATION 7
-#define RECORDABLE_COUNT 8
+#define LINK_DEFORMATION 8
+#define LINK_FORCE 9
+#define RECORDABLE_COUNT 10
 
 /* work scalars */
 #define H_FACTORED 0
@@ -97,6 +100,7 @@ typedef struct Model {
     int64_t dofs;
     int64_t stories;
     int64_t contacts;
+    int64_t links;
     int64_t story_width;
     int64_t story_states;
     int64_t contact_width;
