@@ -226,3 +226,21 @@ def test_the_examples(tmp_path):
         envelope = result.envelope["displacement"][0]
         peaks.append(envelope[plan.node_dof[plan.node_names.index("A/5")]])
     assert peaks[0] < 0.9 * peaks[1], peaks
+
+
+def test_a_sweep_varies_a_link_by_its_name(tmp_path):
+    """links.<name>.<field> in a sweep: a stronger damper to the ground moves the floor
+    less."""
+    import pframe
+
+    scene = json.loads(_one_mass({"material": "kelvin_voigt", "stiffness": 4e5,
+                                  "damping": 1e3}, nodes=("ground", "M/1")))
+    scene["excitation"] = {"kind": "sine", "amplitude": 2.0, "frequency": 20.0}
+    scene["recorders"] = [{"kind": "envelope", "quantities": ["displacement"]}]
+    (tmp_path / "base.json").write_text(json.dumps(scene), encoding="utf-8")
+    (tmp_path / "sweep.json").write_text(json.dumps({"title": "c", "base": "base.json", "axes": [
+        {"name": "c", "path": "links.link.damping", "values": [1e3, 4e3, 1.6e4]}]}),
+        encoding="utf-8")
+    ds = pframe.sweep(tmp_path / "sweep.json", progress=False)
+    peaks = ds.peak_displacement.sel(node="M/1").values
+    assert np.all(np.diff(peaks) < 0), peaks
