@@ -71,6 +71,8 @@ class Plan:
     event_parts: np.ndarray = None  # (B,) event-aware sub-steps per step while in contact
     warnings: tuple[str, ...] = ()
     link_names: tuple[str, ...] = ()  # the last len(link_names) spring elements
+    story_height: np.ndarray = None  # (B, s) storey heights (m), NaN: not given (and links)
+    story_kg: np.ndarray = None  # (B, s) P-delta's geometric stiffness P / h (N/m), 0: none
 
     @property
     def n_springs(self) -> int:
@@ -205,6 +207,51 @@ def _groups(elements, n_batch_values):
     return tuple(groups)
 
 
+def _spring_values(ex: Expanded, field: str, fill: float) -> np.ndarray:
+    """A per-storey array of the scene, padded with ``fill`` for the links (and for the
+    storeys of a scene expanded without it)."""
+    values = getattr(ex, field, None)
+    if values is None or len(values) != len(ex.stories):
+        values = np.full(len(ex.stories), fill)
+    return np.concatenate([np.asarray(values, dtype=float), np.full(len(ex.links), fill)])
+
+
+def _geometric_stiffness(ex: Expanded) -> np.ndarray:
+    """P / h of every spring (N/m): the storeys with a gravity load, 0 elsewhere."""
+    gravity = _spring_values(ex, "story_gravity", 0.0)
+    height = _spring_values(ex, "story_height", np.nan)
+    out = np.zeros(len(gravity))
+    loaded = gravity > 0.0
+    out[loaded] = gravity[loaded] / height[loaded]
+    return out
+
+
+def _p_delta_warnings(plan: Plan) -> tuple[str, ...]:
+    """Storeys that P-delta softens to no lateral stiffness: at once (elastic buckling under
+    their own weight) or once they yield (negative post-yield stiffness)."""
+    if plan.story_kg is None or not np.any(plan.story_kg):
+        return ()
+    out = []
+    for group in plan.story_groups:
+        for j, e in enumerate(group.index):
+            kg = float(np.max(plan.story_kg[:, e]))
+            if kg == 0.0:
+                continue
+            k0 = float(np.min(plan.story_k0[:, e]))
+            after = group.law.post_yield_stiffness(group.params[0, j])
+            name = plan.story_names[e]
+            if k0 - kg <= 0.0:
+                out.append(f"storey {name}: P/h = {kg:.4g} N/m is at least its stiffness "
+                           f"{k0:.4g} N/m: it buckles under its gravity load (P-delta) and the "
+                           "run will diverge; check the masses, height and stiffness")
+            elif after is not None and after - kg < 0.0:
+                out.append(f"storey {name}: its post-yield stiffness {after:.4g} N/m is below "
+                           f"P/h = {kg:.4g} N/m: once it yields it loses lateral strength as it "
+                           "drifts (negative tangent, P-delta); Newton handles it, but the "
+                           "storey may ratchet towards collapse: watch its drift ratio")
+    return tuple(out)
+
+
 def batch_key(ex: Expanded) -> tuple:
     """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
     steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
@@ -312,8 +359,11 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         history=tuple(history.items()),
         envelope=tuple(envelope),
         link_names=tuple(e.name for e in first.links),
+        story_height=np.array([_spring_values(ex, "story_height", np.nan) for ex in variants]),
+        story_kg=np.array([_geometric_stiffness(ex) for ex in variants]),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
+    warnings = warnings + _p_delta_warnings(plan)
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
@@ -328,6 +378,9 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
     c = plan.integrator
+    if plan.story_kg is not None and np.any(plan.story_kg[member]):
+        problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
+                        "gravity_load")
     if c.explicit:
         problems.append("it integrates with an implicit integrator (newmark, hht, "
                         "generalized_alpha or wilson_theta), not central_difference")

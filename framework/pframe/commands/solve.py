@@ -163,6 +163,13 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     if "story_drift" in peaks:
         s = int(np.argmax(peaks["story_drift"]))
         print(f"  peak storey drift {peaks['story_drift'][s]:.4g} m at {plan.story_names[s]}")
+        heights = (plan.story_height[0, :len(plan.story_names)] if plan.story_height is not None
+                   else np.full(len(plan.story_names), np.nan))
+        if np.any(np.isfinite(heights)):
+            ratios = np.where(np.isfinite(heights), peaks["story_drift"] / heights, -np.inf)
+            r = int(np.argmax(ratios))
+            print(f"  peak drift ratio {100 * ratios[r]:.3g} % at {plan.story_names[r]} "
+                  f"(height {heights[r]:.4g} m)")
     for c, name in enumerate(plan.contact_names):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
         print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")

@@ -169,7 +169,12 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         mass=plan.mass, mass_damping=plan.mass_damping, story_dofs=plan.story_dofs,
         story_order=story_order, story_law=story_law, story_params=story_params,
         story_k0=plan.story_k0, story_beta=plan.story_beta,
-        story_damping=plan.story_damping_stiffness, contact_dofs=plan.contact_dofs,
+        story_damping=plan.story_damping_stiffness,
+        story_height=(plan.story_height if plan.story_height is not None
+                      else np.full((B, plan.n_springs), np.nan)),
+        story_kg=(plan.story_kg if plan.story_kg is not None
+                  else np.zeros((B, plan.n_springs))),
+        contact_dofs=plan.contact_dofs,
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
         gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,

@@ -55,10 +55,11 @@ COUNTER_NAMES = ("solves", "factorisations", "evaluations", "split_steps", "gath
 
 # recordable quantities, in the order of Recording.history and Recording.envelope
 DISPLACEMENT, VELOCITY, ACCELERATION, STORY_DRIFT, STORY_FORCE, CONTACT_FORCE, \
-    CONTACT_PENETRATION, GROUND_ACCELERATION, LINK_DEFORMATION, LINK_FORCE = range(10)
+    CONTACT_PENETRATION, GROUND_ACCELERATION, LINK_DEFORMATION, LINK_FORCE, \
+    STORY_DRIFT_RATIO = range(11)
 RECORDABLE = ("displacement", "velocity", "acceleration", "story_drift", "story_force",
               "contact_force", "contact_penetration", "ground_acceleration", "link_deformation",
-              "link_force")
+              "link_force", "story_drift_ratio")
 RECORDABLE_COUNT = len(RECORDABLE)
 
 Model = namedtuple("Model", [
@@ -74,6 +75,8 @@ Model = namedtuple("Model", [
     "story_k0",         # (B, s) initial stiffness (N/m)
     "story_beta",       # (B, s) stiffness-proportional damping a1 (s)
     "story_damping",    # (s,) damping on the 0 initial, 1 current, 2 committed stiffness
+    "story_height",     # (B, s) storey height (m; NaN: not given), for drift ratios
+    "story_kg",         # (B, s) P-delta's geometric stiffness P / h (N/m; 0: none)
     "contact_dofs",     # (c, 2) left and right DOF
     "contact_order",    # (c,) contacts in evaluation order (grouped by law)
     "contact_law",      # (c,) contact law id
@@ -189,7 +192,7 @@ C_CONSTANTS = {
     "recordable quantities": ("DISPLACEMENT", "VELOCITY", "ACCELERATION", "STORY_DRIFT",
                               "STORY_FORCE", "CONTACT_FORCE", "CONTACT_PENETRATION",
                               "GROUND_ACCELERATION", "LINK_DEFORMATION", "LINK_FORCE",
-                              "RECORDABLE_COUNT"),
+                              "STORY_DRIFT_RATIO", "RECORDABLE_COUNT"),
     "work scalars": ("H_FACTORED", "STALE", "MASS_MIN", "HELD", "HELD_CLOSED", "ALPHA_WORK",
                      "ZERO_DIVISION", "SCALAR_SLOTS"),
 }

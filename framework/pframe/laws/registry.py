@@ -107,6 +107,12 @@ class Law:
     #: :data:`pframe.reference.branches.BRANCHES` (``gap``, ``kelvin``, ``hunt_crossley``,
     #: ``jankowski``, ``smooth``, ``bilinear``); None: a stateless law's only kink is the gap
     branches: ClassVar[str | None] = None
+    #: a storey material's smallest tangent after yielding, from its packed parameters (N/m),
+    #: or None where it has no such bound: the P-delta check compares it with P / h
+    @classmethod
+    def post_yield_stiffness(cls, packed) -> float | None:
+        return None
+
     #: the stock OpenSees material pframe's OpenSees script models the law with, or None
     opensees: ClassVar[str | None] = None
 

@@ -67,8 +67,16 @@ class Expanded:
     reference: int = 0
     #: what the run will be told (pframe solve prints them; the result file keeps them)
     warnings: tuple[str, ...] = ()
+    #: (s,) storey heights (m), NaN where the scene gives none; (s,) gravity loads P (N) of
+    #: the storeys with P-delta (0: none)
+    story_height: np.ndarray = None
+    story_gravity: np.ndarray = None
     #: what validate shows besides (facts the scene chose explicitly)
     notes: tuple[str, ...] = ()
+
+
+#: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
+GRAVITY = 9.80665
 
 
 def _per_storey(value, n: int, path):
@@ -97,6 +105,12 @@ def _building_nodes(scene, nodes, stories, damping):
         }
         law = get_law("material", building.story.material)
         damping[building.name] = building.damping
+        heights = (_per_storey(building.height, n, path + ("height",))
+                   if building.height is not None else [None] * n)
+        if building.p_delta and building.height is None:
+            raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
+                             "height (m, one for all storeys or one per storey)")
+        above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
         for i in range(n):
             name = f"{building.name}/{i + 1}"
             nodes.append((name, masses[i], path + ("name",)))
@@ -108,7 +122,8 @@ def _building_nodes(scene, nodes, stories, damping):
                 msg = str(exc).splitlines()[-1].strip() if "\n" in str(exc) else str(exc)
                 raise ModelError(path + ("story",), f"storey {i + 1}: {msg}") from None
             lower = "ground" if i == 0 else f"{building.name}/{i}"
-            stories.append((name, (lower, name), law, params, path + ("story",)))
+            stories.append((name, (lower, name), law, params, path + ("story",), heights[i],
+                            GRAVITY * float(above[i]) if building.p_delta else 0.0))
 
 
 def _finite(packed, path) -> tuple[float, ...]:
@@ -170,11 +185,14 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     for s, story in enumerate(scene.stories):
         law = get_law("material", story.material)
         params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
+        if story.gravity_load is not None and story.height is None:
+            raise ModelError(("stories", s, "gravity_load"), "P-delta needs the storey's "
+                             "height: give height (m)")
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
-                        ("stories", s)))
+                        ("stories", s), story.height, float(story.gravity_load or 0.0)))
 
     story_elements, story_building, seen = [], [], {}
-    for name, (lower, upper), law, params, path in stories:
+    for name, (lower, upper), law, params, path, _, _ in stories:
         up = node_index(upper, path + ("nodes", 1))
         low = -1 if lower == "ground" else node_index(lower, path + ("nodes", 0))
         if low >= 0 and building_of[low] != building_of[up]:
@@ -188,7 +206,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
         story_building.append(buildings.index(building_of[up]))
 
-    for name, (_, _), law, _, path in stories:
+    for name, (_, _), law, _, path, _, _ in stories:
         if getattr(law, "stiffness_free", False):
             raise ModelError(path + ("material",), f"storey {name!r}: a {law.name} has no "
                              "stiffness and cannot carry a storey; put it in links (a damper "
@@ -303,6 +321,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_building=np.array(story_building, dtype=np.int64),
         contacts=tuple(contacts),
         links=tuple(link_elements),
+        story_height=np.array([np.nan if h is None else float(h) for *_, h, _ in stories]),
+        story_gravity=np.array([float(g) for *_, g in stories]),
         damping=tuple(damping.get(b) or scene.damping for b in buildings),
         ground_acceleration=ag,
         initial_displacement=u0,

@@ -170,6 +170,11 @@ class StoryBase(Base):
         description="[lower, upper]: 'ground' or a node name, then the node above it."
     )
     name: str | None = Field(None, description="Defaults to the upper node's name.")
+    height: Positive | None = Field(None, description="Storey height h (m): drift ratio, "
+                                    "P-delta.")
+    gravity_load: float | None = Field(None, ge=0, allow_inf_nan=False,
+                                       description="Axial (gravity) load P the storey carries "
+                                       "(N): P-delta, a geometric stiffness -P/h (needs height).")
 
 
 class LinkBase(Base):
@@ -515,6 +520,13 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
         story: _union(storey_models, "material") = Field(description="Storey properties.")
         damping: Rayleigh | None = Field(None, description="Defaults to the scene's damping.")
+        height: Positive | list[Positive] | None = Field(
+            None, description="Storey heights (m), bottom up, one for all or one per storey: "
+            "drift ratios, P-delta, floor levels in the figures.")
+        p_delta: bool = Field(
+            False, description="P-delta: each storey carries the weight of the floors above "
+            "it (g = 9.80665 m/s^2 times their masses), whose geometric stiffness -P/h "
+            "softens it (needs height).")
 
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""

@@ -50,6 +50,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const double *committed = st->story_committed + b * ns * S;
         double *trial = st->story_trial + b * ns * S;
         const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
+        const double *kg = m->story_kg + b * ns;
         const double *tangent_c = st->story_tangent + b * ns;
         int64_t *calls = st->material_calls + b * m->materials;
         double *drift = w->drift, *force = w->story_force;
@@ -79,9 +80,16 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                 kd = tangent_c[e];
             fd = beta[e] * kd * r;
             drift[e] = d;
+            tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
+            if (kg[e] != 0.0) {
+                /* P-delta: the gravity load P's overturning moment P d over the height h is a
+                 * shear P d / h the storey's columns must also resist: the storey resists
+                 * f - (P / h) d, with tangent k_t - P / h */
+                f -= kg[e] * d;
+                kt -= kg[e];
+            }
             force[e] = f;
             damping_force[e] = fd;
-            tangent_t[e] = kt;
             R[up] -= f + fd;
             if (lo >= 0)
                 R[lo] += f + fd;

@@ -20,8 +20,11 @@ static int factor_linear(const Model *m, const Settings *s, State *st, Work *w, 
     int64_t e;
     if (!step_weights(s, w, h, &c))
         return fail(st, b, NOT_FINITE, k, NODE, 0);
-    for (e = 0; e < m->stories; e++)
-        w->story_kk[e] = k0[e] * (1.0 + c.c1 * beta[e]) * c.wf;
+    for (e = 0; e < m->stories; e++) {
+        const double kg = m->story_kg[b * m->stories + e]; /* P-delta, P / h */
+        w->story_kk[e] = kg == 0.0 ? k0[e] * (1.0 + c.c1 * beta[e]) * c.wf
+                                   : ((k0[e] - kg) + c.c1 * beta[e] * k0[e]) * c.wf;
+    }
     return factor(m, s, st, w, b, k, c.c0, c.c1, c.wm, c.wf);
 }
 

@@ -65,7 +65,8 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define GROUND_ACCELERATION 7
 #define LINK_DEFORMATION 8
 #define LINK_FORCE 9
-#define RECORDABLE_COUNT 10
+#define STORY_DRIFT_RATIO 10
+#define RECORDABLE_COUNT 11
 
 /* work scalars */
 #define H_FACTORED 0
@@ -87,6 +88,8 @@ typedef struct Model {
     double *story_k0;
     double *story_beta;
     int64_t *story_damping;
+    double *story_height;
+    double *story_kg;
     int64_t *contact_dofs;
     int64_t *contact_order;
     int64_t *contact_law;
