@@ -57,8 +57,9 @@ def motion(excitation, record=None) -> Motion:
     excitation : Sine, Record, a pulse (Cycloidal, Ricker), Stochastic or None
         The scene's excitation definition (None: the ground is at rest).
     record : AppliedRecord or (times, accelerations), optional
-        For a record or stochastic excitation (:func:`pframe.excitation.stochastic.stochastic_record`): the record as applied (``pga`` and ``frequency`` done,
-        :func:`pframe.excitation.characteristic.apply_record`); ``excitation.scale`` is
+        For a record: the record as applied (``pga`` and ``frequency`` done,
+        :func:`pframe.excitation.characteristic.apply_record`); for a stochastic motion, its
+        realisation (:func:`pframe.excitation.stochastic.stochastic_record`). ``excitation.scale`` is
         applied here. Linear between its samples, zero outside them.
     """
     if excitation is None:
