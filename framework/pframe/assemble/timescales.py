@@ -248,7 +248,7 @@ def _plausibility(ex, b, name, first, elastic, k0, member, findings, unit_hint: 
 
 def _excitation(plan, ex, member: int, dt: float, coefficients, findings):
     excitation = ex.excitation
-    if excitation is None or excitation.kind == "record":
+    if excitation is None or excitation.kind in ("record", "stochastic"):  # _record's
         return
     if excitation.kind == "sine":
         period = 2.0 * math.pi / float(excitation.frequency)

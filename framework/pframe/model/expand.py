@@ -14,6 +14,7 @@ from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
 from pframe.excitation.describe import applied_motion, motion_warnings
 from pframe.excitation.records import RecordUnitsError
+from pframe.excitation.stochastic import stochastic_record, stochastic_warnings
 from pframe.laws import ContactContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
@@ -246,6 +247,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             record = apply_record(scene.excitation, *record)
         except InputError as exc:
             raise ModelError(("excitation", "file"), str(exc)) from None
+    if scene.excitation is not None and scene.excitation.kind == "stochastic":
+        try:
+            record = stochastic_record(scene.excitation)
+        except ValueError as exc:
+            raise ModelError(("excitation",), f"cannot simulate the motion: {exc}") from None
     excitation_frequency = None  # of frequency_ratio (Pi_wcon = w_bar / w_p): a sine's
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
@@ -338,7 +344,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         excitation=scene.excitation,
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
-        + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt))),
+        + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt)))
+        + tuple(stochastic_warnings(scene.excitation)),
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
 

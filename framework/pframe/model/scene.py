@@ -344,6 +344,135 @@ class Ricker(_Pulse):
                                     "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
 
 
+class StochasticParameters(Base):
+    """The six parameters of the Rezaeian & Der Kiureghian model, given directly."""
+
+    arias: Positive = Field(description="Expected Arias intensity I_a (m/s; 1 s g = 9.81 m/s).")
+    d595: Positive = Field(description="Significant duration D5-95 (s): 5 % to 95 % of I_a.")
+    tmid: Positive = Field(description="t_mid (s): when 45 % of I_a is reached.")
+    frequency: Positive = Field(description="f_mid (Hz): the filter frequency at t_mid.")
+    slope: float = Field(0.0, allow_inf_nan=False, description="f' (Hz/s): the rate of change "
+                         "of the filter frequency.")
+    damping: float = Field(gt=0, lt=1, allow_inf_nan=False, description="The filter's damping "
+                           "ratio zeta_f.")
+
+    @model_validator(mode="after")
+    def _feasible(self):
+        from pframe.excitation.stochastic import envelope_feasible
+
+        if not envelope_feasible(self.d595, self.tmid):
+            raise ValueError(f"d595 {self.d595:g} s and tmid {self.tmid:g} s: no gamma-form "
+                             "modulating function has them (d595 / tmid must be below 4.93; "
+                             "tmid is counted from the start of the motion)")
+        return self
+
+
+class Jennings(Base):
+    """Jennings, Housner & Tsai (1968): (t/t_1)^2 rise, 1 to t_2, then exp(-c (t - t_2))."""
+
+    kind: Literal["jennings"] = "jennings"
+    rise: Positive = Field(description="t_1 (s): end of the rise.")
+    plateau: Positive = Field(description="t_2 (s): end of the strong phase (>= t_1).")
+    decay: Positive = Field(description="c (1/s): the decay rate; the motion ends when the "
+                            "envelope is 0.001.")
+
+    @model_validator(mode="after")
+    def _order(self):
+        if self.plateau < self.rise:
+            raise ValueError("plateau (t_2) must not be before rise (t_1)")
+        return self
+
+
+class GammaShape(Base):
+    """The gamma form t^(alpha_2 - 1) exp(-alpha_3 t) with peak 1, from D5-95 and t_mid."""
+
+    kind: Literal["gamma"] = "gamma"
+    d595: Positive = Field(description="Significant duration D5-95 (s) of the envelope's energy.")
+    tmid: Positive = Field(description="t_mid (s): when 45 % of the envelope's energy is reached.")
+
+    @model_validator(mode="after")
+    def _feasible(self):
+        from pframe.excitation.stochastic import envelope_feasible
+
+        if not envelope_feasible(self.d595, self.tmid):
+            raise ValueError(f"d595 {self.d595:g} s and tmid {self.tmid:g} s: no gamma form has "
+                             "them (d595 / tmid must be below 4.93)")
+        return self
+
+
+_SITE_FIELDS = ("magnitude", "distance", "vs30")
+_CP_FIELDS = ("intensity", "ground_frequency", "ground_damping")
+
+
+class Stochastic(Base):
+    """A simulated ground motion, seeded and reproducible (docs/stochastic-motions.md):
+    rezaeian2010 (a site-based modulated filtered white noise, its parameters sampled from
+    magnitude, distance, Vs30 and mechanism, or given) or clough_penzien (filtered white
+    noise with a modulating function, parameters given)."""
+
+    kind: Literal["stochastic"] = "stochastic"
+    model: Literal["rezaeian2010", "clough_penzien"] = Field(
+        description="rezaeian2010 (Rezaeian & Der Kiureghian 2008, 2010) or clough_penzien "
+                    "(Kanai-Tajimi with filter_frequency 0).")
+    seed: int = Field(0, ge=0, description="Seed of the random numbers: the same seed gives "
+                      "the same motion.")
+    magnitude: Positive | None = Field(None, description="rezaeian2010: moment magnitude M.")
+    distance: Positive | None = Field(None, description="rezaeian2010: rupture distance R_rup "
+                                      "(km).")
+    vs30: Positive | None = Field(None, description="rezaeian2010: Vs30 of the site (m/s).")
+    mechanism: Literal["strike_slip", "reverse"] = Field(
+        "strike_slip", description="rezaeian2010: faulting mechanism (F = 0 or 1).")
+    parameters: StochasticParameters | None = Field(
+        None, description="rezaeian2010: the six parameters given (instead of the site).")
+    highpass: bool = Field(True, description="rezaeian2010: the 0.2 Hz critically damped "
+                           "high-pass post-filter (no residual velocity).")
+    intensity: Positive | None = Field(None, description="clough_penzien: white-noise "
+                                       "intensity S_0 (m^2/s^3), of the two-sided PSD.")
+    ground_frequency: Positive | None = Field(None, description="clough_penzien: w_g (rad/s).")
+    ground_damping: Positive | None = Field(None, description="clough_penzien: zeta_g.")
+    filter_frequency: float = Field(0.0, ge=0, allow_inf_nan=False, description="clough_penzien:"
+                                    " w_f (rad/s) of the high-pass second filter; 0: "
+                                    "Kanai-Tajimi.")
+    filter_damping: float = Field(0.6, gt=0, allow_inf_nan=False,
+                                  description="clough_penzien: zeta_f.")
+    envelope: Annotated[Union[Jennings, GammaShape], Field(discriminator="kind")] | None = Field(  # noqa: UP007
+        None, description="clough_penzien: modulating function (none: stationary for "
+                          "duration).")
+    duration: Positive | None = Field(None, description="clough_penzien without envelope: the "
+                                      "motion's length (s).")
+    step: Positive = Field(0.01, description="Time step of the simulated motion (s); the "
+                           "analysis interpolates it linearly.")
+    scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the motion.")
+
+    @model_validator(mode="after")
+    def _fields_of_model(self):
+        given = self.model_fields_set
+        if self.model == "rezaeian2010":
+            site = [n for n in _SITE_FIELDS if getattr(self, n) is not None]
+            if self.parameters is not None and site:
+                raise ValueError(f"give the site ({', '.join(_SITE_FIELDS)}) or parameters, not "
+                                 "both")
+            if self.parameters is None and len(site) < 3:
+                missing = [n for n in _SITE_FIELDS if n not in site]
+                raise ValueError(f"rezaeian2010 needs magnitude, distance and vs30 (missing: "
+                                 f"{', '.join(missing)}) or parameters")
+            other = [n for n in (*_CP_FIELDS, "filter_frequency", "filter_damping", "envelope",
+                                 "duration") if n in given]
+        else:
+            missing = [n for n in _CP_FIELDS if getattr(self, n) is None]
+            if missing:
+                raise ValueError(f"clough_penzien needs {', '.join(missing)}")
+            if self.envelope is None and self.duration is None:
+                raise ValueError("clough_penzien needs an envelope or a duration")
+            if self.envelope is not None and self.duration is not None:
+                raise ValueError("give an envelope or a duration, not both")
+            other = [n for n in (*_SITE_FIELDS, "mechanism", "parameters", "highpass")
+                     if n in given]
+        if other:
+            raise ValueError(f"{', '.join(other)} do not apply to model {self.model}")
+        return self
+
+
 def tag_reader(key: str, default: str):
     """The discriminator of a union whose tag ``key`` may be left out (``default``): reads it
     from YAML data (a dict) or from an object built in Python."""
@@ -546,7 +675,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             "elastic, bilinear, ...) between two nodes or a node and the ground, in tension and "
             "compression (dampers, couplings, tuned masses).")
         damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
-        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker],  # noqa: UP007
+        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic],  # noqa: UP007
                               Field(discriminator="kind")] | None = Field(
             None, description="Ground motion (none: free vibration from initial conditions).")
         initial_conditions: InitialConditions = Field(
