@@ -73,6 +73,11 @@ class Plan:
     link_names: tuple[str, ...] = ()  # the last len(link_names) spring elements
     story_height: np.ndarray = None  # (B, s) storey heights (m), NaN: not given (and links)
     story_kg: np.ndarray = None  # (B, s) P-delta's geometric stiffness P / h (N/m), 0: none
+    #: floor-to-column contacts: (c, 2) the struck storey's lower floor DOF on each side (-1:
+    #: none or the ground) and (B, c, 2) the weight psi of each side's node (1: a floor)
+    contact_lower: np.ndarray = None
+    contact_share: np.ndarray = None
+    contact_capacity: np.ndarray = None  # (c,) a struck column's shear capacity (N), NaN: none
 
     @property
     def n_springs(self) -> int:
@@ -260,7 +265,7 @@ def batch_key(ex: Expanded) -> tuple:
     return (
         ex.node_names,
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
-        tuple((e.name, e.nodes, e.law) for e in ex.contacts),
+        tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
         tuple((e.name, e.nodes, e.law) for e in ex.links),
         ex.steps,
         ex.integrator,
@@ -287,6 +292,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     n = len(first.node_names)
     springs = first.stories + first.links  # the kernel's spring elements: storeys, then links
     edges = [e.nodes for e in springs] + [e.nodes for e in first.contacts]
+    for e in first.contacts:  # a floor-to-column contact couples up to four nodes
+        if max(e.lower) >= 0:
+            ends = [i for i in (e.nodes[0], e.lower[0], e.nodes[1], e.lower[1]) if i >= 0]
+            edges += [(a, c) for a in ends for c in ends if a < c]
     order = reverse_cuthill_mckee(n, edges)
     dof_of_node = np.empty(n, dtype=np.int64)
     dof_of_node[order] = np.arange(n)
@@ -316,6 +325,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
+    if any(e.shear_capacity is not None for e in first.contacts) and \
+            "contact_force" not in envelope:
+        envelope.append("contact_force")  # the struck columns' shear is checked on its peak
     for kind, elements in (("contact_", first.contacts), ("link_", first.links)):
         if not elements:
             history = {q: k for q, k in history.items() if not q.startswith(kind)}
@@ -361,6 +373,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         link_names=tuple(e.name for e in first.links),
         story_height=np.array([_spring_values(ex, "story_height", np.nan) for ex in variants]),
         story_kg=np.array([_geometric_stiffness(ex) for ex in variants]),
+        contact_lower=np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.lower]
+                                for e in first.contacts], dtype=np.int64).reshape(-1, 2),
+        contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
+                               dtype=float).reshape(len(variants), len(first.contacts), 2),
+        contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
+                                   for e in first.contacts], dtype=float),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     warnings = warnings + _p_delta_warnings(plan)
@@ -378,6 +396,10 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
     c = plan.integrator
+    if plan.contact_lower is not None and np.any(plan.contact_lower >= 0) or (
+            plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0)):
+        problems.append("its contacts join floors (floor-to-column contacts need a "
+                        "multi-point constraint the script does not write)")
     if plan.story_kg is not None and np.any(plan.story_kg[member]):
         problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
                         "gravity_load")

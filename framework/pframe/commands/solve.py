@@ -170,8 +170,13 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             r = int(np.argmax(ratios))
             print(f"  peak drift ratio {100 * ratios[r]:.3g} % at {plan.story_names[r]} "
                   f"(height {heights[r]:.4g} m)")
+    shear = result.column_shear(0)
     for c, name in enumerate(plan.contact_names):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
+        if np.isfinite(shear[c]):
+            capacity = plan.contact_capacity[c]
+            force += (f"; floor-to-column: local column shear {shear[c]:.4g} N"
+                      + (f" (capacity {capacity:.4g} N)" if np.isfinite(capacity) else ""))
         print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
     if plan.link_names:
         work = result.energy_terms(0)["links"]

@@ -115,6 +115,27 @@ class Result:
         """The balance's terms of member ``b`` by name (J), in the order of the balance."""
         return {name: float(self.energy[b, slot]) for name, slot in ENERGY_TERMS}
 
+    def column_shear(self, b: int = 0) -> np.ndarray:
+        """(c,) the peak local shear each floor-to-column contact put into the struck column
+        (N; NaN for a floor-to-floor contact): the larger of the column's two segments,
+        max(psi, 1 - psi) times the peak contact force (a fixed-fixed column swaying, loaded
+        at the point: its lower floor takes (1 - psi) F, its upper psi F)."""
+        plan = self.plan
+        out = np.full(len(plan.contact_names), np.nan)
+        if plan.contact_share is None:
+            return out
+        if "contact_force" in self.envelope:
+            peak = self.envelope["contact_force"][b]
+        elif "contact_force" in self.history:
+            peak = np.nanmax(np.abs(self.history["contact_force"][b]), axis=0)
+        else:
+            return out
+        share = plan.contact_share[b]
+        column = np.any(share != 1.0, axis=1)
+        psi = np.where(share[:, 0] != 1.0, share[:, 0], share[:, 1])
+        out[column] = (np.maximum(psi, 1.0 - psi) * peak)[column]
+        return out
+
     def algorithmic_dissipation(self, b: int = 0) -> float:
         """The energy the integrator's own relations removed (negative: created), relative to
         the largest energy term of the run."""
@@ -175,6 +196,10 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         story_kg=(plan.story_kg if plan.story_kg is not None
                   else np.zeros((B, plan.n_springs))),
         contact_dofs=plan.contact_dofs,
+        contact_lower=(plan.contact_lower if plan.contact_lower is not None
+                       else np.full((len(plan.contact_names), 2), -1, dtype=np.int64)),
+        contact_share=(plan.contact_share if plan.contact_share is not None
+                       else np.ones((B, len(plan.contact_names), 2))),
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
         gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
@@ -333,6 +358,7 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
+           "contact_lower",
            "contact_order", "contact_law"}
 
 

@@ -78,6 +78,10 @@ Model = namedtuple("Model", [
     "story_height",     # (B, s) storey height (m; NaN: not given), for drift ratios
     "story_kg",         # (B, s) P-delta's geometric stiffness P / h (N/m; 0: none)
     "contact_dofs",     # (c, 2) left and right DOF
+    "contact_lower",    # (c, 2) a floor-to-column contact: the lower floor's DOF of the struck
+                        # storey on the left and right side (negative: none, or the ground)
+    "contact_share",    # (B, c, 2) the weight psi of the named node on each side (1: a floor;
+                        # a column point is psi u_upper + (1 - psi) u_lower)
     "contact_order",    # (c,) contacts in evaluation order (grouped by law)
     "contact_law",      # (c,) contact law id
     "contact_params",   # (B, c, Q) the law's packed parameters
@@ -155,6 +159,7 @@ SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_
 C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
+              "contact_lower": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

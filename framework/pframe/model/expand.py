@@ -31,6 +31,11 @@ class Element:
     law: type
     packed: tuple[float, ...]
     gap: float = 0.0
+    #: a floor-to-column contact: the struck storey's lower floor on each side (-1: none or
+    #: the ground) and the weight psi of the named node (1: a floor)
+    lower: tuple[int, int] = (-1, -1)
+    share: tuple[float, float] = (1.0, 1.0)
+    shear_capacity: float | None = None
 
 
 @dataclass(frozen=True)
@@ -277,15 +282,38 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         seen[name] = True
         law = get_law("contact", contact.law)
         params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
-        # a wall is the ground: of infinite mass, the impact's effective mass is the floor's
-        context = ContactContext(masses[left] if left >= 0 else math.inf,
-                                 masses[right] if right >= 0 else math.inf, excitation_frequency)
+        lower, share = [-1, -1], [1.0, 1.0]
+        side_mass = [masses[left] if left >= 0 else math.inf,
+                     masses[right] if right >= 0 else math.inf]
+        if (contact.column is None) != (contact.at is None):
+            raise ModelError(path, "a floor-to-column contact needs both column (the side "
+                                   "whose node names the struck storey) and at (0 < at < 1)")
+        if contact.column is not None:
+            side = 0 if contact.column == "left" else 1
+            upper = (left, right)[side]
+            below = [k for k, (_, (lo, up), *_) in enumerate(stories)
+                     if up == contact.nodes[side]]
+            if upper < 0 or not below:
+                raise ModelError(path + ("column",), f"the {contact.column} node "
+                                 f"{contact.nodes[side]!r} tops no storey: a struck column is "
+                                 "named by the floor above it")
+            low_name = stories[below[0]][1][0]
+            lower[side] = -1 if low_name == "ground" else index[low_name]
+            xi = float(contact.at)
+            share[side] = xi * xi * (3.0 - 2.0 * xi)  # a fixed-fixed column swaying
+            inverse = share[side] ** 2 / masses[upper] + (
+                (1.0 - share[side]) ** 2 / masses[lower[side]] if lower[side] >= 0 else 0.0)
+            side_mass[side] = 1.0 / inverse
+        # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
+        # a column point has the mass its displacement's weights give it
+        context = ContactContext(side_mass[0], side_mass[1], excitation_frequency)
         try:
             with np.errstate(all="ignore"):
                 packed = _finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
-        contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
+        contacts.append(Element(name, (left, right), law, packed, float(contact.gap),
+                                tuple(lower), tuple(share), contact.shear_capacity))
         obtained = published_rebound(law, params)
         if obtained is not None:
             chosen = "calibration" in contact.model_fields_set

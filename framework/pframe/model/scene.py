@@ -218,6 +218,16 @@ class ContactBase(Base):
         "stop): [A/1, ground] stands right of A/1, [ground, A/1] left of it."
     )
     gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
+    column: Literal["left", "right"] | None = Field(
+        None, description="Floor-to-column pounding: the side whose node names a storey (by "
+        "its upper floor) struck at a point of its column, 'at' of the way up from its lower "
+        "floor (floors at different heights).")
+    at: float | None = Field(None, gt=0, lt=1, allow_inf_nan=False,
+                             description="Where the column is struck: the fraction of the "
+                             "storey's height above its lower floor (0 < at < 1).")
+    shear_capacity: float | None = Field(
+        None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N): "
+        "the local shear the impact puts into it is checked against it.")
 
 
 class Rayleigh(Base):

@@ -85,6 +85,9 @@ class System:
                 "the reference solution supports Rayleigh damping on the initial stiffness "
                 "only (damping.stiffness: initial); 'current' and 'committed' tie the damping "
                 "to the tangent of the time-stepping scheme")
+        if plan.contact_share is not None and np.any(plan.contact_share != 1.0):
+            raise InputError("the reference solution does not model floor-to-column contacts "
+                             "yet (their force is shared between two floors)")
         self.plan = plan
         self.member = member
         self.ground = ground

@@ -23,6 +23,16 @@ static int fail(State *st, int64_t b, int64_t code, int64_t k, int64_t kind, int
     return 0;
 }
 
+/* Add f to R at a side of a floor-to-column contact: share psi to its node, 1 - psi to the
+ * struck storey's lower floor (none: negative). */
+static void scatter(double *R, int64_t node, int64_t lower, double psi, double f)
+{
+    if (node >= 0)
+        R[node] += psi * f;
+    if (lower >= 0)
+        R[lower] += (1.0 - psi) * f;
+}
+
 /* Element forces and the residual at the evaluation point, ground acceleration age.
  *
  * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
@@ -121,12 +131,13 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
          * (tangent off: the commit's evaluation) sees the real law. */
         const int hold_start = tangent && s->events && s->scheme == WILSON_THETA;
         const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
+        const double *share = m->contact_share + b * nc * 2;
         for (j = 0; j < nc; j++) {
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
-            const double d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
-            const double r = dof_value(ve, left) - dof_value(ve, right);
+            const double d = contact_side(m, ue, b, e, 0) - contact_side(m, ue, b, e, 1) - gap[e];
+            const double r = contact_side(m, ve, b, e, 0) - contact_side(m, ve, b, e, 1);
             double f, kd, kr, at = d;
             if (e == held) {
                 /* Located events (events.c) hold the contact on one branch, so that its
@@ -149,10 +160,16 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             calls[law] += 1;
             force[e] = f;
             penetration[e] = d;
-            if (left >= 0) /* -1: a wall, the ground's side */
-                R[left] -= f;
-            if (right >= 0)
-                R[right] += f;
+            if (m->contact_lower[2 * e] < 0 && m->contact_lower[2 * e + 1] < 0
+                && share[2 * e] == 1.0 && share[2 * e + 1] == 1.0) {
+                if (left >= 0) /* -1: a wall, the ground's side */
+                    R[left] -= f;
+                if (right >= 0)
+                    R[right] += f;
+            } else { /* floor-to-column: the force shared as the point's displacement is */
+                scatter(R, left, m->contact_lower[2 * e], share[2 * e], -f);
+                scatter(R, right, m->contact_lower[2 * e + 1], share[2 * e + 1], f);
+            }
             if (tangent) {
                 double kk = (kd + c1 * kr) * wf;
                 if (kk != kks[e]) {
@@ -224,12 +241,37 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->contacts; e++) {
         const double kk = kks[e];
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-        if (left >= 0)
-            band[left * (bw + 1)] += kk;
-        if (right >= 0)
-            band[right * (bw + 1)] += kk;
-        if (left >= 0 && right >= 0)
-            band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
+        const int64_t *lower = m->contact_lower + 2 * e;
+        const double *share = m->contact_share + (b * m->contacts + e) * 2;
+        if (lower[0] < 0 && lower[1] < 0 && share[0] == 1.0 && share[1] == 1.0) {
+            if (left >= 0)
+                band[left * (bw + 1)] += kk;
+            if (right >= 0)
+                band[right * (bw + 1)] += kk;
+            if (left >= 0 && right >= 0)
+                band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
+        } else { /* floor-to-column: kk g g^T over up to four DOFs */
+            const int64_t at[4] = {left, lower[0], right, lower[1]};
+            const double g[4] = {share[0], 1.0 - share[0], -share[1], -(1.0 - share[1])};
+            int64_t x, y;
+            for (x = 0; x < 4; x++) {
+                if (at[x] < 0 || g[x] == 0.0)
+                    continue;
+                for (y = 0; y <= x; y++) {
+                    int64_t hi, lo_;
+                    if (at[y] < 0 || g[y] == 0.0)
+                        continue;
+                    hi = imax(at[x], at[y]);
+                    lo_ = imin(at[x], at[y]);
+                    if (x == y)
+                        band[at[x] * (bw + 1)] += kk * g[x] * g[x];
+                    else if (hi != lo_)
+                        band[hi * (bw + 1) + (hi - lo_)] += kk * g[x] * g[y];
+                    else /* two entries on one DOF (cannot happen: distinct nodes) */
+                        band[hi * (bw + 1)] += 2.0 * kk * g[x] * g[y];
+                }
+            }
+        }
     }
     st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
     if (ldl_factor(band, n, bw))

@@ -170,9 +170,8 @@ static double evaluation_work(const Model *m, State *st, Work *w, int64_t b, dou
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
     }
     for (e = 0; e < nc; e++) {
-        const int64_t left = m->contact_dofs[2 * e], right = m->contact_dofs[2 * e + 1];
         work += w->contact_force[e]
-                * ((dof_value(u, left) - dof_value(u, right) - gap[e]) - pen_c[e]);
+                * ((contact_side(m, u, b, e, 0) - contact_side(m, u, b, e, 1) - gap[e]) - pen_c[e]);
     }
     return work;
 }

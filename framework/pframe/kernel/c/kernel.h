@@ -45,6 +45,19 @@ static int64_t iabs(int64_t a) { return a < 0 ? -a : a; }
 /* x[i] of a DOF, or 0 for the ground (-1): a storey's lower end, a wall's side */
 static double dof_value(const double *x, int64_t i) { return i >= 0 ? x[i] : 0.0; }
 
+/* The displacement (or velocity) of one side of contact e: its node's, or for a floor-to-column
+ * contact the point of the struck column, psi x_upper + (1 - psi) x_lower (assembly.c). */
+static double contact_side(const Model *m, const double *x, int64_t b, int64_t e, int side)
+{
+    const int64_t node = m->contact_dofs[2 * e + side], lower = m->contact_lower[2 * e + side];
+    if (lower < 0 && m->contact_share[(b * m->contacts + e) * 2 + side] == 1.0)
+        return dof_value(x, node);
+    {
+        const double psi = m->contact_share[(b * m->contacts + e) * 2 + side];
+        return psi * dof_value(x, node) + (1.0 - psi) * dof_value(x, lower);
+    }
+}
+
 /* functions used before the file that defines them */
 static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                       int64_t k, double h, double ag_old, double ag_new);

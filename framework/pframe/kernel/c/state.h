@@ -91,6 +91,8 @@ typedef struct Model {
     double *story_height;
     double *story_kg;
     int64_t *contact_dofs;
+    int64_t *contact_lower;
+    double *contact_share;
     int64_t *contact_order;
     int64_t *contact_law;
     double *contact_params;
