@@ -8,7 +8,7 @@ import pytest
 from pframe.assemble import assemble
 from pframe.errors import InputError
 from pframe.kernel import simulate
-from pframe.kernel.state import NOT_FINITE, NOT_STABLE
+from pframe.kernel.state import Status, StatusColumn
 from pframe.reader import load_scene, parse_scene
 
 MASS, STIFFNESS = 1000.0, 4.0e6
@@ -134,7 +134,7 @@ def test_divergence_stops_with_time_step_and_node():
                        dt=dt, duration=400 * dt)
     plan = assemble(parse_scene(text).expanded)
     result = simulate(plan)
-    assert result.status[0, 0] in (NOT_STABLE, NOT_FINITE)
+    assert result.status[0, StatusColumn.CODE] in (Status.NOT_STABLE, Status.NOT_FINITE)
     message = result.describe_failure(0)
     assert "diverged" in message and "step" in message and "node A/" in message
     done = result.states_done(0)

@@ -60,6 +60,11 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define GROUND_ACCELERATION 7
 #define RECORDABLE_COUNT 8
 
+/* damping stiffness */
+#define DAMPING_INITIAL 0
+#define DAMPING_CURRENT 1
+#define DAMPING_COMMITTED 2
+
 /* work scalars */
 #define H_FACTORED 0
 #define STALE 1
@@ -69,6 +74,10 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define ALPHA_WORK 5
 #define ZERO_DIVISION 6
 #define SCALAR_SLOTS 7
+
+/* pframe_run's return values */
+#define RUN_OK 0
+#define RUN_ZERO_DIVISION 1
 
 typedef struct Model {
     double *mass;
