@@ -159,6 +159,7 @@ def run_matrix(name: str) -> list[dict]:
     return rows
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", list(INTEGRATORS))
 def test_every_law_rebounds_as_its_formula_implies(name):
     """Every law x calibration x target e x placement, under one integrator configuration:

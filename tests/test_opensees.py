@@ -92,6 +92,7 @@ def wu_linear():
     return SimpleNamespace(plan=plan, result=result, peer=peer, opensees=run(peer))
 
 
+@pytest.mark.slow
 def test_scene_is_the_hard_case(wu_linear):
     """The comparison means something only if storeys yield, floors pound, and Rayleigh
     damping (on the initial stiffness) and a tight Newton tolerance are in play."""
@@ -113,6 +114,7 @@ def test_scene_is_the_hard_case(wu_linear):
     assert wu_linear.peer.tolerance == plan.absolute_tolerance
 
 
+@pytest.mark.slow
 def test_displacement_agrees_to_1e9_of_peak(wu_linear):
     u = wu_linear.result.history["displacement"][0]
     u_os = wu_linear.opensees["displacement"]
@@ -125,6 +127,7 @@ def test_displacement_agrees_to_1e9_of_peak(wu_linear):
     assert difference <= DISPLACEMENT_RTOL, f"max relative difference {difference:.3e}"
 
 
+@pytest.mark.slow
 def test_impacts_agree(wu_linear):
     """Both programs see every impact: pframe counts onsets, OpenSees' forces show them."""
     counted = onsets(wu_linear.opensees["contact_force"])
@@ -133,6 +136,7 @@ def test_impacts_agree(wu_linear):
                                   wu_linear.result.impacts[0])
 
 
+@pytest.mark.slow
 def test_velocity_and_forces_agree(wu_linear):
     """Tolerances that follow from the displacement one, du = 1e-9 max |u|:
 
@@ -162,6 +166,7 @@ def test_velocity_and_forces_agree(wu_linear):
         f"{q} {d:.3e} > {t:.3e}" for q, (d, t) in failed.items())
 
 
+@pytest.mark.slow
 def test_newton_tolerance_is_tight(wu_linear):
     """Tightening pframe's Newton tolerance to round-off changes the result by far less than
     the comparison tolerance, so the agreement is not limited by where Newton stops.
@@ -246,6 +251,7 @@ def test_elastic_buildings_agree_when_the_ground_starts_accelerated(tmp_path):
     _assert_elastic_agreement(plan, result, opensees)
 
 
+@pytest.mark.slow
 def test_standalone_script_equals_run(tmp_path):
     """The script written by script_text, run on its own, reproduces run() bit for bit."""
     plan = assemble(parse_scene(json.dumps(ELASTIC)).expanded)

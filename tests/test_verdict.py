@@ -160,6 +160,7 @@ def test_verdict_levels(balance, algorithmic, level):
 COARSE_HHT = (_paper({"type": "hht", "alpha": 1 / 3}, 32))
 
 
+@pytest.mark.slow
 def test_a_run_that_created_energy_says_so_everywhere(tmp_path):
     scene = tmp_path / "coarse.yaml"
     scene.write_text(COARSE_HHT, encoding="utf-8")
@@ -185,6 +186,7 @@ def test_a_run_that_created_energy_says_so_everywhere(tmp_path):
     assert ds.attrs["trusted"] == 0
 
 
+@pytest.mark.slow
 def test_a_good_run_is_trusted_and_quiet(tmp_path):
     scene = tmp_path / "paper.yaml"
     scene.write_text(_paper({"type": "newmark"}), encoding="utf-8")
@@ -199,6 +201,7 @@ def test_a_good_run_is_trusted_and_quiet(tmp_path):
     assert ds.attrs["trusted"] == 1 and ds.attrs["accuracy"] == vd.TRUSTED
 
 
+@pytest.mark.slow
 def test_a_sweep_marks_each_variant_it_cannot_trust(tmp_path):
     """The coarse HHT scene swept over the gap: at the paper's gap the contacts close and the
     run creates 14 % of the energy; at 10 m they never close and the balance is sound. Only the

@@ -15,12 +15,14 @@ import numpy as np
 from pframe.assemble import stability, timescales
 from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
 from pframe.errors import InputError
+from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
 
 if TYPE_CHECKING:
     from pframe.peers.scene import PeerScene
 
-DAMPING_STIFFNESS = {"initial": 0, "current": 1, "committed": 2}
+#: the scene's ``damping.stiffness`` -> the kernel's slot
+DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
 
 
 @dataclass(frozen=True)
@@ -57,7 +59,7 @@ class Plan:
     story_dofs: np.ndarray  # (s, 2), -1 = ground
     story_k0: np.ndarray  # (B, s) initial stiffness (N/m)
     story_beta: np.ndarray  # (B, s) stiffness-proportional damping coefficient a1 (s)
-    story_damping_stiffness: np.ndarray  # (s,) 0 initial, 1 current, 2 committed
+    story_damping_stiffness: np.ndarray  # (s,) DampingStiffness slots (kernel.state)
     story_groups: tuple[LawGroup, ...]
     contact_dofs: np.ndarray  # (c, 2) [left, right]
     contact_gap: np.ndarray  # (B, c) m
@@ -98,7 +100,7 @@ class Plan:
         return (
             not self.contact_groups
             and all(g.law.linear for g in self.story_groups)
-            and not np.any(self.story_damping_stiffness)
+            and np.all(self.story_damping_stiffness == DampingStiffness.INITIAL)
         )
 
     @property
@@ -335,7 +337,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
 
     damping_codes = np.array(
         [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building]
-        + [0] * len(first.links),  # links: no Rayleigh term (a1 = 0)
+        + [DampingStiffness.INITIAL] * len(first.links),  # links: no Rayleigh term (a1 = 0)
         dtype=np.int64,
     )
     plan = Plan(
@@ -414,7 +416,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if c.events and plan.contact_names:
         problems.append("OpenSees has no event-aware stepping: set 'events: false' on the "
                         "integrator")
-    if np.any(plan.story_damping_stiffness):
+    if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
         problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
     ns = len(plan.story_names)
     for group in plan.story_groups:

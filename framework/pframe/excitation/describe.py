@@ -266,8 +266,10 @@ def applied_motion(excitation, record=None, duration: float | None = None) -> di
             applied = float(np.max(values[inside], initial=0.0))
             applied = max(applied, float(abs(m(float(duration))))) if duration < m.end \
                 else applied
+        elif duration >= horizon:  # the analysis covers the whole motion: its peak is the PGA
+            applied = pga
         else:
-            applied = _peak(m, min(duration, horizon))[0]
+            applied = _peak(m, duration)[0]
         facts["applied_peak"] = applied
         facts["cut_before_peak"] = bool(applied < PEAK_COVERED * pga)
     return facts
@@ -278,8 +280,10 @@ def _peak(m, horizon: float) -> tuple[float, float]:
     the breakpoints, then refined by a golden-section search around the best point."""
     if horizon <= 0.0:
         return float(abs(m(0.0))), 0.0
-    grid = np.union1d(np.linspace(0.0, horizon, 20001),
-                      [b for b in np.asarray(m.breakpoints, float) if 0.0 <= b <= horizon])
+    grid = np.linspace(0.0, horizon, 20001)
+    inside = [b for b in np.asarray(m.breakpoints, float) if 0.0 <= b <= horizon]
+    if inside:  # (a sorted, distinct grid without them: union1d would only copy it)
+        grid = np.union1d(grid, inside)
     values = np.abs(np.asarray(m(grid), dtype=float))
     k = int(np.flatnonzero(values >= np.max(values) * (1.0 - 1e-6))[0])  # the first peak...
     while k + 1 < values.size and values[k + 1] >= values[k]:  # ...at its top

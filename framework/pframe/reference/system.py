@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pframe.errors import InputError
+from pframe.kernel.state import DampingStiffness
 from pframe.reference.branches import branches_for
 from pframe.reference.evaluate import LawElements
 
@@ -80,7 +81,7 @@ class System:
     """The equations of motion of batch member ``member`` of ``plan``."""
 
     def __init__(self, plan, member: int, ground, jit: bool = True):
-        if np.any(plan.story_damping_stiffness != 0):
+        if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
             raise InputError(
                 "the reference solution supports Rayleigh damping on the initial stiffness "
                 "only (damping.stiffness: initial); 'current' and 'committed' tie the damping "

@@ -82,9 +82,9 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             kt = out[1];
             kr = out[2];
             calls[law] += 1;
-            if (mode == 0)
+            if (mode == DAMPING_INITIAL)
                 kd = k0[e];
-            else if (mode == 1)
+            else if (mode == DAMPING_CURRENT)
                 kd = kt;
             else
                 kd = tangent_c[e];

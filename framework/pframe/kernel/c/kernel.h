@@ -32,10 +32,6 @@
 /* the version of the interface between the driver (pframe/kernel/ckernel.py) and the kernel */
 #define PFRAME_KERNEL_INTERFACE 1
 
-/* pframe_run's return values */
-#define RUN_OK 0
-#define RUN_ZERO_DIVISION 1
-
 /* Python's max(a, b) and min(a, b) of floats (the first unless the second is larger/smaller) */
 static double py_max(double a, double b) { return b > a ? b : a; }
 static double py_min(double a, double b) { return b < a ? b : a; }

@@ -29,10 +29,6 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define STORY 1
 #define CONTACT 2
 
-/* integrator schemes */
-#define ALPHA_FAMILY 0
-#define WILSON_THETA 1
-
 /* energy slots */
 #define INPUT 0
 #define KINETIC 1
@@ -63,10 +59,19 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define CONTACT_FORCE 5
 #define CONTACT_PENETRATION 6
 #define GROUND_ACCELERATION 7
-#define LINK_DEFORMATION 8
-#define LINK_FORCE 9
-#define STORY_DRIFT_RATIO 10
+#define STORY_DRIFT_RATIO 8
+#define LINK_DEFORMATION 9
+#define LINK_FORCE 10
 #define RECORDABLE_COUNT 11
+
+/* damping stiffness */
+#define DAMPING_INITIAL 0
+#define DAMPING_CURRENT 1
+#define DAMPING_COMMITTED 2
+
+/* integrator schemes */
+#define ALPHA_FAMILY 0
+#define WILSON_THETA 1
 
 /* work scalars */
 #define H_FACTORED 0
@@ -77,6 +82,10 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define ALPHA_WORK 5
 #define ZERO_DIVISION 6
 #define SCALAR_SLOTS 7
+
+/* pframe_run's return values */
+#define RUN_OK 0
+#define RUN_ZERO_DIVISION 1
 
 typedef struct Model {
     double *mass;
