@@ -24,7 +24,7 @@ C_FOLDER = Path(__file__).resolve().parent / "c"
 #: the version of the driver-kernel interface (PFRAME_KERNEL_INTERFACE in c/kernel.h)
 INTERFACE = 1
 #: pframe_run's return values
-RUN_OK, RUN_ZERO_DIVISION = 0, 1
+RUN_OK, RUN_ZERO_DIVISION, RUN_STOPPED = 0, 1, 2
 
 REBUILD = ("rebuild it with `pip install -e .` (or `python setup.py build_ext --inplace`) in "
            "the pframe checkout, or reinstall pframe")

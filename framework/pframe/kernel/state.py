@@ -27,7 +27,7 @@ from __future__ import annotations
 from collections import namedtuple
 
 # status[b, STATUS_CODE]: why a member stopped
-OK, NOT_CONVERGED, NOT_FINITE, NOT_DEFINITE, NOT_STABLE = 0, 1, 2, 3, 4
+OK, NOT_CONVERGED, NOT_FINITE, NOT_DEFINITE, NOT_STABLE, STOPPED = 0, 1, 2, 3, 4, 5
 # status columns: code, the committed state count where it stopped, element kind and index
 STATUS_CODE, STATUS_STEP, STATUS_KIND, STATUS_INDEX = 0, 1, 2, 3
 STATUS_SLOTS = 4
@@ -75,6 +75,7 @@ Model = namedtuple("Model", [
     "dt",               # (B,) s
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
+    "stop",             # (1,) set to 1 by the driver (Ctrl-C): seen at every evaluation
 ])
 
 Settings = namedtuple("Settings", [
@@ -143,7 +144,7 @@ C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
-              "cd_parts": "int64_t *", "event_parts": "int64_t *",
+              "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},
     "Settings": {"gamma": "double", "beta": "double", "alpha_m": "double", "alpha_f": "double",
                  "tolerance": "double", "absolute_tolerance": "double",
@@ -166,7 +167,8 @@ RECORDING_SIZES = ("history_rows", "history_width", "envelope_width")
 
 #: the named slot constants written into c/state.h, by group
 C_CONSTANTS = {
-    "status codes": ("OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_DEFINITE", "NOT_STABLE"),
+    "status codes": ("OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_DEFINITE", "NOT_STABLE",
+                     "STOPPED"),
     "status columns": ("STATUS_CODE", "STATUS_STEP", "STATUS_KIND", "STATUS_INDEX",
                        "STATUS_SLOTS"),
     "element kinds": ("NODE", "STORY", "CONTACT"),

@@ -35,6 +35,7 @@
 /* pframe_run's return values */
 #define RUN_OK 0
 #define RUN_ZERO_DIVISION 1
+#define RUN_STOPPED 2
 
 /* Python's max(a, b) and min(a, b) of floats (the first unless the second is larger/smaller) */
 static double py_max(double a, double b) { return b > a ? b : a; }
