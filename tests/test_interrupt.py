@@ -41,11 +41,11 @@ def _base() -> dict:
     return data
 
 
-def newton_scene() -> dict:
+def newton_scene(iterations: int = 10**9) -> dict:
     """Newton allowed 10^9 iterations with a tolerance no step can meet: the first step
     iterates for hours."""
     data = _base()
-    data["analysis"]["newton"] = {"tolerance": 1e-300, "max_iterations": 10**9}
+    data["analysis"]["newton"] = {"tolerance": 1e-300, "max_iterations": iterations}
     return data
 
 
@@ -150,3 +150,24 @@ def test_a_sweep_stops_at_once_with_its_chunks_running_e2e(tmp_path):
     assert not out.exists()
     assert not [p for p in parts.iterdir() if p.name.startswith("chunk-")]
     assert latency < LATENCY, f"{latency:.2f} s from the signal to the exit"
+
+
+def test_the_python_api_raises_keyboard_interrupt_at_once_and_leaves_no_thread(tmp_path):
+    """In a notebook or script (Python's own SIGINT handler), pframe.solve of the scene whose
+    Newton loop runs for hours raises KeyboardInterrupt within a Newton iteration of Ctrl-C,
+    and the kernel's threads have ended when it does."""
+    import _thread
+    import threading
+
+    before = threading.active_count()
+    # 2 x 10^6 iterations, 11 times (every split): tens of seconds without the stop flag
+    scene = pframe.load(_write(tmp_path, newton_scene(2 * 10**6), "scene.yaml"))
+    timer = threading.Timer(DELAY, _thread.interrupt_main)
+    timer.start()
+    start = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        pframe.solve(scene, progress=False)
+    stopped = time.monotonic() - start
+    timer.join()
+    assert threading.active_count() == before
+    assert stopped - DELAY < LATENCY, f"{stopped - DELAY:.2f} s from the interrupt"
