@@ -130,11 +130,9 @@ def test_a_run_stops_at_once_in_every_mode_e2e(tmp_path, scene, signum):
 
 
 def test_a_sweep_stops_at_once_with_its_chunks_running_e2e(tmp_path):
-    """A sweep's chunks (batches of 64 variants of a long run) stop with the signal instead of
-    running to their end; nothing unfinished is kept."""
-    base = _base()
-    base["analysis"]["duration"] = 400.0
-    _write(tmp_path, base, "base.yaml")
+    """A sweep's chunks (batches of 64 variants of the scene whose Newton loop runs for hours)
+    stop with the signal instead of running to their end; nothing unfinished is kept."""
+    _write(tmp_path, newton_scene(), "base.yaml")
     sweep = _write(tmp_path, {"title": "large batches", "base": "base.yaml", "axes": [
         {"name": "gap", "path": "contacts.*.gap", "linspace": [0.0, 0.3, 256], "units": "m"}]},
         "sweep.yaml")
