@@ -3,16 +3,22 @@
 The plan's arrays are grouped into the kernel's named tuples (:mod:`pframe.kernel.state`),
 whose data pointers fill the C kernel's structs (:mod:`pframe.kernel.ckernel`); the kernel
 (``pframe_run`` in ``c/loop.c``) is called over consecutive ranges of steps, which gives the
-same bits as one call, so that a progress bar can be updated, Ctrl-C is seen between calls and
-histories can be handed to a ``sink`` (a file being written) chunk by chunk instead of held
-whole in memory.
+same bits as one call, so that a progress bar can be updated and histories can be handed to a
+``sink`` (a file being written) chunk by chunk instead of held whole in memory.
+
+The kernel always runs in worker threads while the main thread waits, free to receive
+Ctrl-C, SIGTERM and SIGHUP; it then sets the model's ``stop`` flag, which the kernel reads at
+every evaluation of the residual (``check_finite`` in ``c/assembly.c``), so a run stops within
+one Newton iteration or sub-step whatever a step or a call holds (10^9 Newton iterations
+allowed, 10^5 sub-steps a step, a large batch), and waits for the calls to return before the
+stop goes on.
 """
 
 from __future__ import annotations
 
 import os
 import time
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -202,6 +208,7 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
         event_parts=plan.event_parts if plan.event_parts is not None else ones,
+        stop=np.zeros(1, dtype=np.int64),
     )
     return _normalised(model), story_state, contact_state
 
@@ -357,7 +364,7 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
            "contact_lower",
-           "contact_order", "contact_law"}
+           "contact_order", "contact_law", "stop"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -368,6 +375,34 @@ def _slice(group, lo: int, hi: int):
 def _slice_recording(rec: Recording, lo: int, hi: int) -> Recording:
     return rec._replace(history=tuple(h[lo:hi] for h in rec.history),
                         envelope=tuple(e[lo:hi] for e in rec.envelope))
+
+
+#: how often the main thread looks for a stop that a destructor swallowed while it waits (s)
+POLL_SECONDS = 0.05
+
+
+def _wait(futures, stop: np.ndarray) -> None:
+    """Wait for the kernel's calls, with the main thread free for signals. On a stop (Ctrl-C,
+    SIGTERM: raised here by the signal's handler, or found by check_stop) or an error in one
+    call, the kernel is asked to stop (``stop[0] = 1``), which every call sees within one
+    evaluation of the residual, and the calls are awaited before the exception goes on: no
+    thread writes into the run's arrays after simulate has left."""
+    try:
+        pending = set(futures)
+        while pending:
+            done, pending = wait(pending, timeout=POLL_SECONDS, return_when=FIRST_EXCEPTION)
+            for future in done:
+                future.result()  # a call's error
+            check_stop()
+    except BaseException:
+        stop[0] = 1
+        while True:
+            try:
+                wait(futures)
+                break
+            except BaseException:  # another signal while the calls return: the first one wins
+                continue
+        raise
 
 
 def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None,
@@ -389,12 +424,14 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     ckernel.library()  # loaded and checked once per process
     ids = laws.ids
     model, story_state, contact_state = _group_model(plan, ids)
+    stop = model.stop  # shared by every piece of the batch (_SHARED)
     settings = _settings(plan, laws)
     st = _state(plan, story_state, contact_state, laws.materials, laws.contact_laws)
     recorders = _Recorders(plan, sink)
 
     pieces = _pieces(plan.batch, threads)
-    pool = ThreadPoolExecutor(len(pieces)) if len(pieces) > 1 else None
+    # always a pool, even of one thread: the main thread waits and receives the signals
+    pool = ThreadPoolExecutor(len(pieces))
     scratch = [(work_arrays(plan), _saved(st)) for _ in pieces]
     c_settings = ckernel.arrays(ckernel.Settings, settings)
     # the structs of each piece of the batch: the same arrays for every call
@@ -419,6 +456,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                            c_saved, begin, end)
         if code == Run.ZERO_DIVISION:
             raise ZeroDivisionError("float division by zero")
+        # RUN_STOPPED: the main thread asked for it and is raising the stop (see _wait)
 
     def call(begin, end):
         try:
@@ -434,15 +472,11 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
 
     def _call(begin, end):
         rec = recorders.for_call(begin, end)
-        if pool is None:
-            kernel(0, rec, begin, end)
-        else:
-            # The kernel releases the GIL: contiguous slices of the batch run in threads,
-            # each member on its own, so one slow member never holds up the others.
-            futures = [pool.submit(kernel, piece, _slice_recording(rec, lo, hi), begin, end)
-                       for piece, (lo, hi) in enumerate(pieces)]
-            for future in futures:
-                future.result()
+        # The kernel releases the GIL: contiguous slices of the batch run in threads, each
+        # member on its own, so one slow member never holds up the others.
+        futures = [pool.submit(kernel, piece, _slice_recording(rec, lo, hi), begin, end)
+                   for piece, (lo, hi) in enumerate(pieces)]
+        _wait(futures, stop)
         return rec
 
     try:
@@ -453,9 +487,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         solve = 0.0
         done = 1
         limit = recorders.max_steps()
-        # Calls last about chunk_seconds whatever the mode (progress shown or not): the
-        # compiled kernel does not see Ctrl-C or SIGTERM, which Python handles between calls,
-        # so a run stops within a call's time.
+        # Calls last about chunk_seconds whatever the mode (progress shown or not), for the
+        # progress bar and the streamed blocks; a stop does not wait for a call's end (_wait).
         size = min(total - 1, 500, limit)
         while done < total:
             end = min(total, done + size)
@@ -474,8 +507,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             if np.all(st.status[:, StatusColumn.CODE] != Status.OK):
                 break
     finally:
-        if pool is not None:
-            pool.shutdown()
+        pool.shutdown()
     law_calls = {}
     for group in plan.story_groups:
         law_calls[group.law.name] = st.material_calls[:, ids[group.law]].copy()

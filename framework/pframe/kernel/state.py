@@ -48,6 +48,7 @@ class Status(Slots):
     NOT_FINITE = auto()
     NOT_DEFINITE = auto()
     NOT_STABLE = auto()
+    STOPPED = auto()  # the driver asked the kernel to stop (Ctrl-C, SIGTERM: Model.stop)
 
 
 class StatusColumn(Slots):
@@ -154,10 +155,12 @@ class Scalar(Slots):
 
 class Run(Slots):
     """What one call of the kernel (``pframe_run``) returns: it ran, or a step's coefficients
-    divided by zero (C: ``RUN_OK``, ``RUN_ZERO_DIVISION``)."""
+    divided by zero, or it was asked to stop (C: ``RUN_OK``, ``RUN_ZERO_DIVISION``,
+    ``RUN_STOPPED``)."""
 
     OK = auto()
     ZERO_DIVISION = auto()
+    STOPPED = auto()
 
 
 #: the slot kinds written into c/state.h: title, kind, the C names' prefix, and the name of the
@@ -205,6 +208,7 @@ Model = namedtuple("Model", [
     "dt",               # (B,) s
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
+    "stop",             # (1,) set to 1 by the driver (Ctrl-C): seen at every evaluation
 ])
 
 Settings = namedtuple("Settings", [
@@ -267,7 +271,7 @@ C_TYPES = {
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
               "contact_lower": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
-              "cd_parts": "int64_t *", "event_parts": "int64_t *",
+              "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},
     "Settings": {"gamma": "double", "beta": "double", "alpha_m": "double", "alpha_f": "double",
                  "scheme": "int64_t", "theta": "double",

@@ -143,13 +143,17 @@ def _finite(packed, path) -> tuple[float, ...]:
 
 
 def _check_size(scene) -> None:
-    """Refuse, before building them, more floors than the machine can hold."""
+    """Refuse, before building them, more floors than the machine can hold, or than pframe
+    sets up without the opt-in PFRAME_MAX_FLOORS (resources.MAX_FLOORS)."""
     total = len(scene.nodes)
     for building in scene.buildings:
         lengths = [len(v) for v in [building.mass, *building.story.model_dump().values()]
                    if isinstance(v, list)]
         total += building.floors or max(lengths, default=0)
-    problem = check_floors(total)
+    # each floor has its storey; generic storeys and contacts are elements of their own
+    elements = 2 * total - len(scene.nodes) + len(scene.stories) + len(scene.contacts)
+    problem = check_floors(total, elements,
+                           steps_of(scene.analysis.duration, scene.analysis.dt))
     if problem:
         raise ModelError(("buildings",), problem)
 

@@ -181,6 +181,7 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     """
     from pframe.kernel import simulate
     from pframe.nondim.output import output_units
+    from pframe.outputs import check_stop
     from pframe.sweep.variants import cut_warning, load_fitted, materialise, record_end
 
     if definition.code != code_fingerprint():
@@ -194,6 +195,7 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     loaded, rows = {}, {}
     warnings: list[str] = []
     for index in spec.chunk_range(chunk):
+        check_stop()  # Ctrl-C: a chunk's variants take long to load; stop between them
         try:
             scene = load_fitted(spec, index, folder)
             if topology(scene.expanded, spec.recorders, spec) != reference:

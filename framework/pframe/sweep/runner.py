@@ -128,15 +128,17 @@ def _on_threads(definition, todo, threads, started, finish, run: SweepRun):
             for future in finished:
                 finish(pending.pop(future), future.result())
     except BaseException:
-        # Ctrl-C or a failed save: start nothing new; the chunks already running finish and
-        # are saved, so a second run continues after them.
+        # Ctrl-C or a failed save: start nothing new. Under the pframe command the chunks
+        # already running see the stop too (check_stop between variants, and in the kernel's
+        # driver) and end at once with it, unsaved; one that finished meanwhile is saved, so
+        # a second run continues after it.
         for future in pending:
             future.cancel()
         for future in list(pending):
             if not future.cancelled():
                 try:
                     finish(pending[future], future.result())
-                except Exception:
+                except BaseException:  # the stop, met by the chunk itself
                     pass
         raise
     finally:

@@ -182,12 +182,22 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     return stale;
 }
 
-/* 0 after recording the element whose force is not finite, if any. */
+/* The driver asked the kernel to stop (Ctrl-C, SIGTERM): another thread sets m->stop[0]
+ * while this call runs, hence the volatile read. */
+static int stop_asked(const Model *m) { return *(volatile const int64_t *)m->stop != 0; }
+
+/* 0 after recording the element whose force is not finite, if any, or STOPPED when the driver
+ * asked the kernel to stop. Every evaluation of the residual is followed by this check, so a
+ * stop is seen within one Newton iteration or sub-step in every mode, however many of them
+ * a step takes (the failed step unwinds as any failure does; the driver then discards the
+ * call). */
 static int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k)
 {
     const double *R = w->R;
     double total = 0.0;
     int64_t i, e, kind = NODE, where = 0;
+    if (stop_asked(m))
+        return fail(st, b, STOPPED, k, NODE, 0);
     for (i = 0; i < m->dofs; i++)
         total += R[i];
     if (isfinite(total))

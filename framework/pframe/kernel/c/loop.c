@@ -51,7 +51,9 @@ static int initial_state(const Model *m, const Settings *s, State *st, Work *w, 
 
 /* Advance every member that has not stopped from state begin to state end (state 0 is t = 0,
  * computed from the initial conditions). w and sv are scratch arrays used by the members in
- * turn. Returns RUN_OK, or RUN_ZERO_DIVISION when a step's coefficients divided by zero. */
+ * turn. Returns RUN_OK, RUN_ZERO_DIVISION when a step's coefficients divided by zero, or
+ * RUN_STOPPED when the driver asked to stop (m->stop, seen at every evaluation): the members'
+ * states are then mid-call, and the driver discards the run. */
 PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, Recording *rec,
                                  Work *w, Saved *sv, int64_t begin, int64_t end)
 {
@@ -63,6 +65,8 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
         const double h = m->dt[b];
         const int64_t first_step = imax(begin, 1);
         int64_t due;
+        if (stop_asked(m))
+            return RUN_STOPPED;
         if (st->status[b * STATUS_SLOTS + STATUS_CODE] != OK)
             continue;
         reset_work(m, w, b);
@@ -94,6 +98,8 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             if (!ok) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)
                     return RUN_ZERO_DIVISION;
+                if (st->status[b * STATUS_SLOTS + STATUS_CODE] == STOPPED)
+                    return RUN_STOPPED;
                 break;
             }
             if (k == due)

@@ -16,6 +16,7 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define NOT_FINITE 2
 #define NOT_DEFINITE 3
 #define NOT_STABLE 4
+#define STOPPED 5
 
 /* status columns */
 #define STATUS_CODE 0
@@ -86,6 +87,7 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 /* pframe_run's return values */
 #define RUN_OK 0
 #define RUN_ZERO_DIVISION 1
+#define RUN_STOPPED 2
 
 typedef struct Model {
     double *mass;
@@ -110,6 +112,7 @@ typedef struct Model {
     double *dt;
     int64_t *cd_parts;
     int64_t *event_parts;
+    int64_t *stop;
     int64_t batch;
     int64_t dofs;
     int64_t stories;
