@@ -159,10 +159,17 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
         "hertz": {"law": "hertz", "stiffness": 1.0e9},
         "hertzdamp": {"law": "hertzdamp", "stiffness": 1.0e9, "restitution": 0.6},
         "jankowski": {"law": "jankowski", "stiffness": 1.0e9, "restitution": 0.6},
+        "bumper": {"law": "bumper", "stiffness": 1.0e8, "hard_stiffness": 1.0e9,
+                   "thickness": 0.001, "restitution": 0.6},
     }
     story = {"elastic": {"material": "elastic", "stiffness": 2.0e6},
              "bilinear": {"material": "bilinear", "stiffness": 2.0e6, "yield_drift": 0.005,
-                          "alpha": 0.1}}
+                          "alpha": 0.1},
+             "bouc_wen": {"material": "bouc_wen", "alpha": 0.1, "ko": 2.0e6, "n": 1.0,
+                          "gamma": 100.0, "beta": 100.0},
+             "friction_pendulum": {"material": "friction_pendulum", "radius": 1.0,
+                                   "mu_slow": 0.05, "mu_fast": 0.1, "rate_parameter": 30.0,
+                                   "k_init": 2.0e6}}
     integrators = [{"type": "newmark"}, {"type": "newmark", "events": True},
                    {"type": "hht", "alpha": 0.1}, {"type": "generalized_alpha", "events": True},
                    {"type": "central_difference", "substeps": "auto"}]
@@ -173,7 +180,7 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
     runs = completed = 0
     for i, integrator in enumerate(integrators):
         for j, (law, params) in enumerate(contact.items()):
-            material = list(story)[(i + j) % 2]
+            material = list(story)[(i + j) % len(story)]
             scene = {
                 "buildings": [{"name": "A", "floors": 2, "mass": 1000.0, "story": story[material]},
                               {"name": "B", "floors": 3, "mass": 800.0, "story": story["elastic"]}],
@@ -192,7 +199,7 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
             assert set(result.law_calls) == {law, material, "elastic"}
             runs += 1
             completed += result.completed()
-    assert runs == 30 and completed >= 28
+    assert runs == 35 and completed >= 33
     assert ckernel.library() is ckernel._library
     assert ("numba" in sys.modules) == numba_before
 
@@ -252,8 +259,27 @@ def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
                 if law.name == "bilinear":
                     params[1] = rng.uniform(1e3, 1e5)  # yield force
                     params[2] = rng.choice([0.0, 0.1, 1.0])  # alpha
+                if law.name == "bouc_wen":  # OpenSees' BoucWen, with and without degradation
+                    zy = rng.uniform(0.005, 0.05)
+                    n = rng.choice([1.0, 2.0, 5.5])
+                    params[:] = (rng.choice([0.0, 0.1]), 1e6 * rng.uniform(0.5, 2.0), n,
+                                 rng.uniform(0.2, 0.8) / zy**n, rng.uniform(0.2, 0.8) / zy**n,
+                                 1.0, rng.choice([0.0, 1e-4]), rng.choice([0.0, 1e-4]),
+                                 rng.choice([0.0, 1e-4]), 1e-8, rng.choice([3.0, 20.0]))
+                if law.name == "friction_pendulum":  # Coulomb or velocity dependent, flat or not
+                    w = rng.uniform(1e4, 1e6)
+                    params[:] = (w, rng.choice([0.0, 1.0 / rng.uniform(0.5, 4.0)]), 1e3 * w,
+                                 0.05, rng.choice([0.05, 0.1]), rng.choice([0.0, 30.0]))
+                if law.name == "bumper":  # crushed or not
+                    params[1] = 1.5
+                    params[2] = rng.choice([0.0, rng.uniform(0.1, 2.0)])
+                    params[5] = rng.uniform(0.0, 0.02)
                 committed = rng.uniform(-0.01, 0.01, max(1, states)) * rng.choice([0.0, 1.0])
-                if states and law.name != "bilinear":
+                if states and law.name in ("bouc_wen", "friction_pendulum"):
+                    committed[:] = rng.uniform(-0.03, 0.03, states) * rng.choice([0.0, 1.0])
+                    if law.name == "bouc_wen":
+                        committed[2] = rng.uniform(0.0, 1e3)  # the hysteretic energy
+                elif states and law.name != "bilinear":
                     committed[-1] = rng.choice([0.0, 1.0])  # in contact or not
                     committed[0] = rng.uniform(-1.0, 1.0)  # the onset velocity
                 deformation = float(rng.choice([-1.0, 1.0]) * rng.uniform(0, 0.02))
@@ -264,7 +290,7 @@ def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
                 assert [float(x) for x in expected] == got.tolist(), (law.name, params, deformation)
                 assert np.array_equal(trial[:states], c_trial[:states], equal_nan=True), law.name
                 checked += 1
-    assert checked == 400 * 8
+    assert checked == 400 * 11
 
 
 def test_the_translator_refuses_what_it_cannot_translate():

@@ -34,10 +34,13 @@ _BUILTIN_MODULES = {
         "pframe.laws.contact.hertz",
         "pframe.laws.contact.hertzdamp",
         "pframe.laws.contact.jankowski",
+        "pframe.laws.contact.bumper",
     ),
     "material": (
         "pframe.laws.material.elastic",
         "pframe.laws.material.bilinear",
+        "pframe.laws.material.bouc_wen",
+        "pframe.laws.material.friction_pendulum",
     ),
 }
 _GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}
@@ -65,6 +68,29 @@ class ContactContext:
     def effective_mass(self) -> float:
         """m1 m2 / (m1 + m2) (kg); a node of infinite mass would give m1."""
         return self.mass_left * self.mass_right / (self.mass_left + self.mass_right)
+
+
+#: standard gravity (m/s^2): the weight a storey carries is g times the masses above it
+GRAVITY = 9.80665
+
+
+@dataclass(frozen=True)
+class StoreyContext:
+    """What a storey material may need from the scene: the mass it carries.
+
+    Attributes
+    ----------
+    mass_above : float
+        The masses of the storey's upper node and of every node above it in its building
+        (kg): a base isolator carries the whole superstructure, weight ``GRAVITY * mass_above``.
+    """
+
+    mass_above: float
+
+    @property
+    def weight(self) -> float:
+        """g times the masses above (N)."""
+        return GRAVITY * self.mass_above
 
 
 class Law:

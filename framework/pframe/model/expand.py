@@ -13,7 +13,7 @@ from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
 from pframe.excitation.describe import applied_motion, motion_warnings
 from pframe.excitation.records import RecordUnitsError
-from pframe.laws import ContactContext, get_law
+from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
 from pframe.model.scene import default_contact_name, default_story_name
@@ -131,6 +131,26 @@ def _check_size(scene) -> None:
         raise ModelError(("buildings",), problem)
 
 
+def _masses_above(stories, index, masses) -> dict:
+    """node name -> the mass of that node and of every node above it (kg): the nodes reached
+    upward through storeys (lower -> upper). Unknown names are left to the caller's check."""
+    upward: dict[str, list[str]] = {}
+    for _, (lower, upper), _, _, _ in stories:
+        upward.setdefault(lower, []).append(upper)
+    carried = {}
+    for start in {upper for _, (_, upper), _, _, _ in stories}:
+        seen, todo, total = set(), [start], 0.0
+        while todo:
+            name = todo.pop()
+            if name in seen or name not in index:
+                continue
+            seen.add(name)
+            total += float(masses[index[name]])
+            todo += upward.get(name, [])
+        carried[start] = total
+    return carried
+
+
 def expand(scene, base_dir: Path | str = ".") -> Expanded:
     """Resolve a validated scene; raises :class:`ModelError` with the YAML path of a problem."""
     nodes: list = []
@@ -171,6 +191,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
                         ("stories", s)))
 
+    carried = _masses_above(stories, index, [m for _, m, _ in nodes])
     story_elements, story_building, seen = [], [], {}
     for name, (lower, upper), law, params, path in stories:
         up = node_index(upper, path + ("nodes", 1))
@@ -183,7 +204,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if name in seen:
             raise ModelError(path, f"storey name {name!r} is used twice")
         seen[name] = True
-        story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
+        try:
+            packed = law.pack(params, StoreyContext(carried[upper]))
+        except InputError as exc:
+            raise ModelError(path, str(exc)) from None
+        story_elements.append(Element(name, (low, up), law, _finite(packed, path)))
         story_building.append(buildings.index(building_of[up]))
 
     record = None
