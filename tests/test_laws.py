@@ -340,7 +340,8 @@ IMPACTS = {
                   None, 1e-4),
     # crushed: the rubber alone would penetrate 5.6 mm
     "bumper": ({"law": "bumper", "stiffness": K_BUMPER, "hard_stiffness": K_HERTZ,
-                "thickness": 0.0015, "crush_ratio": 1.0, "restitution": E_TARGET}, "hc", 1e-5),
+                "thickness": 0.0015, "crush_ratio": 1.0, "restitution": E_TARGET,
+                "calibration": "published"}, "hc", 1e-5),
 }
 CHI = {  # chi of F = k delta^n (1 + chi delta' / v0), from the published xi = chi k / v0
     "improved_kelvin": 3 * (1 - E_TARGET) / (2 * E_TARGET),

@@ -123,6 +123,9 @@ class Law:
     #: ``dimensionless``, ...) or a unit string (``"N/m^1.5"``). ``pframe pi``, ``pframe
     #: scale`` and Pi-form scenes use it; a numeric field without one is refused there.
     dimensions: ClassVar[dict[str, str]] = {}
+    #: field -> why it has no fixed dimension (Bouc-Wen's gamma, in m^-n): ``pframe scale``
+    #: refuses it with that reason
+    undimensioned: ClassVar[dict[str, str]] = {}
     #: n of F ~ k delta^n: the stability and steps-per-contact checks size a contact from it
     exponent: ClassVar[float] = 1.0
     #: how the reference solver (``pframe accuracy``) locates the law's kinks: a model of

@@ -10,7 +10,8 @@ its thickness the floors meet through it and a hard Hertz contact adds to the ru
 with <x> = max(x, 0). The gap is measured to the bumper's face (the rubber's thickness is
 inside the gap: a contact's ``gap`` is the clear distance to the bumper). Damping is the
 Hunt-Crossley form shared by both stages, one chi from the restitution e (``calibration``:
-the Muthukumar & DesRoches formula chi = 3 (1 - e^2) / 4, or ``exact``); v_ref is the approach
+``exact`` by default, or ``published``, the Muthukumar & DesRoches formula
+chi = 3 (1 - e^2) / 4); v_ref is the approach
 velocity v0 at onset, never less than the energy velocity of the contact (as
 ``improved_kelvin`` / ``hertzdamp``, docs/restitution.md). With one chi for both stages a
 two-body impact rebounds with the Hunt-Crossley restitution of chi whatever the spring (the
@@ -48,7 +49,11 @@ class Bumper(HertzContact):
         crush_ratio: float = Field(0.9, gt=0, le=1, description="Share of the thickness at "
                                    "which the rubber is crushed and the hard contact begins.")
         restitution: DampedRestitution
-        calibration: Calibration = "published"
+        calibration: Calibration = Field(
+            "exact", description="exact (the default here): the damping with which an impact "
+                                 "rebounds with e, crushed or not; published: the Muthukumar & "
+                                 "DesRoches 2006 formula chi = 3 (1 - e^2) / 4 (no damping "
+                                 "formula was published for this composed law).")
 
     param_names = ("stiffness", "exponent", "chi", "inverse_effective_mass", "hard_stiffness",
                    "crush_depth")
