@@ -61,7 +61,7 @@ class Bumper(HertzContact):
     dimensions = {"stiffness": "hertz_stiffness", "hard_stiffness": "hertz_stiffness",
                   "thickness": "length", "crush_ratio": "dimensionless",
                   "restitution": "dimensionless"}
-    branches = "hunt_crossley"
+    branches = "bumper"
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

@@ -74,9 +74,9 @@ class BoucWen(Law):
                   "tolerance": "length", "max_iterations": "dimensionless"}
     undimensioned = {
         "gamma": "gamma and beta of the Bouc-Wen material are in m^-n, a dimension that depends "
-                 "on n; scale them by hand (by S_L^-n) or give the scene in Pi form",
+                 "on n; scale them by hand (by S_L^-n)",
         "beta": "gamma and beta of the Bouc-Wen material are in m^-n, a dimension that depends "
-                "on n; scale them by hand (by S_L^-n) or give the scene in Pi form"}
+                "on n; scale them by hand (by S_L^-n)"}
     branches = "smooth"
     opensees = "BoucWen"
 
