@@ -526,3 +526,55 @@ def test_every_isolator_parameter_can_be_swept(tmp_path, law):
         peaks = ds["peak_story_drift"].values.reshape(2, -1)
         if field not in ("tolerance", "max_iterations"):  # these only refine the same answer
             assert not np.allclose(peaks[0], peaks[1], rtol=1e-9, atol=0), field
+
+
+@pytest.mark.parametrize(("story", "message"), [
+    ({"mu": 0.05, "mu_slow": 0.02}, "give either mu (Coulomb friction) or all three"),
+    ({"mu_slow": 0.02, "mu_fast": 0.05}, "give either mu (Coulomb friction) or all three"),
+    ({"mu": 0.05, "k_init": 1.0e3}, "k_init 1000.0 N/m must exceed the pendulum stiffness"),
+    ({"mu": 0.05, "k_init": None}, "k_init: this field is required"),
+    ({"mu": 1.5}, "mu: Input should be less than or equal to 1"),
+])
+def test_friction_pendulum_input_errors_name_the_storey(story, message):
+    """Bad friction pendulum parameters: one message at the storey, no run."""
+    from pframe.errors import InputError
+    from pframe.reader import parse_scene
+
+    params = {"material": "friction_pendulum", "radius": 2.0, "k_init": 1.0e8} | story
+    params = {k: v for k, v in params.items() if v is not None}
+    with pytest.raises(InputError, match=r"stories\[0\]") as error:
+        parse_scene(_single_bearing(1.0e5, params))
+    assert message in str(error.value)
+
+
+def test_bouc_wen_input_errors_name_the_field():
+    from pframe.errors import InputError
+    from pframe.reader import parse_scene
+
+    for bad, message in (({"tolerance": 0.5}, "tolerance: Input should be less than or equal"),
+                         ({"max_iterations": 500}, "max_iterations: Input should be less"),
+                         ({"ko": -1.0}, "ko: Input should be greater than 0")):
+        with pytest.raises(InputError, match=r"stories\[0\]") as error:
+            parse_scene(_single_bearing(1.0e5, BW | bad))
+        assert message in str(error.value)
+
+
+def test_opensees_export_names_bouc_wen_and_refuses_the_pendulum(tmp_path):
+    """The OpenSees script models a Bouc-Wen storey with BoucWen (its 9 parameters, tolerance
+    and iterations); a friction pendulum, an OpenSees element rather than a uniaxialMaterial,
+    is refused with the reason."""
+    import pframe
+    from pframe.errors import InputError
+
+    path = tmp_path / "bw.yaml"
+    path.write_text(_single_bearing(1.0e5, BW, {"kind": "sine", "amplitude": 1.0,
+                                                "frequency": 3.0}, duration=0.1),
+                    encoding="utf-8")
+    script = pframe.to_opensees(path)
+    assert '"BoucWen"' in script and "'bouc_wen'" in script
+    path.write_text(_single_bearing(1.0e5, FP_VELOCITY, {"kind": "sine", "amplitude": 1.0,
+                                                         "frequency": 3.0}, duration=0.1),
+                    encoding="utf-8")
+    with pytest.raises(InputError, match="'friction_pendulum', which has no OpenSees "
+                                         "uniaxialMaterial counterpart"):
+        pframe.to_opensees(path)

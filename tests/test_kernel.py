@@ -308,8 +308,28 @@ def test_the_translator_refuses_what_it_cannot_translate():
         @staticmethod
         def force(params, committed, trial, deformation, rate):
             total = 0.0
-            for _ in range(3):
+            while total < deformation:
                 total += deformation
+            return total, 0.0, 0.0
+
+    class Unbounded:  # a loop's bound must be a constant
+        kind, name, __qualname__ = "contact", "unbounded", "Unbounded"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            total = 0.0
+            for _ in range(params[0]):
+                total += deformation
+            return total, 0.0, 0.0
+
+    class Counting:  # the C counter is an int: the law keeps a float count of its own
+        kind, name, __qualname__ = "contact", "counting", "Counting"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            total = 0.0
+            for i in range(3):
+                total += i
             return total, 0.0, 0.0
 
     class Calling:
@@ -327,8 +347,40 @@ def test_the_translator_refuses_what_it_cannot_translate():
             committed[0] = deformation
             return 0.0, 0.0, 0.0
 
-    for law, what in ((Looping, "For statements"), (Calling, "the call"),
-                      (Writing, "only trial[i] may be written")):
+    for law, what in ((Looping, "While statements"), (Calling, "the call"),
+                      (Writing, "only trial[i] may be written"),
+                      (Unbounded, "a loop must be `for NAME in range(N):`"),
+                      (Counting, "the loop counter 'i' is read")):
         with pytest.raises(TranslationError, match=re.escape(what)) as error:
             translate(law, "c_name")
         assert f"'{law.name}'" in str(error.value) and "line" in str(error.value)
+
+
+def test_the_translator_takes_a_bounded_loop_with_break():
+    """for NAME in range(N) (N constant) with break: the C loop computes the Python loop's
+    bits (here a Newton solve of x^3 = deformation, as Bouc-Wen's for z)."""
+    import numpy as np
+
+    from pframe.kernel.translate import translate
+
+    class Cubic:
+        kind, name, __qualname__ = "contact", "cubic", "Cubic"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            x = 1.0
+            count = 0.0
+            for _ in range(50):
+                step = (x * x * x - deformation) / (3.0 * x * x)
+                x = x - step
+                count = count + 1.0
+                if abs(step) <= 1e-15 * abs(x):
+                    break
+            trial[0] = count
+            return x, 0.0, 0.0
+
+    source = translate(Cubic, "contact_cubic")
+    assert "for (loop0_ = 0; loop0_ < 50; loop0_++) {" in source and "break;" in source
+    assert "int64_t loop0_;" in source
+    trial = np.zeros(1)
+    assert Cubic.force(None, None, trial, 8.0, 0.0)[0] == 2.0 and 3 < trial[0] < 50
