@@ -167,3 +167,29 @@ def test_hard_stage_is_c1_at_the_crush_depth():
         assert above[0] - below[0] == pytest.approx(2 * h * below[1], rel=1e-2)
         assert above[1] - below[1] == pytest.approx(1.5 * K_HARD * math.sqrt(h) * factor,
                                                     rel=1e-2)
+
+
+def test_bumper_pi_numbers_and_similitude():
+    """pframe pi names a bumper by k_h (the rubber's), k_hard / k_h and delta_c beside e; a
+    1:4 scale model (same acceleration and modulus) of a bumper impact rebounds with the same
+    e and its force scales by S_F = S_L^2 (the peak penetration by S_L)."""
+    from pframe.nondim import scale_scene, similitude
+
+    packed = BUMPER.pack(BUMPER.Params(**_contact(0.004, 0.5)), ContactContext(M_LEFT, M_RIGHT))
+    assert BUMPER.governing(packed) == {"k_h": ("hertz_stiffness", K_RUBBER),
+                                        "hard_ratio": ("dimensionless", K_HARD / K_RUBBER),
+                                        "delta_c": ("length", pytest.approx(0.0036))}
+    duration = _reference(_contact(0.004, 0.5))[2]
+    proto = json.loads(two_free_masses_text(M_LEFT, M_RIGHT, _contact(0.004, 0.5), V_IMPACT,
+                                            0.0, duration / 1000, 1.3 * duration))
+    model = scale_scene(proto, similitude({"length": "1/4", "acceleration": 1, "modulus": 1}))
+    assert model["contacts"][0]["thickness"] == pytest.approx(0.001)
+    peaks = []
+    for data in (proto, model):
+        plan, result = run_text(json.dumps(data))
+        assert result.completed()
+        peaks.append(element_history(plan, result, "contact_force", "c").max())
+        v = [node_history(plan, result, "velocity", n)[-1] for n in ("L/1", "R/1")]
+        v0 = data["initial_conditions"]["velocity"]["L/1"]
+        assert -(v[0] - v[1]) / v0 == pytest.approx(0.5, abs=2e-4)
+    assert peaks[1] / peaks[0] == pytest.approx(1 / 16, rel=1e-9)

@@ -66,10 +66,11 @@ class Bumper(HertzContact):
     @classmethod
     def governing(cls, packed, effective_mass=None):
         """k_h (the rubber's Hertz stiffness, as the other Hertz laws name it), the hard
-        stiffness ratio k_hard / k_h, the crush depth delta_c and chi."""
-        k, _, chi, _, hard, depth = packed
+        stiffness ratio k_hard / k_h and the crush depth delta_c (the restitution e, which
+        fixes chi, is the scene's own variable)."""
+        k, _, _, _, hard, depth = packed
         return {"k_h": ("hertz_stiffness", k), "hard_ratio": ("dimensionless", hard / k),
-                "delta_c": ("length", depth), "chi": ("dimensionless", chi)}
+                "delta_c": ("length", depth)}
 
     @classmethod
     def chi(cls, params) -> float:
