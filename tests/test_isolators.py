@@ -432,11 +432,19 @@ def test_isolated_building_energy_balance_closes_under_el_centro(tmp_path, isola
     assert isolator_work > terms["damping"] > 0.0
 
 
-def test_a_scene_without_isolators_pays_nothing_for_them():
+def test_a_scene_without_isolators_pays_nothing_for_them(monkeypatch):
     """A scene of elastic and bilinear storeys calls neither isolator law: the kernel's
-    counters show only its own laws, one call per storey and evaluation."""
+    counters show only its own laws, one call per storey and evaluation; and reading it never
+    sums the masses above each storey (the pendulum's default weight; a pass over every
+    storey, which a 100,000-floor building would pay for nothing)."""
     from conftest import scene_text
 
+    def never(*args):
+        raise AssertionError("the masses above the storeys were summed")
+
+    import importlib
+
+    monkeypatch.setattr(importlib.import_module("pframe.model.expand"), "_masses_above", never)
     plan, result = run_text(scene_text(
         buildings=[{"name": "A", "floors": 3, "mass": 1000.0,
                     "story": {"material": "bilinear", "stiffness": 2.0e6, "yield_drift": 0.01,

@@ -74,9 +74,11 @@ class ContactContext:
 GRAVITY = 9.80665
 
 
-@dataclass(frozen=True)
 class StoreyContext:
     """What a storey material may need from the scene: the mass it carries.
+
+    ``mass_above`` is a number or a function giving it, called the first time a law asks
+    (so that a scene whose laws never ask pays nothing for it).
 
     Attributes
     ----------
@@ -85,7 +87,14 @@ class StoreyContext:
         (kg): a base isolator carries the whole superstructure, weight ``GRAVITY * mass_above``.
     """
 
-    mass_above: float
+    def __init__(self, mass_above):
+        self._mass_above = mass_above
+
+    @property
+    def mass_above(self) -> float:
+        if callable(self._mass_above):
+            self._mass_above = float(self._mass_above())
+        return self._mass_above
 
     @property
     def weight(self) -> float:

@@ -133,21 +133,29 @@ def _check_size(scene) -> None:
 
 def _masses_above(stories, index, masses) -> dict:
     """node name -> the mass of that node and of every node above it (kg): the nodes reached
-    upward through storeys (lower -> upper). Unknown names are left to the caller's check."""
+    upward through storeys (lower -> upper), each counted once along each storey (a tree, as
+    buildings are). One pass over the storeys, whatever the height. Unknown names are left to
+    the caller's check; a storey loop (refused elsewhere) is cut where it closes."""
     upward: dict[str, list[str]] = {}
     for _, (lower, upper), _, _, _ in stories:
         upward.setdefault(lower, []).append(upper)
-    carried = {}
+    carried: dict[str, float] = {}
     for start in {upper for _, (_, upper), _, _, _ in stories}:
-        seen, todo, total = set(), [start], 0.0
-        while todo:
-            name = todo.pop()
-            if name in seen or name not in index:
+        if start in carried:
+            continue
+        todo, open_ = [(start, False)], set()
+        while todo:  # post-order: a node's total once every node above it has one
+            name, done = todo.pop()
+            if done:
+                open_.discard(name)
+                carried[name] = (float(masses[index[name]]) if name in index else 0.0) + sum(
+                    carried.get(up, 0.0) for up in upward.get(name, ()) if up not in open_)
                 continue
-            seen.add(name)
-            total += float(masses[index[name]])
-            todo += upward.get(name, [])
-        carried[start] = total
+            if name in carried or name in open_:
+                continue
+            open_.add(name)
+            todo.append((name, True))
+            todo += [(up, False) for up in upward.get(name, ()) if up not in carried]
     return carried
 
 
@@ -191,7 +199,13 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
                         ("stories", s)))
 
-    carried = _masses_above(stories, index, [m for _, m, _ in nodes])
+    carried: dict = {}
+
+    def mass_above(upper: str) -> float:  # computed for every storey at the first request
+        if not carried:
+            carried.update(_masses_above(stories, index, [m for _, m, _ in nodes]))
+        return carried[upper]
+
     story_elements, story_building, seen = [], [], {}
     for name, (lower, upper), law, params, path in stories:
         up = node_index(upper, path + ("nodes", 1))
@@ -205,7 +219,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             raise ModelError(path, f"storey name {name!r} is used twice")
         seen[name] = True
         try:
-            packed = law.pack(params, StoreyContext(carried[upper]))
+            packed = law.pack(params, StoreyContext(lambda upper=upper: mass_above(upper)))
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
         story_elements.append(Element(name, (low, up), law, _finite(packed, path)))
