@@ -30,6 +30,7 @@ def rows():
     return accuracy.study(loaded, integrators, factors=(4.0, 2.0, 1.0), repeats=1)
 
 
+@pytest.mark.slow
 def test_errors_fall_with_dt_and_impacts_match(rows):
     table, reference = rows
     assert reference.impacts.sum() >= 2
@@ -42,6 +43,7 @@ def test_errors_fall_with_dt_and_impacts_match(rows):
     assert all(r.energy_balance_error < 1e-9 for r in events)  # average acceleration
 
 
+@pytest.mark.slow
 def test_recommendation_is_the_fastest_run_within_tolerance(rows):
     table, _ = rows
     for tol, pick in accuracy.recommend(table, (1e-2, 1e-9)):
@@ -52,6 +54,7 @@ def test_recommendation_is_the_fastest_run_within_tolerance(rows):
             assert pick is min(fit, key=lambda r: r.solve_seconds)
 
 
+@pytest.mark.slow
 def test_command_writes_table_csv_and_plot(tmp_path, capsys):
     model = tmp_path / "scene.yaml"
     model.write_text(SCENE)
@@ -167,6 +170,7 @@ def test_a_jump_of_the_ground_acceleration_converges_at_order_one(tmp_path, kind
     assert errors[-1] < 2e-3
 
 
+@pytest.mark.slow
 def test_command_runs_on_a_pulse_scene(tmp_path, capsys):
     model = tmp_path / "pulse.yaml"
     model.write_text(ONE_STOREY.format(excitation=KINDS["cycloidal-C1"]))

@@ -38,6 +38,7 @@ def _data(text: str) -> dict:
     return json.loads(found.group(1))
 
 
+@pytest.mark.slow
 def test_the_page_is_self_contained_and_holds_the_run(page):
     run, html = page
     text = html.read_text(encoding="utf-8")
@@ -70,6 +71,7 @@ def _layout(html: Path, frames: list[int]) -> list[dict]:
     return json.loads(done.stdout)
 
 
+@pytest.mark.slow
 def test_the_drawing_is_the_files_displacements_and_contacts(page):
     run, html = page
     data = _data(html.read_text(encoding="utf-8"))
@@ -110,6 +112,7 @@ def _chromium() -> str:
     pytest.skip("no Chromium: the page is not rendered (apt-get install chromium)")
 
 
+@pytest.mark.slow
 def test_headless_chromium_draws_the_floors_where_the_file_says(page, tmp_path):
     """The page opened at a known time (``#t=...``) in headless Chromium: the canvas it drew
     has building A's colour at the middle of the A/3 slab where the file puts it, and not

@@ -103,6 +103,7 @@ def test_scene_from_objects_is_the_paper_scene():
     assert paper_scene() == pframe.load(MODELS / "wu2021-eq14.yaml")
 
 
+@pytest.mark.slow
 def test_solve_equals_the_cli_file(cli_file):
     """The paper's scene built without YAML gives the file ``pframe solve`` writes: every
     variable, coordinate and attribute, value for value (the in-memory Dataset differs only
@@ -154,6 +155,7 @@ def test_names_are_the_coordinates_of_their_dimensions(tmp_path):
         assert b"".join(f["node_name"][2]).decode() == "A/3"
 
 
+@pytest.mark.slow
 def test_open_equals_solve_to_file(tmp_path, cli_file):
     import xarray as xr
 
@@ -303,6 +305,7 @@ def test_copies_and_variants_keep_their_record(tmp_path, monkeypatch):
     assert scene.excitation == pframe.Record(file="records/elCentro.AT2")
 
 
+@pytest.mark.slow
 def test_to_opensees_script_runs_and_agrees(tmp_path):
     """The script of ``pframe.to_opensees(scene)`` runs on its own and gives pframe's
     histories."""
@@ -330,6 +333,7 @@ def test_opensees_refuses_laws_it_cannot_model():
         pframe.to_opensees(pframe.load(MODELS / "wu2021-eq14.yaml"))
 
 
+@pytest.mark.slow
 def test_sweep_returns_the_file_dataset(tmp_path):
     import xarray as xr
 
@@ -378,6 +382,7 @@ def test_plot_takes_a_dataset_and_the_users_axes():
             pframe.plot(ds, "displacement", names=["A/9"])
 
 
+@pytest.mark.slow
 def test_python_page_runs_as_a_notebook_would(tmp_path):
     """Every Python block of docs/python.md, run in order as one script (the way a notebook
     runs its cells): load, solve from a file and from objects, sweep, plot."""

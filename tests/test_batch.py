@@ -84,6 +84,7 @@ def test_batch_variants_really_differ(batch):
     assert np.all(result.envelope["story_drift"][:, 0] > 0.0248)  # A/1 yields in all
 
 
+@pytest.mark.slow
 def test_chunked_run_equals_one_call(batch):
     """Running the batch in chunks (with a progress callback) continues from the state left
     in place and gives the same numbers as one kernel call."""

@@ -49,6 +49,7 @@ def files(tmp_path_factory) -> dict[str, Path]:
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_compliance_checker_finds_nothing(files, kind):
     done = subprocess.run([_tool("compliance-checker"), "--test=cf:1.8", "--format=text",
@@ -58,6 +59,7 @@ def test_compliance_checker_finds_nothing(files, kind):
     assert re.search(r"has 0 potential issues|All tests passed", report), report
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_cfchecks_finds_nothing(files, kind, tmp_path):
     checker = _tool("cfchecks")
@@ -82,6 +84,7 @@ def test_cfchecks_finds_nothing(files, kind, tmp_path):
     assert "ERRORS detected: 0" in report and "WARNINGS given: 0" in report, report
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_every_text_attribute_is_nc_char(files, kind):
     """Text attributes are fixed-length strings (netCDF's NC_CHAR), which every netCDF

@@ -57,6 +57,7 @@ print(json.dumps({"numba": "numba" in sys.modules,
 """
 
 
+@pytest.mark.slow
 def test_a_built_in_scene_neither_imports_numba_nor_compiles(tmp_path):
     cache = tmp_path / "cache"
     env = dict(os.environ, PFRAME_CACHE_DIR=str(cache))

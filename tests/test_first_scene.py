@@ -40,6 +40,7 @@ def test_the_page_is_linked_from_readme_and_getting_started():
         assert "first-scene.md" in page.read_text(encoding="utf-8"), page
 
 
+@pytest.mark.slow
 def test_the_page_runs_as_written(tmp_path, monkeypatch):
     record = RECORDS / "ARL360.at2"
     if not record.is_file():

@@ -199,6 +199,7 @@ def test_fragility_maximum_likelihood_recovers_a_lognormal():
     assert all(math.isnan(x) for x in fit_lognormal(levels, n, step))
 
 
+@pytest.mark.slow
 def test_statistics_pounding_and_file(tmp_path):
     path = tmp_path / "pair.yaml"
     path.write_text(PAIR)
@@ -226,6 +227,7 @@ def test_statistics_pounding_and_file(tmp_path):
     assert not list(tmp_path.glob("*.parts")) and not list(tmp_path.glob(".*tmp"))
 
 
+@pytest.mark.slow
 def test_stopped_audit_resumes_to_the_same_result(tmp_path):
     path = tmp_path / "pair.yaml"
     path.write_text(PAIR)
@@ -288,6 +290,7 @@ def test_scene_without_contacts_is_refused(tmp_path, capsys):
     assert main(["gap", str(path)]) == 2
 
 
+@pytest.mark.slow
 def test_command_prints_table_and_plot_draws_it(tmp_path, capsys):
     path = tmp_path / "pair.yaml"
     path.write_text(PAIR)

@@ -107,6 +107,7 @@ def _rewrite(text: str, tables: dict[str, str]) -> str:
     return BLOCK.sub(replace, text)
 
 
+@pytest.mark.slow
 @needs_records
 def test_page_holds_exactly_the_computed_tables():
     text = PAGE.read_text(encoding="utf-8")
@@ -118,6 +119,7 @@ def test_page_holds_exactly_the_computed_tables():
                                      f"with: {REGENERATE}\n{body}")
 
 
+@pytest.mark.slow
 @needs_records
 def test_page_claims():
     """What the prose says: the rules are ordered simulated <= DDC <= SRSS <= ABS on the

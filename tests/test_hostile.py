@@ -81,6 +81,7 @@ def alias_bomb(levels: int = 9) -> str:
     return "\n".join(lines) + "\n"
 
 
+@pytest.mark.slow
 def test_alias_bomb_is_refused_before_memory_grows(tmp_path, capsys):
     bomb = tmp_path / "bomb.yaml"
     bomb.write_text(alias_bomb(), encoding="utf-8")
@@ -207,6 +208,7 @@ def test_more_floors_than_memory_are_refused_before_they_are_built(tmp_path, cap
     assert peak < BOUNDED_BYTES
 
 
+@pytest.mark.slow
 def test_a_tall_building_assembles_without_a_dense_matrix():
     """The Rayleigh fit of a 20,000-floor building and the stability check of the pair use
     banded / element-wise forms: a dense 20,000^2 matrix alone would be 3.2 GB."""
@@ -642,6 +644,7 @@ def _wait_for_temporary(folder: Path, process, limit: float = 120.0) -> Path:
     raise AssertionError("the run never started writing")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("signum, flags, code", [
     (signal.SIGTERM, [], 128 + signal.SIGTERM),
     (signal.SIGINT, ["-q"], 130),
@@ -668,6 +671,7 @@ def test_a_signal_stops_the_run_and_removes_the_temporary_file_e2e(tmp_path, sig
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.yaml", "out.h5"]
 
 
+@pytest.mark.slow
 def test_alias_bomb_in_its_own_process_e2e(tmp_path):
     bomb = tmp_path / "bomb.yaml"
     bomb.write_text(alias_bomb(), encoding="utf-8")
@@ -743,6 +747,7 @@ def test_opensees_may_not_write_onto_its_scene_or_record(tmp_path, capsys):
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
 
 
+@pytest.mark.slow
 def test_loading_a_result_leaves_nothing_behind_and_follows_dotdot(tmp_path):
     shared = tmp_path / "shared" / "records"
     shared.mkdir(parents=True)
@@ -798,6 +803,7 @@ def test_gap_may_not_write_onto_its_scene_or_record(tmp_path, capsys):
     assert {p.name: p.read_bytes() for p in tmp_path.iterdir()} == before
 
 
+@pytest.mark.slow
 def test_plot_never_replaces_without_overwrite_nor_a_fifo(tmp_path, capsys):
     pytest.importorskip("matplotlib")
     model = write_scene(tmp_path, short(scene_data()))

@@ -141,6 +141,7 @@ def SETTINGS(examples: int):
                                            HealthCheck.too_slow])
 
 
+@pytest.mark.slow
 @SETTINGS(600)
 @given(case=st.one_of([_case(p.name) for p in SCENES]))
 def test_every_field_of_every_scene(capsys, case):
@@ -154,6 +155,7 @@ def test_every_field_of_every_scene(capsys, case):
         assert sorted(p.name for p in Path(folder).iterdir()) == before
 
 
+@pytest.mark.slow
 @SETTINGS(200)
 @given(case=st.one_of([_case(p.name) for p in SWEEPS]))
 def test_every_field_of_every_sweep_file(capsys, case):
@@ -184,6 +186,7 @@ for _name in RUNNABLE:
     PATHS[f"short-{_name}"] = PATHS[_name]
 
 
+@pytest.mark.slow
 @SETTINGS(100)
 @given(case=st.one_of([_case(f"short-{name}") for name in RUNNABLE]))
 def test_solve_refuses_or_runs_and_never_damages_the_output(capsys, monkeypatch, case):

@@ -144,6 +144,7 @@ def _variable_sets(draw):
     return [Variable(f"q{i}", d) for i, d in enumerate(dims)]
 
 
+@pytest.mark.slow
 @given(_variable_sets())
 @settings(max_examples=200, deadline=None)
 def test_groups_of_random_dimension_matrices_are_dimensionless_and_complete(variables):
@@ -350,6 +351,7 @@ _SIMILITUDE = st.fixed_dictionaries({
     for q in ("mass", "length", "time")})
 
 
+@pytest.mark.slow
 @given(_scenes(), _SIMILITUDE)
 @settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_groups_of_random_scenes_are_dimensionless_independent_and_similarity_invariant(
@@ -438,6 +440,7 @@ def _pi_scenes(draw) -> dict:
     return scene
 
 
+@pytest.mark.slow
 @given(_pi_scenes())
 @settings(max_examples=100, deadline=None, suppress_health_check=[HealthCheck.too_slow])
 def test_expanding_a_pi_scene_then_taking_its_groups_returns_its_numbers(scene):
@@ -501,6 +504,7 @@ def test_every_contact_law_has_a_pi_form_under_a_record(law, tmp_path):
     assert contacts == [f"A/{i}-B/{i}" for i in range(1, 6)] + [f"B/{i}-C/{i}" for i in range(1, 4)]
 
 
+@pytest.mark.slow
 def test_a_record_is_scaled_to_a_p_and_compressed_to_w_p(tmp_path):
     """A 2 Hz sine record of amplitude 2.5 m/s^2 (T_m = 0.5 s) in a Pi form with a_p = 5 and
     w_p = 2 pi 8 rad/s is applied as a sine of 5 m/s^2 at 8 Hz; without scales it is applied as
@@ -540,6 +544,7 @@ def test_a_record_is_scaled_to_a_p_and_compressed_to_w_p(tmp_path):
     assert "the period stated in the scene" in report.notes[0]
 
 
+@pytest.mark.slow
 def test_oscillator_steps_are_exact_for_a_piecewise_linear_record():
     """The spectrum recurrence against an adaptive Runge-Kutta integration of the same
     oscillator under the same linearly interpolated record (a chirp from rest), and the

@@ -96,6 +96,7 @@ def pdf_pages(path) -> int:
     return len(re.findall(rb"/Type\s*/Page\b", path.read_bytes()))
 
 
+@pytest.mark.slow
 def test_png_per_level_and_pdf_pages(result_file, tmp_path, capsys):
     assert main(["plot", str(result_file), "-o", str(tmp_path / "fig.png")]) == 0
     pngs = sorted(tmp_path.glob("fig-*.png"))
@@ -110,11 +111,13 @@ def test_png_per_level_and_pdf_pages(result_file, tmp_path, capsys):
     assert capsys.readouterr() == ("", "")
 
 
+@pytest.mark.slow
 def test_default_output_is_a_pdf_beside_the_input(copy):
     assert main(["plot", str(copy), "--story", "3", "--kind", "hysteresis", "-q"]) == 0
     assert pdf_pages(copy.with_suffix(".pdf")) == 1
 
 
+@pytest.mark.slow
 def test_one_level_to_one_png_of_the_given_name(result_file, tmp_path):
     out = tmp_path / "level2.png"
     assert main(["plot", str(result_file), "--story", "2", "-o", str(out), "-q"]) == 0
@@ -122,6 +125,7 @@ def test_one_level_to_one_png_of_the_given_name(result_file, tmp_path):
     assert list(tmp_path.iterdir()) == [out]
 
 
+@pytest.mark.slow
 def test_figures_hold_the_file_data(result_file):
     time, nodes = read(result_file, "time"), read(result_file, "node")
     stories, contacts = read(result_file, "story"), read(result_file, "contact")
@@ -161,6 +165,7 @@ def test_figures_hold_the_file_data(result_file):
     assert set(lines_by_label(axes_by_label(figs["1"])["contact_force"])) == {"lower"}
 
 
+@pytest.mark.slow
 def test_units_and_svg_from_the_command_line(result_file, tmp_path, capsys):
     """``--units engineering`` draws mm and kN (the numbers scaled, the labels saying so),
     as ``pframe.plot(..., units="engineering")`` does; ``-o FIG.svg`` writes SVG."""
@@ -190,6 +195,7 @@ def test_the_help_names_the_formats_and_units(capsys):
     assert "(.nc)" in text and ".svg" in text and "--units" in text and "(.h5)" not in text
 
 
+@pytest.mark.slow
 def test_kinds_and_time_range(result_file):
     time = read(result_file, "time")
     histories = figures(result_file, kind="histories", levels=[1], time_range=(0.2, 0.5))
@@ -203,6 +209,7 @@ def test_kinds_and_time_range(result_file):
         "3": {"hysteresis L/3"}}
 
 
+@pytest.mark.slow
 def test_dimensionless_uses_the_scene_scales(result_file):
     time, l_e = read(result_file, "time"), A_P / W_P**2
     panels = axes_by_label(figures(result_file, levels=["1"], dimensionless=True)["1"])
@@ -220,6 +227,7 @@ def test_dimensionless_uses_the_scene_scales(result_file):
     assert panels["displacement"].get_ylabel() == r"$x = X / l_e$"
 
 
+@pytest.mark.slow
 def test_dimensionless_takes_the_scales_the_scene_gives(copy):
     """The scales the file stores (those of the scene's output.scales, when it gives them)."""
     with h5py.File(copy, "r+") as f:
@@ -232,6 +240,7 @@ def test_dimensionless_takes_the_scales_the_scene_gives(copy):
                                rtol=1e-14)
 
 
+@pytest.mark.slow
 def test_a_dimensionless_file_is_labelled_so(copy):
     with h5py.File(copy, "r+") as f:
         for name in ("t", "displacement", "velocity", "contact_force", "story_drift",
@@ -255,6 +264,7 @@ def _solved(tmp_path, text: str, name: str) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_missing_histories_leave_panels_out(tmp_path, capsys):
     copy = _solved(tmp_path, SCENE.replace(
         "quantities: [displacement, velocity, story_force, story_drift, contact_force]",
@@ -329,6 +339,7 @@ def test_bad_arguments_exit_2(result_file, tmp_path, capsys, args, message):
     assert message in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_dimensionless_needs_a_sine(copy, capsys):
     """A file without stored reference scales (written before they were stored) falls back
     on its scene, which needs a sine or output.scales."""
@@ -351,6 +362,7 @@ def test_without_matplotlib_the_message_says_how_to_install(result_file, monkeyp
     assert err.count("\n") == 1
 
 
+@pytest.mark.slow
 def test_other_commands_never_import_matplotlib(tmp_path):
     scene = tmp_path / "scene.yaml"
     scene.write_text(SCENE, encoding="utf-8")

@@ -108,6 +108,7 @@ SOFTSTOP = {"law": "softstop", "stiffness": STIFFNESS,
             "reference_penetration": REFERENCE_PENETRATION}
 
 
+@pytest.mark.slow
 def test_plugin_law_runs_inside_the_kernel(run_pframe, tmp_path):
     model = tmp_path / "soft.yaml"
     model.write_text(_two_masses(SOFTSTOP), encoding="utf-8")
@@ -129,6 +130,7 @@ def test_plugin_law_runs_inside_the_kernel(run_pframe, tmp_path):
     assert force[peak] > 1.4 * STIFFNESS * delta[peak]
 
 
+@pytest.mark.slow
 def test_plugin_params_are_validated_with_lines(run_pframe, tmp_path):
     contact = dict(SOFTSTOP)
     del contact["reference_penetration"]
@@ -145,6 +147,7 @@ def test_plugin_params_are_validated_with_lines(run_pframe, tmp_path):
     assert "contacts[0].reference_penetration: this field is required" in run.stderr
 
 
+@pytest.mark.slow
 def test_uncompilable_plugin_law_is_named(run_pframe, tmp_path):
     model = tmp_path / "broken.yaml"
     model.write_text(_two_masses({"law": "broken", "stiffness": STIFFNESS}), encoding="utf-8")
@@ -157,6 +160,7 @@ def test_uncompilable_plugin_law_is_named(run_pframe, tmp_path):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_unknown_law_lists_plugin_laws(run_pframe, tmp_path):
     model = tmp_path / "typo.yaml"
     model.write_text(_two_masses(SOFTSTOP | {"law": "softstp"}), encoding="utf-8")
@@ -169,6 +173,7 @@ def test_unknown_law_lists_plugin_laws(run_pframe, tmp_path):
         assert name in known
 
 
+@pytest.mark.slow
 def test_plugin_law_is_known_everywhere_a_built_in_law_is(run_pframe, tmp_path):
     """What a law declares (dimensions, exponent, branches, OpenSees counterpart) is all that
     ``pframe pi``, ``pframe scale``, the steps-per-contact check, the reference solver and
@@ -215,6 +220,7 @@ def test_plugin_law_is_known_everywhere_a_built_in_law_is(run_pframe, tmp_path):
     assert "no OpenSees counterpart" in peer.stderr
 
 
+@pytest.mark.slow
 def test_a_plugin_copy_of_a_built_in_law_gives_its_results(run_pframe, tmp_path):
     """The paper's scene with its improved Kelvin contacts as the built-in law (C, in the
     kernel) and as a plug-in copy (numba cfunc, called through a pointer): the same numbers,

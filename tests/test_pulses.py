@@ -136,6 +136,7 @@ def test_bad_pulses_are_refused_naming_the_field(excitation, message):
     assert "pulse.yaml, line 4, excitation" in str(info.value)  # the excitation line
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("excitation", [
     {"kind": "cycloidal", "type": "C", "n": 2},
     {"kind": "ricker", "center": 1.2},

@@ -139,6 +139,7 @@ def test_text_attributes_are_fixed_length_characters(tmp_path):
         assert _fixed_length_text(h["u"].attrs, "_FillValue") is False
 
 
+@pytest.mark.slow
 @pytest.mark.filterwarnings("error::pytest.PytestUnraisableExceptionWarning")
 def test_a_stop_inside_the_file_constructor_leaves_no_traceback(tmp_path, monkeypatch, capsys):
     """A signal raises where it arrives: inside h5netcdf's constructor, the half-built file

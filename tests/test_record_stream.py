@@ -121,6 +121,7 @@ def _stream(plan, loaded, out: Path):
     return result, writer, blocks
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["dimensional", "strides"])
 def test_streamed_file_equals_the_written_file(tmp_path, monkeypatch, kind):
     source = WU2021 if kind == "dimensional" else _scene(tmp_path, _pi_with_strides())
@@ -179,6 +180,7 @@ def _failing(tmp_path: Path) -> Path:
     return model
 
 
+@pytest.mark.slow
 def test_run_that_stops_early_streams_the_states_computed(tmp_path, monkeypatch, capsys):
     model = _failing(tmp_path)
     out = tmp_path / "failing.h5"
@@ -248,6 +250,7 @@ def test_summary_peaks_from_streamed_histories(tmp_path, capsys):
     assert streamed[:-1] == in_memory[:-1] and len(streamed) == len(in_memory)
 
 
+@pytest.mark.slow
 def test_memory_stays_bounded(tmp_path):
     """2,000,000 steps with the paper's histories (27 columns): 412 MiB in memory. The
     streamed run's peak RSS stays below half of that above the same command's for a short run

@@ -96,6 +96,7 @@ def test_free_vibration_matches_modal_solution(ratio):
 SDOF_M, SDOF_WN, SDOF_ZETA, SDOF_AP = 1000.0, 4.0 * math.pi, 0.05, 2.0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ratio", [0.5, 1.0, 2.0])
 def test_sdof_under_sine_matches_closed_form(ratio):
     """m u'' + c u' + k u = -m a_p sin(w t) from rest: u = Im(H e^{iwt}) + the free
@@ -162,6 +163,7 @@ def test_linear_impact_closed_form(gap):
     assert np.max(result.contact_force) < episode.peak_force * (1.0 - 1e-3)
 
 
+@pytest.mark.slow
 def test_kelvin_keeping_tension_rebounds_with_its_restitution():
     """Kelvin without clipping is a damped linear oscillator until delta = 0 again: the
     restitution is exp(-zeta pi / sqrt(1 - zeta^2)), which the law's damping ratio
@@ -206,6 +208,7 @@ def test_every_contact_law_has_a_case():
     assert {law.name for law in all_contact_laws()} <= set(CONTACTS)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("law", sorted(CONTACTS))
 def test_impact_agrees_across_tolerances_and_methods(law):
     """For every law (the clipped Kelvin and Jankowski have no closed form) the restitution
@@ -262,6 +265,7 @@ def test_plug_in_laws_get_gap_events_or_are_refused():
 # bilinear storeys
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_bilinear_storey_stays_on_its_branches():
     """A bilinear SDOF driven far past yield: the force never leaves the band between the
     bounding lines (1e-9 f_y), reaches them, and moves with slope k between an unloading
@@ -301,6 +305,7 @@ def test_damping_on_the_tangent_is_refused():
         solve(plan)
 
 
+@pytest.mark.slow
 def test_sampled_ground_restarts_at_every_sample():
     """By default the ground acceleration is the plan's samples interpolated linearly; the
     integration restarts at every sample (no step straddles a kink of the forcing), and the
@@ -334,6 +339,7 @@ def _wu2021_initial() -> str:
     return WU2021_INITIAL.read_text(encoding="utf-8")
 
 
+@pytest.mark.slow
 def test_batch_member_equals_single_run_with_mixed_laws():
     """A batch of two variants (gaps 0.124 m and 0.1 m) of the paper's example with a linear
     contact between two improved Kelvin ones (a law group whose elements are not
@@ -425,6 +431,7 @@ def wu2021():
     return text, plan, solve(plan, ground=of_scene(loaded))
 
 
+@pytest.mark.slow
 def test_wu2021_reference(wu2021):
     """The reference reproduces the paper's 8 impacts per floor; A/1 and A/2 yield, A/3 does
     not; onsets equal impacts; the peak contact forces (located between samples) bound the
@@ -443,6 +450,7 @@ def test_wu2021_reference(wu2021):
     assert ref.seconds < 120.0
 
 
+@pytest.mark.slow
 def test_wu2021_self_convergence(wu2021):
     """rtol 1e-8 and 1e-10 against 1e-12: the same events, and differences that shrink with
     the tolerance (about 100 times per factor 100; 1e-10 within 1e-9 m and 1e-6 of the peak
@@ -463,6 +471,7 @@ def test_wu2021_self_convergence(wu2021):
     assert fine.peak_contact_force < 1e-6 * np.max(ref.peak_contact_force)
 
 
+@pytest.mark.slow
 def test_kernel_converges_to_the_reference(wu2021):
     """The kernel (as shipped, without ``events``) at dt, dt/2, dt/4, dt/8 against the
     reference: same impacts, errors falling at every halving (dt to dt/8: more than 30
@@ -488,6 +497,7 @@ def test_kernel_converges_to_the_reference(wu2021):
     assert peaks[-1] < 2e-4 * np.max(ref.peak_contact_force)
 
 
+@pytest.mark.slow
 def test_event_aware_kernel_is_second_order_against_the_reference(wu2021):
     """With ``events: true`` the kernel shortens the step in which a gap closes so that it ends
     at the crossing (and takes the improved Kelvin's v0 there): against the reference it is
@@ -511,6 +521,7 @@ def test_event_aware_kernel_is_second_order_against_the_reference(wu2021):
     assert errors[-1] < 1e-6
 
 
+@pytest.mark.slow
 def test_kernel_is_second_order_on_an_elastic_scene():
     """The paper's two buildings with elastic storeys (the gap never closes): a linear scene,
     where Newmark's average acceleration is second order: the error against the reference

@@ -134,6 +134,7 @@ def test_jankowski_restitution_depends_on_zeta_only():
             assert _impact_ode(force, m_eff, v)[0] == pytest.approx(expected, abs=1e-9)
 
 
+@pytest.mark.slow
 def test_jankowski_published_formula_is_near_but_not_exact():
     """The published zeta rebounds within ~1 % of e; the exact one to the ODE's accuracy."""
     from pframe.laws.contact.jankowski import jankowski_zeta
@@ -275,6 +276,7 @@ def _documented() -> str:
     return match.group(1)
 
 
+@pytest.mark.slow
 def test_restitution_table_is_current():
     """docs/restitution.md holds the tables this test computes (rewrite them with
     ``python tests/test_restitution.py``)."""
@@ -282,6 +284,7 @@ def test_restitution_table_is_current():
         "docs/restitution.md is stale; rewrite its tables with: python tests/test_restitution.py")
 
 
+@pytest.mark.slow
 def test_exact_rows_give_the_target():
     """In the tables' own numbers: every exact row rebounds with its target, and the published
     formulas are off by the amounts the docs quote."""

@@ -69,6 +69,7 @@ def test_each_schema_has_its_id_and_title():
     assert len(ids) == len(FILES)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("example", EXAMPLES, ids=[e.relative_to(REPO).as_posix() for e in EXAMPLES])
 def test_every_example_names_its_schema_and_passes_it(example):
     text = example.read_text(encoding="utf-8")
@@ -113,6 +114,7 @@ MISTAKES = [
 ]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("schema, example, mistake, where", MISTAKES,
                          ids=[f"{m[1]}:{m[2][1].strip()}" for m in MISTAKES])
 def test_seeded_mistakes_fail_the_schema(tmp_path, schema, example, mistake, where):
@@ -177,6 +179,7 @@ def test_ajv_strict_mode_compiles_every_schema():
     assert result.returncode == 0, result.stdout + result.stderr
 
 
+@pytest.mark.slow
 def test_a_named_pi_number_is_checked_by_its_own_rule_only(tmp_path):
     """A Pi number named in the schema (Pi_alpha: 0 to 1) is not also held to the rule of
     the other Pi numbers (a number > 0): Pi_alpha = 0, which pframe accepts, passes the

@@ -125,6 +125,7 @@ def reference(tmp_path_factory):
 SCALE_IDS = ["mass-1000,acc+100,freq+10", "mass+10,acc-1000,freq-10"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scales", SCALES[1:], ids=SCALE_IDS)
 def test_similar_scenes_give_the_same_dimensionless_histories(reference, tmp_path, scales):
     ref = reference["improved_kelvin"]
@@ -196,6 +197,7 @@ ROW_MODEL = REPO / "models" / "row-of-three-elcentro-pi.yaml"
 ROW_SCALES = [{"m_b": 150000.0}, {"m_b": 37.0, "a_p": 0.8, "w_p": 140.0}]
 
 
+@pytest.mark.slow
 def test_a_row_of_three_under_a_record_is_similar_at_unrelated_scales(tmp_path):
     """models/row-of-three-elcentro-pi.yaml (8, 5 and 3 storeys, two yielding, Hertzdamp
     contacts) under El Centro 1940, once as recorded and once scaled to another PGA with its

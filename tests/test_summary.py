@@ -33,6 +33,7 @@ def _value(table, part, name, quantity):
     return row.value.iloc[0]
 
 
+@pytest.mark.slow
 def test_peaks_impacts_energy_and_ductility_are_the_runs(run):
     table = pframe.summary(run)
     with pframe.open(run) as ds:
@@ -73,6 +74,7 @@ def test_markdown_and_csv_hold_the_table(run, tmp_path):
     assert "## Warnings\n\nnone" in text
 
 
+@pytest.mark.slow
 def test_a_dimensionless_result_gives_ductility_in_its_units(tmp_path):
     out = tmp_path / "pi.nc"
     assert main(["solve", str(MODELS / "wu2021-eq14-pi.yaml"), "-o", str(out), "-q"]) == 0
@@ -82,6 +84,7 @@ def test_a_dimensionless_result_gives_ductility_in_its_units(tmp_path):
     assert set(table[table.part == "energy"].units) == {"1"}
 
 
+@pytest.mark.slow
 def test_export_writes_each_history_with_names_and_units(run, tmp_path, capsys):
     assert main(["export", str(run), "--csv", str(tmp_path / "csv")]) == 0
     frame = pd.read_csv(tmp_path / "csv" / "displacement.csv")
@@ -104,6 +107,7 @@ def test_a_bad_summary_path_is_refused_before_the_run(tmp_path, capsys):
     assert not list(tmp_path.iterdir())
 
 
+@pytest.mark.slow
 def test_a_sweep_has_no_one_run_summary(tmp_path, capsys):
     out = tmp_path / "sweep.nc"
     text = (MODELS / "sweeps" / "wu2021-pi-d.yaml").read_text(encoding="utf-8")

@@ -95,6 +95,7 @@ def _single(definition, index: int, recorders=None):
     return plan, simulate(plan)
 
 
+@pytest.mark.slow
 def test_sweep_file_is_a_labelled_array(grid):
     pytest.importorskip("xarray")
     with pframe.open(grid) as ds:
@@ -172,6 +173,7 @@ def test_variant_road_equals_the_scene_loader(tmp_path):
                 assert x == y, (model.name, field)
 
 
+@pytest.mark.slow
 def test_a_failing_variant_does_not_spoil_its_chunk(folder, tmp_path):
     """Newmark linear acceleration is stable only below dt = sqrt(12) / w_max: the variant with
     a very stiff building B diverges and is marked failed with its reason; the other variants of
@@ -200,6 +202,7 @@ def test_a_failing_variant_does_not_spoil_its_chunk(folder, tmp_path):
             assert np.array_equal(f["impact_count"][index], single.impacts[0])
 
 
+@pytest.mark.slow
 def test_histories_when_asked(folder):
     """keep.histories adds (axes, time, entity) variables at the stride asked."""
     text = (GRID.replace("chunk: 4", "chunk: 3")
@@ -222,6 +225,7 @@ def test_histories_when_asked(folder):
                               single.envelope["displacement"][0][plan.node_dof])
 
 
+@pytest.mark.slow
 def test_zip_and_records_axis(tmp_path):
     """combine: zip gives one dimension 'variant' with the axes as coordinates along it; a
     records axis takes file names (relative to the sweep file), and the definition carries
@@ -346,6 +350,7 @@ def test_resume_refuses_chunks_of_another_sweep(folder, tmp_path, capsys):
     assert not out.exists()
 
 
+@pytest.mark.slow
 def test_default_sweep_imports_no_dask(folder, tmp_path):
     import subprocess
 
@@ -358,6 +363,7 @@ def test_default_sweep_imports_no_dask(folder, tmp_path):
     assert done.stdout.split() == ["0", "False"], done.stderr
 
 
+@pytest.mark.slow
 def test_plot_draws_a_response_spectrum(grid, tmp_path, capsys):
     """pframe plot on a sweep file: a response against one axis, one curve per contact (the
     response's entity) or per value of another axis."""
@@ -426,6 +432,7 @@ def test_chunks_of_other_pframe_code_are_refused(folder):
         run_chunk(other, 0)
 
 
+@pytest.mark.slow
 def test_the_pi_d_spectrum_of_the_docs(tmp_path):
     """models/sweeps/wu2021-pi-d.yaml gives the spectrum docs/sweeps.md describes: A's peak
     1.04 l_e with the gap closed and its own 1.40 l_e once no floor pounds (Pi_d >= 1.4);
@@ -450,6 +457,7 @@ def test_the_pi_d_spectrum_of_the_docs(tmp_path):
     assert peak[:, 1].max() == peak[4, 1]
 
 
+@pytest.mark.slow
 def test_a_records_axis_is_named_by_the_records(tmp_path):
     """A sweep over record files (in a folder): the Dataset's records axis has the records'
     names (``.sel(record="two")``), the files stay in ``record_file``, and the spectrum's

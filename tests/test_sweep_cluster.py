@@ -71,6 +71,7 @@ def cluster(tmp_path_factory):
                 process.wait()
 
 
+@pytest.mark.slow
 def test_dask_run_equals_local_run(tmp_path, cluster):
     t = np.arange(0, 1.6, 0.01)
     for name, scale in (("one.txt", 1.0), ("two.txt", 2.0)):
@@ -97,6 +98,7 @@ def test_dask_run_equals_local_run(tmp_path, cluster):
         assert force[:, 0, 1].min() > 0 and force[1].max() > force[0].max()
 
 
+@pytest.mark.slow
 def test_unreachable_scheduler_is_an_input_error(tmp_path, monkeypatch):
     import socket
 

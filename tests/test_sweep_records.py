@@ -76,6 +76,7 @@ def swept(tmp_path_factory):
     return folder, out
 
 
+@pytest.mark.slow
 def test_each_record_runs_to_its_end_plus_the_base_tail(swept, capsys):
     """The 3 s record runs 3.2 s (its length plus the base's 0.2 s after its record), reaches
     its late peak, and equals a single pframe.solve of that record over 3.2 s; cut at the
@@ -122,6 +123,7 @@ def test_variant_printed_for_pframe_solve_runs_its_record(swept, capsys):
     assert data["excitation"]["file"].endswith("long.txt")
 
 
+@pytest.mark.slow
 def test_a_base_that_cuts_its_record_keeps_the_cut_and_says_so(tmp_path, capsys):
     """A base that stops before its own record ends asks for a cut: every variant keeps its
     duration, and each variant whose record goes on says so in the file and on stderr."""
@@ -140,6 +142,7 @@ def test_a_base_that_cuts_its_record_keeps_the_cut_and_says_so(tmp_path, capsys)
                "runs to 3 s (its peak ground acceleration (t = 2.55 s) is past the end" in line
 
 
+@pytest.mark.slow
 def test_python_sweep_warns_of_a_cut_record(tmp_path):
     _records(tmp_path)
     _base(tmp_path, 0.8)

@@ -69,6 +69,7 @@ def _kill_after(folder: Path, out: str, chunks: int) -> int:
     return len(list(parts.glob("chunk-*.npz")))
 
 
+@pytest.mark.slow
 def test_kill_and_resume_gives_the_same_file(folder, monkeypatch):
     whole = folder / "whole.h5"
     done = subprocess.run(_command(folder, whole.name), cwd=folder, capture_output=True,

@@ -279,6 +279,7 @@ def test_plot_answers_as_the_docs_say(pi_d_sweep, monkeypatch, capsys, page, arg
     assert code == 2 and not list(pi_d_sweep.glob("*.pdf")) and not list(pi_d_sweep.glob("*.png"))
 
 
+@pytest.mark.slow
 def test_every_choice_list_of_plot_names_choices(pi_d_sweep, monkeypatch, capsys):
     """No message ends in an empty 'choose one of' / 'takes' list, whatever is asked."""
     monkeypatch.chdir(pi_d_sweep)

@@ -22,6 +22,7 @@ from pathlib import Path
 
 import h5py
 import numpy as np
+import pytest
 import xarray as xr
 import yaml
 
@@ -292,6 +293,7 @@ def _rewrite(text: str, tables: dict[str, str]) -> str:
 # tests
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_page_holds_exactly_the_computed_tables():
     text = PAGE.read_text(encoding="utf-8")
     tables = validation_tables()
@@ -303,6 +305,7 @@ def test_page_holds_exactly_the_computed_tables():
             f"expected:\n{table}")
 
 
+@pytest.mark.slow
 def test_eq14_claims():
     """What section 3 of the page says about eq. (14)."""
     for label in LAWS:

@@ -31,6 +31,7 @@ _API = {
     "Node": "pframe.model.scene", "Rayleigh": "pframe.model.scene",
     "Sine": "pframe.model.scene", "Record": "pframe.model.scene",
     "Cycloidal": "pframe.model.scene", "Ricker": "pframe.model.scene",
+    "Stochastic": "pframe.model.scene",
     "Analysis": "pframe.model.scene", "Newton": "pframe.model.scene",
     "History": "pframe.model.scene", "Envelope": "pframe.model.scene",
     "InitialConditions": "pframe.model.scene", "Output": "pframe.model.scene",
@@ -43,7 +44,7 @@ __all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Cont
            "Cycloidal", "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History",
            "IncompleteRun", "InitialConditions", "InputError", "Newmark", "Newton", "Node",
            "Output", "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene",
-           "Sine", "Story", "StoryProperties", "__version__", "load", "open", "plot", "solve",
+           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "load", "open", "plot", "solve",
            "summary", "sweep", "to_opensees"]
 
 

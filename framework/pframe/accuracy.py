@@ -18,6 +18,7 @@ INTEGRATORS = {
     "newmark+events": {"type": "newmark", "events": True},
     "hht": {"type": "hht", "alpha": 0.05},
     "generalized_alpha": {"type": "generalized_alpha", "rho_infinity": 0.8},
+    "wilson_theta": {"type": "wilson_theta", "theta": 1.4},
     "central_difference": {"type": "central_difference"},
 }
 FACTORS = (4.0, 2.0, 1.0, 0.5, 0.25)

@@ -6,8 +6,13 @@ QUANTITIES = {
     "velocity": ("node", "m/s", "floor velocity relative to the ground"),
     "acceleration": ("node", "m/s^2", "floor acceleration relative to the ground"),
     "story_drift": ("story", "m", "storey drift (upper minus lower floor displacement)"),
-    "story_force": ("story", "N", "storey shear force of the material (damping excluded)"),
+    "story_force": ("story", "N", "storey shear force of the material (damping excluded; with "
+                    "P-delta, net of P drift / h)"),
     "contact_force": ("contact", "N", "contact force, compression positive"),
     "contact_penetration": ("contact", "m", "contact penetration (0 while the gap is open)"),
     "ground_acceleration": (None, "m/s^2", "ground acceleration"),
+    "story_drift_ratio": ("story", "1", "storey drift ratio (drift over storey height)"),
+    "link_deformation": ("link", "m", "link deformation (second minus first node displacement)"),
+    "link_force": ("link", "N", "link force, tension positive (the material's force at the "
+                   "link's deformation and rate)"),
 }

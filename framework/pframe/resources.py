@@ -163,15 +163,16 @@ class Estimate:
                 f"file and {duration(self.seconds)} of computing")
 
 
-def _widths(dofs: int, stories: int, contacts: int) -> dict:
-    return {"node": dofs, "story": stories, "contact": contacts, None: 1}
+def _widths(dofs: int, stories: int, contacts: int, links: int = 0) -> dict:
+    return {"node": dofs, "story": stories, "contact": contacts, None: 1, "link": links}
 
 
-def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int) -> int:
+def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int,
+                  links: int = 0) -> int:
     """Bytes of the histories of one run, at their full length."""
     from pframe.quantities import QUANTITIES
 
-    widths = _widths(dofs, stories, contacts)
+    widths = _widths(dofs, stories, contacts, links)
     total = 0
     for rec in recorders:
         if rec.kind != "history":
@@ -179,7 +180,7 @@ def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int)
         rows = steps // rec.every + 1
         for q in dict.fromkeys(rec.quantities):
             kind = QUANTITIES[q][0]
-            if kind == "contact" and not contacts:
+            if (kind == "contact" and not contacts) or (kind == "link" and not links):
                 continue
             total += 8 * rows * (widths[kind] + 1)  # the values and their time coordinate
     return total
@@ -187,11 +188,11 @@ def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int)
 
 def estimate(steps: int, dofs: int, stories: int, contacts: int, recorders, *,
              streaming: bool = True, variants: int = 1, batch: int = 1,
-             threads: int | None = None) -> Estimate:
+             threads: int | None = None, links: int = 0) -> Estimate:
     """The resources of ``variants`` runs of one scene, ``batch`` of them at once."""
     threads = max(1, min(batch, threads or os.cpu_count() or 1))
-    elements = stories + contacts
-    histories = history_bytes(recorders, steps, dofs, stories, contacts)
+    elements = stories + contacts + links
+    histories = history_bytes(recorders, steps, dofs, stories, contacts, links)
     if streaming:
         held = min(histories, _STREAM_COPIES * STREAM_BYTES)
     else:
@@ -245,7 +246,8 @@ def of_expanded(expanded, *, streaming: bool = True, variants: int = 1, batch: i
     return estimate(expanded.steps, len(expanded.node_names), len(expanded.stories),
                     len(expanded.contacts),
                     expanded.recorders if recorders is None else recorders,
-                    streaming=streaming, variants=variants, batch=batch)
+                    streaming=streaming, variants=variants, batch=batch,
+                    links=len(getattr(expanded, "links", ())))
 
 
 def product(counts) -> int:

@@ -32,6 +32,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 #: balance error above which a run is warned of
 BALANCE_WARNING = 1e-4
 #: balance error above which a run is not to be trusted
@@ -109,7 +111,19 @@ def judge(balance_error: float, algorithmic: float, completed: bool = True) -> V
 
 
 def of_result(result, member: int = 0) -> Verdict:
-    """The verdict on member ``member`` of a kernel result."""
-    return judge(float(result.energy_error(member)),
-                 float(result.algorithmic_dissipation(member)),
-                 bool(result.completed(member)))
+    """The verdict on member ``member`` of a kernel result (and, beside it, the struck columns
+    whose local shear passed their capacity: a result, not a doubt on the arithmetic)."""
+    verdict = judge(float(result.energy_error(member)),
+                    float(result.algorithmic_dissipation(member)),
+                    bool(result.completed(member)))
+    plan = result.plan
+    capacity = getattr(plan, "contact_capacity", None)
+    if capacity is None or not np.any(np.isfinite(capacity)):
+        return verdict
+    shear = result.column_shear(member)
+    notes = [f"contact {name}: the local shear it put into the struck column, {v:.4g} N, "
+             f"exceeds the column's shear capacity {c:.4g} N (floor-to-column pounding)"
+             for name, v, c in zip(plan.contact_names, shear, capacity)
+             if np.isfinite(c) and np.isfinite(v) and v > c]
+    return Verdict(verdict.balance_error, verdict.algorithmic, verdict.level,
+                   verdict.warnings + tuple(notes)) if notes else verdict

@@ -15,12 +15,14 @@ import numpy as np
 from pframe.assemble import stability, timescales
 from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
 from pframe.errors import InputError
+from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
 
 if TYPE_CHECKING:
     from pframe.peers.scene import PeerScene
 
-DAMPING_STIFFNESS = {"initial": 0, "current": 1, "committed": 2}
+#: the scene's ``damping.stiffness`` -> the kernel's slot
+DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
 
 
 @dataclass(frozen=True)
@@ -52,10 +54,12 @@ class Plan:
     dt: np.ndarray  # (B,)
     mass: np.ndarray  # (B, n) kg
     mass_damping: np.ndarray  # (B, n) a0 m (N s/m)
+    # the spring elements, s of them: the storeys, then the links (link_names; no Rayleigh
+    # damping, a1 = 0)
     story_dofs: np.ndarray  # (s, 2), -1 = ground
     story_k0: np.ndarray  # (B, s) initial stiffness (N/m)
     story_beta: np.ndarray  # (B, s) stiffness-proportional damping coefficient a1 (s)
-    story_damping_stiffness: np.ndarray  # (s,) 0 initial, 1 current, 2 committed
+    story_damping_stiffness: np.ndarray  # (s,) DampingStiffness slots (kernel.state)
     story_groups: tuple[LawGroup, ...]
     contact_dofs: np.ndarray  # (c, 2) [left, right]
     contact_gap: np.ndarray  # (B, c) m
@@ -68,6 +72,19 @@ class Plan:
     cd_parts: np.ndarray = None  # (B,) central-difference sub-steps per step
     event_parts: np.ndarray = None  # (B,) event-aware sub-steps per step while in contact
     warnings: tuple[str, ...] = ()
+    link_names: tuple[str, ...] = ()  # the last len(link_names) spring elements
+    story_height: np.ndarray = None  # (B, s) storey heights (m), NaN: not given (and links)
+    story_kg: np.ndarray = None  # (B, s) P-delta's geometric stiffness P / h (N/m), 0: none
+    #: floor-to-column contacts: (c, 2) the struck storey's lower floor DOF on each side (-1:
+    #: none or the ground) and (B, c, 2) the weight psi of each side's node (1: a floor)
+    contact_lower: np.ndarray = None
+    contact_share: np.ndarray = None
+    contact_capacity: np.ndarray = None  # (c,) a struck column's shear capacity (N), NaN: none
+
+    @property
+    def n_springs(self) -> int:
+        """Spring elements in the kernel: the storeys, then the links."""
+        return len(self.story_names) + len(self.link_names)
 
     @property
     def batch(self) -> int:
@@ -83,7 +100,7 @@ class Plan:
         return (
             not self.contact_groups
             and all(g.law.linear for g in self.story_groups)
-            and not np.any(self.story_damping_stiffness)
+            and np.all(self.story_damping_stiffness == DampingStiffness.INITIAL)
         )
 
     @property
@@ -154,8 +171,9 @@ def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
     a1 = np.zeros(len(ex.stories))
     for b, name in enumerate(ex.buildings):
         damping = ex.damping[b]
-        if damping.ratio == 0.0:
-            continue
+        if damping.ratio == 0.0 or not np.any(ex.story_building == b):
+            continue  # no storeys: masses carried by links only (a tuned mass) are damped by
+            # their links, not by a Rayleigh fit
         nodes = np.flatnonzero(ex.node_building == b)
         modes = damping.modes
         try:
@@ -196,6 +214,51 @@ def _groups(elements, n_batch_values):
     return tuple(groups)
 
 
+def _spring_values(ex: Expanded, field: str, fill: float) -> np.ndarray:
+    """A per-storey array of the scene, padded with ``fill`` for the links (and for the
+    storeys of a scene expanded without it)."""
+    values = getattr(ex, field, None)
+    if values is None or len(values) != len(ex.stories):
+        values = np.full(len(ex.stories), fill)
+    return np.concatenate([np.asarray(values, dtype=float), np.full(len(ex.links), fill)])
+
+
+def _geometric_stiffness(ex: Expanded) -> np.ndarray:
+    """P / h of every spring (N/m): the storeys with a gravity load, 0 elsewhere."""
+    gravity = _spring_values(ex, "story_gravity", 0.0)
+    height = _spring_values(ex, "story_height", np.nan)
+    out = np.zeros(len(gravity))
+    loaded = gravity > 0.0
+    out[loaded] = gravity[loaded] / height[loaded]
+    return out
+
+
+def _p_delta_warnings(plan: Plan) -> tuple[str, ...]:
+    """Storeys that P-delta softens to no lateral stiffness: at once (elastic buckling under
+    their own weight) or once they yield (negative post-yield stiffness)."""
+    if plan.story_kg is None or not np.any(plan.story_kg):
+        return ()
+    out = []
+    for group in plan.story_groups:
+        for j, e in enumerate(group.index):
+            kg = float(np.max(plan.story_kg[:, e]))
+            if kg == 0.0:
+                continue
+            k0 = float(np.min(plan.story_k0[:, e]))
+            after = group.law.post_yield_stiffness(group.params[0, j])
+            name = plan.story_names[e]
+            if k0 - kg <= 0.0:
+                out.append(f"storey {name}: P/h = {kg:.4g} N/m is at least its stiffness "
+                           f"{k0:.4g} N/m: it buckles under its gravity load (P-delta) and the "
+                           "run will diverge; check the masses, height and stiffness")
+            elif after is not None and after - kg < 0.0:
+                out.append(f"storey {name}: its post-yield stiffness {after:.4g} N/m is below "
+                           f"P/h = {kg:.4g} N/m: once it yields it loses lateral strength as it "
+                           "drifts (negative tangent, P-delta); Newton handles it, but the "
+                           "storey may ratchet towards collapse: watch its drift ratio")
+    return tuple(out)
+
+
 def batch_key(ex: Expanded) -> tuple:
     """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
     steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
@@ -204,7 +267,8 @@ def batch_key(ex: Expanded) -> tuple:
     return (
         ex.node_names,
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
-        tuple((e.name, e.nodes, e.law) for e in ex.contacts),
+        tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
+        tuple((e.name, e.nodes, e.law) for e in ex.links),
         ex.steps,
         ex.integrator,
         ex.recorders,
@@ -228,7 +292,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
             raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps, "
                              "recorders or Newton settings; a batch may vary numbers only")
     n = len(first.node_names)
-    edges = [e.nodes for e in first.stories] + [e.nodes for e in first.contacts]
+    springs = first.stories + first.links  # the kernel's spring elements: storeys, then links
+    edges = [e.nodes for e in springs] + [e.nodes for e in first.contacts]
+    for e in first.contacts:  # a floor-to-column contact couples up to four nodes
+        if max(e.lower) >= 0:
+            ends = [i for i in (e.nodes[0], e.lower[0], e.nodes[1], e.lower[1]) if i >= 0]
+            edges += [(a, c) for a in ends for c in ends if a < c]
     order = reverse_cuthill_mckee(n, edges)
     dof_of_node = np.empty(n, dtype=np.int64)
     dof_of_node[order] = np.arange(n)
@@ -238,13 +307,14 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                        dtype=np.int64)
         return out.reshape(len(elements), 2)
 
-    k0 = np.array([[_initial_tangent(e.law, e.packed) for e in ex.stories] for ex in variants])
-    k0 = k0.reshape(len(variants), len(first.stories))
+    k0 = np.array([[_initial_tangent(e.law, e.packed) for e in ex.stories + ex.links]
+                   for ex in variants])
+    k0 = k0.reshape(len(variants), len(springs))
     mass_damping, story_beta = [], []
     for b, ex in enumerate(variants):
         a0, a1 = _rayleigh(ex, k0[b], dof_of_node, n)
         mass_damping.append(a0 * ex.masses[order])
-        story_beta.append(a1)
+        story_beta.append(np.concatenate([a1, np.zeros(len(first.links))]))
 
     history: dict[str, int] = {}
     envelope: list[str] = []
@@ -257,12 +327,17 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if not first.contacts:
-        history = {q: k for q, k in history.items() if not q.startswith("contact_")}
-        envelope = [q for q in envelope if not q.startswith("contact_")]
+    if any(e.shear_capacity is not None for e in first.contacts) and \
+            "contact_force" not in envelope:
+        envelope.append("contact_force")  # the struck columns' shear is checked on its peak
+    for kind, elements in (("contact_", first.contacts), ("link_", first.links)):
+        if not elements:
+            history = {q: k for q, k in history.items() if not q.startswith(kind)}
+            envelope = [q for q in envelope if not q.startswith(kind)]
 
     damping_codes = np.array(
-        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building],
+        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building]
+        + [DampingStiffness.INITIAL] * len(first.links),  # links: no Rayleigh term (a1 = 0)
         dtype=np.int64,
     )
     plan = Plan(
@@ -281,11 +356,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         dt=np.array([ex.dt for ex in variants]),
         mass=np.array([ex.masses[order] for ex in variants]),
         mass_damping=np.array(mass_damping),
-        story_dofs=dofs(first.stories),
+        story_dofs=dofs(springs),
         story_k0=k0,
-        story_beta=np.array(story_beta).reshape(len(variants), len(first.stories)),
+        story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
-        story_groups=_groups(first.stories, [[e.packed for e in ex.stories] for ex in variants]),
+        story_groups=_groups(springs, [[e.packed for e in ex.stories + ex.links]
+                                       for ex in variants]),
         contact_dofs=dofs(first.contacts),
         contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
             len(variants), len(first.contacts)),
@@ -296,8 +372,18 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         initial_velocity=np.array([ex.initial_velocity[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
+        link_names=tuple(e.name for e in first.links),
+        story_height=np.array([_spring_values(ex, "story_height", np.nan) for ex in variants]),
+        story_kg=np.array([_geometric_stiffness(ex) for ex in variants]),
+        contact_lower=np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.lower]
+                                for e in first.contacts], dtype=np.int64).reshape(-1, 2),
+        contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
+                               dtype=float).reshape(len(variants), len(first.contacts), 2),
+        contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
+                                   for e in first.contacts], dtype=float),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
+    warnings = warnings + _p_delta_warnings(plan)
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
@@ -311,16 +397,44 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     problems = []  # every reason at once
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
-    if np.any(plan.story_damping_stiffness):
+    c = plan.integrator
+    if plan.contact_lower is not None and np.any(plan.contact_lower >= 0) or (
+            plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0)):
+        problems.append("its contacts join floors (floor-to-column contacts need a "
+                        "multi-point constraint the script does not write)")
+    if plan.story_kg is not None and np.any(plan.story_kg[member]):
+        problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
+                        "gravity_load")
+    if c.explicit:
+        problems.append("it integrates with an implicit integrator (newmark, hht, "
+                        "generalized_alpha or wilson_theta), not central_difference")
+    if c.scheme == "alpha_family" and c.alpha_m != 0.0:
+        problems.append("OpenSees' GeneralizedAlpha does not integrate the generalised-alpha "
+                        "method (its Newton update takes the inertia at the step end instead "
+                        "of at t(n+1-alpha_m), and a linear oscillator's amplitude grows under "
+                        "it): compare with newmark, hht or wilson_theta")
+    if c.events and plan.contact_names:
+        problems.append("OpenSees has no event-aware stepping: set 'events: false' on the "
+                        "integrator")
+    if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
         problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
+    ns = len(plan.story_names)
     for group in plan.story_groups:
+        if np.any(group.index >= ns) and group.law.name not in (
+                "elastic", "bilinear", "viscous", "kelvin_voigt"):
+            problems.append(f"it models links with Elastic, Steel01, Viscous or a Parallel of "
+                            f"Elastic and Viscous; the scene's links use {group.law.name!r}")
+        if not np.any(group.index < ns):
+            continue
+        storeys = group.index < ns
         if group.law.opensees not in ("Elastic", "Steel01", "BoucWen"):
             problems.append(f"it models storeys with Elastic, Steel01 or BoucWen (the laws "
                             f"elastic, bilinear and bouc_wen); the scene's storeys use "
                             f"{group.law.name!r}, which has no OpenSees uniaxialMaterial "
                             "counterpart")
-        elif group.law.opensees == "BoucWen" and np.any(group.params[member, :, 5] != 1.0) \
-                and np.any(plan.story_beta[member, group.index]):
+        elif group.law.opensees == "BoucWen" and np.any(
+                group.params[member, storeys, 5] != 1.0) and np.any(
+                plan.story_beta[member, group.index[storeys]]):
             # OpenSees damps on its initial tangent k0 (alpha + (1 - alpha) A0), pframe on
             # the tangent at zero drift, k0
             problems.append("it damps Bouc-Wen storeys on OpenSees' initial tangent, which "
@@ -336,6 +450,8 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     materials = []
     for group in plan.story_groups:
         for j, i in enumerate(group.index):
+            if i >= ns:
+                continue
             p = group.params[member, j]
             if group.law.opensees == "Elastic":
                 materials.append((i, ("elastic", p[0])))
@@ -344,6 +460,14 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
             else:
                 materials.append((i, ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
+    ns = len(plan.story_names)
+    links = sorted((i, ("elastic", p[0]) if group.law.name == "elastic"
+                    else ("bilinear", p[0], p[1], p[2]) if group.law.name == "bilinear"
+                    else ("viscous", p[0], p[1]) if group.law.name == "viscous"
+                    else ("kelvin_voigt", p[0], p[1], p[2]))
+                   for group in plan.story_groups
+                   for i, p in zip(group.index, group.params[member]) if i >= ns)
+    link_materials = [m for _, m in links]
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         stiffness[group.index] = group.params[member, :, 0]
@@ -352,7 +476,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     for name, dof in zip(plan.node_names, plan.node_dof):
         names[dof] = name
     building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
-    story_building = building_of_node[plan.story_dofs[:, 1]]
+    story_building = building_of_node[plan.story_dofs[:ns, 1]]
     for b in range(len(plan.buildings)):
         nodes = np.flatnonzero(building_of_node == b)
         stories = np.flatnonzero(story_building == b)
@@ -362,7 +486,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
-        story_nodes=plan.story_dofs.copy(),
+        story_nodes=plan.story_dofs[:ns].copy(),
         story_names=list(plan.story_names),
         story_materials=materials,
         contact_nodes=plan.contact_dofs.copy(),
@@ -375,4 +499,9 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
+        link_nodes=plan.story_dofs[ns:].copy(),
+        link_materials=link_materials,
+        integrator=(("wilson_theta", c.theta) if c.scheme == "wilson_theta"
+                    else ("newmark", c.gamma, c.beta) if not c.alpha
+                    else ("hht", c.alpha_f, c.gamma, c.beta)),
     )

@@ -53,6 +53,14 @@ def spring_matrix(springs, n: int) -> np.ndarray:
     return K
 
 
+def wall_effective_mass(mass: np.ndarray, left: int, right: int) -> float:
+    """m_l m_r / (m_l + m_r) of a contact's two DOFs; the floor's mass where one side is a
+    wall (-1, the ground)."""
+    if left < 0 or right < 0:
+        return float(mass[max(left, right)])
+    return float(mass[left] * mass[right] / (mass[left] + mass[right]))
+
+
 def _springs(plan, member: int, velocity: float) -> tuple[list, np.ndarray]:
     """(i, j, k) of every storey and closed contact (i = -1: the ground), and each contact's
     period (s)."""
@@ -63,7 +71,7 @@ def _springs(plan, member: int, velocity: float) -> tuple[list, np.ndarray]:
     for group in plan.contact_groups:
         for j, c in enumerate(group.index):
             left, right = plan.contact_dofs[c]
-            m_eff = mass[left] * mass[right] / (mass[left] + mass[right])
+            m_eff = wall_effective_mass(mass, left, right)
             k = contact_stiffness(group.law, group.params[member, j], m_eff, velocity)
             springs.append((int(left), int(right), k))
             # a stiffness that vanishes (an impact too slow to compress a power law) has no

@@ -53,19 +53,14 @@ DENSE_FLOORS = 256
 
 def period_error(coefficients, steps: float) -> float:
     """The relative period error ``T_numerical / T - 1`` of an undamped vibration integrated
-    with ``steps`` steps per period, from the amplification matrix of the generalised-alpha
-    family (Newmark, HHT, generalised-alpha and central difference are members); ``inf``
+    with ``steps`` steps per period, from the integrator's amplification matrix
+    (:meth:`pframe.integrators.Coefficients.amplification`); ``inf``
     when the step cannot carry the vibration (no oscillating eigenvalue, or fewer than two
     steps per period)."""
     if not steps > NYQUIST_STEPS:
         return math.inf
     w = 2.0 * math.pi / steps  # w h
-    g, b = coefficients.gamma, coefficients.beta
-    am, af = coefficients.alpha_m, coefficients.alpha_f
-    # x = (u, h v, h^2 a): A x(n+1) = B x(n)
-    lhs = np.array([[1.0, 0.0, -b], [0.0, 1.0, -g], [w * w * (1.0 - af), 0.0, 1.0 - am]])
-    rhs = np.array([[1.0, 1.0, 0.5 - b], [0.0, 1.0, 1.0 - g], [-w * w * af, 0.0, -am]])
-    values = np.linalg.eigvals(np.linalg.solve(lhs, rhs))
+    values = np.linalg.eigvals(coefficients.amplification(w))
     angles = np.abs(np.angle(values[np.abs(values.imag) > 1e-12]))
     if angles.size == 0 or np.max(np.abs(values)) > 1.0 + 1e-9:
         return math.inf
@@ -253,7 +248,7 @@ def _plausibility(ex, b, name, first, elastic, k0, member, findings, unit_hint: 
 
 def _excitation(plan, ex, member: int, dt: float, coefficients, findings):
     excitation = ex.excitation
-    if excitation is None or excitation.kind == "record":
+    if excitation is None or excitation.kind in ("record", "stochastic"):  # _record's
         return
     if excitation.kind == "sine":
         period = 2.0 * math.pi / float(excitation.frequency)

@@ -76,7 +76,7 @@ def register(sub) -> None:
     p = sub.add_parser("accuracy", help="integrators x time steps against a reference solution")
     p.add_argument("model", help="scene file (YAML)")
     p.add_argument("--integrators", help="comma-separated (default: all): newmark, "
-                   "newmark+events, hht, generalized_alpha, central_difference")
+                   "newmark+events, hht, generalized_alpha, wilson_theta, central_difference")
     p.add_argument("--factors", default="4,2,1,0.5,0.25",
                    help="dt factors on the scene's dt, powers of two (default 4,2,1,0.5,0.25)")
     p.add_argument("--repeats", type=int, default=3, help="timed runs per case, best kept")

@@ -22,7 +22,8 @@ def table(ds, statistic: str = "median") -> str:
     """The terminal table: per level and contact, each rule's separation (mm) at one
     statistic over the records, and the pounding fraction when a gap was given."""
     rules = [str(r) for r in ds.rule_name.values]
-    head = f"{'level':>8} {'contact':<12}" + "".join(f"{r:>13}" for r in rules)
+    widths = [max(13, len(r) + 1) for r in rules]  # the code rules' names are longer
+    head = f"{'level':>8} {'contact':<12}" + "".join(f"{r:>{w}}" for r, w in zip(rules, widths))
     gap = "provided_gap" in ds
     if gap:
         head += f"{'pound':>8}"
@@ -34,7 +35,7 @@ def table(ds, statistic: str = "median") -> str:
         for contact in ds.contact_name.values:
             row = stats.sel(level=level, contact_name=contact)
             text = f"{level:>8.4g} {contact:<12}" + "".join(
-                f"{1000 * float(row.sel(rule_name=r)):>13.1f}" for r in rules)
+                f"{1000 * float(row.sel(rule_name=r)):>{w}.1f}" for r, w in zip(rules, widths))
             if gap:
                 text += f"{float(ds.pounding_fraction.sel(level=level, contact_name=contact)):>8.0%}"
             lines.append(text)
@@ -72,7 +73,7 @@ def _gap(args) -> int:
             warnings.simplefilter("ignore", UserWarning)
             ds = audit(args.scene, suite, gap=args.gap,
                        levels=_levels(args.levels) if args.levels else None,
-                       measure=args.measure, en_coincident=args.en_coincident,
+                       measure=args.measure, en_coincident=args.en_coincident, codes=args.codes,
                        duration=args.duration, dt=args.dt, records_folder=args.records_folder,
                        output=output, overwrite=args.overwrite, chunk=args.chunk,
                        threads=args.threads, progress=progress, timings=timings)
@@ -128,6 +129,10 @@ def register(sub) -> None:
                           "0.5 s, 5 %% damping) or sa:A (at building A's first period)")
     gap.add_argument("--en-coincident", action="store_true",
                      help="add EN 1998-1 4.4.2.7(3): 0.7 x SRSS where floor levels coincide")
+    gap.add_argument("--codes", metavar="asce7,is1893",
+                     help="add code rules on the elastic peak displacements: asce7 (ASCE 7-22 "
+                          "12.12.2; R 8, Cd 5.5, Ie 1) and/or is1893 (IS 1893-1:2016 7.11.3; "
+                          "R 5, I 1); other factors from the Python API (docs/gap-audit.md)")
     gap.add_argument("--duration", type=float, metavar="S",
                      help="analysed time (s); default: the longest record plus three of the "
                           "longest first period")

@@ -129,7 +129,7 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
 
 
 #: the quantities whose peaks the summary prints
-_PEAKS = ("displacement", "story_drift", "contact_force")
+_PEAKS = ("displacement", "story_drift", "contact_force", "link_force")
 
 
 def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verdict=None):
@@ -144,7 +144,8 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     dt = float(plan.dt[0])
     print(f"{loaded.source}: {plan.steps} steps of dt = {dt:.4g} s ({plan.steps * dt:.4g} s), "
           f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
-          f"{len(plan.contact_names)} contacts")
+          f"{len(plan.contact_names)} contacts"
+          + (f", {len(plan.link_names)} links" if plan.link_names else ""))
     peaks = {}
     for q in _PEAKS:
         if q in result.envelope:
@@ -162,9 +163,29 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     if "story_drift" in peaks:
         s = int(np.argmax(peaks["story_drift"]))
         print(f"  peak storey drift {peaks['story_drift'][s]:.4g} m at {plan.story_names[s]}")
+        heights = (plan.story_height[0, :len(plan.story_names)] if plan.story_height is not None
+                   else np.full(len(plan.story_names), np.nan))
+        if np.any(np.isfinite(heights)):
+            ratios = np.where(np.isfinite(heights), peaks["story_drift"] / heights, -np.inf)
+            r = int(np.argmax(ratios))
+            print(f"  peak drift ratio {100 * ratios[r]:.3g} % at {plan.story_names[r]} "
+                  f"(height {heights[r]:.4g} m)")
+    shear = result.column_shear(0)
     for c, name in enumerate(plan.contact_names):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
+        if np.isfinite(shear[c]):
+            capacity = plan.contact_capacity[c]
+            force += (f"; floor-to-column: local column shear {shear[c]:.4g} N"
+                      + (f" (capacity {capacity:.4g} N)" if np.isfinite(capacity) else ""))
         print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
+    if plan.link_names:
+        work = result.energy_terms(0)["links"]
+        forces = peaks.get("link_force")
+        for j, name in enumerate(plan.link_names):
+            force = f": peak force {forces[j]:.4g} N" if forces is not None else ""
+            print(f"  link {name}{force}")
+        print(f"  links: work {work:.4g} J (dissipated by their dampers and held in their "
+              "springs at the end)")
     print(f"  status: {result.describe_failure()}; energy balance error "
           f"{verdict.balance_error:.2e}, numerical dissipation {verdict.algorithmic:.2e}: "
           f"{_verdict_words(verdict, plan)}")

@@ -51,7 +51,7 @@ def excitation_lines(loaded) -> list[str]:
     if excitation is None or excitation.kind == "record":
         return record_lines(loaded)
     duration = loaded.expanded.dt * loaded.expanded.steps
-    return [motion_line(applied_motion(excitation, None, duration))]
+    return [motion_line(applied_motion(excitation, loaded.expanded.record, duration))]
 
 
 def period_lines(expanded, plan) -> list[str]:

@@ -232,7 +232,7 @@ def characteristic(excitation, record: AppliedRecord | None = None) -> Character
     if excitation.kind == "sine":
         return Characteristic(abs(float(excitation.amplitude)), float(excitation.frequency),
                               "sine amplitude", "sine circular frequency")
-    if excitation.kind == "record":
+    if excitation.kind in ("record", "stochastic"):
         return Characteristic(record.pga, 2.0 * math.pi / record.period,
                               "peak ground acceleration (PGA)",
                               f"2 pi / T, T = {record.period:.6g} s the record's {record.period_is}")

@@ -232,12 +232,17 @@ def applied_motion(excitation, record=None, duration: float | None = None) -> di
 
     m = motion(excitation, record)
     kind = excitation.kind
-    if kind == "record":
+    if kind in ("record", "stochastic"):
         times = np.asarray(m.breakpoints, dtype=float)
         values = np.abs(np.asarray(m(times), dtype=float))
         peak = int(np.argmax(values))
         pga, pga_time = float(values[peak]), float(times[peak])
-        description = f"record {excitation.file}"
+        description = m.description
+        if kind == "stochastic":
+            from pframe.excitation.stochastic import arias_intensity
+
+            arias = arias_intensity(m(times), float(times[1] - times[0]))
+            description += f"; Arias intensity {arias:.4g} m/s"
         amplitude = pga
     else:
         horizon = m.end if math.isfinite(m.end) else 2.0 * math.pi / excitation.frequency
@@ -256,13 +261,15 @@ def applied_motion(excitation, record=None, duration: float | None = None) -> di
     facts = {"kind": kind, "description": description, "amplitude": amplitude, "pga": pga,
              "pga_g": pga / G, "pga_time": pga_time, "end": float(m.end), "duration": duration}
     if duration is not None:
-        if kind == "record":
+        if kind in ("record", "stochastic"):
             inside = times <= duration
             applied = float(np.max(values[inside], initial=0.0))
             applied = max(applied, float(abs(m(float(duration))))) if duration < m.end \
                 else applied
+        elif duration >= horizon:  # the analysis covers the whole motion: its peak is the PGA
+            applied = pga
         else:
-            applied = _peak(m, min(duration, horizon))[0]
+            applied = _peak(m, duration)[0]
         facts["applied_peak"] = applied
         facts["cut_before_peak"] = bool(applied < PEAK_COVERED * pga)
     return facts
@@ -273,8 +280,10 @@ def _peak(m, horizon: float) -> tuple[float, float]:
     the breakpoints, then refined by a golden-section search around the best point."""
     if horizon <= 0.0:
         return float(abs(m(0.0))), 0.0
-    grid = np.union1d(np.linspace(0.0, horizon, 20001),
-                      [b for b in np.asarray(m.breakpoints, float) if 0.0 <= b <= horizon])
+    grid = np.linspace(0.0, horizon, 20001)
+    inside = [b for b in np.asarray(m.breakpoints, float) if 0.0 <= b <= horizon]
+    if inside:  # (a sorted, distinct grid without them: union1d would only copy it)
+        grid = np.union1d(grid, inside)
     values = np.abs(np.asarray(m(grid), dtype=float))
     k = int(np.flatnonzero(values >= np.max(values) * (1.0 - 1e-6))[0])  # the first peak...
     while k + 1 < values.size and values[k + 1] >= values[k]:  # ...at its top
@@ -295,15 +304,22 @@ def _peak(m, horizon: float) -> tuple[float, float]:
     return best, best_t
 
 
+def _what(kind: str) -> str:
+    """A motion of ``kind`` in words: record, sine, stochastic motion, ricker pulse."""
+    if kind == "stochastic":
+        return "stochastic motion"
+    return kind if kind in ("record", "sine") else f"{kind} pulse"
+
+
 def motion_line(facts: dict) -> str:
-    """One line of :func:`applied_motion`'s facts (a sine or a pulse; records have
-    :func:`describe_line`)."""
-    line = (f"excitation: {facts['description']}; peak {_g(facts['pga'])} at t = "
+    """One line of :func:`applied_motion`'s facts (a sine, a pulse or a stochastic motion;
+    records have :func:`describe_line`)."""
+    peak = "PGA" if facts["kind"] == "stochastic" else "peak"
+    line = (f"excitation: {facts['description']}; {peak} {_g(facts['pga'])} at t = "
             f"{facts['pga_time']:.4g} s")
     if facts.get("duration") is not None:
         kind = facts["kind"]
-        line += "; " + coverage(facts, facts["duration"],
-                                kind if kind == "sine" else f"{kind} pulse")
+        line += "; " + coverage(facts, facts["duration"], _what(kind))
     return line
 
 
@@ -314,7 +330,7 @@ def motion_warnings(facts: dict | None) -> list[str]:
     of one is a choice."""
     if not facts or not facts.get("cut_before_peak") or facts["kind"] == "sine":
         return []
-    what = facts["kind"] if facts["kind"] in ("record", "sine") else f"{facts['kind']} pulse"
+    what = _what(facts["kind"])
     needed = facts["pga_time"]
     return [f"the analysis stops at t = {facts['duration']:g} s, before the {what}'s peak "
             f"ground acceleration {_g(facts['pga'])} at t = {needed:.4g} s: the run applies "

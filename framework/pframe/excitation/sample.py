@@ -54,11 +54,12 @@ def motion(excitation, record=None) -> Motion:
 
     Parameters
     ----------
-    excitation : Sine, Record, a pulse (Cycloidal, Ricker) or None
+    excitation : Sine, Record, a pulse (Cycloidal, Ricker), Stochastic or None
         The scene's excitation definition (None: the ground is at rest).
     record : AppliedRecord or (times, accelerations), optional
-        For a record excitation: the record as applied (``pga`` and ``frequency`` done,
-        :func:`pframe.excitation.characteristic.apply_record`); ``excitation.scale`` is
+        For a record: the record as applied (``pga`` and ``frequency`` done,
+        :func:`pframe.excitation.characteristic.apply_record`); for a stochastic motion, its
+        realisation (:func:`pframe.excitation.stochastic.stochastic_record`). ``excitation.scale`` is
         applied here. Linear between its samples, zero outside them.
     """
     if excitation is None:
@@ -84,6 +85,10 @@ def motion(excitation, record=None) -> Motion:
     def interpolated(x):
         return scale * np.interp(x, t, a, left=0.0, right=0.0)
 
+    if excitation.kind == "stochastic":
+        from pframe.excitation.stochastic import generate
+
+        return Motion(interpolated, t, float(t[-1]), generate(excitation).description())
     return Motion(interpolated, t, float(t[-1]), f"record {excitation.file}")
 
 

@@ -8,6 +8,8 @@ A suite file is YAML (docs/gap-audit.md#suites)::
       - {file: RSN1063_NORTHR_RRS228.AT2, scale: 1.2}
       - {file: kobe.txt, units: m/s2}         # two columns: time (s), acceleration
     folder: more-records/                     # and/or every .AT2 file of a folder
+    stochastic:                               # and/or simulated motions, one per seed
+      - {model: rezaeian2010, magnitude: 7, distance: 20, vs30: 400, seeds: [1, 2, 3]}
     measure: {kind: sa, period: A, damping: 0.05}   # or {kind: pga}; period in s or a building
     levels: [0.1, 0.2, 0.3]                   # target intensities (g); omit: scales as given
 """
@@ -58,6 +60,9 @@ class SuiteFile(_Base):
 
     records: list[str | RecordEntry] = Field(default_factory=list, description="Record files.")
     folder: str | None = Field(None, description="A folder whose .AT2 files are added.")
+    stochastic: list[dict] = Field(default_factory=list, description="Stochastic motions: "
+                                   "the fields of a scene's stochastic excitation (without "
+                                   "kind) and seeds (a list of seeds, one motion each).")
     measure: Measure = Field(Measure(), description="Intensity measure of the levels.")
     levels: list[Annotated[float, Field(gt=0, allow_inf_nan=False)]] | None = Field(
         None, description="Target intensities (g); each record is scaled to each level.")
@@ -170,11 +175,43 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
         for file in folder_records(folder):
             motions.append(_entry_motion(RecordEntry(file=str(file.relative_to(base))),
                                          base, _where(str(path), lines, ("folder",))))
+    for i, item in enumerate(model.stochastic):
+        motions += stochastic_motions(item, _where(str(path), lines, ("stochastic", i)))
     if not motions:
         raise InputError(f"{path}: the suite names no records (give records or a folder of "
                          ".AT2 files)")
     levels = tuple(model.levels) if model.levels else None
     return Suite(_unique(motions), model.measure, levels, str(path))
+
+
+def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
+    """The motions of a suite's stochastic entry: one per seed of ``seeds``."""
+    from pydantic import ValidationError
+
+    from pframe.excitation.stochastic import generate
+    from pframe.model.scene import Stochastic
+
+    item = dict(item)
+    seeds = item.pop("seeds", None)
+    item.pop("kind", None)
+    if not (isinstance(seeds, list) and seeds and all(isinstance(s, int) and
+                                                      not isinstance(s, bool) and s >= 0
+                                                      for s in seeds)):
+        raise InputError(f"{where}: a stochastic entry needs seeds, a list of integers >= 0 "
+                         "(one motion each), e.g. seeds: [1, 2, 3]")
+    out = []
+    for seed in seeds:
+        try:
+            excitation = Stochastic(**item, seed=seed)
+        except ValidationError as exc:
+            problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'entry'}: {e['msg']}"
+                                 for e in exc.errors())
+            raise InputError(f"{where}: {problems}") from None
+        m = generate(excitation)
+        acc = np.asarray(m.acceleration) * excitation.scale
+        out.append(GroundMotion(f"{excitation.model}-seed{seed}", np.asarray(m.times), acc,
+                                ""))  # no file: nothing an output could overwrite
+    return out
 
 
 def suite_from_files(files, source: str = "", scale: float = 1.0) -> Suite:

@@ -86,6 +86,8 @@ def _scene_motion(loaded) -> GroundMotion:
                          "records (--suite) or an excitation in the scene")
     kind = loaded.scene.excitation.kind
     name = Path(loaded.scene.excitation.file).name if kind == "record" else kind
+    if kind == "stochastic":
+        name = f"{loaded.scene.excitation.model}-seed{loaded.scene.excitation.seed}"
     times = np.arange(ex.steps + 1) * ex.dt
     return GroundMotion(name, times, ex.ground_acceleration.copy(), loaded.source)
 
@@ -183,8 +185,41 @@ class _Spec:
         self.chunks = -(-count // chunk)
 
 
+def code_factors(codes, inputs=None) -> tuple[dict, list[str]]:
+    """``codes`` (names, or a dict of name to factor overrides such as ``{"asce7": {"R": 6}}``)
+    checked, as a dict, and the warnings: with ``inputs``, one when the buildings are not
+    elastic (code rules take elastic peak displacements)."""
+    from pframe.gap.rules import CODE_RULES
+
+    if not codes:
+        return {}, []
+    if isinstance(codes, str):
+        codes = [c.strip() for c in codes.split(",") if c.strip()]
+    codes = dict(codes) if isinstance(codes, dict) else {c: {} for c in codes}
+    for code, factors in codes.items():
+        if code not in CODE_RULES:
+            raise InputError(f"code rule {code!r}: pframe knows {', '.join(CODE_RULES)}")
+        known = CODE_RULES[code][1]
+        for k, v in (factors or {}).items():
+            if k not in known:
+                raise InputError(f"code rule {code}: factor {k!r} is not one of "
+                                 f"{', '.join(known)}")
+            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+                raise InputError(f"code rule {code}: factor {k} = {v!r} must be a number > 0")
+    out = []
+    if inputs is not None:
+        materials = {s.law.name for s in inputs.loaded.expanded.stories}
+        if materials - {"elastic"}:
+            out.append(
+                f"the code rules ({', '.join(codes)}) take the buildings' elastic peak "
+                f"displacements, but their storeys are {', '.join(sorted(materials))}: the "
+                "peaks of these runs are inelastic and the code separations built on them "
+                "are not the codes' (run an elastic copy of the scene for them)")
+    return {c: dict(f or {}) for c, f in codes.items()}, out
+
+
 def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=None,
-          en_coincident: bool = False, duration: float | None = None, dt: float | None = None,
+          en_coincident: bool = False, codes=None, duration: float | None = None, dt: float | None = None,
           records_folder=None,
           output: str | Path | None = None, overwrite: bool = False, chunk: int | None = None,
           threads: int | None = None, progress=None, timings: dict | None = None):
@@ -211,6 +246,9 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
         raise InputError(f"--gap {gap}: the provided gap is a number >= 0 (m)")
     inputs = prepare(scene, suite, levels=levels, measure=measure, duration=duration, dt=dt,
                      records_folder=records_folder)
+    codes, extra = code_factors(codes, inputs)
+    if extra:
+        inputs = dataclasses.replace(inputs, warnings=tuple(inputs.warnings) + tuple(extra))
     for text in inputs.warnings:  # also in the result's `warnings` attribute
         warnings.warn(f"{inputs.loaded.source}: {text}", stacklevel=2)
     if output is not None:  # never a device, the scene, the suite or a record it reads
@@ -226,7 +264,8 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     if chunk < 1:
         raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
     rows = _run_chunks(inputs, chunk, output, threads, progress, overwrite)
-    ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident)
+    ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident,
+                       codes=codes)
     if output is not None:
         import shutil
 

@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from pframe.gap.fragility import fit_lognormal
-from pframe.gap.rules import EN_RULE, RULES, cqc_correlation, separations
+from pframe.gap.rules import CODE_RULES, EN_RULE, RULES, code_separations, cqc_correlation, separations
 
 #: the statistics over the suite
 STATISTICS = ("median", "p84", "max")
@@ -36,8 +36,10 @@ def measure_label(inputs) -> str:
     return f"Sa({period}, {100 * m.damping:g} %)"
 
 
-def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False):
-    """The Dataset of an audit from the batch's rows (variants record-major)."""
+def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False,
+                  codes: dict | None = None):
+    """The Dataset of an audit from the batch's rows (variants record-major); ``codes`` maps
+    code names of :data:`pframe.gap.rules.CODE_RULES` to their factors (both buildings)."""
     import xarray as xr
 
     import pframe
@@ -58,7 +60,11 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
     rho = cqc_correlation(inputs.periods[bl], inputs.periods[br], inputs.damping[bl],
                           inputs.damping[br])
     rules = separations(u_left, u_right, rho[None, None, :], en_coincident)
-    names = list(RULES[:3]) + ([EN_RULE] if en_coincident else []) + ["simulated"]
+    names = list(RULES[:3]) + ([EN_RULE] if en_coincident else [])
+    for code, factors in (codes or {}).items():
+        rules.update(code_separations(u_left, u_right, [code], factors, factors))
+        names += list(CODE_RULES[code][0])
+    names.append("simulated")
     rules["simulated"] = g_sim
     table = np.stack([rules[n] for n in names], axis=-1)  # (R, L, C, rule)
 
@@ -136,6 +142,9 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "duration": inputs.steps * inputs.dt,
         "warnings": "\n".join(inputs.warnings),
         "en_coincident_floor_factor": int(en_coincident),
+        "code_factors": "; ".join(f"{code}: " + ", ".join(f"{k} = {v:g}" for k, v in
+                                                         {**CODE_RULES[code][1], **f}.items())
+                                  for code, f in (codes or {}).items()),
         "pframe_version": pframe.__version__,
         "Conventions": "CF-1.8",
     }

@@ -13,6 +13,22 @@ displacements u_A, u_B (relative to the ground, at one level, each building run 
             / [(1 - r^2)^2 + 4 xi_i xi_j r (1 + r^2) + 4 (xi_i^2 + xi_j^2) r^2],
 
   r = T_short / T_long <= 1, building i the short-period one.
+
+Code rules on design displacements (:func:`code_separations`, docs/gap-audit.md#code-rules):
+
+- ASCE 7-22 section 12.12.2: delta_M = C_d delta_max / I_e (eq. 12.12-1) per building;
+  adjacent structures on the same property at least delta_MT = sqrt(delta_M1^2 + delta_M2^2)
+  (eq. 12.12-2, ``ASCE7_same_property``); a structure set back from a property line by its
+  delta_M, so two buildings on either side of one are delta_M1 + delta_M2 apart
+  (``ASCE7_property_line``).
+- IS 1893 (Part 1):2016 clause 7.11.3: R times the sum of the two buildings' storey
+  displacements under the design lateral forces (``IS1893``), R / 2 where the floor levels
+  coincide (``IS1893_same_levels``); each building's own R.
+
+The design displacement of a building (its elastic displacement under the code's reduced
+design forces) is its simulated elastic peak displacement u times I / R
+(:func:`design_displacement`): the design forces are the elastic forces of the motion divided
+by R / I. So the rules are, on the simulated u: ASCE 7 (C_d / R) u per building, IS 1893 I u.
 """
 
 from __future__ import annotations
@@ -39,6 +55,58 @@ def cqc_correlation(period_a, period_b, damping_a, damping_b):
     with np.errstate(invalid="ignore", divide="ignore"):
         rho = np.where(den > 0, num / np.where(den > 0, den, 1.0), 1.0)
     return rho
+
+
+#: code rules (:func:`code_separations`) and the factors each takes, with their defaults: a
+#: special reinforced concrete moment frame of ordinary importance (ASCE 7-22 Table 12.2-1:
+#: R = 8, C_d = 5.5; I_e = 1.0; IS 1893 Table 9: SMRF R = 5; Table 8: I = 1.0)
+CODE_RULES = {
+    "asce7": (("ASCE7_same_property", "ASCE7_property_line"), {"R": 8.0, "Cd": 5.5, "Ie": 1.0}),
+    "is1893": (("IS1893", "IS1893_same_levels"), {"R": 5.0, "I": 1.0}),
+}
+
+
+def design_displacement(u, r_factor, importance):
+    """The elastic displacement under a code's design forces (the motion's elastic forces
+    divided by R / I) of a building whose simulated elastic peak displacement is ``u``."""
+    return np.abs(np.asarray(u, float)) * importance / r_factor
+
+
+def asce7_separation(delta_max_a, delta_max_b, cd_a, cd_b, ie_a, ie_b) -> dict[str, np.ndarray]:
+    """ASCE 7-22 12.12.2 from the two maximum elastic displacements delta_max (m, under the
+    design forces): delta_M = C_d delta_max / I_e; the SRSS of the two on one property, their
+    sum across a property line (each building set back by its own delta_M)."""
+    dm_a = cd_a * np.asarray(delta_max_a, float) / ie_a
+    dm_b = cd_b * np.asarray(delta_max_b, float) / ie_b
+    return {"ASCE7_same_property": np.sqrt(dm_a**2 + dm_b**2),
+            "ASCE7_property_line": dm_a + dm_b}
+
+
+def is1893_separation(delta_a, delta_b, r_a, r_b) -> dict[str, np.ndarray]:
+    """IS 1893 (Part 1):2016 7.11.3 from the two storey displacements under the design lateral
+    forces (m, 7.11.1): R times their sum, R / 2 where the floor levels coincide."""
+    full = r_a * np.asarray(delta_a, float) + r_b * np.asarray(delta_b, float)
+    return {"IS1893": full, "IS1893_same_levels": 0.5 * full}
+
+
+def code_separations(u_a, u_b, codes, factors_a=None, factors_b=None) -> dict[str, np.ndarray]:
+    """The rules of ``codes`` (names of :data:`CODE_RULES`) from the simulated elastic peak
+    displacements u_a, u_b (m) of each building: the design displacements are u I / R
+    (:func:`design_displacement`); ``factors_a``/``factors_b`` update the defaults."""
+    out = {}
+    for code in codes:
+        defaults = CODE_RULES[code][1]
+        fa = {**defaults, **(factors_a or {})}
+        fb = {**defaults, **(factors_b or {})}
+        if code == "asce7":
+            out.update(asce7_separation(design_displacement(u_a, fa["R"], fa["Ie"]),
+                                        design_displacement(u_b, fb["R"], fb["Ie"]),
+                                        fa["Cd"], fb["Cd"], fa["Ie"], fb["Ie"]))
+        else:
+            out.update(is1893_separation(design_displacement(u_a, fa["R"], fa["I"]),
+                                         design_displacement(u_b, fb["R"], fb["I"]),
+                                         fa["R"], fb["R"]))
+    return out
 
 
 def separations(u_a, u_b, rho, en_coincident: bool = False) -> dict[str, np.ndarray]:

@@ -35,6 +35,13 @@ def contact_pairs(loaded) -> Pairs:
     if not ex.contacts:
         raise InputError(f"{loaded.source}: the scene has no contacts; a gap audit needs the "
                          "levels where the buildings may touch (contacts: [...])")
+    walls = [c.name for c in ex.contacts if min(c.nodes) < 0]
+    if walls:
+        raise InputError(f"{loaded.source}: contact{'s' if len(walls) > 1 else ''} "
+                         f"{', '.join(walls)} stand{'' if len(walls) > 1 else 's'} against a "
+                         "wall (the ground); the gap audit sets separations between "
+                         "buildings and does not audit walls yet: audit a scene without them, "
+                         "or run a sweep over the wall's gap (docs/sweeps.md)")
     return Pairs(tuple(c.name for c in ex.contacts),
                  tuple(ex.node_names[c.nodes[0]] for c in ex.contacts),
                  tuple(ex.node_names[c.nodes[1]] for c in ex.contacts),

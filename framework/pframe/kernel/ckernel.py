@@ -23,8 +23,6 @@ from pframe.kernel import state
 C_FOLDER = Path(__file__).resolve().parent / "c"
 #: the version of the driver-kernel interface (PFRAME_KERNEL_INTERFACE in c/kernel.h)
 INTERFACE = 1
-#: pframe_run's return values
-RUN_OK, RUN_ZERO_DIVISION = 0, 1
 
 REBUILD = ("rebuild it with `pip install -e .` (or `python setup.py build_ext --inplace`) in "
            "the pframe checkout, or reinstall pframe")
@@ -33,7 +31,7 @@ REBUILD = ("rebuild it with `pip install -e .` (or `python setup.py build_ext --
 def _field(ctype: str):
     if "[" in ctype:
         base, size = ctype.split("[", 1)
-        count = getattr(state, size.rstrip("]"))
+        count = state.C_COUNTS[size.rstrip("]")]
         return (ctypes.c_void_p if base.strip().endswith("*") else ctypes.c_int64) * count
     if ctype.endswith("*"):
         return ctypes.c_void_p
@@ -136,7 +134,7 @@ def arrays(structure: type[ctypes.Structure], group, **values):
 
 def recording(rec) -> Recording:
     """The Recording struct of one call's buffers (a state.Recording of arrays)."""
-    count = state.RECORDABLE_COUNT
+    count = len(state.Recordable)
     pointers = ctypes.c_void_p * count
     sizes = ctypes.c_int64 * count
     return Recording(

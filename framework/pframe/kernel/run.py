@@ -17,30 +17,27 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pframe.kernel import state as slots
+from pframe.integrators import SCHEMES
 from pframe.kernel.state import (
-    CONTACT,
-    NOT_CONVERGED,
-    NOT_DEFINITE,
-    NOT_FINITE,
-    NOT_STABLE,
+    ENERGY_TERMS,
     RECORDABLE,
-    STORY,
+    RECORDABLE_SLOT,
+    Counter,
+    Energy,
+    Kind,
     Model,
     Recording,
+    Run,
     Saved,
+    Scalar,
     Settings,
     State,
+    Status,
+    StatusColumn,
     Work,
 )
 from pframe.outputs import check_stop
 from pframe.quantities import QUANTITIES
-
-#: the energy balance's terms as result files name them, and their slots
-ENERGY_TERMS = (("input", slots.INPUT), ("kinetic", slots.KINETIC),
-                ("damping", slots.DAMPING), ("storeys", slots.STOREYS),
-                ("contacts", slots.CONTACTS), ("initial_kinetic", slots.KINETIC_0),
-                ("algorithmic", slots.ALGORITHMIC))
 
 #: a step whose Newton iteration fails is retried in up to 2^MAX_SPLIT sub-steps
 MAX_SPLIT = 10
@@ -50,7 +47,7 @@ ALWAYS_REFACTOR = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
-_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3}
+_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4}
 
 
 @dataclass
@@ -62,9 +59,9 @@ class Result:
     # to a sink are not held here
     envelope: dict = field(default_factory=dict)  # quantity -> (B, width)
     impacts: np.ndarray = None  # (B, c)
-    energy: np.ndarray = None  # (B, ENERGY_SLOTS), see pframe.kernel.state
-    status: np.ndarray = None  # (B, 4) code, state index, element kind, element index
-    counters: np.ndarray = None  # (B, COUNTER_SLOTS): solves, factorisations, evaluations,
+    energy: np.ndarray = None  # (B, len(Energy)), see pframe.kernel.state
+    status: np.ndarray = None  # (B, len(StatusColumn)): code, state index, element kind and index
+    counters: np.ndarray = None  # (B, len(Counter)): solves, factorisations, evaluations,
     # split steps, gathered values
     law_calls: dict = field(default_factory=dict)  # law name -> (B,) evaluations of that law
     solve_seconds: float = 0.0
@@ -74,67 +71,94 @@ class Result:
     @property
     def iterations(self) -> np.ndarray:
         """(B,) linear solves (Newton iterations that solved; central-difference steps)."""
-        return self.counters[:, slots.SOLVES]
+        return self.counters[:, Counter.SOLVES]
 
     @property
     def substeps(self) -> np.ndarray:
         """(B,) steps that had to be split into sub-steps."""
-        return self.counters[:, slots.SPLIT_STEPS]
+        return self.counters[:, Counter.SPLIT_STEPS]
 
     def counter(self, name: str, b: int = 0) -> int:
         """One of :data:`pframe.kernel.state.COUNTER_NAMES` for member ``b``."""
-        return int(self.counters[b, slots.COUNTER_NAMES.index(name)])
+        return int(self.counters[b, Counter[name.upper()]])
 
     def states_done(self, b: int = 0) -> int:
         """Number of committed states (t = 0 included)."""
-        return int(self.status[b, 1]) if self.status[b, 0] else self.plan.steps + 1
+        if self.status[b, StatusColumn.CODE] == Status.OK:
+            return self.plan.steps + 1
+        return int(self.status[b, StatusColumn.STEP])
 
     def completed(self, b: int = 0) -> bool:
-        return self.status[b, 0] == 0
+        return self.status[b, StatusColumn.CODE] == Status.OK
 
     def energy_scale(self, b: int = 0) -> float:
         """The largest energy term of the run (J): what the balance is measured against."""
         e = self.energy[b]
-        return max(abs(e[slots.INPUT]), e[slots.KINETIC] + e[slots.KINETIC_0]
-                   + abs(e[slots.DAMPING]) + abs(e[slots.STOREYS]) + abs(e[slots.CONTACTS])
-                   + abs(e[slots.ALGORITHMIC]), 1e-300)
+        return max(abs(e[Energy.INPUT]), e[Energy.KINETIC] + e[Energy.KINETIC_0]
+                   + abs(e[Energy.DAMPING]) + abs(e[Energy.STOREYS]) + abs(e[Energy.CONTACTS])
+                   + abs(e[Energy.LINKS]) + abs(e[Energy.ALGORITHMIC]), 1e-300)
 
     def energy_error(self, b: int = 0) -> float:
-        """|W_input - (dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic)|
+        """|W_input - (dE_kinetic + W_damping + W_storeys + W_contacts + W_links +
+        D_algorithmic)|
         relative to the largest energy term of the run: zero but for round-off, Newton's
         tolerance and an inconsistent step (kernel/c/energy.c)."""
         e = self.energy[b]
-        balance = e[slots.INPUT] - (e[slots.KINETIC] - e[slots.KINETIC_0] + e[slots.DAMPING]
-                                    + e[slots.STOREYS] + e[slots.CONTACTS] + e[slots.ALGORITHMIC])
+        balance = e[Energy.INPUT] - (e[Energy.KINETIC] - e[Energy.KINETIC_0] + e[Energy.DAMPING]
+                                     + e[Energy.STOREYS] + e[Energy.CONTACTS] + e[Energy.LINKS]
+                                     + e[Energy.ALGORITHMIC])
         return abs(balance) / self.energy_scale(b)
 
     def energy_terms(self, b: int = 0) -> dict[str, float]:
         """The balance's terms of member ``b`` by name (J), in the order of the balance."""
-        return {name: float(self.energy[b, slot]) for name, slot in ENERGY_TERMS}
+        return {name: float(self.energy[b, slot]) for name, slot in ENERGY_TERMS.items()}
+
+    def column_shear(self, b: int = 0) -> np.ndarray:
+        """(c,) the peak local shear each floor-to-column contact put into the struck column
+        (N; NaN for a floor-to-floor contact): the larger of the column's two segments,
+        max(psi, 1 - psi) times the peak contact force (a fixed-fixed column swaying, loaded
+        at the point: its lower floor takes (1 - psi) F, its upper psi F)."""
+        plan = self.plan
+        out = np.full(len(plan.contact_names), np.nan)
+        if plan.contact_share is None:
+            return out
+        if "contact_force" in self.envelope:
+            peak = self.envelope["contact_force"][b]
+        elif "contact_force" in self.history:
+            peak = np.nanmax(np.abs(self.history["contact_force"][b]), axis=0)
+        else:
+            return out
+        share = plan.contact_share[b]
+        column = np.any(share != 1.0, axis=1)
+        psi = np.where(share[:, 0] != 1.0, share[:, 0], share[:, 1])
+        out[column] = (np.maximum(psi, 1.0 - psi) * peak)[column]
+        return out
 
     def algorithmic_dissipation(self, b: int = 0) -> float:
         """The energy the integrator's own relations removed (negative: created), relative to
         the largest energy term of the run."""
-        return float(self.energy[b, slots.ALGORITHMIC]) / self.energy_scale(b)
+        return float(self.energy[b, Energy.ALGORITHMIC]) / self.energy_scale(b)
 
     def describe_failure(self, b: int = 0) -> str:
-        code, state, kind, index = (int(x) for x in self.status[b])
-        if code == 0:
+        code, state, kind, index = (int(self.status[b, c]) for c in StatusColumn)
+        if code == Status.OK:
             return "completed"
         plan = self.plan
         t = state * float(plan.dt[b])
-        if kind == STORY:
+        if kind == Kind.STORY and index >= len(plan.story_names):
+            where = f"link {plan.link_names[index - len(plan.story_names)]}"
+        elif kind == Kind.STORY:
             where = f"storey {plan.story_names[index]}"
-        elif kind == CONTACT:
+        elif kind == Kind.CONTACT:
             where = f"contact {plan.contact_names[index]}"
         else:
             dof_names = {int(d): nm for nm, d in zip(plan.node_names, plan.node_dof)}
             where = f"node {dof_names.get(index, index)}"
-        why = {NOT_CONVERGED: f"Newton did not converge in {plan.max_iterations} iterations "
+        why = {Status.NOT_CONVERGED: f"Newton did not converge in {plan.max_iterations} iterations "
                               f"(nor in 2^{MAX_SPLIT} sub-steps)",
-               NOT_FINITE: "a force became NaN or infinite",
-               NOT_DEFINITE: "the effective stiffness is not positive definite",
-               NOT_STABLE: "the run diverged (the numerics created more energy than the "
+               Status.NOT_FINITE: "a force became NaN or infinite",
+               Status.NOT_DEFINITE: "the effective stiffness is not positive definite",
+               Status.NOT_STABLE: "the run diverged (the numerics created more energy than the "
                            "excitation put in)"}[code]
         return f"{why} at t = {t:.6g} s (step {state}) at {where}"
 
@@ -156,7 +180,7 @@ def _law_table(groups, count: int, batch: int, ids: dict) -> tuple:
 def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
     B = plan.batch
     story_law, story_order, story_params, story_state = _law_table(
-        plan.story_groups, len(plan.story_names), B, ids)
+        plan.story_groups, plan.n_springs, B, ids)
     contact_law, contact_order, contact_params, contact_state = _law_table(
         plan.contact_groups, len(plan.contact_names), B, ids)
     ones = np.ones(B, dtype=np.int64)
@@ -164,7 +188,16 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         mass=plan.mass, mass_damping=plan.mass_damping, story_dofs=plan.story_dofs,
         story_order=story_order, story_law=story_law, story_params=story_params,
         story_k0=plan.story_k0, story_beta=plan.story_beta,
-        story_damping=plan.story_damping_stiffness, contact_dofs=plan.contact_dofs,
+        story_damping=plan.story_damping_stiffness,
+        story_height=(plan.story_height if plan.story_height is not None
+                      else np.full((B, plan.n_springs), np.nan)),
+        story_kg=(plan.story_kg if plan.story_kg is not None
+                  else np.zeros((B, plan.n_springs))),
+        contact_dofs=plan.contact_dofs,
+        contact_lower=(plan.contact_lower if plan.contact_lower is not None
+                       else np.full((len(plan.contact_names), 2), -1, dtype=np.int64)),
+        contact_share=(plan.contact_share if plan.contact_share is not None
+                       else np.ones((B, len(plan.contact_names), 2))),
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
         gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
@@ -190,7 +223,8 @@ def _settings(plan, laws) -> Settings:
     c = plan.integrator
     return Settings(
         gamma=float(c.gamma), beta=float(c.beta), alpha_m=float(c.alpha_m),
-        alpha_f=float(c.alpha_f), tolerance=float(plan.tolerance),
+        alpha_f=float(c.alpha_f), scheme=SCHEMES.index(c.scheme), theta=float(c.theta),
+        tolerance=float(plan.tolerance),
         absolute_tolerance=float(plan.absolute_tolerance),
         max_iterations=int(plan.max_iterations), bandwidth=int(plan.bandwidth),
         max_split=int(MAX_SPLIT), linear=bool(plan.linear and not c.explicit),
@@ -203,7 +237,7 @@ def _settings(plan, laws) -> Settings:
 
 def _state(plan, story_state, contact_state, n_materials: int, n_contact_laws: int) -> State:
     B, n = plan.mass.shape
-    s, c = len(plan.story_names), len(plan.contact_names)
+    s, c = plan.n_springs, len(plan.contact_names)
     return _normalised(State(
         U=plan.initial_displacement.copy(), V=plan.initial_velocity.copy(), A=np.zeros((B, n)),
         drift=np.zeros((B, s)), story_force=np.zeros((B, s)),
@@ -212,9 +246,9 @@ def _state(plan, story_state, contact_state, n_materials: int, n_contact_laws: i
         contact_force=np.zeros((B, c)), penetration=np.full((B, c), -1.0),
         contact_committed=contact_state, contact_trial=contact_state.copy(),
         impacts=np.zeros((B, c), dtype=np.int64),
-        energy=np.zeros((B, slots.ENERGY_SLOTS)),
-        status=np.zeros((B, slots.STATUS_SLOTS), dtype=np.int64),
-        counters=np.zeros((B, slots.COUNTER_SLOTS), dtype=np.int64),
+        energy=np.zeros((B, len(Energy))),
+        status=np.zeros((B, len(StatusColumn)), dtype=np.int64),
+        counters=np.zeros((B, len(Counter)), dtype=np.int64),
         material_calls=np.zeros((B, n_materials), dtype=np.int64),
         contact_calls=np.zeros((B, n_contact_laws), dtype=np.int64),
     ))
@@ -226,11 +260,11 @@ class _Recorders:
     def __init__(self, plan, sink):
         B = plan.batch
         self.plan, self.sink = plan, sink
-        self.widths = [(plan.n_dof, len(plan.story_names), len(plan.contact_names), 1)[
-            _SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
+        self.widths = [(plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
+                        len(plan.link_names))[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
         self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
         for q, every in plan.history:
-            self.every[RECORDABLE.index(q)] = every
+            self.every[RECORDABLE_SLOT[q]] = every
         self.enveloped = np.array([q in plan.envelope for q in RECORDABLE], dtype=np.int64)
         self.envelope = tuple(np.zeros((B, w if on else 0))
                               for w, on in zip(self.widths, self.enveloped))
@@ -284,16 +318,16 @@ class _Recorders:
     def histories(self) -> dict:
         if self.whole is None:
             return {}
-        return {q: self._shaped(q, self.whole[RECORDABLE.index(q)]) for q, _ in self.plan.history}
+        return {q: self._shaped(q, self.whole[RECORDABLE_SLOT[q]]) for q, _ in self.plan.history}
 
     def envelopes(self) -> dict:
-        return {q: self._shaped(q, self.envelope[RECORDABLE.index(q)]) for q in self.plan.envelope}
+        return {q: self._shaped(q, self.envelope[RECORDABLE_SLOT[q]]) for q in self.plan.envelope}
 
 
 def work_arrays(plan) -> Work:
     """Scratch arrays of one member at a time: its trial state (for Newmark the evaluation
     point is the step end itself), the band, the tangents in its factorisation."""
-    n, s, c = plan.n_dof, len(plan.story_names), len(plan.contact_names)
+    n, s, c = plan.n_dof, plan.n_springs, len(plan.contact_names)
     u, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
     if plan.integrator.alpha:
         ue, ve, ae = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -303,7 +337,7 @@ def work_arrays(plan) -> Work:
         ue, ve, ae = u, v, a
     work = Work(u, v, a, ue, ve, ae, np.zeros(n), np.zeros((n, plan.bandwidth + 1)),
                 *(np.zeros(s) for _ in range(4)), np.zeros(c), np.zeros(c), np.zeros(s),
-                np.zeros(c), np.zeros(slots.SCALAR_SLOTS))
+                np.zeros(c), np.zeros(len(Scalar)))
     return work
 
 
@@ -322,6 +356,7 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
+           "contact_lower",
            "contact_order", "contact_law"}
 
 
@@ -366,7 +401,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     structs = []
     for (lo, hi), (work, saved) in zip(pieces, scratch):
         sliced = _slice(model, lo, hi)
-        sizes = dict(batch=hi - lo, dofs=plan.n_dof, stories=len(plan.story_names),
+        sizes = dict(batch=hi - lo, dofs=plan.n_dof, stories=plan.n_springs,
+                     links=len(plan.link_names),
                      contacts=len(plan.contact_names), story_width=model.story_params.shape[2],
                      story_states=st.story_committed.shape[2],
                      contact_width=model.contact_params.shape[2],
@@ -381,7 +417,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         c_model, c_state, c_work, c_saved = structs[piece]
         code = ckernel.run(c_model, c_settings, c_state, ckernel.recording(rec), c_work,
                            c_saved, begin, end)
-        if code == ckernel.RUN_ZERO_DIVISION:
+        if code == Run.ZERO_DIVISION:
             raise ZeroDivisionError("float division by zero")
 
     def call(begin, end):
@@ -435,7 +471,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             grow = chunk_seconds / max(elapsed, 1e-6)
             size = max(1, min(limit, int((end - done) * min(grow, 8.0))))
             done = end
-            if np.all(st.status[:, 0] != 0):
+            if np.all(st.status[:, StatusColumn.CODE] != Status.OK):
                 break
     finally:
         if pool is not None:

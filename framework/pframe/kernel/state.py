@@ -1,7 +1,7 @@
 """The kernel's grouped arrays and the names of their slots.
 
 A run is four groups of arrays, each a named tuple so that compiled code reads ``m.mass`` and
-``st.energy[b, KINETIC]`` rather than positional arguments and bare numbers:
+``st.energy[b, Energy.KINETIC]`` rather than positional arguments and bare numbers:
 
 - :class:`Model`: what the scene is (masses, connectivity, law ids and parameters, ground
   motion); read only. Arrays of shape ``(B, ...)`` have one row per batch member; topology
@@ -25,48 +25,178 @@ import. A test fails when the header is stale.
 from __future__ import annotations
 
 from collections import namedtuple
+from enum import IntEnum, auto
 
-# status[b, STATUS_CODE]: why a member stopped
-OK, NOT_CONVERGED, NOT_FINITE, NOT_DEFINITE, NOT_STABLE = 0, 1, 2, 3, 4
-# status columns: code, the committed state count where it stopped, element kind and index
-STATUS_CODE, STATUS_STEP, STATUS_KIND, STATUS_INDEX = 0, 1, 2, 3
-STATUS_SLOTS = 4
-# element kinds in status[b, STATUS_KIND]
-NODE, STORY, CONTACT = 0, 1, 2
+from pframe.quantities import QUANTITIES
 
-# energy[b, slot] (J): work of the ground motion, kinetic energy now, work of damping, of the
-# storeys, of the contacts, kinetic energy at t = 0, the ground motion's work counted in
-# absolute value, the mechanical energy at t = 0 (the last two bound runaway growth), and the
-# energy the integrator's own relations remove (algorithmic dissipation: HHT, generalised
-# alpha, Newmark with gamma > 1/2; see kernel/c/energy.c)
-INPUT, KINETIC, DAMPING, STOREYS, CONTACTS, KINETIC_0, INPUT_ABS, START, ALGORITHMIC = range(9)
-ENERGY_SLOTS = 9
 
-# counters[b, slot]: linear solves, factorisations of the effective stiffness, evaluations of
-# the residual (each evaluates every element once), steps split into sub-steps, and values
-# gathered by recorders
-SOLVES, FACTORISATIONS, EVALUATIONS, SPLIT_STEPS, GATHERS = range(5)
-COUNTER_SLOTS = 5
-COUNTER_NAMES = ("solves", "factorisations", "evaluations", "split_steps", "gathers")
+class Slots(IntEnum):
+    """Named slots of one of the kernel's small arrays (or named codes), numbered from 0 in
+    the order they are written. Each kind is defined once, here: its C constants
+    (``c/state.h``), its count and the names result files use follow from it."""
 
-# recordable quantities, in the order of Recording.history and Recording.envelope
-DISPLACEMENT, VELOCITY, ACCELERATION, STORY_DRIFT, STORY_FORCE, CONTACT_FORCE, \
-    CONTACT_PENETRATION, GROUND_ACCELERATION = range(8)
-RECORDABLE = ("displacement", "velocity", "acceleration", "story_drift", "story_force",
-              "contact_force", "contact_penetration", "ground_acceleration")
-RECORDABLE_COUNT = len(RECORDABLE)
+    @staticmethod
+    def _generate_next_value_(name, start, count, last_values):
+        return count
+
+
+class Status(Slots):
+    """status[b, StatusColumn.CODE]: why a member stopped."""
+
+    OK = auto()
+    NOT_CONVERGED = auto()
+    NOT_FINITE = auto()
+    NOT_DEFINITE = auto()
+    NOT_STABLE = auto()
+
+
+class StatusColumn(Slots):
+    """status[b, column]: the code, the committed state count where it stopped, the element
+    kind and index (C: ``STATUS_CODE``, ...)."""
+
+    CODE = auto()
+    STEP = auto()
+    KIND = auto()
+    INDEX = auto()
+
+
+class Kind(Slots):
+    """Element kinds in status[b, StatusColumn.KIND]."""
+
+    NODE = auto()
+    STORY = auto()
+    CONTACT = auto()
+
+
+class Energy(Slots):
+    """energy[b, slot] (J)."""
+
+    INPUT = auto()        # work of the ground motion
+    KINETIC = auto()      # kinetic energy now
+    DAMPING = auto()      # work of damping
+    STOREYS = auto()      # work of the storeys
+    CONTACTS = auto()     # work of the contacts
+    KINETIC_0 = auto()    # kinetic energy at t = 0
+    INPUT_ABS = auto()    # the ground motion's work counted in absolute value, and
+    START = auto()        # the mechanical energy at t = 0: these two bound runaway growth
+    ALGORITHMIC = auto()  # energy the integrator's own relations remove (HHT, generalised
+    # alpha, Wilson-theta, Newmark with gamma > 1/2; see kernel/c/energy.c)
+    LINKS = auto()        # work of the links (dampers, couplings, tuned masses)
+
+
+#: the energy balance's terms as result files name them (``energy_<name>``), in the order of
+#: the balance W_input = dE_kinetic + W_damping + W_storeys + W_contacts + W_links + D_alg
+ENERGY_TERMS = {"input": Energy.INPUT, "kinetic": Energy.KINETIC, "damping": Energy.DAMPING,
+                "storeys": Energy.STOREYS, "contacts": Energy.CONTACTS, "links": Energy.LINKS,
+                "initial_kinetic": Energy.KINETIC_0, "algorithmic": Energy.ALGORITHMIC}
+#: the energy slots that are the kernel's own bookkeeping (the runaway bound), not written
+ENERGY_BOOKKEEPING = (Energy.INPUT_ABS, Energy.START)
+
+
+class Counter(Slots):
+    """counters[b, slot]: linear solves, factorisations of the effective stiffness,
+    evaluations of the residual (each evaluates every element once), steps split into
+    sub-steps, and values gathered by recorders. ``Counter[name.upper()]`` of a name of
+    :data:`COUNTER_NAMES`."""
+
+    SOLVES = auto()
+    FACTORISATIONS = auto()
+    EVALUATIONS = auto()
+    SPLIT_STEPS = auto()
+    GATHERS = auto()
+
+
+#: the counters' names (``Result.counter(name)``), in slot order
+COUNTER_NAMES = tuple(c.name.lower() for c in Counter)
+
+#: recordable quantities: those of :data:`pframe.quantities.QUANTITIES` (the one list), in its
+#: order, which is that of Recording.history and Recording.envelope (C: ``DISPLACEMENT``, ...)
+Recordable = Slots("Recordable", [q.upper() for q in QUANTITIES])
+RECORDABLE = tuple(QUANTITIES)
+#: a quantity's slot by its name
+RECORDABLE_SLOT = {q: Recordable[q.upper()] for q in RECORDABLE}
+
+
+class Scheme(Slots):
+    """Settings.scheme: the implicit integrator (kernel/c/integrator.c): the generalised-alpha
+    family (Newmark, HHT, Chung-Hulbert) or Wilson's theta method (C: ``ALPHA_FAMILY``, ...)."""
+
+    ALPHA_FAMILY = auto()
+    WILSON_THETA = auto()
+
+
+class DampingStiffness(Slots):
+    """Model.story_damping[e]: the stiffness a storey's beta K damping is proportional to
+    (the scene's ``damping.stiffness``; C: ``DAMPING_INITIAL``, ...)."""
+
+    INITIAL = auto()
+    CURRENT = auto()
+    COMMITTED = auto()
+
+
+class Scalar(Slots):
+    """w.scalars[slot]: the step length of the current factorisation (0 before the first),
+    1.0 when an element tangent changed since, the smallest mass of the member, the contact
+    held on one branch while an event is located (-1: none) and that branch (1.0 closed, 0.0
+    open; see kernel/c/events.c), the work of the non-inertial forces at the alpha point over
+    the whole (sub-)step (kernel/c/energy.c), and 1.0 when a step's coefficient divided by
+    zero (a step length or Newmark beta that underflows): the kernel stops and the driver
+    raises ZeroDivisionError, as Python would."""
+
+    H_FACTORED = auto()
+    STALE = auto()
+    MASS_MIN = auto()
+    HELD = auto()
+    HELD_CLOSED = auto()
+    ALPHA_WORK = auto()
+    ZERO_DIVISION = auto()
+
+
+class Run(Slots):
+    """What one call of the kernel (``pframe_run``) returns: it ran, or a step's coefficients
+    divided by zero (C: ``RUN_OK``, ``RUN_ZERO_DIVISION``)."""
+
+    OK = auto()
+    ZERO_DIVISION = auto()
+
+
+#: the slot kinds written into c/state.h: title, kind, the C names' prefix, and the name of the
+#: count (None: no count)
+C_CONSTANTS = (
+    ("status codes", Status, "", None),
+    ("status columns", StatusColumn, "STATUS_", "STATUS_SLOTS"),
+    ("element kinds", Kind, "", None),
+    ("energy slots", Energy, "", "ENERGY_SLOTS"),
+    ("counters", Counter, "", "COUNTER_SLOTS"),
+    ("recordable quantities", Recordable, "", "RECORDABLE_COUNT"),
+    ("damping stiffness", DampingStiffness, "DAMPING_", None),
+    ("integrator schemes", Scheme, "", None),
+    ("work scalars", Scalar, "", "SCALAR_SLOTS"),
+    ("pframe_run's return values", Run, "RUN_", None),
+)
+#: the counts c/state.h defines (``RECORDABLE_COUNT``, ...), by their C name
+C_COUNTS = {count: len(kind) for _, kind, _, count in C_CONSTANTS if count}
 
 Model = namedtuple("Model", [
     "mass",             # (B, n) kg, DOFs in band order
     "mass_damping",     # (B, n) a0 m (N s/m)
+    # the spring elements: the storeys, then the links (the last `links` of them; a link is a
+    # spring between any two DOFs, without Rayleigh damping: kernel/c/energy.c books its work
+    # apart), s in all
     "story_dofs",       # (s, 2) lower and upper DOF; -1 is the ground
     "story_order",      # (s,) storeys in evaluation order (grouped by law)
     "story_law",        # (s,) material id (the registry order: kernel/c/laws.c)
     "story_params",     # (B, s, P) the material's packed parameters
     "story_k0",         # (B, s) initial stiffness (N/m)
     "story_beta",       # (B, s) stiffness-proportional damping a1 (s)
-    "story_damping",    # (s,) damping on the 0 initial, 1 current, 2 committed stiffness
-    "contact_dofs",     # (c, 2) left and right DOF
+    "story_damping",    # (s,) DampingStiffness of the beta K damping
+    "story_height",     # (B, s) storey height (m; NaN: not given), for drift ratios
+    "story_kg",         # (B, s) P-delta's geometric stiffness P / h (N/m; 0: none)
+    "contact_dofs",     # (c, 2) left and right DOF (-1: the ground, a wall)
+    "contact_lower",    # (c, 2) a floor-to-column contact: the lower floor's DOF of the struck
+                        # storey on the left and right side (negative: none, or the ground)
+    "contact_share",    # (B, c, 2) the weight psi of the named node on each side (1: a floor;
+                        # a column point is psi u_upper + (1 - psi) u_lower)
     "contact_order",    # (c,) contacts in evaluation order (grouped by law)
     "contact_law",      # (c,) contact law id
     "contact_params",   # (B, c, Q) the law's packed parameters
@@ -78,7 +208,9 @@ Model = namedtuple("Model", [
 ])
 
 Settings = namedtuple("Settings", [
-    "gamma", "beta", "alpha_m", "alpha_f",  # generalised-alpha coefficients
+    "gamma", "beta", "alpha_m", "alpha_f",  # Newmark's gamma and beta, the inertia and force
+                                            # weights of the previous step (alpha family)
+    "scheme", "theta",                      # Scheme, and Wilson's theta
     "tolerance", "absolute_tolerance",      # Newton: |du| <= tolerance |u| + absolute_tolerance
     "max_iterations",                       # Newton iterations per (sub-)step
     "bandwidth",                            # half-bandwidth of the effective stiffness
@@ -86,7 +218,7 @@ Settings = namedtuple("Settings", [
     "linear",     # constant effective stiffness: factor once, one solve per step
     "explicit",   # central difference: no solve
     "events",     # locate contact onset and separation inside steps
-    "alpha",      # equilibrium off the step end (HHT, generalised-alpha)
+    "alpha",      # equilibrium off the step end (HHT, generalised-alpha, Wilson-theta)
     "always_refactor",  # refactor before every solve (a test's check that reuse changes no bit)
     "material_plugins", "contact_plugins",  # function pointers of plug-in laws (ids after
                                             # the built-in ones; see pframe.kernel.plugins)
@@ -99,18 +231,18 @@ State = namedtuple("State", [
     "contact_force", "penetration",         # (B, c) committed
     "contact_committed", "contact_trial",   # (B, c, T) law state variables
     "impacts",                              # (B, c) contact onsets
-    "energy",                               # (B, ENERGY_SLOTS)
-    "status",                               # (B, STATUS_SLOTS)
-    "counters",                             # (B, COUNTER_SLOTS)
+    "energy",                               # (B, len(Energy))
+    "status",                               # (B, len(StatusColumn))
+    "counters",                             # (B, len(Counter))
     "material_calls", "contact_calls",      # (B, law ids) evaluations of each law
 ])
 
 Recording = namedtuple("Recording", [
-    "history",     # 8 arrays (B, rows, width), one per RECORDABLE; (B, 0, 0) if unrecorded
-    "every",       # (8,) record every k-th step; 0 if unrecorded
-    "first_row",   # (8,) the row of the whole history held in row 0 of this call's buffer
-    "envelope",    # 8 arrays (B, width), one per RECORDABLE; (B, 0) if unrecorded
-    "enveloped",   # (8,) 1 where the envelope is recorded
+    "history",     # arrays (B, rows, width), one per Recordable slot; (B, 0, 0) if unrecorded
+    "every",       # (len(Recordable),) record every k-th step; 0 if unrecorded
+    "first_row",   # (len(Recordable),) the row of the whole history held in row 0 of this call's buffer
+    "envelope",    # arrays (B, width), one per Recordable slot; (B, 0) if unrecorded
+    "enveloped",   # (len(Recordable),) 1 where the envelope is recorded
 ])
 
 Work = namedtuple("Work", [
@@ -121,20 +253,11 @@ Work = namedtuple("Work", [
     "drift", "story_force", "story_damping_force", "story_tangent",  # (s,) trial
     "contact_force", "penetration",                                  # (c,) trial
     "story_kk", "contact_kk",  # element tangents in the current factorisation
-    "scalars",                 # (SCALAR_SLOTS,) see H_FACTORED, STALE, MASS_MIN
+    "scalars",                 # (len(Scalar),) see Scalar
 ])
-# w.scalars: the step length of the current factorisation (0 before the first), 1.0 when an
-# element tangent changed since, the smallest mass of the member, the contact held on one
-# branch while an event is located (-1: none) and that branch (1.0 closed, 0.0 open; see
-# kernel/c/events.c), the work of the non-inertial forces at the alpha point over the whole
-# (sub-)step (kernel/c/energy.c), and 1.0 when a step's coefficient divided by zero (a step
-# length or Newmark beta that underflows): the kernel stops and the driver raises
-# ZeroDivisionError, as Python would
-H_FACTORED, STALE, MASS_MIN, HELD, HELD_CLOSED, ALPHA_WORK, ZERO_DIVISION = range(7)
-SCALAR_SLOTS = 7
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
-SIZES = ("batch", "dofs", "stories", "contacts", "story_width", "story_states",
+SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
          "contact_width", "contact_states", "ground_width", "materials", "contact_laws")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
@@ -142,10 +265,12 @@ SIZES = ("batch", "dofs", "stories", "contacts", "story_width", "story_states",
 C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
+              "contact_lower": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *",
               **{name: "int64_t" for name in SIZES}},
     "Settings": {"gamma": "double", "beta": "double", "alpha_m": "double", "alpha_f": "double",
+                 "scheme": "int64_t", "theta": "double",
                  "tolerance": "double", "absolute_tolerance": "double",
                  "max_iterations": "int64_t", "bandwidth": "int64_t", "max_split": "int64_t",
                  "linear": "int64_t", "explicit": "int64_t", "events": "int64_t",
@@ -163,23 +288,6 @@ C_TYPES = {
 }
 #: Recording's sizes (C only: the Python group holds the arrays, which carry their shapes)
 RECORDING_SIZES = ("history_rows", "history_width", "envelope_width")
-
-#: the named slot constants written into c/state.h, by group
-C_CONSTANTS = {
-    "status codes": ("OK", "NOT_CONVERGED", "NOT_FINITE", "NOT_DEFINITE", "NOT_STABLE"),
-    "status columns": ("STATUS_CODE", "STATUS_STEP", "STATUS_KIND", "STATUS_INDEX",
-                       "STATUS_SLOTS"),
-    "element kinds": ("NODE", "STORY", "CONTACT"),
-    "energy slots": ("INPUT", "KINETIC", "DAMPING", "STOREYS", "CONTACTS", "KINETIC_0",
-                     "INPUT_ABS", "START", "ALGORITHMIC", "ENERGY_SLOTS"),
-    "counters": ("SOLVES", "FACTORISATIONS", "EVALUATIONS", "SPLIT_STEPS", "GATHERS",
-                 "COUNTER_SLOTS"),
-    "recordable quantities": ("DISPLACEMENT", "VELOCITY", "ACCELERATION", "STORY_DRIFT",
-                              "STORY_FORCE", "CONTACT_FORCE", "CONTACT_PENETRATION",
-                              "GROUND_ACCELERATION", "RECORDABLE_COUNT"),
-    "work scalars": ("H_FACTORED", "STALE", "MASS_MIN", "HELD", "HELD_CLOSED", "ALPHA_WORK",
-                     "ZERO_DIVISION", "SCALAR_SLOTS"),
-}
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [

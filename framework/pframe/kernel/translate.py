@@ -382,9 +382,11 @@ def state_h() -> str:
              " * rate, out[3] = (force, d force / d deformation, d force / d rate) */",
              "typedef void (*LawFunction)(const double *, const double *, double *, double, "
              "double, double *);", ""]
-    for title, names in state.C_CONSTANTS.items():
+    for title, kind, prefix, count in state.C_CONSTANTS:
         lines.append(f"/* {title} */")
-        lines += [f"#define {name} {getattr(state, name)}" for name in names]
+        lines += [f"#define {prefix}{slot.name} {int(slot)}" for slot in kind]
+        if count:
+            lines.append(f"#define {count} {len(kind)}")
         lines.append("")
     groups = {"Model": state.Model._fields + state.SIZES, "Settings": state.Settings._fields,
               "State": state.State._fields,

@@ -39,6 +39,8 @@ _BUILTIN_MODULES = {
     "material": (
         "pframe.laws.material.elastic",
         "pframe.laws.material.bilinear",
+        "pframe.laws.material.viscous",
+        "pframe.laws.material.kelvin_voigt",
         "pframe.laws.material.bouc_wen",
         "pframe.laws.material.friction_pendulum",
     ),
@@ -66,7 +68,9 @@ class ContactContext:
 
     @property
     def effective_mass(self) -> float:
-        """m1 m2 / (m1 + m2) (kg); a node of infinite mass would give m1."""
+        """m1 m2 / (m1 + m2) (kg); a wall (the ground: infinite mass) gives the floor's."""
+        if math.isinf(self.mass_left) or math.isinf(self.mass_right):
+            return min(self.mass_left, self.mass_right)
         return self.mass_left * self.mass_right / (self.mass_left + self.mass_right)
 
 
@@ -141,6 +145,12 @@ class Law:
     #: :data:`pframe.reference.branches.BRANCHES` (``gap``, ``kelvin``, ``hunt_crossley``,
     #: ``jankowski``, ``smooth``, ``bilinear``); None: a stateless law's only kink is the gap
     branches: ClassVar[str | None] = None
+    #: a storey material's smallest tangent after yielding, from its packed parameters (N/m),
+    #: or None where it has no such bound: the P-delta check compares it with P / h
+    @classmethod
+    def post_yield_stiffness(cls, packed) -> float | None:
+        return None
+
     #: the stock OpenSees material pframe's OpenSees script models the law with, or None
     opensees: ClassVar[str | None] = None
 

@@ -3,6 +3,7 @@ indices, law parameters packed into numbers. Every problem is reported at its YA
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -13,10 +14,11 @@ from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
 from pframe.excitation.describe import applied_motion, motion_warnings
 from pframe.excitation.records import RecordUnitsError
+from pframe.excitation.stochastic import stochastic_record, stochastic_warnings
 from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
-from pframe.model.scene import default_contact_name, default_story_name
+from pframe.model.scene import default_contact_name, default_link_name, default_story_name
 from pframe.resources import check_floors, check_steps, steps_of
 
 
@@ -29,6 +31,11 @@ class Element:
     law: type
     packed: tuple[float, ...]
     gap: float = 0.0
+    #: a floor-to-column contact: the struck storey's lower floor on each side (-1: none or
+    #: the ground) and the weight psi of the named node (1: a floor)
+    lower: tuple[int, int] = (-1, -1)
+    share: tuple[float, float] = (1.0, 1.0)
+    shear_capacity: float | None = None
 
 
 @dataclass(frozen=True)
@@ -42,6 +49,7 @@ class Expanded:
     stories: tuple[Element, ...]
     story_building: np.ndarray  # (s,)
     contacts: tuple[Element, ...]
+    links: tuple[Element, ...]  # (first, second): deformation u_second - u_first
     damping: tuple  # Rayleigh definition per building
     ground_acceleration: np.ndarray  # (steps + 1,) m/s^2
     initial_displacement: np.ndarray
@@ -65,8 +73,16 @@ class Expanded:
     reference: int = 0
     #: what the run will be told (pframe solve prints them; the result file keeps them)
     warnings: tuple[str, ...] = ()
+    #: (s,) storey heights (m), NaN where the scene gives none; (s,) gravity loads P (N) of
+    #: the storeys with P-delta (0: none)
+    story_height: np.ndarray = None
+    story_gravity: np.ndarray = None
     #: what validate shows besides (facts the scene chose explicitly)
     notes: tuple[str, ...] = ()
+
+
+#: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
+GRAVITY = 9.80665
 
 
 def _per_storey(value, n: int, path):
@@ -95,6 +111,12 @@ def _building_nodes(scene, nodes, stories, damping):
         }
         law = get_law("material", building.story.material)
         damping[building.name] = building.damping
+        heights = (_per_storey(building.height, n, path + ("height",))
+                   if building.height is not None else [None] * n)
+        if building.p_delta and building.height is None:
+            raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
+                             "height (m, one for all storeys or one per storey)")
+        above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
         for i in range(n):
             name = f"{building.name}/{i + 1}"
             nodes.append((name, masses[i], path + ("name",)))
@@ -106,7 +128,8 @@ def _building_nodes(scene, nodes, stories, damping):
                 msg = str(exc).splitlines()[-1].strip() if "\n" in str(exc) else str(exc)
                 raise ModelError(path + ("story",), f"storey {i + 1}: {msg}") from None
             lower = "ground" if i == 0 else f"{building.name}/{i}"
-            stories.append((name, (lower, name), law, params, path + ("story",)))
+            stories.append((name, (lower, name), law, params, path + ("story",), heights[i],
+                            GRAVITY * float(above[i]) if building.p_delta else 0.0))
 
 
 def _finite(packed, path) -> tuple[float, ...]:
@@ -137,10 +160,11 @@ def _masses_above(stories, index, masses) -> dict:
     buildings are). One pass over the storeys, whatever the height. Unknown names are left to
     the caller's check; a storey loop (refused elsewhere) is cut where it closes."""
     upward: dict[str, list[str]] = {}
-    for _, (lower, upper), _, _, _ in stories:
+    for story in stories:  # (name, (lower, upper), law, params, path, ...)
+        lower, upper = story[1]
         upward.setdefault(lower, []).append(upper)
     carried: dict[str, float] = {}
-    for start in {upper for _, (_, upper), _, _, _ in stories}:
+    for start in {story[1][1] for story in stories}:
         if start in carried:
             continue
         todo, open_ = [(start, False)], set()
@@ -196,8 +220,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     for s, story in enumerate(scene.stories):
         law = get_law("material", story.material)
         params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
+        if story.gravity_load is not None and story.height is None:
+            raise ModelError(("stories", s, "gravity_load"), "P-delta needs the storey's "
+                             "height: give height (m)")
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
-                        ("stories", s)))
+                        ("stories", s), story.height, float(story.gravity_load or 0.0)))
 
     carried: dict = {}
 
@@ -207,7 +234,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         return carried[upper]
 
     story_elements, story_building, seen = [], [], {}
-    for name, (lower, upper), law, params, path in stories:
+    for name, (lower, upper), law, params, path, _, _ in stories:
         up = node_index(upper, path + ("nodes", 1))
         low = -1 if lower == "ground" else node_index(lower, path + ("nodes", 0))
         if low >= 0 and building_of[low] != building_of[up]:
@@ -225,6 +252,30 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_elements.append(Element(name, (low, up), law, _finite(packed, path)))
         story_building.append(buildings.index(building_of[up]))
 
+    for name, (_, _), law, _, path, _, _ in stories:
+        if getattr(law, "stiffness_free", False):
+            raise ModelError(path + ("material",), f"storey {name!r}: a {law.name} has no "
+                             "stiffness and cannot carry a storey; put it in links (a damper "
+                             "across the storey: nodes [lower, upper])")
+    link_elements = []
+    for i, link in enumerate(scene.links):
+        path = ("links", i)
+        if link.nodes[0] == "ground" and link.nodes[1] == "ground":
+            raise ModelError(path + ("nodes",), "a link needs a node on at least one side")
+        first, second = (-1 if node == "ground" else node_index(node, path + ("nodes", j))
+                         for j, node in enumerate(link.nodes))
+        if first == second:
+            raise ModelError(path + ("nodes",), "a link needs two different nodes")
+        name = link.name or default_link_name(link.nodes)
+        if name in seen:
+            raise ModelError(path + ("name",), f"link name {name!r} is used twice (storeys "
+                                               "and links share their names)")
+        seen[name] = True
+        law = get_law("material", link.material)
+        params = law.Params.model_validate(link.model_dump(include=set(law.Params.model_fields)))
+        link_elements.append(Element(name, (first, second), law,
+                                     _finite(law.pack(params), path)))
+
     record = None
     if scene.excitation is not None and scene.excitation.kind == "record":
         file = Path(base_dir) / scene.excitation.file
@@ -241,6 +292,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
             record = apply_record(scene.excitation, *record)
         except InputError as exc:
             raise ModelError(("excitation", "file"), str(exc)) from None
+    if scene.excitation is not None and scene.excitation.kind == "stochastic":
+        try:
+            record = stochastic_record(scene.excitation)
+        except ValueError as exc:
+            raise ModelError(("excitation",), f"cannot simulate the motion: {exc}") from None
     excitation_frequency = None  # of frequency_ratio (Pi_wcon = w_bar / w_p): a sine's
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
@@ -248,26 +304,56 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     contacts, seen, rebounds = [], {}, {}
     for c, contact in enumerate(scene.contacts):
         path = ("contacts", c)
-        left = node_index(contact.nodes[0], path + ("nodes", 0))
-        right = node_index(contact.nodes[1], path + ("nodes", 1))
-        if building_of[left] == building_of[right]:
-            raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
-                                                f"buildings; both nodes are in {building_of[left]!r}")
+        if contact.nodes[0] == "ground" and contact.nodes[1] == "ground":
+            raise ModelError(path + ("nodes",), "a contact needs a node on at least one side; "
+                                                "'ground' on one side is a wall")
+        left, right = (-1 if node == "ground" else node_index(node, path + ("nodes", i))
+                       for i, node in enumerate(contact.nodes))
         name = contact.name or default_contact_name(contact.nodes)
-        _check_row_order(name, buildings, building_of[left], building_of[right], contact.nodes,
-                         path + ("nodes",))
+        if left >= 0 and right >= 0:
+            if building_of[left] == building_of[right]:
+                raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
+                                 f"buildings (or a node and a wall: 'ground'); both nodes are "
+                                 f"in {building_of[left]!r}")
+            _check_row_order(name, buildings, building_of[left], building_of[right],
+                             contact.nodes, path + ("nodes",))
         if name in seen:
             raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
         seen[name] = True
         law = get_law("contact", contact.law)
         params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
-        context = ContactContext(masses[left], masses[right], excitation_frequency)
+        lower, share = [-1, -1], [1.0, 1.0]
+        side_mass = [masses[left] if left >= 0 else math.inf,
+                     masses[right] if right >= 0 else math.inf]
+        if (contact.column is None) != (contact.at is None):
+            raise ModelError(path, "a floor-to-column contact needs both column (the side "
+                                   "whose node names the struck storey) and at (0 < at < 1)")
+        if contact.column is not None:
+            side = 0 if contact.column == "left" else 1
+            upper = (left, right)[side]
+            below = [k for k, (_, (lo, up), *_) in enumerate(stories)
+                     if up == contact.nodes[side]]
+            if upper < 0 or not below:
+                raise ModelError(path + ("column",), f"the {contact.column} node "
+                                 f"{contact.nodes[side]!r} tops no storey: a struck column is "
+                                 "named by the floor above it")
+            low_name = stories[below[0]][1][0]
+            lower[side] = -1 if low_name == "ground" else index[low_name]
+            xi = float(contact.at)
+            share[side] = xi * xi * (3.0 - 2.0 * xi)  # a fixed-fixed column swaying
+            inverse = share[side] ** 2 / masses[upper] + (
+                (1.0 - share[side]) ** 2 / masses[lower[side]] if lower[side] >= 0 else 0.0)
+            side_mass[side] = 1.0 / inverse
+        # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
+        # a column point has the mass its displacement's weights give it
+        context = ContactContext(side_mass[0], side_mass[1], excitation_frequency)
         try:
             with np.errstate(all="ignore"):
                 packed = _finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
-        contacts.append(Element(name, (left, right), law, packed, float(contact.gap)))
+        contacts.append(Element(name, (left, right), law, packed, float(contact.gap),
+                                tuple(lower), tuple(share), contact.shear_capacity))
         obtained = published_rebound(law, params)
         if obtained is not None:
             chosen = "calibration" in contact.model_fields_set
@@ -308,6 +394,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         stories=tuple(story_elements),
         story_building=np.array(story_building, dtype=np.int64),
         contacts=tuple(contacts),
+        links=tuple(link_elements),
+        story_height=np.array([np.nan if h is None else float(h) for *_, h, _ in stories]),
+        story_gravity=np.array([float(g) for *_, g in stories]),
         damping=tuple(damping.get(b) or scene.damping for b in buildings),
         ground_acceleration=ag,
         initial_displacement=u0,
@@ -323,7 +412,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         excitation=scene.excitation,
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
-        + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt))),
+        + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt)))
+        + tuple(stochastic_warnings(scene.excitation)),
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
     )
 

@@ -21,7 +21,7 @@ from pydantic import (
     model_validator,
 )
 
-from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark
+from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark, WilsonTheta
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.quantities import QUANTITIES as _QUANTITIES
@@ -64,6 +64,8 @@ def _public_name(cls) -> str:
         return "Contact"
     if name.startswith("Story_"):
         return "Story"
+    if name.startswith("Link_"):
+        return "Link"
     if name.endswith("Storeys"):
         return "StoryProperties"
     return name
@@ -153,6 +155,14 @@ class Node(Base):
     mass: Positive = Field(description="Lumped floor mass (kg).")
 
 
+#: a node's name, or the ground (a storey's base, a wall's side of a contact, a link's anchor)
+NodeOrGround = Annotated[
+    str,
+    Field(pattern=r"^(ground|[A-Za-z0-9_.-]+/[A-Za-z0-9_.-]+)$",
+          description="A node name '<building>/<floor>', or 'ground'."),
+]
+
+
 class StoryBase(Base):
     """A storey shear spring between two nodes, or a node and the ground."""
 
@@ -160,6 +170,28 @@ class StoryBase(Base):
         description="[lower, upper]: 'ground' or a node name, then the node above it."
     )
     name: str | None = Field(None, description="Defaults to the upper node's name.")
+    height: Positive | None = Field(None, description="Storey height h (m): drift ratio, "
+                                    "P-delta.")
+    gravity_load: float | None = Field(None, ge=0, allow_inf_nan=False,
+                                       description="Axial (gravity) load P the storey carries "
+                                       "(N): P-delta, a geometric stiffness -P/h (needs height).")
+
+
+class LinkBase(Base):
+    """A link: a material element between any two nodes, or a node and the ground, acting in
+    tension and compression with no gap (dampers and springs between buildings, the spring
+    and dashpot of a tuned mass, a device to the ground)."""
+
+    name: str | None = Field(None, description="Defaults to '<first>~<second>'.")
+    nodes: tuple[NodeOrGround, NodeOrGround] = Field(
+        description="[first, second]: deformation = u_second - u_first (a storey's drift when "
+        "first is below second); 'ground' on one side anchors the link to the ground."
+    )
+
+
+def default_link_name(nodes) -> str:
+    """The name of a link the scene does not name: ``<first>~<second>``."""
+    return f"{nodes[0]}~{nodes[1]}"
 
 
 def default_contact_name(nodes) -> str:
@@ -174,15 +206,28 @@ def default_story_name(nodes) -> str:
 
 
 class ContactBase(Base):
-    """A compression-only contact element across the gap between two buildings."""
+    """A compression-only contact element across the gap between two buildings, or between a
+    floor and a wall (the ground)."""
 
     name: str | None = Field(None, description="Defaults to '<left>-<right>'.")
-    nodes: tuple[NodeName, NodeName] = Field(
+    nodes: tuple[NodeOrGround, NodeOrGround] = Field(
         description="[left, right]: penetration = u_left - u_right - gap. The buildings "
         "stand from left to right in the order the scene declares them; the left node's "
-        "building must come first (a contact written the other way round is refused)."
+        "building must come first (a contact written the other way round is refused). "
+        "'ground' on one side is a wall moving with the ground (a moat or retaining wall, a "
+        "stop): [A/1, ground] stands right of A/1, [ground, A/1] left of it."
     )
     gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
+    column: Literal["left", "right"] | None = Field(
+        None, description="Floor-to-column pounding: the side whose node names a storey (by "
+        "its upper floor) struck at a point of its column, 'at' of the way up from its lower "
+        "floor (floors at different heights).")
+    at: float | None = Field(None, gt=0, lt=1, allow_inf_nan=False,
+                             description="Where the column is struck: the fraction of the "
+                             "storey's height above its lower floor (0 < at < 1).")
+    shear_capacity: float | None = Field(
+        None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N): "
+        "the local shear the impact puts into it is checked against it.")
 
 
 class Rayleigh(Base):
@@ -309,6 +354,135 @@ class Ricker(_Pulse):
                                     "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
 
 
+class StochasticParameters(Base):
+    """The six parameters of the Rezaeian & Der Kiureghian model, given directly."""
+
+    arias: Positive = Field(description="Expected Arias intensity I_a (m/s; 1 s g = 9.81 m/s).")
+    d595: Positive = Field(description="Significant duration D5-95 (s): 5 % to 95 % of I_a.")
+    tmid: Positive = Field(description="t_mid (s): when 45 % of I_a is reached.")
+    frequency: Positive = Field(description="f_mid (Hz): the filter frequency at t_mid.")
+    slope: float = Field(0.0, allow_inf_nan=False, description="f' (Hz/s): the rate of change "
+                         "of the filter frequency.")
+    damping: float = Field(gt=0, lt=1, allow_inf_nan=False, description="The filter's damping "
+                           "ratio zeta_f.")
+
+    @model_validator(mode="after")
+    def _feasible(self):
+        from pframe.excitation.stochastic import envelope_feasible
+
+        if not envelope_feasible(self.d595, self.tmid):
+            raise ValueError(f"d595 {self.d595:g} s and tmid {self.tmid:g} s: no gamma-form "
+                             "modulating function has them (d595 / tmid must be below 4.93; "
+                             "tmid is counted from the start of the motion)")
+        return self
+
+
+class Jennings(Base):
+    """Jennings, Housner & Tsai (1968): (t/t_1)^2 rise, 1 to t_2, then exp(-c (t - t_2))."""
+
+    kind: Literal["jennings"] = "jennings"
+    rise: Positive = Field(description="t_1 (s): end of the rise.")
+    plateau: Positive = Field(description="t_2 (s): end of the strong phase (>= t_1).")
+    decay: Positive = Field(description="c (1/s): the decay rate; the motion ends when the "
+                            "envelope is 0.001.")
+
+    @model_validator(mode="after")
+    def _order(self):
+        if self.plateau < self.rise:
+            raise ValueError("plateau (t_2) must not be before rise (t_1)")
+        return self
+
+
+class GammaShape(Base):
+    """The gamma form t^(alpha_2 - 1) exp(-alpha_3 t) with peak 1, from D5-95 and t_mid."""
+
+    kind: Literal["gamma"] = "gamma"
+    d595: Positive = Field(description="Significant duration D5-95 (s) of the envelope's energy.")
+    tmid: Positive = Field(description="t_mid (s): when 45 % of the envelope's energy is reached.")
+
+    @model_validator(mode="after")
+    def _feasible(self):
+        from pframe.excitation.stochastic import envelope_feasible
+
+        if not envelope_feasible(self.d595, self.tmid):
+            raise ValueError(f"d595 {self.d595:g} s and tmid {self.tmid:g} s: no gamma form has "
+                             "them (d595 / tmid must be below 4.93)")
+        return self
+
+
+_SITE_FIELDS = ("magnitude", "distance", "vs30")
+_CP_FIELDS = ("intensity", "ground_frequency", "ground_damping")
+
+
+class Stochastic(Base):
+    """A simulated ground motion, seeded and reproducible (docs/stochastic-motions.md):
+    rezaeian2010 (a site-based modulated filtered white noise, its parameters sampled from
+    magnitude, distance, Vs30 and mechanism, or given) or clough_penzien (filtered white
+    noise with a modulating function, parameters given)."""
+
+    kind: Literal["stochastic"] = "stochastic"
+    model: Literal["rezaeian2010", "clough_penzien"] = Field(
+        description="rezaeian2010 (Rezaeian & Der Kiureghian 2008, 2010) or clough_penzien "
+                    "(Kanai-Tajimi with filter_frequency 0).")
+    seed: int = Field(0, ge=0, description="Seed of the random numbers: the same seed gives "
+                      "the same motion.")
+    magnitude: Positive | None = Field(None, description="rezaeian2010: moment magnitude M.")
+    distance: Positive | None = Field(None, description="rezaeian2010: rupture distance R_rup "
+                                      "(km).")
+    vs30: Positive | None = Field(None, description="rezaeian2010: Vs30 of the site (m/s).")
+    mechanism: Literal["strike_slip", "reverse"] = Field(
+        "strike_slip", description="rezaeian2010: faulting mechanism (F = 0 or 1).")
+    parameters: StochasticParameters | None = Field(
+        None, description="rezaeian2010: the six parameters given (instead of the site).")
+    highpass: bool = Field(True, description="rezaeian2010: the 0.2 Hz critically damped "
+                           "high-pass post-filter (no residual velocity).")
+    intensity: Positive | None = Field(None, description="clough_penzien: white-noise "
+                                       "intensity S_0 (m^2/s^3), of the two-sided PSD.")
+    ground_frequency: Positive | None = Field(None, description="clough_penzien: w_g (rad/s).")
+    ground_damping: Positive | None = Field(None, description="clough_penzien: zeta_g.")
+    filter_frequency: float = Field(0.0, ge=0, allow_inf_nan=False, description="clough_penzien:"
+                                    " w_f (rad/s) of the high-pass second filter; 0: "
+                                    "Kanai-Tajimi.")
+    filter_damping: float = Field(0.6, gt=0, allow_inf_nan=False,
+                                  description="clough_penzien: zeta_f.")
+    envelope: Annotated[Union[Jennings, GammaShape], Field(discriminator="kind")] | None = Field(  # noqa: UP007
+        None, description="clough_penzien: modulating function (none: stationary for "
+                          "duration).")
+    duration: Positive | None = Field(None, description="clough_penzien without envelope: the "
+                                      "motion's length (s).")
+    step: Positive = Field(0.01, description="Time step of the simulated motion (s); the "
+                           "analysis interpolates it linearly.")
+    scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the motion.")
+
+    @model_validator(mode="after")
+    def _fields_of_model(self):
+        given = self.model_fields_set
+        if self.model == "rezaeian2010":
+            site = [n for n in _SITE_FIELDS if getattr(self, n) is not None]
+            if self.parameters is not None and site:
+                raise ValueError(f"give the site ({', '.join(_SITE_FIELDS)}) or parameters, not "
+                                 "both")
+            if self.parameters is None and len(site) < 3:
+                missing = [n for n in _SITE_FIELDS if n not in site]
+                raise ValueError(f"rezaeian2010 needs magnitude, distance and vs30 (missing: "
+                                 f"{', '.join(missing)}) or parameters")
+            other = [n for n in (*_CP_FIELDS, "filter_frequency", "filter_damping", "envelope",
+                                 "duration") if n in given]
+        else:
+            missing = [n for n in _CP_FIELDS if getattr(self, n) is None]
+            if missing:
+                raise ValueError(f"clough_penzien needs {', '.join(missing)}")
+            if self.envelope is None and self.duration is None:
+                raise ValueError("clough_penzien needs an envelope or a duration")
+            if self.envelope is not None and self.duration is not None:
+                raise ValueError("give an envelope or a duration, not both")
+            other = [n for n in (*_SITE_FIELDS, "mechanism", "parameters", "highpass")
+                     if n in given]
+        if other:
+            raise ValueError(f"{', '.join(other)} do not apply to model {self.model}")
+        return self
+
+
 def tag_reader(key: str, default: str):
     """The discriminator of a union whose tag ``key`` may be left out (``default``): reads it
     from YAML data (a dict) or from an object built in Python."""
@@ -328,6 +502,7 @@ Integrator = Annotated[
         Annotated[Newmark, Tag("newmark")],
         Annotated[HHT, Tag("hht")],
         Annotated[GeneralizedAlpha, Tag("generalized_alpha")],
+        Annotated[WilsonTheta, Tag("wilson_theta")],
         Annotated[CentralDifference, Tag("central_difference")],
     ],
     Discriminator(_integrator_tag),
@@ -348,7 +523,7 @@ class Analysis(Base):
     """Time integration: integrator, step, duration and Newton settings."""
 
     integrator: Integrator = Field(Newmark(), description="The time integrator (type: newmark, "
-                                   "hht, generalized_alpha or central_difference).")
+                                   "hht, generalized_alpha, wilson_theta or central_difference).")
     dt: Positive = Field(description="Time step (s).")
     duration: Positive = Field(description="Analysed time (s).")
     newton: Newton = Field(Newton(), description="Newton-Raphson settings (nonlinear scenes).")
@@ -469,6 +644,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         create_model(f"Contact_{n}", __base__=(ContactBase, p))
         for n, p in zip(contact_names, contact_params)
     ]
+    link_models = [
+        create_model(f"Link_{n}", __base__=(LinkBase, p))
+        for n, p in zip(material_names, material_params)
+    ]
     storey_models = [_broadcast(p, "material") for p in material_params]
 
     class Building(Base):
@@ -480,6 +659,13 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
         story: _union(storey_models, "material") = Field(description="Storey properties.")
         damping: Rayleigh | None = Field(None, description="Defaults to the scene's damping.")
+        height: Positive | list[Positive] | None = Field(
+            None, description="Storey heights (m), bottom up, one for all or one per storey: "
+            "drift ratios, P-delta, floor levels in the figures.")
+        p_delta: bool = Field(
+            False, description="P-delta: each storey carries the weight of the floors above "
+            "it (g = 9.80665 m/s^2 times their masses), whose geometric stiffness -P/h "
+            "softens it (needs height).")
 
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""
@@ -494,8 +680,12 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             default_factory=list, description="Generic storeys between nodes.")
         contacts: list[_union(contact_models, "law")] = Field(
             default_factory=list, description="Contact elements between buildings.")
+        links: list[_union(link_models, "material")] = Field(
+            default_factory=list, description="Links: a material (viscous, kelvin_voigt, "
+            "elastic, bilinear, ...) between two nodes or a node and the ground, in tension and "
+            "compression (dampers, couplings, tuned masses).")
         damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
-        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker],  # noqa: UP007
+        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic],  # noqa: UP007
                               Field(discriminator="kind")] | None = Field(
             None, description="Ground motion (none: free vibration from initial conditions).")
         initial_conditions: InitialConditions = Field(

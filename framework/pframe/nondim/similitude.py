@@ -246,8 +246,8 @@ def similitude(chosen: Mapping[str, object]) -> Similitude:
 def _law_context(path: tuple, node: dict):
     if len(path) == 2 and path[0] == "contacts":
         return ("contact", node.get("law"))
-    if (len(path) == 2 and path[0] == "stories") or (len(path) == 3 and path[0] == "buildings"
-                                                      and path[2] == "story"):
+    if (len(path) == 2 and path[0] in ("stories", "links")) or (
+            len(path) == 3 and path[0] == "buildings" and path[2] == "story"):
         return ("material", node.get("material"))
     return None
 

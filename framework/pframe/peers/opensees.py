@@ -18,8 +18,17 @@ Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node
   its storeys (``-doRayleigh 1``); contacts are undamped;
 * ground motion: ``Path`` series driving a ``UniformExcitation`` (load ``-m a_g`` in relative
   coordinates), its sample times accumulated as OpenSees accumulates time, so that step ``n``
-  sees ``a_g[n]`` exactly; Newmark average acceleration, Newton iterations with a
-  ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and binary recorders.
+  sees ``a_g[n]`` exactly; Newton iterations with a ``NormDispIncr`` test, one
+  ``analyze(steps, dt)`` call and binary recorders;
+* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's) or ``WilsonTheta``.
+  Not generalised-alpha: OpenSees' ``GeneralizedAlpha`` sets the nodes' accelerations to
+  a(n+1) in its Newton update (``GeneralizedAlpha::update``) where its tangent and the method
+  have a(n+1-alpha_m); a linear oscillator (w dt = 5, rho_inf = 0.6) grows in amplitude under
+  it, where the method's amplification matrix and pframe decay.
+  OpenSees' Wilson-theta reads the ground motion at t + theta dt from the record (between the
+  next two samples) where the method, as pframe has it, extrapolates the step's own samples
+  linearly (Wilson, Farhoomand & Bathe 1973): the two agree to round-off under a ground
+  motion linear in time, and differ by O(dt^2) under others.
 
 Known difference from pframe, far below any tolerance: ``Steel01`` ignores a trial strain
 within ``DBL_EPSILON`` (2.2e-16, here metres of drift) of its committed strain and keeps the
@@ -51,7 +60,7 @@ HUGE_FY = 1.0e30  # ElasticPPGap yield force: contacts must never yield
 
 
 def build():
-    """Create the model in the OpenSees domain; return storey and contact element tags."""
+    """Create the model in the OpenSees domain; return storey, contact and link element tags."""
     n = len(MASSES)
     ground = n + 1
     ops.wipe()
@@ -87,8 +96,28 @@ def build():
         # left -> right: deformation u_right - u_left drops below -gap when the floors
         # overlap, where ElasticPPGap (negative Fy and gap) gives stress k (defo + gap) < 0.
         ops.uniaxialMaterial("ElasticPPGap", tag, k, -HUGE_FY, -gap, 0.0)
-        ops.element("zeroLength", tag, left + 1, right + 1, "-mat", tag, "-dir", 1)
+        # a wall: the ground's node on its side (-1)
+        ops.element("zeroLength", tag, ground if left < 0 else left + 1,
+                    ground if right < 0 else right + 1, "-mat", tag, "-dir", 1)
         contacts.append(tag)
+
+    links = []
+    for j, ((first, second), mat) in enumerate(zip(LINK_NODES, LINK_MATERIALS, strict=True)):
+        tag = len(stories) + len(contacts) + j + 1
+        if mat[0] == "elastic":
+            ops.uniaxialMaterial("Elastic", tag, mat[1])
+        elif mat[0] == "bilinear":
+            ops.uniaxialMaterial("Steel01", tag, mat[2], mat[1], mat[3])
+        elif mat[0] == "viscous":
+            ops.uniaxialMaterial("Viscous", tag, mat[1], mat[2])
+        else:  # kelvin_voigt: a spring and a dashpot in parallel
+            ops.uniaxialMaterial("Elastic", 100000 + tag, mat[1])
+            ops.uniaxialMaterial("Viscous", 200000 + tag, mat[2], mat[3])
+            ops.uniaxialMaterial("Parallel", tag, 100000 + tag, 200000 + tag)
+        # zeroLength deformation is u_j - u_i: first -> second (no Rayleigh on links)
+        ops.element("zeroLength", tag, ground if first < 0 else first + 1,
+                    ground if second < 0 else second + 1, "-mat", tag, "-dir", 1)
+        links.append(tag)
 
     for b, (alpha_m, beta_k, nodes, story_ids) in enumerate(RAYLEIGH):
         # The "Only" flags matter: a -node region also takes every element whose nodes
@@ -117,7 +146,7 @@ def build():
     if ag[0] != 0.0:
         for i in range(n):
             ops.setNodeAccel(i + 1, 1, -ag[0], "-commit")
-    return stories, contacts
+    return stories, contacts, links
 
 
 def _read_binary(path, columns):
@@ -134,13 +163,14 @@ def _read_binary(path, columns):
 
 def simulate(workdir):
     """Build, run one ``analyze(STEPS, DT)`` and return the histories (row 0 is t = 0)."""
-    stories, contacts = build()
+    stories, contacts, links = build()
     nodes = list(range(1, len(MASSES) + 1))
     recorders = {
         "displacement": ("Node", nodes, ("-node", *nodes, "-dof", 1, "disp")),
         "velocity": ("Node", nodes, ("-node", *nodes, "-dof", 1, "vel")),
         "story_force": ("Element", stories, ("-ele", *stories, "basicForce")),
         "contact_force": ("Element", contacts, ("-ele", *contacts, "basicForce")),
+        "link_force": ("Element", links, ("-ele", *links, "basicForce")),
     }
     for name, (kind, tags, args) in recorders.items():
         if tags:
@@ -152,7 +182,7 @@ def simulate(workdir):
     ops.system("BandGeneral")
     ops.test("NormDispIncr", TOL, MAX_ITER)
     ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
+    ops.integrator(*INTEGRATOR)
     ops.analysis("Transient")
 
     start = time.perf_counter()
@@ -185,6 +215,18 @@ if __name__ == "__main__":
     if OUT_NPZ is not None:
         np.savez(OUT_NPZ, **result)
 '''
+
+
+def opensees_integrator(integrator: tuple) -> tuple:
+    """OpenSees' ``integrator`` arguments for a :class:`PeerScene` integrator."""
+    kind = integrator[0]
+    if kind == "newmark":
+        return ("Newmark", float(integrator[1]), float(integrator[2]))
+    if kind == "wilson_theta":
+        return ("WilsonTheta", float(integrator[1]))
+    if kind == "hht":  # OpenSees weighs the step end by its alpha
+        return ("HHT", 1.0 - float(integrator[1]), float(integrator[2]), float(integrator[3]))
+    raise ValueError(f"unknown integrator {kind!r}")
 
 
 def _data_block(scene: PeerScene, out_npz: str | None) -> str:
@@ -220,6 +262,11 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         "STEPS": int(scene.steps),
         "TOL": float(scene.tolerance),
         "MAX_ITER": int(scene.max_iterations),
+        "INTEGRATOR": opensees_integrator(scene.integrator),
+        "LINK_NODES": np.asarray(scene.link_nodes if scene.link_nodes is not None else [],
+                                 dtype=int).reshape(-1, 2).tolist(),
+        "LINK_MATERIALS": [tuple(m[:1]) + tuple(float(v) for v in m[1:])
+                           for m in (scene.link_materials or [])],
         "OUT_NPZ": out_npz,
     }
     lines = [

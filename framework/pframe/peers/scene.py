@@ -42,6 +42,14 @@ class PeerScene:
     tolerance : float
         Newton test NormDispIncr tolerance (m).
     max_iterations : int
+    link_nodes : (l, 2) int
+        ``[first, second]`` DOF of each link (-1: the ground); deformation u_second - u_first.
+    link_materials : list of tuple
+        ``("elastic", k)``, ``("bilinear", k, fy, alpha)``, ``("viscous", c, alpha)`` or
+        ``("kelvin_voigt", k, c, alpha)``.
+    integrator : tuple
+        ``("newmark", gamma, beta)``, ``("hht", alpha, gamma, beta)`` with alpha the weight of
+        the step's start (pframe's convention), or ``("wilson_theta", theta)``.
     """
 
     node_names: list
@@ -59,3 +67,6 @@ class PeerScene:
     steps: int
     tolerance: float = 1e-12
     max_iterations: int = 50
+    integrator: tuple = ("newmark", 0.5, 0.25)
+    link_nodes: np.ndarray = None
+    link_materials: list = None

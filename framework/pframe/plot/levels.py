@@ -132,11 +132,14 @@ def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str
         if pair is None:
             # node names may hold '-', so try every split of a default name
             splits = [(name[:i], name[i + 1:]) for i, ch in enumerate(name) if ch == "-"]
-            pair = next(((a, b) for a, b in splits if a in known and b in known), None)
-        if pair is None or not all(node in known for node in pair):
+            pair = next(((a, b) for a, b in splits
+                         if {a, b} <= known | {"ground"} and {a, b} != {"ground"}), None)
+        # a wall ('ground' on one side) stands at its floor's level
+        floors = [node for node in pair or () if node != "ground"]
+        if pair is None or not floors or not all(node in known for node in floors):
             unplaced.append(name)
             continue
-        for level in dict.fromkeys(_split(node)[1] for node in pair):
+        for level in dict.fromkeys(_split(node)[1] for node in floors):
             contacts.setdefault(level, []).append(name)
 
     order = tuple(sorted(first_seen, key=lambda level: _level_key(level, first_seen)))

@@ -51,6 +51,7 @@ _TIME_BLOCK = 2**16
 LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "story": ("story_name", "storey (named by the floor above it)"),
           "contact": ("contact_name", "contact element"),
+          "link": ("link_name", "link element (damper, coupling, tuned mass spring)"),
           "building": ("building_name", "building")}
 
 
@@ -136,7 +137,7 @@ class ResultWriter:
                 var[lo:hi] = self.convert.time(np.arange(lo, hi) * every * dt)[0]
             self.time_dims[every] = dim
         names = {"node": plan.node_names, "story": plan.story_names,
-                 "contact": plan.contact_names}
+                 "contact": plan.contact_names, "link": plan.link_names}
         for dim, values in names.items():
             if values or dim == "node":
                 f.labels(dim, LABELS[dim][0], list(values), long_name=LABELS[dim][1])
@@ -164,6 +165,11 @@ class ResultWriter:
                    "node below the storey ('ground' at the base)")
             labels("story_upper", "story", [node(e.nodes[1]) for e in ex.stories],
                    "node above the storey")
+        if ex.links:
+            labels("link_first", "link", [node(e.nodes[0]) for e in ex.links],
+                   "first node of the link ('ground': anchored to the ground)")
+            labels("link_second", "link", [node(e.nodes[1]) for e in ex.links],
+                   "second node of the link (deformation = u_second - u_first)")
         if ex.contacts:
             labels("contact_left", "contact", [node(e.nodes[0]) for e in ex.contacts],
                    "left node of the contact (penetration = u_left - u_right - gap)")

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import integrate
 
+from pframe.quantities import QUANTITIES
 from pframe.reference.episodes import Episodes
 from pframe.reference.result import Event
 from pframe.reference.roots import EPS, crossing, root
@@ -46,13 +47,8 @@ class Integration:
         self.max_step = max_step
         k, n = len(times), system.n
         s, c = system.n_story, system.n_contact
-        self.out = {
-            "displacement": np.full((k, n), np.nan), "velocity": np.full((k, n), np.nan),
-            "acceleration": np.full((k, n), np.nan), "ground_acceleration": np.full(k, np.nan),
-            "story_drift": np.full((k, s), np.nan), "story_force": np.full((k, s), np.nan),
-            "contact_force": np.full((k, c), np.nan),
-            "contact_penetration": np.full((k, c), np.nan),
-        }
+        width = {"node": (n,), "story": (s,), "contact": (c,), None: ()}
+        self.out = {q: np.full((k, *width[dim]), np.nan) for q, (dim, _, _) in QUANTITIES.items()}
         self.next_sample = 0
         self.episodes = Episodes(system)
         self.events: list[Event] = []

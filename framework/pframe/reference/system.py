@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pframe.errors import InputError
+from pframe.kernel.state import DampingStiffness
 from pframe.reference.branches import branches_for
 from pframe.reference.evaluate import LawElements
 
@@ -80,11 +81,14 @@ class System:
     """The equations of motion of batch member ``member`` of ``plan``."""
 
     def __init__(self, plan, member: int, ground, jit: bool = True):
-        if np.any(plan.story_damping_stiffness != 0):
+        if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
             raise InputError(
                 "the reference solution supports Rayleigh damping on the initial stiffness "
                 "only (damping.stiffness: initial); 'current' and 'committed' tie the damping "
                 "to the tangent of the time-stepping scheme")
+        if plan.contact_share is not None and np.any(plan.contact_share != 1.0):
+            raise InputError("the reference solution does not model floor-to-column contacts "
+                             "yet (their force is shared between two floors)")
         self.plan = plan
         self.member = member
         self.ground = ground
@@ -96,7 +100,7 @@ class System:
         self.contact_incidence = _incidence(plan.contact_dofs, n)  # +1 left, -1 right
         self.story_damping = np.array(plan.story_beta[member] * plan.story_k0[member])
         self.gap = np.array(plan.contact_gap[member], dtype=float)
-        self.n_story = len(plan.story_names)
+        self.n_story = plan.n_springs  # the storeys, then the links
         self.n_contact = len(plan.contact_names)
         self.story_groups = self._groups(plan.story_groups, jit, 0)
         offset = sum(g.branches.n_events * len(g.elements) for g in self.story_groups)

@@ -17,10 +17,16 @@ from pframe.errors import InputError
 def _default_name(container: str | None, item: dict):
     nodes = item.get("nodes")
     if isinstance(nodes, list) and len(nodes) == 2:
-        from pframe.model.scene import default_contact_name, default_story_name
+        from pframe.model.scene import (
+            default_contact_name,
+            default_link_name,
+            default_story_name,
+        )
 
         if container == "contacts":
             return default_contact_name(nodes)
+        if container == "links":
+            return default_link_name(nodes)
         if container == "stories":
             return default_story_name(nodes)
     return None

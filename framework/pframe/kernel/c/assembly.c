@@ -3,6 +3,7 @@
  * The residual is R = P - M (a_g + a) - C_m v - sum of element forces, at the point held in
  * w->ue, w->ve, w->ae (the step end for Newmark, the alpha point for HHT and
  * generalised-alpha). Storeys and contacts are visited in the plan's order (grouped by law);
+ * a DOF of -1 is the ground (a storey's base, a wall's side of a contact);
  * each calls its law through the law-id switch of laws.c. A scene without contacts has no
  * contact elements, so the contact loop does not run.
  */
@@ -20,6 +21,16 @@ static int fail(State *st, int64_t b, int64_t code, int64_t k, int64_t kind, int
     status[STATUS_KIND] = kind;
     status[STATUS_INDEX] = index;
     return 0;
+}
+
+/* Add f to R at a side of a floor-to-column contact: share psi to its node, 1 - psi to the
+ * struck storey's lower floor (none: negative). */
+static void scatter(double *R, int64_t node, int64_t lower, double psi, double f)
+{
+    if (node >= 0)
+        R[node] += psi * f;
+    if (lower >= 0)
+        R[lower] += (1.0 - psi) * f;
 }
 
 /* Element forces and the residual at the evaluation point, ground acceleration age.
@@ -49,6 +60,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const double *committed = st->story_committed + b * ns * S;
         double *trial = st->story_trial + b * ns * S;
         const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
+        const double *kg = m->story_kg + b * ns;
         const double *tangent_c = st->story_tangent + b * ns;
         int64_t *calls = st->material_calls + b * m->materials;
         double *drift = w->drift, *force = w->story_force;
@@ -70,17 +82,24 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             kt = out[1];
             kr = out[2];
             calls[law] += 1;
-            if (mode == 0)
+            if (mode == DAMPING_INITIAL)
                 kd = k0[e];
-            else if (mode == 1)
+            else if (mode == DAMPING_CURRENT)
                 kd = kt;
             else
                 kd = tangent_c[e];
             fd = beta[e] * kd * r;
             drift[e] = d;
+            tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
+            if (kg[e] != 0.0) {
+                /* P-delta: the gravity load P's overturning moment P d over the height h is a
+                 * shear P d / h the storey's columns must also resist: the storey resists
+                 * f - (P / h) d, with tangent k_t - P / h */
+                f -= kg[e] * d;
+                kt -= kg[e];
+            }
             force[e] = f;
             damping_force[e] = fd;
-            tangent_t[e] = kt;
             R[up] -= f + fd;
             if (lo >= 0)
                 R[lo] += f + fd;
@@ -104,12 +123,21 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         int64_t *calls = st->contact_calls + b * m->contact_laws;
         double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
         const int64_t held = (int64_t)w->scalars[HELD];
+        /* With located events, Wilson-theta's evaluation point (t + theta h, past the
+         * sub-step's end) holds every contact on the branch it has at the sub-step start: a
+         * contact that closes or opens beyond the sub-step's end must not act inside it (a
+         * dashpot's jump there changed the sub-step before an impact by O(h)); one that
+         * crosses inside it is located (events.c) and the sub-step cut there. The step end
+         * (tangent off: the commit's evaluation) sees the real law. */
+        const int hold_start = tangent && s->events && s->scheme == WILSON_THETA;
+        const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
+        const double *share = m->contact_share + b * nc * 2;
         for (j = 0; j < nc; j++) {
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
-            const double d = ue[left] - ue[right] - gap[e];
-            const double r = ve[left] - ve[right];
+            const double d = contact_side(m, ue, b, e, 0) - contact_side(m, ue, b, e, 1) - gap[e];
+            const double r = contact_side(m, ve, b, e, 0) - contact_side(m, ve, b, e, 1);
             double f, kd, kr, at = d;
             if (e == held) {
                 /* Located events (events.c) hold the contact on one branch, so that its
@@ -118,6 +146,10 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                  * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
                  * delta = 0 stays off the search). */
                 at = w->scalars[HELD_CLOSED] != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
+            } else if (hold_start) {
+                /* closed: in contact, or touching with a force (restarted at its onset) */
+                at = (pen_c[e] > 0.0 || force_c[e] > 0.0) ? py_max(d, HELD_DEPTH)
+                                                           : py_min(d, 0.0);
             }
             contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, at, r, out);
             f = out[0];
@@ -128,8 +160,16 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             calls[law] += 1;
             force[e] = f;
             penetration[e] = d;
-            R[left] -= f;
-            R[right] += f;
+            if (m->contact_lower[2 * e] < 0 && m->contact_lower[2 * e + 1] < 0
+                && share[2 * e] == 1.0 && share[2 * e + 1] == 1.0) {
+                if (left >= 0) /* -1: a wall, the ground's side */
+                    R[left] -= f;
+                if (right >= 0)
+                    R[right] += f;
+            } else { /* floor-to-column: the force shared as the point's displacement is */
+                scatter(R, left, m->contact_lower[2 * e], share[2 * e], -f);
+                scatter(R, right, m->contact_lower[2 * e + 1], share[2 * e + 1], f);
+            }
             if (tangent) {
                 double kk = (kd + c1 * kr) * wf;
                 if (kk != kks[e]) {
@@ -201,9 +241,37 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->contacts; e++) {
         const double kk = kks[e];
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-        band[left * (bw + 1)] += kk;
-        band[right * (bw + 1)] += kk;
-        band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
+        const int64_t *lower = m->contact_lower + 2 * e;
+        const double *share = m->contact_share + (b * m->contacts + e) * 2;
+        if (lower[0] < 0 && lower[1] < 0 && share[0] == 1.0 && share[1] == 1.0) {
+            if (left >= 0)
+                band[left * (bw + 1)] += kk;
+            if (right >= 0)
+                band[right * (bw + 1)] += kk;
+            if (left >= 0 && right >= 0)
+                band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
+        } else { /* floor-to-column: kk g g^T over up to four DOFs */
+            const int64_t at[4] = {left, lower[0], right, lower[1]};
+            const double g[4] = {share[0], 1.0 - share[0], -share[1], -(1.0 - share[1])};
+            int64_t x, y;
+            for (x = 0; x < 4; x++) {
+                if (at[x] < 0 || g[x] == 0.0)
+                    continue;
+                for (y = 0; y <= x; y++) {
+                    int64_t hi, lo_;
+                    if (at[y] < 0 || g[y] == 0.0)
+                        continue;
+                    hi = imax(at[x], at[y]);
+                    lo_ = imin(at[x], at[y]);
+                    if (x == y)
+                        band[at[x] * (bw + 1)] += kk * g[x] * g[x];
+                    else if (hi != lo_)
+                        band[hi * (bw + 1) + (hi - lo_)] += kk * g[x] * g[y];
+                    else /* two entries on one DOF (cannot happen: distinct nodes) */
+                        band[hi * (bw + 1)] += 2.0 * kk * g[x] * g[y];
+                }
+            }
+        }
     }
     st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
     if (ldl_factor(band, n, bw))

@@ -4,7 +4,7 @@
  * relations and equilibrium at t(n+1 - alpha) (forces weighted (1 - alpha_f) at the step end
  * and alpha_f at its start, inertia likewise with alpha_m), the step's works satisfy exactly
  *
- *     W_input = dE_kinetic + W_damping + W_storeys + W_contacts + D_algorithmic,
+ *     W_input = dE_kinetic + W_damping + W_storeys + W_links + W_contacts + D_algorithmic,
  *
  * with the kinetic energy (1/2) v M v + (beta - 1/4) (h^2 / 2) a M a (beta = 1/4: the plain
  * kinetic energy; central difference: beta = 0) and the integrator's own dissipation
@@ -19,6 +19,12 @@
  * closes to round-off for every integrator of the family: its error measures the run's
  * arithmetic and the integrator's consistency (a pair that creates energy shows there), while
  * D_algorithmic says how much the integrator damped (pframe.verdict judges both).
+ *
+ * For a scheme whose evaluation point is not a weighted mean of the step's ends (Wilson-theta,
+ * integrator.c) the last two terms are replaced by the work over the step of the forces at the
+ * evaluation point, G_e . du, less the trapezoidal works: the identity behind the balance needs
+ * only Newmark's end relations and ae = alpha_m A + (1 - alpha_m) a, so it holds there too (the
+ * code below takes that form for every scheme off the step end).
  */
 
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
@@ -42,7 +48,7 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
     int64_t i, e;
     if (k > 0) {
         const double *damping = m->mass_damping + b * n;
-        double work_damp = 0.0, work_story = 0.0, work_contact = 0.0, inertial;
+        double work_damp = 0.0, work_story = 0.0, work_link = 0.0, work_contact = 0.0, inertial;
         /* the pieces of D_algorithmic (see above): du . [G], du M [a], v_mid M [a], [a M a / 2] */
         double du_dG = 0.0, du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
         for (i = 0; i < n; i++) {
@@ -57,13 +63,18 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         }
         for (e = 0; e < ns; e++) {
             const double dd = drift_t[e] - drift_c[e];
-            work_story += 0.5 * (force_c[e] + force_t[e]) * dd;
+            const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
+            if (e < ns - m->links) /* a storey */
+                work_story += work;
+            else /* a link (no Rayleigh damping: its dashpot is in its force) */
+                work_link += work;
             work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
             du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
         }
         energy[INPUT] += work_in;
         energy[DAMPING] += work_damp;
         energy[STOREYS] += work_story;
+        energy[LINKS] += work_link;
         if (nc) {
             for (e = 0; e < nc; e++) {
                 const double dp = pen_t[e] - pen_c[e];
@@ -74,19 +85,18 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
             }
             energy[CONTACTS] += work_contact;
         }
-        inertial = ((0.25 - 0.5 * s->gamma) * h * h * d_aMa - (s->gamma - 0.5) * h * v_Mda
-                    + (0.5 - s->alpha_m) * du_Mda);
+        inertial = inertial_dissipation(s, h, d_aMa, v_Mda, du_Mda);
         if (s->alpha) {
-            /* equilibrium holds at the alpha point, with the forces evaluated there (not the
-             * weighted end forces: the two differ where a law is nonlinear) */
-            const double trapezoid = work_damp + work_story + work_contact - work_in;
+            /* equilibrium holds at the evaluation point, with the forces evaluated there (not
+             * the weighted end forces: the two differ where a law is nonlinear) */
+            const double trapezoid = work_damp + work_story + work_link + work_contact - work_in;
             energy[ALGORITHMIC] += inertial + w->scalars[ALPHA_WORK] - trapezoid;
         } else {
             energy[ALGORITHMIC] += inertial + 0.5 * du_dG;
         }
     }
 
-    shadow = (s->beta - 0.25) * h * h;
+    shadow = kinetic_shadow(s, h);
     kinetic = 0.0;
     raw = 0.0;
     for (i = 0; i < n; i++) {

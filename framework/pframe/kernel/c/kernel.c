@@ -5,6 +5,7 @@
 #include "laws.c"
 #include "banded.c"
 #include "assembly.c"
+#include "integrator.c"
 #include "newton.c"
 #include "energy.c"
 #include "record.c"

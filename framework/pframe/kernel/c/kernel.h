@@ -32,16 +32,27 @@
 /* the version of the interface between the driver (pframe/kernel/ckernel.py) and the kernel */
 #define PFRAME_KERNEL_INTERFACE 1
 
-/* pframe_run's return values */
-#define RUN_OK 0
-#define RUN_ZERO_DIVISION 1
-
 /* Python's max(a, b) and min(a, b) of floats (the first unless the second is larger/smaller) */
 static double py_max(double a, double b) { return b > a ? b : a; }
 static double py_min(double a, double b) { return b < a ? b : a; }
 static int64_t imax(int64_t a, int64_t b) { return a > b ? a : b; }
 static int64_t imin(int64_t a, int64_t b) { return a < b ? a : b; }
 static int64_t iabs(int64_t a) { return a < 0 ? -a : a; }
+/* x[i] of a DOF, or 0 for the ground (-1): a storey's lower end, a wall's side */
+static double dof_value(const double *x, int64_t i) { return i >= 0 ? x[i] : 0.0; }
+
+/* The displacement (or velocity) of one side of contact e: its node's, or for a floor-to-column
+ * contact the point of the struck column, psi x_upper + (1 - psi) x_lower (assembly.c). */
+static double contact_side(const Model *m, const double *x, int64_t b, int64_t e, int side)
+{
+    const int64_t node = m->contact_dofs[2 * e + side], lower = m->contact_lower[2 * e + side];
+    if (lower < 0 && m->contact_share[(b * m->contacts + e) * 2 + side] == 1.0)
+        return dof_value(x, node);
+    {
+        const double psi = m->contact_share[(b * m->contacts + e) * 2 + side];
+        return psi * dof_value(x, node) + (1.0 - psi) * dof_value(x, lower);
+    }
+}
 
 /* functions used before the file that defines them */
 static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,

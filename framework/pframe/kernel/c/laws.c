@@ -46,6 +46,70 @@ static void material_bilinear(const double *params, const double *committed, dou
     return;
 }
 
+/* pframe.laws.material.viscous.Viscous.force */
+static void material_viscous(const double *params, const double *committed, double *trial,
+                             double deformation, double rate, double *out)
+{
+    double c_;
+    double alpha_;
+    double v0_;
+    double speed_;
+    double slope_;
+    double f_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    c_ = params[0];
+    alpha_ = params[1];
+    v0_ = params[2];
+    speed_ = fabs(rate);
+    if ((speed_ < v0_)) {
+        slope_ = (c_ * pow(v0_, (alpha_ - 1.0)));
+        out[0] = (slope_ * rate);
+        out[1] = 0.0;
+        out[2] = slope_;
+        return;
+    }
+    f_ = (c_ * pow(speed_, alpha_));
+    if ((rate < 0.0)) {
+        f_ = (-f_);
+    }
+    out[0] = f_;
+    out[1] = 0.0;
+    out[2] = ((alpha_ * c_) * pow(speed_, (alpha_ - 1.0)));
+    return;
+}
+
+/* pframe.laws.material.kelvin_voigt.KelvinVoigt.force */
+static void material_kelvin_voigt(const double *params, const double *committed, double *trial,
+                                  double deformation, double rate, double *out)
+{
+    double c_;
+    double alpha_;
+    double v0_;
+    double speed_;
+    double slope_;
+    double damper_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    c_ = params[1];
+    alpha_ = params[2];
+    v0_ = params[3];
+    speed_ = fabs(rate);
+    if ((speed_ < v0_)) {
+        slope_ = (c_ * pow(v0_, (alpha_ - 1.0)));
+        out[0] = ((params[0] * deformation) + (slope_ * rate));
+        out[1] = params[0];
+        out[2] = slope_;
+        return;
+    }
+    damper_ = (c_ * pow(speed_, alpha_));
+    if ((rate < 0.0)) {
+        damper_ = (-damper_);
+    }
+    out[0] = ((params[0] * deformation) + damper_);
+    out[1] = params[0];
+    out[2] = ((alpha_ * c_) * pow(speed_, (alpha_ - 1.0)));
+    return;
+}
+
 /* pframe.laws.material.bouc_wen.BoucWen.force */
 static void material_bouc_wen(const double *params, const double *committed, double *trial,
                               double deformation, double rate, double *out)
@@ -209,7 +273,7 @@ static void material_friction_pendulum(const double *params, const double *commi
     return;
 }
 
-#define BUILTIN_MATERIALS 4
+#define BUILTIN_MATERIALS 6
 
 /* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins */
 static void material_force(const Settings *s, int64_t law, const double *params,
@@ -223,10 +287,16 @@ static void material_force(const Settings *s, int64_t law, const double *params,
     case 1: /* bilinear */
         material_bilinear(params, committed, trial, drift, rate, out);
         return;
-    case 2: /* bouc_wen */
+    case 2: /* viscous */
+        material_viscous(params, committed, trial, drift, rate, out);
+        return;
+    case 3: /* kelvin_voigt */
+        material_kelvin_voigt(params, committed, trial, drift, rate, out);
+        return;
+    case 4: /* bouc_wen */
         material_bouc_wen(params, committed, trial, drift, rate, out);
         return;
-    case 3: /* friction_pendulum */
+    case 5: /* friction_pendulum */
         material_friction_pendulum(params, committed, trial, drift, rate, out);
         return;
     default:

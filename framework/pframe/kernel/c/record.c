@@ -20,9 +20,13 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     case VELOCITY: *width = n; return st->V + b * n;
     case ACCELERATION: *width = n; return st->A + b * n;
     case STORY_DRIFT: *width = ns; return st->drift + b * ns;
+    case STORY_DRIFT_RATIO: *width = ns; return st->drift + b * ns;
     case STORY_FORCE: *width = ns; return st->story_force + b * ns;
     case CONTACT_FORCE: *width = nc; return st->contact_force + b * nc;
     case CONTACT_PENETRATION: *width = nc; return st->penetration + b * nc;
+    /* the links are the last m->links spring elements, after the storeys */
+    case LINK_DEFORMATION: *width = m->links; return st->drift + b * ns + (ns - m->links);
+    case LINK_FORCE: *width = m->links; return st->story_force + b * ns + (ns - m->links);
     default: *width = 1; return NULL;
     }
 }
@@ -35,6 +39,8 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
         return m->ground[b * m->ground_width + k];
     if (q == CONTACT_PENETRATION)
         return py_max(values[i], 0.0);
+    if (q == STORY_DRIFT_RATIO)
+        return values[i] / m->story_height[b * m->stories + i];
     return values[i];
 }
 

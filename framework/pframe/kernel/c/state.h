@@ -39,7 +39,8 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define INPUT_ABS 6
 #define START 7
 #define ALGORITHMIC 8
-#define ENERGY_SLOTS 9
+#define LINKS 9
+#define ENERGY_SLOTS 10
 
 /* counters */
 #define SOLVES 0
@@ -58,7 +59,19 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define CONTACT_FORCE 5
 #define CONTACT_PENETRATION 6
 #define GROUND_ACCELERATION 7
-#define RECORDABLE_COUNT 8
+#define STORY_DRIFT_RATIO 8
+#define LINK_DEFORMATION 9
+#define LINK_FORCE 10
+#define RECORDABLE_COUNT 11
+
+/* damping stiffness */
+#define DAMPING_INITIAL 0
+#define DAMPING_CURRENT 1
+#define DAMPING_COMMITTED 2
+
+/* integrator schemes */
+#define ALPHA_FAMILY 0
+#define WILSON_THETA 1
 
 /* work scalars */
 #define H_FACTORED 0
@@ -70,6 +83,10 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define ZERO_DIVISION 6
 #define SCALAR_SLOTS 7
 
+/* pframe_run's return values */
+#define RUN_OK 0
+#define RUN_ZERO_DIVISION 1
+
 typedef struct Model {
     double *mass;
     double *mass_damping;
@@ -80,7 +97,11 @@ typedef struct Model {
     double *story_k0;
     double *story_beta;
     int64_t *story_damping;
+    double *story_height;
+    double *story_kg;
     int64_t *contact_dofs;
+    int64_t *contact_lower;
+    double *contact_share;
     int64_t *contact_order;
     int64_t *contact_law;
     double *contact_params;
@@ -93,6 +114,7 @@ typedef struct Model {
     int64_t dofs;
     int64_t stories;
     int64_t contacts;
+    int64_t links;
     int64_t story_width;
     int64_t story_states;
     int64_t contact_width;
@@ -107,6 +129,8 @@ typedef struct Settings {
     double beta;
     double alpha_m;
     double alpha_f;
+    int64_t scheme;
+    double theta;
     double tolerance;
     double absolute_tolerance;
     int64_t max_iterations;

@@ -47,6 +47,11 @@ class Bilinear(Law):
 
 
     @classmethod
+    def post_yield_stiffness(cls, packed):
+        """alpha k: the slope of the bounding lines."""
+        return packed[2] * packed[0]
+
+    @classmethod
     def pack(cls, params, context=None):
         k = float(params.stiffness)
         fy = params.yield_force if params.yield_force is not None else k * params.yield_drift

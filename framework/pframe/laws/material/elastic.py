@@ -29,6 +29,11 @@ class Elastic(Law):
     linear = True
 
     @classmethod
+    def post_yield_stiffness(cls, packed):
+        """k: it never yields."""
+        return packed[0]
+
+    @classmethod
     def pack(cls, params, context=None):
         return (float(params.stiffness),)
 

@@ -1,0 +1,513 @@
+"""Stochastic ground motions: seeded, reproducible accelerograms that a scene applies like a
+record (``excitation: {kind: stochastic, ...}``; docs/stochastic-motions.md).
+
+Two models:
+
+- ``rezaeian2010``: the site-based model of Rezaeian & Der Kiureghian (2008, EESD 37; 2010,
+  EESD 39). A modulated filtered white noise with a time-varying filter,
+
+      a(t) = q(t) sum_i h[t - t_i, omega_f(t_i)] u_i / sigma_h(t),
+      h(tau, w) = w / sqrt(1 - zeta^2) exp(-zeta w tau) sin(w sqrt(1 - zeta^2) tau),
+      omega_f(t) = 2 pi [f_mid + f' (t - t_mid)],
+
+  u_i standard normal at t_i = i dt, sigma_h(t)^2 = sum_i h^2 (unit variance before q), q the
+  gamma-form modulating function alpha_1 t^(alpha_2 - 1) exp(-alpha_3 t) whose (alpha_1,
+  alpha_2, alpha_3) give the expected Arias intensity I_a, the significant duration D5-95 and
+  the time t_mid at which 45 % of I_a is reached; then a critically damped high-pass
+  post-filter (f_c = 0.2 Hz) that leaves no residual velocity. The six parameters (I_a,
+  D5-95, t_mid, f_mid, f', zeta_f) are given directly or sampled per realisation from the
+  earthquake and site (magnitude, R_rup, Vs30, mechanism) by predictive relations: normal
+  variables nu_i = mean_i(F, M, R, V) + correlated error, mapped to each parameter's marginal
+  distribution (:data:`MARGINALS`, :data:`RELATIONS`).
+- ``clough_penzien``: stationary Clough-Penzien filtered white noise (the Kanai-Tajimi filter
+  followed by a high-pass second filter; ``filter_frequency: 0`` leaves Kanai-Tajimi), times a
+  modulating function (Jennings, gamma form, or none), parameters given directly.
+
+Everything is a function of the excitation's fields and its seed (numpy's PCG64): the same
+definition gives the same motion bit for bit on every run.
+"""
+
+from __future__ import annotations
+
+import functools
+import json
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pframe.excitation.records import G
+
+#: the high-pass post-filter's corner frequency (Hz) of Rezaeian & Der Kiureghian (2008)
+HIGHPASS_HZ = 0.2
+#: the filter frequency omega_f(t)/2pi is kept above this (Hz): f_mid + f'(t - t_mid) may fall
+#: below zero late in a long motion with a steep negative slope; the facts say when it does
+FILTER_FLOOR_HZ = 0.3
+#: the generated motion lasts until the modulating function has delivered this part of I_a
+ENERGY_COVERED = 0.9995
+
+# Marginal distributions of the six parameters (Rezaeian & Der Kiureghian 2010, fitted to
+# NGA records): ln I_a (I_a in s g) normal; D5-95 (s) beta on [5, 45]; t_mid (s) beta on
+# [0.5, 40]; f_mid (Hz) gamma; f' (Hz/s) two-sided exponential on [-2, 0.5]; zeta_f beta on
+# [0.02, 1].
+MARGINALS = {
+    "ln_arias": ("normal", -4.8255, 1.4318),
+    "d595": ("beta", 1.1314, 2.4474, 5.0, 45.0),
+    "tmid": ("beta", 1.5792, 3.6405, 0.5, 40.0),
+    "frequency": ("gamma", 4.0982, 1.4330),
+    "slope": ("two_sided_exponential", 17.095, 6.7729, 4.8512, -2.0, 0.5),
+    "damping": ("beta", 1.4250, 5.7208, 0.02, 1.0),
+}
+
+# Predictive relations of the normal-space means nu_i = b0 + b1 m + b2 F + b3 r + b4 v, with
+# F = 0 strike-slip, 1 reverse; for I_a m = M/7, r = ln(R_rup/25 km), v = ln(Vs30/750 m/s),
+# for the others m = M, r = R_rup (km), v = Vs30 (m/s); total error standard deviations
+# sqrt(sigma^2 + tau^2) (within- and between-event) and the correlation matrix of the total
+# errors. Coefficients as published with the SCEC Broadband Platform's implementation of the
+# predictive equations for this model's six parameters (Rezaeian, Zhong, Hartzell & Zareian
+# 2015, BSSA 105(6), fitted to NGA-West2 records) -- see docs/stochastic-motions.md.
+RELATIONS = {
+    "names": ("ln_arias", "d595", "tmid", "frequency", "slope", "damping"),
+    "beta": np.array([
+        [-2.2962, 2.9440, -0.0707, -1.3564, -0.2654],
+        [-6.1946, 0.9703, -0.7034, 0.0087, -0.0007],
+        [-5.0105, 0.6625, -0.3450, 0.0139, -0.0002],
+        [2.2525, -0.2586, -0.0808, -0.0084, 0.0000],
+        [-2.4886, 0.3440, 0.0441, 0.0026, -0.0001],
+        [-0.2583, 0.1293, -0.4772, -0.0115, 0.0004]]),
+    "sigma": np.array([0.5937, 0.5688, 0.4145, 0.7228, 0.9529, 0.7601]),
+    "tau": np.array([0.2738, 0.4574, 0.5114, 0.6918, 0.1286, 0.6815]),
+    "correlation": np.array([
+        [1.0000, -0.3555, 0.0066, -0.1545, 0.1341, -0.0078],
+        [-0.3555, 1.0000, 0.6729, -0.1303, -0.1576, -0.1958],
+        [0.0066, 0.6729, 1.0000, -0.2761, -0.1977, -0.2188],
+        [-0.1545, -0.1303, -0.2761, 1.0000, -0.2034, 0.2814],
+        [0.1341, -0.1576, -0.1977, -0.2034, 1.0000, -0.0137],
+        [-0.0078, -0.1958, -0.2188, 0.2814, -0.0137, 1.0000]]),
+}
+#: the range of the records behind the relations that pframe checks a site against (outside
+#: it a warning says the relations are extrapolated)
+SITE_RANGE = {"magnitude": (5.5, 7.9), "distance": (1.0, 200.0), "vs30": (150.0, 1500.0)}
+MECHANISMS = {"strike_slip": 0.0, "reverse": 1.0}
+
+
+# ----------------------------------------------------------------------------------------
+# Parameters and the predictive relations
+
+
+@dataclass(frozen=True)
+class RezaeianParameters:
+    """The six parameters of one realisation: I_a (m/s; s g times g), D5-95 (s), t_mid (s),
+    f_mid (Hz), f' (Hz/s), zeta_f."""
+
+    arias: float
+    d595: float
+    tmid: float
+    frequency: float
+    slope: float
+    damping: float
+
+    def as_dict(self) -> dict:
+        return {"arias": self.arias, "d595": self.d595, "tmid": self.tmid,
+                "frequency": self.frequency, "slope": self.slope, "damping": self.damping}
+
+
+def relation_means(magnitude: float, distance: float, vs30: float, mechanism: str) -> np.ndarray:
+    """The six normal-space means nu_i of the predictive relations (:data:`RELATIONS`)."""
+    f = MECHANISMS[mechanism]
+    b = RELATIONS["beta"]
+    first = b[0] @ [1.0, magnitude / 7.0, f, math.log(distance / 25.0), math.log(vs30 / 750.0)]
+    rest = b[1:] @ np.array([1.0, magnitude, f, distance, vs30])
+    return np.concatenate([[first], rest])
+
+
+def relation_covariance() -> np.ndarray:
+    """The covariance of the total errors of the six normal-space variables."""
+    std = np.hypot(RELATIONS["sigma"], RELATIONS["tau"])
+    return RELATIONS["correlation"] * np.outer(std, std)
+
+
+def from_normal(nu) -> RezaeianParameters:
+    """The parameters whose normal-space values are ``nu`` (six): theta_i = F_i^-1(Phi(nu_i))."""
+    from scipy import stats
+
+    nu = np.asarray(nu, dtype=float)
+    p = stats.norm.cdf(nu)
+    values = {}
+    for name, prob, x in zip(RELATIONS["names"], p, nu):
+        kind, *args = MARGINALS[name]
+        if kind == "normal":
+            values[name] = args[0] + args[1] * float(x)  # exact, not through Phi
+        elif kind == "beta":
+            a, b, lo, hi = args
+            values[name] = lo + (hi - lo) * float(stats.beta.ppf(prob, a, b))
+        elif kind == "gamma":
+            values[name] = float(stats.gamma.ppf(prob, args[0], scale=args[1]))
+        else:
+            values[name] = two_sided_exponential_ppf(float(prob), *args)
+    return RezaeianParameters(math.exp(values["ln_arias"]) * G, values["d595"], values["tmid"],
+                              values["frequency"], values["slope"], values["damping"])
+
+
+def two_sided_exponential_ppf(p: float, a: float, b: float, c: float, lo: float,
+                              hi: float) -> float:
+    """Inverse of the CDF of the density c e^(b x) on [lo, 0), c e^(-a x) on [0, hi]."""
+    at_zero = (c / b) * (1.0 - math.exp(b * lo))
+    if p < at_zero:
+        x = math.log(p * b / c + math.exp(b * lo)) / b
+    else:
+        x = -math.log(max(1.0 - (p - at_zero) * a / c, 1e-300)) / a
+    return min(max(x, lo), hi)
+
+
+def sample_parameters(magnitude, distance, vs30, mechanism, rng, tries: int = 1000):
+    """One realisation's parameters from the site: (parameters, nu, rejected), where
+    ``rejected`` counts the draws refused because no gamma-form modulating function has their
+    D5-95 and t_mid (D5-95 / t_mid above that of alpha_2 = 1); they are drawn again."""
+    mean = relation_means(magnitude, distance, vs30, mechanism)
+    chol = np.linalg.cholesky(relation_covariance())
+    for rejected in range(tries):
+        nu = mean + chol @ rng.standard_normal(6)
+        params = from_normal(nu)
+        if envelope_feasible(params.d595, params.tmid):
+            return params, nu, rejected
+    raise ValueError(f"no feasible modulating function in {tries} draws")
+
+
+# ----------------------------------------------------------------------------------------
+# The gamma-form modulating function
+
+
+def _gamma_quantiles(shape: float, probs=(0.05, 0.45, 0.95)) -> np.ndarray:
+    from scipy import stats
+
+    return stats.gamma.ppf(probs, shape)
+
+
+def _duration_ratio(shape: float) -> float:
+    q5, q45, q95 = _gamma_quantiles(shape)
+    return (q95 - q5) / q45
+
+
+def envelope_feasible(d595: float, tmid: float) -> bool:
+    """Whether a gamma-form q (alpha_2 > 1: q(0) = 0) has this D5-95 and t_mid."""
+    return 0.0 < d595 / tmid < _duration_ratio(1.0) * (1.0 - 1e-9)
+
+
+@dataclass(frozen=True)
+class GammaEnvelope:
+    """q(t) = alpha_1 t^(alpha_2 - 1) exp(-alpha_3 t) (SI: q in m/s^2)."""
+
+    alpha1: float
+    alpha2: float
+    alpha3: float
+
+    def __call__(self, t):
+        t = np.asarray(t, dtype=float)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            log = (math.log(self.alpha1) + (self.alpha2 - 1.0) * np.log(t) - self.alpha3 * t)
+        return np.where(t > 0.0, np.exp(log), 0.0)
+
+    def energy_time(self, fraction: float) -> float:
+        """When the expected cumulative Arias intensity reaches ``fraction`` of its total (s)."""
+        from scipy import stats
+
+        return float(stats.gamma.ppf(fraction, 2.0 * self.alpha2 - 1.0,
+                                     scale=1.0 / (2.0 * self.alpha3)))
+
+    def arias(self) -> float:
+        """The expected Arias intensity pi / (2 g) int q^2 dt (m/s) of a unit-variance process."""
+        k, rate = 2.0 * self.alpha2 - 1.0, 2.0 * self.alpha3
+        return math.pi / (2.0 * G) * math.exp(2.0 * math.log(self.alpha1) + math.lgamma(k)
+                                              - k * math.log(rate))
+
+
+def gamma_envelope(arias: float, d595: float, tmid: float) -> GammaEnvelope:
+    """The gamma-form q of expected Arias intensity ``arias`` (m/s), D5-95 ``d595`` (s) and
+    t_mid ``tmid`` (s): q^2 is a gamma density of shape k = 2 alpha_2 - 1 and rate 2 alpha_3
+    scaled; k solves D5-95 / t_mid = (Q95 - Q5) / Q45 of the gamma(k) quantiles, the rate
+    follows from t_mid, alpha_1 from I_a."""
+    from scipy.optimize import brentq
+
+    if not envelope_feasible(d595, tmid):
+        raise ValueError(f"no gamma-form modulating function has D5-95 = {d595:g} s and "
+                         f"t_mid = {tmid:g} s (D5-95 / t_mid must be below "
+                         f"{_duration_ratio(1.0):.4g})")
+    ratio = d595 / tmid
+    hi = 2.0
+    while _duration_ratio(hi) > ratio:
+        hi *= 2.0
+    k = brentq(lambda s: _duration_ratio(s) - ratio, 1.0, hi, xtol=1e-12, rtol=1e-12)
+    rate = float(_gamma_quantiles(k, (0.45,))[0]) / tmid
+    alpha2, alpha3 = 0.5 * (k + 1.0), 0.5 * rate
+    log_a1 = 0.5 * (math.log(2.0 * G * arias / math.pi) + k * math.log(rate) - math.lgamma(k))
+    return GammaEnvelope(math.exp(log_a1), alpha2, alpha3)
+
+
+# ----------------------------------------------------------------------------------------
+# Simulation
+
+
+def filter_frequencies(params: RezaeianParameters, times: np.ndarray):
+    """omega_f(t) (rad/s) and whether the floor of :data:`FILTER_FLOOR_HZ` was reached."""
+    f = params.frequency + params.slope * (np.asarray(times, float) - params.tmid)
+    floored = bool(np.any(f < FILTER_FLOOR_HZ))
+    return 2.0 * math.pi * np.maximum(f, FILTER_FLOOR_HZ), floored
+
+
+def rezaeian_unfiltered(params: RezaeianParameters, step: float, rng):
+    """(times, a before the post-filter, envelope, floored) of one realisation."""
+    env = gamma_envelope(params.arias, params.d595, params.tmid)
+    end = env.energy_time(ENERGY_COVERED)
+    n = int(math.ceil(end / step)) + 1
+    times = np.arange(n) * step
+    omega, floored = filter_frequencies(params, times)
+    u = rng.standard_normal(n)
+    zeta = params.damping
+    root = math.sqrt(1.0 - zeta * zeta)
+    total = np.zeros(n)
+    norm = np.zeros(n)
+    decay = zeta * float(np.min(omega)) * step
+    for m in range(1, n):  # lag m: the pulses of t_i = t_k - m dt
+        if decay * m > 40.0:  # e^-40: every later lag is below roundoff
+            break
+        w = omega[: n - m]
+        tau = m * step
+        h = w / root * np.exp(-zeta * w * tau) * np.sin(w * root * tau)
+        total[m:] += h * u[: n - m]
+        norm[m:] += h * h
+    unit = np.divide(total, np.sqrt(norm), out=np.zeros(n), where=norm > 0)
+    return times, env(times) * unit, env, floored
+
+
+def highpass(acceleration: np.ndarray, step: float, corner_hz: float = HIGHPASS_HZ) -> np.ndarray:
+    """The critically damped high-pass of Rezaeian & Der Kiureghian (2008): the relative
+    acceleration z'' of z'' + 2 w_c z' + w_c^2 z = a(t) from rest, i.e. a - 2 w_c z' - w_c^2 z
+    (transfer s^2 / (s + w_c)^2), exact for a linear between samples."""
+    from scipy import signal
+
+    wc = 2.0 * math.pi * corner_hz
+    num, den, _ = signal.cont2discrete(([1.0, 0.0, 0.0], [1.0, 2.0 * wc, wc * wc]), step,
+                                       method="foh")
+    return signal.lfilter(np.ravel(num), den, acceleration)
+
+
+def clough_penzien_psd(omega, intensity, ground_frequency, ground_damping,
+                       filter_frequency=0.0, filter_damping=0.0):
+    """The two-sided Clough-Penzien PSD S(omega) ((m/s^2)^2 / (rad/s)) of ground
+    acceleration, white-noise intensity ``intensity`` S_0 (m^2/s^3):
+
+        S = S_0 (w_g^4 + 4 z_g^2 w_g^2 w^2) / ((w_g^2 - w^2)^2 + 4 z_g^2 w_g^2 w^2)
+                * w^4 / ((w_f^2 - w^2)^2 + 4 z_f^2 w_f^2 w^2),
+
+    the second factor 1 for ``filter_frequency`` 0 (Kanai-Tajimi)."""
+    w2 = np.asarray(omega, dtype=float) ** 2
+    wg2 = ground_frequency**2
+    kt = (wg2 * wg2 + 4.0 * ground_damping**2 * wg2 * w2) / (
+        (wg2 - w2) ** 2 + 4.0 * ground_damping**2 * wg2 * w2)
+    if filter_frequency == 0.0:
+        return intensity * kt
+    wf2 = filter_frequency**2
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cp = w2 * w2 / ((wf2 - w2) ** 2 + 4.0 * filter_damping**2 * wf2 * w2)
+    return intensity * kt * np.nan_to_num(cp)
+
+
+def _cp_transfer(wg, zg, wf, zf):
+    num = np.array([2.0 * zg * wg, wg * wg])
+    den = np.array([1.0, 2.0 * zg * wg, wg * wg])
+    if wf > 0.0:
+        num = np.convolve(num, [1.0, 0.0, 0.0])
+        den = np.convolve(den, [1.0, 2.0 * zf * wf, wf * wf])
+    return num, den
+
+
+def clough_penzien_stationary(n: int, step: float, intensity, wg, zg, wf=0.0, zf=0.0,
+                              rng=None) -> np.ndarray:
+    """n samples (step s) of a stationary Clough-Penzien process: white noise of variance
+    2 pi S_0 / dt held over each step, through the exact (zero-order-hold) discretisation of
+    the filters, after a warm-up that forgets the filters' rest (its PSD is S(omega)
+    sinc^2(omega dt / 2) below the Nyquist frequency)."""
+    from scipy import signal
+
+    num, den = _cp_transfer(wg, zg, wf, zf)
+    dnum, dden, _ = signal.cont2discrete((num, den), step, method="zoh")
+    slow = min(zg * wg, zf * wf if wf > 0 else math.inf)
+    warm = int(math.ceil(30.0 / max(slow, 1e-3) / step))
+    noise = rng.standard_normal(n + warm) * math.sqrt(2.0 * math.pi * intensity / step)
+    return signal.lfilter(np.ravel(dnum), dden, noise)[warm:]
+
+
+def jennings(t, rise: float, plateau: float, decay: float):
+    """Jennings, Housner & Tsai (1968): (t/t_1)^2 up to t_1 = ``rise``, 1 up to t_2 =
+    ``plateau``, then exp(-c (t - t_2)), c = ``decay`` (1/s)."""
+    t = np.asarray(t, dtype=float)
+    return np.where(t < rise, (t / rise) ** 2,
+                    np.where(t <= plateau, 1.0, np.exp(-decay * (t - plateau))))
+
+
+# ----------------------------------------------------------------------------------------
+# Measures of a motion
+
+
+def arias_intensity(acceleration, step: float) -> float:
+    """I_a = pi / (2 g) int a^2 dt (m/s), trapezoidal."""
+    a2 = np.asarray(acceleration, float) ** 2
+    return math.pi / (2.0 * G) * float(np.sum(a2[1:] + a2[:-1]) * 0.5 * step)
+
+
+def husid(acceleration, step: float) -> np.ndarray:
+    """The normalised cumulative Arias intensity (Husid curve) at every sample."""
+    a2 = np.asarray(acceleration, float) ** 2
+    cum = np.concatenate([[0.0], np.cumsum(0.5 * (a2[1:] + a2[:-1]) * step)])
+    return cum / cum[-1] if cum[-1] > 0 else cum
+
+
+def energy_times(cumulative, step: float, fractions=(0.05, 0.45, 0.95)) -> np.ndarray:
+    """Times (s) at which a Husid curve reaches ``fractions`` (linear between samples)."""
+    times = np.arange(len(cumulative)) * step
+    return np.interp(fractions, cumulative, times)
+
+
+def zero_crossings(acceleration, start: int = 0, stop: int | None = None) -> int:
+    """The number of sign changes of the samples in [start, stop)."""
+    a = np.asarray(acceleration, float)[start:stop]
+    s = np.sign(a[a != 0.0])
+    return int(np.count_nonzero(s[1:] != s[:-1]))
+
+
+# ----------------------------------------------------------------------------------------
+# A scene's stochastic excitation
+
+
+@dataclass(frozen=True)
+class StochasticMotion:
+    """One realisation (before the excitation's ``scale``, which :func:`motion` applies)."""
+
+    times: np.ndarray
+    acceleration: np.ndarray
+    model: str
+    seed: int
+    parameters: dict  # the model's parameters as used (sampled or given), SI and Hz
+    sampled: bool  # the parameters were drawn from the site's predictive relations
+    warnings: tuple = field(default=())
+
+    @property
+    def pga(self) -> float:
+        return float(np.max(np.abs(self.acceleration))) if self.acceleration.size else 0.0
+
+    @property
+    def arias(self) -> float:
+        return arias_intensity(self.acceleration, float(self.times[1] - self.times[0]))
+
+    def description(self) -> str:
+        """The model and its parameters, one line."""
+        p = self.parameters
+        if self.model == "rezaeian2010":
+            how = "sampled from the site" if self.sampled else "given"
+            return (f"stochastic rezaeian2010, seed {self.seed}, parameters {how}: I_a = "
+                    f"{p['arias']:.4g} m/s, D5-95 = {p['d595']:.4g} s, t_mid = {p['tmid']:.4g} s,"
+                    f" f_mid = {p['frequency']:.4g} Hz, f' = {p['slope']:.4g} Hz/s, zeta_f = "
+                    f"{p['damping']:.4g}")
+        text = (f"stochastic clough_penzien, seed {self.seed}: S_0 = {p['intensity']:.4g} "
+                f"m^2/s^3, w_g = {p['ground_frequency']:.4g} rad/s, zeta_g = "
+                f"{p['ground_damping']:.4g}")
+        if p["filter_frequency"] > 0:
+            text += (f", w_f = {p['filter_frequency']:.4g} rad/s, zeta_f = "
+                     f"{p['filter_damping']:.4g}")
+        return text + f", envelope {p['envelope']}"
+
+
+def _site_warnings(excitation) -> list[str]:
+    out = []
+    for name, (lo, hi) in SITE_RANGE.items():
+        value = getattr(excitation, name)
+        if not lo <= value <= hi:
+            out.append(f"stochastic motion: {name} {value:g} is outside {lo:g}-{hi:g}, the "
+                       "range pframe accepts the predictive relations over without this "
+                       "warning: the sampled parameters are extrapolated")
+    return out
+
+
+def generate(excitation) -> StochasticMotion:
+    """The realisation of a scene's ``Stochastic`` excitation (cached on its fields; ``scale``
+    is not applied)."""
+    data = excitation.model_dump(mode="json")
+    data.pop("scale", None)
+    return _generate(json.dumps(data, sort_keys=True))
+
+
+def stochastic_record(excitation):
+    """The realisation as an :class:`~pframe.excitation.characteristic.AppliedRecord` (what a
+    record excitation gives the rest of pframe): its characteristic period is its mean period
+    T_m, as a record's by default."""
+    from pframe.excitation.characteristic import AppliedRecord, record_period
+
+    m = generate(excitation)
+    period, period_is = record_period("mean", m.times, m.acceleration)
+    return AppliedRecord(m.times, m.acceleration, 1.0, 1.0, abs(float(excitation.scale)) * m.pga,
+                         period, period_is)
+
+
+def stochastic_warnings(excitation) -> list[str]:
+    """What may make a scene's stochastic motion not the model's (site outside the range
+    checked, filter frequency held at its floor); none for other excitations."""
+    if excitation is None or excitation.kind != "stochastic":
+        return []
+    return list(generate(excitation).warnings)
+
+
+@functools.lru_cache(maxsize=64)
+def _generate(key: str) -> StochasticMotion:
+    d = json.loads(key)
+    rng = np.random.Generator(np.random.PCG64(int(d["seed"])))
+    step, warnings = float(d["step"]), []
+    if d["model"] == "rezaeian2010":
+        given = d.get("parameters")
+        if given is not None:
+            params, sampled = RezaeianParameters(**given), False
+        else:
+            from types import SimpleNamespace
+
+            site = SimpleNamespace(**d)
+            warnings += _site_warnings(site)
+            params, _, _ = sample_parameters(site.magnitude, site.distance, site.vs30,
+                                             site.mechanism, rng)
+            sampled = True
+        times, raw, _, floored = rezaeian_unfiltered(params, step, rng)
+        acc = highpass(raw, step) if d["highpass"] else raw
+        parameters = params.as_dict()
+        if floored:
+            warnings.append(f"stochastic motion: the filter frequency f_mid + f' (t - t_mid) "
+                            f"falls below {FILTER_FLOOR_HZ:g} Hz within the motion and is held "
+                            "there")
+    else:
+        env = d["envelope"] or {"kind": "none"}
+        if env["kind"] == "jennings":
+            duration = env["plateau"] - math.log(1e-3) / env["decay"]
+        elif env["kind"] == "gamma":
+            genv = gamma_envelope(1.0, env["d595"], env["tmid"])
+            duration = genv.energy_time(ENERGY_COVERED)
+        else:
+            duration = float(d["duration"])
+        n = int(math.ceil(duration / step)) + 1
+        times = np.arange(n) * step
+        x = clough_penzien_stationary(n, step, d["intensity"], d["ground_frequency"],
+                                      d["ground_damping"], d["filter_frequency"],
+                                      d["filter_damping"], rng)
+        if env["kind"] == "jennings":
+            q = jennings(times, env["rise"], env["plateau"], env["decay"])
+        elif env["kind"] == "gamma":
+            q = genv(times)
+            q = q / np.max(q)
+        else:
+            q = np.ones(n)
+        acc = q * x
+        parameters = {k: d[k] for k in ("intensity", "ground_frequency", "ground_damping",
+                                        "filter_frequency", "filter_damping")}
+        parameters["envelope"] = env["kind"]
+        sampled = False
+    acc.setflags(write=False)
+    times.setflags(write=False)
+    return StochasticMotion(times, acc, d["model"], int(d["seed"]), parameters, sampled,
+                            tuple(warnings))

@@ -1,0 +1,63 @@
+"""Viscous damper: F = c |v|^alpha sign(v) of the deformation rate v (OpenSees ``Viscous``).
+
+Linear (alpha = 1) or nonlinear (fluid viscous dampers: alpha 0.2 to 1) dashpot, the
+element of a link (``links:``) between buildings, between a floor and the ground, or across
+a storey; it acts in tension and compression and has no stiffness. For alpha < 1 the force has
+an infinite slope at v = 0, where Newton cycles (x -> -x on sign(x) |x|^(1/2)) when the step's
+root is near v = 0, as it is from rest: below ``linear_below`` = v_0 (1e-5 m/s by default)
+the dashpot is linear, c v_0^(alpha - 1) v, continuous with the power law at v_0 (OpenSees'
+``Viscous`` keeps the power law and caps only the tangent, and fails from rest there without an
+absolute Newton tolerance).
+"""
+
+from __future__ import annotations
+
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws.params import LawParams, Positive
+from pframe.laws.registry import Law, material
+
+
+@material("viscous")
+class Viscous(Law):
+    class Params(LawParams):
+        material: Literal["viscous"]
+        damping: Positive = Field(description="Damping coefficient c (N (s/m)^alpha).")
+        exponent: float = Field(1.0, gt=0, le=2.0, description="Velocity exponent alpha "
+                                "(1: linear; fluid viscous dampers 0.2 to 1).")
+        linear_below: Positive = Field(
+            1e-5, description="v_0 (m/s): below it the dashpot is linear, c v_0^(alpha - 1) v, "
+            "continuous with the power law at v_0 (alpha < 1 only: Newton cycles around a root "
+            "near v = 0 of a force with an infinite slope there; the force is below the power "
+            "law's by at most c v_0^alpha, at velocities whose work is negligible).")
+
+    param_names = ("damping", "exponent", "linear_below")
+    dimensions = {"exponent": "dimensionless", "linear_below": "velocity"}
+    branches = "smooth"
+    opensees = "Viscous"
+    stiffness_free = True  # no initial stiffness: a link, not a storey
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """alpha (the coefficient's units depend on it: N (s/m)^alpha)."""
+        return {"alpha": ("dimensionless", packed[1])}
+
+    @classmethod
+    def pack(cls, params, context=None):
+        return (float(params.damping), float(params.exponent), float(params.linear_below))
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        c = params[0]
+        alpha = params[1]
+        v0 = params[2]
+        speed = abs(rate)
+        if speed < v0:  # the linear branch below v_0 (see linear_below)
+            slope = c * v0 ** (alpha - 1.0)
+            return slope * rate, 0.0, slope
+        f = c * speed ** alpha
+        if rate < 0.0:
+            f = -f
+        return f, 0.0, alpha * c * speed ** (alpha - 1.0)
