@@ -101,7 +101,8 @@ def _expected(case: str, e, calibration) -> float:
         return 1.0
     packed = impact_packed(case, e, calibration)
     law = IMPACT_VARIANTS[case][0]
-    if law in ("improved_kelvin", "hertzdamp"):
+    if law in ("improved_kelvin", "hertzdamp", "bumper"):
+        # the restitution of m x'' = -P(x) (1 + chi x' / v0) is the same for any spring P
         closed = hunt_crossley_restitution(packed[2])
     elif law == "kelvin":
         k, c, tension = packed

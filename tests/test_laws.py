@@ -29,11 +29,21 @@ CONTACT_PARAMS = {
     "hertzdamp": [{"stiffness": 1.0e9, "restitution": 0.5, "formula": "muthukumar"},
                   {"stiffness": 1.0e9, "restitution": 0.5, "formula": "ye"}],
     "jankowski": [{"stiffness": 1.0e9, "restitution": 0.5}],
+    "bumper": [{"stiffness": 1.0e8, "hard_stiffness": 1.0e9, "thickness": 0.1,
+                "restitution": 0.5},  # never crushed here
+               {"stiffness": 1.0e8, "hard_stiffness": 1.0e9, "thickness": 0.0015,
+                "crush_ratio": 1.0, "restitution": 0.5, "calibration": "exact"}],
 }
 MATERIAL_PARAMS = {
     "elastic": [{"stiffness": 1.0e5}],
     "bilinear": [{"stiffness": 1.0e5, "yield_drift": 0.01, "alpha": 0.1},
                  {"stiffness": 1.0e5, "yield_force": 1000.0, "alpha": 0.0}],
+    "bouc_wen": [{"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0},
+                 {"alpha": 0.0, "ko": 1.0e5, "n": 1.0, "gamma": 30.0, "beta": 70.0,
+                  "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4}],
+    "friction_pendulum": [{"radius": 2.0, "mu": 0.08, "weight": 5e4, "k_init": 1e6},
+                          {"mu_slow": 0.05, "mu_fast": 0.12, "rate_parameter": 20.0,
+                           "weight": 5e4, "k_init": 1e6}],
 }
 
 #: Contact states (committed state, penetration m, rate m/s), none within 10% of a kink of any
@@ -172,12 +182,36 @@ def _bilinear_states(k, fy, alpha):
     ]
 
 
+#: committed states and trial drifts of the isolator laws, away from their kinks (a drift
+#: increment of zero for Bouc-Wen; the stick-slip limit for the friction pendulum): loading
+#: from rest, loading and unloading on a loop, and sliding both ways
+ISOLATOR_STATES = {
+    "bouc_wen": [((0.0, 0.0, 0.0), 0.003), ((0.01, 0.008, 50.0), 0.013),
+                 ((0.01, 0.008, 50.0), 0.004), ((-0.02, -0.009, 400.0), -0.03),
+                 ((-0.02, -0.009, 400.0), -0.011)],
+    "friction_pendulum": [((0.0,), 1e-4), ((0.0,), 0.02), ((0.0,), -0.02),
+                          ((0.015,), 0.0152), ((0.015,), 0.005)],
+}
+
+
+def _check_isolator_tangent(law, packed):
+    for rate in (0.3, -0.2):
+        for committed, x in ISOLATOR_STATES[law.name]:
+            committed = np.array(committed, dtype=float)
+            _, _, kr = _check_tangent(law, packed, committed, x, rate, 0.01, 0.3)
+            if law.name == "bouc_wen":
+                assert kr == 0.0  # rate independent
+
+
 @pytest.mark.parametrize(("law", "params"), list(_material_cases()))
 def test_material_tangent_matches_finite_differences(law, params):
     """The storey tangent is df/d(drift) in the elastic range, while yielding in both
     directions and while unloading; storey force does not depend on the drift rate."""
     assert params is not None, f"no test parameters for material {law.name!r}"
     packed = _packed(law, params)
+    if law.name in ISOLATOR_STATES:
+        _check_isolator_tangent(law, packed)
+        return
     if law.name == "bilinear":
         k, fy, alpha = packed
         states = _bilinear_states(k, fy, alpha)
@@ -209,6 +243,7 @@ V_IMPACT = 0.5  # m/s, L/1 moving right into R/1 at rest
 E_TARGET = 0.4
 K_LINEAR = 1.0e7  # N/m
 K_HERTZ = 1.0e9  # N/m^1.5
+K_BUMPER = 1.0e8  # N/m^1.5, a bumper's rubber
 
 
 def _kelvin_zeta(e):
@@ -250,6 +285,10 @@ def _reference_force(case):
             return K_HERTZ * x**1.5 + (c * r if r > 0 else 0.0)
 
         return force
+    if case == "bumper":  # the rubber's Hertz-damp stage, the hard contact past 1.5 mm
+        xi = 3 * (1 - e**2) / (4 * v0)  # Muthukumar's chi / v0
+        return lambda x, r: max((K_BUMPER * x**1.5 + K_HERTZ * max(x - 0.0015, 0.0)**1.5)
+                                * (1 + xi * r), 0.0)
     raise AssertionError(case)
 
 
@@ -299,11 +338,16 @@ IMPACTS = {
                       "formula": "ye"}, "hc", 1e-5),
     "jankowski": ({"law": "jankowski", "stiffness": K_HERTZ, "restitution": E_TARGET},
                   None, 1e-4),
+    # crushed: the rubber alone would penetrate 5.6 mm
+    "bumper": ({"law": "bumper", "stiffness": K_BUMPER, "hard_stiffness": K_HERTZ,
+                "thickness": 0.0015, "crush_ratio": 1.0, "restitution": E_TARGET,
+                "calibration": "published"}, "hc", 1e-5),
 }
 CHI = {  # chi of F = k delta^n (1 + chi delta' / v0), from the published xi = chi k / v0
     "improved_kelvin": 3 * (1 - E_TARGET) / (2 * E_TARGET),
     "hertzdamp-muthukumar": 3 * (1 - E_TARGET**2) / 4,
     "hertzdamp-ye": 8 * (1 - E_TARGET) / (5 * E_TARGET),
+    "bumper": 3 * (1 - E_TARGET**2) / 4,  # Muthukumar's, shared by both stages
 }
 STEPS_PER_CONTACT = 4000
 
@@ -370,6 +414,8 @@ LATE = {  # contact YAML, xfail reason or None
     "hertzdamp": ({"law": "hertzdamp", "stiffness": K_HERTZ, "restitution": E_TARGET}, None),
     "jankowski": ({"law": "jankowski", "stiffness": K_HERTZ, "restitution": E_TARGET},
                   None),
+    "bumper": ({"law": "bumper", "stiffness": K_BUMPER, "hard_stiffness": K_HERTZ,
+                "thickness": 0.001, "restitution": E_TARGET}, None),
 }
 
 

@@ -199,6 +199,8 @@ CONTACTS = {
     "hertz": {"stiffness": 1e9},
     "hertzdamp": {"stiffness": 1e9, "restitution": 0.4},
     "jankowski": {"stiffness": 1e9, "restitution": 0.4},
+    "bumper": {"stiffness": 1e8, "hard_stiffness": 1e9, "thickness": 0.002,
+               "restitution": 0.4},
 }
 
 

@@ -163,6 +163,7 @@ BATCHES = {
     "improved_kelvin": ("improved_kelvin",),
     "hertzdamp": ("hertzdamp-muthukumar", "hertzdamp-ye"),
     "jankowski": ("jankowski",),
+    "bumper": ("bumper",),
 }
 
 
@@ -226,6 +227,8 @@ ROWS = [
     ("hertzdamp-ye", "exact", "exact (either formula)"),
     ("jankowski", "published", "published (Jankowski 2005)"),
     ("jankowski", "exact", "exact"),
+    ("bumper", "published", "published (Muthukumar & DesRoches 2006)"),
+    ("bumper", "exact", "exact"),
 ]
 
 

@@ -426,10 +426,20 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                             f"Elastic and Viscous; the scene's links use {group.law.name!r}")
         if not np.any(group.index < ns):
             continue
-        if group.law.opensees not in ("Elastic", "Steel01"):
-            problems.append(f"it models storeys with Elastic or Steel01 (the laws elastic and "
-                            f"bilinear); the scene's storeys use {group.law.name!r}, which has "
-                            "no OpenSees counterpart")
+        storeys = group.index < ns
+        if group.law.opensees not in ("Elastic", "Steel01", "BoucWen"):
+            problems.append(f"it models storeys with Elastic, Steel01 or BoucWen (the laws "
+                            f"elastic, bilinear and bouc_wen); the scene's storeys use "
+                            f"{group.law.name!r}, which has no OpenSees uniaxialMaterial "
+                            "counterpart")
+        elif group.law.opensees == "BoucWen" and np.any(
+                group.params[member, storeys, 5] != 1.0) and np.any(
+                plan.story_beta[member, group.index[storeys]]):
+            # OpenSees damps on its initial tangent k0 (alpha + (1 - alpha) A0), pframe on
+            # the tangent at zero drift, k0
+            problems.append("it damps Bouc-Wen storeys on OpenSees' initial tangent, which "
+                            "differs from pframe's when Ao != 1: give Ao = 1 or damping "
+                            "without a stiffness part")
     for group in plan.contact_groups:
         if group.law.opensees != "ElasticPPGap":
             problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
@@ -443,8 +453,12 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
             if i >= ns:
                 continue
             p = group.params[member, j]
-            materials.append((i, ("elastic", p[0]) if group.law.opensees == "Elastic"
-                              else ("bilinear", p[0], p[1], p[2])))
+            if group.law.opensees == "Elastic":
+                materials.append((i, ("elastic", p[0])))
+            elif group.law.opensees == "BoucWen":
+                materials.append((i, ("bouc_wen", *p[:11])))
+            else:
+                materials.append((i, ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
     ns = len(plan.story_names)
     links = sorted((i, ("elastic", p[0]) if group.law.name == "elastic"

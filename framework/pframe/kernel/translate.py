@@ -2,11 +2,12 @@
 
 A law's ``force`` (``pframe.laws``) is its one definition. It is written in a small subset of
 Python — float arithmetic, ``if/elif/else``, local names, ``math.sqrt/exp/log/...``, ``**``,
-``abs``, ``min``/``max`` of two values, reading ``params[i]`` and ``committed[i]``, writing
-``trial[i] = ...`` and returning a 3-tuple — which this module translates to C, statement by
-statement, in the same order of operations (so the C kernel computes the same bits as the
-Python function; a test compares them). Anything else is refused with the law, line and
-construct named.
+``abs``, ``min``/``max`` of two values, ``for NAME in range(N)`` with ``break``, reading
+``params[i]`` and ``committed[i]``, writing ``trial[i] = ...`` and returning a 3-tuple — which
+this module translates to C, statement by statement, in the same order of operations (so the
+C kernel computes the same bits as the Python function; a test compares them). Anything else
+is refused with the law, line and construct named. The bounded loop is for a law's local
+Newton solve (the Bouc-Wen material's, for one).
 
 ``python -m pframe.kernel.translate`` writes the two generated files of the C kernel:
 
@@ -81,6 +82,9 @@ class _Function:
         self.arrays = dict(zip(names[:3], _ARRAYS))
         self.scalars = {names[3]: "deformation", names[4]: "rate"}
         self.locals: dict[str, str] = {}
+        self.counters: list[str] = []  # the C int counters of the loops
+        self.hidden: set[str] = set()  # the loops' Python counters: never read
+        self.loops = 0
         self.c_name = c_name
         body = node.body
         if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant):
@@ -93,12 +97,13 @@ class _Function:
     def _error(self, node, what: str) -> TranslationError:
         line = self.first_line + getattr(node, "lineno", 1) - 1
         return TranslationError(f"{self.where}, line {line}: {what}. A built-in law's force "
-                                "may use float arithmetic, if/elif/else, local names, math "
-                                "functions, abs/min/max, params[i], committed[i], trial[i] = "
-                                "... and return a 3-tuple (docs/architecture.md)")
+                                "may use float arithmetic, if/elif/else, for NAME in "
+                                "range(N) with break, local names, math functions, "
+                                "abs/min/max, params[i], committed[i], trial[i] = ... and "
+                                "return a 3-tuple (docs/architecture.md)")
 
     def _returns(self, body) -> bool:
-        """Whether every path through ``body`` ends in a return."""
+        """Whether every path through ``body`` ends in a return (a loop never counts as one)."""
         if not body:
             return False
         last = body[-1]
@@ -145,11 +150,42 @@ class _Function:
             if orelse:
                 out += [f"{pad}}} else {{"] + self._block(orelse, depth + 1)
             return out + [pad + "}"]
+        if isinstance(node, ast.For):
+            return self._for(node, depth)
+        if isinstance(node, ast.Break):
+            if not self.loops:
+                raise self._error(node, "break outside a loop")
+            return [pad + "break;"]
         if isinstance(node, ast.Pass):
             return []
         if isinstance(node, ast.Expr) and isinstance(node.value, ast.Constant):
             return []  # a string as a comment
         raise self._error(node, f"{type(node).__name__} statements are not translated")
+
+    def _for(self, node, depth: int) -> list[str]:
+        """``for NAME in range(N):`` with N a positive integer constant: a bounded loop (a
+        law's local Newton solve, say). The counter is the loop's own (an int, read nowhere
+        else: the law keeps its own float count if it needs one); ``break`` leaves it."""
+        pad = "    " * depth
+        call = node.iter
+        if not (isinstance(node.target, ast.Name) and isinstance(call, ast.Call)
+                and isinstance(call.func, ast.Name) and call.func.id == "range"
+                and len(call.args) == 1 and not call.keywords
+                and isinstance(call.args[0], ast.Constant) and type(call.args[0].value) is int
+                and call.args[0].value > 0) or node.orelse:
+            raise self._error(node, "a loop must be `for NAME in range(N):` with N a positive "
+                                    "integer constant (and no else)")
+        name = node.target.id
+        if name in self.arrays or name in self.scalars or name in self.locals:
+            raise self._error(node, f"the loop counter {name!r} is already a name of the law")
+        counter = f"loop{len(self.counters)}_"
+        self.counters.append(counter)
+        self.hidden.add(name)
+        self.loops += 1
+        body = self._block(node.body, depth + 1)
+        self.loops -= 1
+        return [f"{pad}for ({counter} = 0; {counter} < {call.args[0].value}; {counter}++) {{"] \
+            + body + [pad + "}"]
 
     def _assign(self, target, value: str, node) -> str:
         return f"{self._target(target, node, new=True)} = {value}"
@@ -159,6 +195,8 @@ class _Function:
             name = target.id
             if name in self.arrays or name in self.scalars:
                 raise self._error(node, f"the argument {name!r} is assigned to")
+            if name in self.hidden:
+                raise self._error(node, f"the loop counter {name!r} is assigned to")
             if name not in self.locals:
                 if not new:
                     raise self._error(node, f"{name!r} is used before it is assigned")
@@ -189,6 +227,9 @@ class _Function:
                 return self.scalars[node.id]
             if node.id in self.locals:
                 return self.locals[node.id]
+            if node.id in self.hidden:
+                raise self._error(node, f"the loop counter {node.id!r} is read (keep a float "
+                                        "count of your own)")
             if node.id in ("True", "False"):
                 return "1" if node.id == "True" else "0"
             raise self._error(node, f"the name {node.id!r} is not an argument or a local "
@@ -260,6 +301,7 @@ class _Function:
 
     def c_source(self) -> str:
         declared = "".join(f"    double {c};\n" for c in self.locals.values())
+        declared += "".join(f"    int64_t {c};\n" for c in self.counters)
         declared += ("    (void)params; (void)committed; (void)trial; (void)deformation; "
                      "(void)rate;\n")
         body = "\n".join(self.lines)

@@ -34,12 +34,15 @@ _BUILTIN_MODULES = {
         "pframe.laws.contact.hertz",
         "pframe.laws.contact.hertzdamp",
         "pframe.laws.contact.jankowski",
+        "pframe.laws.contact.bumper",
     ),
     "material": (
         "pframe.laws.material.elastic",
         "pframe.laws.material.bilinear",
         "pframe.laws.material.viscous",
         "pframe.laws.material.kelvin_voigt",
+        "pframe.laws.material.bouc_wen",
+        "pframe.laws.material.friction_pendulum",
     ),
 }
 _GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}
@@ -69,6 +72,38 @@ class ContactContext:
         if math.isinf(self.mass_left) or math.isinf(self.mass_right):
             return min(self.mass_left, self.mass_right)
         return self.mass_left * self.mass_right / (self.mass_left + self.mass_right)
+
+
+#: standard gravity (m/s^2): the weight a storey carries is g times the masses above it
+GRAVITY = 9.80665
+
+
+class StoreyContext:
+    """What a storey material may need from the scene: the mass it carries.
+
+    ``mass_above`` is a number or a function giving it, called the first time a law asks
+    (so that a scene whose laws never ask pays nothing for it).
+
+    Attributes
+    ----------
+    mass_above : float
+        The masses of the storey's upper node and of every node above it in its building
+        (kg): a base isolator carries the whole superstructure, weight ``GRAVITY * mass_above``.
+    """
+
+    def __init__(self, mass_above):
+        self._mass_above = mass_above
+
+    @property
+    def mass_above(self) -> float:
+        if callable(self._mass_above):
+            self._mass_above = float(self._mass_above())
+        return self._mass_above
+
+    @property
+    def weight(self) -> float:
+        """g times the masses above (N)."""
+        return GRAVITY * self.mass_above
 
 
 class Law:
@@ -101,6 +136,9 @@ class Law:
     #: ``dimensionless``, ...) or a unit string (``"N/m^1.5"``). ``pframe pi``, ``pframe
     #: scale`` and Pi-form scenes use it; a numeric field without one is refused there.
     dimensions: ClassVar[dict[str, str]] = {}
+    #: field -> why it has no fixed dimension (Bouc-Wen's gamma, in m^-n): ``pframe scale``
+    #: refuses it with that reason
+    undimensioned: ClassVar[dict[str, str]] = {}
     #: n of F ~ k delta^n: the stability and steps-per-contact checks size a contact from it
     exponent: ClassVar[float] = 1.0
     #: how the reference solver (``pframe accuracy``) locates the law's kinks: a model of

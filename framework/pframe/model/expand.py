@@ -15,7 +15,7 @@ from pframe.excitation.characteristic import apply_record
 from pframe.excitation.describe import applied_motion, motion_warnings
 from pframe.excitation.records import RecordUnitsError
 from pframe.excitation.stochastic import stochastic_record, stochastic_warnings
-from pframe.laws import ContactContext, get_law
+from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
 from pframe.model.scene import default_contact_name, default_link_name, default_story_name
@@ -158,6 +158,35 @@ def _check_size(scene) -> None:
         raise ModelError(("buildings",), problem)
 
 
+def _masses_above(stories, index, masses) -> dict:
+    """node name -> the mass of that node and of every node above it (kg): the nodes reached
+    upward through storeys (lower -> upper), each counted once along each storey (a tree, as
+    buildings are). One pass over the storeys, whatever the height. Unknown names are left to
+    the caller's check; a storey loop (refused elsewhere) is cut where it closes."""
+    upward: dict[str, list[str]] = {}
+    for story in stories:  # (name, (lower, upper), law, params, path, ...)
+        lower, upper = story[1]
+        upward.setdefault(lower, []).append(upper)
+    carried: dict[str, float] = {}
+    for start in {story[1][1] for story in stories}:
+        if start in carried:
+            continue
+        todo, open_ = [(start, False)], set()
+        while todo:  # post-order: a node's total once every node above it has one
+            name, done = todo.pop()
+            if done:
+                open_.discard(name)
+                carried[name] = (float(masses[index[name]]) if name in index else 0.0) + sum(
+                    carried.get(up, 0.0) for up in upward.get(name, ()) if up not in open_)
+                continue
+            if name in carried or name in open_:
+                continue
+            open_.add(name)
+            todo.append((name, True))
+            todo += [(up, False) for up in upward.get(name, ()) if up not in carried]
+    return carried
+
+
 def expand(scene, base_dir: Path | str = ".") -> Expanded:
     """Resolve a validated scene; raises :class:`ModelError` with the YAML path of a problem."""
     nodes: list = []
@@ -201,6 +230,13 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
                         ("stories", s), story.height, float(story.gravity_load or 0.0)))
 
+    carried: dict = {}
+
+    def mass_above(upper: str) -> float:  # computed for every storey at the first request
+        if not carried:
+            carried.update(_masses_above(stories, index, [m for _, m, _ in nodes]))
+        return carried[upper]
+
     story_elements, story_building, seen = [], [], {}
     for name, (lower, upper), law, params, path, _, _ in stories:
         up = node_index(upper, path + ("nodes", 1))
@@ -213,7 +249,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if name in seen:
             raise ModelError(path, f"storey name {name!r} is used twice")
         seen[name] = True
-        story_elements.append(Element(name, (low, up), law, _finite(law.pack(params), path)))
+        try:
+            packed = law.pack(params, StoreyContext(lambda upper=upper: mass_above(upper)))
+        except InputError as exc:
+            raise ModelError(path, str(exc)) from None
+        story_elements.append(Element(name, (low, up), law, _finite(packed, path)))
         story_building.append(buildings.index(building_of[up]))
 
     for name, (_, _), law, _, path, _, _ in stories:

@@ -30,10 +30,14 @@ def law_field_dimension(kind: str, law: str, field: str) -> Dimension | None:
         return None
     from pframe.laws import get_law
 
-    declared = getattr(get_law(kind, law), "dimensions", None) or {}
+    cls = get_law(kind, law)
+    declared = getattr(cls, "dimensions", None) or {}
     if field in declared:
         return dimension_of(declared[field], kind, law, field)
     what = "material" if kind == "material" else "contact law"
+    reason = (getattr(cls, "undimensioned", None) or {}).get(field)
+    if reason:  # a field whose dimension depends on another field's value (the law says why)
+        raise InputError(f"field {field!r} of {what} {law!r} has no fixed dimension: {reason}")
     raise InputError(
         f"the dimension of field {field!r} of {what} {law!r} is unknown; a law declares it "
         f"with a class attribute dimensions = {{{field!r}: 'N/m', ...}} (a quantity such as "

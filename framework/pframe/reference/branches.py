@@ -130,6 +130,43 @@ class HuntCrossley(_Releasing):
         return zero, np.where(damped, chi / np.where(damped, v0, 1.0), 0.0), zero + 1.0, damped
 
 
+#: bumper regimes beyond the Hunt-Crossley ones: past the crush depth, and released there
+CRUSHED, CRUSHED_RELEASED = 3, 4
+
+
+class Bumper(HuntCrossley):
+    """The bumper: the Hunt-Crossley regimes, each also past the crush depth delta_c
+    (params[:, 5]), where the hard term's tangent has a sqrt kink: a third event at
+    delta = delta_c, so that no integration step straddles it."""
+
+    n_events = 3
+    _RELEASE = {CLOSED: RELEASED, RELEASED: CLOSED, CRUSHED: CRUSHED_RELEASED,
+                CRUSHED_RELEASED: CRUSHED}
+    _CRUSH = {CLOSED: CRUSHED, CRUSHED: CLOSED, RELEASED: CRUSHED_RELEASED,
+              CRUSHED_RELEASED: RELEASED}
+
+    def coefficients(self, regime, params, committed):
+        base = np.where(regime >= CRUSHED, regime - 2, regime)  # CLOSED / RELEASED alike
+        a, b, c = super().coefficients(base, params, committed)  # n_events columns
+        depth = params[:, 5]
+        crushed = regime >= CRUSHED
+        # delta_c - delta while short of the crush depth, delta - delta_c past it
+        a[:, 2] = np.where(regime == OPEN, 0.0, np.where(crushed, 1.0, -1.0))
+        c[:, 2] = np.where(regime == OPEN, 1.0, np.where(crushed, -depth, depth))
+        return a, b, c
+
+    def after(self, regime, event):
+        if event == 0:
+            return super().after(regime, event)
+        if event == 1:
+            return self._RELEASE[regime], 0, "release" if regime in (CLOSED, CRUSHED) \
+                else "re-engage"
+        return self._CRUSH[regime], 0, "crush" if regime in (CLOSED, RELEASED) else "uncrush"
+
+    def loaded(self, regime):
+        return (regime == CLOSED) | (regime == CRUSHED)
+
+
 class Jankowski(Gap):
     """Jankowski: the dashpot acts only while approaching, so delta' = 0 in contact is a
     branch point (approach -> restitution and back)."""
@@ -187,7 +224,7 @@ class Bilinear(Smooth):
 
 
 #: the regime models a law names in its ``branches`` attribute (pframe.laws.Law)
-BRANCHES = {"gap": Gap, "kelvin": Kelvin, "hunt_crossley": HuntCrossley,
+BRANCHES = {"gap": Gap, "kelvin": Kelvin, "hunt_crossley": HuntCrossley, "bumper": Bumper,
             "jankowski": Jankowski, "smooth": Smooth, "bilinear": Bilinear}
 
 

@@ -110,7 +110,170 @@ static void material_kelvin_voigt(const double *params, const double *committed,
     return;
 }
 
-#define BUILTIN_MATERIALS 4
+/* pframe.laws.material.bouc_wen.BoucWen.force */
+static void material_bouc_wen(const double *params, const double *committed, double *trial,
+                              double deformation, double rate, double *out)
+{
+    double alpha_;
+    double ko_;
+    double n_;
+    double gamma_;
+    double beta_;
+    double a0_;
+    double delta_a_;
+    double delta_nu_;
+    double delta_eta_;
+    double tolerance_;
+    double most_;
+    double cz_;
+    double ce_;
+    double strain_;
+    double z_;
+    double z_old_;
+    double z_new_;
+    double count_;
+    double te_;
+    double ta_;
+    double tnu_;
+    double teta_;
+    double psi_;
+    double phi_;
+    double f_;
+    double te__;
+    double ta__;
+    double tnu__;
+    double teta__;
+    double sign_;
+    double pow1_;
+    double pow2_;
+    double phi__;
+    double f__;
+    double stress_;
+    double tangent_;
+    double b1_;
+    double b2_;
+    double b3_;
+    double b4_;
+    double b5_;
+    int64_t loop0_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    alpha_ = params[0];
+    ko_ = params[1];
+    n_ = params[2];
+    gamma_ = params[3];
+    beta_ = params[4];
+    a0_ = params[5];
+    delta_a_ = params[6];
+    delta_nu_ = params[7];
+    delta_eta_ = params[8];
+    tolerance_ = params[9];
+    most_ = params[10];
+    cz_ = committed[1];
+    ce_ = committed[2];
+    strain_ = (deformation - committed[0]);
+    z_ = 0.01;
+    z_old_ = 0.01;
+    z_new_ = 1.0;
+    count_ = 0.0;
+    for (loop0_ = 0; loop0_ < 100; loop0_++) {
+        if ((!((fabs((z_old_ - z_new_)) > tolerance_) && (count_ < most_)))) {
+            break;
+        }
+        te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+        ta_ = (a0_ - (delta_a_ * te_));
+        tnu_ = (1.0 + (delta_nu_ * te_));
+        teta_ = (1.0 + (delta_eta_ * te_));
+        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
+        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
+        f_ = ((z_ - cz_) - ((phi_ / teta_) * strain_));
+        te__ = (((1.0 - alpha_) * ko_) * strain_);
+        ta__ = ((-delta_a_) * te__);
+        tnu__ = (delta_nu_ * te__);
+        teta__ = (delta_eta_ * te__);
+        sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
+        pow1_ = 0.0;
+        pow2_ = 0.0;
+        if ((z_ != 0.0)) {
+            pow1_ = pow(fabs(z_), (n_ - 1.0));
+            pow2_ = pow(fabs(z_), n_);
+        }
+        phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
+        f__ = (1.0 - ((((phi__ * teta_) - (phi_ * teta__)) / (teta_ * teta_)) * strain_));
+        z_new_ = (z_ - (f_ / f__));
+        z_old_ = z_;
+        z_ = z_new_;
+        count_ = (count_ + 1.0);
+    }
+    stress_ = (((alpha_ * ko_) * deformation) + (((1.0 - alpha_) * ko_) * z_));
+    te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    tangent_ = ((alpha_ * ko_) + ((1.0 - alpha_) * ko_));
+    if ((z_ != 0.0)) {
+        ta_ = (a0_ - (delta_a_ * te_));
+        tnu_ = (1.0 + (delta_nu_ * te_));
+        teta_ = (1.0 + (delta_eta_ * te_));
+        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
+        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
+        b1_ = (((1.0 - alpha_) * ko_) * z_);
+        b2_ = (((1.0 - alpha_) * ko_) * strain_);
+        b3_ = (strain_ / teta_);
+        b4_ = ((((((-b3_) * delta_a_) * b1_) - ((((b3_ * pow(fabs(z_), n_)) * psi_) * delta_nu_) * b1_)) - ((((phi_ / (teta_ * teta_)) * strain_) * delta_eta_) * b1_)) + (phi_ / teta_));
+        b5_ = ((((1.0 + ((b3_ * delta_a_) * b2_)) + (((((b3_ * n_) * pow(fabs(z_), (n_ - 1.0))) * ((z_ > 0.0) ? 1.0 : (-1.0))) * psi_) * tnu_)) + ((((b3_ * pow(fabs(z_), n_)) * psi_) * delta_nu_) * b2_)) + ((((phi_ / (teta_ * teta_)) * strain_) * delta_eta_) * b2_));
+        tangent_ = ((alpha_ * ko_) + (((1.0 - alpha_) * ko_) * (b4_ / b5_)));
+    }
+    trial[0] = deformation;
+    trial[1] = z_;
+    trial[2] = te_;
+    out[0] = stress_;
+    out[1] = tangent_;
+    out[2] = 0.0;
+    return;
+}
+
+/* pframe.laws.material.friction_pendulum.FrictionPendulum.force */
+static void material_friction_pendulum(const double *params, const double *committed, double *trial,
+                                       double deformation, double rate, double *out)
+{
+    double weight_;
+    double k2_;
+    double k_init_;
+    double k0_;
+    double decay_;
+    double q_yield_;
+    double q_trial_;
+    double size_;
+    double direction_;
+    double slope_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    weight_ = params[0];
+    k2_ = (weight_ * params[1]);
+    k_init_ = params[2];
+    k0_ = (k_init_ - k2_);
+    decay_ = ((params[4] - params[3]) * exp(((-params[5]) * fabs(rate))));
+    q_yield_ = ((params[4] - decay_) * weight_);
+    q_trial_ = (k0_ * (deformation - committed[0]));
+    size_ = fabs(q_trial_);
+    if (((size_ - q_yield_) <= 0.0)) {
+        trial[0] = committed[0];
+        out[0] = (q_trial_ + (k2_ * deformation));
+        out[1] = k_init_;
+        out[2] = 0.0;
+        return;
+    }
+    direction_ = (q_trial_ / size_);
+    trial[0] = (committed[0] + ((((size_ - q_yield_) / k0_) * q_trial_) / size_));
+    slope_ = 0.0;
+    if ((rate > 0.0)) {
+        slope_ = (params[5] * decay_);
+    } else if ((rate < 0.0)) {
+        slope_ = ((-params[5]) * decay_);
+    }
+    out[0] = (((q_yield_ * q_trial_) / size_) + (k2_ * deformation));
+    out[1] = k2_;
+    out[2] = ((slope_ * weight_) * direction_);
+    return;
+}
+
+#define BUILTIN_MATERIALS 6
 
 /* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins */
 static void material_force(const Settings *s, int64_t law, const double *params,
@@ -129,6 +292,12 @@ static void material_force(const Settings *s, int64_t law, const double *params,
         return;
     case 3: /* kelvin_voigt */
         material_kelvin_voigt(params, committed, trial, drift, rate, out);
+        return;
+    case 4: /* bouc_wen */
+        material_bouc_wen(params, committed, trial, drift, rate, out);
+        return;
+    case 5: /* friction_pendulum */
+        material_friction_pendulum(params, committed, trial, drift, rate, out);
         return;
     default:
         s->material_plugins[law - BUILTIN_MATERIALS](params, committed, trial, drift, rate, out);
@@ -304,7 +473,93 @@ static void contact_jankowski(const double *params, const double *committed, dou
     return;
 }
 
-#define BUILTIN_CONTACT_LAWS 6
+/* pframe.laws.contact.bumper.Bumper.force */
+static void contact_bumper(const double *params, const double *committed, double *trial,
+                           double deformation, double rate, double *out)
+{
+    double chi_;
+    double onset_;
+    double v0_;
+    double root_;
+    double spring_;
+    double dspring_;
+    double stored_;
+    double crushed_;
+    double hard_root_;
+    double ve2_;
+    double factor_;
+    double ve_;
+    double damping_;
+    double f_;
+    double dve_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    if ((deformation <= 0.0)) {
+        trial[0] = 0.0;
+        trial[1] = 0.0;
+        out[0] = 0.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        return;
+    }
+    chi_ = params[2];
+    onset_ = (committed[1] == 0.0);
+    v0_ = (onset_ ? rate : committed[0]);
+    trial[0] = v0_;
+    trial[1] = 1.0;
+    root_ = sqrt(deformation);
+    spring_ = ((params[0] * deformation) * root_);
+    dspring_ = ((1.5 * params[0]) * root_);
+    stored_ = ((0.4 * spring_) * deformation);
+    crushed_ = (deformation - params[5]);
+    if ((crushed_ > 0.0)) {
+        hard_root_ = sqrt(crushed_);
+        spring_ = (spring_ + ((params[4] * crushed_) * hard_root_));
+        dspring_ = (dspring_ + ((1.5 * params[4]) * hard_root_));
+        stored_ = (stored_ + ((((0.4 * params[4]) * crushed_) * crushed_) * hard_root_));
+    }
+    if (((v0_ <= 0.0) || (chi_ == 0.0))) {
+        out[0] = spring_;
+        out[1] = dspring_;
+        out[2] = 0.0;
+        return;
+    }
+    ve2_ = ((2.0 * stored_) * params[3]);
+    if (((v0_ * v0_) >= ve2_)) {
+        if (onset_) {
+            out[0] = (spring_ * (1.0 + chi_));
+            out[1] = (dspring_ * (1.0 + chi_));
+            out[2] = 0.0;
+            return;
+        }
+        factor_ = (1.0 + ((chi_ * rate) / v0_));
+        if ((factor_ <= 0.0)) {
+            out[0] = 0.0;
+            out[1] = 0.0;
+            out[2] = 0.0;
+            return;
+        }
+        out[0] = (spring_ * factor_);
+        out[1] = (dspring_ * factor_);
+        out[2] = ((spring_ * chi_) / v0_);
+        return;
+    }
+    ve_ = sqrt(ve2_);
+    damping_ = ((chi_ * spring_) / ve_);
+    f_ = (spring_ + (damping_ * rate));
+    if ((f_ <= 0.0)) {
+        out[0] = 0.0;
+        out[1] = 0.0;
+        out[2] = 0.0;
+        return;
+    }
+    dve_ = ((spring_ * params[3]) / ve_);
+    out[0] = f_;
+    out[1] = (dspring_ + (((chi_ * rate) * (dspring_ - ((spring_ * dve_) / ve_))) / ve_));
+    out[2] = damping_;
+    return;
+}
+
+#define BUILTIN_CONTACT_LAWS 7
 
 /* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins */
 static void contact_force(const Settings *s, int64_t law, const double *params,
@@ -329,6 +584,9 @@ static void contact_force(const Settings *s, int64_t law, const double *params,
         return;
     case 5: /* jankowski */
         contact_jankowski(params, committed, trial, penetration, rate, out);
+        return;
+    case 6: /* bumper */
+        contact_bumper(params, committed, trial, penetration, rate, out);
         return;
     default:
         s->contact_plugins[law - BUILTIN_CONTACT_LAWS](params, committed, trial, penetration, rate, out);

@@ -1,0 +1,135 @@
+"""Bumper contact: an elastomeric bumper of finite thickness on one side of the gap.
+
+After the model of Polycarpou, Komodromos & Polycarpou (2013, EESD 42): while the rubber
+compresses the contact is a soft Hertz-damp law; once the rubber is crushed to a given ratio of
+its thickness the floors meet through it and a hard Hertz contact adds to the rubber's force:
+
+    F = [k_r delta^1.5 + k_h <delta - delta_c>^1.5] (1 + chi delta' / v_ref),
+    delta_c = crush_ratio * thickness,
+
+with <x> = max(x, 0). The gap is measured to the bumper's face (the rubber's thickness is
+inside the gap: a contact's ``gap`` is the clear distance to the bumper). Damping is the
+Hunt-Crossley form shared by both stages, one chi from the restitution e (``calibration``:
+``exact`` by default, or ``published``, the Muthukumar & DesRoches formula
+chi = 3 (1 - e^2) / 4); v_ref is the approach
+velocity v0 at onset, never less than the energy velocity of the contact (as
+``improved_kelvin`` / ``hertzdamp``, docs/restitution.md). With one chi for both stages a
+two-body impact rebounds with the Hunt-Crossley restitution of chi whatever the spring (the
+restitution of m x'' = -P(x) (1 + chi x' / v0) does not depend on P): e itself with
+``calibration: exact``, whether the impact crushes the bumper or not. Crushing raises the peak
+force and shortens the contact (tests/test_bumper.py checks both against an ODE solution).
+
+The force is C1 at delta_c (the hard term starts with zero force and zero slope), so the
+stage change needs no event.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field
+
+from pframe.laws.contact.hertzdamp import CHI_FORMULAS
+from pframe.laws.params import HERTZ_STIFFNESS, Calibration, DampedRestitution, LawParams, Positive
+from pframe.laws.registry import HertzContact, contact_law
+from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
+
+
+@contact_law("bumper")
+class Bumper(HertzContact):
+    class Params(LawParams):
+        law: Literal["bumper"]
+        stiffness: Positive = Field(
+            description="Hertz stiffness k_r of the rubber stage (N/m^1.5), F = k_r delta^1.5 "
+                        "while the bumper compresses; much softer than the hard contact.")
+        hard_stiffness: Positive = Field(description="Hertz stiffness k_h added once the "
+                                                     "bumper is crushed: " + HERTZ_STIFFNESS)
+        thickness: Positive = Field(description="Thickness of the rubber bumper (m).")
+        crush_ratio: float = Field(0.9, gt=0, le=1, description="Share of the thickness at "
+                                   "which the rubber is crushed and the hard contact begins.")
+        restitution: DampedRestitution
+        calibration: Calibration = Field(
+            "exact", description="exact (the default here): the damping with which an impact "
+                                 "rebounds with e, crushed or not; published: the Muthukumar & "
+                                 "DesRoches 2006 formula chi = 3 (1 - e^2) / 4 (no damping "
+                                 "formula was published for this composed law).")
+
+    param_names = ("stiffness", "exponent", "chi", "inverse_effective_mass", "hard_stiffness",
+                   "crush_depth")
+    state_names = ("onset_velocity", "in_contact")
+    dimensions = {"stiffness": "hertz_stiffness", "hard_stiffness": "hertz_stiffness",
+                  "thickness": "length", "crush_ratio": "dimensionless",
+                  "restitution": "dimensionless"}
+    branches = "bumper"
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """k_h (the rubber's Hertz stiffness, as the other Hertz laws name it), the hard
+        stiffness ratio k_hard / k_h and the crush depth delta_c (the restitution e, which
+        fixes chi, is the scene's own variable)."""
+        k, _, _, _, hard, depth = packed
+        return {"k_h": ("hertz_stiffness", k), "hard_ratio": ("dimensionless", hard / k),
+                "delta_c": ("length", depth)}
+
+    @classmethod
+    def chi(cls, params) -> float:
+        e = params.restitution
+        if params.calibration == "exact":
+            return hunt_crossley_chi(e)
+        return CHI_FORMULAS["muthukumar"](e)
+
+    @classmethod
+    def published_source(cls, params) -> str:
+        return "Muthukumar & DesRoches 2006"
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """The restitution of a two-body impact, crushed or not (docs/restitution.md)."""
+        return hunt_crossley_restitution(cls.chi(params))
+
+    @classmethod
+    def pack(cls, params, context=None):
+        inverse_mass = 0.0 if context is None else 1.0 / context.effective_mass
+        return (float(params.stiffness), 1.5, cls.chi(params), inverse_mass,
+                float(params.hard_stiffness), float(params.crush_ratio * params.thickness))
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            trial[0] = 0.0
+            trial[1] = 0.0
+            return 0.0, 0.0, 0.0
+        chi = params[2]
+        onset = committed[1] == 0.0
+        v0 = rate if onset else committed[0]
+        trial[0] = v0
+        trial[1] = 1.0
+        root = math.sqrt(deformation)
+        spring = params[0] * deformation * root
+        dspring = 1.5 * params[0] * root
+        stored = 0.4 * spring * deformation  # elastic energy int F d delta
+        crushed = deformation - params[5]
+        if crushed > 0.0:
+            hard_root = math.sqrt(crushed)
+            spring = spring + params[4] * crushed * hard_root
+            dspring = dspring + 1.5 * params[4] * hard_root
+            stored = stored + 0.4 * params[4] * crushed * crushed * hard_root
+        if v0 <= 0.0 or chi == 0.0:  # no approach velocity (or no damping): the springs alone
+            return spring, dspring, 0.0
+        ve2 = 2.0 * stored * params[3]  # energy velocity squared, 2 E / m_eff
+        if v0 * v0 >= ve2:  # an impact: v_ref = v0
+            if onset:
+                return spring * (1.0 + chi), dspring * (1.0 + chi), 0.0
+            factor = 1.0 + chi * rate / v0
+            if factor <= 0.0:
+                return 0.0, 0.0, 0.0
+            return spring * factor, dspring * factor, spring * chi / v0
+        # v_ref = v_e = sqrt(2 E / m_eff), which grows with delta: d v_e / d delta = F_s / (m v_e)
+        ve = math.sqrt(ve2)
+        damping = chi * spring / ve
+        f = spring + damping * rate
+        if f <= 0.0:
+            return 0.0, 0.0, 0.0
+        dve = spring * params[3] / ve
+        return f, dspring + chi * rate * (dspring - spring * dve / ve) / ve, damping
