@@ -44,6 +44,8 @@ MATERIAL_PARAMS = {
     "friction_pendulum": [{"radius": 2.0, "mu": 0.08, "weight": 5e4, "k_init": 1e6},
                           {"mu_slow": 0.05, "mu_fast": 0.12, "rate_parameter": 20.0,
                            "weight": 5e4, "k_init": 1e6}],
+    "viscous": [{"damping": 2.0e3}, {"damping": 2.0e3, "exponent": 0.4}],
+    "kelvin_voigt": [{"stiffness": 1.0e5, "damping": 2.0e3, "exponent": 0.5}],
 }
 
 #: Contact states (committed state, penetration m, rate m/s), none within 10% of a kink of any
@@ -211,6 +213,19 @@ def test_material_tangent_matches_finite_differences(law, params):
     packed = _packed(law, params)
     if law.name in ISOLATOR_STATES:
         _check_isolator_tangent(law, packed)
+        return
+    if law.name in ("viscous", "kelvin_voigt"):
+        # the dashpot: df/dv = alpha c |v|^(alpha - 1) above linear_below (both directions),
+        # c v_0^(alpha - 1) below it; the spring's k u
+        k = packed[0] if law.name == "kelvin_voigt" else 0.0
+        c, alpha, v0 = packed[-3], packed[-2], packed[-1]
+        for rate in (0.3, -0.2, 0.3 * v0, -0.5 * v0):
+            f, kd, kr = _check_tangent(law, packed, np.zeros(0), 0.004, rate, 0.01,
+                                       abs(rate))
+            assert kd == k
+            slope = alpha * c * abs(rate) ** (alpha - 1) if abs(rate) >= v0 else \
+                c * v0 ** (alpha - 1)
+            assert kr == pytest.approx(slope, rel=1e-12)
         return
     if law.name == "bilinear":
         k, fy, alpha = packed

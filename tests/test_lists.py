@@ -62,16 +62,21 @@ def test_every_quantity_is_gathered_by_the_kernel_and_known_to_its_users():
 
 GAP, CONTACT_STIFFNESS = 0.01, 5.0e6
 STOREYS = {"A": 197392.088, "B": 1973920.88}
+LINK_K, LINK_C, HEIGHT = 2.0e4, 500.0, 3.0
 
 
 def _pounding_every_quantity():
     """Two elastic buildings pounding through linear contacts, every quantity of the list
     recorded as a history at every step and as an envelope."""
     text = scene_text(
-        buildings=[building("A", 2, 250.0, {"material": "elastic", "stiffness": STOREYS["A"]}),
-                   building("B", 2, 1000.0, {"material": "elastic", "stiffness": STOREYS["B"]})],
+        buildings=[building("A", 2, 250.0, {"material": "elastic", "stiffness": STOREYS["A"]})
+                   | {"height": HEIGHT},
+                   building("B", 2, 1000.0, {"material": "elastic", "stiffness": STOREYS["B"]})
+                   | {"height": HEIGHT}],
         contacts=[{"name": f"floor-{i}", "nodes": [f"A/{i}", f"B/{i}"], "gap": GAP,
                    "law": "linear", "stiffness": CONTACT_STIFFNESS} for i in (1, 2)],
+        links=[{"name": "coupler", "nodes": ["A/2", "B/2"], "material": "kelvin_voigt",
+                "stiffness": LINK_K, "damping": LINK_C}],
         damping={"ratio": 0.05, "modes": [1, 2]},
         excitation={"kind": "sine", "amplitude": 9.81, "frequency": 2.0 * math.pi},
         analysis=analysis(2.0e-4, 1.5),
@@ -90,7 +95,7 @@ def test_every_quantity_records_what_it_means():
     assert result.completed(0)
     assert set(result.history) == set(result.envelope) == set(QUANTITIES)
     widths = {"node": plan.n_dof, "story": len(plan.story_names),
-              "contact": len(plan.contact_names)}
+              "contact": len(plan.contact_names), "link": len(plan.link_names)}
     for q, (dim, _, _) in QUANTITIES.items():
         history = result.history[q][0]
         assert history.shape[0] == plan.steps + 1
@@ -99,9 +104,17 @@ def test_every_quantity_records_what_it_means():
         assert np.array_equal(result.envelope[q][0], np.abs(history).max(axis=0)), q
     h = {q: v[0] for q, v in result.history.items()}
     u = h["displacement"]
-    lower, upper = plan.story_dofs[:, 0], plan.story_dofs[:, 1]
+    ns = len(plan.story_names)
+    lower, upper = plan.story_dofs[:ns, 0], plan.story_dofs[:ns, 1]
     drift = u[:, upper] - np.where(lower >= 0, u[:, np.maximum(lower, 0)], 0.0)
     np.testing.assert_allclose(h["story_drift"], drift, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(h["story_drift_ratio"], drift / HEIGHT, rtol=1e-15, atol=0)
+    first, second = plan.story_dofs[ns:, 0], plan.story_dofs[ns:, 1]  # the links
+    stretch = u[:, second] - u[:, first]
+    np.testing.assert_allclose(h["link_deformation"], stretch, rtol=0, atol=1e-15)
+    rate = h["velocity"][:, second] - h["velocity"][:, first]
+    np.testing.assert_allclose(h["link_force"], LINK_K * stretch + LINK_C * rate,
+                               rtol=1e-12, atol=1e-9)
     k = np.array([STOREYS[name.split("/")[0]] for name in plan.story_names])
     np.testing.assert_allclose(h["story_force"], k * drift, rtol=1e-12, atol=1e-9)
     left, right = plan.contact_dofs[:, 0], plan.contact_dofs[:, 1]
@@ -141,7 +154,7 @@ def test_energy_terms_and_bookkeeping_are_the_energy_slots(tmp_path):
     e = result.energy_terms(0)
     assert list(e) == list(state.ENERGY_TERMS)
     balance = e["input"] - (e["kinetic"] - e["initial_kinetic"] + e["damping"] + e["storeys"]
-                            + e["contacts"] + e["algorithmic"])
+                            + e["contacts"] + e["links"] + e["algorithmic"])
     assert abs(balance) < 1e-9 * e["input"]
     scene = tmp_path / "scene.yaml"
     scene.write_text(scene_text(

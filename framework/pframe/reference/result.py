@@ -75,6 +75,9 @@ class ReferenceResult:
     rtol: float = 0.0
     atol: np.ndarray = None
     ground: str = ""
+    story_drift_ratio: np.ndarray = None  # (K, s) drift / height (NaN without heights)
+    link_deformation: np.ndarray = None  # (K, l) u_second - u_first
+    link_force: np.ndarray = None  # (K, l)
 
     def history(self, quantity: str) -> np.ndarray:
         """A history by its recorder name (``displacement``, ``story_force``, ...)."""

@@ -46,8 +46,14 @@ class Integration:
         self.method = method
         self.max_step = max_step
         k, n = len(times), system.n
-        s, c = system.n_story, system.n_contact
-        width = {"node": (n,), "story": (s,), "contact": (c,), None: ()}
+        c = system.n_contact
+        plan = system.plan
+        s = len(plan.story_names)  # the storeys; the links are the springs after them
+        self.storeys = s
+        self.heights = (plan.story_height[system.member, :s] if plan.story_height is not None
+                        else np.full(s, np.nan))
+        width = {"node": (n,), "story": (s,), "contact": (c,), None: (),
+                 "link": (system.n_story - s,)}
         self.out = {q: np.full((k, *width[dim]), np.nan) for q, (dim, _, _) in QUANTITIES.items()}
         self.next_sample = 0
         self.episodes = Episodes(system)
@@ -66,8 +72,12 @@ class Integration:
         out["velocity"][rows] = s.v
         out["acceleration"][rows] = s.acceleration
         out["ground_acceleration"][rows] = s.ground
-        out["story_drift"][rows] = s.drift
-        out["story_force"][rows] = s.story_force
+        ns = self.storeys
+        out["story_drift"][rows] = s.drift[..., :ns]
+        out["story_force"][rows] = s.story_force[..., :ns]
+        out["story_drift_ratio"][rows] = s.drift[..., :ns] / self.heights
+        out["link_deformation"][rows] = s.drift[..., ns:]
+        out["link_force"][rows] = s.story_force[..., ns:]
         out["contact_force"][rows] = s.contact_force
         out["contact_penetration"][rows] = np.maximum(s.penetration, 0.0)
 
