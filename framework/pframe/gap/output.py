@@ -172,10 +172,11 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
                 "contact"}),
         })
     from pframe.api import indexed
+    from pframe.record.netcdf import with_units
 
     return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
                               coords={k: xr.Variable(*v) for k, v in coords.items()},
-                              attrs=attrs))
+                              attrs=with_units(attrs)))
 
 
 def write_dataset(ds, output: str | Path, call: str | None = None) -> Path:
