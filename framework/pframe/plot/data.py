@@ -248,6 +248,9 @@ def open_result(source):
                          "wrote")
     import xarray as xr
 
+    from pframe.record.check import check_file
+
+    check_file(path)  # a damaged file: what is wrong, not h5py's KeyError or MemoryError
     try:
         ds = xr.open_dataset(path, engine="h5netcdf", phony_dims="access")
     except (OSError, ValueError):
@@ -271,6 +274,11 @@ def read_result(source) -> Result:
         raise InputError(f"{name}: a netCDF/HDF5 file, but not a pframe result (it has no "
                          "pframe_version attribute and node names); pframe plot reads "
                          "the result files that pframe solve writes")
+    from pframe.record.check import check_fits
+
+    check_fits(name, "its histories", sum(
+        ds[q].size * 8 + ds[q][ds[q].dims[0]].size * 8 for q in PLOTTED
+        if q in ds.variables and ds[q].ndim >= 1))
     histories = {}
     for quantity in PLOTTED:
         if quantity in ds.variables:
