@@ -79,6 +79,8 @@ class Result:
         The scales used when the histories were made dimensionless by :meth:`dimensionless`.
     dropped : tuple of str
         Notes on histories left out by a conversion.
+    contacts, gaps, gap_units
+        Each contact's two nodes and its gap (the pounding figure's gap line).
     """
 
     path: Path
@@ -93,6 +95,11 @@ class Result:
     reference: Reference | None = None
     dropped: tuple[str, ...] = field(default=())
     attributes: dict = field(default_factory=dict, repr=False)
+    #: contact -> (left node, right node), from the file's connectivity
+    contacts: dict = field(default_factory=dict)
+    #: contact -> its initial gap, in ``gap_units`` (the file's ``contact_gap``)
+    gaps: dict = field(default_factory=dict)
+    gap_units: str = ""
 
     @property
     def is_dimensionless(self) -> bool:
@@ -126,7 +133,12 @@ class Result:
                 continue
             histories[q] = replace(h, values=h.values * conversion(h.units, target),
                                    units=target)
-        return replace(self, histories=histories)
+        gaps, gap_units = self.gaps, self.gap_units
+        target = wanted.get(gap_units)
+        if target is not None and target != gap_units:
+            factor = conversion(gap_units, target)
+            gaps, gap_units = {k: v * factor for k, v in gaps.items()}, target
+        return replace(self, histories=histories, gaps=gaps, gap_units=gap_units)
 
     def dimensionless(self, reference: Reference) -> Result:
         """The histories in the paper's dimensionless variables (see :mod:`pframe.plot.scales`).
@@ -144,7 +156,13 @@ class Result:
                 continue
             histories[q] = replace(h, time=h.time * time_scale, values=h.values * scale,
                                    units=DIMENSIONLESS, time_units=DIMENSIONLESS)
-        return replace(self, histories=histories, reference=reference, dropped=tuple(dropped))
+        gaps, gap_units = {}, self.gap_units
+        scale = reference.factor(self.gap_units) if self.gaps else None
+        if scale is not None:
+            gaps = {k: v * scale for k, v in self.gaps.items()}
+            gap_units = DIMENSIONLESS
+        return replace(self, histories=histories, reference=reference, dropped=tuple(dropped),
+                       gaps=gaps, gap_units=gap_units)
 
 
 #: stored SI units -> {display units: factor}
@@ -290,6 +308,12 @@ def read_result(source) -> Result:
     known = _connectivity(ds)
     levels: Levels = group_by_level(names["node"], names["story"], names["contact"],
                                     input_yaml if known is None else None, known=known)
+    gaps, gap_units = {}, ""
+    if "contact_gap" in ds.variables and names["contact"]:
+        values = np.asarray(ds["contact_gap"].values, dtype=float).ravel()
+        if values.size == len(names["contact"]):
+            gaps = dict(zip(names["contact"], map(float, values)))
+            gap_units = _text(ds["contact_gap"].attrs.get("units", ""))
     return Result(
         path=path,
         title=_text(ds.attrs.get("title", path.stem)),
@@ -302,4 +326,7 @@ def read_result(source) -> Result:
         input_yaml=input_yaml,
         reference=None,
         attributes=dict(ds.attrs),
+        contacts=dict(known[1]) if known is not None else {},
+        gaps=gaps,
+        gap_units=gap_units,
     )
