@@ -245,3 +245,18 @@ def test_ncdump_prints_every_attribute(files, kind):
             data = done.stdout.split("data:", 1)[1]
             for text in ds[label].values:
                 assert f'"{text}"' in data, (label, text)
+
+
+def test_gap_intensities_are_accelerations_not_grams(files):
+    """An intensity "in g" is written as one standard gravity in UDUNITS' terms: UDUNITS
+    (and every reader converting with it) reads the unit ``g`` as the gram."""
+    cf_units = pytest.importorskip("cf_units", reason="cf_units parses the units")
+    import xarray as xr
+
+    with xr.open_dataset(files["gap"], engine="h5netcdf") as ds:
+        for name in ("level", "intensity", "fragility_median", "fragility_median_any"):
+            unit = cf_units.Unit(ds[name].attrs["units"])
+            assert unit.convert(1.0, cf_units.Unit("m/s^2")) == pytest.approx(9.80665), name
+        for name, var in ds.variables.items():  # and every unit of the file parses
+            if "units" in var.attrs:
+                cf_units.Unit(var.attrs["units"])

@@ -208,13 +208,24 @@ def provenance(call: str | None = None) -> dict:
 #: a dimensionless file (``energy_units`` of :func:`with_units`).
 ATTRIBUTE_UNITS = {
     "dt": "s", "duration": "s", "solve_seconds": "s", "dtau": "1",
-    "excitation_pga": "m/s^2", "excitation_pga_g": "9.80665 m/s^2",
+    "excitation_pga": "m/s^2", "excitation_pga_g": "9.80665 m/s^2",  # STANDARD_GRAVITY
     "excitation_pga_time": "s", "excitation_end": "s", "excitation_applied_peak": "m/s^2",
     "energy_balance_error": "1", "algorithmic_dissipation": "1",
     "reference_m_b": "kg", "reference_a_p": "m/s^2", "reference_w_p": "rad/s",
     "reference_l_e": "m",
     "scale_m_b": "kg", "scale_a_p": "m/s^2", "scale_w_p": "rad/s", "scale_l_e": "m",
 }
+#: one standard gravity (an acceleration "in g") in UDUNITS: ``"g"`` there is the gram
+STANDARD_GRAVITY = "9.80665 m/s^2"
+
+
+def short_units(units) -> str:
+    """A unit as a label shows it: ``g`` for :data:`STANDARD_GRAVITY` (and for the ``g``
+    that gap-audit files written before it meant)."""
+    units = units.decode() if isinstance(units, bytes) else str(units)
+    return "g" if units in ("g", STANDARD_GRAVITY) else units
+
+
 #: suffix of the text attribute that holds another attribute's unit
 UNITS_SUFFIX = "_units"
 
