@@ -257,6 +257,6 @@ def test_gap_intensities_are_accelerations_not_grams(files):
         for name in ("level", "intensity", "fragility_median", "fragility_median_any"):
             unit = cf_units.Unit(ds[name].attrs["units"])
             assert unit.convert(1.0, cf_units.Unit("m/s^2")) == pytest.approx(9.80665), name
-        for name, var in ds.variables.items():  # and every unit of the file parses
+        for var in ds.variables.values():  # and every unit of the file parses
             if "units" in var.attrs:
                 cf_units.Unit(var.attrs["units"])

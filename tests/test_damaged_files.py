@@ -48,6 +48,18 @@ DAMAGE = {"dangling": (_dangling, "dangling reference"),
           "lies": (_lies, "1,000,000,000 x 6")}
 
 
+def test_a_truncated_file_is_named_truncated(whole, tmp_path, capsys):
+    """A file cut short (a copy that did not finish) says so, with its two sizes, rather
+    than "not a netCDF-4/HDF5 file"."""
+    path = tmp_path / "cut.nc"
+    path.write_bytes(whole.read_bytes()[: whole.stat().st_size // 2])
+    assert main(["plot", str(path), "-o", str(tmp_path / "fig.png")]) == 2
+    err = capsys.readouterr().err
+    assert f"{path}: a truncated result file" in err and f"{whole.stat().st_size:,}" in err, err
+    with pytest.raises(InputError, match="truncated result file"):
+        pframe.open(path)
+
+
 @pytest.fixture(params=sorted(DAMAGE))
 def damaged(request, whole, tmp_path) -> tuple[Path, str]:
     damage, expected = DAMAGE[request.param]

@@ -20,6 +20,7 @@ What is checked, with h5py, without reading any values:
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 from pframe.errors import EnvironmentFailure, InputError
@@ -74,7 +75,13 @@ def check_file(path: str | Path) -> None:
     path = Path(path)
     try:
         f = h5py.File(path, "r")
-    except OSError:
+    except OSError as exc:
+        found = re.search(r"truncated file: eof = (\d+).*stored_eof = (\d+)", str(exc))
+        if found:
+            raise InputError(
+                f"{path}: a truncated result file: it ends after {int(found.group(1)):,} bytes "
+                f"but its header says {int(found.group(2)):,} (a copy or a transfer that did "
+                "not finish); copy it again from where pframe wrote it") from None
         raise InputError(f"{path}: not a netCDF-4/HDF5 file; pframe reads the result files "
                          "that pframe solve, sweep and gap write") from None
     with f:
