@@ -52,6 +52,21 @@ print("FACTS:" + json.dumps({
 }))
 """
 
+# the rest of the page's first examples: a scene as a cell's value (its table), selections
+# by name, the summary table
+OBJECTS = """\
+scene
+"""
+SUMMARY = """\
+force = float(ds.contact_force.sel(contact="floor-3").max())
+loop = ds[["story_drift", "story_force"]].sel(story="A/1").to_dataframe()
+table = pframe.summary(ds)
+peaks = table[table.part == "contact"].pivot(index="name", columns="quantity", values="value")
+print("FACTS:" + json.dumps({"force": force, "peak": float(ds.peak_contact_force.sel(contact="floor-3")),
+                             "loop_columns": [str(c) for c in loop.columns],
+                             "summary_contacts": [str(i) for i in peaks.index]}))
+"""
+
 SWEEP = """\
 sw = pframe.sweep("models/sweeps/wu2021-pi-d.yaml")
 lines = sw.building_peak_displacement.plot.line(x="Pi_d")
@@ -111,7 +126,7 @@ def _execute(tmp_path: Path, widgets: bool):
 
     block = "" if widgets else "sys.modules['ipywidgets'] = None   # as without ipywidgets"
     sources = [SETUP.format(framework=str(REPO / "framework"), block=block), NAMES, SWEEP,
-               LONG, LONG_FACTS]
+               LONG, LONG_FACTS, OBJECTS, SUMMARY]
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(s) for s in sources])
     client = nbclient.NotebookClient(nb, timeout=900, kernel_name="python3",
                                      resources={"metadata": {"path": str(REPO)}})
@@ -183,6 +198,17 @@ def test_saved_progress_ends_at_the_final_state(notebook):
                    for o in outputs)
     else:  # one text display, no stream of refreshes
         assert not [o for o in outputs if o["output_type"] == "stream"], outputs
+
+
+def test_a_scene_shows_as_a_table_and_the_summary_names_the_contacts(notebook):
+    nb, _ = notebook
+    (shown,) = [o for o in nb.cells[5].outputs if o["output_type"] == "execute_result"]
+    assert "<table" in shown["data"]["text/html"] and "floor-3" in shown["data"]["text/html"]
+    assert shown["data"]["text/plain"].startswith("Scene(")
+    facts = _facts(nb.cells[6])
+    assert facts["force"] == pytest.approx(facts["peak"], rel=1e-12)  # the envelope is the max
+    assert {"story_drift", "story_force"} <= set(facts["loop_columns"])
+    assert facts["summary_contacts"] == ["floor-1", "floor-2", "floor-3"]
 
 
 def test_a_scene_copied_with_numpy_numbers_writes_and_runs():
