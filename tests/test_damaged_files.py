@@ -133,3 +133,20 @@ def test_whole_files_of_every_kind_pass_the_check(whole, tmp_path):
     for path in (sweep, gap):
         check_file(path)
         pframe.open(path).close()
+
+
+def test_a_sparse_file_of_another_writer_is_not_called_damaged(tmp_path):
+    """netCDF-C leaves values never written unstored (they read as the fill value): only a
+    file of pframe's is held to storing every value it claims."""
+    netCDF4 = pytest.importorskip("netCDF4", reason="netCDF4-python writes the sparse file")
+    from pframe.record.check import check_file
+
+    path = tmp_path / "sparse.nc"
+    with netCDF4.Dataset(path, "w") as nc:
+        nc.createDimension("t", None)
+        nc.createVariable("x", "f8", ("t",), chunksizes=(10,))[95] = 1.0
+    check_file(path)
+    with h5py.File(path, "r+") as f:  # the same file claimed by pframe: 1 of 10 chunks
+        f.attrs["pframe_version"] = "0.1.0"
+    with pytest.raises(InputError, match="x claims 96 values but the file stores only 1 of"):
+        check_file(path)
