@@ -100,6 +100,8 @@ class Result:
     #: contact -> its initial gap, in ``gap_units`` (the file's ``contact_gap``)
     gaps: dict = field(default_factory=dict)
     gap_units: str = ""
+    #: contact -> the run's own count of impacts (``impact_count``; none for a time window)
+    impacts: dict = field(default_factory=dict)
 
     @property
     def is_dimensionless(self) -> bool:
@@ -119,7 +121,7 @@ class Result:
             first = next(iter(self.histories.values())).time
             raise InputError(f"{self.path}: no recorded time in --time-range {start:g} {stop:g}; "
                              f"the histories run from {first[0]:g} to {first[-1]:g}")
-        return replace(self, histories=histories)
+        return replace(self, histories=histories, impacts={})
 
     def in_units(self, units) -> Result:
         """The histories in other units: ``"engineering"`` (mm, mm/s, kN, kN m) or a mapping
@@ -314,6 +316,11 @@ def read_result(source) -> Result:
         if values.size == len(names["contact"]):
             gaps = dict(zip(names["contact"], map(float, values)))
             gap_units = _text(ds["contact_gap"].attrs.get("units", ""))
+    impacts = {}
+    if "impact_count" in ds.variables and names["contact"]:
+        counts = np.asarray(ds["impact_count"].values).ravel()
+        if counts.size == len(names["contact"]):
+            impacts = dict(zip(names["contact"], map(int, counts)))
     return Result(
         path=path,
         title=_text(ds.attrs.get("title", path.stem)),
@@ -329,4 +336,5 @@ def read_result(source) -> Result:
         contacts=dict(known[1]) if known is not None else {},
         gaps=gaps,
         gap_units=gap_units,
+        impacts=impacts,
     )
