@@ -16,6 +16,7 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from pframe.cli import main
@@ -114,3 +115,151 @@ def test_every_text_attribute_is_nc_char(files, kind):
     header = done.stdout
     assert ":Conventions = \"CF-1.8\" ;" in header and ":units = " in header
     assert not re.search(r"^\s*string \S*:", header, re.MULTILINE), header
+
+
+# -- units of numeric attributes --------------------------------------------------------------
+
+
+def _global_attributes(path: Path) -> dict:
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="h5netcdf", decode_times=False) as ds:
+        return dict(ds.attrs)
+
+
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+def test_every_numeric_attribute_with_a_unit_names_it(files, kind):
+    """CF has no units for attributes: each float attribute has ``<name>_units`` beside it
+    (docs/netcdf.md), a unit UDUNITS parses; counts and flags (integers) have none."""
+    cf_units = pytest.importorskip("cf_units", reason="cf_units (with compliance-checker, "
+                                   "the test extra) parses the units")
+    attrs = _global_attributes(files[kind])
+    floats = [k for k, v in attrs.items() if not isinstance(v, str)
+              and np.asarray(v).dtype.kind == "f"]
+    assert floats
+    for name in floats:
+        unit = attrs.get(f"{name}_units")
+        assert isinstance(unit, str), f"{kind}: {name} has no {name}_units"
+        cf_units.Unit(unit)  # raises on a unit UDUNITS does not know
+    for name, value in attrs.items():
+        if not isinstance(value, str) and np.asarray(value).dtype.kind in "iu":
+            assert f"{name}_units" not in attrs, name
+    if "dt" in attrs:
+        assert attrs["dt_units"] == "s"
+
+
+@pytest.mark.parametrize("kind", ["solve", "pi"])
+def test_attribute_units_agree_with_the_physics(files, kind):
+    """The units are the right ones, not just units: the PGA in its unit converts to the
+    PGA in g's unit; l_e = a_p / w_p^2 holds through the units of the three scales; the
+    energies are J in an SI file and 1 in a dimensionless one."""
+    cf_units = pytest.importorskip("cf_units", reason="cf_units parses the units")
+    attrs = _global_attributes(files[kind])
+
+    def value_in(name, unit):
+        return cf_units.Unit(attrs[f"{name}_units"]).convert(float(attrs[name]),
+                                                             cf_units.Unit(unit))
+
+    assert value_in("excitation_pga", attrs["excitation_pga_g_units"]) == pytest.approx(
+        float(attrs["excitation_pga_g"]), rel=1e-12)
+    prefix = "reference" if kind == "solve" else "scale"
+    a = cf_units.Unit(attrs[f"{prefix}_a_p_units"])
+    w = cf_units.Unit(attrs[f"{prefix}_w_p_units"])
+    l_e = float(attrs[f"{prefix}_a_p"]) / float(attrs[f"{prefix}_w_p"]) ** 2
+    assert (a / w**2).convert(l_e, cf_units.Unit(attrs[f"{prefix}_l_e_units"])) == \
+        pytest.approx(float(attrs[f"{prefix}_l_e"]), rel=1e-12)
+    energies = {k: v for k, v in attrs.items() if k.startswith("energy_") and k.endswith("_units")
+                and k != "energy_balance_error_units"}
+    assert len(energies) == 7
+    assert set(energies.values()) == {"J" if kind == "solve" else "1"}
+
+
+# -- a second independent reader: netCDF-C (netCDF4-python, ncdump) -------------------------
+
+
+def _same(a, b) -> bool:
+    a, b = np.asarray(a), np.asarray(b)
+    if a.dtype.kind in "OUS" or b.dtype.kind in "OUS":
+        return a.shape == b.shape and all(str(x) == str(y) for x, y in zip(a.ravel(), b.ravel()))
+    return a.shape == b.shape and np.array_equal(a, b, equal_nan=True)
+
+
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+def test_netcdf_c_reads_what_xarray_reads(files, kind):
+    """netCDF4-python (netCDF-C underneath, nothing of h5py or h5netcdf) reads every
+    attribute, text or number, of the file and of each variable, and every variable's values
+    (names from their character arrays included), and agrees with xarray."""
+    netCDF4 = pytest.importorskip("netCDF4", reason="netCDF4-python is in the test extra")
+    import xarray as xr
+
+    with netCDF4.Dataset(files[kind]) as nc, xr.open_dataset(
+            files[kind], engine="h5netcdf", decode_times=False, mask_and_scale=False) as ds:
+        nc.set_auto_maskandscale(False)
+        names = nc.ncattrs()
+        assert names == list(ds.attrs), "the same attributes, in the same order"
+        texts = 0
+        for name in names:
+            value = nc.getncattr(name)
+            texts += isinstance(value, str)
+            assert _same(value, ds.attrs[name]), (name, value, ds.attrs[name])
+        assert set(nc.variables) >= set(ds.variables)
+        for name in ds.variables:
+            var = nc.variables[name]
+            for attr in var.ncattrs():
+                if attr in ("_Encoding", "coordinates", "_FillValue"):
+                    continue  # xarray turns these into encoding and coordinates
+                texts += isinstance(var.getncattr(attr), str)
+                assert _same(var.getncattr(attr), ds[name].attrs[attr]), (name, attr)
+            assert _same(var[...], ds[name].values), name
+        assert texts > 20
+
+
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+def test_ncdump_prints_every_attribute(files, kind):
+    """netCDF-C's ncdump prints every global attribute with the value xarray reads: numbers
+    equal, one-line texts equal, and the names along each named dimension."""
+    ncdump = shutil.which("ncdump")
+    if ncdump is None:
+        pytest.skip("ncdump is not installed (apt-get install netcdf-bin)")
+    done = subprocess.run([ncdump, "-h", str(files[kind])], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    header = done.stdout
+    attrs = _global_attributes(files[kind])
+    for name, value in attrs.items():
+        found = re.search(rf"^\t\t:{re.escape(name)} = (.*?) ;$", header, re.M | re.S)
+        assert found, f"ncdump does not print {name}"
+        printed = found.group(1)
+        if isinstance(value, str):
+            if value and "\n" not in value and '"' not in value and "\\" not in value:
+                assert printed == f'"{value}"', name
+        else:
+            assert float(re.sub(r"(LL|b|s|f)$", "", printed)) == pytest.approx(
+                float(np.asarray(value).item()), rel=1e-14), name
+    labels = [v for v in ("node_name", "contact_name", "building_name") if f"\t{v}(" in header
+              or f" {v}(" in header]
+    assert labels
+    import xarray as xr
+
+    with xr.open_dataset(files[kind], engine="h5netcdf") as ds:
+        for label in labels:
+            done = subprocess.run([ncdump, "-v", label, str(files[kind])], capture_output=True,
+                                  text=True, timeout=60)
+            data = done.stdout.split("data:", 1)[1]
+            for text in ds[label].values:
+                assert f'"{text}"' in data, (label, text)
+
+
+def test_gap_intensities_are_accelerations_not_grams(files):
+    """An intensity "in g" is written as one standard gravity in UDUNITS' terms: UDUNITS
+    (and every reader converting with it) reads the unit ``g`` as the gram."""
+    cf_units = pytest.importorskip("cf_units", reason="cf_units parses the units")
+    import xarray as xr
+
+    with xr.open_dataset(files["gap"], engine="h5netcdf") as ds:
+        for name in ("level", "intensity", "fragility_median", "fragility_median_any"):
+            unit = cf_units.Unit(ds[name].attrs["units"])
+            assert unit.convert(1.0, cf_units.Unit("m/s^2")) == pytest.approx(9.80665), name
+        for var in ds.variables.values():  # and every unit of the file parses
+            if "units" in var.attrs:
+                cf_units.Unit(var.attrs["units"])

@@ -78,7 +78,7 @@ def _run(text: str, path: Path) -> dict:
         out["impact_count"] = f["impact_count"][()]
         # netCDF attributes are 1-D arrays: one value each here
         out["attrs"] = {k: np.asarray(f.attrs[k]).item() for k in f.attrs
-                        if k.startswith("energy_")}
+                        if k.startswith("energy_") and not k.endswith("_units")}
         out["units"] = {name: _text(f[name].attrs.get("units")) for name in f}
         out["labels"] = {k: _text(f.attrs[k]) for k in f.attrs
                          if k.startswith(("scale_", "units_system", "nondimensional", "dtau"))}

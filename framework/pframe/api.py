@@ -332,9 +332,12 @@ def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_data
     xarray Dataset, opened lazily; the names of nodes, storeys, contacts, ... are the
     coordinate values of their dimensions (:func:`indexed`), so ``ds.sel(node="A/3")`` and
     ``ds.peak_displacement.to_series()`` take and show names."""
+    from pframe.record.check import check_file
+
     path = Path(path)
     if not path.exists():
         raise InputError(f"{path}: no such result file")
+    check_file(path)  # a damaged file: what is wrong, not h5py's KeyError
     try:
         return _opened(path)
     except (OSError, ValueError) as exc:

@@ -39,12 +39,48 @@ def wanted(show: bool | None, stream=None) -> bool:
 def _widget_bar(**kwargs):
     """A notebook widget bar that pframe displays itself (None without ipywidgets)."""
     try:
+        # without ipywidgets tqdm's notebook bar fails half-built, and its destructor then
+        # prints a traceback into the cell's output: it is not made at all
+        import ipywidgets  # noqa: F401
+    except ImportError:
+        return None
+    try:
         from tqdm.notebook import tqdm as notebook_tqdm
 
         widget = notebook_tqdm(display=False, delay=0, leave=True, **kwargs)
-    except ImportError:  # no ipywidgets: tqdm says "IProgress not found"
+    except ImportError:  # ipywidgets too old or broken: tqdm says "IProgress not found"
         return None
     return widget if hasattr(widget, "container") else None
+
+
+class _DisplayedText:
+    """A file for a tqdm text bar in a notebook without ipywidgets: each state the bar writes
+    replaces one text display (shown once the bar first draws, updated by its display id),
+    so the cell keeps one line, the bar's last state, not one stream output per refresh
+    (which renderers that do not interpret carriage returns show all of, and a saved
+    notebook keeps)."""
+
+    encoding = "utf-8"  # tqdm draws the bar in block characters, not '#'
+
+    def __init__(self):
+        self.handle = None
+        self.text = ""
+
+    def write(self, text: str) -> int:
+        state = text.rsplit("\r", 1)[-1].strip("\n")
+        if state.strip():
+            self.text = state
+            from IPython.display import display
+
+            shown = {"text/plain": state}
+            if self.handle is None:
+                self.handle = display(shown, raw=True, display_id=True)
+            else:
+                self.handle.update(shown, raw=True)
+        return len(text)
+
+    def flush(self) -> None:
+        pass
 
 
 class Bar:
@@ -55,7 +91,8 @@ class Bar:
     In a notebook the bar is kept when the run ends, at its final state: a widget is
     displayed with a display id and its display updated on :meth:`close`, so the saved
     notebook (whose text form of a widget is the one last sent) ends at 100 %, not at the
-    state when it first appeared; without ipywidgets a text bar is left on its last line.
+    state when it first appeared; without ipywidgets a text bar is drawn into one text
+    display, updated in place, so the cell keeps one line: the bar's last state.
     On a terminal the bar is cleared when the run ends (the command prints a summary)."""
 
     def __init__(self, unit: str, description: str = "", stream=None):
@@ -79,6 +116,9 @@ class Bar:
                 return widget
         from tqdm import tqdm
 
+        if notebook and self.stream is sys.stderr:  # a text bar as one display, kept updated
+            kwargs.update(dynamic_ncols=False, ncols=100)
+            return tqdm(file=_DisplayedText(), delay=DELAY, leave=True, **kwargs)
         return tqdm(file=self.stream, delay=DELAY, leave=notebook, **kwargs)
 
     def __call__(self, done: int, total: int, failed: int = 0) -> None:

@@ -120,7 +120,8 @@ def summary(result, output: str | Path | None = None):
                 np.asarray(value).item())
             rows.append(("run", "", quantity, value, units))
     for key, value in ds.attrs.items():
-        if key.startswith("energy_") and key != "energy_balance_error":
+        if (key.startswith("energy_") and key != "energy_balance_error"
+                and not key.endswith("_units")):  # an energy's unit (docs/netcdf.md)
             rows.append(("energy", "", key[len("energy_"):].replace("_", " "), float(value),
                          energy_units))
     ductility, why = _yield_drifts(ds) if "story" in ds.dims else ({}, "")

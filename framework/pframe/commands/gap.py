@@ -21,6 +21,8 @@ def _levels(text: str) -> list[float]:
 def table(ds, statistic: str = "median") -> str:
     """The terminal table: per level and contact, each rule's separation (mm) at one
     statistic over the records, and the pounding fraction when a gap was given."""
+    from pframe.record.netcdf import short_units
+
     rules = [str(r) for r in ds.rule_name.values]
     widths = [max(13, len(r) + 1) for r in rules]  # the code rules' names are longer
     head = f"{'level':>8} {'contact':<12}" + "".join(f"{r:>{w}}" for r, w in zip(rules, widths))
@@ -42,7 +44,7 @@ def table(ds, statistic: str = "median") -> str:
     if gap and ds.sizes["level"] > 1:
         median, beta = float(ds.fragility_median_any), float(ds.fragility_dispersion_any)
         lines.append(f"fragility of pounding at any contact: median {median:.4g} "
-                     f"{ds.level.attrs.get('units', '')}, dispersion {beta:.3g}"
+                     f"{short_units(ds.level.attrs.get('units', ''))}, dispersion {beta:.3g}"
                      if median == median else
                      "fragility: not fitted (no level where some but not all records pound)")
     return "\n".join(lines)

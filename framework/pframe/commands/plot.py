@@ -130,8 +130,11 @@ def register(sub) -> None:
                       help="FIGURE.pdf (one page per level), FIGURE.png or FIGURE.svg "
                            "(FIGURE-<level>.png for several levels); default: RESULT's name "
                            "with .pdf")
-    plot.add_argument("--kind", choices=("all", "histories", "hysteresis"), default=None,
-                      help="panels to draw (default: all)")
+    plot.add_argument("--kind", choices=("all", "histories", "hysteresis", "pounding"),
+                      default=None,
+                      help="panels to draw (default: all); pounding: per contact, the relative "
+                           "displacement of its nodes against the gap, closing shaded, "
+                           "impacts marked")
     plot.add_argument("--story", action="append", metavar="N",
                       help="draw floor level N only (repeat for several; default: every level)")
     plot.add_argument("--time-range", nargs=2, type=float, metavar=("START", "END"),

@@ -70,7 +70,10 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
 
     floor = np.array([int(n.split("/")[1]) if n.split("/")[1].isdigit() else i + 1
                       for i, n in enumerate(pairs.left)])
-    level_units = "g" if inputs.scaled else "1"
+    from pframe.record.netcdf import STANDARD_GRAVITY
+
+    # intensities in g, in UDUNITS' terms (its "g" is the gram)
+    level_units = STANDARD_GRAVITY if inputs.scaled else "1"
     # named positions are label coordinates <dim>_name (CF: no string coordinate variables),
     # indexed so that .sel(rule_name="DDC") selects by name
     coords = {
@@ -105,7 +108,8 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "scale_factor": (("record", "level"), inputs.factors, {
             "units": "1", "long_name": "factor applied to the record"}),
         "intensity": (("record", "level"), intensity, {
-            "units": "g", "long_name": f"{measure_label(inputs)} of the scaled record"}),
+            "units": STANDARD_GRAVITY,
+            "long_name": f"{measure_label(inputs)} of the scaled record"}),
         "complete": (("record", "level"), complete, {
             "units": "1", "long_name": "1 if the run completed"}),
         "status": (("record", "level"), rows["status"].reshape(R, L).astype(object), {
@@ -181,10 +185,11 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
                 "contact"}),
         })
     from pframe.api import indexed
+    from pframe.record.netcdf import with_units
 
     return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
                               coords={k: xr.Variable(*v) for k, v in coords.items()},
-                              attrs=attrs))
+                              attrs=with_units(attrs)))
 
 
 def write_dataset(ds, output: str | Path, call: str | None = None) -> Path:

@@ -590,6 +590,10 @@ def given_fields(value):
         return [given_fields(v) for v in value]
     if isinstance(value, dict):
         return {k: given_fields(v) for k, v in value.items()}
+    if type(value).__module__ == "numpy" and hasattr(value, "item"):
+        # a numpy number put in by model_copy(update=...), which does not validate: YAML
+        # writes Python's numbers only
+        return value.item()
     return value
 
 

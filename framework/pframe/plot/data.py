@@ -79,6 +79,8 @@ class Result:
         The scales used when the histories were made dimensionless by :meth:`dimensionless`.
     dropped : tuple of str
         Notes on histories left out by a conversion.
+    contacts, gaps, gap_units
+        Each contact's two nodes and its gap (the pounding figure's gap line).
     """
 
     path: Path
@@ -93,6 +95,13 @@ class Result:
     reference: Reference | None = None
     dropped: tuple[str, ...] = field(default=())
     attributes: dict = field(default_factory=dict, repr=False)
+    #: contact -> (left node, right node), from the file's connectivity
+    contacts: dict = field(default_factory=dict)
+    #: contact -> its initial gap, in ``gap_units`` (the file's ``contact_gap``)
+    gaps: dict = field(default_factory=dict)
+    gap_units: str = ""
+    #: contact -> the run's own count of impacts (``impact_count``; none for a time window)
+    impacts: dict = field(default_factory=dict)
 
     @property
     def is_dimensionless(self) -> bool:
@@ -112,7 +121,7 @@ class Result:
             first = next(iter(self.histories.values())).time
             raise InputError(f"{self.path}: no recorded time in --time-range {start:g} {stop:g}; "
                              f"the histories run from {first[0]:g} to {first[-1]:g}")
-        return replace(self, histories=histories)
+        return replace(self, histories=histories, impacts={})
 
     def in_units(self, units) -> Result:
         """The histories in other units: ``"engineering"`` (mm, mm/s, kN, kN m) or a mapping
@@ -126,7 +135,12 @@ class Result:
                 continue
             histories[q] = replace(h, values=h.values * conversion(h.units, target),
                                    units=target)
-        return replace(self, histories=histories)
+        gaps, gap_units = self.gaps, self.gap_units
+        target = wanted.get(gap_units)
+        if target is not None and target != gap_units:
+            factor = conversion(gap_units, target)
+            gaps, gap_units = {k: v * factor for k, v in gaps.items()}, target
+        return replace(self, histories=histories, gaps=gaps, gap_units=gap_units)
 
     def dimensionless(self, reference: Reference) -> Result:
         """The histories in the paper's dimensionless variables (see :mod:`pframe.plot.scales`).
@@ -144,7 +158,13 @@ class Result:
                 continue
             histories[q] = replace(h, time=h.time * time_scale, values=h.values * scale,
                                    units=DIMENSIONLESS, time_units=DIMENSIONLESS)
-        return replace(self, histories=histories, reference=reference, dropped=tuple(dropped))
+        gaps, gap_units = {}, self.gap_units
+        scale = reference.factor(self.gap_units) if self.gaps else None
+        if scale is not None:
+            gaps = {k: v * scale for k, v in self.gaps.items()}
+            gap_units = DIMENSIONLESS
+        return replace(self, histories=histories, reference=reference, dropped=tuple(dropped),
+                       gaps=gaps, gap_units=gap_units)
 
 
 #: stored SI units -> {display units: factor}
@@ -248,6 +268,9 @@ def open_result(source):
                          "wrote")
     import xarray as xr
 
+    from pframe.record.check import check_file
+
+    check_file(path)  # a damaged file: what is wrong, not h5py's KeyError or MemoryError
     try:
         ds = xr.open_dataset(path, engine="h5netcdf", phony_dims="access")
     except (OSError, ValueError):
@@ -271,6 +294,11 @@ def read_result(source) -> Result:
         raise InputError(f"{name}: a netCDF/HDF5 file, but not a pframe result (it has no "
                          "pframe_version attribute and node names); pframe plot reads "
                          "the result files that pframe solve writes")
+    from pframe.record.check import check_fits
+
+    check_fits(name, "its histories", sum(
+        ds[q].size * 8 + ds[q][ds[q].dims[0]].size * 8 for q in PLOTTED
+        if q in ds.variables and ds[q].ndim >= 1))
     histories = {}
     for quantity in PLOTTED:
         if quantity in ds.variables:
@@ -282,6 +310,17 @@ def read_result(source) -> Result:
     known = _connectivity(ds)
     levels: Levels = group_by_level(names["node"], names["story"], names["contact"],
                                     input_yaml if known is None else None, known=known)
+    gaps, gap_units = {}, ""
+    if "contact_gap" in ds.variables and names["contact"]:
+        values = np.asarray(ds["contact_gap"].values, dtype=float).ravel()
+        if values.size == len(names["contact"]):
+            gaps = dict(zip(names["contact"], map(float, values)))
+            gap_units = _text(ds["contact_gap"].attrs.get("units", ""))
+    impacts = {}
+    if "impact_count" in ds.variables and names["contact"]:
+        counts = np.asarray(ds["impact_count"].values).ravel()
+        if counts.size == len(names["contact"]):
+            impacts = dict(zip(names["contact"], map(int, counts)))
     return Result(
         path=path,
         title=_text(ds.attrs.get("title", path.stem)),
@@ -294,4 +333,8 @@ def read_result(source) -> Result:
         input_yaml=input_yaml,
         reference=None,
         attributes=dict(ds.attrs),
+        contacts=dict(known[1]) if known is not None else {},
+        gaps=gaps,
+        gap_units=gap_units,
+        impacts=impacts,
     )

@@ -8,6 +8,10 @@ Panels, lettered as in the paper so that a figure and its caption can be read si
 - (d), (e), ... hysteresis loops (storey shear against storey drift) of each building's storey
   below the level, left to right.
 
+``kind="pounding"`` draws instead, per contact of the level, the gap closing: the relative
+displacement of the contact's two nodes against its gap (the gap a dashed line, the times the
+gap is closed shaded), the impacts marked on the time axis, and the contact's force below.
+
 Histories are stacked on the left with one time axis, the loops on the right. A panel whose
 history the file lacks is left out (:func:`notes` says which); the letters of the others stay.
 Figures are :class:`matplotlib.figure.Figure` objects made without pyplot, so they need no
@@ -24,9 +28,9 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.plot.data import Result, read_result
-from pframe.plot.scales import axis_label, reference_scales, stored_scales
+from pframe.plot.scales import DIMENSIONLESS, axis_label, reference_scales, stored_scales
 
-KINDS = ("all", "histories", "hysteresis")
+KINDS = ("all", "histories", "hysteresis", "pounding")
 #: (letter, quantity, title) of the history panels, top to bottom
 HISTORY_PANELS = (("a", "displacement", "displacement histories"),
                   ("b", "contact_force", "pounding force histories"),
@@ -50,6 +54,8 @@ def matplotlib_figure():
 
 
 def _uses(kind: str, quantity: str) -> bool:
+    if kind == "pounding":
+        return quantity in ("displacement", "contact_force")
     hysteresis = quantity in ("story_drift", "story_force")
     return kind == "all" or (kind == "hysteresis") == hysteresis
 
@@ -63,6 +69,14 @@ def notes(result: Result, kind: str = "all") -> list[str]:
     for letter, quantity, _ in HISTORY_PANELS:
         if quantity not in missing:
             continue
+        if kind == "pounding":
+            if quantity == "contact_force" and not result.has_contacts:
+                out.append("the scene has no contacts: nothing pounds")
+            elif result.has_contacts:
+                out.append(f"the file has no {quantity} history: "
+                           + ("no gap-closing panels" if quantity == "displacement"
+                              else "no force panels"))
+            continue
         if quantity == "contact_force" and not result.has_contacts:
             out.append("the scene has no contacts: no pounding force panel (b)")
         else:
@@ -74,6 +88,8 @@ def notes(result: Result, kind: str = "all") -> list[str]:
         elif lacking:
             out.append(f"the file has no {' and no '.join(lacking)} history: hysteresis "
                        "panels (d), (e) left out")
+    if kind == "pounding" and result.has_contacts and not result.gaps:
+        out.append("the file has no contact_gap: no gap-closing panels")
     out.extend(result.dropped)
     for name in result.levels.unplaced:
         out.append(f"{name!r}: its floor level is not known (see docs/plotting.md), not drawn")
@@ -104,6 +120,108 @@ def _level_content(result: Result, level: str, kind: str):
             if building in stories:
                 loops.append((chr(ord("d") + len(loops)), building, stories[building]))
     return histories, loops
+
+
+def gap_closing(result: Result, contact: str):
+    """``(time, relative, gap, onsets)`` of one contact: the relative displacement
+    ``u_left - u_right`` of its two nodes, its gap, and the times the gap closes (each
+    impact: the relative displacement rises past the gap; a run that starts closed counts
+    an impact at its first time, as the kernel does). None when the file lacks the nodes'
+    displacements or the gap."""
+    history = result.histories.get("displacement")
+    pair = result.contacts.get(contact)
+    if history is None or pair is None or contact not in result.gaps:
+        return None
+    if any(node not in history.names for node in pair):
+        return None
+    relative = history.column(pair[0]) - history.column(pair[1])
+    gap = result.gaps[contact]
+    closed = relative > gap
+    onsets = np.flatnonzero(closed & ~np.concatenate(([False], closed[:-1])))
+    return history.time, relative, gap, history.time[onsets]
+
+
+def draw_pounding(result: Result, level: str, fig=None):
+    """The gap-closing figure of one level (None when no contact of it can be drawn): per
+    contact, (a) the relative displacement of its nodes against its gap, closing shaded and
+    impacts marked on the time axis, and (b) its force when the file has it.
+
+    Axes labels for programs reading the figure: ``gap <contact>`` and ``force <contact>``;
+    the lines are labelled ``relative``, ``gap`` and ``impacts``, the shading ``closed``."""
+    Figure = matplotlib_figure()
+    drawn = [(c, gap_closing(result, c)) for c in result.levels.contacts.get(level, [])]
+    drawn = [(c, data) for c, data in drawn if data is not None]
+    if not drawn:
+        return None
+    force = result.histories.get("contact_force")
+    rows = sum(1 + (force is not None and c in force.names) for c, _ in drawn)
+    if fig is None:
+        fig = Figure(figsize=(8.0, 2.3 * rows + 0.9), layout="constrained")
+    grid = fig.add_gridspec(rows, 1)
+    units = result.histories["displacement"].units
+    row, first, letter = 0, None, ord("a")
+    for contact, (time, relative, gap, onsets) in drawn:
+        left, right = result.contacts[contact]
+        ax = fig.add_subplot(grid[row, 0], sharex=first)
+        first = first or ax
+        row += 1
+        ax.plot(time, relative, linewidth=0.8, color="C0", label="relative")
+        ax.axhline(gap, linestyle="--", linewidth=0.9, color="k", label="gap")
+        ax.fill_between(time, gap, relative, where=relative > gap, interpolate=True,
+                        color="C3", alpha=0.35, linewidth=0, label="closed")
+        # the closed stretches are short and shallow next to the swing: drawn over in red
+        ax.plot(time, np.where(relative > gap, relative, np.nan), linewidth=2.2, color="C3",
+                solid_capstyle="butt", label="_closed")
+        # impacts on the time axis: x in data, y at the axis (they never hide the curve)
+        ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
+                color="C3", clip_on=False, transform=ax.get_xaxis_transform(),
+                label="impacts")
+        ax.set_label(f"gap {contact}")
+        count = len(onsets)
+        title = f"({chr(letter)}) gap closing, {contact}: {count} impact{'s' if count != 1 else ''}"
+        counted = result.impacts.get(contact)
+        if counted is not None and counted != count:  # a coarse history misses short impacts
+            title += f" seen in the history; the run counted {counted}"
+        ax.set_title(title, loc="left", fontsize="medium")
+        letter += 1
+        ax.set_ylabel(axis_label("relative displacement", units), fontsize="small")
+        handles = [h for h in ax.get_lines() + ax.collections
+                   if not h.get_label().startswith("_")]
+        order = {"relative": 0, "gap": 1, "closed": 2, "impacts": 3}
+        handles.sort(key=lambda h: order[h.get_label()])
+        gap_text = f"{gap:.4g}" + ("" if units == DIMENSIONLESS else f" {units}")
+        ax.legend(handles, [f"{left} - {right}", f"gap {gap_text}", "closed", "impacts"],
+                  fontsize="x-small", loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=4,
+                  frameon=False, borderaxespad=0.1, handlelength=1.5)
+        _tidy(ax)
+        ax.tick_params(labelbottom=False)
+        if force is not None and contact in force.names:
+            ax = fig.add_subplot(grid[row, 0], sharex=first)
+            row += 1
+            ax.plot(force.time, force.column(contact), linewidth=0.8, color="k", label=contact)
+            ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
+                    color="C3", clip_on=False, transform=ax.get_xaxis_transform(),
+                    label="impacts")
+            ax.set_label(f"force {contact}")
+            ax.set_title(f"({chr(letter)}) pounding force, contact {contact}", loc="left",
+                         fontsize="medium")
+            letter += 1
+            ax.set_ylabel(axis_label("contact_force", force.units), fontsize="small")
+            _tidy(ax)
+            ax.tick_params(labelbottom=False)
+    ax.tick_params(labelbottom=True)
+    ax.set_xlabel(axis_label("time", result.histories["displacement"].time_units),
+                  fontsize="small")
+    heading = f"{result.title}: pounding at level {level}"
+    if not result.complete:
+        heading += " (run stopped early)"
+    ran = what_ran(result)
+    if ran:
+        heading += f"\n{ran}"
+    fig.suptitle(heading, fontsize="large")
+    if result.reference is not None:
+        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
+    return fig
 
 
 def _building_colour(result: Result, building: str) -> str:
@@ -137,6 +255,8 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
     panel (``displacement``, ``contact_force``, ``velocity``) or ``hysteresis <storey>``;
     each line is labelled with its node, contact or storey name.
     """
+    if kind == "pounding":
+        return draw_pounding(result, level, fig)
     Figure = matplotlib_figure()
     histories, loops = _level_content(result, level, kind)
     if not histories and not loops:
@@ -270,8 +390,9 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     ----------
     source : str, Path or Result
         A result file of ``pframe solve`` (or one already read with :func:`prepare`).
-    kind : {"all", "histories", "hysteresis"}
-        All panels, the histories (a)-(c) only, or the hysteresis loops only.
+    kind : {"all", "histories", "hysteresis", "pounding"}
+        All panels, the histories (a)-(c) only, the hysteresis loops only, or the gap
+        closing of each contact (:func:`draw_pounding`; levels with contacts only).
     levels : sequence of str or int, optional
         The floor levels to draw (default: every level with something to draw).
     time_range : (float, float), optional

@@ -72,7 +72,9 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
     ax.set_yticks(floors, [f"{c}\n(floor {int(f)})" for c, f in zip(ds.contact_name.values, floors)])
     ax.set_xlabel("separation needed (mm)")
     ax.set_xlim(left=0)
-    units = ds.level.attrs.get("units", "")
+    from pframe.record.netcdf import short_units
+
+    units = short_units(ds.level.attrs.get("units", ""))
     what = (f"{ds.level.attrs.get('long_name', 'level')} = {at:g} {units}" if units == "g"
             else "records as given")
     count = ds.sizes["record"]
@@ -118,8 +120,10 @@ def audit_title(ds) -> str:
     count = ds.sizes.get("record", 0)
     records = (f"record {ds.record_name.values[0]}" if count == 1
                else f"{count} records of {Path(str(ds.attrs.get('suite', ''))).name or 'a suite'}")
+    from pframe.record.netcdf import short_units
+
     levels = ds.level.values
-    units = ds.level.attrs.get("units", "")
+    units = short_units(ds.level.attrs.get("units", ""))
     if units == "g":
         scaled = (f"scaled to {ds.attrs.get('measure', 'IM')} = "
                   + ", ".join(f"{v:g}" for v in levels) + " g")

@@ -62,6 +62,9 @@ class _Sweep:
     def __init__(self, path: Path):
         import xarray as xr
 
+        from pframe.record.check import check_file
+
+        check_file(path)  # a damaged file: what is wrong, not h5py's KeyError
         self.path = path
         with xr.open_dataset(path, engine="h5netcdf") as ds:
             self.title = _text(ds.attrs.get("title", path.stem))

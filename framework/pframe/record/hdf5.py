@@ -35,7 +35,7 @@ import numpy as np
 
 from pframe import outputs
 from pframe.quantities import QUANTITIES
-from pframe.record.netcdf import DatasetWriter, Writer, provenance
+from pframe.record.netcdf import DatasetWriter, Writer, provenance, with_units
 from pframe.verdict import of_result
 
 UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
@@ -373,7 +373,7 @@ class ResultWriter:
             attrs[f"energy_{term}"] = float(convert.energy(value))
         attrs.update(reference_attributes(loaded))
         attrs.update(convert.attributes(float(plan.dt[member])))
-        f.attrs.update(attrs)
+        f.attrs.update(with_units(attrs, "1" if convert.dimensionless else "J"))
 
 
 def reference_attributes(loaded) -> dict:

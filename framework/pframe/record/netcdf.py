@@ -201,6 +201,61 @@ def provenance(call: str | None = None) -> dict:
     }
 
 
+#: the unit of each numeric global attribute that has one. CF gives attributes no units, so
+#: pframe writes each beside its attribute as a text attribute ``<name>_units`` (UDUNITS
+#: syntax, as a variable's ``units``): ``dt = 0.001``, ``dt_units = "s"``. Counts and flags
+#: (``steps``, ``complete``) have none; ratios have ``"1"``. Energies are in J, or ``"1"`` in
+#: a dimensionless file (``energy_units`` of :func:`with_units`).
+ATTRIBUTE_UNITS = {
+    "dt": "s", "duration": "s", "solve_seconds": "s", "dtau": "1",
+    "excitation_pga": "m/s^2", "excitation_pga_g": "9.80665 m/s^2",  # STANDARD_GRAVITY
+    "excitation_pga_time": "s", "excitation_end": "s", "excitation_applied_peak": "m/s^2",
+    "energy_balance_error": "1", "algorithmic_dissipation": "1",
+    "reference_m_b": "kg", "reference_a_p": "m/s^2", "reference_w_p": "rad/s",
+    "reference_l_e": "m",
+    "scale_m_b": "kg", "scale_a_p": "m/s^2", "scale_w_p": "rad/s", "scale_l_e": "m",
+}
+#: one standard gravity (an acceleration "in g") in UDUNITS: ``"g"`` there is the gram
+STANDARD_GRAVITY = "9.80665 m/s^2"
+
+
+def short_units(units) -> str:
+    """A unit as a label shows it: ``g`` for :data:`STANDARD_GRAVITY` (and for the ``g``
+    that gap-audit files written before it meant)."""
+    units = units.decode() if isinstance(units, bytes) else str(units)
+    return "g" if units in ("g", STANDARD_GRAVITY) else units
+
+
+#: suffix of the text attribute that holds another attribute's unit
+UNITS_SUFFIX = "_units"
+
+
+def attribute_unit(name: str, energy_units: str = "J") -> str | None:
+    """The unit of global attribute ``name`` (None: it has none)."""
+    if name in ATTRIBUTE_UNITS:
+        return ATTRIBUTE_UNITS[name]
+    if name.startswith("energy_"):
+        return energy_units
+    return None
+
+
+def with_units(attrs: dict, energy_units: str = "J") -> dict:
+    """``attrs`` with ``<name>_units`` right after each numeric attribute that has a unit
+    (:data:`ATTRIBUTE_UNITS`)."""
+    out = {}
+    for name, value in attrs.items():
+        out[name] = value
+        unit = attribute_unit(name, energy_units)
+        if unit is not None and not isinstance(value, (str, bytes)):
+            out[name + UNITS_SUFFIX] = unit
+    return out
+
+
+def is_unit_attribute(name: str, attrs) -> bool:
+    """True for ``<name>_units``, the unit of attribute ``<name>`` of ``attrs``."""
+    return name.endswith(UNITS_SUFFIX) and name[:-len(UNITS_SUFFIX)] in attrs
+
+
 def write_dataset(ds, path, call: str | None = None) -> Path:
     """Write an xarray Dataset that follows the layout above (names as ``<dim>_name`` label
     coordinates, no string coordinate variables) to ``path``: strings as character arrays,

@@ -19,7 +19,7 @@ import numpy as np
 from pframe import outputs
 from pframe.quantities import QUANTITIES
 from pframe.record.hdf5 import LABELS, integrator_text
-from pframe.record.netcdf import Writer, provenance
+from pframe.record.netcdf import Writer, provenance, with_units
 from pframe.sweep.definition import RESPONSES
 from pframe.sweep.grid import Spec
 
@@ -158,7 +158,7 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         for key, value in run.convert.attributes(run.dt).items():
             if same or not key.startswith(("scale_", "dtau")):
                 attrs[key] = value
-    f.attrs.update(attrs)
+    f.attrs.update(with_units(attrs))
 
     if zipped:
         f.coordinate("variant", np.arange(spec.count, dtype=np.int32),
