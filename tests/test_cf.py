@@ -20,6 +20,7 @@ import numpy as np
 import pytest
 
 from pframe.cli import main
+from pframe.kernel.state import ENERGY_TERMS
 
 REPO = Path(__file__).resolve().parents[1]
 TABLE = """<?xml version="1.0"?>
@@ -170,7 +171,7 @@ def test_attribute_units_agree_with_the_physics(files, kind):
         pytest.approx(float(attrs[f"{prefix}_l_e"]), rel=1e-12)
     energies = {k: v for k, v in attrs.items() if k.startswith("energy_") and k.endswith("_units")
                 and k != "energy_balance_error_units"}
-    assert len(energies) == 7
+    assert len(energies) == len(ENERGY_TERMS)
     assert set(energies.values()) == {"J" if kind == "solve" else "1"}
 
 
