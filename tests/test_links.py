@@ -239,8 +239,43 @@ def test_a_sweep_varies_a_link_by_its_name(tmp_path):
     scene["recorders"] = [{"kind": "envelope", "quantities": ["displacement"]}]
     (tmp_path / "base.json").write_text(json.dumps(scene), encoding="utf-8")
     (tmp_path / "sweep.json").write_text(json.dumps({"title": "c", "base": "base.json", "axes": [
-        {"name": "c", "path": "links.link.damping", "values": [1e3, 4e3, 1.6e4]}]}),
+        {"name": "c", "path": "links.link.damping", "values": [1e3, 4e3, 1.6e4]}],
+        "keep": {"envelopes": ["peak_displacement"], "histories": ["link_force"]}}),
         encoding="utf-8")
     ds = pframe.sweep(tmp_path / "sweep.json", progress=False)
     peaks = ds.peak_displacement.sel(node="M/1").values
     assert np.all(np.diff(peaks) < 0), peaks
+    # the links' histories are kept along their names
+    assert list(ds.link_force.coords["link"].values) == ["link"]
+    assert np.all(np.isfinite(ds.link_force.values))
+
+
+def test_the_links_figure_draws_each_links_loop(tmp_path):
+    """pframe plot --kind links: each link's force history and loop are the file's own
+    numbers, and the loop's area (the work of the damper's force) is the run's energy_links
+    to the trapezoid's accuracy."""
+    pytest.importorskip("matplotlib", reason="the plot extra (matplotlib) is absent")
+    import pframe
+    from pframe.cli import main
+    from pframe.plot import figures
+
+    scene = json.loads(_one_mass({"material": "viscous", "damping": 2e3, "exponent": 0.5},
+                                 nodes=("ground", "M/1"), dt=5e-4, duration=3.0))
+    scene["links"].append({"name": "spring", "nodes": ["ground", "M/1"],
+                           "material": "elastic", "stiffness": 4e5})
+    scene["excitation"] = {"kind": "sine", "amplitude": 2.0, "frequency": 15.0}
+    path = tmp_path / "run.nc"
+    pframe.solve(pframe.load(scene), output=path, progress=False)
+    fig = figures(path, kind="links")["links"]
+    ds = pframe.open(path)
+    loop = [ax for ax in fig.axes if ax.get_gid() == "link_loop link"][0]
+    d, f = loop.lines[0].get_data()
+    np.testing.assert_array_equal(f, ds.link_force.sel(link="link").values)
+    np.testing.assert_array_equal(d, ds.link_deformation.sel(link="link").values)
+    work = np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(d))
+    spring = ds.link_deformation.sel(link="spring").values
+    stored = 0.5 * 4e5 * spring[-1] ** 2
+    assert work + stored == pytest.approx(float(ds.attrs["energy_links"]), rel=1e-9)
+    assert main(["plot", str(path), "--kind", "links", "-o", str(tmp_path / "l.png"),
+                 "-q"]) == 0
+    assert (tmp_path / "l.png").stat().st_size > 0

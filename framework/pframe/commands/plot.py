@@ -50,8 +50,10 @@ def _plot(args) -> int:
                    overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
         levels = ", ".join(figs)
+        what = "links" if list(figs) == ["links"] else \
+            f"level{'s' if len(figs) > 1 else ''} {levels}"
         print(f"{args.result}: {len(figs)} figure{'s' if len(figs) > 1 else ''} "
-              f"(level{'s' if len(figs) > 1 else ''} {levels}); wrote "
+              f"({what}); wrote "
               + ", ".join(str(p) for p in written))
     return 0
 
@@ -130,11 +132,12 @@ def register(sub) -> None:
                       help="FIGURE.pdf (one page per level), FIGURE.png or FIGURE.svg "
                            "(FIGURE-<level>.png for several levels); default: RESULT's name "
                            "with .pdf")
-    plot.add_argument("--kind", choices=("all", "histories", "hysteresis", "pounding"),
+    plot.add_argument("--kind", choices=("all", "histories", "hysteresis", "pounding", "links"),
                       default=None,
                       help="panels to draw (default: all); pounding: per contact, the relative "
                            "displacement of its nodes against the gap, closing shaded, "
-                           "impacts marked")
+                           "impacts marked; links: every link's force history and its force "
+                           "against its deformation")
     plot.add_argument("--story", action="append", metavar="N",
                       help="draw floor level N only (repeat for several; default: every level)")
     plot.add_argument("--time-range", nargs=2, type=float, metavar=("START", "END"),

@@ -30,7 +30,7 @@ from pframe.errors import InputError
 from pframe.plot.data import Result, read_result
 from pframe.plot.scales import DIMENSIONLESS, axis_label, reference_scales, stored_scales
 
-KINDS = ("all", "histories", "hysteresis", "pounding")
+KINDS = ("all", "histories", "hysteresis", "pounding", "links")
 #: (letter, quantity, title) of the history panels, top to bottom
 HISTORY_PANELS = (("a", "displacement", "displacement histories"),
                   ("b", "contact_force", "pounding force histories"),
@@ -390,9 +390,10 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     ----------
     source : str, Path or Result
         A result file of ``pframe solve`` (or one already read with :func:`prepare`).
-    kind : {"all", "histories", "hysteresis", "pounding"}
-        All panels, the histories (a)-(c) only, the hysteresis loops only, or the gap
-        closing of each contact (:func:`draw_pounding`; levels with contacts only).
+    kind : {"all", "histories", "hysteresis", "pounding", "links"}
+        All panels, the histories (a)-(c) only, the hysteresis loops only, the gap
+        closing of each contact (:func:`draw_pounding`; levels with contacts only), or every
+        link's force history and force-deformation loop (one figure, ``"links"``).
     levels : sequence of str or int, optional
         The floor levels to draw (default: every level with something to draw).
     time_range : (float, float), optional
@@ -419,6 +420,14 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     if kind not in KINDS:
         raise InputError(f"unknown kind {kind!r}; choose one of {', '.join(KINDS)}")
     matplotlib_figure()
+    if kind == "links":  # one figure of every link (pframe.plot.links)
+        from pframe.plot.links import link_figures
+
+        if dimensionless or units is not None or levels is not None:
+            raise InputError("--kind links draws in the file's units, every link: leave out "
+                             "dimensionless, units and levels")
+        return link_figures(source if not isinstance(source, Result) else source.path,
+                            time_range=time_range)
     result = prepare(source, time_range=time_range, dimensionless=dimensionless)
     if units is not None:
         if dimensionless:

@@ -167,7 +167,7 @@ class ResultWriter:
         """The histories and their time coordinates at full length, uncompressed (bytes)."""
         plan = self.plan
         widths = {"node": plan.n_dof, "story": len(plan.story_names),
-                  "contact": len(plan.contact_names), None: 1}
+                  "contact": len(plan.contact_names), "link": len(plan.link_names), None: 1}
         total = 0
         for every in {every for _, every in plan.history}:
             total += 8 * ((states - 1) // every + 1)

@@ -109,7 +109,8 @@ def layout(spec: Spec, expanded) -> dict[str, tuple]:
     """The shape of each array one variant contributes (besides the sweep dimensions), from
     the base scene: responses along their entity, histories along time and entity."""
     sizes = {"node": len(expanded.node_names), "story": len(expanded.stories),
-             "contact": len(expanded.contacts), "building": len(expanded.buildings)}
+             "contact": len(expanded.contacts), "building": len(expanded.buildings),
+             "link": len(expanded.links)}
     out = {}
     for name in spec.responses:
         entity = RESPONSES[name]
@@ -119,7 +120,7 @@ def layout(spec: Spec, expanded) -> dict[str, tuple]:
             out[name] = (sizes[entity],)
     for q in spec.model.keep.histories:
         entity = QUANTITIES[q][0]
-        if entity == "contact" and not sizes["contact"]:
+        if entity in ("contact", "link") and not sizes[entity]:
             continue
         rows = expanded.steps // spec.model.keep.every + 1
         out[q] = (rows,) if entity is None else (rows, sizes[entity])

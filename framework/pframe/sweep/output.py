@@ -82,6 +82,7 @@ class BaseRun:
     steps: int
     dt: float
     convert: object
+    link_names: tuple = ()
 
 
 def base_run(spec: Spec) -> BaseRun:
@@ -93,7 +94,7 @@ def base_run(spec: Spec) -> BaseRun:
     title = spec.model.title or getattr(base.scene, "title", "") or Path(spec.definition.source).stem
     return BaseRun(title, plan.node_names, plan.story_names, plan.contact_names,
                    plan.buildings, integrator, plan.steps, float(plan.dt[0]),
-                   base.units)
+                   base.units, plan.link_names)
 
 
 def write_sweep(path: Path, spec: Spec, load_chunk, call: str | None = None) -> dict:
@@ -179,7 +180,8 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         else:
             f.coordinate(axis.name, np.asarray(values), **attrs)
     entities = {"node": run.node_names, "story": run.story_names,
-                "contact": run.contact_names, "building": run.buildings}
+                "contact": run.contact_names, "building": run.buildings,
+                "link": run.link_names}
     every = spec.model.keep.every
     if histories:
         values, units, long_name = run.convert.time(np.arange(rows) * every * run.dt)
