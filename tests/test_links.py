@@ -279,3 +279,34 @@ def test_the_links_figure_draws_each_links_loop(tmp_path):
     assert main(["plot", str(path), "--kind", "links", "-o", str(tmp_path / "l.png"),
                  "-q"]) == 0
     assert (tmp_path / "l.png").stat().st_size > 0
+
+
+@pytest.mark.parametrize("light", [1e-3, 1e-1])
+def test_a_maxwell_link_is_a_spring_and_a_dashpot_in_series(light):
+    """A Maxwell link (spring k and dashpot c in series) as docs/links-and-walls.md builds it:
+    a spring link to a node of negligible mass and a dashpot link from it. Against the
+    massless Maxwell equations M u'' = -k_s u - k (u - p), c p' = k (u - p), solved by scipy:
+    the node's mass (1e-6 and 1e-4 of the floor's) changes nothing visible."""
+    from scipy.integrate import solve_ivp
+
+    m, k, c, ks, u0 = MASS, 4e5, 2e4, 1e5, 0.01
+    scene = {"nodes": [{"name": "M/1", "mass": m}, {"name": "MX/1", "mass": light}],
+             "stories": [{"nodes": ["ground", "M/1"], "material": "elastic", "stiffness": ks}],
+             "links": [{"name": "spring", "nodes": ["MX/1", "M/1"], "material": "elastic",
+                        "stiffness": k},
+                       {"name": "dashpot", "nodes": ["ground", "MX/1"], "material": "viscous",
+                        "damping": c}],
+             "damping": {"ratio": 0.0},
+             "initial_conditions": {"displacement": {"M/1": u0}},
+             "analysis": {"dt": 5e-4, "duration": 2.0},
+             "recorders": [{"kind": "history", "quantities": ["displacement"]}]}
+    plan, result = run_text(json.dumps(scene))
+    assert result.completed(0) and result.energy_error(0) < 1e-10
+    u = result.history["displacement"][0][:, plan.node_dof[plan.node_names.index("M/1")]]
+
+    def rates(t, y):
+        return [y[1], (-ks * y[0] - k * (y[0] - y[2])) / m, k * (y[0] - y[2]) / c]
+
+    exact = solve_ivp(rates, (0.0, 2.0), [u0, 0.0, 0.0], t_eval=plan.times, method="Radau",
+                      rtol=1e-11, atol=1e-14).y[0]
+    assert np.max(np.abs(u - exact)) < 5e-5 * u0  # dt^2 and the node's inertia
