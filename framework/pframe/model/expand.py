@@ -277,8 +277,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         seen[name] = True
         law = get_law("material", link.material)
         params = law.Params.model_validate(link.model_dump(include=set(law.Params.model_fields)))
-        link_elements.append(Element(name, (first, second), law,
-                                     _finite(law.pack(params), path)))
+        try:
+            packed = law.pack(params)
+        except InputError as exc:  # e.g. a friction pendulum's weight: a link carries none
+            raise ModelError(path, f"link {name!r}: {exc}") from None
+        link_elements.append(Element(name, (first, second), law, _finite(packed, path)))
 
     record = None
     if scene.excitation is not None and scene.excitation.kind == "record":
