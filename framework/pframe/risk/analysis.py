@@ -94,7 +94,7 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
         return (math.nan, math.nan, math.nan, math.nan)
     value, above = mean_annual_frequency(frag.probability, hazard)
     low = high = math.nan
-    if np.all(np.isfinite(frag.cov)):
+    if np.all(np.isfinite(frag.cov)) and np.all(np.diag(frag.cov) < 4.0):
         mean = np.log([frag.median, frag.dispersion])
         samples = rng.multivariate_normal(mean, frag.cov, size=draws)
         values = [mean_annual_frequency(
