@@ -56,8 +56,11 @@ class Fragility:
         """((median low, high), (dispersion low, high)) at ``confidence``."""
         z = norm.ppf(0.5 + confidence / 2)
         sd = np.sqrt(np.diag(self.cov)) if np.all(np.isfinite(self.cov)) else np.full(2, np.nan)
-        return ((self.median * math.exp(-z * sd[0]), self.median * math.exp(z * sd[0])),
-                (self.dispersion * math.exp(-z * sd[1]), self.dispersion * math.exp(z * sd[1])))
+        with np.errstate(over="ignore"):  # a fit the data hardly fix: unbounded
+            return ((float(self.median * np.exp(-z * sd[0])),
+                     float(self.median * np.exp(z * sd[0]))),
+                    (float(self.dispersion * np.exp(-z * sd[1])),
+                     float(self.dispersion * np.exp(z * sd[1]))))
 
 
 def _absent(method: str, note: str) -> Fragility:
@@ -93,9 +96,10 @@ def _covariance(nll, p: np.ndarray, transform=None) -> np.ndarray:
 
 def _best(nll, starts) -> object:
     best = None
-    for guess in starts:
+    for guess in starts:  # fatol relative to the likelihood's size: a sum over many runs
         res = minimize(nll, guess, method="Nelder-Mead",
-                       options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 6000})
+                       options={"xatol": 1e-9, "fatol": 1e-12 * max(1.0, abs(nll(guess))),
+                                "maxiter": 4000})
         if best is None or res.fun < best.fun:
             best = res
     return best
