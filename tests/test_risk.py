@@ -284,3 +284,30 @@ def test_bad_study_exits_2_naming_the_place(tmp_path, capsys, edit, says):
     err = capsys.readouterr().err
     assert str(path) in err and says in err and "Traceback" not in err
     assert not out.exists()
+
+
+def test_ida_capacities_from_a_grid_recover_the_records_capacities():
+    """Demand / limit = (IM / c_r)^1.3 for record r: the IM where it passes 1 is c_r, found
+    exactly by log-log interpolation between grid levels; capacities drawn lnN(ln 0.7, 0.3),
+    those above the top level (1 g) censored."""
+    from pframe.risk.analysis import fit
+
+    rng = np.random.default_rng(4)
+    levels = np.geomspace(0.1, 1.0, 12)
+    caps = 0.7 * np.exp(0.3 * rng.standard_normal(3000))
+    ratio = ((levels[None, :] / caps[:, None]) ** 1.3).ravel()
+    ok = np.ones(ratio.size, bool)
+    im = np.tile(levels, caps.size)
+    f = fit("ida", im, ratio, ok, levels, caps.size)
+    assert (caps > levels[-1]).mean() > 0.05
+    assert f.median == pytest.approx(0.7, rel=0.02)
+    assert f.dispersion == pytest.approx(0.3, rel=0.05)
+
+
+def test_a_fragility_the_data_hardly_fix_has_infinite_bounds():
+    """A variance of ln theta of 1e6 overflowed exp() while the file was built."""
+    from pframe.risk import Fragility
+
+    f = Fragility(1.0, 0.5, np.diag([1e6, 1e6]))
+    (m_lo, m_hi), (b_lo, b_hi) = f.bounds()
+    assert m_hi == math.inf and m_lo == 0.0 and b_hi == math.inf
