@@ -311,3 +311,29 @@ def test_a_fragility_the_data_hardly_fix_has_infinite_bounds():
     f = Fragility(1.0, 0.5, np.diag([1e6, 1e6]))
     (m_lo, m_hi), (b_lo, b_hi) = f.bounds()
     assert m_hi == math.inf and m_lo == 0.0 and b_hi == math.inf
+
+
+def test_a_stopped_study_resumes_from_its_saved_batches(tmp_path, pulse):
+    """Stopped after its first batch, the study runs only the others the second time and
+    gives the file of an uninterrupted run."""
+    import xarray as xr
+
+    from pframe.risk import risk
+
+    whole, _ = pulse
+    study = pulse_study(tmp_path, chunk=3)
+    out = tmp_path / "stopped.nc"
+
+    def stop(done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        risk(study, output=out, progress=stop)
+    assert not out.exists() and (tmp_path / "stopped.nc.parts" / "chunk-00000.npz").exists()
+    seen = []
+    risk(study, output=out, progress=lambda done, total: seen.append(done))
+    assert seen == [6, 7]  # batches 1 and 2 of 3 (7 variants); batch 0 was taken up
+    again = xr.open_dataset(out)
+    assert np.array_equal(again.critical_gap.values, whole.critical_gap.values)
+    assert np.array_equal(again.impact_count.values, whole.impact_count.values)
+    assert float(again.gap_at_target) == float(whole.gap_at_target)
