@@ -38,6 +38,8 @@ class _Base(BaseModel):
 
 
 class Design(_Base):
+    """Records scaled to levels (msa, ida) or as given (cloud)."""
+
     kind: Literal["msa", "ida", "cloud"] = Field(description="multiple-stripe (records scaled "
                                                  "to levels), incremental dynamic analysis on "
                                                  "a grid of levels, or cloud (unscaled)")
@@ -45,41 +47,61 @@ class Design(_Base):
 
 
 class PowerLaw(_Base):
-    k0: float = Field(gt=0)
-    k: float = Field(gt=0)
+    """A power-law hazard curve lambda = k0 IM^-k."""
+
+    k0: float = Field(gt=0, description="Annual frequency of exceeding IM = 1 g.")
+    k: float = Field(gt=0, description="The log-log slope of the hazard curve.")
 
 
 class Hazard(_Base):
-    file: str | None = None
-    power_law: PowerLaw | None = None
+    """The hazard curve of the study's intensity measure: a table or a power law."""
+
+    file: str | None = Field(None, description="A CSV hazard table (two columns, USGS or "
+                             "OpenQuake form), relative to the study file.")
+    power_law: PowerLaw | None = Field(None, description="A power law instead of a table.")
 
 
 class Target(_Base):
-    annual_frequency: float | None = Field(None, gt=0, lt=1)
-    return_period: float | None = Field(None, gt=1)
+    """The target annual frequency of pounding the gap is solved for."""
+
+    annual_frequency: float | None = Field(None, gt=0, lt=1, description="Per year.")
+    return_period: float | None = Field(None, gt=1, description="Years (its inverse is the "
+                                        "annual frequency).")
 
 
 class Limits(_Base):
+    """Demand limits, by name."""
+
     drift: dict[str, float] = Field(default_factory=dict, description="name: drift (m)")
     acceleration: dict[str, float] = Field(default_factory=dict,
                                            description="name: absolute acceleration (g)")
 
 
 class StudyFile(_Base):
-    scene: str
-    suite: str | None = None
-    records_folder: str | None = None
-    measure: str | None = None
-    design: Design
-    dt: float | None = Field(None, gt=0)
-    duration: float | None = Field(None, gt=0)
-    pounding_runs: bool = True
-    limits: Limits = Field(default_factory=Limits)
-    hazard: Hazard | None = None
-    target: Target | None = None
+    """A risk study of ``pframe risk`` (docs/risk.md)."""
+
+    scene: str = Field(description="The scene file, relative to the study file.")
+    suite: str | None = Field(None, description="A suite file, relative to the study file "
+                              "(default: the scene's own excitation).")
+    records_folder: str | None = Field(None, description="Where the suite's records are "
+                                       "(default: beside the suite).")
+    measure: str | None = Field(None, description="pga, sa:SECONDS or sa:BUILDING "
+                                "(default: the suite's measure).")
+    design: Design = Field(description="The analysis design.")
+    dt: float | None = Field(None, gt=0, description="Step of the runs without contacts (s; "
+                             "default: the scene's).")
+    duration: float | None = Field(None, gt=0, description="Analysed time (s; default: the "
+                                   "longest record plus three first periods).")
+    pounding_runs: bool = Field(True, description="Also run with the contacts at the scene's "
+                                "gaps and step, for demands with pounding.")
+    limits: Limits = Field(default_factory=Limits, description="Demand limits.")
+    hazard: Hazard | None = Field(None, description="The hazard curve.")
+    target: Target | None = Field(None, description="The target annual frequency of "
+                                  "pounding.")
     bootstrap: int = Field(200, ge=0, description="record resamples for the gap's interval")
-    seed: int = 0
-    chunk: int | None = Field(None, ge=1)
+    seed: int = Field(0, description="Seed of the bootstrap and of the MAF's range.")
+    chunk: int | None = Field(None, ge=1, description="Variants per saved batch (a stopped "
+                              "study resumes from them).")
 
 
 def read_study(path) -> tuple[StudyFile, Path, str]:
