@@ -337,3 +337,11 @@ def test_a_stopped_study_resumes_from_its_saved_batches(tmp_path, pulse):
     assert np.array_equal(again.critical_gap.values, whole.critical_gap.values)
     assert np.array_equal(again.impact_count.values, whole.impact_count.values)
     assert float(again.gap_at_target) == float(whole.gap_at_target)
+
+
+def test_pframe_plot_draws_the_figure_set(pulse, tmp_path):
+    pytest.importorskip("matplotlib")
+    _, folder = pulse
+    assert main(["plot", str(folder / "risk.nc"), "-o", str(tmp_path / "risk.png"), "-q"]) == 0
+    assert sorted(p.name for p in tmp_path.glob("risk-*.png")) == [
+        "risk-fragility.png", "risk-gap.png", "risk-hazard.png"]

@@ -31,6 +31,8 @@ class Analysis:
     gap_high: float = math.nan
     gap_regression: float = math.nan
     rules_at_target: dict = dataclasses.field(default_factory=dict)
+    gap_grid: np.ndarray = None  # uniform gaps (m) and the annual frequency of pounding at each
+    gap_rates: np.ndarray = None
     warnings: list = dataclasses.field(default_factory=list)
 
 
@@ -190,7 +192,11 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     out.im_at_target = hazard.intensity(target)
     g_req = np.max(rows["free_g_req"], axis=1)
     ok = rows["free_complete"] == 1
-    _, out.gap = _gap_solver(kind, im, g_req, ok, inputs.levels, R, hazard, target)
+    rate, out.gap = _gap_solver(kind, im, g_req, ok, inputs.levels, R, hazard, target)
+    positive = g_req[ok & (g_req > 0)]
+    if positive.size:
+        out.gap_grid = np.geomspace(positive.min() * 0.5, positive.max(), 40)
+        out.gap_rates = np.array([rate(g) for g in out.gap_grid])
     reg = fit_cloud(im[ok], g_req[ok])
     out.gap_regression = _root(lambda g: mean_annual_frequency(
         reg.fragility(g).probability, hazard, points=800)[0], g_req[ok], target)

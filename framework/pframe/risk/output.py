@@ -13,7 +13,7 @@ from pframe.risk.fragility import CONFIDENCE
 KIND = "risk_study"
 
 
-def build_dataset(spec, inputs, rows: dict, result, text: str, source: str):
+def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None):
     import xarray as xr
 
     import pframe
@@ -123,6 +123,16 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str):
             "annual_frequency_high": (("limit", "condition"), maf(2), {
                 "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
         })
+    if hazard is not None:
+        data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
+            "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
+        coords["hazard_im"] = ("hazard_point", hazard.im, {
+            "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
+    if result.gap_grid is not None:
+        coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
+        data["pounding_frequency"] = (("gap",), result.gap_rates, {
+            "units": "year-1", "long_name": "annual frequency of pounding at the gap (the "
+            "design's fragility refitted at each gap)"})
     if math.isfinite(result.target):
         data.update({
             "target_annual_frequency": ((), result.target, {"units": "year-1",

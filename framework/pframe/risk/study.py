@@ -262,7 +262,7 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     result = analyse(spec, inputs, rows, hazard)
     for line in result.warnings:
         warnings.warn(f"{study}: {line}", stacklevel=2)
-    ds = build_dataset(spec, inputs, rows, result, text, str(study))
+    ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard)
     if output is not None:
         import shutil
 
