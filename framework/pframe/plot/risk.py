@@ -46,7 +46,11 @@ def risk_figures(path: str | Path) -> dict:
     ax.set_xscale("log")
     ax.set_xlabel(f"{ds.attrs.get('measure', 'IM')} (g)")
     ax.set_ylabel("P(limit state | IM)")
-    ax.legend(fontsize=7)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7)
+    else:
+        ax.text(0.5, 0.5, "no fragility fitted (see the file's warnings)", ha="center",
+                transform=ax.transAxes)
     ax.set_title(f"fragilities ({ds.attrs.get('design', '')}, maximum likelihood)")
     out["fragility"] = fig
     if "hazard_frequency" in ds:
