@@ -39,7 +39,7 @@ def _tool(name: str) -> str:
 def files(tmp_path_factory) -> dict[str, Path]:
     folder = tmp_path_factory.mktemp("cf")
     out = {"solve": folder / "eq14.nc", "pi": folder / "eq14-pi.nc", "sweep": folder / "sweep.nc",
-           "gap": folder / "gap.nc"}
+           "gap": folder / "gap.nc", "risk": folder / "risk.nc"}
     assert main(["solve", str(REPO / "models" / "wu2021-eq14.yaml"), "-o", str(out["solve"]),
                  "-q"]) == 0
     assert main(["solve", str(REPO / "models" / "hust-4x3-pi.yaml"), "-o", str(out["pi"]),
@@ -48,11 +48,14 @@ def files(tmp_path_factory) -> dict[str, Path]:
                  str(out["sweep"]), "-q"]) == 0
     assert main(["gap", str(REPO / "models" / "wu2021-pulse.yaml"), "--levels", "0.2,0.4",
                  "--gap", "0.1", "-o", str(out["gap"]), "-q"]) == 0
+    from test_risk import pulse_study
+
+    assert main(["risk", str(pulse_study(folder)), "-o", str(out["risk"]), "-q"]) == 0
     return out
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap", "risk"])
 def test_compliance_checker_finds_nothing(files, kind):
     done = subprocess.run([_tool("compliance-checker"), "--test=cf:1.8", "--format=text",
                            str(files[kind])], capture_output=True, text=True, timeout=300)
@@ -62,7 +65,7 @@ def test_compliance_checker_finds_nothing(files, kind):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap", "risk"])
 def test_cfchecks_finds_nothing(files, kind, tmp_path):
     checker = _tool("cfchecks")
     probe = subprocess.run([sys.executable, "-c", "import cfunits"], capture_output=True,
@@ -87,7 +90,7 @@ def test_cfchecks_finds_nothing(files, kind, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
+@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap", "risk"])
 def test_every_text_attribute_is_nc_char(files, kind):
     """Text attributes are fixed-length strings (netCDF's NC_CHAR), which every netCDF
     reader reads (Octave's netcdf package cannot read NC_STRING): checked in the HDF5

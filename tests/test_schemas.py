@@ -25,7 +25,8 @@ EXAMPLES = sorted((REPO / "models").rglob("*.yaml"))
 SCHEMA_LINE = "# yaml-language-server: $schema="
 #: the schema file of each kind of input file
 FOR_KIND = {"scene": "model.schema.json", "pi-scene": "pi-scene.schema.json",
-            "sweep": "sweep.schema.json", "suite": "suite.schema.json"}
+            "sweep": "sweep.schema.json", "suite": "suite.schema.json",
+            "risk": "risk.schema.json"}
 
 
 def _check_jsonschema():

@@ -19,7 +19,7 @@ from pframe.errors import EnvironmentFailure, InputError, PframeError  # noqa: E
 _API = {
     # reading, running, results
     "load": "pframe.api", "solve": "pframe.api", "sweep": "pframe.sweep", "open": "pframe.api",
-    "to_opensees": "pframe.api",
+    "to_opensees": "pframe.api", "risk": "pframe.risk",
     "IncompleteRun": "pframe.api", "AccuracyWarning": "pframe.verdict",
     "summary": "pframe.tables",
     # figures (matplotlib: pip install "pframe[plot]"); pframe.plot and pframe.sweep are also
@@ -44,7 +44,8 @@ __all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Cont
            "Cycloidal", "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History",
            "IncompleteRun", "InitialConditions", "InputError", "Newmark", "Newton", "Node",
            "Output", "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene",
-           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "load", "open", "plot", "solve",
+           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "load", "open",
+           "plot", "risk", "solve",
            "summary", "sweep", "to_opensees"]
 
 

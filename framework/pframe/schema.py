@@ -1,12 +1,13 @@
 """The JSON Schemas of pframe's input files (built-in laws), shipped inside the package.
 
-Four files, one per kind of input file, each with its ``$id``:
+Five files, one per kind of input file, each with its ``$id``:
 
 - ``model.schema.json``: a scene (:class:`pframe.model.scene.Scene`);
 - ``pi-scene.schema.json``: a scene written in Pi numbers (:class:`pframe.nondim.pi_form.PiScene`);
 - ``sweep.schema.json``: a sweep file (:class:`pframe.sweep.definition.SweepFile`);
 - ``suite.schema.json``: a ground-motion suite of ``pframe gap``
-  (:class:`pframe.excitation.suite.SuiteFile`).
+  (:class:`pframe.excitation.suite.SuiteFile`);
+- ``risk.schema.json``: a study of ``pframe risk`` (:class:`pframe.risk.study.StudyFile`).
 
 They are generated from the pydantic models and made to pass a strict validator (ajv's
 default strict mode): pydantic's ``discriminator`` keyword, which is OpenAPI's and not JSON
@@ -33,6 +34,7 @@ FILES = {
     "pi-scene.schema.json": ("pframe scene in Pi numbers", "urn:pframe:schema:pi-scene"),
     "sweep.schema.json": ("pframe sweep file", "urn:pframe:schema:sweep"),
     "suite.schema.json": ("pframe ground-motion suite", "urn:pframe:schema:suite"),
+    "risk.schema.json": ("pframe risk study", "urn:pframe:schema:risk"),
 }
 #: the properties that pick a branch of a tagged union
 SELECTORS = ("law", "material", "kind", "type")
@@ -162,6 +164,12 @@ def suite_schema() -> dict:
     return finish(SuiteFile.model_json_schema(), "suite.schema.json")
 
 
+def risk_schema() -> dict:
+    from pframe.risk.study import StudyFile
+
+    return finish(StudyFile.model_json_schema(), "risk.schema.json")
+
+
 def _text(schema: dict) -> str:
     return json.dumps(schema, indent=2, sort_keys=True) + "\n"
 
@@ -171,7 +179,8 @@ def texts() -> dict[str, str]:
     return {"model.schema.json": _text(scene_schema()),
             "pi-scene.schema.json": _text(pi_schema()),
             "sweep.schema.json": _text(sweep_schema()),
-            "suite.schema.json": _text(suite_schema())}
+            "suite.schema.json": _text(suite_schema()),
+            "risk.schema.json": _text(risk_schema())}
 
 
 def schema_text() -> str:

@@ -8,7 +8,7 @@ stays fast and a command never pays for another's imports.
 
 #: sub-command modules, in the order ``pframe --help`` lists them
 COMMANDS = ("solve", "validate", "schema", "pi", "expand", "scale", "plot", "accuracy", "sweep",
-            "gap", "compile", "opensees", "summary", "export", "animate")
+            "gap", "risk", "compile", "opensees", "summary", "export", "animate")
 
 
 def write_text_output(text: str, output, overwrite: bool, inputs=()) -> None:

@@ -40,6 +40,17 @@ def _plot(args) -> int:
 
     if is_gap_audit(args.result):
         return _plot_gap(args, output)
+    from pframe.plot.risk import is_risk_study
+
+    if is_risk_study(args.result):
+        from pframe.plot import save
+        from pframe.plot.risk import risk_figures
+
+        written = save(risk_figures(args.result), output, title=f"pframe plot {args.result}",
+                       overwrite=args.overwrite, inputs=[args.result])
+        if not args.quiet:
+            print(f"{args.result}: risk study; wrote " + ", ".join(str(p) for p in written))
+        return 0
     say = (lambda text: None) if args.quiet else (
         lambda text: print(f"pframe: {args.result}: {text}", file=sys.stderr))
     time_range = tuple(args.time_range) if args.time_range else None

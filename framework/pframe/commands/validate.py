@@ -11,9 +11,11 @@ SWEEP_KEYS = frozenset({"base", "scene", "axes", "combine", "keep", "chunk"})
 
 
 def input_kind(data) -> str:
-    """``sweep``, ``suite``, ``pi-scene`` or ``scene``: what kind of input file composed YAML
+    """``risk``, ``sweep``, ``suite``, ``pi-scene`` or ``scene``: what kind of input file composed YAML
     data is."""
     if isinstance(data, dict):
+        if "design" in data and "scene" in data:
+            return "risk"
         if SWEEP_KEYS & set(data):
             return "sweep"
         if "records" in data or ("folder" in data and "buildings" not in data):
@@ -186,6 +188,12 @@ def _validate(args) -> int:
     kind = input_kind(data)
     if kind == "suite":
         return _suite(path)
+    if kind == "risk":
+        from pframe.risk.study import read_study
+
+        study, _, _ = read_study(path)
+        print(f"{path}: valid; a risk study ({study.design.kind}) of {study.scene}")
+        return 0
     return _sweep(path) if kind == "sweep" else _scene(path, kind)
 
 

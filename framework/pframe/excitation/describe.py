@@ -285,7 +285,12 @@ def _peak(m, horizon: float) -> tuple[float, float]:
     if inside:  # (a sorted, distinct grid without them: union1d would only copy it)
         grid = np.union1d(grid, inside)
     values = np.abs(np.asarray(m(grid), dtype=float))
-    k = int(np.flatnonzero(values >= np.max(values) * (1.0 - 1e-6))[0])  # the first peak...
+    finite = np.isfinite(values)
+    if not finite.any():  # a motion that is nowhere a number (absurd inputs): no peak
+        return float("nan"), 0.0
+    values = np.where(finite, values, 0.0)
+    hits = np.flatnonzero(values >= np.max(values) * (1.0 - 1e-6))
+    k = int(hits[0]) if hits.size else int(np.argmax(values))  # the first peak...
     while k + 1 < values.size and values[k + 1] >= values[k]:  # ...at its top
         k += 1
     lo, hi = grid[max(k - 1, 0)], grid[min(k + 1, grid.size - 1)]

@@ -1,0 +1,261 @@
+"""Lognormal fragility functions by maximum likelihood, with their confidence (Baker 2015,
+"Efficient analytical fragility function fitting using dynamic structural analysis data",
+Earthquake Spectra 31(1)):
+
+    P(limit state | IM = x) = Phi(ln(x / theta) / beta).
+
+- multiple-stripe analysis: z_j of n_j runs at level x_j exceed the limit; binomial
+  likelihood sum_j [z_j ln Phi_j + (n_j - z_j) ln(1 - Phi_j)] (Baker's eq. 11);
+- incremental dynamic analysis: each record's capacity (the IM at which it first exceeds the
+  limit) is one lognormal sample; a record that never exceeds it up to the highest IM run is
+  right-censored there;
+- cloud analysis: ln D = a + b ln IM + e, e ~ N(0, s^2), fitted by maximum likelihood with the
+  runs above ``censor`` (collapse, or a demand the runs cannot measure) right-censored, so
+  P(D > d | x) = Phi((a + b ln x - ln d) / s): theta = exp((ln d - a) / b), beta = s / b.
+
+Each fit returns a :class:`Fragility` whose covariance of (ln theta, ln beta) is the inverse
+of the observed Fisher information (the negative log-likelihood's Hessian at the optimum,
+by central differences); confidence bounds are mu +- z sd on the log scale.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+from scipy.optimize import minimize
+from scipy.stats import norm
+
+#: the confidence of the bounds every fit reports
+CONFIDENCE = 0.90
+
+
+@dataclasses.dataclass(frozen=True)
+class Fragility:
+    """A lognormal fragility; ``cov``: covariance of (ln median, ln dispersion)."""
+
+    median: float
+    dispersion: float
+    cov: np.ndarray = dataclasses.field(default_factory=lambda: np.full((2, 2), np.nan))
+    method: str = "msa"
+    note: str = ""  # why the fit is absent, when it is
+
+    @property
+    def fitted(self) -> bool:
+        return math.isfinite(self.median) and math.isfinite(self.dispersion)
+
+    def probability(self, x):
+        x = np.asarray(x, float)
+        if not self.fitted:
+            return np.full(x.shape, np.nan)
+        with np.errstate(divide="ignore"):
+            return norm.cdf(np.log(x / self.median) / self.dispersion)
+
+    def bounds(self, confidence: float = CONFIDENCE) -> tuple[tuple, tuple]:
+        """((median low, high), (dispersion low, high)) at ``confidence``."""
+        z = norm.ppf(0.5 + confidence / 2)
+        sd = np.sqrt(np.diag(self.cov)) if np.all(np.isfinite(self.cov)) else np.full(2, np.nan)
+        with np.errstate(over="ignore"):  # a fit the data hardly fix: unbounded
+            return ((float(self.median * np.exp(-z * sd[0])),
+                     float(self.median * np.exp(z * sd[0]))),
+                    (float(self.dispersion * np.exp(-z * sd[1])),
+                     float(self.dispersion * np.exp(z * sd[1]))))
+
+
+def _absent(method: str, note: str) -> Fragility:
+    return Fragility(math.nan, math.nan, method=method, note=note)
+
+
+def _hessian(f, p: np.ndarray, h: float = 1e-4) -> np.ndarray:
+    n = p.size
+    out = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            e_i, e_j = np.eye(n)[i] * h, np.eye(n)[j] * h
+            out[i, j] = (f(p + e_i + e_j) - f(p + e_i - e_j) - f(p - e_i + e_j)
+                         + f(p - e_i - e_j)) / (4 * h * h)
+    return out
+
+
+def _covariance(nll, p: np.ndarray, transform=None) -> np.ndarray:
+    """Inverse observed information of ``nll`` at ``p``; ``transform(p) -> (J, value)`` maps
+    the parameters to (ln theta, ln beta) (delta method)."""
+    hess = _hessian(nll, p)
+    try:
+        cov = np.linalg.inv(hess)
+    except np.linalg.LinAlgError:
+        return np.full((2, 2), np.nan)
+    if not np.all(np.isfinite(cov)) or np.any(np.diag(cov) < 0):
+        return np.full((2, 2), np.nan)
+    if transform is not None:
+        jac = transform(p)
+        cov = jac @ cov @ jac.T
+    return cov
+
+
+def _best(nll, starts) -> object:
+    best = None
+    for guess in starts:  # fatol relative to the likelihood's size: a sum over many runs
+        res = minimize(nll, guess, method="Nelder-Mead",
+                       options={"xatol": 1e-9, "fatol": 1e-12 * max(1.0, abs(nll(guess))),
+                                "maxiter": 4000})
+        if best is None or res.fun < best.fun:
+            best = res
+    return best
+
+
+def fit_msa(levels, trials, exceeded) -> Fragility:
+    """Baker's binomial MLE over stripes: ``trials[j]`` runs at ``levels[j]``, ``exceeded[j]``
+    of them exceed the limit. Absent (NaN, with the reason) when the data cannot fix both
+    parameters: fewer than two levels with runs, or no exceedance at all, or every level all
+    or nothing in a way no finite dispersion explains (a perfect separation)."""
+    x = np.asarray(levels, float)
+    n = np.asarray(trials, float)
+    z = np.asarray(exceeded, float)
+    keep = n > 0
+    x, n, z = x[keep], n[keep], z[keep]
+    if x.size < 2:
+        return _absent("msa", "fewer than two intensity levels with runs")
+    if z.sum() == 0:
+        return _absent("msa", "no run exceeds the limit at any level")
+    if np.all((z == 0) | (z == n)):
+        return _absent("msa", "every level is all-or-nothing: the median lies between two "
+                       "levels and the dispersion is not determined (add levels there)")
+    return _probit(np.log(x), n, z)
+
+
+def _loglik(c, lx, n, z) -> float:
+    eta = c[0] + c[1] * lx
+    return float(np.sum(z * norm.logcdf(eta) + (n - z) * norm.logsf(eta)))
+
+
+def _probit(lx, n, z) -> Fragility:
+    """Binomial probit regression P = Phi(c0 + c1 ln x) by Fisher scoring with step halving
+    (each step solves a 2 x 2 system: fast enough to refit for every gap of a root search);
+    theta = exp(-c0 / c1), beta = 1 / c1."""
+    fractions = z / n
+    mid = int(np.argmin(np.abs(fractions - 0.5)))
+    beta0 = max(float(np.std(lx)), 0.3)
+    c = np.array([-lx[mid] / beta0, 1.0 / beta0])
+    design = np.stack([np.ones_like(lx), lx], axis=1)
+    current = _loglik(c, lx, n, z)
+    info = None
+    for _ in range(200):
+        eta = design @ c
+        p = np.clip(norm.cdf(eta), 1e-300, 1 - 1e-16)
+        q = np.clip(norm.sf(eta), 1e-300, 1 - 1e-16)
+        phi = norm.pdf(eta)
+        score = design.T @ ((z - n * p) * phi / (p * q))
+        info = (design * (n * phi * phi / (p * q))[:, None]).T @ design
+        try:
+            step = np.linalg.solve(info, score)
+        except np.linalg.LinAlgError:
+            break
+        scale = 1.0
+        while scale > 1e-6:
+            trial = c + scale * step
+            value = _loglik(trial, lx, n, z)
+            if value >= current - 1e-12:
+                break
+            scale *= 0.5
+        c, moved = trial, abs(value - current)
+        current = value
+        if np.max(np.abs(scale * step)) < 1e-10 or moved < 1e-13:
+            break
+        if c[1] > 1e3:
+            break
+    if not (1e-2 < c[1] < 1e3) or not np.isfinite(current):
+        return _absent("msa", "the likelihood has no interior maximum (the data separate "
+                       "perfectly, or exceedance falls with the intensity)")
+    eta = design @ c
+    p = np.clip(norm.cdf(eta), 1e-300, 1 - 1e-16)
+    q = np.clip(norm.sf(eta), 1e-300, 1 - 1e-16)
+    phi = norm.pdf(eta)
+    info = (design * (n * phi * phi / (p * q))[:, None]).T @ design
+    try:
+        cov_c = np.linalg.inv(info)
+    except np.linalg.LinAlgError:
+        cov_c = np.full((2, 2), np.nan)
+    jac = np.array([[-1 / c[1], c[0] / c[1] ** 2], [0.0, -1 / c[1]]])
+    return Fragility(math.exp(-c[0] / c[1]), float(1.0 / c[1]), jac @ cov_c @ jac.T, "msa")
+
+
+def fit_capacities(capacities, censored=None) -> Fragility:
+    """Lognormal MLE of IM capacities (IDA); ``censored[i]``: record i never exceeded the
+    limit, its capacity is above ``capacities[i]`` (the highest IM run)."""
+    c = np.asarray(capacities, float)
+    cens = np.zeros(c.shape, bool) if censored is None else np.asarray(censored, bool)
+    keep = np.isfinite(c) & (c > 0)
+    c, cens = c[keep], cens[keep]
+    if (~cens).sum() < 2:
+        return _absent("ida", "fewer than two records reach the limit")
+    lc = np.log(c)
+
+    def nll(p):
+        mu, log_beta = p
+        t = (lc - mu) / math.exp(log_beta)
+        return -(np.sum(norm.logpdf(t[~cens]) - log_beta) + np.sum(norm.logsf(t[cens])))
+
+    start = np.array([lc[~cens].mean(), math.log(max(lc[~cens].std(), 0.05))])
+    best = _best(nll, (start,))
+    return Fragility(math.exp(best.x[0]), math.exp(best.x[1]), _covariance(nll, best.x),
+                     "ida")
+
+
+@dataclasses.dataclass(frozen=True)
+class Regression:
+    """ln D = a + b ln IM + N(0, s^2), with the covariance of (a, b, ln s)."""
+
+    a: float
+    b: float
+    s: float
+    cov: np.ndarray
+
+    def fragility(self, limit: float) -> Fragility:
+        """P(D > limit | IM) as a lognormal fragility in IM (b > 0)."""
+        if not (self.b > 0 and math.isfinite(self.s)):
+            return _absent("cloud", "the demand does not grow with the intensity (b <= 0)")
+        ll = math.log(limit)
+        p = np.array([self.a, self.b, math.log(self.s)])
+
+        def jac(_):  # d(ln theta, ln beta) / d(a, b, ln s)
+            lt = (ll - self.a) / self.b
+            return np.array([[-1 / self.b, -lt / self.b, 0.0], [0.0, -1 / self.b, 1.0]])
+
+        cov = jac(p) @ self.cov @ jac(p).T if np.all(np.isfinite(self.cov)) else \
+            np.full((2, 2), np.nan)
+        return Fragility(math.exp((ll - self.a) / self.b), self.s / self.b, cov, "cloud")
+
+
+def fit_cloud(intensities, demands, censor: float | None = None) -> Regression:
+    """Maximum-likelihood regression of ln demand on ln IM; demands >= ``censor`` are
+    right-censored there (their ln D is only known to be above ln censor)."""
+    x = np.log(np.asarray(intensities, float))
+    d = np.asarray(demands, float)
+    keep = np.isfinite(x) & np.isfinite(d) & (d > 0)
+    x, d = x[keep], d[keep]
+    cens = np.zeros(d.shape, bool) if censor is None else d >= censor
+    y = np.log(np.where(cens, censor if censor else 1.0, d))
+    if (~cens).sum() < 3:
+        return Regression(math.nan, math.nan, math.nan, np.full((3, 3), np.nan))
+    b0, a0 = np.polyfit(x[~cens], y[~cens], 1)
+    s0 = max(float(np.std(y[~cens] - a0 - b0 * x[~cens])), 1e-3)
+
+    def nll(p):
+        a, b, log_s = p
+        s = math.exp(log_s)
+        t = (y - a - b * x) / s
+        return -(np.sum(norm.logpdf(t[~cens]) - log_s) + np.sum(norm.logsf(t[cens])))
+
+    if cens.any():
+        p = _best(nll, (np.array([a0, b0, math.log(s0)]),)).x
+    else:  # ordinary least squares is the MLE (its s divides by n)
+        resid = y - a0 - b0 * x
+        p = np.array([a0, b0, math.log(max(math.sqrt(np.mean(resid ** 2)), 1e-12))])
+    hess = _hessian(nll, p)
+    try:
+        cov = np.linalg.inv(hess)
+    except np.linalg.LinAlgError:
+        cov = np.full((3, 3), np.nan)
+    return Regression(float(p[0]), float(p[1]), math.exp(p[2]), cov)

@@ -1,0 +1,196 @@
+"""A risk study's labelled result (xarray.Dataset, written as netCDF-4 CF-1.8) and its
+summary table."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pframe.risk.analysis import CONDITIONS, G
+from pframe.risk.fragility import CONFIDENCE
+
+KIND = "risk_study"
+
+
+def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None):
+    import xarray as xr
+
+    import pframe
+    from pframe.api import indexed
+    from pframe.gap.output import measure_label
+
+    R, L = inputs.factors.shape
+    C = len(inputs.pairs.names)
+    buildings = list(inputs.loaded.expanded.buildings)
+    nb = len(buildings)
+    units = {"pounding": "m", "drift": "m", "acceleration": "g"}
+    coords = {
+        "record_name": ("record", np.array(inputs.suite.names, dtype=object),
+                        {"long_name": "ground-motion record"}),
+        "level": ("level", np.asarray(inputs.levels, float),
+                  {"units": "g" if inputs.scaled else "1",
+                   "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
+                                 else "records as given (cloud analysis)")}),
+        "contact_name": ("contact", np.array(inputs.pairs.names, dtype=object),
+                         {"long_name": "contact level"}),
+        "building_name": ("building", np.array(buildings, dtype=object),
+                          {"long_name": "building"}),
+        "limit_name": ("limit", np.array(result.limit_names, dtype=object),
+                       {"long_name": "limit state"}),
+        "condition_name": ("condition", np.array(CONDITIONS, dtype=object),
+                           {"long_name": "runs without the contacts, or with them at the "
+                            "scene's gaps"}),
+    }
+
+    def grid(key, width, fill=np.nan):
+        if key not in rows:
+            return np.full((R, L, width), fill)
+        ok = (rows[key.split("_")[0] + "_complete"] == 1)[:, None]
+        return np.where(ok, rows[key], fill).reshape(R, L, width)
+
+    frag = result.fragilities
+    lim, cond = result.limit_names, CONDITIONS
+
+    def table(f):
+        return np.array([[f(frag[(n, c)]) for c in cond] for n in lim], dtype=float)
+
+    def maf(i):
+        return np.array([[result.maf[(n, c)][i] for c in cond] for n in lim], dtype=float)
+
+    im = result.im.reshape(R, L)
+    drift = np.stack([grid("free_drift", nb), grid("contact_drift", nb)])
+    acc = np.stack([grid("free_acceleration", nb), grid("contact_acceleration", nb)]) / G
+    impacts = (np.where((rows["contact_complete"] == 1)[:, None], rows["contact_impacts"], -1)
+               .reshape(R, L, C).astype(np.int32) if "contact_impacts" in rows
+               else np.full((R, L, C), -1, np.int32))
+    pct = f"{100 * CONFIDENCE:g} %"
+    data = {
+        "intensity": (("record", "level"), im, {
+            "units": "g", "long_name": f"intensity of the run ({measure_label(inputs)})"}),
+        "critical_gap": (("record", "level", "contact"), grid("free_g_req", C), {
+            "units": "m", "long_name": "max over time of u_left - u_right without contacts: "
+            "the gap below which the floors pound"}),
+        "peak_story_drift": (("condition", "record", "level", "building"), drift, {
+            "units": "m", "long_name": "peak |storey drift| over the building's storeys"}),
+        "peak_floor_acceleration": (("condition", "record", "level", "building"), acc, {
+            "units": "g", "long_name": "peak absolute floor acceleration over the building's "
+            "floors"}),
+        "impact_count": (("record", "level", "contact"), impacts, {
+            "units": "1", "long_name": "impacts in the run with contacts (-1: not run)"}),
+        "limit_value": (("limit",), np.array(result.limit_values, float), {
+            "units": "1", "long_name": "the limit: gap (m) for pounding, drift (m), floor "
+            "acceleration (g); see limit_units"}),
+        "limit_units": (("limit",), np.array([units[k] for k in result.limit_kinds],
+                                             dtype=object), {"long_name": "units of the limit"}),
+        "fragility_median": (("limit", "condition"), table(lambda f: f.median), {
+            "units": "g", "long_name": "median theta of the lognormal fragility "
+            f"({spec.design.kind}, maximum likelihood)"}),
+        "fragility_dispersion": (("limit", "condition"), table(lambda f: f.dispersion), {
+            "units": "1", "long_name": "dispersion beta of the lognormal fragility"}),
+        "fragility_median_low": (("limit", "condition"), table(lambda f: f.bounds()[0][0]),
+                                 {"units": "g", "long_name": f"lower {pct} bound of theta "
+                                  "(Fisher information)"}),
+        "fragility_median_high": (("limit", "condition"), table(lambda f: f.bounds()[0][1]),
+                                  {"units": "g", "long_name": f"upper {pct} bound of theta"}),
+        "fragility_dispersion_low": (("limit", "condition"),
+                                     table(lambda f: f.bounds()[1][0]),
+                                     {"units": "1", "long_name": f"lower {pct} bound of beta"}),
+        "fragility_dispersion_high": (("limit", "condition"),
+                                      table(lambda f: f.bounds()[1][1]),
+                                      {"units": "1", "long_name": f"upper {pct} bound of beta"}),
+        "complete": (("condition", "record", "level"), np.stack([
+            rows.get(f"{p}_complete", np.zeros(R * L, np.int8)).reshape(R, L)
+            for p in ("free", "contact")]).astype(np.int8),
+            {"units": "1", "long_name": "1 if the run completed"}),
+    }
+    attrs = {
+        "title": f"risk study: {inputs.loaded.scene.title or inputs.loaded.source}",
+        "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source,
+        "suite": inputs.suite.source, "measure": measure_label(inputs),
+        "design": spec.design.kind, "study_yaml": text, "input_yaml": inputs.loaded.text,
+        "dt": inputs.dt, "steps": inputs.steps, "duration": inputs.steps * inputs.dt,
+        "warnings": "\n".join([*inputs.warnings, *result.warnings]),
+        "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
+    }
+    if any(math.isfinite(result.maf[k][0]) for k in result.maf):
+        data.update({
+            "annual_frequency": (("limit", "condition"), maf(0), {
+                "units": "year-1", "long_name": "mean annual frequency of the limit state"}),
+            "annual_frequency_low": (("limit", "condition"), maf(1), {
+                "units": "year-1", "long_name": "5th percentile of the annual frequency over "
+                "the fragility's parameter uncertainty"}),
+            "annual_frequency_high": (("limit", "condition"), maf(2), {
+                "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
+        })
+    if hazard is not None:
+        data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
+            "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
+        coords["hazard_im"] = ("hazard_point", hazard.im, {
+            "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
+    if result.gap_grid is not None:
+        coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
+        data["pounding_frequency"] = (("gap",), result.gap_rates, {
+            "units": "year-1", "long_name": "annual frequency of pounding at the gap (the "
+            "design's fragility refitted at each gap)"})
+    if math.isfinite(result.target):
+        data.update({
+            "target_annual_frequency": ((), result.target, {"units": "year-1",
+                                        "long_name": "the target annual frequency of pounding"}),
+            "intensity_at_target": ((), result.im_at_target, {
+                "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
+                "target frequency"}),
+            "gap_at_target": ((), result.gap, {
+                "units": "m", "long_name": "uniform gap whose annual frequency of pounding is "
+                "the target (root search over the gap)"}),
+            "gap_at_target_low": ((), result.gap_low, {
+                "units": "m", "long_name": "5th percentile of the gap over record bootstrap"}),
+            "gap_at_target_high": ((), result.gap_high, {
+                "units": "m", "long_name": "95th percentile of the gap over record bootstrap"}),
+            "gap_at_target_regression": ((), result.gap_regression, {
+                "units": "m", "long_name": "the gap at target from the regression of ln "
+                "critical gap on ln IM (a smooth second estimate)"}),
+        })
+        if result.rules_at_target:
+            coords["rule_name"] = ("rule", np.array(list(result.rules_at_target), dtype=object),
+                                   {"long_name": "separation rule"})
+            data["rule_separation_at_target"] = (("rule",), np.array(
+                list(result.rules_at_target.values())), {
+                "units": "m", "long_name": "median over the records of the rule's separation "
+                "at intensity_at_target (ABS, SRSS, DDC of the peak displacements; simulated: "
+                "the critical gap)"})
+    return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
+                              coords={k: xr.Variable(*v) for k, v in coords.items()},
+                              attrs=attrs))
+
+
+def summary(ds) -> str:
+    """The terminal table: each limit's fragility and annual frequency, then the gap."""
+    lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
+             + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")]
+    lines.append("-" * len(lines[0]))
+    for limit in ds.limit_name.values:
+        for cond in ds.condition_name.values:
+            sel = {"limit_name": limit, "condition_name": cond}
+            m = float(ds.fragility_median.sel(sel))
+            row = (f"{limit:<12} {cond:<17} {m:>8.4g} {float(ds.fragility_dispersion.sel(sel)):>6.3g}"
+                   f" {float(ds.fragility_median_low.sel(sel)):>8.4g}-"
+                   f"{float(ds.fragility_median_high.sel(sel)):<8.4g}")
+            if "annual_frequency" in ds:
+                row += (f" {float(ds.annual_frequency.sel(sel)):>10.3e} "
+                        f"{float(ds.annual_frequency_low.sel(sel)):>10.3e}-"
+                        f"{float(ds.annual_frequency_high.sel(sel)):<10.3e}")
+            lines.append(row)
+    if "gap_at_target" in ds:
+        lines.append(f"gap at annual frequency {float(ds.target_annual_frequency):.3g} "
+                     f"(return period {1 / float(ds.target_annual_frequency):.0f} years, "
+                     f"IM {float(ds.intensity_at_target):.3g} g): "
+                     f"{1000 * float(ds.gap_at_target):.1f} mm "
+                     f"(90 % bootstrap {1000 * float(ds.gap_at_target_low):.1f}-"
+                     f"{1000 * float(ds.gap_at_target_high):.1f} mm; regression "
+                     f"{1000 * float(ds.gap_at_target_regression):.1f} mm)")
+        if "rule_separation_at_target" in ds:
+            lines.append("code rules at that IM (median over the records): " + ", ".join(
+                f"{r} {1000 * float(v):.1f} mm" for r, v in
+                zip(ds.rule_name.values, ds.rule_separation_at_target.values)))
+    return "\n".join(lines)

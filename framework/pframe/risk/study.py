@@ -1,0 +1,280 @@
+"""A risk study: a scene, a record suite and an analysis design, run in resumable batches;
+then fragilities, the hazard, mean annual frequencies and the gap at a target frequency
+(docs/risk.md).
+
+A study file (YAML; paths relative to it)::
+
+    scene: ../wu2021-eq14.yaml
+    suite: ../suites/peer-records.yaml
+    measure: sa:A                  # pga, sa:SECONDS or sa:BUILDING (its first period)
+    design: {kind: msa, levels: [0.25, 0.5, 0.75, 1.0]}   # or ida (same grid), cloud
+    dt: 0.002                      # step of the runs without contacts (default: the scene's)
+    pounding_runs: true            # also run with the contacts (scene's step): demands with pounding
+    limits:
+      drift: {IO: 0.02, LS: 0.04}          # peak storey drift (m), any storey of a building
+      acceleration: {A: 1.0}               # peak absolute floor acceleration (g)
+    hazard: {file: hazard.csv}     # or {power_law: {k0: 1.0e-4, k: 2.5}}
+    target: {return_period: 475}   # or {annual_frequency: 2.1e-3}
+"""
+
+from __future__ import annotations
+
+import math
+import time
+import warnings
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from pframe.errors import InputError
+
+G = 9.80665
+
+
+class _Base(BaseModel):
+    model_config = ConfigDict(extra="forbid")
+
+
+class Design(_Base):
+    """Records scaled to levels (msa, ida) or as given (cloud)."""
+
+    kind: Literal["msa", "ida", "cloud"] = Field(description="multiple-stripe (records scaled "
+                                                 "to levels), incremental dynamic analysis on "
+                                                 "a grid of levels, or cloud (unscaled)")
+    levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida")
+
+
+class PowerLaw(_Base):
+    """A power-law hazard curve lambda = k0 IM^-k."""
+
+    k0: float = Field(gt=0, description="Annual frequency of exceeding IM = 1 g.")
+    k: float = Field(gt=0, description="The log-log slope of the hazard curve.")
+
+
+class Hazard(_Base):
+    """The hazard curve of the study's intensity measure: a table or a power law."""
+
+    file: str | None = Field(None, description="A CSV hazard table (two columns, USGS or "
+                             "OpenQuake form), relative to the study file.")
+    power_law: PowerLaw | None = Field(None, description="A power law instead of a table.")
+
+
+class Target(_Base):
+    """The target annual frequency of pounding the gap is solved for."""
+
+    annual_frequency: float | None = Field(None, gt=0, lt=1, description="Per year.")
+    return_period: float | None = Field(None, gt=1, description="Years (its inverse is the "
+                                        "annual frequency).")
+
+
+class Limits(_Base):
+    """Demand limits, by name."""
+
+    drift: dict[str, float] = Field(default_factory=dict, description="name: drift (m)")
+    acceleration: dict[str, float] = Field(default_factory=dict,
+                                           description="name: absolute acceleration (g)")
+
+
+class StudyFile(_Base):
+    """A risk study of ``pframe risk`` (docs/risk.md)."""
+
+    scene: str = Field(description="The scene file, relative to the study file.")
+    suite: str | None = Field(None, description="A suite file, relative to the study file "
+                              "(default: the scene's own excitation).")
+    records_folder: str | None = Field(None, description="Where the suite's records are "
+                                       "(default: beside the suite).")
+    measure: str | None = Field(None, description="pga, sa:SECONDS or sa:BUILDING "
+                                "(default: the suite's measure).")
+    design: Design = Field(description="The analysis design.")
+    dt: float | None = Field(None, gt=0, description="Step of the runs without contacts (s; "
+                             "default: the scene's).")
+    duration: float | None = Field(None, gt=0, description="Analysed time (s; default: the "
+                                   "longest record plus three first periods).")
+    pounding_runs: bool = Field(True, description="Also run with the contacts at the scene's "
+                                "gaps and step, for demands with pounding.")
+    limits: Limits = Field(default_factory=Limits, description="Demand limits.")
+    hazard: Hazard | None = Field(None, description="The hazard curve.")
+    target: Target | None = Field(None, description="The target annual frequency of "
+                                  "pounding.")
+    bootstrap: int = Field(200, ge=0, description="record resamples for the gap's interval")
+    seed: int = Field(0, description="Seed of the bootstrap and of the MAF's range.")
+    chunk: int | None = Field(None, ge=1, description="Variants per saved batch (a stopped "
+                              "study resumes from them).")
+
+
+def read_study(path) -> tuple[StudyFile, Path, str]:
+    import yaml
+
+    path = Path(path)
+    try:
+        text = path.read_text()
+        data = yaml.safe_load(text)
+    except OSError as exc:
+        raise InputError(f"{path}: cannot read the study ({exc.strerror or exc})") from None
+    except yaml.YAMLError as exc:
+        raise InputError(f"{path}: not YAML ({exc})") from None
+    if not isinstance(data, dict):
+        raise InputError(f"{path}: a risk study is a mapping (scene:, suite:, design:, ...)")
+    try:
+        study = StudyFile(**data)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(p) for p in err["loc"])
+        raise InputError(f"{path}, at {where}: {err['msg']} (see docs/risk.md for the study "
+                         "file's fields)") from None
+    design = study.design
+    if design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
+                                          or any(not x > 0 for x in design.levels)):
+        raise InputError(f"{path}, at design.levels: a {design.kind} design needs at least two "
+                         "positive intensity levels (g)")
+    if design.kind == "cloud" and design.levels:
+        raise InputError(f"{path}, at design.levels: a cloud analysis runs the records "
+                         "unscaled; remove the levels (or use kind: msa)")
+    if study.hazard is not None and (study.hazard.file is None) == (study.hazard.power_law
+                                                                    is None):
+        raise InputError(f"{path}, at hazard: give either file: TABLE.csv or power_law: "
+                         "{k0: ..., k: ...}")
+    if study.target is not None and (study.target.annual_frequency is None) == (
+            study.target.return_period is None):
+        raise InputError(f"{path}, at target: give either annual_frequency or return_period")
+    for kind, values in (("drift", study.limits.drift),
+                         ("acceleration", study.limits.acceleration)):
+        for name, v in values.items():
+            if not (v > 0 and math.isfinite(v)):
+                raise InputError(f"{path}, at limits.{kind}.{name}: a limit is a number > 0")
+    return study, path.parent, text
+
+
+class _Definition:
+    def __init__(self, digest: str, source: str, chunk: int):
+        self.digest, self.source, self.chunk = digest, source, chunk
+
+
+class _Spec:
+    def __init__(self, count: int, chunk: int):
+        self.count, self.chunks = count, -(-count // chunk)
+
+
+def _ground(inputs, variants, steps: int, dt: float) -> np.ndarray:
+    times = np.arange(steps + 1) * dt
+    levels = inputs.factors.shape[1]
+    out = np.empty((len(variants), steps + 1))
+    for k, v in enumerate(variants):
+        r, j = divmod(int(v), levels)
+        out[k] = inputs.factors[r, j] * inputs.suite.motions[r].on_grid(times)
+    return out
+
+
+def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
+                 progress=None) -> dict:
+    """Every variant's arrays; chunks saved beside ``output`` so a stopped study resumes."""
+    from pframe.risk.runs import run_batch
+
+    count = inputs.count
+    spec = _Spec(count, chunk)
+    scene_dt = float(inputs.loaded.expanded.dt)
+    contact_steps = int(math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
+    parts = None
+    if output is not None:
+        from pframe.sweep.store import Parts
+
+        digest = inputs.digest(f"risk chunk={chunk} pounding={pounding_runs}")
+        parts = Parts(Path(output), _Definition(digest, inputs.loaded.source, chunk), spec)
+    done: dict[int, dict] = {}
+    try:
+        if parts is not None:
+            try:
+                for c in parts.open(restart=restart):
+                    done[c] = parts.load(c)
+            except InputError as exc:
+                if "holds" not in str(exc):
+                    raise
+                raise InputError(f"{parts.folder}: holds batches of another study (another "
+                                 "scene, suite, levels, step, chunk size or pframe code); pass "
+                                 "--overwrite to discard them, or choose another -o") from None
+        for c in range(spec.chunks):
+            if c in done:
+                continue
+            variants = np.arange(c * chunk, min(count, (c + 1) * chunk))
+            free = run_batch(inputs.loaded, inputs.pairs,
+                             _ground(inputs, variants, inputs.steps, inputs.dt),
+                             inputs.steps, inputs.dt, contacts=False, threads=threads)
+            arrays = {f"free_{k}": v for k, v in free.items()}
+            if pounding_runs:
+                hit = run_batch(inputs.loaded, inputs.pairs,
+                                _ground(inputs, variants, contact_steps, scene_dt),
+                                contact_steps, scene_dt, contacts=True, threads=threads)
+                arrays.update({f"contact_{k}": v for k, v in hit.items()})
+            if parts is not None:
+                parts.save(c, arrays)
+            done[c] = arrays
+            if progress is not None:
+                progress(min(count, (c + 1) * chunk), count)
+    finally:
+        if parts is not None:
+            parts.close()
+    ordered = [done[c] for c in range(spec.chunks)]
+    return {k: (np.concatenate([o[k] for o in ordered]) if np.ndim(ordered[0][k]) else
+                sum(float(o[k]) for o in ordered)) for k in ordered[0]}
+
+
+def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
+         records_folder=None, threads: int | None = None, progress=None,
+         timings: dict | None = None):
+    """Run a risk study (a study file, see :mod:`pframe.risk.study`) and return its
+    ``xarray.Dataset``: the runs (record x level), fragilities of pounding and of each
+    demand limit with and without pounding (maximum likelihood, 90 % confidence bounds),
+    mean annual frequencies, and the gap at the target annual frequency beside the code
+    rules. With ``output``, writes it (netCDF-4, CF-1.8), keeping finished batches beside it
+    until then so that a stopped study resumes. Warnings (runs cut short, a hazard table too
+    short for the fragilities, runs that failed) go in ``warnings`` and the file's
+    ``warnings`` attribute. Raises :class:`InputError` for bad input."""
+    from pframe.gap.audit import prepare
+    from pframe.risk.analysis import analyse
+    from pframe.risk.output import build_dataset
+
+    start = time.perf_counter()
+    spec, base, text = read_study(study)
+    scene = (base / spec.scene).resolve()
+    suite = None if spec.suite is None else (base / spec.suite).resolve()
+    folder = records_folder or (None if spec.records_folder is None
+                                else (base / spec.records_folder).resolve())
+    inputs = prepare(scene, suite, levels=spec.design.levels, measure=spec.measure,
+                     duration=spec.duration, dt=spec.dt, records_folder=folder)
+    hazard = None
+    if spec.hazard is not None:
+        from pframe.risk.hazard import HazardCurve, read_hazard
+
+        hazard = (read_hazard(base / spec.hazard.file) if spec.hazard.file else
+                  HazardCurve.power_law(spec.hazard.power_law.k0, spec.hazard.power_law.k))
+    if output is not None:
+        from pframe import outputs
+        from pframe.api import run_inputs
+
+        reads = [*run_inputs(inputs.loaded), inputs.suite.source, str(study),
+                 *(m.source for m in inputs.suite.motions)]
+        output = outputs.check_output(output, inputs=[r for r in reads if r],
+                                      overwrite=overwrite, what="risk file")
+    chunk = spec.chunk or inputs.count
+    rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite, progress)
+    result = analyse(spec, inputs, rows, hazard)
+    for line in result.warnings:
+        warnings.warn(f"{study}: {line}", stacklevel=2)
+    ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard)
+    if output is not None:
+        import shutil
+
+        from pframe.record.netcdf import write_dataset
+        from pframe.sweep.store import parts_folder
+
+        write_dataset(ds, output)
+        shutil.rmtree(parts_folder(Path(output)), ignore_errors=True)
+    if timings is not None:
+        timings.update(wall_seconds=time.perf_counter() - start, variants=inputs.count,
+                       solve_seconds=float(rows["free_solve_seconds"])
+                       + float(rows.get("contact_solve_seconds", 0.0)))
+    return ds
+
+
