@@ -40,6 +40,7 @@ _BUILTIN_MODULES = {
         "pframe.laws.material.bilinear",
         "pframe.laws.material.viscous",
         "pframe.laws.material.kelvin_voigt",
+        "pframe.laws.material.imk_peak",
     ),
 }
 _GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}
