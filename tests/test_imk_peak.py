@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import run_text
+from conftest import REPO, record_file, run_text, runnable_model
 
 from pframe.laws.material.imk_peak import ImkPeak
 
@@ -158,3 +158,32 @@ def test_the_kernel_books_the_loops_area_and_the_balance_closes(p_delta, amplitu
         area = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(d)))
         booked = result.energy_terms(0)["storeys"]
         assert booked == pytest.approx(area, rel=1e-9)
+
+
+def test_the_example_softens_a_storey(tmp_path):
+    """models/degrading-frames.yaml: El Centro x 1.5 drives A's first storey past its cap;
+    its drift ratio passes 2.5 %, the secant stiffness of its late loops (the material's
+    force: the recorded net force plus P drift / h) falls far below K0, its strength
+    deteriorates, the frames pound, and the balance (gravity's work included) closes."""
+    from pframe.assemble import assemble
+    from pframe.kernel import simulate
+    from pframe.reader import load_scene
+
+    record_file("elCentro.AT2")
+    loaded = load_scene(runnable_model(REPO / "models" / "degrading-frames.yaml", tmp_path))
+    plan = assemble(loaded.expanded)
+    result = simulate(plan)
+    assert result.completed(0), result.describe_failure(0)
+    assert result.energy_error(0) < 1e-10
+    assert int(result.impacts[0].sum()) >= 1
+    e = plan.story_names.index("A/1")
+    ratio = result.history["story_drift_ratio"][0, :, e]
+    assert np.max(np.abs(ratio)) > 0.025
+    d = result.history["story_drift"][0, :, e]
+    f = result.history["story_force"][0, :, e] + plan.story_kg[0, e] * d
+    k0, my = 4.0e7, 3.0e5
+    late = slice(len(d) // 2, None)
+    hi, lo = np.argmax(d[late]), np.argmin(d[late])
+    secant = (f[late][hi] - f[late][lo]) / (d[late][hi] - d[late][lo])
+    assert 0.0 < secant < 0.25 * k0
+    assert np.max(np.abs(f[late])) < 0.9 * my < np.max(np.abs(f))
