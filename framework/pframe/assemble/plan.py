@@ -424,10 +424,10 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                             f"Elastic and Viscous; the scene's links use {group.law.name!r}")
         if not np.any(group.index < ns):
             continue
-        if group.law.opensees not in ("Elastic", "Steel01"):
-            problems.append(f"it models storeys with Elastic or Steel01 (the laws elastic and "
-                            f"bilinear); the scene's storeys use {group.law.name!r}, which has "
-                            "no OpenSees counterpart")
+        if group.law.opensees not in ("Elastic", "Steel01", "ModIMKPeakOriented"):
+            problems.append(f"it models storeys with Elastic, Steel01 or ModIMKPeakOriented "
+                            f"(the laws elastic, bilinear and imk_peak); the scene's storeys "
+                            f"use {group.law.name!r}, which has no OpenSees counterpart")
     for group in plan.contact_groups:
         if group.law.opensees != "ElasticPPGap":
             problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
@@ -442,6 +442,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                 continue
             p = group.params[member, j]
             materials.append((i, ("elastic", p[0]) if group.law.opensees == "Elastic"
+                              else ("imk_peak", *p) if group.law.name == "imk_peak"
                               else ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
     ns = len(plan.story_names)

@@ -7,8 +7,9 @@ same text in this process and returns its histories.
 
 Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node):
 
-* storeys: ``zeroLength`` with ``Elastic`` or ``Steel01`` (``b = alpha``, no isotropic
-  hardening) from the lower to the upper node, so the element deformation is the drift;
+* storeys: ``zeroLength`` with ``Elastic``, ``Steel01`` (``b = alpha``, no isotropic
+  hardening) or ``ModIMKPeakOriented`` (imk_peak's 23 numbers) from the lower to the upper
+  node, so the element deformation is the drift;
 * contacts: ``zeroLength`` from the left to the right node with ``ElasticPPGap(k, -huge, -gap)``;
   its deformation ``u_right - u_left`` falls below ``-gap`` exactly when
   ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
@@ -75,6 +76,8 @@ def build():
         tag = j + 1
         if mat[0] == "elastic":
             ops.uniaxialMaterial("Elastic", tag, mat[1])
+        elif mat[0] == "imk_peak":  # pframe's packed numbers are OpenSees' 23 arguments
+            ops.uniaxialMaterial("ModIMKPeakOriented", tag, *mat[1:])
         else:
             _, k, fy, alpha = mat
             ops.uniaxialMaterial("Steel01", tag, fy, k, alpha)
@@ -238,6 +241,8 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
             materials.append(("elastic", float(mat[1])))
         elif mat[0] == "bilinear":
             materials.append(("bilinear", *(float(v) for v in mat[1:4])))
+        elif mat[0] == "imk_peak":
+            materials.append(("imk_peak", *(float(v) for v in mat[1:24])))
         else:
             raise ValueError(f"unknown storey material {mat[0]!r}")
     rayleigh = [
