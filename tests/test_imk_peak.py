@@ -228,3 +228,42 @@ def test_a_scene_of_imk_peak_storeys_agrees_with_its_opensees_export():
     assert np.max(np.abs(u - opensees["displacement"])) <= 1e-12 * np.max(np.abs(u))
     f = result.history["story_force"][0]
     assert np.max(np.abs(f - opensees["story_force"])) <= 1e-12 * np.max(np.abs(f))
+
+
+def test_the_reference_solver_refuses_it_rather_than_miss_its_kinks():
+    """pframe accuracy's reference solution locates each law's kinks from a regime
+    description; imk_peak has none, so it is refused by name (never integrated across
+    unlocated branch changes)."""
+    from pframe.errors import InputError
+    from pframe.reference.branches import branches_for
+
+    with pytest.raises(InputError, match="material law 'imk_peak'"):
+        branches_for(ImkPeak)
+
+
+def test_a_scaled_scene_is_similar():
+    """Similitude (pframe scale, lengths x 1/4, accelerations x 1, masses x 1/16): every
+    imk_peak parameter carries its dimension (Lamda and the drifts are lengths, My a force,
+    K0 a stiffness), so the scaled storey's drift is the prototype's x 1/4 at the scaled times,
+    through yielding, capping and deterioration, and its Pi groups are the prototype's."""
+    from pframe.nondim import scale_scene, scene_pi, similitude
+    from pframe.reader import parse_scene
+
+    w = math.sqrt(4.0e7 / 4.0e4)
+    data = json.loads(_one_storey({"kind": "sine", "amplitude": 2.9,
+                                   "frequency": 0.6 * w / (2 * math.pi), "cycles": 8}, 6.0))
+    del data["buildings"][0]["height"], data["buildings"][0]["p_delta"]
+    factors = similitude({"length": "1/4", "acceleration": 1, "mass": "1/16"})
+    scaled = scale_scene(data, factors, "model")
+    assert scaled["buildings"][0]["story"]["lamda_s"] == pytest.approx(0.6 / 4)
+    prototype, model = parse_scene(json.dumps(data)), parse_scene(json.dumps(scaled))
+    before = scene_pi(prototype.scene, prototype.expanded).values
+    after = scene_pi(model.scene, model.expanded).values
+    for name, value in before.items():
+        assert after[name] == pytest.approx(value, rel=1e-12, abs=1e-300), name
+    _, big = run_text(json.dumps(data))
+    _, small = run_text(json.dumps(scaled))
+    d_big = big.history["story_drift"][0, :, 0]
+    d_small = small.history["story_drift"][0, :, 0]
+    assert np.max(np.abs(d_big)) > 0.0025 + 0.02
+    assert np.max(np.abs(d_small - d_big / 4)) <= 1e-9 * np.max(np.abs(d_small))
