@@ -267,3 +267,30 @@ def test_a_scaled_scene_is_similar():
     d_small = small.history["story_drift"][0, :, 0]
     assert np.max(np.abs(d_big)) > 0.0025 + 0.02
     assert np.max(np.abs(d_small - d_big / 4)) <= 1e-9 * np.max(np.abs(d_small))
+
+
+def test_lamda_c_zero_is_warned_because_it_drops_the_cap():
+    """OpenSees' algorithm (followed to the bit) takes lamda_c = 0 as 'the cap's capacity is
+    exhausted': the cap's reference force drops by D at the first half cycle past yield, and
+    the storey keeps almost no strength past it. A user reading 0 as 'off' would get a
+    collapsing storey silently: pframe warns before the run (plan.warnings, which solve
+    prints, writes and raises as a Python warning), and not for lamda_c > 0."""
+    from pframe.assemble import assemble
+    from pframe.reader import parse_scene
+
+    drifts = _growing_cycles(0.1)
+    zero, _, _ = _pframe(_packed(lamda_c=0.0, lamda_s=0.0, lamda_a=0.0, lamda_k=0.0), drifts)
+    large, _, _ = _pframe(_packed(lamda_c=1e6, lamda_s=0.0, lamda_a=0.0, lamda_k=0.0), drifts)
+    late = slice(len(drifts) // 2, None)
+    assert np.max(np.abs(zero[late])) < 0.05 * np.max(np.abs(large[late]))
+
+    def warnings(**changes):
+        text = _one_storey({"kind": "sine", "amplitude": 1.0, "frequency": 1.0}, 0.1,
+                           **changes)
+        return [w for w in assemble(parse_scene(text).expanded).warnings if "lamda_c" in w]
+
+    warned = warnings(lamda_c=0.0)
+    assert len(warned) == 2 and all(w.startswith("storey A/1: imk_peak with lamda_c = 0")
+                                    for w in warned)
+    assert "drops by 90%" in warned[1]  # d_neg = 0.9
+    assert warnings() == []

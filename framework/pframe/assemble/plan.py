@@ -257,6 +257,22 @@ def _p_delta_warnings(plan: Plan) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _material_warnings(plan: Plan) -> tuple[str, ...]:
+    """Each spring's law's own warnings on its parameters (Law.parameter_warnings), once per
+    storey or link and message."""
+    ns = len(plan.story_names)
+    out = []
+    for group in plan.story_groups:
+        for j, e in enumerate(group.index):
+            name = (f"storey {plan.story_names[e]}" if e < ns
+                    else f"link {plan.link_names[e - ns]}")
+            for message in dict.fromkeys(m for b in range(group.params.shape[0])
+                                         for m in group.law.parameter_warnings(
+                                             group.params[b, j])):
+                out.append(f"{name}: {message}")
+    return tuple(out)
+
+
 def batch_key(ex: Expanded) -> tuple:
     """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
     steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
@@ -381,7 +397,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                                    for e in first.contacts], dtype=float),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
-    warnings = warnings + _p_delta_warnings(plan)
+    warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))

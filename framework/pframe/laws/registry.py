@@ -114,6 +114,12 @@ class Law:
     def post_yield_stiffness(cls, packed) -> float | None:
         return None
 
+    @classmethod
+    def parameter_warnings(cls, packed) -> tuple[str, ...]:
+        """What may surprise in these valid packed parameters: pframe warns of it before a
+        run (``plan.warnings``). None by default."""
+        return ()
+
     #: the stock OpenSees material pframe's OpenSees script models the law with, or None
     opensees: ClassVar[str | None] = None
 

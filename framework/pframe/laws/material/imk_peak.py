@@ -121,6 +121,20 @@ class ImkPeak(Law):
         return out
 
     @classmethod
+    def parameter_warnings(cls, packed):
+        """Lamda_C = 0 does not switch cap deterioration off in OpenSees' algorithm (which
+        pframe follows): at the first half cycle past yield the cap's reference force is
+        scaled by 1 - D, and with it the strength beyond the cap."""
+        out = []
+        for side, d in (("d_plus", packed[21]), ("d_neg", packed[22])):
+            if packed[6] == 0.0 and d > 0.0:
+                out.append(f"imk_peak with lamda_c = 0 and {side} = {d:g}: as OpenSees' "
+                           f"ModIMKPeakOriented, the cap's reference force drops by {d:.0%} at "
+                           "the first half cycle past yield (lamda_c = 0 does not mean no "
+                           "post-capping deterioration; for that give a large lamda_c)")
+        return tuple(out)
+
+    @classmethod
     def post_yield_stiffness(cls, packed):
         """The hardening slope as K0 of the weaker side (the cap's negative slope is the
         model's own softening, not a P-delta effect)."""
