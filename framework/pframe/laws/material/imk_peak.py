@@ -19,10 +19,10 @@ direction.
 nFactor = 0: the 23-argument form) statement by statement; each call starts from the committed
 state, as OpenSees' ``revertToLastCommit``. Its two envelope routines are evaluated at one
 place (every path of ``setTrialStrain`` calls exactly one of them once). Two guards where
-OpenSees' C gives NaN, inf or a stiffening "deterioration": a negative energy ratio in a power
-(round-off at an elastic reversal; pow of a negative base is NaN for a non-integer exponent)
-counts as 0, and an exhausted cap capacity (sum E >= E_t,C, where OpenSees divides by zero or
-a negative number) as beta_C = 1. Elsewhere the port agrees with OpenSeesPy to round-off
+OpenSees' C gives NaN: a negative energy ratio raised to a non-integer exponent (round-off at
+an elastic reversal; C's pow is NaN there, Python's ``**`` complex) counts as 0, and a cap
+capacity used up exactly (sum E = E_t,C, a division by zero) gives beta_C = 1. Elsewhere,
+integer exponents included, the port agrees with OpenSeesPy to the bit
 (tests/test_imk_peak.py).
 """
 
