@@ -170,7 +170,14 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
                           "gamma": 100.0, "beta": 100.0},
              "friction_pendulum": {"material": "friction_pendulum", "radius": 1.0,
                                    "mu_slow": 0.05, "mu_fast": 0.1, "rate_parameter": 30.0,
-                                   "k_init": 2.0e6}}
+                                   "k_init": 2.0e6},
+             "imk_peak": {"material": "imk_peak", "k0": 2.0e6, "as_plus": 0.03, "as_neg": 0.03,
+                          "my_plus": 1.0e4, "my_neg": 1.0e4, "lamda_s": 0.05, "lamda_c": 0.05,
+                          "lamda_a": 0.05, "lamda_k": 0.05, "c_s": 1.0, "c_c": 1.0,
+                          "c_a": 1.0, "c_k": 1.0, "theta_p_plus": 0.01, "theta_p_neg": 0.01,
+                          "theta_pc_plus": 0.05, "theta_pc_neg": 0.05, "res_plus": 0.3,
+                          "res_neg": 0.3, "theta_u_plus": 0.2, "theta_u_neg": 0.2,
+                          "d_plus": 1.0, "d_neg": 1.0}}
     links = {"viscous": {"material": "viscous", "damping": 2.0e3, "exponent": 0.5},
              "kelvin_voigt": {"material": "kelvin_voigt", "stiffness": 1.0e5,
                               "damping": 1.0e3}}
@@ -246,6 +253,36 @@ def _c_force(kind: str, law_id: int, params, committed, deformation: float, rate
     return out, trial
 
 
+def _imk_peak_sample(law, rng):
+    """Parameters, a committed state reached by driving the law along a random cyclic drift
+    history of growing amplitude (hardening, capping, residual, deterioration, fracture), and
+    a next drift near it (or a repeat of it, or a first step from rest)."""
+    base = dict(k0=2.0e7, as_plus=0.03, as_neg=0.04, my_plus=1.0e5, my_neg=1.2e5,
+                lamda_s=0.4, lamda_c=0.4, lamda_a=0.4, lamda_k=0.4, c_s=1.0, c_c=1.0,
+                c_a=1.0, c_k=1.0, theta_p_plus=0.02, theta_p_neg=0.025, theta_pc_plus=0.06,
+                theta_pc_neg=0.08, res_plus=0.3, res_neg=0.25, theta_u_plus=0.15,
+                theta_u_neg=0.17, d_plus=1.0, d_neg=0.9)
+    values = {k: v * rng.uniform(0.7, 1.3) for k, v in base.items()}
+    for name in ("lamda_s", "lamda_c", "lamda_a", "lamda_k"):
+        values[name] *= rng.choice([0.0, 1.0])
+    for name in ("c_s", "c_c", "c_a", "c_k"):
+        values[name] = float(rng.choice([1.0, 1.7, 2.0]))
+    for name in ("res_plus", "res_neg", "d_plus", "d_neg"):
+        values[name] = min(values[name], 1.0)
+    params = np.array(law.pack(law.Params(material="imk_peak", **values)))
+    committed = np.zeros(len(law.state_names))
+    trial = committed.copy()
+    steps = int(rng.integers(0, 400))
+    t = np.linspace(0.0, 8.0, 400)
+    drifts = 0.2 * (t / 8.0) ** 1.5 * np.sin(2 * np.pi * t) + 0.001 * rng.standard_normal(400)
+    for d in drifts[:steps]:
+        law.force(params, committed, trial, float(d), 0.0)
+        committed = trial.copy()
+    d = float(drifts[steps - 1]) if steps else 0.0
+    deformation = float(rng.choice([d, d + rng.uniform(-0.01, 0.01), d + 1e-20]))
+    return params, committed, deformation
+
+
 def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
     """A law is written once, in Python: the kernel's C is translated from it
     (pframe.kernel.translate). Over deformations and rates on both sides of every branch
@@ -295,6 +332,8 @@ def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
                     committed[-1] = rng.choice([0.0, 1.0])  # in contact or not
                     committed[0] = rng.uniform(-1.0, 1.0)  # the onset velocity
                 deformation = float(rng.choice([-1.0, 1.0]) * rng.uniform(0, 0.02))
+                if law.name == "imk_peak":  # a state the law reaches on a cyclic history
+                    params, committed, deformation = _imk_peak_sample(law, rng)
                 rate = float(rng.uniform(-2.0, 2.0))
                 trial = np.full(max(1, states), np.nan)
                 expected = law.force(params, committed.copy(), trial, deformation, rate)

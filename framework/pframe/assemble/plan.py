@@ -259,6 +259,22 @@ def _p_delta_warnings(plan: Plan) -> tuple[str, ...]:
     return tuple(out)
 
 
+def _material_warnings(plan: Plan) -> tuple[str, ...]:
+    """Each spring's law's own warnings on its parameters (Law.parameter_warnings), once per
+    storey or link and message."""
+    ns = len(plan.story_names)
+    out = []
+    for group in plan.story_groups:
+        for j, e in enumerate(group.index):
+            name = (f"storey {plan.story_names[e]}" if e < ns
+                    else f"link {plan.link_names[e - ns]}")
+            for message in dict.fromkeys(m for b in range(group.params.shape[0])
+                                         for m in group.law.parameter_warnings(
+                                             group.params[b, j])):
+                out.append(f"{name}: {message}")
+    return tuple(out)
+
+
 def batch_key(ex: Expanded) -> tuple:
     """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
     steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
@@ -383,7 +399,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                                    for e in first.contacts], dtype=float),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
-    warnings = warnings + _p_delta_warnings(plan)
+    warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
@@ -427,9 +443,10 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         if not np.any(group.index < ns):
             continue
         storeys = group.index < ns
-        if group.law.opensees not in ("Elastic", "Steel01", "BoucWen"):
-            problems.append(f"it models storeys with Elastic, Steel01 or BoucWen (the laws "
-                            f"elastic, bilinear and bouc_wen); the scene's storeys use "
+        if group.law.opensees not in ("Elastic", "Steel01", "BoucWen", "ModIMKPeakOriented"):
+            problems.append(f"it models storeys with Elastic, Steel01, BoucWen or "
+                            f"ModIMKPeakOriented (the laws elastic, bilinear, bouc_wen and "
+                            f"imk_peak); the scene's storeys use "
                             f"{group.law.name!r}, which has no OpenSees uniaxialMaterial "
                             "counterpart")
         elif group.law.opensees == "BoucWen" and np.any(
@@ -457,6 +474,8 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                 materials.append((i, ("elastic", p[0])))
             elif group.law.opensees == "BoucWen":
                 materials.append((i, ("bouc_wen", *p[:11])))
+            elif group.law.name == "imk_peak":
+                materials.append((i, ("imk_peak", *p)))
             else:
                 materials.append((i, ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]

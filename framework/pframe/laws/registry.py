@@ -43,6 +43,7 @@ _BUILTIN_MODULES = {
         "pframe.laws.material.kelvin_voigt",
         "pframe.laws.material.bouc_wen",
         "pframe.laws.material.friction_pendulum",
+        "pframe.laws.material.imk_peak",
     ),
 }
 _GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}
@@ -150,6 +151,12 @@ class Law:
     @classmethod
     def post_yield_stiffness(cls, packed) -> float | None:
         return None
+
+    @classmethod
+    def parameter_warnings(cls, packed) -> tuple[str, ...]:
+        """What may surprise in these valid packed parameters: pframe warns of it before a
+        run (``plan.warnings``). None by default."""
+        return ()
 
     #: the stock OpenSees material pframe's OpenSees script models the law with, or None
     opensees: ClassVar[str | None] = None

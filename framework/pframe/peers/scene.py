@@ -25,7 +25,8 @@ class PeerScene:
     story_names : list of str
     story_materials : list of tuple
         ``("elastic", k)`` or ``("bilinear", k, fy, alpha)`` with k in N/m and fy in N
-        (kinematic hardening, OpenSees Steel01 with b = alpha and no isotropic hardening).
+        (kinematic hardening, OpenSees Steel01 with b = alpha and no isotropic hardening), or
+        ``("imk_peak", *packed)``: the law's 23 numbers, ModIMKPeakOriented's arguments.
     contact_nodes : (c, 2) int
         ``[left, right]`` DOF; penetration = u_left - u_right - gap.
     contact_names : list of str

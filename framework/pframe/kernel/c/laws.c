@@ -273,7 +273,612 @@ static void material_friction_pendulum(const double *params, const double *commi
     return;
 }
 
-#define BUILTIN_MATERIALS 6
+/* pframe.laws.material.imk_peak.ImkPeak.force */
+static void material_imk_peak(const double *params, const double *committed, double *trial,
+                              double deformation, double rate, double *out)
+{
+    double ke_;
+    double my_pos_;
+    double my_neg_;
+    double ls_;
+    double ld_;
+    double la_;
+    double lk_;
+    double cs_;
+    double cd_;
+    double ca_;
+    double ck_;
+    double theta_p_pos_;
+    double theta_p_neg_;
+    double frac_pos_;
+    double frac_neg_;
+    double d_pos_;
+    double d_neg_;
+    double enrgts_;
+    double enrgtk_;
+    double enrgta_;
+    double enrgtd_;
+    double ekhard_pos0_;
+    double ekhard_neg0_;
+    double fpeak_pos_;
+    double fpeak_neg_;
+    double cap_slope_pos_;
+    double cap_slope_neg_;
+    double dp_;
+    double fp_;
+    double ek_;
+    double unl_;
+    double kon_;
+    double flag_stop_;
+    double dmax_;
+    double dmin_;
+    double fmax_;
+    double fmin_;
+    double fy_pos_;
+    double fy_neg_;
+    double dlst_pos_;
+    double dlst_neg_;
+    double flst_pos_;
+    double flst_neg_;
+    double sn_;
+    double sp_;
+    double enrgc_;
+    double enrgtot_;
+    double fcapref_pos_;
+    double fcapref_neg_;
+    double ekunload_;
+    double cp_pos_;
+    double cp_neg_;
+    double ekhard_pos_;
+    double ekhard_neg_;
+    double alfa_pos_;
+    double alfa_neg_;
+    double prod_beta_;
+    double ekp_;
+    double d_;
+    double delta_d_;
+    double f_;
+    double mode_;
+    double rse_;
+    double a2_;
+    double betak_;
+    double base_;
+    double tst_;
+    double x_;
+    double positive_;
+    double dy_;
+    double res_;
+    double rcap_;
+    double dres_;
+    double fe_;
+    double eke_;
+    double f2_;
+    double ekc_;
+    double f1_;
+    double enrgi_;
+    double flagdeg_;
+    double betas_;
+    double betaa_;
+    double betac_;
+    double dy_neg_;
+    double dcap1_;
+    double dcap2_;
+    double dy_pos_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    ke_ = params[0];
+    my_pos_ = params[3];
+    my_neg_ = params[4];
+    ls_ = params[5];
+    ld_ = params[6];
+    la_ = params[7];
+    lk_ = params[8];
+    cs_ = params[9];
+    cd_ = params[10];
+    ca_ = params[11];
+    ck_ = params[12];
+    theta_p_pos_ = params[13];
+    theta_p_neg_ = params[14];
+    frac_pos_ = params[19];
+    frac_neg_ = (-params[20]);
+    d_pos_ = params[21];
+    d_neg_ = params[22];
+    enrgts_ = (ls_ * my_pos_);
+    enrgtk_ = ((2.0 * lk_) * my_pos_);
+    enrgta_ = (la_ * my_pos_);
+    enrgtd_ = (ld_ * my_pos_);
+    ekhard_pos0_ = (ke_ * params[1]);
+    ekhard_neg0_ = (ke_ * params[2]);
+    fpeak_pos_ = (my_pos_ + (ekhard_pos0_ * theta_p_pos_));
+    fpeak_neg_ = (my_neg_ + (ekhard_neg0_ * (-theta_p_neg_)));
+    cap_slope_pos_ = ((-fpeak_pos_) / (params[15] * ke_));
+    cap_slope_neg_ = (fpeak_neg_ / (params[16] * ke_));
+    dp_ = committed[0];
+    fp_ = committed[1];
+    ek_ = committed[2];
+    unl_ = committed[3];
+    kon_ = committed[4];
+    flag_stop_ = committed[5];
+    dmax_ = committed[6];
+    dmin_ = committed[7];
+    fmax_ = committed[8];
+    fmin_ = committed[9];
+    fy_pos_ = committed[10];
+    fy_neg_ = committed[11];
+    dlst_pos_ = committed[12];
+    dlst_neg_ = committed[13];
+    flst_pos_ = committed[14];
+    flst_neg_ = committed[15];
+    sn_ = committed[16];
+    sp_ = committed[17];
+    enrgc_ = committed[18];
+    enrgtot_ = committed[19];
+    fcapref_pos_ = committed[20];
+    fcapref_neg_ = committed[21];
+    ekunload_ = committed[22];
+    cp_pos_ = committed[23];
+    cp_neg_ = committed[24];
+    ekhard_pos_ = committed[25];
+    ekhard_neg_ = committed[26];
+    alfa_pos_ = committed[27];
+    alfa_neg_ = committed[28];
+    prod_beta_ = committed[29];
+    ekp_ = ek_;
+    d_ = deformation;
+    delta_d_ = (d_ - dp_);
+    f_ = fp_;
+    if ((!((fabs(delta_d_) < 1e-18) && (d_ != 0.0) && (kon_ != 0.0)))) {
+        if ((kon_ == 0.0)) {
+            alfa_neg_ = params[2];
+            alfa_pos_ = params[1];
+            ekhard_pos_ = ekhard_pos0_;
+            ekhard_neg_ = ekhard_neg0_;
+            enrgtot_ = 0.0;
+            enrgc_ = 0.0;
+            dmax_ = (my_pos_ / ke_);
+            dmin_ = (my_neg_ / ke_);
+            ekp_ = ke_;
+            ekunload_ = ke_;
+            fy_pos_ = my_pos_;
+            fy_neg_ = my_neg_;
+            cp_pos_ = ((my_pos_ / ke_) + theta_p_pos_);
+            cp_neg_ = ((my_neg_ / ke_) + (-theta_p_neg_));
+            fcapref_pos_ = ((((-cap_slope_pos_) * ke_) * (theta_p_pos_ + (my_pos_ / ke_))) + fpeak_pos_);
+            fcapref_neg_ = ((((-cap_slope_neg_) * ke_) * ((-theta_p_neg_) + (my_neg_ / ke_))) + fpeak_neg_);
+            fmin_ = my_neg_;
+            fmax_ = my_pos_;
+            flag_stop_ = 0.0;
+            dlst_neg_ = (my_neg_ / ke_);
+            dlst_pos_ = (my_pos_ / ke_);
+            flst_neg_ = my_neg_;
+            flst_pos_ = my_pos_;
+            ek_ = 0.0;
+            sp_ = 0.0;
+            fp_ = 0.0;
+            sn_ = 0.0;
+            f_ = 0.0;
+            unl_ = 1.0;
+            prod_beta_ = 1.0;
+            if ((delta_d_ >= 0.0)) {
+                kon_ = 1.0;
+            } else {
+                kon_ = 2.0;
+            }
+        }
+        if ((flag_stop_ == 0.0)) {
+            mode_ = 0.0;
+            if ((delta_d_ >= 0.0)) {
+                if ((kon_ == 2.0)) {
+                    kon_ = 1.0;
+                    unl_ = 0.0;
+                    rse_ = (((0.5 * fp_) * fp_) / ekunload_);
+                    a2_ = (enrgtk_ - (enrgtot_ - rse_));
+                    if (((a2_ < 0.0) && (enrgtk_ != 0.0))) {
+                        flag_stop_ = 1.0;
+                    }
+                    if ((lk_ != 0.0)) {
+                        if (((enrgtot_ - rse_) >= enrgtk_)) {
+                            betak_ = 1.0;
+                        } else {
+                            base_ = ((enrgc_ - rse_) / (enrgtk_ - (enrgtot_ - rse_)));
+                            if (((base_ < 0.0) && (ck_ != floor(ck_)))) {
+                                base_ = 0.0;
+                            }
+                            betak_ = pow(base_, ck_);
+                        }
+                        ekunload_ = (ke_ * (prod_beta_ * (1.0 - betak_)));
+                        prod_beta_ = (prod_beta_ * (1.0 - betak_));
+                        if ((ekunload_ <= ekhard_neg_)) {
+                            flag_stop_ = 1.0;
+                        }
+                    }
+                    if ((fp_ < 0.0)) {
+                        tst_ = (dp_ - (fp_ / ekunload_));
+                        if (((fabs((dmax_ - (my_pos_ / ke_))) >= 1e-10) && (fabs(tst_) <= 1e-10))) {
+                            sn_ = 1e-09;
+                        } else {
+                            sn_ = (dp_ - (fp_ / ekunload_));
+                        }
+                    }
+                    if ((fabs((dmin_ - dp_)) <= 1e-10)) {
+                        sp_ = (sn_ + 1e-10);
+                    }
+                }
+                if ((d_ >= dmax_)) {
+                    mode_ = 1.0;
+                    x_ = d_;
+                    positive_ = 1.0;
+                } else if ((fabs(sn_) > 1e-10)) {
+                    mode_ = 2.0;
+                    x_ = dmax_;
+                    positive_ = 1.0;
+                } else {
+                    mode_ = 3.0;
+                    x_ = d_;
+                    positive_ = ((d_ > 0.0) ? 1.0 : 0.0);
+                }
+            } else {
+                if ((kon_ == 1.0)) {
+                    kon_ = 2.0;
+                    unl_ = 0.0;
+                    rse_ = (((0.5 * fp_) * fp_) / ekunload_);
+                    if ((lk_ != 0.0)) {
+                        if (((enrgtot_ - rse_) >= enrgtk_)) {
+                            betak_ = 1.0;
+                        } else {
+                            base_ = ((enrgc_ - rse_) / (enrgtk_ - (enrgtot_ - rse_)));
+                            if (((base_ < 0.0) && (ck_ != floor(ck_)))) {
+                                base_ = 0.0;
+                            }
+                            betak_ = pow(base_, ck_);
+                        }
+                        ekunload_ = (ke_ * (prod_beta_ * (1.0 - betak_)));
+                        prod_beta_ = (prod_beta_ * (1.0 - betak_));
+                        if ((ekunload_ <= ekhard_pos_)) {
+                            flag_stop_ = 1.0;
+                        }
+                    }
+                    if ((fp_ > 0.0)) {
+                        tst_ = (dp_ - (fp_ / ekunload_));
+                        if (((fabs((dmin_ - (my_neg_ / ke_))) >= 1e-10) && (fabs(tst_) <= 1e-10))) {
+                            sp_ = 1e-09;
+                        } else {
+                            sp_ = (dp_ - (fp_ / ekunload_));
+                        }
+                    }
+                    if ((fabs((dmax_ - dp_)) <= 1e-10)) {
+                        sn_ = (sp_ - 1e-10);
+                    }
+                }
+                if ((d_ <= dmin_)) {
+                    mode_ = 4.0;
+                    x_ = d_;
+                    positive_ = 0.0;
+                } else if ((fabs(sp_) > 1e-10)) {
+                    mode_ = 5.0;
+                    x_ = dmin_;
+                    positive_ = 0.0;
+                } else {
+                    mode_ = 6.0;
+                    x_ = d_;
+                    positive_ = ((d_ > 0.0) ? 1.0 : 0.0);
+                }
+            }
+            if ((positive_ == 1.0)) {
+                dy_ = (fy_pos_ / ke_);
+                if ((dy_ <= cp_pos_)) {
+                    res_ = (params[17] * my_pos_);
+                    rcap_ = (fy_pos_ + ((alfa_pos_ * ke_) * (cp_pos_ - dy_)));
+                    dres_ = (cp_pos_ + ((res_ - rcap_) / (cap_slope_pos_ * ke_)));
+                    if ((x_ < 0.0)) {
+                        fe_ = 0.0;
+                        eke_ = 1e-07;
+                    } else if ((x_ <= dy_)) {
+                        eke_ = ke_;
+                        fe_ = (eke_ * x_);
+                    } else if ((x_ <= cp_pos_)) {
+                        eke_ = (ke_ * alfa_pos_);
+                        fe_ = (fy_pos_ + (eke_ * (x_ - dy_)));
+                    } else if ((x_ <= dres_)) {
+                        eke_ = (cap_slope_pos_ * ke_);
+                        fe_ = (rcap_ + (eke_ * (x_ - cp_pos_)));
+                    } else {
+                        eke_ = 1e-07;
+                        fe_ = (res_ + (x_ * eke_));
+                    }
+                } else {
+                    rcap_ = (ke_ * cp_pos_);
+                    res_ = (params[17] * rcap_);
+                    dres_ = (cp_pos_ + ((res_ - rcap_) / (cap_slope_pos_ * ke_)));
+                    if ((x_ < 0.0)) {
+                        fe_ = 0.0;
+                        eke_ = 1e-07;
+                    } else if ((x_ <= cp_pos_)) {
+                        eke_ = ke_;
+                        fe_ = (eke_ * x_);
+                    } else if ((x_ <= dres_)) {
+                        eke_ = (cap_slope_pos_ * ke_);
+                        fe_ = (rcap_ + (eke_ * (x_ - cp_pos_)));
+                    } else {
+                        eke_ = 1e-07;
+                        fe_ = (res_ + (x_ * eke_));
+                    }
+                }
+                if ((x_ >= frac_pos_)) {
+                    eke_ = 1e-07;
+                    fe_ = 1e-10;
+                    x_ = frac_pos_;
+                    flag_stop_ = 1.0;
+                }
+            } else {
+                dy_ = (fy_neg_ / ke_);
+                if ((dy_ >= cp_neg_)) {
+                    res_ = (params[18] * my_neg_);
+                    rcap_ = (fy_neg_ + ((alfa_neg_ * ke_) * (cp_neg_ - dy_)));
+                    dres_ = (cp_neg_ + ((res_ - rcap_) / (cap_slope_neg_ * ke_)));
+                    if ((x_ > 0.0)) {
+                        fe_ = 0.0;
+                        eke_ = 1e-07;
+                    } else if ((x_ >= dy_)) {
+                        eke_ = ke_;
+                        fe_ = (eke_ * x_);
+                    } else if ((x_ >= cp_neg_)) {
+                        eke_ = (ke_ * alfa_neg_);
+                        fe_ = (fy_neg_ + (eke_ * (x_ - dy_)));
+                    } else if ((x_ >= dres_)) {
+                        eke_ = (ke_ * cap_slope_neg_);
+                        fe_ = (rcap_ + (eke_ * (x_ - cp_neg_)));
+                    } else {
+                        eke_ = 1e-07;
+                        fe_ = (res_ + (eke_ * x_));
+                    }
+                } else {
+                    rcap_ = (ke_ * cp_neg_);
+                    res_ = (params[18] * rcap_);
+                    dres_ = (cp_neg_ + ((res_ - rcap_) / (cap_slope_neg_ * ke_)));
+                    if ((x_ > 0.0)) {
+                        fe_ = 0.0;
+                        eke_ = 1e-07;
+                    } else if ((x_ >= cp_neg_)) {
+                        eke_ = ke_;
+                        fe_ = (eke_ * x_);
+                    } else if ((x_ >= dres_)) {
+                        eke_ = (ke_ * cap_slope_neg_);
+                        fe_ = (rcap_ + (eke_ * (x_ - cp_neg_)));
+                    } else {
+                        eke_ = 1e-07;
+                        fe_ = (res_ + (eke_ * x_));
+                    }
+                }
+                if ((x_ <= frac_neg_)) {
+                    eke_ = 1e-07;
+                    fe_ = 1e-10;
+                    x_ = frac_neg_;
+                    flag_stop_ = 1.0;
+                }
+            }
+            if ((mode_ == 1.0)) {
+                d_ = x_;
+                f_ = fe_;
+                ek_ = eke_;
+                dmax_ = d_;
+                fmax_ = f_;
+                dlst_pos_ = (dmax_ + 1e-10);
+                flst_pos_ = f_;
+            } else if ((mode_ == 2.0)) {
+                dmax_ = x_;
+                fmax_ = fe_;
+                ek_ = eke_;
+                if ((d_ <= sn_)) {
+                    ek_ = ekunload_;
+                    f_ = (fp_ + (ek_ * delta_d_));
+                    if (((unl_ == 0.0) && (fabs((ek_ - ekp_)) > 1e-10) && (dp_ != dmin_))) {
+                        dlst_neg_ = dp_;
+                        flst_neg_ = fp_;
+                    }
+                } else {
+                    ek_ = (fmax_ / (dmax_ - sn_));
+                    f2_ = (ek_ * (d_ - sn_));
+                    if (((dlst_pos_ > sn_) && (dlst_pos_ < dmax_))) {
+                        ekc_ = (flst_pos_ / (dlst_pos_ - sn_));
+                        if (((ekc_ > ek_) && (flst_pos_ < fmax_))) {
+                            if ((d_ < dlst_pos_)) {
+                                ek_ = (flst_pos_ / (dlst_pos_ - sn_));
+                                f2_ = (ek_ * (d_ - sn_));
+                            } else {
+                                ek_ = ((fmax_ - flst_pos_) / (dmax_ - dlst_pos_));
+                                f2_ = (flst_pos_ + (ek_ * (d_ - dlst_pos_)));
+                            }
+                        }
+                    }
+                    f1_ = (fp_ + (ekunload_ * delta_d_));
+                    if ((f1_ < f2_)) {
+                        f_ = f1_;
+                    } else {
+                        f_ = f2_;
+                    }
+                    if ((fabs((f_ - f1_)) < 1e-10)) {
+                        ek_ = ekunload_;
+                    }
+                }
+            } else if ((mode_ == 4.0)) {
+                d_ = x_;
+                f_ = fe_;
+                ek_ = eke_;
+                dmin_ = d_;
+                fmin_ = f_;
+                dlst_neg_ = (dmin_ - 1e-10);
+                flst_neg_ = f_;
+            } else if ((mode_ == 5.0)) {
+                dmin_ = x_;
+                fmin_ = fe_;
+                ek_ = eke_;
+                if ((d_ >= sp_)) {
+                    ek_ = ekunload_;
+                    f_ = (fp_ + (ek_ * delta_d_));
+                    if (((unl_ == 0.0) && (fabs((ek_ - ekp_)) > 1e-10) && (dp_ != dmax_))) {
+                        dlst_pos_ = dp_;
+                        flst_pos_ = fp_;
+                    }
+                } else {
+                    ek_ = (fmin_ / (dmin_ - sp_));
+                    f2_ = (ek_ * (d_ - sp_));
+                    if (((dlst_neg_ < sp_) && (dlst_neg_ > dmin_))) {
+                        ekc_ = (flst_neg_ / (dlst_neg_ - sp_));
+                        if (((ekc_ > ek_) && (flst_neg_ > fmin_))) {
+                            if ((d_ > dlst_neg_)) {
+                                ek_ = (flst_neg_ / (dlst_neg_ - sp_));
+                                f2_ = (ek_ * (d_ - sp_));
+                            } else {
+                                ek_ = ((fmin_ - flst_neg_) / (dmin_ - dlst_neg_));
+                                f2_ = (flst_neg_ + (ek_ * (d_ - dlst_neg_)));
+                            }
+                        }
+                    }
+                    f1_ = (fp_ + (ekunload_ * delta_d_));
+                    if ((f1_ > f2_)) {
+                        f_ = f1_;
+                    } else {
+                        f_ = f2_;
+                    }
+                    if ((fabs((f_ - f1_)) < 1e-10)) {
+                        ek_ = ekunload_;
+                    }
+                }
+            } else {
+                d_ = x_;
+                f_ = fe_;
+                ek_ = eke_;
+            }
+            enrgi_ = ((0.5 * (f_ + fp_)) * delta_d_);
+            enrgc_ = (enrgc_ + enrgi_);
+            enrgtot_ = (enrgtot_ + enrgi_);
+            flagdeg_ = 0.0;
+            if (((f_ * fp_) < 0.0)) {
+                if ((((fp_ > 0.0) && (dmax_ > (fy_pos_ / ke_))) || ((fp_ < 0.0) && (dmin_ < (fy_neg_ / ke_))))) {
+                    flagdeg_ = 1.0;
+                }
+            }
+            if ((flagdeg_ == 1.0)) {
+                betas_ = 0.0;
+                betaa_ = 0.0;
+                betac_ = 0.0;
+                if (((enrgtot_ >= enrgts_) && (enrgts_ != 0.0))) {
+                    betas_ = 1.0;
+                } else if (((enrgtot_ >= enrgta_) && (enrgta_ != 0.0))) {
+                    betaa_ = 1.0;
+                } else if (((enrgtot_ >= enrgtd_) && (enrgtd_ == 0.0))) {
+                    betac_ = 1.0;
+                } else {
+                    if ((ls_ != 0.0)) {
+                        base_ = (enrgc_ / (enrgts_ - enrgtot_));
+                        if (((base_ < 0.0) && (cs_ != floor(cs_)))) {
+                            base_ = 0.0;
+                        }
+                        betas_ = pow(base_, cs_);
+                    }
+                    if ((la_ != 0.0)) {
+                        base_ = (enrgc_ / (enrgta_ - enrgtot_));
+                        if (((base_ < 0.0) && (ca_ != floor(ca_)))) {
+                            base_ = 0.0;
+                        }
+                        betaa_ = pow(base_, ca_);
+                    }
+                    if ((ld_ != 0.0)) {
+                        if (((enrgtd_ - enrgtot_) == 0.0)) {
+                            betac_ = 1.0;
+                        } else {
+                            base_ = (enrgc_ / (enrgtd_ - enrgtot_));
+                            if (((base_ < 0.0) && (cd_ != floor(cd_)))) {
+                                base_ = 0.0;
+                            }
+                            betac_ = pow(base_, cd_);
+                        }
+                    }
+                    if ((fabs(betas_) >= 1.0)) {
+                        betas_ = 1.0;
+                    }
+                    if ((fabs(betaa_) >= 1.0)) {
+                        betaa_ = 1.0;
+                    }
+                    if ((fabs(betac_) >= 1.0)) {
+                        betac_ = 1.0;
+                    }
+                }
+                enrgc_ = 0.0;
+                if ((delta_d_ < 0.0)) {
+                    fy_neg_ = (fy_neg_ * (1.0 - (betas_ * d_neg_)));
+                    alfa_neg_ = (alfa_neg_ * (1.0 - (betas_ * d_neg_)));
+                    fcapref_neg_ = (fcapref_neg_ * (1.0 - (betac_ * d_neg_)));
+                    dmin_ = (dmin_ * (1.0 + betaa_));
+                    dy_neg_ = (fy_neg_ / ke_);
+                    ekhard_neg_ = (alfa_neg_ * ke_);
+                    dcap1_ = (fcapref_neg_ / (ke_ - (cap_slope_neg_ * ke_)));
+                    dcap2_ = (((fcapref_neg_ + (ekhard_neg_ * dy_neg_)) - fy_neg_) / (ekhard_neg_ - (cap_slope_neg_ * ke_)));
+                    if ((dcap1_ < dcap2_)) {
+                        cp_neg_ = dcap1_;
+                    } else {
+                        cp_neg_ = dcap2_;
+                    }
+                } else {
+                    fy_pos_ = (fy_pos_ * (1.0 - (betas_ * d_pos_)));
+                    alfa_pos_ = (alfa_pos_ * (1.0 - (betas_ * d_pos_)));
+                    fcapref_pos_ = (fcapref_pos_ * (1.0 - (betac_ * d_pos_)));
+                    dmax_ = (dmax_ * (1.0 + betaa_));
+                    dy_pos_ = (fy_pos_ / ke_);
+                    ekhard_pos_ = (alfa_pos_ * ke_);
+                    dcap1_ = (fcapref_pos_ / (ke_ - (cap_slope_pos_ * ke_)));
+                    dcap2_ = (((fcapref_pos_ + (ekhard_pos_ * dy_pos_)) - fy_pos_) / (ekhard_pos_ - (cap_slope_pos_ * ke_)));
+                    if ((dcap1_ > dcap2_)) {
+                        cp_pos_ = dcap1_;
+                    } else {
+                        cp_pos_ = dcap2_;
+                    }
+                }
+            }
+        } else {
+            f_ = 0.0;
+            ek_ = 0.0;
+        }
+        dp_ = d_;
+        fp_ = f_;
+    }
+    trial[0] = dp_;
+    trial[1] = fp_;
+    trial[2] = ek_;
+    trial[3] = unl_;
+    trial[4] = kon_;
+    trial[5] = flag_stop_;
+    trial[6] = dmax_;
+    trial[7] = dmin_;
+    trial[8] = fmax_;
+    trial[9] = fmin_;
+    trial[10] = fy_pos_;
+    trial[11] = fy_neg_;
+    trial[12] = dlst_pos_;
+    trial[13] = dlst_neg_;
+    trial[14] = flst_pos_;
+    trial[15] = flst_neg_;
+    trial[16] = sn_;
+    trial[17] = sp_;
+    trial[18] = enrgc_;
+    trial[19] = enrgtot_;
+    trial[20] = fcapref_pos_;
+    trial[21] = fcapref_neg_;
+    trial[22] = ekunload_;
+    trial[23] = cp_pos_;
+    trial[24] = cp_neg_;
+    trial[25] = ekhard_pos_;
+    trial[26] = ekhard_neg_;
+    trial[27] = alfa_pos_;
+    trial[28] = alfa_neg_;
+    trial[29] = prod_beta_;
+    out[0] = fp_;
+    out[1] = ek_;
+    out[2] = 0.0;
+    return;
+}
+
+#define BUILTIN_MATERIALS 7
 
 /* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins */
 static void material_force(const Settings *s, int64_t law, const double *params,
@@ -298,6 +903,9 @@ static void material_force(const Settings *s, int64_t law, const double *params,
         return;
     case 5: /* friction_pendulum */
         material_friction_pendulum(params, committed, trial, drift, rate, out);
+        return;
+    case 6: /* imk_peak */
+        material_imk_peak(params, committed, trial, drift, rate, out);
         return;
     default:
         s->material_plugins[law - BUILTIN_MATERIALS](params, committed, trial, drift, rate, out);
