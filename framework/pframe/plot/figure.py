@@ -212,16 +212,7 @@ def draw_pounding(result: Result, level: str, fig=None):
     ax.tick_params(labelbottom=True)
     ax.set_xlabel(axis_label("time", result.histories["displacement"].time_units),
                   fontsize="small")
-    heading = f"{result.title}: pounding at level {level}"
-    if not result.complete:
-        heading += " (run stopped early)"
-    ran = what_ran(result)
-    if ran:
-        heading += f"\n{ran}"
-    fig.suptitle(heading, fontsize="large")
-    if result.reference is not None:
-        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
-    return fig
+    return _headed(fig, result, f"{result.title}: pounding at level {level}")
 
 
 def _building_colour(result: Result, building: str) -> str:
@@ -314,7 +305,12 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
         # a loop panel is narrow: the default ticks of a drift in m run into each other
         ax.locator_params(axis="x", nbins=5)
 
-    heading = f"{result.title}: level {level}"
+    return _headed(fig, result, f"{result.title}: level {level}")
+
+
+def _headed(fig, result: Result, heading: str):
+    """The figure with its title (the run stopped early, what ran) and, for a dimensionless
+    run, its scales below."""
     if not result.complete:
         heading += " (run stopped early)"
     ran = what_ran(result)
