@@ -117,7 +117,7 @@ class _OpenSeesLoop:
         ns, ops = self.ns, self.ns["ops"]
         wall, cpu = time.perf_counter(), time.process_time()
         ns["CONTACT_GAPS"] = [float(gap)] * len(ns["CONTACT_GAPS"])
-        _, contacts = ns["build"]()
+        _, contacts, _ = ns["build"]()
         n = len(ns["MASSES"])
         displacement, force = self.folder / "displacement.bin", self.folder / "force.bin"
         ops.recorder("Node", "-binary", str(displacement), "-time", "-node",
