@@ -141,6 +141,7 @@ def _newmark_study(tmp_path, kind, factors):
     return np.array([r.displacement_error for r in table])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", list(SMOOTH))
 def test_reference_applies_the_runs_motion_and_newmark_converges_at_order_two(tmp_path, kind):
     """The reference integrates the motion the run applies (a record's units, scale, pga and
@@ -156,6 +157,7 @@ def test_reference_applies_the_runs_motion_and_newmark_converges_at_order_two(tm
     assert errors[-1] < 2e-3
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", list(JUMPS))
 def test_a_jump_of_the_ground_acceleration_converges_at_order_one(tmp_path, kind):
     """A pulse that ends with a jump of the acceleration (cycloidal B and C_n; a sine cut

@@ -127,6 +127,7 @@ def test_solve_equals_the_cli_file(cli_file):
         float(ds.peak_displacement.sel(node_name="A/3")), rel=0, abs=0)
 
 
+@pytest.mark.slow
 def test_names_are_the_coordinates_of_their_dimensions(tmp_path):
     """pandas, xarray's legends and ``.sel`` show and take the names of nodes, storeys and
     contacts (in memory and read back from the file), and the file keeps labels only."""
@@ -217,6 +218,7 @@ def test_incomplete_run_warns_and_returns_what_was_computed():
     assert ds.sizes["t"] == ds.attrs["steps_completed"] + 1 < 501
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(not RECORDS.is_dir(), reason=f"the shared PEER records ({RECORDS}) are absent")
 def test_record_run_reproduces_from_the_file_alone(tmp_path):
     """A record-driven result holds the record's text and checksum: loading the result file
@@ -357,6 +359,7 @@ def test_progress_is_silent_when_not_interactive(capfd):
     assert captured.err == "" and captured.out == ""
 
 
+@pytest.mark.slow
 def test_plot_takes_a_dataset_and_the_users_axes():
     matplotlib = pytest.importorskip("matplotlib", reason="the plot extra is absent")
     matplotlib.use("Agg")

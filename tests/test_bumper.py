@@ -105,6 +105,7 @@ def test_mass_hitting_a_bumper_matches_the_ode(thickness, crushed, e):
     assert result.energy_error() <= 1e-9
 
 
+@pytest.mark.slow
 def test_crushing_the_bumper_raises_the_force_and_shortens_the_contact():
     """The same impact on thinner and thinner bumpers: once crushed (thickness below the
     rubber-only penetration / crush_ratio) the peak force grows and the contact shortens,

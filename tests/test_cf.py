@@ -131,6 +131,7 @@ def _global_attributes(path: Path) -> dict:
         return dict(ds.attrs)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_every_numeric_attribute_with_a_unit_names_it(files, kind):
     """CF has no units for attributes: each float attribute has ``<name>_units`` beside it
@@ -152,6 +153,7 @@ def test_every_numeric_attribute_with_a_unit_names_it(files, kind):
         assert attrs["dt_units"] == "s"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["solve", "pi"])
 def test_attribute_units_agree_with_the_physics(files, kind):
     """The units are the right ones, not just units: the PGA in its unit converts to the
@@ -218,6 +220,7 @@ def test_netcdf_c_reads_what_xarray_reads(files, kind):
         assert texts > 20
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap"])
 def test_ncdump_prints_every_attribute(files, kind):
     """netCDF-C's ncdump prints every global attribute with the value xarray reads: numbers

@@ -62,6 +62,7 @@ def scene_file(tmp_path):
     return path
 
 
+@pytest.mark.slow
 def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
     out = tmp_path / "result.h5"
     start = time.perf_counter()
@@ -107,6 +108,7 @@ def test_solve_writes_a_netcdf_readable_file(tmp_path, scene_file, capsys):
         assert 0.0 <= attrs["energy_balance_error"] < 1e-9
 
 
+@pytest.mark.slow
 def test_run_that_stops_early_is_written_and_marked(tmp_path, capsys):
     model = tmp_path / "failing.yaml"
     model.write_text(FAILING, encoding="utf-8")
@@ -143,6 +145,7 @@ def test_validate_prints_valid(scene_file, capsys):
     assert "4 nodes in 2 buildings, 4 storeys, 1 contacts, 1000 steps" in captured.out
 
 
+@pytest.mark.slow
 def test_console_script_runs(scene_file):
     script = Path(sys.executable).with_name("pframe")
     command = [str(script)] if script.exists() else [sys.executable, "-m", "pframe.cli"]
@@ -160,6 +163,7 @@ def test_schema_check_passes_on_the_committed_schema(monkeypatch, capsys):
     assert "up to date" in capsys.readouterr().out
 
 
+@pytest.mark.slow
 def test_schema_check_fails_on_a_stale_or_missing_copy(tmp_path, capsys):
     fresh = tmp_path / "fresh.json"
     assert main(["schema", "-o", str(fresh)]) == 0

@@ -79,6 +79,7 @@ def _pframe() -> list[str]:
     return [str(script)] if script.exists() else [sys.executable, "-m", "pframe.cli"]
 
 
+@pytest.mark.slow
 def test_pframe_compile_says_nothing_needs_compiling(tmp_path):
     env = dict(os.environ, PFRAME_CACHE_DIR=str(tmp_path / "cache"))
     done = subprocess.run(_pframe() + ["compile"], capture_output=True, text=True, env=env,

@@ -48,6 +48,7 @@ DAMAGE = {"dangling": (_dangling, "dangling reference"),
           "lies": (_lies, "1,000,000,000 x 6")}
 
 
+@pytest.mark.slow
 def test_a_truncated_file_is_named_truncated(whole, tmp_path, capsys):
     """A file cut short (a copy that did not finish) says so, with its two sizes, rather
     than "not a netCDF-4/HDF5 file"."""
@@ -106,6 +107,7 @@ def test_load_of_a_file_without_its_scene_is_input_error(whole, tmp_path):
         pframe.load(path)
 
 
+@pytest.mark.slow
 def test_an_honest_file_larger_than_memory_is_refused_before_reading(whole, tmp_path,
                                                                       monkeypatch, capsys):
     """A whole file whose histories do not fit in the memory pframe may use: an environment
@@ -119,6 +121,7 @@ def test_an_honest_file_larger_than_memory_is_refused_before_reading(whole, tmp_
         pframe.plot(whole)
 
 
+@pytest.mark.slow
 def test_whole_files_of_every_kind_pass_the_check(whole, tmp_path):
     """No false alarm: a solve, a streamed incomplete run's shape, a sweep and a gap audit,
     as pframe writes them, are whole."""

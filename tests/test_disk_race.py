@@ -61,6 +61,7 @@ def small_disk(tmp_path):
         subprocess.run(["umount", "-l", str(disk)], capture_output=True)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("race_at", [1, 3, 8])
 def test_a_disk_filled_by_another_process_meanwhile_does_not_crash_the_run_e2e(
         tmp_path, small_disk, race_at):

@@ -96,6 +96,7 @@ def test_aliases_a_real_file_uses_are_read():
     assert data["first"] == data["second"] == {"mass": 1.0, "gap": 0.01}
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("text, expected", [
     ("[" * 100_000 + "]" * 100_000, "nests more than"),
     ("a:\n" + "".join("  " * i + f"- k{i}:\n" for i in range(1, 150)), "nests more than"),
@@ -253,6 +254,7 @@ def test_a_billion_variants_are_refused_at_once(tmp_path, capsys):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sweep.yaml"]
 
 
+@pytest.mark.slow
 def test_a_sweep_too_large_for_memory_is_refused(tmp_path, capsys, monkeypatch):
     """Sweeps hold a chunk's histories in memory: 64 variants x 50,001 rows x 6 nodes."""
     monkeypatch.setenv("PFRAME_MEMORY_LIMIT", "300MiB")
@@ -380,6 +382,7 @@ def test_malformed_records_are_refused(tmp_path, capsys, name, text, expected):
     assert not (tmp_path / "out.h5").exists()
 
 
+@pytest.mark.slow
 def test_a_50_mb_record_is_refused_before_it_is_read(tmp_path, capsys):
     record = tmp_path / "rec.txt"
     row = b"0.0100000000 0.1234567890\n"
@@ -536,6 +539,7 @@ def test_a_live_writer_of_the_same_output_is_respected(tmp_path, capsys):
         other.wait()
 
 
+@pytest.mark.slow
 def test_an_incomplete_run_does_not_replace_a_complete_result(tmp_path, capsys):
     out = tmp_path / "out.h5"
     good = write_scene(tmp_path, short(scene_data()), "good.yaml")
@@ -570,6 +574,7 @@ def test_plot_to_a_folder_is_refused(tmp_path, capsys):
     assert "is a folder" in err
 
 
+@pytest.mark.slow
 def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
     """Ctrl-C and SIGTERM are seen between kernel calls: every mode calls it in chunks of
     about ``chunk_seconds``, and the result is the same bits as with a progress bar."""
@@ -724,6 +729,7 @@ def test_a_device_or_fifo_is_never_replaced_even_with_overwrite(tmp_path, capsys
     assert sorted(p.name for p in tmp_path.iterdir()) == ["pipe.h5", "scene.yaml"]
 
 
+@pytest.mark.slow
 def test_schema_never_replaces_a_file_that_is_not_a_schema(tmp_path, capsys):
     model = write_scene(tmp_path, short(scene_data()), "my-scene.yaml")
     before = model.read_bytes()

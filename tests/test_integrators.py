@@ -86,6 +86,7 @@ def _wu2021(dt: float, steps: int, events: bool):
     return result.history["displacement"][0], result.impacts[0]
 
 
+@pytest.mark.slow
 def test_event_aware_stepping_is_second_order_through_impacts():
     """With events, improved-Kelvin pounding converges at second order (the onset velocity is
     taken at the crossing). Measured: orders 1.93, 1.99, 1.99 with events; without, the

@@ -104,6 +104,7 @@ def _wait_for(found, process: subprocess.Popen, limit: float = 120.0) -> None:
         time.sleep(0.02)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scene, signum", [
     (newton_scene, signal.SIGINT),
     (newton_scene, signal.SIGTERM),
@@ -129,6 +130,7 @@ def test_a_run_stops_at_once_in_every_mode_e2e(tmp_path, scene, signum):
     assert latency < LATENCY, f"{latency:.2f} s from the signal to the exit"
 
 
+@pytest.mark.slow
 def test_a_sweep_stops_at_once_with_its_chunks_running_e2e(tmp_path):
     """A sweep's chunks (batches of 64 variants of the scene whose Newton loop runs for hours)
     stop with the signal instead of running to their end; nothing unfinished is kept."""
@@ -150,6 +152,7 @@ def test_a_sweep_stops_at_once_with_its_chunks_running_e2e(tmp_path):
     assert latency < LATENCY, f"{latency:.2f} s from the signal to the exit"
 
 
+@pytest.mark.slow
 def test_the_python_api_raises_keyboard_interrupt_at_once_and_leaves_no_thread(tmp_path):
     """In a notebook or script (Python's own SIGINT handler), pframe.solve of the scene whose
     Newton loop runs for hours raises KeyboardInterrupt within a Newton iteration of Ctrl-C,

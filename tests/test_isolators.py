@@ -146,6 +146,7 @@ def _evolution_ode(params, times, drifts_of_t, rate_of_t):
     return alpha * k0 * drifts_of_t(times) + (1 - alpha) * k0 * z, e
 
 
+@pytest.mark.slow
 def test_bouc_wen_loop_converges_to_the_evolution_equation():
     """Two cycles of slow drift (0.05 m, 2.5 z_y) with degradation: the law's force converges
     to the ODE solution of the evolution equation at first order in the drift increment
@@ -173,6 +174,7 @@ def test_bouc_wen_loop_converges_to_the_evolution_equation():
     assert np.all(observed_order(energy_errors) > 0.9) and energy_errors[-1] < 1e-3
 
 
+@pytest.mark.slow
 def test_bouc_wen_hysteretic_energy_is_the_loop_area():
     """Over a closed steady cycle (drift back where it started) the work of the storey force,
     the loop's area, is the hysteretic energy the law accumulates, (1 - alpha) k0 int z du
@@ -513,6 +515,7 @@ SWEEPS = {  # law -> (storey or contact of the base scene, parameter -> two valu
 }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("law", list(SWEEPS))
 def test_every_isolator_parameter_can_be_swept(tmp_path, law):
     """One sweep a parameter (two values) over a building on the isolator under a short sine:

@@ -9,6 +9,7 @@ import json
 import sys
 
 import numpy as np
+import pytest
 import yaml
 from conftest import RECORDERS, WU2021, scene_text
 
@@ -69,6 +70,7 @@ def test_nonlinear_scene_gathers_what_it_records_only():
     assert result.law_calls["bilinear"][0] == 6 * result.counter("evaluations")
 
 
+@pytest.mark.slow
 def test_chunked_run_equals_single_run():
     """The progress-bar path (many kernel calls) gives bit-identical results."""
     plan = assemble(load_scene(WU2021).expanded)
@@ -143,6 +145,7 @@ def test_reusing_the_factorisation_changes_no_bit(monkeypatch):
     assert np.array_equal(reused.iterations, refactored.iterations)
 
 
+@pytest.mark.slow
 def test_every_law_and_integrator_share_one_compiled_kernel():
     """Every built-in material (storeys and links) and contact law under every integrator
     (with and without event location), P-delta, every recordable quantity, record and sine
@@ -283,6 +286,7 @@ def _imk_peak_sample(law, rng):
     return params, committed, deformation
 
 
+@pytest.mark.slow
 def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
     """A law is written once, in Python: the kernel's C is translated from it
     (pframe.kernel.translate). Over deformations and rates on both sides of every branch

@@ -228,6 +228,7 @@ def test_the_examples(tmp_path):
     assert peaks[0] < 0.9 * peaks[1], peaks
 
 
+@pytest.mark.slow
 def test_a_sweep_varies_a_link_by_its_name(tmp_path):
     """links.<name>.<field> in a sweep: a stronger damper to the ground moves the floor
     less."""
@@ -250,6 +251,7 @@ def test_a_sweep_varies_a_link_by_its_name(tmp_path):
     assert np.all(np.isfinite(ds.link_force.values))
 
 
+@pytest.mark.slow
 def test_the_links_figure_draws_each_links_loop(tmp_path):
     """pframe plot --kind links: each link's force history and loop are the file's own
     numbers, and the loop's area (the work of the damper's force) is the run's energy_links
@@ -281,6 +283,7 @@ def test_the_links_figure_draws_each_links_loop(tmp_path):
     assert (tmp_path / "l.png").stat().st_size > 0
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("light", [1e-3, 1e-1])
 def test_a_maxwell_link_is_a_spring_and_a_dashpot_in_series(light):
     """A Maxwell link (spring k and dashpot c in series) as docs/links-and-walls.md builds it:

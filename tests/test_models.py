@@ -36,6 +36,7 @@ def test_model_names_the_schema_and_validates(model, tmp_path):
     assert loaded.expanded.node_names
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("model", MODELS, ids=[m.name for m in MODELS])
 def test_model_solves(model, tmp_path, capsys):
     model = runnable_model(model, tmp_path)

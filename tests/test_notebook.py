@@ -156,6 +156,7 @@ def notebook(request, tmp_path_factory):
     return _execute(tmp_path_factory.mktemp("nb"), widgets), widgets
 
 
+@pytest.mark.slow
 def test_no_cell_shows_a_traceback(notebook):
     nb, _ = notebook
     for cell in nb.cells:
@@ -164,6 +165,7 @@ def test_no_cell_shows_a_traceback(notebook):
             assert "Traceback" not in text and "Exception ignored" not in text, text
 
 
+@pytest.mark.slow
 def test_names_survive_in_series_legends_and_sel(notebook):
     nb, _ = notebook
     facts = _facts(nb.cells[1])

@@ -227,6 +227,7 @@ def _assert_elastic_agreement(plan, result, opensees):
         assert difference <= ELASTIC_RTOL, f"{quantity}: {difference:.3e}"
 
 
+@pytest.mark.slow
 def test_elastic_buildings_agree():
     plan, result, opensees = _elastic_pair(ELASTIC)
     assert plan.ground_acceleration[0, 0] == 0.0
@@ -292,6 +293,7 @@ def _paper_linear_with(integrator: dict, excitation: dict | None = None,
     return plan, result, run(peer_scene(plan))
 
 
+@pytest.mark.slow
 def test_hht_agrees():
     """HHT (pframe's alpha 0.1, OpenSees' 0.9) on the paper's pounding scene."""
     plan, result, opensees = _paper_linear_with({"type": "hht", "alpha": 0.1})
@@ -300,6 +302,7 @@ def test_hht_agrees():
     assert difference <= DISPLACEMENT_RTOL, f"{difference:.3e}"
 
 
+@pytest.mark.slow
 def test_wilson_theta_agrees_under_a_ground_motion_linear_in_time(tmp_path):
     """Wilson-theta (theta 1.4) on the paper's yielding, pounding pair. OpenSees reads the
     ground motion at t + theta dt from the record where the method extrapolates the step's
@@ -339,6 +342,7 @@ def test_generalised_alpha_is_not_exported():
         peer_scene(plan)
 
 
+@pytest.mark.slow
 def test_walls_agree():
     """Walls (contacts to the ground, OpenSees: zeroLength to the fixed node) on both sides of
     a yielding building under a sine: both programs to round-off."""
@@ -368,6 +372,7 @@ def test_walls_agree():
         assert difference <= DISPLACEMENT_RTOL, f"{quantity}: {difference:.3e}"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("material", ["viscous", "kelvin_voigt"])
 @pytest.mark.parametrize("alpha", [1.0, 0.5])
 def test_links_agree(material, alpha):

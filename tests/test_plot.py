@@ -311,6 +311,7 @@ def not_hdf5(path):
     path.write_text("time,displacement\n0,0\n", encoding="utf-8")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("damage", "message"), [
     (lambda path: path.unlink(), "no such result file"),
     (not_hdf5, "not a netCDF-4/HDF5 file"),
@@ -327,6 +328,7 @@ def test_bad_files_exit_2_naming_the_file(copy, capsys, damage, message):
     assert not copy.with_suffix(".pdf").exists()
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("args", "message"), [
     (["-o", "figure.tiff"], "must end in .png, .svg or .pdf"),
     (["--story", "7"], "no floor level 7; the levels are 1, 2, 3"),
@@ -373,6 +375,7 @@ def test_other_commands_never_import_matplotlib(tmp_path):
     assert run.returncode == 0, run.stderr
 
 
+@pytest.mark.slow
 def test_levels_reads_the_result(result_file):
     levels = read_result(result_file).levels
     assert levels.order == ("1", "2", "3")

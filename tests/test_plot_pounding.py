@@ -45,6 +45,7 @@ def _impact_times(ax) -> np.ndarray:
     return np.asarray(_line(ax, "impacts").get_xdata(), dtype=float)
 
 
+@pytest.mark.slow
 def test_every_contact_of_a_level_has_its_gap_panel_with_the_file_data(eq14, data):
     figs = figures(eq14, kind="pounding")
     assert list(figs) == ["1", "2", "3"]  # every level of the paper's example pounds
@@ -67,6 +68,7 @@ def test_every_contact_of_a_level_has_its_gap_panel_with_the_file_data(eq14, dat
         assert "force " + contact in _axes(fig)
 
 
+@pytest.mark.slow
 def test_impacts_are_the_kernels_impacts(eq14, data):
     """The markers are where the relative displacement rises past the gap: as many as the
     kernel counted (``impact_count``: 8 per contact, as the paper reports), and at each
@@ -84,6 +86,7 @@ def test_impacts_are_the_kernels_impacts(eq14, data):
         np.testing.assert_array_equal(_impact_times(_axes(fig)[f"force {contact}"]), times)
 
 
+@pytest.mark.slow
 def test_units_and_dimensionless_move_the_gap_with_the_displacement(eq14, data):
     mm = figures(eq14, kind="pounding", levels=["3"], units="engineering")["3"]
     ax = _axes(mm)["gap floor-3"]
@@ -108,6 +111,7 @@ def test_from_python_on_a_dataset(data):
     plt.close(fig)
 
 
+@pytest.mark.slow
 def test_the_command_writes_one_figure_per_pounding_level(eq14, tmp_path, capsys):
     out = tmp_path / "pound.svg"
     assert main(["plot", str(eq14), "--kind", "pounding", "-o", str(out)]) == 0
@@ -134,6 +138,7 @@ recorders:
     assert "nothing to plot for --kind pounding" in err and "no contacts" in err
 
 
+@pytest.mark.slow
 def test_a_coarse_history_that_misses_impacts_says_so(tmp_path):
     """Recorded every 200th step (32 ms), the history misses most of the 8.6 ms impacts:
     the panel does not pass its count off as the run's, it gives both."""

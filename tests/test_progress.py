@@ -47,6 +47,7 @@ def test_a_text_bar_shows_elapsed_time_rate_and_estimate(monkeypatch):
     bar.close()
 
 
+@pytest.mark.slow
 def test_on_a_terminal_the_bar_is_cleared_at_the_end(monkeypatch):
     monkeypatch.setattr(progress, "DELAY", 0.0)
     stream = _Stream()
@@ -54,6 +55,7 @@ def test_on_a_terminal_the_bar_is_cleared_at_the_end(monkeypatch):
     assert _screen(stream.getvalue()).strip() == ""
 
 
+@pytest.mark.slow
 def test_in_a_notebook_without_widgets_the_text_ends_at_the_final_state(monkeypatch):
     monkeypatch.setattr(progress, "DELAY", 0.0)
     monkeypatch.setattr(progress, "in_notebook", lambda: True)
@@ -64,6 +66,7 @@ def test_in_a_notebook_without_widgets_the_text_ends_at_the_final_state(monkeypa
     assert "100%" in last and "400/400" in last, last
 
 
+@pytest.mark.slow
 def test_in_a_notebook_the_widget_display_is_updated_to_the_final_state(monkeypatch):
     """The widget is displayed with a display id once the run lasts DELAY, and that display
     is updated when the run ends: what a saved notebook keeps is the final state."""

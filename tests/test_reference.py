@@ -54,6 +54,7 @@ FREE_M, FREE_K = 1000.0, 1.0e6
 FREE_U0 = np.array([0.01, 0.02, 0.03])
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("ratio", [0.0, 0.05])
 def test_free_vibration_matches_modal_solution(ratio):
     """A 3-storey elastic building released from rest at u0, undamped and with Rayleigh
@@ -143,6 +144,7 @@ def _impact(contact: dict, duration: float = 0.03, gap: float = 0.0, **options):
     return plan, result, episode
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("gap", [0.0, 0.004])
 def test_linear_impact_closed_form(gap):
     """A linear spring between two free masses: a half sine of w = sqrt(k / m_eff), so the
@@ -179,6 +181,7 @@ HUNT_CROSSLEY += [({"law": "hertzdamp", "stiffness": 1e9, "formula": f}, 0.4)
                   for f in ("muthukumar", "ye")]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("contact, e", HUNT_CROSSLEY,
                          ids=[f"{c['law']}-{c.get('formula', e)}" for c, e in HUNT_CROSSLEY])
 def test_hunt_crossley_restitution_is_exact(contact, e):
@@ -226,6 +229,7 @@ def test_impact_agrees_across_tolerances_and_methods(law):
         assert other.separation == pytest.approx(best.separation, rel=1e-8)
 
 
+@pytest.mark.slow
 def test_python_laws_equal_compiled_laws():
     """jit=False calls the laws' force from Python: the same function, the same results."""
     contact = {"law": "jankowski"} | CONTACTS["jankowski"]
@@ -383,6 +387,7 @@ def test_hust_contacts_release_and_separate():
     assert error < 1e-3 * np.max(np.abs(ref.displacement))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("last", [0.0, 1.5])
 def test_record_ground(tmp_path, last):
     """A record (every 0.02 s) on a 2-storey building: ``of_scene`` interpolates it between its

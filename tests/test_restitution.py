@@ -177,6 +177,7 @@ def test_every_damped_law_is_covered():
     assert {case for case, _, _ in ROWS} == set(VARIANTS)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("law", list(BATCHES))
 def test_exact_calibration_rebounds_with_e(law, request):
     """Two free masses (1000 kg at 0.5 m/s into 3000 kg at rest, gap 0, no damping): with

@@ -37,6 +37,7 @@ REPO = Path(__file__).resolve().parents[1]
 # fragilities by maximum likelihood
 # --------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_msa_fit_recovers_known_parameters_and_its_bounds_cover_them():
     """Binomial stripes drawn from theta = 0.6 g, beta = 0.4: the estimates are close with many
     runs, and the 90 % Fisher-information interval of theta covers the truth in about 90 % of
@@ -229,6 +230,7 @@ def pulse(tmp_path_factory):
     return xr.open_dataset(out), folder
 
 
+@pytest.mark.slow
 def test_pounding_with_contacts_exactly_when_the_critical_gap_exceeds_the_gap(pulse):
     ds, _ = pulse
     gap = float(ds.limit_value.sel(limit_name="pounding"))
@@ -239,6 +241,7 @@ def test_pounding_with_contacts_exactly_when_the_critical_gap_exceeds_the_gap(pu
     assert np.array_equal((critical > gap)[clear], (impacts > 0)[clear])
 
 
+@pytest.mark.slow
 def test_gap_at_target_is_the_root_of_the_pounding_frequency(pulse):
     """lambda(gap at target) recomputed from the file's critical gaps: the target frequency
     just above the gap found, more than the target just below it."""
@@ -313,6 +316,7 @@ def test_a_fragility_the_data_hardly_fix_has_infinite_bounds():
     assert m_hi == math.inf and m_lo == 0.0 and b_hi == math.inf
 
 
+@pytest.mark.slow
 def test_a_stopped_study_resumes_from_its_saved_batches(tmp_path, pulse):
     """Stopped after its first batch, the study runs only the others the second time and
     gives the file of an uninterrupted run."""
@@ -339,6 +343,7 @@ def test_a_stopped_study_resumes_from_its_saved_batches(tmp_path, pulse):
     assert float(again.gap_at_target) == float(whole.gap_at_target)
 
 
+@pytest.mark.slow
 def test_pframe_plot_draws_the_figure_set(pulse, tmp_path):
     pytest.importorskip("matplotlib")
     _, folder = pulse

@@ -72,6 +72,7 @@ def _rewrite(text: str, tables: dict[str, str]) -> str:
                                       for m in block.finditer(text)}
 
 
+@pytest.mark.slow
 @needs_records
 def test_page_holds_the_computed_study():
     text = PAGE.read_text(encoding="utf-8")
@@ -83,6 +84,7 @@ def test_page_holds_the_computed_study():
                                      f"{REGENERATE}\n{body}")
 
 
+@pytest.mark.slow
 @needs_records
 def test_page_claims():
     """What the prose says: the gap at 1/475 per year is below the scene's gap of 124 mm and

@@ -138,6 +138,7 @@ def test_similar_scenes_give_the_same_dimensionless_histories(reference, tmp_pat
     _check_similar(ref, other, f"improved Kelvin, {scales}")
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("scales", SCALES[1:], ids=SCALE_IDS)
 def test_similar_scenes_with_kelvin_contacts_agree_less_closely(reference, tmp_path, scales):
     """The clipped Kelvin law: the same impacts and peaks, but histories agree to ~1e-6 only.
@@ -155,6 +156,7 @@ def test_similar_scenes_with_kelvin_contacts_agree_less_closely(reference, tmp_p
     assert max(v for k, v in differences.items() if k.startswith("peak_")) < 1e-6
 
 
+@pytest.mark.slow
 def test_dimensionless_files_say_so(reference):
     """tau = w_p t over 0 .. 50, every variable of units "1", the scales in the attributes."""
     ref = reference["improved_kelvin"]
@@ -168,6 +170,7 @@ def test_dimensionless_files_say_so(reference):
     assert "x = X / l_e" in labels["nondimensional_scales"]
 
 
+@pytest.mark.slow
 def test_a_scaled_dimensional_scene_gives_the_pi_scenes_file(reference, tmp_path):
     """models/wu2021-eq14.yaml scaled to a 1:16 model (Table 1's similitude), with
     dimensionless output on the scene's own scales, equals the Pi scene's result."""

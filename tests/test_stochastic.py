@@ -48,6 +48,7 @@ def test_infeasible_duration_and_tmid_are_refused():
         st.gamma_envelope(0.1, 30.0, 2.0)
 
 
+@pytest.mark.slow
 def test_rezaeian_mean_arias_duration_and_tmid_match_the_model():
     """The process before q has unit variance at every step (normalised by sigma_h), so
     E[I_a] is the modulating function's I_a; the Husid curve of the mean squared motion has
@@ -65,6 +66,7 @@ def test_rezaeian_mean_arias_duration_and_tmid_match_the_model():
     assert t45 == pytest.approx(PARAMS.tmid, rel=0.03)
 
 
+@pytest.mark.slow
 def test_rezaeian_zero_crossing_rate_is_the_filter_frequency():
     """The filter h is a damped oscillator's displacement impulse response: its stationary
     response to white noise has lambda_2 / lambda_0 = omega_f^2, so (Rice) it crosses zero
@@ -80,6 +82,7 @@ def test_rezaeian_zero_crossing_rate_is_the_filter_frequency():
     assert abs(rates.mean() - 2 * PARAMS.frequency) < max(3 * se, 0.02 * 2 * PARAMS.frequency)
 
 
+@pytest.mark.slow
 def test_rezaeian_slope_moves_the_crossings_as_the_filter_frequency():
     """With f' != 0 the crossings over [t5, t95] count int omega_f(t) / pi dt."""
     params = st.RezaeianParameters(0.5, 8.0, 6.0, 4.0, -0.2, 0.2)
@@ -134,6 +137,7 @@ def test_clough_penzien_periodogram_is_the_psd():
     assert abs(errors.mean()) < 0.02
 
 
+@pytest.mark.slow
 def test_same_seed_same_motion_other_seed_other_motion():
     site = dict(model="rezaeian2010", magnitude=6.8, distance=15.0, vs30=500.0)
     a = st.generate(Stochastic(**site, seed=4))

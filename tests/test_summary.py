@@ -59,6 +59,7 @@ def test_peaks_impacts_energy_and_ductility_are_the_runs(run):
     assert set(table[table.part == "energy"].units) == {"J"}
 
 
+@pytest.mark.slow
 def test_markdown_and_csv_hold_the_table(run, tmp_path):
     table = pframe.summary(run, tmp_path / "s.csv")
     back = pd.read_csv(tmp_path / "s.csv", keep_default_na=False)

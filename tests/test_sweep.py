@@ -149,6 +149,7 @@ def test_batch_equals_single_runs(folder, grid):
             assert f["energy_balance_error"][position] == single.energy_error(0)
 
 
+@pytest.mark.slow
 def test_variant_road_equals_the_scene_loader(tmp_path):
     """The sweep validates variants from YAML data composed once; for every shipped model it
     gives the scene pframe.reader.parse_scene gives from the text."""

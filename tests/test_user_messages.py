@@ -203,6 +203,7 @@ def test_validate_and_solve_print_how_the_record_was_read(tmp_path, capsys):
 # validate recognises each kind of input file
 # ---------------------------------------------------------------------------------------------
 
+@pytest.mark.slow
 def test_validate_recognises_scenes_pi_scenes_and_sweeps(capsys):
     assert main(["validate", str(MODELS / "wu2021-eq14-pi.yaml")]) == 0
     assert "valid; a scene in Pi numbers: 6 nodes" in capsys.readouterr().out

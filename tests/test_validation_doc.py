@@ -344,6 +344,7 @@ def test_eq14_claims():
         assert _displacement_stats(pounding, node)[0] > 1.4 * _displacement_stats(free, node)[0]
 
 
+@pytest.mark.slow
 def test_hust_claims():
     """What section 4.4 of the page says about the HUST model."""
     pounding, free = _run("hust"), _run("hust", pounding=False)

@@ -57,6 +57,7 @@ def test_a_wall_is_an_infinite_mass():
     assert CONTEXT.effective_mass == pytest.approx(M_EFF, rel=1e-15)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("side", ["right", "left"])
 def test_every_law_rebounds_off_a_wall_as_its_formula_implies(side):
     """Every law x calibration x e = 0.2, 0.8 against a wall on either side, a gap closed in
