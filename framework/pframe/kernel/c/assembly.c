@@ -160,8 +160,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             calls[law] += 1;
             force[e] = f;
             penetration[e] = d;
-            if (m->contact_lower[2 * e] < 0 && m->contact_lower[2 * e + 1] < 0
-                && share[2 * e] == 1.0 && share[2 * e + 1] == 1.0) {
+            if (plain_contact(m, b, e)) {
                 if (left >= 0) /* -1: a wall, the ground's side */
                     R[left] -= f;
                 if (right >= 0)
@@ -253,7 +252,7 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
         const int64_t *lower = m->contact_lower + 2 * e;
         const double *share = m->contact_share + (b * m->contacts + e) * 2;
-        if (lower[0] < 0 && lower[1] < 0 && share[0] == 1.0 && share[1] == 1.0) {
+        if (plain_contact(m, b, e)) {
             if (left >= 0)
                 band[left * (bw + 1)] += kk;
             if (right >= 0)

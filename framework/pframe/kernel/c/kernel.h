@@ -43,10 +43,22 @@ static double dof_value(const double *x, int64_t i) { return i >= 0 ? x[i] : 0.0
 
 /* The displacement (or velocity) of one side of contact e: its node's, or for a floor-to-column
  * contact the point of the struck column, psi x_upper + (1 - psi) x_lower (assembly.c). */
+static int plain_side(const Model *m, int64_t b, int64_t e, int side)
+{
+    return m->contact_lower[2 * e + side] < 0
+           && m->contact_share[(b * m->contacts + e) * 2 + side] == 1.0;
+}
+
+/* A contact between two floors (or a floor and a wall): no column on either side. */
+static int plain_contact(const Model *m, int64_t b, int64_t e)
+{
+    return plain_side(m, b, e, 0) && plain_side(m, b, e, 1);
+}
+
 static double contact_side(const Model *m, const double *x, int64_t b, int64_t e, int side)
 {
     const int64_t node = m->contact_dofs[2 * e + side], lower = m->contact_lower[2 * e + side];
-    if (lower < 0 && m->contact_share[(b * m->contacts + e) * 2 + side] == 1.0)
+    if (plain_side(m, b, e, side))
         return dof_value(x, node);
     {
         const double psi = m->contact_share[(b * m->contacts + e) * 2 + side];
