@@ -98,6 +98,15 @@ def test_a_storey_above_its_buckling_load_departs_exponentially():
     np.testing.assert_allclose(u[done], exact[done], rtol=1e-5)
 
 
+def test_a_collapse_under_gravity_is_named_as_one():
+    """Left to run, the unstable storey runs away; the failure says it is a P-delta collapse,
+    not numerics creating energy."""
+    _, result = run_text(_building(1, 1000.0, 2.0e3, 3.0, u0=1e-4, duration=10.0))
+    assert not result.completed(0)
+    why = result.describe_failure(0)
+    assert "collapsing under gravity" in why and "node A/1" in why
+
+
 def test_negative_post_yield_stiffness_is_warned_and_handled():
     """A bilinear storey with alpha k < P / h: warned; the run completes (Newton with a
     negative tangent), the storey's net force falls as it drifts past yield, and the energy

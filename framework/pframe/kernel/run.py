@@ -166,6 +166,12 @@ class Result:
                Status.NOT_DEFINITE: "the effective stiffness is not positive definite",
                Status.NOT_STABLE: "the run diverged (the numerics created more energy than the "
                            "excitation put in)"}[code]
+        if (code == Status.NOT_STABLE and plan.story_kg is not None
+                and np.any(plan.story_kg[b])):
+            why = ("the run diverged: the kinetic energy outgrew what the excitation put in. "
+                   "With P-delta this is most likely a storey collapsing under gravity (its "
+                   "geometric stiffness releasing the weight's potential energy), not the "
+                   "numerics; the run stops there")
         return f"{why} at t = {t:.6g} s (step {state}) at {where}"
 
 
