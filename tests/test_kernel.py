@@ -171,6 +171,9 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
                           "alpha": 0.1},
              "bouc_wen": {"material": "bouc_wen", "alpha": 0.1, "ko": 2.0e6, "n": 1.0,
                           "gamma": 100.0, "beta": 100.0},
+             "bwbn": {"material": "bwbn", "alpha": 0.1, "ko": 2.0e6, "n": 1.0,
+                      "gamma": 100.0, "beta": 100.0, "deltaNu": 1e-4, "q": 0.1,
+                      "zetas": 0.5, "p": 1e-3, "psi": 0.003, "lamda": 0.5},
              "friction_pendulum": {"material": "friction_pendulum", "radius": 1.0,
                                    "mu_slow": 0.05, "mu_fast": 0.1, "rate_parameter": 30.0,
                                    "k_init": 2.0e6},
@@ -319,6 +322,16 @@ def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
                                  rng.uniform(0.2, 0.8) / zy**n, rng.uniform(0.2, 0.8) / zy**n,
                                  1.0, rng.choice([0.0, 1e-4]), rng.choice([0.0, 1e-4]),
                                  rng.choice([0.0, 1e-4]), 1e-8, rng.choice([3.0, 20.0]))
+                if law.name == "bwbn":  # pinched or not, degrading or not
+                    zy = rng.uniform(0.005, 0.05)
+                    n = rng.choice([1.0, 2.0, 5.5])
+                    params[:] = (rng.choice([0.0, 0.1]), 1e6 * rng.uniform(0.5, 2.0), n,
+                                 rng.uniform(0.2, 0.8) / zy**n, rng.uniform(0.2, 0.8) / zy**n,
+                                 1.0, rng.choice([0.0, 1e-4]), rng.choice([0.0, 1e-4]),
+                                 rng.choice([0.0, 1e-4]), rng.uniform(0.0, 0.3),
+                                 rng.choice([0.0, 0.8]), rng.uniform(0.0, 1e-3),
+                                 zy * rng.uniform(0.1, 1.0), rng.choice([0.0, 1e-6]),
+                                 rng.uniform(0.1, 1.0), 1e-8, rng.choice([3.0, 20.0]))
                 if law.name == "friction_pendulum":  # Coulomb or velocity dependent, flat or not
                     w = rng.uniform(1e4, 1e6)
                     params[:] = (w, rng.choice([0.0, 1.0 / rng.uniform(0.5, 4.0)]), 1e3 * w,
@@ -328,9 +341,9 @@ def test_every_built_in_law_in_c_is_its_python_force_bit_for_bit():
                     params[2] = rng.choice([0.0, rng.uniform(0.1, 2.0)])
                     params[5] = rng.uniform(0.0, 0.02)
                 committed = rng.uniform(-0.01, 0.01, max(1, states)) * rng.choice([0.0, 1.0])
-                if states and law.name in ("bouc_wen", "friction_pendulum"):
+                if states and law.name in ("bouc_wen", "bwbn", "friction_pendulum"):
                     committed[:] = rng.uniform(-0.03, 0.03, states) * rng.choice([0.0, 1.0])
-                    if law.name == "bouc_wen":
+                    if law.name in ("bouc_wen", "bwbn"):
                         committed[2] = rng.uniform(0.0, 1e3)  # the hysteretic energy
                 elif states and law.name != "bilinear":
                     committed[-1] = rng.choice([0.0, 1.0])  # in contact or not

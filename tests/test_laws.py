@@ -41,6 +41,10 @@ MATERIAL_PARAMS = {
     "bouc_wen": [{"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0},
                  {"alpha": 0.0, "ko": 1.0e5, "n": 1.0, "gamma": 30.0, "beta": 70.0,
                   "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4}],
+    "bwbn": [{"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0},
+             {"alpha": 0.05, "ko": 1.0e5, "n": 1.5, "gamma": 300.0, "beta": 700.0,
+              "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4, "q": 0.2, "zetas": 0.8,
+              "p": 1e-2, "psi": 0.004, "deltaPsi": 1e-5, "lamda": 0.5}],
     "friction_pendulum": [{"radius": 2.0, "mu": 0.08, "weight": 5e4, "k_init": 1e6},
                           {"mu_slow": 0.05, "mu_fast": 0.12, "rate_parameter": 20.0,
                            "weight": 5e4, "k_init": 1e6}],
@@ -196,6 +200,9 @@ ISOLATOR_STATES = {
     "bouc_wen": [((0.0, 0.0, 0.0), 0.003), ((0.01, 0.008, 50.0), 0.013),
                  ((0.01, 0.008, 50.0), 0.004), ((-0.02, -0.009, 400.0), -0.03),
                  ((-0.02, -0.009, 400.0), -0.011)],
+    "bwbn": [((0.0, 0.0, 0.0), 0.003), ((0.01, 0.008, 50.0), 0.013),
+             ((0.01, 0.008, 50.0), 0.004), ((-0.02, -0.009, 400.0), -0.03),
+             ((-0.02, -0.009, 400.0), -0.011)],
     "friction_pendulum": [((0.0,), 1e-4), ((0.0,), 0.02), ((0.0,), -0.02),
                           ((0.015,), 0.0152), ((0.015,), 0.005)],
 }
@@ -206,7 +213,7 @@ def _check_isolator_tangent(law, packed):
         for committed, x in ISOLATOR_STATES[law.name]:
             committed = np.array(committed, dtype=float)
             _, _, kr = _check_tangent(law, packed, committed, x, rate, 0.01, 0.3)
-            if law.name == "bouc_wen":
+            if law.name in ("bouc_wen", "bwbn"):
                 assert kr == 0.0  # rate independent
 def _imk_peak_states(law, packed):
     """(committed state, None, trial drift, expected tangent) of imk_peak: from rest onto each

@@ -443,10 +443,11 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         if not np.any(group.index < ns):
             continue
         storeys = group.index < ns
-        if group.law.opensees not in ("Elastic", "Steel01", "BoucWen", "ModIMKPeakOriented"):
-            problems.append(f"it models storeys with Elastic, Steel01, BoucWen or "
-                            f"ModIMKPeakOriented (the laws elastic, bilinear, bouc_wen and "
-                            f"imk_peak); the scene's storeys use "
+        if group.law.opensees not in ("Elastic", "Steel01", "BoucWen", "ModIMKPeakOriented",
+                                      "BWBN"):
+            problems.append(f"it models storeys with Elastic, Steel01, BoucWen, "
+                            f"ModIMKPeakOriented or BWBN (the laws elastic, bilinear, bouc_wen, "
+                            f"imk_peak and bwbn); the scene's storeys use "
                             f"{group.law.name!r}, which has no OpenSees uniaxialMaterial "
                             "counterpart")
         elif group.law.opensees == "BoucWen" and np.any(
@@ -457,6 +458,11 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
             problems.append("it damps Bouc-Wen storeys on OpenSees' initial tangent, which "
                             "differs from pframe's when Ao != 1: give Ao = 1 or damping "
                             "without a stiffness part")
+        elif group.law.opensees == "BWBN" and np.any(
+                group.params[member, storeys, 5:9] != (1.0, 0.0, 0.0, 0.0)):
+            # OpenSees' BWBN has pinching only: no A, nu or eta degradation, z_u with A = 1
+            problems.append("OpenSees' BWBN has no strength or stiffness degradation: its "
+                            "bwbn storeys need Ao = 1 and deltaA = deltaNu = deltaEta = 0")
     for group in plan.contact_groups:
         if group.law.opensees != "ElasticPPGap":
             problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
@@ -476,6 +482,8 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                 materials.append((i, ("bouc_wen", *p[:11])))
             elif group.law.name == "imk_peak":
                 materials.append((i, ("imk_peak", *p)))
+            elif group.law.opensees == "BWBN":  # OpenSees' 12 numbers, tolerance, iterations
+                materials.append((i, ("bwbn", *p[:6], *p[9:17])))
             else:
                 materials.append((i, ("bilinear", p[0], p[1], p[2])))
     materials = [m for _, m in sorted(materials, key=lambda t: t[0])]

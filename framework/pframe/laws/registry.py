@@ -44,6 +44,7 @@ _BUILTIN_MODULES = {
         "pframe.laws.material.bouc_wen",
         "pframe.laws.material.friction_pendulum",
         "pframe.laws.material.imk_peak",
+        "pframe.laws.material.bwbn",
     ),
 }
 _GROUPS = {"contact": CONTACT_GROUP, "material": MATERIAL_GROUP}

@@ -85,6 +85,21 @@ class Expanded:
 GRAVITY = 9.80665
 
 
+def _validation_message(exc: Exception) -> str:
+    """A storey's parameter error in one line: each pydantic error as ``field: message`` (a
+    check across fields has no field), never pydantic's closing link to its documentation."""
+    errors = getattr(exc, "errors", None)
+    if callable(errors):
+        parts = []
+        for error in errors():
+            text = str(error.get("msg", "")).removeprefix("Value error, ")
+            where = ".".join(str(part) for part in error.get("loc", ()))
+            parts.append(f"{where}: {text}" if where else text)
+        if parts:
+            return "; ".join(parts)
+    return str(exc)
+
+
 def _per_storey(value, n: int, path):
     if isinstance(value, list):
         if len(value) != n:
@@ -125,7 +140,7 @@ def _building_nodes(scene, nodes, stories, damping):
             try:
                 params = law.Params.model_validate(raw)
             except Exception as exc:
-                msg = str(exc).splitlines()[-1].strip() if "\n" in str(exc) else str(exc)
+                msg = _validation_message(exc)
                 raise ModelError(path + ("story",), f"storey {i + 1}: {msg}") from None
             lower = "ground" if i == 0 else f"{building.name}/{i}"
             stories.append((name, (lower, name), law, params, path + ("story",), heights[i],

@@ -8,9 +8,10 @@ same text in this process and returns its histories.
 Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node):
 
 * storeys: ``zeroLength`` with ``Elastic``, ``Steel01`` (``b = alpha``, no isotropic
-  hardening), ``BoucWen`` (the law ``bouc_wen``, its parameters, tolerance and iterations)
-  or ``ModIMKPeakOriented`` (imk_peak's 23 numbers) from the lower to the upper node, so the
-  element deformation is the drift;
+  hardening), ``BoucWen`` (the law ``bouc_wen``, its parameters, tolerance and iterations),
+  ``ModIMKPeakOriented`` (imk_peak's 23 numbers) or ``BWBN`` (the law ``bwbn`` without
+  degradation: its 12 numbers, tolerance and iterations) from the lower to the upper node,
+  so the element deformation is the drift;
 * contacts: ``zeroLength`` from the left to the right node with ``ElasticPPGap(k, -huge, -gap)``;
   its deformation ``u_right - u_left`` falls below ``-gap`` exactly when
   ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
@@ -82,6 +83,9 @@ def build():
             ops.uniaxialMaterial("BoucWen", tag, *mat[1:])
         elif mat[0] == "imk_peak":  # pframe's packed numbers are OpenSees' 23 arguments
             ops.uniaxialMaterial("ModIMKPeakOriented", tag, *mat[1:])
+        elif mat[0] == "bwbn":
+            # alpha, ko, n, gamma, beta, Ao, q, zetas, p, Shi, deltaShi, lamda, tol, maxNumIter
+            ops.uniaxialMaterial("BWBN", tag, *mat[1:])
         else:
             _, k, fy, alpha = mat
             ops.uniaxialMaterial("Steel01", tag, fy, k, alpha)
@@ -249,6 +253,8 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
             materials.append(("bouc_wen", *(float(v) for v in mat[1:11]), int(mat[11])))
         elif mat[0] == "imk_peak":
             materials.append(("imk_peak", *(float(v) for v in mat[1:24])))
+        elif mat[0] == "bwbn":  # the 12 parameters, the tolerance, the iterations
+            materials.append(("bwbn", *(float(v) for v in mat[1:14]), int(mat[14])))
         else:
             raise ValueError(f"unknown storey material {mat[0]!r}")
     rayleigh = [

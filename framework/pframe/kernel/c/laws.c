@@ -878,7 +878,198 @@ static void material_imk_peak(const double *params, const double *committed, dou
     return;
 }
 
-#define BUILTIN_MATERIALS 7
+/* pframe.laws.material.bwbn.Bwbn.force */
+static void material_bwbn(const double *params, const double *committed, double *trial,
+                          double deformation, double rate, double *out)
+{
+    double alpha_;
+    double ko_;
+    double n_;
+    double gamma_;
+    double beta_;
+    double a0_;
+    double delta_a_;
+    double delta_nu_;
+    double delta_eta_;
+    double q_;
+    double zetas_;
+    double p_;
+    double psi0_;
+    double delta_psi_;
+    double lamda_;
+    double tolerance_;
+    double most_;
+    double cz_;
+    double ce_;
+    double strain_;
+    double sd_;
+    double z_;
+    double z_old_;
+    double z_new_;
+    double count_;
+    double te_;
+    double ta_;
+    double tnu_;
+    double teta_;
+    double psi_;
+    double phi_;
+    double te__;
+    double ta__;
+    double tnu__;
+    double teta__;
+    double h_;
+    double h__;
+    double zeta1_;
+    double zeta2_;
+    double zu_;
+    double zu__;
+    double x_;
+    double x__;
+    double g_;
+    double zeta1__;
+    double zeta2__;
+    double f_;
+    double sign_;
+    double pow1_;
+    double pow2_;
+    double phi__;
+    double f__;
+    double stress_;
+    double tangent_;
+    double e_du_;
+    double e_dz_;
+    double phi_e_;
+    double phi_z_;
+    double h_e_;
+    double h_x_;
+    double zu_e_;
+    double zeta1_e_;
+    double zeta2_e_;
+    double w_e_;
+    double numerator_;
+    double denominator_;
+    int64_t loop0_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    alpha_ = params[0];
+    ko_ = params[1];
+    n_ = params[2];
+    gamma_ = params[3];
+    beta_ = params[4];
+    a0_ = params[5];
+    delta_a_ = params[6];
+    delta_nu_ = params[7];
+    delta_eta_ = params[8];
+    q_ = params[9];
+    zetas_ = params[10];
+    p_ = params[11];
+    psi0_ = params[12];
+    delta_psi_ = params[13];
+    lamda_ = params[14];
+    tolerance_ = params[15];
+    most_ = params[16];
+    cz_ = committed[1];
+    ce_ = committed[2];
+    strain_ = (deformation - committed[0]);
+    sd_ = ((strain_ > 0.0) ? 1.0 : (-1.0));
+    z_ = 0.01;
+    z_old_ = 0.01;
+    z_new_ = 1.0;
+    count_ = 0.0;
+    for (loop0_ = 0; loop0_ < 100; loop0_++) {
+        if ((!((fabs((z_old_ - z_new_)) > tolerance_) && (count_ < most_)))) {
+            break;
+        }
+        te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+        ta_ = (a0_ - (delta_a_ * te_));
+        tnu_ = (1.0 + (delta_nu_ * te_));
+        teta_ = (1.0 + (delta_eta_ * te_));
+        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
+        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
+        te__ = (((1.0 - alpha_) * ko_) * strain_);
+        ta__ = ((-delta_a_) * te__);
+        tnu__ = (delta_nu_ * te__);
+        teta__ = (delta_eta_ * te__);
+        h_ = 1.0;
+        h__ = 0.0;
+        if ((zetas_ > 0.0)) {
+            zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
+            zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
+            zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (beta_ + gamma_))), (1.0 / n_));
+            zu__ = 0.0;
+            if ((ta_ > 0.0)) {
+                zu__ = ((zu_ / n_) * ((ta__ / ta_) - (tnu__ / tnu_)));
+            }
+            x_ = ((z_ * sd_) - (q_ * zu_));
+            x__ = (sd_ - (q_ * zu__));
+            g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
+            h_ = (1.0 - (zeta1_ * g_));
+            zeta1__ = (((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0))) * te__);
+            zeta2__ = ((((psi0_ * zeta1__) + ((lamda_ * delta_psi_) * te__)) + ((delta_psi_ * te_) * zeta1__)) + ((delta_psi_ * te__) * zeta1_));
+            h__ = ((-g_) * ((zeta1__ - ((((zeta1_ * 2.0) * x_) * x__) / (zeta2_ * zeta2_))) + ((((zeta2__ * zeta1_) * 2.0) * (x_ * x_)) / ((zeta2_ * zeta2_) * zeta2_))));
+        }
+        f_ = ((z_ - cz_) - (((phi_ * h_) / teta_) * strain_));
+        sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
+        pow1_ = 0.0;
+        pow2_ = 0.0;
+        if ((z_ != 0.0)) {
+            pow1_ = pow(fabs(z_), (n_ - 1.0));
+            pow2_ = pow(fabs(z_), n_);
+        }
+        phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
+        f__ = (1.0 - ((((((phi__ * h_) + (phi_ * h__)) * teta_) - ((phi_ * h_) * teta__)) / (teta_ * teta_)) * strain_));
+        z_new_ = (z_ - (f_ / f__));
+        z_old_ = z_;
+        z_ = z_new_;
+        count_ = (count_ + 1.0);
+    }
+    stress_ = (((alpha_ * ko_) * deformation) + (((1.0 - alpha_) * ko_) * z_));
+    te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    tangent_ = ((alpha_ * ko_) + ((1.0 - alpha_) * ko_));
+    if ((z_ != 0.0)) {
+        ta_ = (a0_ - (delta_a_ * te_));
+        tnu_ = (1.0 + (delta_nu_ * te_));
+        teta_ = (1.0 + (delta_eta_ * te_));
+        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
+        pow2_ = pow(fabs(z_), n_);
+        phi_ = (ta_ - ((pow2_ * psi_) * tnu_));
+        e_du_ = (((1.0 - alpha_) * ko_) * z_);
+        e_dz_ = (((1.0 - alpha_) * ko_) * strain_);
+        phi_e_ = ((-delta_a_) - ((pow2_ * psi_) * delta_nu_));
+        phi_z_ = (((((-n_) * pow(fabs(z_), (n_ - 1.0))) * ((z_ > 0.0) ? 1.0 : (-1.0))) * psi_) * tnu_);
+        h_ = 1.0;
+        h_e_ = 0.0;
+        h_x_ = 0.0;
+        if ((zetas_ > 0.0)) {
+            zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
+            zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
+            zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (beta_ + gamma_))), (1.0 / n_));
+            zu_e_ = 0.0;
+            if ((ta_ > 0.0)) {
+                zu_e_ = ((zu_ / n_) * (((-delta_a_) / ta_) - (delta_nu_ / tnu_)));
+            }
+            x_ = ((z_ * sd_) - (q_ * zu_));
+            g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
+            h_ = (1.0 - (zeta1_ * g_));
+            zeta1_e_ = ((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0)));
+            zeta2_e_ = ((((psi0_ * zeta1_e_) + (lamda_ * delta_psi_)) + ((delta_psi_ * te_) * zeta1_e_)) + (delta_psi_ * zeta1_));
+            h_x_ = ((((zeta1_ * g_) * 2.0) * x_) / (zeta2_ * zeta2_));
+            h_e_ = (((-g_) * (zeta1_e_ + ((((zeta1_ * 2.0) * (x_ * x_)) * zeta2_e_) / ((zeta2_ * zeta2_) * zeta2_)))) - ((h_x_ * q_) * zu_e_));
+        }
+        w_e_ = ((((phi_e_ * h_) + (phi_ * h_e_)) / teta_) - (((phi_ * h_) * delta_eta_) / (teta_ * teta_)));
+        numerator_ = (((phi_ * h_) / teta_) + ((strain_ * w_e_) * e_du_));
+        denominator_ = (1.0 - (strain_ * ((w_e_ * e_dz_) + (((phi_z_ * h_) + ((phi_ * h_x_) * sd_)) / teta_))));
+        tangent_ = ((alpha_ * ko_) + (((1.0 - alpha_) * ko_) * (numerator_ / denominator_)));
+    }
+    trial[0] = deformation;
+    trial[1] = z_;
+    trial[2] = te_;
+    out[0] = stress_;
+    out[1] = tangent_;
+    out[2] = 0.0;
+    return;
+}
+
+#define BUILTIN_MATERIALS 8
 
 /* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins */
 static void material_force(const Settings *s, int64_t law, const double *params,
@@ -906,6 +1097,9 @@ static void material_force(const Settings *s, int64_t law, const double *params,
         return;
     case 6: /* imk_peak */
         material_imk_peak(params, committed, trial, drift, rate, out);
+        return;
+    case 7: /* bwbn */
+        material_bwbn(params, committed, trial, drift, rate, out);
         return;
     default:
         s->material_plugins[law - BUILTIN_MATERIALS](params, committed, trial, drift, rate, out);

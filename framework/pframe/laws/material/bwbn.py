@@ -1,0 +1,271 @@
+"""Bouc-Wen-Baber-Noori storey: Bouc-Wen hysteresis with strength and stiffness degradation
+and pinching (Baber & Noori 1986, in Foliente's 1995 form; OpenSees ``BWBN`` uniaxialMaterial).
+
+The storey shear is F = alpha k0 u + (1 - alpha) k0 z; the hysteretic displacement z (m)
+follows
+
+    dz/du = h(z) [A - nu |z|^n (gamma + beta sign(du z))] / eta,
+
+degraded by the hysteretic energy e = (1 - alpha) k0 int z du (J) as ``bouc_wen`` is:
+A = A0 - deltaA e, nu = 1 + deltaNu e (strength), eta = 1 + deltaEta e (stiffness), and
+pinched by
+
+    h(z) = 1 - zeta1 exp(-(z sign(du) - q z_u)^2 / zeta2^2),
+    zeta1 = zetas (1 - exp(-p e)),  zeta2 = (psi + deltaPsi e) (lamda + zeta1),
+    z_u = (A / (nu (beta + gamma)))^(1/n)  (the largest z the loop reaches),
+
+so the tangent drops near z = q z_u on each reloading branch, more as energy is dissipated
+(zetas: how much, p: how fast, psi and deltaPsi: over what range of z, lamda: the coupling of
+the range to zeta1). With zetas = 0 there is no pinching and the law is ``bouc_wen`` (the same
+force and state bit for bit).
+
+The algorithm is OpenSees' ``BWBN`` (SRC/material/uniaxial/BWBN.cpp): from the committed
+(u, z, e), the trial z solves z - z_c - h Phi / eta (u - u_c) = 0 by Newton from z = 0.01
+until two iterates differ by no more than ``tolerance`` or after ``max_iterations``, with
+sign(du) = -1 for du = 0 as OpenSees' ``signum``. OpenSees' BWBN has no A, nu or eta
+degradation and takes z_u = (1 / (beta + gamma))^(1/n): it is this law with A0 = 1 and
+deltaA = deltaNu = deltaEta = 0, which is what ``pframe opensees`` can write as ``BWBN``;
+the forces then agree to round-off (tests/test_bwbn.py). The Newton derivative and the
+tangent here include the degradation's terms (z_u's dependence on e among them); the tangent
+is the consistent dF/du of the step's equation. OpenSees' BWBN tangent is not where the
+pinching acts: its numerator, h Phi - Phi dh/du, should be h Phi + du Phi dh/du (the
+tangent only steers the structure's Newton iterations, not the forces it converges to).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Literal
+
+from pydantic import Field, model_validator
+
+from pframe.laws.params import LawParams, Positive
+from pframe.laws.registry import Law, material
+
+#: upper bound of the local Newton loop (``max_iterations`` is at most this)
+MAX_ITERATIONS = 100
+
+
+@material("bwbn")
+class Bwbn(Law):
+    class Params(LawParams):
+        material: Literal["bwbn"]
+        alpha: float = Field(ge=0, le=1, description="Post-yield stiffness ratio alpha: "
+                             "F = alpha k0 u + (1 - alpha) k0 z.")
+        ko: Positive = Field(description="Initial storey stiffness k0 (N/m): the tangent at the "
+                                         "origin is k0 (alpha + (1 - alpha) A0).")
+        n: Positive = Field(description="Exponent n of the evolution equation: the sharpness of "
+                                        "the knee (1: smooth; 10 or more: nearly bilinear).")
+        gamma: float = Field(allow_inf_nan=False, description="gamma (m^-n): with beta the "
+                             "shape of the loop; beta + gamma > 0 bounds z.")
+        beta: float = Field(allow_inf_nan=False, description="beta (m^-n): with gamma the shape "
+                            "of the loop; z_u = (A0 / (beta + gamma))^(1/n) is the yield "
+                            "displacement (m). Usual: beta = gamma = 0.5 / z_u^n.")
+        Ao: Positive = Field(1.0, description="A0, the initial value of A (1 unless the "
+                                              "hysteretic part starts softer).")
+        deltaA: float = Field(0.0, ge=0, allow_inf_nan=False,
+                              description="Degradation of A with the hysteretic energy e (1/J).")
+        deltaNu: float = Field(0.0, ge=0, allow_inf_nan=False,
+                               description="Strength degradation nu = 1 + deltaNu e (1/J).")
+        deltaEta: float = Field(0.0, ge=0, allow_inf_nan=False,
+                                description="Stiffness degradation eta = 1 + deltaEta e (1/J).")
+        q: float = Field(0.0, ge=0, le=1, description="Pinching: where on the loop it acts, "
+                         "z = q z_u on the reloading branch (0: at zero hysteretic force).")
+        zetas: float = Field(0.0, ge=0, lt=1, description="Pinching: its severity zeta_s, the "
+                             "largest fraction of the tangent it removes (0: no pinching).")
+        p: float = Field(0.0, ge=0, allow_inf_nan=False,
+                         description="Pinching: the rate (1/J) at which it sets in with the "
+                                     "hysteretic energy, zeta1 = zetas (1 - exp(-p e)).")
+        psi: Positive | None = Field(None, description="Pinching: psi (m), the initial spread of "
+                                     "the pinched range of z (OpenSees' Shi); needed when "
+                                     "zetas > 0.")
+        deltaPsi: float = Field(0.0, ge=0, allow_inf_nan=False,
+                                description="Pinching: growth of the spread with the "
+                                            "hysteretic energy (m/J; OpenSees' deltaShi).")
+        lamda: Positive | None = Field(None, description="Pinching: lamda, the coupling of the "
+                                       "spread to zeta1, zeta2 = (psi + deltaPsi e) (lamda + "
+                                       "zeta1); needed when zetas > 0.")
+        tolerance: float = Field(1e-8, gt=0, le=1e-3, description="Convergence tolerance (m) "
+                                 "of the Newton solve for z (OpenSees' usual 1e-8).")
+        max_iterations: int = Field(20, ge=1, le=MAX_ITERATIONS,
+                                    description="Newton iterations for z at most (OpenSees' "
+                                                "maxNumIter).")
+
+        @model_validator(mode="after")
+        def _pinching_complete(self):
+            if self.zetas > 0.0:
+                missing = [name for name in ("psi", "lamda") if getattr(self, name) is None]
+                if missing:
+                    raise ValueError(f"zetas > 0 (pinching) needs {' and '.join(missing)} "
+                                     "(positive numbers: the spread psi in m, lamda "
+                                     "dimensionless)")
+                if self.beta + self.gamma <= 0.0:
+                    raise ValueError("zetas > 0 (pinching) needs beta + gamma > 0: the pinching "
+                                     "is placed by z_u = (A / (nu (beta + gamma)))^(1/n)")
+            return self
+
+    param_names = ("alpha", "ko", "n", "gamma", "beta", "Ao", "deltaA", "deltaNu", "deltaEta",
+                   "q", "zetas", "p", "psi", "deltaPsi", "lamda", "tolerance", "max_iterations")
+    state_names = ("drift", "z", "energy")
+    dimensions = {"alpha": "dimensionless", "ko": "stiffness", "n": "dimensionless",
+                  "Ao": "dimensionless", "deltaA": "1/J", "deltaNu": "1/J", "deltaEta": "1/J",
+                  "q": "dimensionless", "zetas": "dimensionless", "p": "1/J", "psi": "length",
+                  "deltaPsi": "m/J", "lamda": "dimensionless",
+                  "tolerance": "length", "max_iterations": "dimensionless"}
+    undimensioned = {
+        "gamma": "gamma and beta of the BWBN material are in m^-n, a dimension that depends "
+                 "on n; scale them by hand (by S_L^-n)",
+        "beta": "gamma and beta of the BWBN material are in m^-n, a dimension that depends "
+                "on n; scale them by hand (by S_L^-n)"}
+    #: no regime description for the reference solver (pframe accuracy): the law is its
+    #: step's backward-Euler update, whose state the reference solver does not integrate
+    branches = None
+    opensees = "BWBN"
+
+    @classmethod
+    def governing(cls, packed, effective_mass=None):
+        """K = k0, z_u = (A0 / (beta + gamma))^(1/n), the shape numbers, the degradations and
+        pinching rates per unit k0 z_u^2 and the pinching spread per unit z_u."""
+        alpha, k0, n, gamma, beta, a0, da, dnu, deta, q, zetas, p, psi, dpsi, lamda = \
+            packed[:15]
+        zu = (a0 / (beta + gamma)) ** (1.0 / n) if beta + gamma > 0 else math.inf
+        energy = k0 * zu * zu
+        return {"K": ("stiffness", k0), "z_u": ("length", zu),
+                "alpha": ("dimensionless", alpha), "n": ("dimensionless", n),
+                "beta_ratio": ("dimensionless", beta / (beta + gamma)),
+                "A0": ("dimensionless", a0),
+                "deltaA_e": ("dimensionless", da * energy),
+                "deltaNu_e": ("dimensionless", dnu * energy),
+                "deltaEta_e": ("dimensionless", deta * energy),
+                "q": ("dimensionless", q), "zetas": ("dimensionless", zetas),
+                "p_e": ("dimensionless", p * energy),
+                "psi_zu": ("dimensionless", psi / zu),
+                "deltaPsi_e": ("dimensionless", dpsi * energy / zu),
+                "lamda": ("dimensionless", lamda)}
+
+    @classmethod
+    def pack(cls, params, context=None):
+        # without pinching (zetas = 0) psi and lamda are never read: 1 keeps them harmless
+        psi = 1.0 if params.psi is None else float(params.psi)
+        lamda = 1.0 if params.lamda is None else float(params.lamda)
+        return (float(params.alpha), float(params.ko), float(params.n), float(params.gamma),
+                float(params.beta), float(params.Ao), float(params.deltaA),
+                float(params.deltaNu), float(params.deltaEta), float(params.q),
+                float(params.zetas), float(params.p), psi, float(params.deltaPsi), lamda,
+                float(params.tolerance), float(params.max_iterations))
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        alpha = params[0]
+        ko = params[1]
+        n = params[2]
+        gamma = params[3]
+        beta = params[4]
+        a0 = params[5]
+        delta_a = params[6]
+        delta_nu = params[7]
+        delta_eta = params[8]
+        q = params[9]
+        zetas = params[10]
+        p = params[11]
+        psi0 = params[12]
+        delta_psi = params[13]
+        lamda = params[14]
+        tolerance = params[15]
+        most = params[16]
+        cz = committed[1]
+        ce = committed[2]
+        strain = deformation - committed[0]
+        sd = 1.0 if strain > 0.0 else -1.0
+        # Newton for z from 0.01, as OpenSees (Tz, Tzold = 0.01, Tznew = 1)
+        z = 0.01
+        z_old = 0.01
+        z_new = 1.0
+        count = 0.0
+        for _ in range(100):
+            if not (abs(z_old - z_new) > tolerance and count < most):
+                break
+            te = ce + (1.0 - alpha) * ko * strain * z
+            ta = a0 - delta_a * te
+            tnu = 1.0 + delta_nu * te
+            teta = 1.0 + delta_eta * te
+            psi = gamma + beta * (1.0 if strain * z > 0.0 else -1.0)
+            phi = ta - abs(z) ** n * psi * tnu
+            te_ = (1.0 - alpha) * ko * strain
+            ta_ = -delta_a * te_
+            tnu_ = delta_nu * te_
+            teta_ = delta_eta * te_
+            h = 1.0
+            h_ = 0.0
+            if zetas > 0.0:
+                zeta1 = zetas * (1.0 - math.exp(min(-p * te, 700.0)))
+                zeta2 = (psi0 + delta_psi * te) * (lamda + zeta1)
+                zu = (max(ta, 0.0) / (tnu * (beta + gamma))) ** (1.0 / n)
+                zu_ = 0.0
+                if ta > 0.0:
+                    zu_ = zu / n * (ta_ / ta - tnu_ / tnu)
+                x = z * sd - q * zu
+                x_ = sd - q * zu_
+                g = math.exp(-(x * x) / (zeta2 * zeta2))
+                h = 1.0 - zeta1 * g
+                zeta1_ = zetas * p * math.exp(min(-p * te, 700.0)) * te_
+                zeta2_ = (psi0 * zeta1_ + lamda * delta_psi * te_ + delta_psi * te * zeta1_
+                          + delta_psi * te_ * zeta1)
+                h_ = -g * (zeta1_ - zeta1 * 2.0 * x * x_ / (zeta2 * zeta2)
+                           + zeta2_ * zeta1 * 2.0 * (x * x) / (zeta2 * zeta2 * zeta2))
+            f = z - cz - phi * h / teta * strain
+            sign = 1.0 if z > 0.0 else -1.0
+            pow1 = 0.0
+            pow2 = 0.0
+            if z != 0.0:
+                pow1 = abs(z) ** (n - 1.0)
+                pow2 = abs(z) ** n
+            phi_ = ta_ - n * pow1 * sign * psi * tnu - pow2 * psi * tnu_
+            f_ = 1.0 - ((phi_ * h + phi * h_) * teta - phi * h * teta_) / (teta * teta) * strain
+            z_new = z - f / f_
+            z_old = z
+            z = z_new
+            count = count + 1.0
+        stress = alpha * ko * deformation + (1.0 - alpha) * ko * z
+        te = ce + (1.0 - alpha) * ko * strain * z
+        tangent = alpha * ko + (1.0 - alpha) * ko
+        if z != 0.0:
+            # F(z, du) = z - z_c - Phi h / eta du = 0: dz/du = -F_du / F_z, each through e too
+            ta = a0 - delta_a * te
+            tnu = 1.0 + delta_nu * te
+            teta = 1.0 + delta_eta * te
+            psi = gamma + beta * (1.0 if strain * z > 0.0 else -1.0)
+            pow2 = abs(z) ** n
+            phi = ta - pow2 * psi * tnu
+            e_du = (1.0 - alpha) * ko * z
+            e_dz = (1.0 - alpha) * ko * strain
+            phi_e = -delta_a - pow2 * psi * delta_nu
+            phi_z = -n * abs(z) ** (n - 1.0) * (1.0 if z > 0.0 else -1.0) * psi * tnu
+            h = 1.0
+            h_e = 0.0
+            h_x = 0.0
+            if zetas > 0.0:
+                zeta1 = zetas * (1.0 - math.exp(min(-p * te, 700.0)))
+                zeta2 = (psi0 + delta_psi * te) * (lamda + zeta1)
+                zu = (max(ta, 0.0) / (tnu * (beta + gamma))) ** (1.0 / n)
+                zu_e = 0.0
+                if ta > 0.0:
+                    zu_e = zu / n * (-delta_a / ta - delta_nu / tnu)
+                x = z * sd - q * zu
+                g = math.exp(-(x * x) / (zeta2 * zeta2))
+                h = 1.0 - zeta1 * g
+                zeta1_e = zetas * p * math.exp(min(-p * te, 700.0))
+                zeta2_e = (psi0 * zeta1_e + lamda * delta_psi + delta_psi * te * zeta1_e
+                           + delta_psi * zeta1)
+                h_x = zeta1 * g * 2.0 * x / (zeta2 * zeta2)
+                h_e = (-g * (zeta1_e + zeta1 * 2.0 * (x * x) * zeta2_e
+                             / (zeta2 * zeta2 * zeta2)) - h_x * q * zu_e)
+            # d(Phi h / eta)/de at fixed z
+            w_e = (phi_e * h + phi * h_e) / teta - phi * h * delta_eta / (teta * teta)
+            numerator = phi * h / teta + strain * w_e * e_du
+            denominator = 1.0 - strain * (w_e * e_dz + (phi_z * h + phi * h_x * sd) / teta)
+            tangent = alpha * ko + (1.0 - alpha) * ko * (numerator / denominator)
+        trial[0] = deformation
+        trial[1] = z
+        trial[2] = te
+        return stress, tangent, 0.0
