@@ -1,10 +1,13 @@
 """An animation of a run as one self-contained HTML page (``pframe animate RUN.nc``).
 
-The buildings stand side by side, their floors at their floor numbers (scenes have no storey
-heights), each floor displaced sideways by its recorded displacement, drawn at one scale for
-the whole page: displacements and gaps are multiplied by the same factor, so two floors
-touch on the page when they touch in the run. A contact is drawn between its floors, red
-while its force is positive (closed), grey when open. Play, pause, a time slider and a speed
+The buildings stand side by side, their floors at their elevations (the sums of the storey
+heights of the scene the result holds; at their floor numbers when a storey has no height),
+each floor displaced sideways by its recorded displacement, drawn at one scale for the whole
+page: displacements and gaps are multiplied by the same factor, so two floors touch on the
+page when they touch in the run. A contact is drawn between its floors, red while its force
+is positive (closed), grey when open; a floor-to-column contact ends on the struck column at
+its point (``at`` of the way up the storey), displaced as the run displaces that point (the
+storey's floors weighted as the contact weighs them). Play, pause, a time slider and a speed
 choice; no file, script or font is loaded from elsewhere.
 
 The page's geometry is one pure function (``layout(data, frame)`` in the page's script), so
@@ -32,6 +35,53 @@ SWAY = 0.6
 def _floor_of(name: str, index_in_building: int) -> float:
     tail = name.split("/", 1)[1] if "/" in name else ""
     return float(tail) if tail.isdigit() else float(index_in_building + 1)
+
+
+def elevations(ds, nodes: list[str]):
+    """The floors' elevations (m) and the floor-to-column contacts' points from the scene the
+    result holds: ``({node: elevation}, {contact: (column side, lower floor or None, weight
+    of the upper floor, elevation)}, typical storey height)``, or None with the reason when a
+    drawn floor's elevation is not known (no scene, a storey without height, a floor on no
+    storey)."""
+    if "input_yaml" not in ds.attrs:
+        return None, "the result holds no scene"
+    from pframe.api import scene_of_attributes
+
+    try:
+        loaded = scene_of_attributes(dict(ds.attrs), "the result", Path("."))
+    except InputError as exc:
+        return None, f"its scene cannot be read ({exc})"
+    expanded = loaded.expanded
+    names = expanded.node_names
+    heights = np.asarray(expanded.story_height, dtype=float)
+    level = {-1: 0.0}
+    for _ in expanded.stories:  # a storey's upper floor stands its height above its lower one
+        for story, h in zip(expanded.stories, heights):
+            lower, upper = story.nodes
+            if lower in level and np.isfinite(h) and upper not in level:
+                level[upper] = level[lower] + float(h)
+    missing = [n for n in nodes if n not in names or names.index(n) not in level]
+    if missing:
+        return None, f"{missing[0]} stands on a storey without height"
+    floor = {n: level[names.index(n)] for n in nodes}
+    points = {}
+    for c in expanded.contacts:
+        for side in (0, 1):
+            if c.share[side] != 1.0 or c.lower[side] >= 0:
+                upper, lower = c.nodes[side], c.lower[side]
+                share = c.share[side]
+                # at from the weight share = at^2 (3 - 2 at), monotone on [0, 1]
+                lo, hi = 0.0, 1.0
+                for _ in range(60):
+                    mid = 0.5 * (lo + hi)
+                    lo, hi = (mid, hi) if mid * mid * (3 - 2 * mid) < share else (lo, mid)
+                at = 0.5 * (lo + hi)
+                bottom = level[lower]
+                points[c.name] = ("left" if side == 0 else "right",
+                                  None if lower < 0 else names[lower], share,
+                                  bottom + at * (level[upper] - bottom))
+    drawn = [h for h in heights if np.isfinite(h)]
+    return (floor, points, float(np.mean(drawn)) if drawn else 1.0), ""
 
 
 def animation_data(ds, max_frames: int = MAX_FRAMES) -> dict:
@@ -80,11 +130,19 @@ def animation_data(ds, max_frames: int = MAX_FRAMES) -> dict:
         if k + 1 < len(names):
             gap = gaps_between.get((b, names[k + 1]), gaps_between.get((names[k + 1], b)))
             x += WIDTH + (gap * scale if gap is not None and np.isfinite(gap) else 0.5 * WIDTH)
+    placed, why = elevations(ds, nodes)
     floors = []
     for b, indices in buildings.items():
         for k, i in enumerate(indices):
-            floors.append({"node": nodes[i], "building": b, "height": _floor_of(nodes[i], k),
+            height = _floor_of(nodes[i], k) if placed is None else placed[0][nodes[i]]
+            floors.append({"node": nodes[i], "building": b, "height": height,
                            "base": base[b], "index": i})
+    for contact in contacts:
+        point = None if placed is None else placed[1].get(contact["name"])
+        if point is not None:
+            side, lower, share, y = point
+            contact["column"] = {"side": side, "share": share, "y": y,
+                                 "lower": -1 if lower is None else nodes.index(lower)}
     units = str(u.attrs.get("units", ""))
     return {
         "title": str(ds.attrs.get("title", "")), "source": str(ds.attrs.get("source", "")),
@@ -93,6 +151,9 @@ def animation_data(ds, max_frames: int = MAX_FRAMES) -> dict:
         "displacement": [[float(f"{v:.6g}") for v in row] for row in disp],
         "floors": floors, "contacts": contacts,
         "buildings": [{"name": b, "base": base[b]} for b in names],
+        "elevations": placed is not None, "storey": 1.0 if placed is None else placed[2],
+        "placement": ("floors at their elevations (m)" if placed is not None else
+                      f"floors at their floor numbers ({why})"),
     }
 
 
@@ -105,9 +166,17 @@ function layout(data, frame) {
     left: f.base + data.scale * row[f.index], right: f.base + data.width + data.scale * row[f.index]}));
   const byIndex = {};
   data.floors.forEach((f, k) => { byIndex[f.index] = floors[k]; });
+  // a floor-to-column contact's column end: its point, displaced as the run weighs its floors
+  const point = (c, upper) => {
+    const f = data.floors.find(g => g.index === upper);
+    const low = c.column.lower < 0 ? 0 : row[c.column.lower];
+    const x = f.base + data.scale * (c.column.share * row[upper] + (1 - c.column.share) * low);
+    return {node: f.node, building: f.building, y: c.column.y, left: x, right: x + data.width};
+  };
   const contacts = data.contacts.map(c => ({
     name: c.name, closed: c.closed ? c.closed[frame] === 1 : false,
-    from: byIndex[c.left], to: byIndex[c.right]}));
+    from: c.column && c.column.side === "left" ? point(c, c.left) : byIndex[c.left],
+    to: c.column && c.column.side === "right" ? point(c, c.right) : byIndex[c.right]}));
   return {floors: floors, contacts: contacts};
 }
 """
@@ -145,7 +214,7 @@ const button = document.getElementById("play"), speed = document.getElementById(
 const highest = Math.max(1, ...data.floors.map(f => f.height));
 const xs = data.buildings.map(b => b.base);
 const xmin = Math.min(...xs) - 1.0, xmax = Math.max(...xs) + data.width + 1.0;
-const sx = canvas.width / (xmax - xmin), sy = (canvas.height - 60) / (highest + 0.6);
+const sx = canvas.width / (xmax - xmin), sy = (canvas.height - 60) / (highest + 0.6 * data.storey);
 const px = x => (x - xmin) * sx, py = y => canvas.height - 30 - y * sy;
 const colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf"];
 let frame = 0, playing = false, last = null;
@@ -214,8 +283,8 @@ def animation_html(ds, max_frames: int = MAX_FRAMES) -> str:
     data = animation_data(ds, max_frames)
     title = data["title"] or data["source"] or "pframe run"
     note = (f"{len(data['time'])} frames; displacements and gaps drawn "
-            f"{data['scale']:.3g} times their size ({data['units']}); floors at their floor "
-            "numbers; a contact is red while it is closed.")
+            f"{data['scale']:.3g} times their size ({data['units']}); {data['placement']}; "
+            "a contact is red while it is closed.")
     text = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
     return PAGE.format(title=html.escape(f"pframe animate: {title}"),
                        heading=html.escape(title), note=html.escape(note),
