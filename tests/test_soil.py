@@ -149,6 +149,25 @@ def test_heavy_foundation_follows_the_exact_modal_solution():
     assert np.all(errors[0] / errors[1] > 3.5), errors  # second order
 
 
+def test_foundation_quantities_are_its_dofs_and_their_peaks():
+    """foundation_sway and foundation_rocking are the foundation's DOFs, their envelopes
+    the peaks of their histories (history and envelope recorded together)."""
+    text = _on_soil(2, 1e5, 5e7, 3.0, _given(1e8, 1e10, 5e4, 5e5, 1e6, 1e8),
+                    excitation={"kind": "sine", "amplitude": 2.0, "frequency": 10.0},
+                    analysis=analysis(1e-3, 0.5),
+                    recorders=RECORDERS + [{"kind": "envelope", "quantities": [
+                        "foundation_sway", "foundation_rocking"]}])
+    plan, result = _run(text)
+    sway, theta = plan.foundation_dofs[0]
+    assert plan.bandwidth == 3 and theta == plan.n_dof - 1  # the rocking DOF last
+    for q, dof in (("foundation_sway", sway), ("foundation_rocking", theta)):
+        h = result.history[q][0, :, 0]
+        assert np.max(np.abs(h)) > 0.0
+        # the kernel's displacement rows hold every DOF (the file keeps the nodes')
+        np.testing.assert_array_equal(h, result.history["displacement"][0, :, dof])
+        assert result.envelope[q][0, 0] == np.max(np.abs(h))
+
+
 def _balance(result, b=0):
     e = result.energy[b]
     rest = (e[Energy.KINETIC] - e[Energy.KINETIC_0] + e[Energy.DAMPING] + e[Energy.STOREYS]
