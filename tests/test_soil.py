@@ -281,3 +281,67 @@ def test_a_scene_without_soil_pays_nothing():
     plan = assemble(parse_scene(text).expanded)
     assert plan.n_dof == 3 and plan.n_springs == 3 and plan.foundations == ()
     assert plan.story_theta is None and plan.ground_influence is None
+
+
+@pytest.mark.slow
+def test_ssi_pair_against_the_fixed_pair():
+    """models/ssi-pair.yaml (the paper's pair on soft soil) against models/wu2021-eq14.yaml
+    (the same pair fixed): both complete with their balance closed; the soil lengthens the
+    buildings' periods, so the pair's response differs (peaks, impact forces) while they still
+    pound; the foundations sway and rock."""
+    from conftest import REPO
+
+    from pframe.reader import load_scene
+
+    runs = {}
+    for name in ("ssi-pair", "wu2021-eq14"):
+        loaded = load_scene(REPO / "models" / f"{name}.yaml")
+        plan = assemble(loaded.expanded)
+        result = simulate(plan)
+        assert result.completed(0)
+        work_in, rest = _balance(result)
+        assert abs(work_in - rest) < 1e-9 * result.energy[0, Energy.INPUT_ABS]
+        runs[name] = (plan, result)
+    (soil_plan, soil), (fixed_plan, fixed) = runs["ssi-pair"], runs["wu2021-eq14"]
+    assert soil_plan.node_names == fixed_plan.node_names
+    peak_soil = soil.envelope["displacement"][0][soil_plan.node_dof]
+    peak_fixed = fixed.envelope["displacement"][0][fixed_plan.node_dof]
+    assert np.max(np.abs(peak_soil / peak_fixed - 1.0)) > 0.02  # the soil matters
+    assert np.all(soil.impacts[0] > 0) and np.all(fixed.impacts[0] > 0)  # both still pound
+    assert np.all(soil.envelope["foundation_sway"][0] > 0)
+    assert np.all(soil.envelope["foundation_rocking"][0] > 0)
+    # the soil lengthens each building's first period (Veletsos & Meek), here by 10-40 %
+    for b in (0, 1):
+        nodes = [i for i, n in enumerate(soil_plan.node_names)
+                 if n.split("/")[0] == soil_plan.buildings[b]]
+        assert len(nodes) == 3
+    lengthening = _first_periods(soil_plan) / _first_periods(fixed_plan)
+    assert np.all((lengthening > 1.1) & (lengthening < 1.4)), lengthening
+
+
+def _first_periods(plan) -> np.ndarray:
+    """Each building's first period (s) from its DOFs' undamped K and M (contacts open)."""
+    n = plan.n_dof
+    K = np.zeros((n, n))
+    for e, (lo, up) in enumerate(plan.story_dofs):
+        g = np.zeros(n)
+        g[up] = 1.0
+        if lo >= 0:
+            g[lo] = -1.0
+        if plan.story_theta is not None and plan.story_theta[e] >= 0:
+            g[plan.story_theta[e]] = -plan.story_height[0, e]
+        K += plan.story_k0[0, e] * np.outer(g, g)
+    M = plan.mass[0]
+    building = np.empty(n, dtype=np.int64)
+    for name, dof in zip(plan.node_names, plan.node_dof):
+        building[dof] = plan.buildings.index(name.split("/")[0])
+    if plan.foundation_dofs is not None:
+        for f, name in enumerate(plan.foundations):
+            building[plan.foundation_dofs[f]] = plan.buildings.index(name)
+    out = []
+    for b in range(len(plan.buildings)):
+        idx = np.flatnonzero(building == b)
+        s = 1.0 / np.sqrt(M[idx])
+        w2 = np.linalg.eigvalsh(K[np.ix_(idx, idx)] * np.outer(s, s))
+        out.append(2.0 * math.pi / math.sqrt(w2[0]))
+    return np.array(out)

@@ -572,6 +572,9 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
             problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
                             f"scene's contacts use {group.law.name!r}, which has no OpenSees "
                             "counterpart in pframe's script")
+    if plan.foundations:
+        problems.append("its bases are fixed: the script has no soil (a foundation's rocking "
+                        "needs a rigid-link constraint it does not write); remove soil")
     if problems:
         raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
     materials = []
