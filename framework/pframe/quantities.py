@@ -15,4 +15,8 @@ QUANTITIES = {
     "link_deformation": ("link", "m", "link deformation (second minus first node displacement)"),
     "link_force": ("link", "N", "link force, tension positive (the material's force at the "
                    "link's deformation and rate)"),
+    "foundation_sway": ("foundation", "m", "sway of a foundation on soil relative to the "
+                        "ground"),
+    "foundation_rocking": ("foundation", "rad", "rocking rotation of a foundation on soil "
+                           "(positive: the top moves the positive way)"),
 }

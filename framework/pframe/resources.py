@@ -205,7 +205,8 @@ class Estimate:
 
 
 def _widths(dofs: int, stories: int, contacts: int, links: int = 0) -> dict:
-    return {"node": dofs, "story": stories, "contact": contacts, None: 1, "link": links}
+    return {"node": dofs, "story": stories, "contact": contacts, None: 1, "link": links,
+            "foundation": 2}  # at most a pair's (docs/soil.md): small either way
 
 
 def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int,

@@ -34,3 +34,14 @@ def bandwidth(edges: list[tuple[int, int]], position: np.ndarray) -> int:
     """Half-bandwidth of the matrix with these off-diagonal entries in the new numbering."""
     return max((abs(position[i] - position[j]) for i, j in edges if i >= 0 and j >= 0),
                default=0)
+
+
+def place_last(order: np.ndarray, groups: dict[int, set[int]]) -> np.ndarray:
+    """``order`` (new -> old) with each key of ``groups`` moved just after the last of its
+    group's vertices: a vertex coupled to a whole group (a foundation's rocking DOF, coupled
+    to every storey of its building) then widens the band by the group's span only."""
+    rest = [int(v) for v in order if int(v) not in groups]
+    for vertex, members in groups.items():
+        last = max(rest.index(v) for v in members)
+        rest.insert(last + 1, vertex)
+    return np.array(rest, dtype=np.int64)

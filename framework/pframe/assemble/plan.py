@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pframe.assemble import stability, timescales
-from pframe.assemble.ordering import bandwidth, reverse_cuthill_mckee
+from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
@@ -80,11 +80,23 @@ class Plan:
     contact_lower: np.ndarray = None
     contact_share: np.ndarray = None
     contact_capacity: np.ndarray = None  # (c,) a struck column's shear capacity (N), NaN: none
+    #: soil (docs/soil.md): the buildings whose foundations sway and rock, their (F, 2) sway
+    #: and rocking DOFs, each spring's rocking DOF (s,) (-1: none; the lever is its height),
+    #: and the ground load's influence (n,): 1 on a translational DOF, 0 on a rocking one
+    #: (the ground load is -m influence a_g; an absolute acceleration is a + influence a_g).
+    #: The soil's springs are the last 2 F spring elements (after the links), sway then
+    #: rocking per foundation; their work is booked with the links'.
+    foundations: tuple[str, ...] = ()
+    foundation_dofs: np.ndarray = None
+    story_theta: np.ndarray = None
+    ground_influence: np.ndarray = None
+    #: what each foundation's soil is (FoundationSoil.describe), for the summary and the file
+    foundation_soil: tuple[str, ...] = ()
 
     @property
     def n_springs(self) -> int:
-        """Spring elements in the kernel: the storeys, then the links."""
-        return len(self.story_names) + len(self.link_names)
+        """Spring elements in the kernel: the storeys, then the links, then the soil's."""
+        return len(self.story_names) + len(self.link_names) + 2 * len(self.foundations)
 
     @property
     def batch(self) -> int:
@@ -263,9 +275,12 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
     """Each spring's law's own warnings on its parameters (Law.parameter_warnings), once per
     storey or link and message."""
     ns = len(plan.story_names)
+    nl = ns + len(plan.link_names)
     out = []
     for group in plan.story_groups:
         for j, e in enumerate(group.index):
+            if e >= nl:  # the soil's springs: their values are checked as the scene's
+                continue
             name = (f"storey {plan.story_names[e]}" if e < ns
                     else f"link {plan.link_names[e - ns]}")
             for message in dict.fromkeys(m for b in range(group.params.shape[0])
@@ -273,6 +288,86 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
                                              group.params[b, j])):
                 out.append(f"{name}: {message}")
     return tuple(out)
+
+
+class _Soil:
+    """The foundations on soil of a scene (docs/soil.md): foundation f's sway DOF is the
+    extra node ``nodes + 2 f``, its rocking DOF ``nodes + 2 f + 1``."""
+
+    def __init__(self, ex: Expanded, nodes: int):
+        self.nodes = nodes
+        self.sway = {f.building: nodes + 2 * i for i, f in enumerate(ex.foundations)}
+        self.count = len(ex.foundations)
+
+    def stories(self, ex: Expanded) -> tuple:
+        """The storeys, a first storey on soil standing on its foundation's sway DOF."""
+        if not self.count:
+            return ex.stories
+        out = []
+        for e, b in zip(ex.stories, ex.story_building):
+            if e.nodes[0] < 0 and int(b) in self.sway:
+                e = dataclasses.replace(e, nodes=(self.sway[int(b)], e.nodes[1]))
+            out.append(e)
+        return tuple(out)
+
+    def springs(self, ex: Expanded) -> tuple:
+        """The soil's Kelvin-Voigt springs to the ground: sway, then rocking, per foundation."""
+        from pframe.laws import get_law
+        from pframe.model.expand import Element
+
+        law = get_law("material", "kelvin_voigt")
+        out = []
+        for f in ex.foundations:
+            sway = self.sway[f.building]
+            name = ex.buildings[f.building]
+            out.append(Element(f"{name}/soil_sway", (-1, sway), law,
+                               (f.sway_stiffness, f.sway_damping, 1.0, 1e-5)))
+            out.append(Element(f"{name}/soil_rocking", (-1, sway + 1), law,
+                               (f.rocking_stiffness, f.rocking_damping, 1.0, 1e-5)))
+        return tuple(out)
+
+    def masses(self, ex: Expanded) -> np.ndarray:
+        """Every DOF's mass: the nodes', then m_f and I_f of each foundation."""
+        extra = [x for f in ex.foundations for x in (f.mass, f.rotational_inertia)]
+        return np.concatenate([np.asarray(ex.masses, dtype=float), np.array(extra, dtype=float)])
+
+    def pad(self, values: np.ndarray, fill: float) -> np.ndarray:
+        return np.concatenate([values, np.full(2 * self.count, fill)])
+
+    def rocking_groups(self, ex: Expanded, springs) -> dict:
+        """rocking DOF -> the DOFs its storeys join (its building's floors and sway DOF)."""
+        groups = {sway + 1: {sway} for sway in self.sway.values()}
+        for e, b in zip(springs, ex.story_building):  # the storeys come first in springs
+            if int(b) in self.sway:
+                groups[self.sway[int(b)] + 1].update(i for i in e.nodes if i >= 0)
+        return groups
+
+    def rocking_edges(self, ex: Expanded, springs) -> list:
+        return [(th, i) for th, group in self.rocking_groups(ex, springs).items()
+                for i in group]
+
+    def story_theta(self, ex: Expanded, springs, dof_of_node) -> np.ndarray:
+        out = np.full(len(springs), -1, dtype=np.int64)
+        for s, b in enumerate(ex.story_building):
+            if int(b) in self.sway:
+                if not np.isfinite(ex.story_height[s]):
+                    raise InputError(f"storey {ex.stories[s].name!r} of a building on soil has "
+                                     "no height (the rocking's lever): give height")
+                out[s] = dof_of_node[self.sway[int(b)] + 1]
+        return out
+
+    def plan_fields(self, ex: Expanded, springs, dof_of_node) -> dict:
+        if not self.count:
+            return {}
+        influence = np.ones(len(dof_of_node))
+        dofs = np.array([[dof_of_node[s], dof_of_node[s + 1]] for s in self.sway.values()],
+                        dtype=np.int64)
+        influence[dofs[:, 1]] = 0.0  # the ground load acts on translations only
+        return dict(foundations=tuple(ex.buildings[f.building] for f in ex.foundations),
+                    foundation_dofs=dofs,
+                    story_theta=self.story_theta(ex, springs, dof_of_node),
+                    ground_influence=influence,
+                    foundation_soil=tuple(f.describe() for f in ex.foundations))
 
 
 def batch_key(ex: Expanded) -> tuple:
@@ -290,6 +385,7 @@ def batch_key(ex: Expanded) -> tuple:
         ex.recorders,
         tuple(d.stiffness for d in ex.damping),
         (ex.tolerance, ex.absolute_tolerance, ex.max_iterations),
+        tuple(f.building for f in ex.foundations),
     )
 
 
@@ -307,14 +403,21 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         if batch_key(ex) != key:
             raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps, "
                              "recorders or Newton settings; a batch may vary numbers only")
-    n = len(first.node_names)
-    springs = first.stories + first.links  # the kernel's spring elements: storeys, then links
+    nodes = len(first.node_names)
+    soil = _Soil(first, nodes)
+    n = nodes + 2 * len(first.foundations)  # a foundation's sway and rocking DOFs after the nodes
+    # the kernel's spring elements: storeys (a first storey on soil stands on its foundation's
+    # sway DOF), then links, then the soil's springs
+    springs = soil.stories(first) + first.links + soil.springs(first)
     edges = [e.nodes for e in springs] + [e.nodes for e in first.contacts]
     for e in first.contacts:  # a floor-to-column contact couples up to four nodes
         if max(e.lower) >= 0:
             ends = [i for i in (e.nodes[0], e.lower[0], e.nodes[1], e.lower[1]) if i >= 0]
             edges += [(a, c) for a in ends for c in ends if a < c]
     order = reverse_cuthill_mckee(n, edges)
+    if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
+        order = place_last(order, soil.rocking_groups(first, springs))
+        edges += soil.rocking_edges(first, springs)
     dof_of_node = np.empty(n, dtype=np.int64)
     dof_of_node[order] = np.arange(n)
 
@@ -323,14 +426,16 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                        dtype=np.int64)
         return out.reshape(len(elements), 2)
 
-    k0 = np.array([[_initial_tangent(e.law, e.packed) for e in ex.stories + ex.links]
-                   for ex in variants])
+    packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
+    k0 = np.array([[_initial_tangent(e.law, p) for e, p in zip(springs, row)]
+                   for row in packed])
     k0 = k0.reshape(len(variants), len(springs))
+    masses = [soil.masses(ex) for ex in variants]
     mass_damping, story_beta = [], []
     for b, ex in enumerate(variants):
-        a0, a1 = _rayleigh(ex, k0[b], dof_of_node, n)
-        mass_damping.append(a0 * ex.masses[order])
-        story_beta.append(np.concatenate([a1, np.zeros(len(first.links))]))
+        a0, a1 = _rayleigh(ex, k0[b], dof_of_node[:nodes], n)  # foundations: a0 = 0
+        mass_damping.append(a0 * masses[b][order])
+        story_beta.append(np.concatenate([a1, np.zeros(len(springs) - len(first.stories))]))
 
     history: dict[str, int] = {}
     envelope: list[str] = []
@@ -346,19 +451,21 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     if any(e.shear_capacity is not None for e in first.contacts) and \
             "contact_force" not in envelope:
         envelope.append("contact_force")  # the struck columns' shear is checked on its peak
-    for kind, elements in (("contact_", first.contacts), ("link_", first.links)):
+    for kind, elements in (("contact_", first.contacts), ("link_", first.links),
+                           ("foundation_", first.foundations)):
         if not elements:
             history = {q: k for q, k in history.items() if not q.startswith(kind)}
             envelope = [q for q in envelope if not q.startswith(kind)]
 
     damping_codes = np.array(
         [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building]
-        + [DampingStiffness.INITIAL] * len(first.links),  # links: no Rayleigh term (a1 = 0)
-        dtype=np.int64,
+        + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
+        dtype=np.int64,  # no Rayleigh term (a1 = 0)
     )
+    pad = np.zeros(n - nodes)
     plan = Plan(
         node_names=first.node_names,
-        node_dof=dof_of_node,
+        node_dof=dof_of_node[:nodes],
         story_names=tuple(e.name for e in first.stories),
         contact_names=tuple(e.name for e in first.contacts),
         buildings=first.buildings,
@@ -370,33 +477,36 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         absolute_tolerance=first.absolute_tolerance,
         max_iterations=first.max_iterations,
         dt=np.array([ex.dt for ex in variants]),
-        mass=np.array([ex.masses[order] for ex in variants]),
+        mass=np.array([m[order] for m in masses]),
         mass_damping=np.array(mass_damping),
         story_dofs=dofs(springs),
         story_k0=k0,
         story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
-        story_groups=_groups(springs, [[e.packed for e in ex.stories + ex.links]
-                                       for ex in variants]),
+        story_groups=_groups(springs, packed),
         contact_dofs=dofs(first.contacts),
         contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
             len(variants), len(first.contacts)),
         contact_groups=_groups(first.contacts,
                                [[e.packed for e in ex.contacts] for ex in variants]),
         ground_acceleration=np.array([ex.ground_acceleration for ex in variants]),
-        initial_displacement=np.array([ex.initial_displacement[order] for ex in variants]),
-        initial_velocity=np.array([ex.initial_velocity[order] for ex in variants]),
+        initial_displacement=np.array([np.concatenate([ex.initial_displacement, pad])[order]
+                                       for ex in variants]),
+        initial_velocity=np.array([np.concatenate([ex.initial_velocity, pad])[order]
+                                   for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
         link_names=tuple(e.name for e in first.links),
-        story_height=np.array([_spring_values(ex, "story_height", np.nan) for ex in variants]),
-        story_kg=np.array([_geometric_stiffness(ex) for ex in variants]),
+        story_height=np.array([soil.pad(_spring_values(ex, "story_height", np.nan), np.nan)
+                               for ex in variants]),
+        story_kg=np.array([soil.pad(_geometric_stiffness(ex), 0.0) for ex in variants]),
         contact_lower=np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.lower]
                                 for e in first.contacts], dtype=np.int64).reshape(-1, 2),
         contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
                                dtype=float).reshape(len(variants), len(first.contacts), 2),
         contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
                                    for e in first.contacts], dtype=float),
+        **soil.plan_fields(first, springs, dof_of_node),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
@@ -468,6 +578,9 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
             problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
                             f"scene's contacts use {group.law.name!r}, which has no OpenSees "
                             "counterpart in pframe's script")
+    if plan.foundations:
+        problems.append("its bases are fixed: the script has no soil (a foundation's rocking "
+                        "needs a rigid-link constraint it does not write); remove soil")
     if problems:
         raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
     materials = []

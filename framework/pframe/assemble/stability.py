@@ -98,9 +98,21 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     n = plan.n_dof
     if n <= DENSE_LIMIT:
         K = spring_matrix(springs, n)
+        if plan.story_theta is not None:  # soil: a storey's stiffness is k g g^T with
+            for e in np.flatnonzero(plan.story_theta >= 0):  # g = (1, -1, -h): add the lever
+                lo, up = plan.story_dofs[e]
+                g, two = np.zeros(n), np.zeros(n)
+                g[up] = two[up] = 1.0
+                if lo >= 0:
+                    g[lo] = two[lo] = -1.0
+                g[plan.story_theta[e]] = -plan.story_height[member, e]
+                K += plan.story_k0[member, e] * (np.outer(g, g) - np.outer(two, two))
         scale = 1.0 / np.sqrt(mass)
         top = float(np.linalg.eigvalsh(K * np.outer(scale, scale))[-1])
     else:
+        if plan.story_theta is not None and np.any(plan.story_theta >= 0):
+            raise InputError(f"a scene on soil of more than {DENSE_LIMIT} DOFs: its highest "
+                             "frequency is not bounded here; use an implicit integrator")
         rows = np.zeros(n)
         if springs:
             i, j, k = (np.array(x) for x in zip(*springs))

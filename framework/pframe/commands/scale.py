@@ -64,6 +64,11 @@ def _scaled_scene(path: Path, sim, to: str) -> str:
     from pframe.yamltext import compose
 
     loaded = load_scene(path)
+    if loaded.expanded.foundations:
+        from pframe.errors import InputError
+
+        raise InputError(f"{path}: pframe scale does not scale soil yet (docs/soil.md: its "
+                         "springs, dashpots and foundation inertias); remove soil")
     data, _ = compose(loaded.text, str(path))
     scaled = scale_scene(data, sim, to)
     header = [f"{path} scaled to {to} size by 'pframe scale' (S = model / prototype):"]

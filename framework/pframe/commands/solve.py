@@ -146,6 +146,8 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
           f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
           f"{len(plan.contact_names)} contacts"
           + (f", {len(plan.link_names)} links" if plan.link_names else ""))
+    for building, soil in zip(plan.foundations, plan.foundation_soil):
+        print(f"  soil under {building}: {soil}")
     peaks = {}
     for q in _PEAKS:
         if q in result.envelope:

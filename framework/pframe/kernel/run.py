@@ -53,7 +53,7 @@ ALWAYS_REFACTOR = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
-_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4}
+_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5}
 
 
 @dataclass
@@ -215,6 +215,12 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
         event_parts=plan.event_parts if plan.event_parts is not None else ones,
         stop=np.zeros(1, dtype=np.int64),
+        story_theta=(plan.story_theta if plan.story_theta is not None
+                     else np.full(plan.n_springs, -1, dtype=np.int64)),
+        ground_influence=(plan.ground_influence if plan.ground_influence is not None
+                          else np.ones(plan.n_dof)),
+        foundation_dofs=(plan.foundation_dofs if plan.foundation_dofs is not None
+                         else np.zeros((0, 2), dtype=np.int64)),
     )
     return _normalised(model), story_state, contact_state
 
@@ -273,8 +279,9 @@ class _Recorders:
     def __init__(self, plan, sink):
         B = plan.batch
         self.plan, self.sink = plan, sink
-        self.widths = [(plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
-                        len(plan.link_names))[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
+        sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
+                 len(plan.link_names), len(plan.foundations))
+        self.widths = [sizes[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
         self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
         for q, every in plan.history:
             self.every[RECORDABLE_SLOT[q]] = every
@@ -370,7 +377,8 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
            "contact_lower",
-           "contact_order", "contact_law", "stop"}
+           "contact_order", "contact_law", "stop", "story_theta", "ground_influence",
+           "foundation_dofs"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -445,13 +453,13 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     for (lo, hi), (work, saved) in zip(pieces, scratch):
         sliced = _slice(model, lo, hi)
         sizes = dict(batch=hi - lo, dofs=plan.n_dof, stories=plan.n_springs,
-                     links=len(plan.link_names),
+                     links=len(plan.link_names) + 2 * len(plan.foundations),  # with the soil
                      contacts=len(plan.contact_names), story_width=model.story_params.shape[2],
                      story_states=st.story_committed.shape[2],
                      contact_width=model.contact_params.shape[2],
                      contact_states=st.contact_committed.shape[2],
                      ground_width=model.ground.shape[1], materials=laws.materials,
-                     contact_laws=laws.contact_laws)
+                     contact_laws=laws.contact_laws, foundations=len(plan.foundations))
         structs.append((ckernel.arrays(ckernel.Model, sliced, **sizes),
                         ckernel.arrays(ckernel.State, _slice(st, lo, hi)),
                         ckernel.arrays(ckernel.Work, work), ckernel.arrays(ckernel.Saved, saved)))

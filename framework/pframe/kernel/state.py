@@ -209,6 +209,12 @@ Model = namedtuple("Model", [
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
     "stop",             # (1,) set to 1 by the driver (Ctrl-C): seen at every evaluation
+    # soil under a building (docs/soil.md): its storeys deform as u_upper - u_lower - h theta
+    "story_theta",      # (s,) the rocking DOF of the storey's building (-1: a fixed base);
+                        # its lever is the storey's height (story_height)
+    "ground_influence", # (n,) the ground load is -m a_g times this: 1 on a translational DOF,
+                        # 0 on a rocking one (an absolute acceleration is a + influence a_g)
+    "foundation_dofs",  # (F, 2) sway and rocking DOF of each foundation on soil
 ])
 
 Settings = namedtuple("Settings", [
@@ -262,14 +268,16 @@ Work = namedtuple("Work", [
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
-         "contact_width", "contact_states", "ground_width", "materials", "contact_laws")
+         "contact_width", "contact_states", "ground_width", "materials", "contact_laws",
+         "foundations")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
 C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
-              "contact_lower": "int64_t *",
+              "contact_lower": "int64_t *", "story_theta": "int64_t *",
+              "foundation_dofs": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

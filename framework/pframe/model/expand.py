@@ -39,6 +39,56 @@ class Element:
 
 
 @dataclass(frozen=True)
+class FoundationSoil:
+    """A building's foundation on soil (docs/soil.md): its two DOFs' masses, the springs and
+    dashpots to the ground, and where they came from."""
+
+    building: int  # index into Expanded.buildings
+    sway_stiffness: float  # K_h (N/m)
+    sway_damping: float  # C_h (N s/m)
+    rocking_stiffness: float  # K_r (N m/rad)
+    rocking_damping: float  # C_r (N m s/rad)
+    mass: float  # m_f (kg)
+    rotational_inertia: float  # I_f (kg m^2), with the cone's trapped soil
+    trapped_inertia: float = 0.0  # the cone's trapped soil (kg m^2), included above
+    source: str = "given"  # "cone" (Wolf's cone model) or "given"
+
+    def describe(self) -> str:
+        """What was applied, in one line (the run summary, the result's attributes)."""
+        trapped = (f" (with {self.trapped_inertia:.4g} kg m^2 of trapped soil)"
+                   if self.trapped_inertia else "")
+        how = "Wolf's cone model" if self.source == "cone" else "given"
+        return (f"K_h = {self.sway_stiffness:.4g} N/m, C_h = {self.sway_damping:.4g} N s/m, "
+                f"K_r = {self.rocking_stiffness:.4g} N m/rad, C_r = "
+                f"{self.rocking_damping:.4g} N m s/rad ({how}); m_f = {self.mass:.4g} kg, "
+                f"I_f = {self.rotational_inertia:.4g} kg m^2{trapped}")
+
+
+def foundation_soil(soil, building: int) -> FoundationSoil:
+    """The springs, dashpots and inertias of a scene's ``soil`` (pframe.model.scene.Soil)."""
+    from pframe.model import soil as cone_model
+
+    f = soil.foundation
+    if f.radius is not None:
+        r_h = r_r = f.radius
+        slab = f.mass * f.radius**2 / 4.0
+    elif f.width is not None:
+        length = f.length if f.length is not None else f.width
+        r_h, r_r = cone_model.equivalent_radii(f.width, length)
+        slab = f.mass * f.width**2 / 12.0
+    else:
+        slab = None
+    inertia = f.rotational_inertia if f.rotational_inertia is not None else slab
+    if soil.shear_wave_velocity is None:
+        return FoundationSoil(building, soil.sway_stiffness, soil.sway_damping,
+                              soil.rocking_stiffness, soil.rocking_damping, f.mass, inertia)
+    c = cone_model.cone(soil.shear_wave_velocity, soil.poisson, soil.density, r_h, r_r)
+    return FoundationSoil(building, c.sway_stiffness, c.sway_damping, c.rocking_stiffness,
+                          c.rocking_damping, f.mass, inertia + c.trapped_inertia,
+                          c.trapped_inertia, "cone")
+
+
+@dataclass(frozen=True)
 class Expanded:
     """A scene resolved to numbers, in declaration order (no DOF numbering yet)."""
 
@@ -79,6 +129,8 @@ class Expanded:
     story_gravity: np.ndarray = None
     #: what validate shows besides (facts the scene chose explicitly)
     notes: tuple[str, ...] = ()
+    #: the foundations on soil (FoundationSoil), in building order; none: every base fixed
+    foundations: tuple = ()
 
 
 #: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
@@ -108,10 +160,21 @@ def _per_storey(value, n: int, path):
     return [value] * n
 
 
-def _building_nodes(scene, nodes, stories, damping):
-    """Expand the building shorthand into (name, mass, path) nodes and storeys."""
+def _building_nodes(scene, nodes, stories, damping, foundations):
+    """Expand the building shorthand into (name, mass, path) nodes and storeys, and the
+    foundations on soil into (building index, FoundationSoil)."""
     for b, building in enumerate(scene.buildings):
         path = ("buildings", b)
+        if building.soil is not None:
+            if building.height is None:
+                raise ModelError(path + ("soil",), "soil needs the storey heights (the "
+                                 "rocking's lever): give height (m, one for all storeys or "
+                                 "one per storey)")
+            if building.p_delta:
+                raise ModelError(path + ("p_delta",), "P-delta on soil is not modelled (the "
+                                 "rocking's overturning moment of the gravity loads): remove "
+                                 "p_delta or soil")
+            foundations.append((b, foundation_soil(building.soil, b)))
         lists = {"mass": building.mass} | {
             k: v for k, v in building.story.model_dump().items() if isinstance(v, list)
         }
@@ -215,7 +278,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                  f"building {building.name!r} is defined twice")
             seen.add(building.name)
     _check_size(scene)
-    _building_nodes(scene, nodes, stories, damping)
+    shorthand_foundations: list = []
+    _building_nodes(scene, nodes, stories, damping, shorthand_foundations)
     for i, node in enumerate(scene.nodes):
         nodes.append((node.name, node.mass, ("nodes", i, "name")))
     if not nodes:
@@ -437,7 +501,23 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt)))
         + tuple(stochastic_warnings(scene.excitation)),
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
+        foundations=_foundations(shorthand_foundations, scene, buildings, building_of),
     )
+
+
+def _foundations(shorthand, scene, buildings, building_of) -> tuple:
+    """The foundations on soil, re-indexed to ``buildings``; a building on soil has only its
+    shorthand floors (a generic node or storey of it has no rocking lever)."""
+    out = []
+    for b, soil in shorthand:
+        name = scene.buildings[b].name
+        for i, node in enumerate(scene.nodes):
+            if node.name.split("/")[0] == name:
+                raise ModelError(("nodes", i, "name"), f"building {name!r} stands on soil; "
+                                 "its floors come from the building shorthand only (a generic "
+                                 "node of it would not rock with its foundation)")
+        out.append(FoundationSoil(**{**soil.__dict__, "building": buildings.index(name)}))
+    return tuple(out)
 
 
 def _check_row_order(name, buildings, left, right, nodes, path) -> None:

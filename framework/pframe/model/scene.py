@@ -242,6 +242,80 @@ class Rayleigh(Base):
     )
 
 
+class Foundation(Base):
+    """A building's rigid foundation on soil: its size, mass and rotational inertia."""
+
+    width: Positive | None = Field(None, description="Width b (m) along the shaking (the "
+                                   "row of buildings).")
+    length: Positive | None = Field(None, description="Length l (m) across the shaking "
+                                    "(default: the width).")
+    radius: Positive | None = Field(None, description="Radius (m) of a circular foundation "
+                                    "(instead of width and length).")
+    mass: Positive = Field(description="Foundation mass m_f (kg): the sway DOF's mass.")
+    rotational_inertia: Positive | None = Field(
+        None, description="Mass moment of inertia I_f (kg m^2) about the rocking axis (default: "
+        "a thin slab's, m_f b^2 / 12, or m_f r^2 / 4 for a disk); add the floors' own "
+        "rotational inertias here if they matter (the floors' translation with the rocking is "
+        "already in their masses).")
+
+    @model_validator(mode="after")
+    def _size(self):
+        if self.radius is not None and (self.width is not None or self.length is not None):
+            raise ValueError("give radius (a circular foundation) or width and length, not both")
+        if self.length is not None and self.width is None:
+            raise ValueError("length needs width (the size along the shaking)")
+        if self.rotational_inertia is None and self.radius is None and self.width is None:
+            raise ValueError("give rotational_inertia (kg m^2), or the foundation's size "
+                             "(width, or radius) to take a slab's")
+        return self
+
+
+#: the soil given by its properties (Wolf's cone model) or by its four springs and dashpots
+SOIL_PROPERTIES = ("shear_wave_velocity", "poisson", "density")
+SOIL_VALUES = ("sway_stiffness", "sway_damping", "rocking_stiffness", "rocking_damping")
+
+
+class Soil(Base):
+    """Soil under a building: sway and rocking springs and dashpots under its foundation, from
+    the soil's properties (Wolf's cone model of a surface disk; docs/soil.md) or given."""
+
+    shear_wave_velocity: Positive | None = Field(None, description="V_s (m/s).")
+    poisson: float | None = Field(None, ge=0, le=0.5, description="Poisson's ratio nu "
+                                  "(0 .. 0.5).")
+    density: Positive | None = Field(None, description="rho (kg/m^3).")
+    sway_stiffness: Positive | None = Field(None, description="K_h (N/m), instead of the "
+                                            "soil's properties.")
+    sway_damping: float | None = Field(None, ge=0, allow_inf_nan=False,
+                                       description="C_h (N s/m).")
+    rocking_stiffness: Positive | None = Field(None, description="K_r (N m/rad).")
+    rocking_damping: float | None = Field(None, ge=0, allow_inf_nan=False,
+                                          description="C_r (N m s/rad).")
+    foundation: Foundation = Field(description="The foundation.")
+
+    @model_validator(mode="after")
+    def _one_way(self):
+        props = [getattr(self, k) is not None for k in SOIL_PROPERTIES]
+        values = [getattr(self, k) is not None for k in SOIL_VALUES]
+        if any(props) and any(values):
+            raise ValueError("give the soil's properties (shear_wave_velocity, poisson, "
+                             "density) or its springs and dashpots (sway_stiffness, "
+                             "sway_damping, rocking_stiffness, rocking_damping), not both")
+        if any(props) and not all(props):
+            missing = [k for k, on in zip(SOIL_PROPERTIES, props) if not on]
+            raise ValueError(f"the cone model needs {', '.join(missing)} as well")
+        if any(values) and not all(values):
+            missing = [k for k, on in zip(SOIL_VALUES, values) if not on]
+            raise ValueError(f"give {', '.join(missing)} as well (all four values)")
+        if not any(props) and not any(values):
+            raise ValueError("give the soil's properties (shear_wave_velocity, poisson, "
+                             "density) or its four springs and dashpots (sway_stiffness, "
+                             "sway_damping, rocking_stiffness, rocking_damping)")
+        if all(props) and self.foundation.radius is None and self.foundation.width is None:
+            raise ValueError("the cone model needs the foundation's size: width (and length) "
+                             "or radius")
+        return self
+
+
 class Sine(Base):
     """Ground acceleration a_p sin(w_p t), optionally limited to some cycles or a duration."""
 
@@ -670,6 +744,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             False, description="P-delta: each storey carries the weight of the floors above "
             "it (g = 9.80665 m/s^2 times their masses), whose geometric stiffness -P/h "
             "softens it (needs height).")
+        soil: Soil | None = Field(
+            None, description="Soil under the building (default: a fixed base): a foundation "
+            "that sways and rocks on springs and dashpots (needs height; docs/soil.md).")
 
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""

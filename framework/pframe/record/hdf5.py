@@ -53,7 +53,8 @@ LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "story": ("story_name", "storey (named by the floor above it)"),
           "contact": ("contact_name", "contact element"),
           "link": ("link_name", "link element (damper, coupling, tuned mass spring)"),
-          "building": ("building_name", "building")}
+          "building": ("building_name", "building"),
+          "foundation": ("foundation_name", "foundation on soil (named by its building)")}
 
 
 def _free_bytes(folder: Path) -> int | None:
@@ -167,7 +168,8 @@ class ResultWriter:
         """The histories and their time coordinates at full length, uncompressed (bytes)."""
         plan = self.plan
         widths = {"node": plan.n_dof, "story": len(plan.story_names),
-                  "contact": len(plan.contact_names), "link": len(plan.link_names), None: 1}
+                  "contact": len(plan.contact_names), "link": len(plan.link_names), None: 1,
+                  "foundation": len(plan.foundations)}
         total = 0
         for every in {every for _, every in plan.history}:
             total += 8 * ((states - 1) // every + 1)
@@ -203,7 +205,8 @@ class ResultWriter:
                 var[lo:hi] = self.convert.time(np.arange(lo, hi) * every * dt)[0]
             self.time_dims[every] = dim
         names = {"node": plan.node_names, "story": plan.story_names,
-                 "contact": plan.contact_names, "link": plan.link_names}
+                 "contact": plan.contact_names, "link": plan.link_names,
+                 "foundation": plan.foundations}
         for dim, values in names.items():
             if values or dim == "node":
                 f.labels(dim, LABELS[dim][0], list(values), long_name=LABELS[dim][1])
@@ -355,6 +358,10 @@ class ResultWriter:
         attrs["input_yaml"] = loaded.text
         attrs.update(record_attributes(loaded))
         attrs["integrator"] = integrator_text(plan)
+        if plan.foundations:  # the soil applied (docs/soil.md)
+            attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
+                                      zip(plan.foundations, plan.foundation_soil))
+            attrs.update(soil_attributes(plan, member))
         verdict = of_result(result, member)
         attrs["warnings"] = "\n".join(plan.warnings + verdict.warnings)
         attrs["dt"] = float(plan.dt[member])
@@ -464,3 +471,18 @@ def write_result(target, result, loaded, member: int = 0, compress: bool = False
         for q, _ in result.plan.history:
             writer.put(q, 0, result.history[q][member])
         return writer.finish(result)
+
+
+def soil_attributes(plan, member: int = 0) -> dict:
+    """The soil's springs and dashpots as applied, one value per foundation (docs/soil.md):
+    ``soil_sway_stiffness`` (N/m), ``soil_sway_damping`` (N s/m), ``soil_rocking_stiffness``
+    (N m/rad), ``soil_rocking_damping`` (N m s/rad)."""
+    first = plan.n_springs - 2 * len(plan.foundations)
+    values = np.zeros((plan.n_springs, 2))
+    for group in plan.story_groups:
+        for j, e in enumerate(group.index):
+            if e >= first:
+                values[e] = group.params[member, j, :2]
+    sway, rocking = values[first::2], values[first + 1::2]
+    return {"soil_sway_stiffness": sway[:, 0], "soil_sway_damping": sway[:, 1],
+            "soil_rocking_stiffness": rocking[:, 0], "soil_rocking_damping": rocking[:, 1]}

@@ -78,6 +78,8 @@ class ReferenceResult:
     story_drift_ratio: np.ndarray = None  # (K, s) drift / height (NaN without heights)
     link_deformation: np.ndarray = None  # (K, l) u_second - u_first
     link_force: np.ndarray = None  # (K, l)
+    foundation_sway: np.ndarray = None  # (K, F) a foundation's sway (m)
+    foundation_rocking: np.ndarray = None  # (K, F) its rocking (rad)
 
     def history(self, quantity: str) -> np.ndarray:
         """A history by its recorder name (``displacement``, ``story_force``, ...)."""

@@ -52,8 +52,11 @@ class Integration:
         self.storeys = s
         self.heights = (plan.story_height[system.member, :s] if plan.story_height is not None
                         else np.full(s, np.nan))
+        self.links = len(plan.link_names)
+        self.foundations = (plan.foundation_dofs if plan.foundation_dofs is not None
+                            else np.zeros((0, 2), dtype=np.int64))
         width = {"node": (n,), "story": (s,), "contact": (c,), None: (),
-                 "link": (system.n_story - s,)}
+                 "link": (self.links,), "foundation": (len(self.foundations),)}
         self.out = {q: np.full((k, *width[dim]), np.nan) for q, (dim, _, _) in QUANTITIES.items()}
         self.next_sample = 0
         self.episodes = Episodes(system)
@@ -76,8 +79,11 @@ class Integration:
         out["story_drift"][rows] = s.drift[..., :ns]
         out["story_force"][rows] = s.story_force[..., :ns]
         out["story_drift_ratio"][rows] = s.drift[..., :ns] / self.heights
-        out["link_deformation"][rows] = s.drift[..., ns:]
-        out["link_force"][rows] = s.story_force[..., ns:]
+        nl = ns + self.links  # the soil's springs follow the links
+        out["link_deformation"][rows] = s.drift[..., ns:nl]
+        out["link_force"][rows] = s.story_force[..., ns:nl]
+        out["foundation_sway"][rows] = s.u[..., self.foundations[:, 0]]
+        out["foundation_rocking"][rows] = s.u[..., self.foundations[:, 1]]
         out["contact_force"][rows] = s.contact_force
         out["contact_penetration"][rows] = np.maximum(s.penetration, 0.0)
 

@@ -97,6 +97,13 @@ class System:
         self.mass = np.array(plan.mass[member], dtype=float)
         self.mass_damping = np.array(plan.mass_damping[member], dtype=float) / self.mass
         self.story_incidence = _incidence(plan.story_dofs[:, ::-1], n)  # +1 up, -1 low
+        # soil (docs/soil.md): a storey of a building on soil deforms less h theta, and the
+        # ground load acts on the translational DOFs only
+        self.influence = np.ones(n)
+        if plan.story_theta is not None:
+            for e in np.flatnonzero(plan.story_theta >= 0):
+                self.story_incidence[e, plan.story_theta[e]] -= plan.story_height[member, e]
+            self.influence = np.array(plan.ground_influence, dtype=float)
         self.contact_incidence = _incidence(plan.contact_dofs, n)  # +1 left, -1 right
         self.story_damping = np.array(plan.story_beta[member] * plan.story_k0[member])
         self.gap = np.array(plan.contact_gap[member], dtype=float)
@@ -170,7 +177,7 @@ class System:
         contact = self._law_forces(self.contact_groups, self.n_contact, penetration,
                                    penetration_rate)
         shear = story[0] + self.story_damping * drift_rate
-        acc = (-np.asarray(ag)[..., None] - self.mass_damping * v
+        acc = (-np.asarray(ag)[..., None] * self.influence - self.mass_damping * v
                - shear @ self._story_scatter.T - contact[0] @ self._contact_scatter.T)
         return State(u, v, ag, drift, drift_rate, story[0], story[1], story[2], penetration,
                      penetration_rate, contact[0], contact[1], contact[2], acc)
@@ -197,7 +204,7 @@ class System:
         out = np.empty(2 * n)
         out[:n] = v
         np.negative(push, out=out[n:])
-        out[n:] -= self.ground(t)
+        out[n:] -= self.ground(t) * self.influence
         return out
 
     def jacobian(self, t, y):

@@ -43,13 +43,13 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
-    const double *ue = w->ue, *ve = w->ve, *ae = w->ae;
+    const double *ue = w->ue, *ve = w->ve, *ae = w->ae, *influence = m->ground_influence;
     double *R = w->R;
     int stale = 0;
     int64_t i, j;
     double out[3];
-    for (i = 0; i < n; i++)
-        R[i] = -mass[i] * (age + ae[i]) - damping[i] * ve[i];
+    for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
+        R[i] = -mass[i] * (influence[i] * age + ae[i]) - damping[i] * ve[i];
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
     {
@@ -60,7 +60,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const double *committed = st->story_committed + b * ns * S;
         double *trial = st->story_trial + b * ns * S;
         const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
-        const double *kg = m->story_kg + b * ns;
+        const double *kg = m->story_kg + b * ns, *height = m->story_height + b * ns;
+        const int64_t *rocking = m->story_theta;
         const double *tangent_c = st->story_tangent + b * ns;
         int64_t *calls = st->material_calls + b * m->materials;
         double *drift = w->drift, *force = w->story_force;
@@ -75,6 +76,10 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             if (lo >= 0) {
                 d -= ue[lo];
                 r -= ve[lo];
+            }
+            if (rocking[e] >= 0) { /* on soil: less the rigid rotation's share, h theta */
+                d -= height[e] * ue[rocking[e]];
+                r -= height[e] * ve[rocking[e]];
             }
             material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
                            out);
@@ -103,6 +108,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             R[up] -= f + fd;
             if (lo >= 0)
                 R[lo] += f + fd;
+            if (rocking[e] >= 0) /* the storey's moment on the rocking DOF: lever -h */
+                R[rocking[e]] += height[e] * (f + fd);
             if (tangent) {
                 double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
                 if (kk != kks[e]) {
@@ -243,6 +250,14 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
         if (lo >= 0) {
             band[lo * (bw + 1)] += kk;
             band[imax(lo, up) * (bw + 1) + iabs(lo - up)] -= kk;
+        }
+        if (m->story_theta[e] >= 0) { /* kk g g^T, g = (1, -1, -h) on (up, lo, theta) */
+            const int64_t th = m->story_theta[e];
+            const double h = m->story_height[b * m->stories + e];
+            band[th * (bw + 1)] += kk * h * h;
+            band[imax(th, up) * (bw + 1) + iabs(th - up)] -= kk * h;
+            if (lo >= 0)
+                band[imax(th, lo) * (bw + 1) + iabs(th - lo)] += kk * h;
         }
     }
     dofs = m->contact_dofs;

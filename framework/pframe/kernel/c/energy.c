@@ -33,7 +33,7 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
                   int64_t k, double h, double ag_old, double ag_new)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
-    const double *mass = m->mass + b * n;
+    const double *mass = m->mass + b * n, *influence = m->ground_influence;
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     const double *u = w->u, *v = w->v, *a = w->a;
     double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
@@ -54,9 +54,10 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         for (i = 0; i < n; i++) {
             const double du = u[i] - U[i];
             const double da = a[i] - A[i];
-            work_in -= 0.5 * (ag_old + ag_new) * mass[i] * du;
+            work_in -= 0.5 * (ag_old + ag_new) * influence[i] * mass[i] * du;
             work_damp += 0.5 * damping[i] * (V[i] + v[i]) * du;
-            du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * (ag_new - ag_old)) * du;
+            du_dG += (damping[i] * (v[i] - V[i])
+                      + influence[i] * mass[i] * (ag_new - ag_old)) * du;
             du_Mda += mass[i] * da * du;
             v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
             d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);

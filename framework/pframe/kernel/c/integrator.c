@@ -163,10 +163,13 @@ static double evaluation_work(const Model *m, State *st, Work *w, int64_t b, dou
     double work = 0.0;
     int64_t i, e;
     for (i = 0; i < n; i++)
-        work += (damping[i] * ve[i] + mass[i] * age) * (u[i] - U[i]);
+        work += (damping[i] * ve[i] + m->ground_influence[i] * mass[i] * age) * (u[i] - U[i]);
     for (e = 0; e < ns; e++) {
         const int64_t lo = m->story_dofs[2 * e], up = m->story_dofs[2 * e + 1];
-        const double d = u[up] - dof_value(u, lo);
+        const int64_t th = m->story_theta[e];
+        double d = u[up] - dof_value(u, lo);
+        if (th >= 0)
+            d -= m->story_height[b * ns + e] * u[th];
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
     }
     for (e = 0; e < nc; e++) {

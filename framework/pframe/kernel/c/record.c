@@ -27,6 +27,9 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     /* the links are the last m->links spring elements, after the storeys */
     case LINK_DEFORMATION: *width = m->links; return st->drift + b * ns + (ns - m->links);
     case LINK_FORCE: *width = m->links; return st->story_force + b * ns + (ns - m->links);
+    /* a foundation's sway and rocking DOFs (m->foundation_dofs) */
+    case FOUNDATION_SWAY: *width = m->foundations; return st->U + b * n;
+    case FOUNDATION_ROCKING: *width = m->foundations; return st->U + b * n;
     default: *width = 1; return NULL;
     }
 }
@@ -41,6 +44,10 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
         return py_max(values[i], 0.0);
     if (q == STORY_DRIFT_RATIO)
         return values[i] / m->story_height[b * m->stories + i];
+    if (q == FOUNDATION_SWAY)
+        return values[m->foundation_dofs[2 * i]];
+    if (q == FOUNDATION_ROCKING)
+        return values[m->foundation_dofs[2 * i + 1]];
     return values[i];
 }
 

@@ -63,7 +63,9 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define STORY_DRIFT_RATIO 8
 #define LINK_DEFORMATION 9
 #define LINK_FORCE 10
-#define RECORDABLE_COUNT 11
+#define FOUNDATION_SWAY 11
+#define FOUNDATION_ROCKING 12
+#define RECORDABLE_COUNT 13
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
@@ -113,6 +115,9 @@ typedef struct Model {
     int64_t *cd_parts;
     int64_t *event_parts;
     int64_t *stop;
+    int64_t *story_theta;
+    double *ground_influence;
+    int64_t *foundation_dofs;
     int64_t batch;
     int64_t dofs;
     int64_t stories;
@@ -125,6 +130,7 @@ typedef struct Model {
     int64_t ground_width;
     int64_t materials;
     int64_t contact_laws;
+    int64_t foundations;
 } Model;
 
 typedef struct Settings {
