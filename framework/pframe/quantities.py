@@ -15,4 +15,6 @@ QUANTITIES = {
     "link_deformation": ("link", "m", "link deformation (second minus first node displacement)"),
     "link_force": ("link", "N", "link force, tension positive (the material's force at the "
                    "link's deformation and rate)"),
+    "absolute_acceleration": ("node", "m/s^2", "floor absolute acceleration (relative "
+                              "acceleration plus ground acceleration)"),
 }

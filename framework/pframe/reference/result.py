@@ -78,6 +78,7 @@ class ReferenceResult:
     story_drift_ratio: np.ndarray = None  # (K, s) drift / height (NaN without heights)
     link_deformation: np.ndarray = None  # (K, l) u_second - u_first
     link_force: np.ndarray = None  # (K, l)
+    absolute_acceleration: np.ndarray = None  # (K, n) acceleration + ground acceleration
 
     def history(self, quantity: str) -> np.ndarray:
         """A history by its recorder name (``displacement``, ``story_force``, ...)."""

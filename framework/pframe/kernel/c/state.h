@@ -63,7 +63,8 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define STORY_DRIFT_RATIO 8
 #define LINK_DEFORMATION 9
 #define LINK_FORCE 10
-#define RECORDABLE_COUNT 11
+#define ABSOLUTE_ACCELERATION 11
+#define RECORDABLE_COUNT 12
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
