@@ -113,6 +113,8 @@ def _building_nodes(scene, nodes, stories, damping):
         damping[building.name] = building.damping
         heights = (_per_storey(building.height, n, path + ("height",))
                    if building.height is not None else [None] * n)
+        if building.park_ang is not None:  # one ultimate drift per storey (pframe.demands)
+            _per_storey(building.park_ang.ultimate_drift, n, path + ("park_ang", "ultimate_drift"))
         if building.p_delta and building.height is None:
             raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                              "height (m, one for all storeys or one per storey)")

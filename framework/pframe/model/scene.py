@@ -230,6 +230,19 @@ class ContactBase(Base):
         "the local shear the impact puts into it is checked against it.")
 
 
+class ParkAng(Base):
+    """The Park-Ang damage index of a building's storeys, DI = d_max / d_u + beta E_h /
+    (F_y d_u) (Park & Ang 1985; pframe summary): d_max the peak storey drift, E_h the storey's
+    hysteretic energy, F_y its yield force (from its material)."""
+
+    ultimate_drift: Positive | list[Positive] = Field(
+        description="d_u: the storey's ultimate drift under monotonic loading (m), one for all "
+        "storeys or one per storey, bottom up.")
+    beta: float = Field(ge=0, allow_inf_nan=False, description="beta: the weight of the "
+                        "hysteretic energy (Park & Ang 1985 give 0.05 as a typical value for "
+                        "reinforced concrete members).")
+
+
 class Rayleigh(Base):
     """Rayleigh damping of one building, fitted on that building alone (fixed base)."""
 
@@ -670,6 +683,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             False, description="P-delta: each storey carries the weight of the floors above "
             "it (g = 9.80665 m/s^2 times their masses), whose geometric stiffness -P/h "
             "softens it (needs height).")
+        park_ang: ParkAng | None = Field(
+            None, description="Ultimate drift and beta of the Park-Ang damage index of its "
+            "storeys (pframe summary); none: no damage index.")
 
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""
