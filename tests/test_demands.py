@@ -330,3 +330,23 @@ def test_park_ang_ultimate_drifts_are_one_per_storey(tmp_path):
     path.write_text(json.dumps(scene), encoding="utf-8")
     with pytest.raises(pframe.InputError, match="park_ang.*expected one value per storey"):
         load_scene(path)
+
+
+def test_solve_prints_the_peak_absolute_floor_acceleration(tmp_path, capsys):
+    from pframe.cli import main
+
+    scene = {"buildings": [{"name": "A", "floors": 2, "mass": 2000.0,
+                            "story": {"material": "elastic", "stiffness": 4e6}}],
+             "damping": {"ratio": 0.05, "modes": [1, 2]},
+             "excitation": {"kind": "sine", "amplitude": 3.0, "frequency": 10.0},
+             "analysis": {"integrator": {"type": "newmark", "gamma": 0.5, "beta": 0.25},
+                          "dt": 1e-3, "duration": 1.0},
+             "recorders": [{"kind": "history", "quantities": ["absolute_acceleration"]}]}
+    path = tmp_path / "scene.yaml"
+    path.write_text(json.dumps(scene), encoding="utf-8")
+    assert main(["solve", str(path), "-o", str(tmp_path / "run.nc")]) == 0
+    with pframe.open(tmp_path / "run.nc") as ds:
+        peak = np.abs(ds.absolute_acceleration.values).max(axis=0)
+        top = str(ds.node.values[int(np.argmax(peak))])
+    assert f"peak absolute floor acceleration {peak.max():.4g} m/s^2 at {top}" in \
+        capsys.readouterr().out
