@@ -232,16 +232,27 @@ def _above(ex) -> np.ndarray:
 
 
 def impact_storey_shear(ds, loaded=None) -> np.ndarray:
-    """(K, s) the storey shear attributable to contact forces: the resultant of the contact
-    forces on the floors a storey carries, V_c,i(t) = sum_{j above i} F_c,j(t). It is the
-    contact term of the storey's equilibrium V_i(t) = sum_{j above i} (F_c,j - m_j a_j^abs)
-    (V_i the storey's material and damping shear), the inertia term being the other
+    """(K, s) the storey shear attributable to contact forces (storeys in the result's
+    order): the resultant of the contact forces on the floors a storey carries,
+    V_c,i(t) = sum_{j above i} F_c,j(t). It is the contact term of the storey's
+    equilibrium V_i(t) = sum_{j above i} (F_c,j - m_j a_j^abs) (V_i the storey's material
+    and damping shear), the inertia term being the other
     (docs/netcdf.md#demand-quantities). Needs the ``contact_force`` history."""
     _need(ds, ("contact_force",), "the impact storey shear", "the result")
     loaded = loaded or scene_of(ds)
     ex = loaded.expanded
     _, force = _history(ds, "contact_force")
-    return np.nan_to_num(force) @ _contact_loads(ex) @ _above(ex).T.astype(float)
+    contacts = _order(ds, "contact", [c.name for c in ex.contacts])
+    stories = _order(ds, "story", [s.name for s in ex.stories])
+    loads = _contact_loads(ex)[contacts]
+    return np.nan_to_num(force) @ loads @ _above(ex)[stories].T.astype(float)
+
+
+def _order(ds, dim: str, declared: list[str]) -> list[int]:
+    """The declared elements in the order of the result's ``dim`` (its columns)."""
+    if dim not in ds.coords:
+        return list(range(len(declared)))
+    return [declared.index(str(n)) for n in ds[dim].values]
 
 
 #: the impact table's columns and units
