@@ -390,3 +390,24 @@ def test_impact_table_agrees_with_the_reference_solvers_episodes():
         assert row.approach_velocity == pytest.approx(episode.approach_rate, rel=1e-4)
         assert row.peak_force == pytest.approx(episode.peak_force, rel=1e-4)
         assert row.duration == pytest.approx(episode.separation - episode.onset, rel=1e-4)
+
+
+def test_a_generic_storey_takes_its_own_park_ang():
+    """A storey of the generic list (not a building's shorthand) carries its own ultimate
+    drift and beta; the index is its Park-Ang combination, the storey without one has none."""
+    from pframe.demands import park_ang
+
+    story = BILINEAR | {"park_ang": {"ultimate_drift": 0.04, "beta": 0.2}}
+    scene = {"nodes": [{"name": "N/1", "mass": 2000.0}, {"name": "N/2", "mass": 2000.0}],
+             "stories": [story | {"nodes": ["ground", "N/1"]},
+                         BILINEAR | {"nodes": ["N/1", "N/2"]}],
+             "damping": {"ratio": 0.02, "modes": [1, 2]},
+             "excitation": {"kind": "sine", "amplitude": 6.0, "frequency": 12.0},
+             "analysis": {"integrator": {"type": "newmark", "gamma": 0.5, "beta": 0.25},
+                          "dt": 5e-4, "duration": 2.0},
+             "recorders": STOREY_HISTORIES}
+    rows = park_ang(pframe.solve(scene))
+    first, second = rows["N/1"], rows["N/2"]
+    assert first["index"] == pytest.approx(
+        first["peak_drift"] / 0.04 + 0.2 * first["energy"] / (FY * 0.04), rel=1e-12)
+    assert first["energy"] > 0 and "index" not in second

@@ -167,22 +167,39 @@ def park_ang(ds, loaded=None) -> dict[str, dict]:
     energy = hysteretic_energy(force, drift, stiffness)
     peak = np.max(np.abs(drift), axis=0)
     out = {}
-    buildings = {b.name: b for b in loaded.scene.buildings}
+    specs = _park_ang_specs(loaded)
     for col, name in enumerate(names):
         i, story = by_name[name]
         row = {"energy": float(energy[col]), "peak_drift": float(peak[col])}
-        building = buildings.get(ex.buildings[ex.story_building[i]])
-        spec = getattr(building, "park_ang", None) if building is not None else None
+        spec, du = specs.get(name, (None, None))
         props = yield_properties(story)
         if spec is not None and props is not None:
-            level = [s for s in ex.stories if ex.story_building[by_name[s.name][0]]
-                     == ex.story_building[i]].index(story)
-            du = spec.ultimate_drift
-            du = float(du[level] if isinstance(du, list) else du)
             row |= {"ultimate_drift": du, "beta": float(spec.beta), "yield_force": props[1],
                     "index": float(park_ang_index(peak[col], du, spec.beta, energy[col],
                                                   props[1]))}
         out[name] = row
+    return out
+
+
+def _park_ang_specs(loaded) -> dict:
+    """Storey name -> (its ParkAng, its ultimate drift): a building's (one value, or one per
+    storey bottom up) or a generic storey's own."""
+    from pframe.model.scene import default_story_name
+
+    out = {}
+    names = {story.name for story in loaded.expanded.stories}
+    for building in loaded.scene.buildings:
+        spec = building.park_ang
+        level = 0
+        while spec is not None and f"{building.name}/{level + 1}" in names:  # bottom up
+            du = spec.ultimate_drift
+            out[f"{building.name}/{level + 1}"] = (
+                spec, float(du[level] if isinstance(du, list) else du))
+            level += 1
+    for story in loaded.scene.stories:
+        if story.park_ang is not None:
+            name = story.name or default_story_name(story.nodes)
+            out[name] = (story.park_ang, float(story.park_ang.ultimate_drift))
     return out
 
 

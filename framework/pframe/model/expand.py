@@ -229,6 +229,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if story.gravity_load is not None and story.height is None:
             raise ModelError(("stories", s, "gravity_load"), "P-delta needs the storey's "
                              "height: give height (m)")
+        if story.park_ang is not None and isinstance(story.park_ang.ultimate_drift, list):
+            raise ModelError(("stories", s, "park_ang", "ultimate_drift"), "one storey has one "
+                             "ultimate drift (m), not a list")
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
                         ("stories", s), story.height, float(story.gravity_load or 0.0)))
 
