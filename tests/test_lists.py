@@ -131,6 +131,9 @@ def test_every_quantity_records_what_it_means():
     t = np.arange(plan.steps + 1) * plan.dt[0]
     np.testing.assert_allclose(h["ground_acceleration"], 9.81 * np.sin(2.0 * math.pi * t),
                                rtol=0, atol=1e-12)
+    np.testing.assert_allclose(h["absolute_acceleration"],
+                               h["acceleration"] + h["ground_acceleration"][:, None],
+                               rtol=0, atol=1e-12)
     np.testing.assert_allclose(np.diff(u, axis=0) / plan.dt[0],
                                0.5 * (h["velocity"][1:] + h["velocity"][:-1]),
                                rtol=1e-9, atol=1e-12)  # Newmark average acceleration

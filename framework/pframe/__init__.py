@@ -21,7 +21,7 @@ _API = {
     "load": "pframe.api", "solve": "pframe.api", "sweep": "pframe.sweep", "open": "pframe.api",
     "to_opensees": "pframe.api", "risk": "pframe.risk",
     "IncompleteRun": "pframe.api", "AccuracyWarning": "pframe.verdict",
-    "summary": "pframe.tables",
+    "summary": "pframe.tables", "impacts": "pframe.demands",
     # figures (matplotlib: pip install "pframe[plot]"); pframe.plot and pframe.sweep are also
     # packages, made callable (pframe._callable)
     "plot": "pframe.plot",
@@ -44,7 +44,7 @@ __all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Cont
            "Cycloidal", "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History",
            "IncompleteRun", "InitialConditions", "InputError", "Newmark", "Newton", "Node",
            "Output", "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene",
-           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "load", "open",
+           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "impacts", "load", "open",
            "plot", "risk", "solve",
            "summary", "sweep", "to_opensees"]
 

@@ -19,4 +19,6 @@ QUANTITIES = {
                         "ground"),
     "foundation_rocking": ("foundation", "rad", "rocking rotation of a foundation on soil "
                            "(positive: the top moves the positive way)"),
+    "absolute_acceleration": ("node", "m/s^2", "floor absolute acceleration (relative "
+                              "acceleration plus ground acceleration)"),
 }

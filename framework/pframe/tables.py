@@ -2,13 +2,14 @@
 ``pframe summary``, ``pframe solve --summary``) and its histories as CSV (``pframe export``).
 
 The summary is one long table (pandas DataFrame), a row per fact: ``part`` (run, energy,
-node, story, contact, warning), ``name`` (the node, storey or contact; empty for the run),
+node, story, contact, impact, warning), ``name`` (the node, storey or contact; empty for the run),
 ``quantity``, ``value`` and ``units``. It is written as CSV (that table) or Markdown (a
 section per part, one row per node, storey or contact). Peaks come from the envelopes when
 the run recorded them, else from the histories. Storey ductility is the peak drift over the
-yield drift of a yielding storey (bilinear: yield force / stiffness, or its yield drift),
-read from the scene the result holds. Scenes have no storey heights, so drifts are given as
-lengths, not ratios.
+yield drift of a yielding storey (its material's own: bilinear f_y / k, IMK My / K0,
+Bouc-Wen z_y), read from the scene the result holds. With the storeys' histories the summary
+adds the demand quantities of :mod:`pframe.demands`: residual drift, hysteretic energy, the
+Park-Ang damage index, the storey shear of the contact forces, and a row per impact.
 """
 
 from __future__ import annotations
@@ -83,14 +84,13 @@ def _yield_drifts(ds) -> tuple[dict[str, float], str]:
         if "scale_l_e" not in ds.attrs:
             return {}, "a dimensionless result without its length scale (scale_l_e)"
         scale = float(ds.attrs["scale_l_e"])
+    from pframe.demands import yield_properties
+
     out = {}
     for story in loaded.expanded.stories:
-        names = tuple(getattr(story.law, "param_names", ()))
-        values = dict(zip(names, story.packed))
-        if "yield_force" in values and "stiffness" in values:
-            out[story.name] = values["yield_force"] / values["stiffness"] / scale
-        elif "yield_drift" in values:
-            out[story.name] = values["yield_drift"] / scale
+        props = yield_properties(story)
+        if props is not None:
+            out[story.name] = props[0] / scale
     return out, ""
 
 
@@ -98,8 +98,10 @@ def summary(result, output: str | Path | None = None):
     """The summary of a run (a Dataset of :func:`pframe.solve` or :func:`pframe.open`, or a
     result file's path) as a pandas DataFrame with columns part, name, quantity, value,
     units: the run's status and energy verdict, its energy balance, the peaks per node and
-    storey, storey ductility (peak drift / yield drift, yielding storeys), impacts and peak
-    force per contact, and its warnings. ``output``: also write it, as CSV (``.csv``) or
+    storey, storey ductility (peak drift / yield drift, yielding storeys), the demand
+    quantities of :mod:`pframe.demands` (residual drift, hysteretic energy, Park-Ang index,
+    impact storey shear, a row per impact), impacts and peak force per contact, and its
+    warnings. ``output``: also write it, as CSV (``.csv``) or
     Markdown (``.md``)."""
     import numpy as np
     import pandas as pd
@@ -125,6 +127,7 @@ def summary(result, output: str | Path | None = None):
             rows.append(("energy", "", key[len("energy_"):].replace("_", " "), float(value),
                          energy_units))
     ductility, why = _yield_drifts(ds) if "story" in ds.dims else ({}, "")
+    demands, impact_rows, demand_warnings = _demands(ds)
     for entity in ENTITIES:
         if entity not in ds.dims:
             continue
@@ -141,8 +144,11 @@ def summary(result, output: str | Path | None = None):
                              float(drift[i] / ductility[name]), "1"))
             if entity == "contact" and "impact_count" in ds:
                 rows.append((entity, name, "impacts", int(ds.impact_count.values[i]), "1"))
+            if entity == "story":
+                rows += demands.get(name, [])
     if why and not ductility:
         rows.append(("warning", "", "ductility not computed", why, ""))
+    rows += impact_rows + demand_warnings
     for line in _text(ds.attrs.get("warnings", "")).splitlines():
         if line.strip():
             rows.append(("warning", "", "warning", line, ""))
@@ -150,6 +156,73 @@ def summary(result, output: str | Path | None = None):
     if output is not None:
         write(table, output)
     return table
+
+
+def _demands(ds) -> tuple[dict, list, list]:
+    """The summary's demand rows (pframe.demands): per storey name, the rows of residual
+    drift, hysteretic energy, Park-Ang index and impact storey shear; the rows of the impact
+    table; and warnings (a run ending in strong motion, what was not recorded)."""
+    import numpy as np
+
+    from pframe import demands
+
+    per_story, impacts, warnings = {}, [], []
+    if "story" not in ds.dims or "input_yaml" not in ds.attrs:
+        return per_story, impacts, warnings
+    names = [str(n) for n in ds["story"].values]
+    units = "1" if _text(ds.attrs.get("units_system", "")) == "dimensionless" else "m"
+    residual = demands.residual_drift(ds)
+    if residual is not None:
+        final, swing = residual
+        peak = np.nanmax(np.abs(np.asarray(ds.story_drift.values, float)), axis=0)
+        moving = demands.still_moving(final, swing, peak)
+        for i, name in enumerate(names):
+            per_story.setdefault(name, []).append(("story", name, "residual drift",
+                                                   float(final[i]), units))
+        if moving.any():
+            which = ", ".join(f"{names[i]} ({swing[i] / peak[i]:.0%} of its peak drift)"
+                              for i in np.flatnonzero(moving))
+            warnings.append(("warning", "", "warning",
+                             f"the run ends while storeys still swing: {which} over the "
+                             f"run's last {demands.TAIL_SHARE:.0%}; their residual drift is "
+                             "the drift at the end, not the permanent drift: run past the end "
+                             "of the ground motion (a free-vibration tail) for it", ""))
+    if _text(ds.attrs.get("units_system", "")) == "dimensionless":
+        return per_story, impacts, warnings
+    try:
+        loaded = demands.scene_of(ds)
+    except InputError:
+        return per_story, impacts, warnings
+    if "story_force" in ds.data_vars and "story_drift" in ds.data_vars:
+        try:
+            for name, row in demands.park_ang(ds, loaded).items():
+                per_story.setdefault(name, []).append(("story", name, "hysteretic energy",
+                                                       row["energy"], "J"))
+                if "index" in row:
+                    per_story[name].append(("story", name, "Park-Ang damage index",
+                                            row["index"], "1"))
+        except InputError:
+            pass
+    if "contact" in ds.dims and "contact_force" in ds.data_vars:
+        try:
+            shear = np.max(np.abs(demands.impact_storey_shear(ds, loaded)), axis=0)
+            for i, name in enumerate(names):
+                per_story.setdefault(name, []).append(
+                    ("story", name, "peak impact storey shear", float(shear[i]), "N"))
+        except InputError:
+            pass
+    if "contact" in ds.dims:
+        try:
+            table = demands.impacts(ds)
+        except InputError as exc:
+            warnings.append(("warning", "", "impact table not computed", str(exc), ""))
+        else:
+            for n, row in enumerate(table.itertuples(), start=1):
+                label = f"{n}: {row.contact}"
+                for column, unit in demands.IMPACT_COLUMNS[1:6]:
+                    impacts.append(("impact", label, column.replace("_", " "),
+                                    float(getattr(row, column)), unit))
+    return per_story, impacts, warnings
 
 
 def markdown(table) -> str:
@@ -165,7 +238,7 @@ def markdown(table) -> str:
             lines += [f"| {r.quantity} | {_cell(r.value)} | {r.units} |"
                       for r in rows.itertuples()]
     for part, heading in (("node", "Nodes"), ("story", "Storeys"), ("contact", "Contacts"),
-                          ("building", "Buildings")):
+                          ("building", "Buildings"), ("impact", "Impacts")):
         rows = table[table.part == part]
         if not len(rows):
             continue
@@ -255,6 +328,17 @@ def export_csv(result, folder: str | Path) -> list[Path]:
     if not written:
         raise InputError("the result holds no histories to export (its recorders kept "
                          "envelopes only); add a 'kind: history' recorder")
+    if "contact" in ds.dims and "contact_force" in ds.data_vars and "velocity" in ds.data_vars:
+        from pframe.demands import impacts
+
+        try:  # the impact table (pframe.impacts) of a result in SI units
+            table = impacts(ds)
+        except InputError:  # dimensionless, or the two at other strides: not listed
+            return written
+        path = folder / "impacts.csv"
+        with outputs.replacing(path) as tmp:
+            table.to_csv(tmp, index=False, float_format="%.10g")
+        written.append(path)
     return written
 
 

@@ -129,7 +129,7 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
 
 
 #: the quantities whose peaks the summary prints
-_PEAKS = ("displacement", "story_drift", "contact_force", "link_force")
+_PEAKS = ("displacement", "story_drift", "contact_force", "link_force", "absolute_acceleration")
 
 
 def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verdict=None):
@@ -162,6 +162,13 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
             top = max(idx, key=lambda i: values[i])
             print(f"  building {b}: peak displacement {values[top]:.4g} m at {plan.node_names[top]}")
+    if "absolute_acceleration" in peaks:
+        values = peaks["absolute_acceleration"][plan.node_dof]
+        for b in plan.buildings:
+            idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
+            top = max(idx, key=lambda i: values[i])
+            print(f"  building {b}: peak absolute floor acceleration {values[top]:.4g} m/s^2 "
+                  f"at {plan.node_names[top]}")
     if "story_drift" in peaks:
         s = int(np.argmax(peaks["story_drift"]))
         print(f"  peak storey drift {peaks['story_drift'][s]:.4g} m at {plan.story_names[s]}")

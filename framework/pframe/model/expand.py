@@ -191,6 +191,8 @@ def _building_nodes(scene, nodes, stories, damping, foundations):
         damping[building.name] = building.damping
         heights = (_per_storey(building.height, n, path + ("height",))
                    if building.height is not None else [None] * n)
+        if building.park_ang is not None:  # one ultimate drift per storey (pframe.demands)
+            _per_storey(building.park_ang.ultimate_drift, n, path + ("park_ang", "ultimate_drift"))
         if building.p_delta and building.height is None:
             raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                              "height (m, one for all storeys or one per storey)")
@@ -306,6 +308,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         if story.gravity_load is not None and story.height is None:
             raise ModelError(("stories", s, "gravity_load"), "P-delta needs the storey's "
                              "height: give height (m)")
+        if story.park_ang is not None and isinstance(story.park_ang.ultimate_drift, list):
+            raise ModelError(("stories", s, "park_ang", "ultimate_drift"), "one storey has one "
+                             "ultimate drift (m), not a list")
         stories.append((story.name or default_story_name(story.nodes), story.nodes, law, params,
                         ("stories", s), story.height, float(story.gravity_load or 0.0)))
 

@@ -163,6 +163,19 @@ NodeOrGround = Annotated[
 ]
 
 
+class ParkAng(Base):
+    """The Park-Ang damage index of a building's storeys, DI = d_max / d_u + beta E_h /
+    (F_y d_u) (Park & Ang 1985; pframe summary): d_max the peak storey drift, E_h the storey's
+    hysteretic energy, F_y its yield force (from its material)."""
+
+    ultimate_drift: Positive | list[Positive] = Field(
+        description="d_u: the storey's ultimate drift under monotonic loading (m), one for all "
+        "storeys or one per storey, bottom up.")
+    beta: float = Field(ge=0, allow_inf_nan=False, description="beta: the weight of the "
+                        "hysteretic energy (Park & Ang 1985 give 0.05 as a typical value for "
+                        "reinforced concrete members).")
+
+
 class StoryBase(Base):
     """A storey shear spring between two nodes, or a node and the ground."""
 
@@ -175,6 +188,9 @@ class StoryBase(Base):
     gravity_load: float | None = Field(None, ge=0, allow_inf_nan=False,
                                        description="Axial (gravity) load P the storey carries "
                                        "(N): P-delta, a geometric stiffness -P/h (needs height).")
+    park_ang: ParkAng | None = Field(
+        None, description="Ultimate drift (one value) and beta of the storey's Park-Ang "
+        "damage index (pframe summary); none: no damage index.")
 
 
 class LinkBase(Base):
@@ -747,6 +763,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         soil: Soil | None = Field(
             None, description="Soil under the building (default: a fixed base): a foundation "
             "that sways and rocks on springs and dashpots (needs height; docs/soil.md).")
+        park_ang: ParkAng | None = Field(
+            None, description="Ultimate drift and beta of the Park-Ang damage index of its "
+            "storeys (pframe summary); none: no damage index.")
 
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""

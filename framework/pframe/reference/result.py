@@ -80,6 +80,7 @@ class ReferenceResult:
     link_force: np.ndarray = None  # (K, l)
     foundation_sway: np.ndarray = None  # (K, F) a foundation's sway (m)
     foundation_rocking: np.ndarray = None  # (K, F) its rocking (rad)
+    absolute_acceleration: np.ndarray = None  # (K, n) acceleration + ground acceleration
 
     def history(self, quantity: str) -> np.ndarray:
         """A history by its recorder name (``displacement``, ``story_force``, ...)."""

@@ -75,6 +75,8 @@ class Integration:
         out["velocity"][rows] = s.v
         out["acceleration"][rows] = s.acceleration
         out["ground_acceleration"][rows] = s.ground
+        out["absolute_acceleration"][rows] = (s.acceleration + np.asarray(s.ground)[..., None]
+                                              * self.system.influence)
         ns = self.storeys
         out["story_drift"][rows] = s.drift[..., :ns]
         out["story_force"][rows] = s.story_force[..., :ns]

@@ -236,7 +236,7 @@ static int event_substeps(const Model *m, const Settings *s, State *st, Work *w,
             return 0;
         if (located && !restart(m, s, st, w, b, k, hs, ag_new, -1))
             return 0;
-        record_substep(m, st, rec, b, k);
+        record_substep(m, st, rec, b, k, ag_new);
         pos = f_try;
     }
     return 1;

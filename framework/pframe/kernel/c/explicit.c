@@ -41,7 +41,7 @@ static int explicit_step(const Model *m, const Settings *s, State *st, Work *w,
         if (!commit(m, s, st, w, b, k, hs, ag_old, ag_new))
             return 0;
         if (parts > 1)
-            record_substep(m, st, rec, b, k);
+            record_substep(m, st, rec, b, k, ag_new);
     }
     return 1;
 }

@@ -74,7 +74,7 @@ static int split_step(const Model *m, const Settings *s, State *st, Work *w, Sav
                 ok = (solve_step(m, s, st, w, b, k, hs, ag_old, ag_new)
                       && commit(m, s, st, w, b, k, hs, ag_old, ag_new));
                 if (ok)
-                    record_substep(m, st, rec, b, k);
+                    record_substep(m, st, rec, b, k, ag_new);
             }
             if (!ok)
                 break;

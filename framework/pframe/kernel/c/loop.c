@@ -105,7 +105,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             if (k == due)
                 due = record_histories(m, st, rec, b, k);
             if (envelopes)
-                record_envelopes(m, st, rec, b, k);
+                record_envelopes(m, st, rec, b, k, m->ground[b * m->ground_width + k]);
         }
     }
     return RUN_OK;

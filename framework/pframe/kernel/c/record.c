@@ -19,6 +19,7 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     case DISPLACEMENT: *width = n; return st->U + b * n;
     case VELOCITY: *width = n; return st->V + b * n;
     case ACCELERATION: *width = n; return st->A + b * n;
+    case ABSOLUTE_ACCELERATION: *width = n; return st->A + b * n;
     case STORY_DRIFT: *width = ns; return st->drift + b * ns;
     case STORY_DRIFT_RATIO: *width = ns; return st->drift + b * ns;
     case STORY_FORCE: *width = ns; return st->story_force + b * ns;
@@ -34,12 +35,26 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     }
 }
 
-/* Committed value i of quantity q (its values from source). */
-static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
-                    int64_t i)
+/* The absolute acceleration of DOF i: its acceleration relative to the ground plus the
+ * ground's (ag) as the ground load sees it (m->ground_influence: 1 on a translation, 0 on a
+ * foundation's rocking), the one place the sum is made. */
+static double absolute_acceleration(const Model *m, int64_t b, int64_t i, double relative,
+                                    double ag)
 {
+    (void)b;
+    return relative + m->ground_influence[i] * ag;
+}
+
+/* Committed value i of quantity q (its values from source); ag is the ground acceleration at
+ * the committed state (step k's end, or a sub-step's). */
+static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
+                    int64_t i, double ag)
+{
+    (void)k;
     if (q == GROUND_ACCELERATION)
-        return m->ground[b * m->ground_width + k];
+        return ag;
+    if (q == ABSOLUTE_ACCELERATION)
+        return absolute_acceleration(m, b, i, values[i], ag);
     if (q == CONTACT_PENETRATION)
         return py_max(values[i], 0.0);
     if (q == STORY_DRIFT_RATIO)
@@ -78,7 +93,7 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
             double *history = rec->history[q] + (b * rec->history_rows[q] + row) * columns;
             const double *values = source(m, st, q, b, &width); /* once per quantity */
             for (i = 0; i < columns; i++)
-                history[i] = value(m, q, values, b, k, i);
+                history[i] = value(m, q, values, b, k, i, m->ground[b * m->ground_width + k]);
             gathered += columns;
         }
     }
@@ -86,8 +101,10 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
     return next_due(rec, k + 1);
 }
 
-/* Update the running peaks of the enveloped quantities with step k (or a sub-step of it). */
-static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+/* Update the running peaks of the enveloped quantities with step k (or a sub-step of it, at
+ * whose end the ground acceleration is ag). */
+static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
+                             double ag)
 {
     int64_t gathered = 0, q, i, width;
     for (q = 0; q < RECORDABLE_COUNT; q++) {
@@ -96,7 +113,7 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
             double *peak = rec->envelope[q] + b * columns;
             const double *values = source(m, st, q, b, &width);
             for (i = 0; i < columns; i++)
-                peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i)));
+                peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
             gathered += columns;
         }
     }
@@ -106,12 +123,13 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
 /* Envelopes see the state committed at the end of every sub-step of step k (central
  * difference's substeps, event location, split steps), not only at the step end: a contact
  * that opens and closes inside one step has its peak force recorded. */
-static void record_substep(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+static void record_substep(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
+                           double ag)
 {
     int64_t q;
     int envelopes = 0;
     for (q = 0; q < RECORDABLE_COUNT; q++)
         envelopes = envelopes || rec->enveloped[q] != 0;
     if (envelopes)
-        record_envelopes(m, st, rec, b, k);
+        record_envelopes(m, st, rec, b, k, ag);
 }

@@ -65,7 +65,8 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define LINK_FORCE 10
 #define FOUNDATION_SWAY 11
 #define FOUNDATION_ROCKING 12
-#define RECORDABLE_COUNT 13
+#define ABSOLUTE_ACCELERATION 13
+#define RECORDABLE_COUNT 14
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
