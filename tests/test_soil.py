@@ -10,6 +10,7 @@ base as the limit of stiffening soil; the kernel against the reference solver (s
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -345,3 +346,57 @@ def _first_periods(plan) -> np.ndarray:
         w2 = np.linalg.eigvalsh(K[np.ix_(idx, idx)] * np.outer(s, s))
         out.append(2.0 * math.pi / math.sqrt(w2[0]))
     return np.array(out)
+
+
+def test_a_sweep_over_the_soil_equals_each_scene_run_alone(tmp_path):
+    """Soil values are sweep parameters like any other: each variant of a sweep over the sway
+    stiffness holds, bit for bit, the peaks of its own scene run alone."""
+    import h5py
+    import yaml
+
+    from pframe.sweep import load_sweep, run_sweep
+
+    soil = _given(2.0e8, 4.0e10, 1.0e3, 1.0e4, ch=1.0e5, cr=1.0e7)
+    text = _on_soil(2, 1.0e5, 4.0e7, 3.5, soil,
+                    excitation={"kind": "sine", "amplitude": 2.0, "frequency": 9.0,
+                                "cycles": 3},
+                    analysis={"dt": 1e-3, "duration": 2.0})
+    (tmp_path / "base.yaml").write_text(text)
+    values = [2.0e7, 2.0e8]
+    (tmp_path / "sweep.yaml").write_text(yaml.safe_dump({
+        "base": "base.yaml",
+        "axes": [{"name": "kh", "path": "buildings.A.soil.sway_stiffness",
+                  "values": values, "units": "N/m"}]}))
+    out = tmp_path / "out.nc"
+    assert run_sweep(load_sweep(tmp_path / "sweep.yaml"), out).completed
+    with h5py.File(out, "r") as f:
+        peaks = np.asarray(f["peak_displacement"])
+    assert not np.allclose(peaks[0], peaks[1])  # the soil matters
+    for i, kh in enumerate(values):
+        plan, alone = _run(_on_soil(2, 1.0e5, 4.0e7, 3.5, soil | {"sway_stiffness": kh},
+                                    excitation={"kind": "sine", "amplitude": 2.0,
+                                                "frequency": 9.0, "cycles": 3},
+                                    analysis={"dt": 1e-3, "duration": 2.0},
+                                    recorders=[{"kind": "envelope",
+                                                "quantities": ["displacement"]}]))
+        assert np.array_equal(peaks[i], alone.envelope["displacement"][0][plan.node_dof])
+
+
+def test_the_gap_audit_takes_the_flexible_base_period():
+    """The gap audit's first modes (its DDC rule and sa:BUILDING measure) see the soil: a
+    single storey on a light foundation has Veletsos & Meek's lengthened period, and the audit
+    of the paper's pair on soil runs (it used to stop on the foundation's unnamed DOFs)."""
+    from pframe.gap.audit import prepare
+    from pframe.gap.runs import first_modes
+
+    m, k, h, kh, kr = 1.0e5, 4.0e7, 10.0, 2.0e8, 4.0e10
+    plan, _ = _run(_on_soil(1, m, k, h, _given(kh, kr, 1.0, 10.0),
+                            analysis={"dt": 1e-3, "duration": 0.01}))
+    periods, _ = first_modes(plan)
+    fixed = 2.0 * math.pi * math.sqrt(m / k)
+    assert periods[0] == pytest.approx(fixed * math.sqrt(1.0 + k / kh + k * h * h / kr),
+                                       rel=1e-4)
+    models = Path(__file__).resolve().parents[1] / "models"
+    inputs = prepare(models / "ssi-pair.yaml")
+    fixed_inputs = prepare(models / "wu2021-eq14.yaml")
+    assert np.all(inputs.periods > 1.05 * fixed_inputs.periods)

@@ -62,36 +62,47 @@ def without_contacts(loaded, keep_excitation: bool):
 
 
 def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
-    """First (fixed-base) period (s) and its damping ratio of each building of a plan: the
-    eigen-analysis of the building's initial stiffness and masses, and the Rayleigh damping
-    the plan applies, xi_1 = a0 / (2 w_1) + a1 w_1 / 2."""
-    names = [""] * plan.n_dof
+    """First period (s) and its damping ratio of each building of a plan: the eigen-analysis
+    of the building's initial stiffness and masses, and the Rayleigh damping the plan applies,
+    xi_1 = a0 / (2 w_1) + a1 w_1 / 2. A building on soil (docs/soil.md) is analysed with its
+    foundation's sway and rocking DOFs and springs: its flexible-base period (Veletsos & Meek
+    lengthening), with the Rayleigh ratio of its storeys (the soil's dashpots left out).
+    Springs between buildings (links) are left out of both."""
+    owner = np.full(plan.n_dof, -1)
     for name, dof in zip(plan.node_names, plan.node_dof):
-        names[dof] = name
-    building_of = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
+        owner[dof] = plan.buildings.index(name.split("/")[0])
+    for building, dofs in zip(plan.foundations, plan.foundation_dofs
+                              if plan.foundations else ()):
+        owner[dofs] = plan.buildings.index(building)
+    stories = len(plan.story_names)
+    theta = plan.story_theta if plan.story_theta is not None else \
+        np.full(plan.n_springs, -1)
     periods, ratios = [], []
     for b in range(len(plan.buildings)):
-        dofs = np.flatnonzero(building_of == b)
-        local = {d: i for i, d in enumerate(dofs)}
+        dofs = np.flatnonzero(owner == b)
+        local = {int(d): i for i, d in enumerate(dofs)}
         k = np.zeros((dofs.size, dofs.size))
         beta = 0.0
         for s, (low, up) in enumerate(plan.story_dofs):
-            if up not in local:
+            ends = [(int(up), 1.0), (int(low), -1.0)]
+            if theta[s] >= 0:
+                ends.append((int(theta[s]), -float(plan.story_height[member, s])))
+            if any(d >= 0 and d not in local for d, _ in ends) or int(up) not in local:
                 continue
-            kk = plan.story_k0[member, s]
-            beta = plan.story_beta[member, s]
-            iu = local[up]
-            k[iu, iu] += kk
-            if low >= 0:
-                il = local[low]
-                k[il, il] += kk
-                k[il, iu] -= kk
-                k[iu, il] -= kk
+            g = np.zeros(dofs.size)
+            for d, c in ends:
+                if d >= 0:
+                    g[local[d]] += c
+            k += plan.story_k0[member, s] * np.outer(g, g)
+            if s < stories:
+                beta = plan.story_beta[member, s]
         m = plan.mass[member, dofs]
         scale = 1.0 / np.sqrt(m)
         w2 = np.linalg.eigvalsh(k * np.outer(scale, scale))
         w1 = math.sqrt(max(w2[0], 0.0))
-        alpha = float(plan.mass_damping[member, dofs[0]] / m[0])
+        floor = int(plan.node_dof[[n.split("/")[0] for n in plan.node_names].index(
+            plan.buildings[b])])
+        alpha = float(plan.mass_damping[member, floor] / plan.mass[member, floor])
         periods.append(2.0 * math.pi / w1 if w1 > 0 else math.inf)
         ratios.append(alpha / (2.0 * w1) + beta * w1 / 2.0 if w1 > 0 else math.nan)
     return np.array(periods), np.array(ratios)
