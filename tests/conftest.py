@@ -326,3 +326,38 @@ def assert_same_result_file(a: Path, b: Path) -> None:
     assert data_a.keys() == data_b.keys()
     for name in data_a:
         assert data_a[name] == data_b[name], name
+
+
+def page_layout(html, frames: list[int]) -> list[dict]:
+    """The animation page's own geometry (its `layout` function, run in node) at frames:
+    what the page draws, read without a browser. Skips where node is absent."""
+    import shutil
+    import subprocess
+
+    node = shutil.which("node")
+    if node is None:
+        pytest.skip("node is not installed: the page's geometry is checked with node")
+    script = ("const fs = require('fs'); const t = fs.readFileSync(process.argv[1], 'utf8');"
+              "const data = JSON.parse(/<script id=\"pframe-data\" type=\"application\\/json\">"
+              "([\\s\\S]*?)<\\/script>/.exec(t)[1]);"
+              "eval(/<script id=\"pframe-geometry\">([\\s\\S]*?)<\\/script>/.exec(t)[1]);"
+              "console.log(JSON.stringify(JSON.parse(process.argv[2]).map(k => layout(data, k))));")
+    done = subprocess.run([node, "-e", script, str(html), json.dumps(frames)],
+                          capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    return json.loads(done.stdout)
+
+
+def drive_material(law, packed, drifts):
+    """A storey material driven through a drift history, each step committed: its force,
+    tangent and committed state after each drift."""
+    committed = np.zeros(len(law.state_names))
+    trial = committed.copy()
+    forces, tangents, states = [], [], []
+    for d in drifts:
+        f, k, _ = law.force(packed, committed, trial, float(d), 0.0)
+        committed = trial.copy()
+        forces.append(f)
+        tangents.append(k)
+        states.append(committed)
+    return np.array(forces), np.array(tangents), np.array(states)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import page_layout
 
 import pframe
 from pframe.cli import main
@@ -56,19 +57,8 @@ def test_the_page_is_self_contained_and_holds_the_run(page):
             1.0 + data["scale"] * float(ds.contact_gap.min()), rel=1e-12)
 
 
-def _layout(html: Path, frames: list[int]) -> list[dict]:
-    node = shutil.which("node")
-    if node is None:
-        pytest.skip("node is not installed: the page's geometry is checked with node")
-    script = ("const fs = require('fs'); const t = fs.readFileSync(process.argv[1], 'utf8');"
-              "const data = JSON.parse(/<script id=\"pframe-data\" type=\"application\\/json\">"
-              "([\\s\\S]*?)<\\/script>/.exec(t)[1]);"
-              "eval(/<script id=\"pframe-geometry\">([\\s\\S]*?)<\\/script>/.exec(t)[1]);"
-              "console.log(JSON.stringify(JSON.parse(process.argv[2]).map(k => layout(data, k))));")
-    done = subprocess.run([node, "-e", script, str(html), json.dumps(frames)],
-                          capture_output=True, text=True, timeout=60)
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout)
+def _layout(html, frames):
+    return page_layout(html, frames)
 
 
 @pytest.mark.slow

@@ -19,7 +19,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import record_file, run_text
+from conftest import drive_material, record_file, run_text
 
 from pframe.laws.registry import get_law
 
@@ -37,18 +37,7 @@ def _packed(**fields):
     return BWBN.pack(BWBN.Params(material="bwbn", **(SHAPE | fields)))
 
 
-def _run(law, packed, drifts):
-    """force, tangent and committed state after each drift, each step committed."""
-    committed = np.zeros(len(law.state_names))
-    trial = committed.copy()
-    forces, tangents, states = [], [], []
-    for d in drifts:
-        f, k, _ = law.force(packed, committed, trial, float(d), 0.0)
-        committed = trial.copy()
-        forces.append(f)
-        tangents.append(k)
-        states.append(committed)
-    return np.array(forces), np.array(tangents), np.array(states)
+_run = drive_material
 
 
 _TAG = [0]

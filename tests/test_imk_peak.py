@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import REPO, record_file, run_text, runnable_model
+from conftest import REPO, drive_material, record_file, run_text, runnable_model
 
 from pframe.laws.material.imk_peak import ImkPeak
 
@@ -33,17 +33,7 @@ def _packed(**changes):
 
 
 def _pframe(packed, drifts):
-    """force, tangent and committed state after each drift, each step committed."""
-    committed = np.zeros(len(ImkPeak.state_names))
-    trial = committed.copy()
-    out, tangents, states = [], [], []
-    for d in drifts:
-        f, k, _ = ImkPeak.force(packed, committed, trial, float(d), 0.0)
-        committed = trial.copy()
-        out.append(f)
-        tangents.append(k)
-        states.append(committed)
-    return np.array(out), np.array(tangents), np.array(states)
+    return drive_material(ImkPeak, packed, drifts)
 
 
 _TAG = [0]

@@ -7,11 +7,10 @@ from __future__ import annotations
 
 import json
 import re
-import shutil
-import subprocess
 
 import numpy as np
 import pytest
+from conftest import page_layout
 
 import pframe
 from pframe.cli import main
@@ -87,18 +86,7 @@ def test_floors_stand_at_their_elevations_and_contacts_at_their_column_point(run
 
 
 def _layout(html, frames):
-    node = shutil.which("node")
-    if node is None:
-        pytest.skip("node is not installed: the page's geometry is checked with node")
-    script = ("const fs = require('fs'); const t = fs.readFileSync(process.argv[1], 'utf8');"
-              "const data = JSON.parse(/<script id=\"pframe-data\" type=\"application\\/json\">"
-              "([\\s\\S]*?)<\\/script>/.exec(t)[1]);"
-              "eval(/<script id=\"pframe-geometry\">([\\s\\S]*?)<\\/script>/.exec(t)[1]);"
-              "console.log(JSON.stringify(JSON.parse(process.argv[2]).map(k => layout(data, k))));")
-    done = subprocess.run([node, "-e", script, str(html), json.dumps(frames)],
-                          capture_output=True, text=True, timeout=60)
-    assert done.returncode == 0, done.stderr
-    return json.loads(done.stdout)
+    return page_layout(html, frames)
 
 
 @pytest.mark.slow
