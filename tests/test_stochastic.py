@@ -190,3 +190,54 @@ def test_bad_stochastic_excitation_names_the_place():
                                           "duration": 5}, 0.005, 1.0)
     with pytest.raises(InputError, match="magnitude do not apply"):
         parse_scene(text)
+
+
+@pytest.mark.parametrize("params", [
+    PARAMS,  # f' = 0: one frequency
+    st.RezaeianParameters(0.5, 8.0, 6.0, 4.0, -0.3, 0.2),  # falling, held at the floor
+    st.RezaeianParameters(0.2, 12.0, 5.0, 2.0, 0.4, 0.05),  # rising, lightly damped
+])
+def test_compiled_filter_is_the_direct_sum(params):
+    """The compiled filter (a complex recurrence a pulse) against the direct sum of h from exp
+    and sin, lag by lag: the same unit-variance process to roundoff."""
+    if st._filter_library() is None:
+        pytest.skip("the compiled filter (pframe.excitation._cstochastic) is not built")
+    step = 0.01
+    env = st.gamma_envelope(params.arias, params.d595, params.tmid)
+    times = np.arange(int(env.energy_time(st.ENERGY_COVERED) / step) + 1) * step
+    omega, _ = st.filter_frequencies(params, times)
+    u = np.random.Generator(np.random.PCG64(1)).standard_normal(times.size)
+    fast = st.filtered_unit(omega, u, params.damping, step)
+    slow = st.filtered_unit_numpy(omega, u, params.damping, step)
+    assert np.max(np.abs(fast - slow)) < 1e-12 * np.max(np.abs(slow))
+
+
+def test_batch_gives_each_seed_its_own_motion():
+    """rezaeian_batch over seeds: each motion is, bit for bit, what a scene with that seed
+    generates alone; ``until`` keeps a prefix of the same samples."""
+    site = dict(magnitude=6.5, distance=20.0, vs30=400.0, mechanism="reverse")
+    seeds = [3, 0, 11, 7]
+    batch = st.rezaeian_batch(seeds, 0.01, site)
+    for seed, m in zip(seeds, batch):
+        alone = st.generate(Stochastic(model="rezaeian2010", seed=seed, **site))
+        assert np.array_equal(m.acceleration, alone.acceleration)
+        assert m.parameters == alone.parameters and m.sampled and m.warnings == alone.warnings
+    early = st.rezaeian_batch(seeds, 0.01, site, until=lambda p: p.tmid + 1.0)
+    for m, short in zip(batch, early):
+        n, stop = short.times.size, m.parameters["tmid"] + 1.0
+        assert short.times[-1] <= stop + 1e-9 < short.times[-1] + 0.01 and n < m.times.size
+        assert np.array_equal(short.acceleration, m.acceleration[:n])
+
+
+def test_envelopes_solved_together_have_their_duration_and_tmid():
+    """gamma_envelopes over many (D5-95, t_mid), from nearly stationary (a long D5-95 for its
+    t_mid: alpha_2 near 1) to a short pulse (a large shape): each has its D5-95 and t_mid."""
+    ratio = np.array([0.05, 0.3, 1.0, 2.5, 4.9])
+    tmid = np.array([3.0, 10.0, 6.0, 2.0, 4.0])
+    a1, a2, a3 = st.gamma_envelopes(np.full(5, 0.3), ratio * tmid, tmid)
+    for b in range(5):
+        env = st.GammaEnvelope(a1[b], a2[b], a3[b])
+        t5, t45, t95 = (env.energy_time(p) for p in (0.05, 0.45, 0.95))
+        assert t95 - t5 == pytest.approx(ratio[b] * tmid[b], rel=1e-9)
+        assert t45 == pytest.approx(tmid[b], rel=1e-9)
+        assert env.arias() == pytest.approx(0.3, rel=1e-10)  # k ln(rate) - ln Gamma(k): large k

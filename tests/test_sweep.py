@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import math
 import sys
 from pathlib import Path
 
@@ -18,7 +19,7 @@ import h5py
 import numpy as np
 import pytest
 import yaml
-from conftest import runnable_model
+from conftest import WU2021, runnable_model
 
 import pframe
 from pframe.assemble import assemble
@@ -491,3 +492,19 @@ def test_a_records_axis_is_named_by_the_records(tmp_path):
     fig, _ = spectrum(out, response="peak_displacement", x="gap", curves="record")
     legend = fig.axes[0].get_legend()
     assert [text.get_text() for text in legend.get_texts()] == ["one", "two"]
+
+
+def test_analytic_excitation_facts_are_shared_between_variants_not_aliased():
+    """A sine's facts (its peak found by a search) are computed once per fields and duration
+    for all the variants of a sweep: each call gets its own copy, equal to a fresh
+    computation; another duration gets its own facts."""
+    from pframe.excitation.describe import _applied_motion, applied_motion
+    from pframe.reader import load_scene
+
+    ex = load_scene(WU2021).scene.excitation
+    first = applied_motion(ex, None, 3.0)
+    first["pga"] = -1.0
+    again = applied_motion(ex, None, 3.0)
+    assert again == _applied_motion(ex, None, 3.0) and again["pga"] == pytest.approx(9.81)
+    early = applied_motion(ex, None, 0.1)  # before the sine's first peak (t = 0.25 s)
+    assert early["applied_peak"] == pytest.approx(9.81 * math.sin(2 * math.pi * 0.1), rel=1e-9)

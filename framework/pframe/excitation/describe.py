@@ -228,6 +228,27 @@ def applied_motion(excitation, record=None, duration: float | None = None) -> di
     """
     if excitation is None:
         return None
+    if record is None and excitation.kind not in ("record", "stochastic"):
+        # a sine or a pulse: a function of its fields and the duration alone, the same for
+        # every variant of a sweep that leaves them (its peak search costs milliseconds)
+        key = (type(excitation).__name__, excitation.model_dump_json(), duration)
+        return dict(_analytic_motion(key, excitation, duration))
+    return _applied_motion(excitation, record, duration)
+
+
+_ANALYTIC: dict = {}
+
+
+def _analytic_motion(key, excitation, duration):
+    facts = _ANALYTIC.get(key)
+    if facts is None:
+        if len(_ANALYTIC) > 256:
+            _ANALYTIC.clear()
+        facts = _ANALYTIC[key] = _applied_motion(excitation, None, duration)
+    return facts
+
+
+def _applied_motion(excitation, record, duration):
     from pframe.excitation.sample import motion
 
     m = motion(excitation, record)

@@ -129,48 +129,81 @@ def relation_covariance() -> np.ndarray:
 
 def from_normal(nu) -> RezaeianParameters:
     """The parameters whose normal-space values are ``nu`` (six): theta_i = F_i^-1(Phi(nu_i))."""
-    from scipy import stats
+    values = from_normal_batch(np.asarray(nu, dtype=float)[None, :])
+    return RezaeianParameters(*(float(v[0]) for v in values))
+
+
+def from_normal_batch(nu: np.ndarray) -> tuple[np.ndarray, ...]:
+    """:func:`from_normal` of each row of ``nu`` (B, 6), vectorised: the six parameters as
+    arrays (arias, d595, tmid, frequency, slope, damping), in the order of
+    :class:`RezaeianParameters`."""
+    from scipy import special
 
     nu = np.asarray(nu, dtype=float)
-    p = stats.norm.cdf(nu)
+    p = special.ndtr(nu)
     values = {}
-    for name, prob, x in zip(RELATIONS["names"], p, nu):
+    for j, name in enumerate(RELATIONS["names"]):
         kind, *args = MARGINALS[name]
         if kind == "normal":
-            values[name] = args[0] + args[1] * float(x)  # exact, not through Phi
+            values[name] = args[0] + args[1] * nu[:, j]  # exact, not through Phi
         elif kind == "beta":
             a, b, lo, hi = args
-            values[name] = lo + (hi - lo) * float(stats.beta.ppf(prob, a, b))
+            values[name] = lo + (hi - lo) * special.betaincinv(a, b, p[:, j])
         elif kind == "gamma":
-            values[name] = float(stats.gamma.ppf(prob, args[0], scale=args[1]))
+            values[name] = special.gammaincinv(args[0], p[:, j]) * args[1]
         else:
-            values[name] = two_sided_exponential_ppf(float(prob), *args)
-    return RezaeianParameters(math.exp(values["ln_arias"]) * G, values["d595"], values["tmid"],
-                              values["frequency"], values["slope"], values["damping"])
+            values[name] = _two_sided_exponential_ppf(p[:, j], *args)
+    return (np.exp(values["ln_arias"]) * G, values["d595"], values["tmid"], values["frequency"],
+            values["slope"], values["damping"])
+
+
+def _two_sided_exponential_ppf(p, a, b, c, lo, hi) -> np.ndarray:
+    p = np.asarray(p, dtype=float)
+    at_zero = (c / b) * (1.0 - math.exp(b * lo))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        left = np.log(p * b / c + math.exp(b * lo)) / b
+        right = -np.log(np.maximum(1.0 - (p - at_zero) * a / c, 1e-300)) / a
+    return np.clip(np.where(p < at_zero, left, right), lo, hi)
 
 
 def two_sided_exponential_ppf(p: float, a: float, b: float, c: float, lo: float,
                               hi: float) -> float:
     """Inverse of the CDF of the density c e^(b x) on [lo, 0), c e^(-a x) on [0, hi]."""
-    at_zero = (c / b) * (1.0 - math.exp(b * lo))
-    if p < at_zero:
-        x = math.log(p * b / c + math.exp(b * lo)) / b
-    else:
-        x = -math.log(max(1.0 - (p - at_zero) * a / c, 1e-300)) / a
-    return min(max(x, lo), hi)
+    return float(_two_sided_exponential_ppf(np.array([p]), a, b, c, lo, hi)[0])
 
 
 def sample_parameters(magnitude, distance, vs30, mechanism, rng, tries: int = 1000):
     """One realisation's parameters from the site: (parameters, nu, rejected), where
     ``rejected`` counts the draws refused because no gamma-form modulating function has their
     D5-95 and t_mid (D5-95 / t_mid above that of alpha_2 = 1); they are drawn again."""
+    values, nu, rejected = sample_parameters_batch(magnitude, distance, vs30, mechanism, [rng],
+                                                   tries)
+    return RezaeianParameters(*(float(v[0]) for v in values)), nu[0], int(rejected[0])
+
+
+def sample_parameters_batch(magnitude, distance, vs30, mechanism, rngs, tries: int = 1000):
+    """:func:`sample_parameters` for each generator of ``rngs`` (each draws from its own
+    stream, as one realisation alone would), vectorised: (the six parameters as arrays, nu
+    (B, 6), rejected (B,))."""
     mean = relation_means(magnitude, distance, vs30, mechanism)
     chol = np.linalg.cholesky(relation_covariance())
-    for rejected in range(tries):
-        nu = mean + chol @ rng.standard_normal(6)
-        params = from_normal(nu)
-        if envelope_feasible(params.d595, params.tmid):
-            return params, nu, rejected
+    count = len(rngs)
+    nu = np.empty((count, 6))
+    values = [np.empty(count) for _ in range(6)]
+    rejected = np.zeros(count, dtype=np.int64)
+    todo = np.arange(count)
+    for _ in range(tries):
+        z = np.array([rngs[b].standard_normal(6) for b in todo]).reshape(len(todo), 6)
+        # a sum per row, not a matrix product: the same bits whatever the batch's size
+        nu[todo] = mean + np.sum(z[:, None, :] * chol[None, :, :], axis=2)
+        drawn = from_normal_batch(nu[todo])
+        for v, d in zip(values, drawn):
+            v[todo] = d
+        bad = ~envelope_feasible_batch(values[1][todo], values[2][todo])
+        rejected[todo[bad]] += 1
+        todo = todo[bad]
+        if not todo.size:
+            return tuple(values), nu, rejected
     raise ValueError(f"no feasible modulating function in {tries} draws")
 
 
@@ -178,20 +211,28 @@ def sample_parameters(magnitude, distance, vs30, mechanism, rng, tries: int = 10
 # The gamma-form modulating function
 
 
-def _gamma_quantiles(shape: float, probs=(0.05, 0.45, 0.95)) -> np.ndarray:
-    from scipy import stats
+def _gamma_quantiles(shape, probs=(0.05, 0.45, 0.95)) -> np.ndarray:
+    """The quantiles ``probs`` of the unit gamma law of each ``shape``: (..., len(probs))."""
+    from scipy import special
 
-    return stats.gamma.ppf(probs, shape)
+    return special.gammaincinv(np.asarray(shape, float)[..., None], np.asarray(probs))
 
 
-def _duration_ratio(shape: float) -> float:
-    q5, q45, q95 = _gamma_quantiles(shape)
-    return (q95 - q5) / q45
+def _duration_ratio(shape):
+    q = _gamma_quantiles(shape)
+    ratio = (q[..., 2] - q[..., 0]) / q[..., 1]
+    return float(ratio) if np.ndim(ratio) == 0 else ratio
 
 
 def envelope_feasible(d595: float, tmid: float) -> bool:
     """Whether a gamma-form q (alpha_2 > 1: q(0) = 0) has this D5-95 and t_mid."""
-    return 0.0 < d595 / tmid < _duration_ratio(1.0) * (1.0 - 1e-9)
+    return bool(envelope_feasible_batch(np.array([d595]), np.array([tmid]))[0])
+
+
+def envelope_feasible_batch(d595, tmid) -> np.ndarray:
+    """:func:`envelope_feasible` elementwise."""
+    ratio = np.asarray(d595, float) / np.asarray(tmid, float)
+    return (ratio > 0.0) & (ratio < _duration_ratio(1.0) * (1.0 - 1e-9))
 
 
 @dataclass(frozen=True)
@@ -227,21 +268,50 @@ def gamma_envelope(arias: float, d595: float, tmid: float) -> GammaEnvelope:
     t_mid ``tmid`` (s): q^2 is a gamma density of shape k = 2 alpha_2 - 1 and rate 2 alpha_3
     scaled; k solves D5-95 / t_mid = (Q95 - Q5) / Q45 of the gamma(k) quantiles, the rate
     follows from t_mid, alpha_1 from I_a."""
-    from scipy.optimize import brentq
-
     if not envelope_feasible(d595, tmid):
         raise ValueError(f"no gamma-form modulating function has D5-95 = {d595:g} s and "
                          f"t_mid = {tmid:g} s (D5-95 / t_mid must be below "
                          f"{_duration_ratio(1.0):.4g})")
-    ratio = d595 / tmid
-    hi = 2.0
-    while _duration_ratio(hi) > ratio:
-        hi *= 2.0
-    k = brentq(lambda s: _duration_ratio(s) - ratio, 1.0, hi, xtol=1e-12, rtol=1e-12)
-    rate = float(_gamma_quantiles(k, (0.45,))[0]) / tmid
-    alpha2, alpha3 = 0.5 * (k + 1.0), 0.5 * rate
-    log_a1 = 0.5 * (math.log(2.0 * G * arias / math.pi) + k * math.log(rate) - math.lgamma(k))
-    return GammaEnvelope(math.exp(log_a1), alpha2, alpha3)
+    a1, a2, a3 = gamma_envelopes(np.array([arias]), np.array([d595]), np.array([tmid]))
+    return GammaEnvelope(float(a1[0]), float(a2[0]), float(a3[0]))
+
+
+def gamma_envelopes(arias, d595, tmid) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(alpha_1, alpha_2, alpha_3) of :func:`gamma_envelope` for arrays of feasible
+    parameters: the shape k solved for all at once (bracketed by doubling, then the Illinois
+    variant of regula falsi to 1e-13 of k)."""
+    arias, d595, tmid = (np.asarray(x, float) for x in (arias, d595, tmid))
+    target = d595 / tmid
+    lo, hi = np.ones_like(target), np.full_like(target, 2.0)
+    f_hi = _duration_ratio(hi) - target
+    while np.any(f_hi > 0):
+        grow = f_hi > 0
+        lo[grow], hi[grow] = hi[grow], 2.0 * hi[grow]
+        f_hi[grow] = _duration_ratio(hi[grow]) - target[grow]
+    f_lo = _duration_ratio(lo) - target
+    k = hi.copy()
+    side = np.zeros(target.shape, dtype=np.int8)
+    for _ in range(200):
+        active = (hi - lo > 1e-13 * hi) & (f_lo != 0) & (f_hi != 0)
+        if not np.any(active):
+            break
+        a = np.flatnonzero(active)
+        k[a] = (lo[a] * f_hi[a] - hi[a] * f_lo[a]) / (f_hi[a] - f_lo[a])
+        k[a] = np.clip(k[a], lo[a], hi[a])
+        f = _duration_ratio(k[a]) - target[a]
+        up = f > 0  # the root is above k
+        lo[a[up]], f_lo[a[up]] = k[a[up]], f[up]
+        hi[a[~up]], f_hi[a[~up]] = k[a[~up]], f[~up]
+        # Illinois: halve the value at the end that stayed twice in a row
+        f_hi[a[up & (side[a] == 1)]] *= 0.5
+        f_lo[a[~up & (side[a] == -1)]] *= 0.5
+        side[a] = np.where(up, 1, -1)
+    k = np.where(f_lo == 0, lo, np.where(f_hi == 0, hi, k))
+    from scipy import special
+
+    rate = _gamma_quantiles(k, (0.45,))[..., 0] / tmid
+    log_a1 = 0.5 * (np.log(2.0 * G * arias / math.pi) + k * np.log(rate) - special.gammaln(k))
+    return np.exp(log_a1), 0.5 * (k + 1.0), 0.5 * rate
 
 
 # ----------------------------------------------------------------------------------------
@@ -255,6 +325,11 @@ def filter_frequencies(params: RezaeianParameters, times: np.ndarray):
     return 2.0 * math.pi * np.maximum(f, FILTER_FLOOR_HZ), floored
 
 
+#: a pulse's filter response is summed until it has decayed by e^-FILTER_CUTOFF (below
+#: roundoff of the sum)
+FILTER_CUTOFF = 40.0
+
+
 def rezaeian_unfiltered(params: RezaeianParameters, step: float, rng):
     """(times, a before the post-filter, envelope, floored) of one realisation."""
     env = gamma_envelope(params.arias, params.d595, params.tmid)
@@ -263,21 +338,117 @@ def rezaeian_unfiltered(params: RezaeianParameters, step: float, rng):
     times = np.arange(n) * step
     omega, floored = filter_frequencies(params, times)
     u = rng.standard_normal(n)
-    zeta = params.damping
+    return times, env(times) * filtered_unit(omega, u, params.damping, step), env, floored
+
+
+def filtered_unit(omega: np.ndarray, u: np.ndarray, zeta: float, step: float) -> np.ndarray:
+    """sum_i h[t_k - t_i, omega(t_i)] u_i / sigma_h(t_k) at every sample: the unit-variance
+    process before the modulating function (compiled; :func:`filtered_unit_numpy` when the
+    extension is not built). ``omega`` (rad/s) must be monotonic, as
+    :func:`filter_frequencies` gives it."""
+    library = _filter_library()
+    if library is None:
+        return filtered_unit_numpy(omega, u, zeta, step)
+    import ctypes
+
+    n = len(omega)
+    omega = np.ascontiguousarray(omega, dtype=float)
+    u = np.ascontiguousarray(u, dtype=float)
+    total, norm, work = np.empty(n), np.empty(n), np.empty(4 * n)
+    library.pframe_rezaeian_filter(n, ctypes.c_double(step), ctypes.c_double(zeta),
+                                   ctypes.c_double(FILTER_CUTOFF), omega.ctypes.data,
+                                   u.ctypes.data, total.ctypes.data, norm.ctypes.data,
+                                   work.ctypes.data)
+    return np.divide(total, np.sqrt(norm), out=np.zeros(n), where=norm > 0)
+
+
+def filtered_unit_numpy(omega: np.ndarray, u: np.ndarray, zeta: float, step: float) -> np.ndarray:
+    """:func:`filtered_unit` in numpy, lag by lag with h from exp and sin (the reference the
+    compiled filter is tested against; about a hundred times slower)."""
+    n = len(omega)
     root = math.sqrt(1.0 - zeta * zeta)
     total = np.zeros(n)
     norm = np.zeros(n)
     decay = zeta * float(np.min(omega)) * step
     for m in range(1, n):  # lag m: the pulses of t_i = t_k - m dt
-        if decay * m > 40.0:  # e^-40: every later lag is below roundoff
+        if decay * m > FILTER_CUTOFF:  # every later lag is below roundoff
             break
         w = omega[: n - m]
         tau = m * step
         h = w / root * np.exp(-zeta * w * tau) * np.sin(w * root * tau)
         total[m:] += h * u[: n - m]
         norm[m:] += h * h
-    unit = np.divide(total, np.sqrt(norm), out=np.zeros(n), where=norm > 0)
-    return times, env(times) * unit, env, floored
+    return np.divide(total, np.sqrt(norm), out=np.zeros(n), where=norm > 0)
+
+
+@functools.lru_cache(maxsize=1)
+def _filter_library():
+    """The compiled filter (extension pframe.excitation._cstochastic, loaded with ctypes,
+    whose calls release the GIL), or None when it is not built."""
+    import ctypes
+    import importlib.util
+
+    spec = importlib.util.find_spec("pframe.excitation._cstochastic")
+    if spec is None or not spec.origin:
+        return None
+    library = ctypes.CDLL(spec.origin)
+    library.pframe_rezaeian_filter.restype = ctypes.c_int64
+    library.pframe_rezaeian_filter.argtypes = [ctypes.c_int64, ctypes.c_double, ctypes.c_double,
+                                               ctypes.c_double] + [ctypes.c_void_p] * 5
+    return library
+
+
+def rezaeian_batch(seeds, step: float, site: dict | None = None,
+                   parameters: RezaeianParameters | None = None,
+                   highpass_filter: bool = True, until=None) -> list[StochasticMotion]:
+    """Realisations of the rezaeian2010 model, one per seed, each what
+    ``generate(Stochastic(model="rezaeian2010", seed=seed, ...))`` gives (the same bits: that
+    is this function with one seed): parameters sampled from ``site`` (magnitude, distance,
+    vs30, mechanism) or ``parameters`` given. Parameters and modulating functions are
+    computed for all seeds at once; each motion's filter is the compiled one.
+
+    ``until`` (s, or a function of a realisation's :class:`RezaeianParameters` giving seconds)
+    keeps only the motion up to that time: the same samples as the whole motion's (every
+    filter is causal), at a part of the cost."""
+    rngs = [np.random.Generator(np.random.PCG64(int(seed))) for seed in seeds]
+    count = len(rngs)
+    warnings = []
+    if parameters is None:
+        from types import SimpleNamespace
+
+        warnings = _site_warnings(SimpleNamespace(**site))
+        values, _, _ = sample_parameters_batch(site["magnitude"], site["distance"], site["vs30"],
+                                               site.get("mechanism", "strike_slip"), rngs)
+    else:
+        values = tuple(np.full(count, float(v)) for v in parameters.as_dict().values())
+    a1, a2, a3 = gamma_envelopes(values[0], values[1], values[2])
+    from scipy import special
+
+    ends = special.gammaincinv(2.0 * a2 - 1.0, ENERGY_COVERED) / (2.0 * a3)
+    motions = []
+    for b, rng in enumerate(rngs):
+        params = RezaeianParameters(*(float(v[b]) for v in values))
+        env = GammaEnvelope(float(a1[b]), float(a2[b]), float(a3[b]))
+        n = int(math.ceil(float(ends[b]) / step)) + 1
+        if until is not None:
+            stop = until(params) if callable(until) else until
+            n = max(2, min(n, int(math.floor(float(stop) / step + 1e-9)) + 1))
+        times = np.arange(n) * step
+        omega, floored = filter_frequencies(params, times)
+        u = rng.standard_normal(n)
+        acc = env(times) * filtered_unit(omega, u, params.damping, step)
+        if highpass_filter:
+            acc = highpass(acc, step)
+        notes = list(warnings)
+        if floored:
+            notes.append(f"stochastic motion: the filter frequency f_mid + f' (t - t_mid) "
+                         f"falls below {FILTER_FLOOR_HZ:g} Hz within the motion and is held "
+                         "there")
+        acc.setflags(write=False)
+        times.setflags(write=False)
+        motions.append(StochasticMotion(times, acc, "rezaeian2010", int(seeds[b]),
+                                        params.as_dict(), parameters is None, tuple(notes)))
+    return motions
 
 
 def highpass(acceleration: np.ndarray, step: float, corner_hz: float = HIGHPASS_HZ) -> np.ndarray:
@@ -286,10 +457,18 @@ def highpass(acceleration: np.ndarray, step: float, corner_hz: float = HIGHPASS_
     (transfer s^2 / (s + w_c)^2), exact for a linear between samples."""
     from scipy import signal
 
+    num, den = _highpass_coefficients(float(step), float(corner_hz))
+    return signal.lfilter(num, den, acceleration)
+
+
+@functools.lru_cache(maxsize=16)
+def _highpass_coefficients(step: float, corner_hz: float):
+    from scipy import signal
+
     wc = 2.0 * math.pi * corner_hz
     num, den, _ = signal.cont2discrete(([1.0, 0.0, 0.0], [1.0, 2.0 * wc, wc * wc]), step,
                                        method="foh")
-    return signal.lfilter(np.ravel(num), den, acceleration)
+    return np.ravel(num), den
 
 
 def clough_penzien_psd(omega, intensity, ground_frequency, ground_damping,
@@ -464,23 +643,9 @@ def _generate(key: str) -> StochasticMotion:
     step, warnings = float(d["step"]), []
     if d["model"] == "rezaeian2010":
         given = d.get("parameters")
-        if given is not None:
-            params, sampled = RezaeianParameters(**given), False
-        else:
-            from types import SimpleNamespace
-
-            site = SimpleNamespace(**d)
-            warnings += _site_warnings(site)
-            params, _, _ = sample_parameters(site.magnitude, site.distance, site.vs30,
-                                             site.mechanism, rng)
-            sampled = True
-        times, raw, _, floored = rezaeian_unfiltered(params, step, rng)
-        acc = highpass(raw, step) if d["highpass"] else raw
-        parameters = params.as_dict()
-        if floored:
-            warnings.append(f"stochastic motion: the filter frequency f_mid + f' (t - t_mid) "
-                            f"falls below {FILTER_FLOOR_HZ:g} Hz within the motion and is held "
-                            "there")
+        site = {k: d[k] for k in ("magnitude", "distance", "vs30", "mechanism")}
+        return rezaeian_batch([int(d["seed"])], step, None if given else site,
+                              RezaeianParameters(**given) if given else None, d["highpass"])[0]
     else:
         env = d["envelope"] or {"kind": "none"}
         if env["kind"] == "jennings":
