@@ -118,3 +118,25 @@ def test_a_batch_refuses_variants_whose_newton_settings_differ():
         assemble_batch([a, b])
     other = parse_scene(_text(*VARIANTS[1])).expanded  # numbers only: the same key
     assert batch_key(a) == batch_key(other)
+
+
+def test_members_share_a_modal_fit_only_when_they_share_the_structure():
+    """Members with one structure share its Rayleigh fit and dt checks (a risk study's
+    records); a member with other masses or stiffnesses gets its own, as it would alone."""
+    import dataclasses
+
+    from pframe.assemble import assemble, assemble_batch
+    from pframe.reader import parse_scene
+
+    base = parse_scene(_text(0.005, 2.0e7)).expanded
+    heavy = dataclasses.replace(base, masses=base.masses * 4.0)
+    stiff = parse_scene(TEMPLATE.replace("GAP", "0.005").replace("STIFFNESS", "2e7")
+                        .replace("1973920.88", "7895683.52")).expanded
+    members = [base, heavy, base, stiff]
+    plan = assemble_batch(members)
+    for b, ex in enumerate(members):
+        alone = assemble(ex)
+        assert np.array_equal(plan.mass_damping[b], alone.mass_damping[0])
+        assert np.array_equal(plan.story_beta[b], alone.story_beta[0])
+    assert not np.array_equal(plan.mass_damping[0], plan.mass_damping[1])
+    assert not np.array_equal(plan.story_beta[0], plan.story_beta[3])

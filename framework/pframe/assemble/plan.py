@@ -432,8 +432,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     k0 = k0.reshape(len(variants), len(springs))
     masses = [soil.masses(ex) for ex in variants]
     mass_damping, story_beta = [], []
+    fits: dict = {}  # members with the same masses, stiffnesses and damping share their fit
     for b, ex in enumerate(variants):
-        a0, a1 = _rayleigh(ex, k0[b], dof_of_node[:nodes], n)  # foundations: a0 = 0
+        key = (ex.masses.tobytes(), k0[b].tobytes(), id(ex.damping))
+        if key not in fits:
+            fits[key] = _rayleigh(ex, k0[b], dof_of_node[:nodes], n)  # foundations: a0 = 0
+        a0, a1 = fits[key]
         mass_damping.append(a0 * masses[b][order])
         story_beta.append(np.concatenate([a1, np.zeros(len(springs) - len(first.stories))]))
 

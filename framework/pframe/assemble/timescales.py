@@ -180,14 +180,22 @@ def _resolution(steps: float, coefficients) -> str:
             f"({abs(reference):.1%} at {STEPS_PER_PERIOD} steps)")
 
 
-def _buildings(plan, ex, member: int, h: float, coefficients, findings, plausible: bool):
+def _buildings(plan, ex, member: int, h: float, coefficients, findings, plausible: bool,
+               modes: dict):
     k0 = plan.story_k0[member]
     for b, name in enumerate(ex.buildings):
-        try:
-            with np.errstate(all="ignore"):
-                omega, shares = building_modes(ex, b, k0)
-        except (np.linalg.LinAlgError, ArithmeticError, ValueError):
+        # members of a batch that share a building's masses and stiffnesses (a risk study's
+        # records, a sweep over the excitation) share its modes: ``modes`` keeps them
+        key = (b, ex.masses.tobytes(), k0.tobytes())
+        if key not in modes:
+            try:
+                with np.errstate(all="ignore"):
+                    modes[key] = building_modes(ex, b, k0)
+            except (np.linalg.LinAlgError, ArithmeticError, ValueError):
+                modes[key] = None
+        if modes[key] is None:
             continue
+        omega, shares = modes[key]
         if not (np.all(np.isfinite(omega)) and np.all(np.isfinite(shares))):
             continue
         count = carrying_modes(omega, shares)
@@ -318,13 +326,14 @@ def check(plan, variants) -> tuple[str, ...]:
     no building has (``variants``: the expanded scenes of its batch members)."""
     findings = _Findings(plan.batch)
     coefficients = plan.integrator
+    modes: dict = {}
     for member, ex in enumerate(variants):
         dt = float(plan.dt[member])
         parts = int(plan.cd_parts[member]) if plan.cd_parts is not None else 1
         h = dt / parts if coefficients.explicit else dt
         unit = set(ex.unit_scales)
         plausible = None if "w_p" in unit else ("m_b" not in unit)
-        _buildings(plan, ex, member, h, coefficients, findings, plausible)
+        _buildings(plan, ex, member, h, coefficients, findings, plausible, modes)
         _excitation(plan, ex, member, dt, coefficients, findings)
         _record(plan, ex, member, dt, findings)
     return findings.texts()
