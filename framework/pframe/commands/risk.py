@@ -21,7 +21,8 @@ def _risk(args) -> int:
     progress = None
     if not args.quiet and sys.stderr.isatty():
         def progress(done, total):
-            sys.stderr.write(f"\r  pframe risk: {done}/{total} runs ")
+            sys.stderr.write(f"\r  pframe risk: {done}/{total} runs " if total is not None
+                             else f"\r  pframe risk: {done} runs (ida: hunt and fill) ")
             sys.stderr.flush()
     timings: dict = {}
     try:

@@ -13,7 +13,8 @@ from pframe.risk.fragility import CONFIDENCE
 KIND = "risk_study"
 
 
-def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None):
+def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None,
+                  search=None):
     import xarray as xr
 
     import pframe
@@ -29,6 +30,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "record_name": ("record", np.array(inputs.suite.names, dtype=object),
                         {"long_name": "ground-motion record"}),
         "level": ("level", np.asarray(inputs.levels, float),
+                  {"units": "1", "long_name": "run of the record's hunt and fill, in order of "
+                   "intensity (see intensity)"} if search is not None else
                   {"units": "g" if inputs.scaled else "1",
                    "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
                                  else "records as given (cloud analysis)")}),
@@ -102,7 +105,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "complete": (("condition", "record", "level"), np.stack([
             rows.get(f"{p}_complete", np.zeros(R * L, np.int8)).reshape(R, L)
             for p in ("free", "contact")]).astype(np.int8),
-            {"units": "1", "long_name": "1 if the run completed"}),
+            {"units": "1", "long_name": "1 if the run completed, 0 if it failed, -1 if not "
+             "run (a slot of ida by hunt and fill)"}),
     }
     attrs = {
         "title": f"risk study: {inputs.loaded.scene.title or inputs.loaded.source}",
@@ -113,6 +117,13 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "warnings": "\n".join([*inputs.warnings, *result.warnings]),
         "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
     }
+    if search is not None:
+        d = spec.design
+        attrs.update(ida_limit=d.limit, ida_condition=d.condition or (
+            "with_pounding" if spec.pounding_runs else "without_pounding"),
+            ida_resolution=d.resolution, ida_rounds=search.rounds, ida_runs=search.runs,
+            ida_hunt=f"start {d.hunt.start:g} g, step {d.hunt.step:g} g, growth "
+                     f"{d.hunt.growth:g}, max_level {d.max_level:g} g")
     if any(math.isfinite(result.maf[k][0]) for k in result.maf):
         data.update({
             "annual_frequency": (("limit", "condition"), maf(0), {

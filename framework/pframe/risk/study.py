@@ -37,13 +37,37 @@ class _Base(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
 
+class Hunt(_Base):
+    """The hunt of an IDA by hunt and fill: levels start, start + step, then steps growing
+    by ``growth`` each time, until the limit is passed."""
+
+    start: float = Field(gt=0, allow_inf_nan=False, description="The first level (g).")
+    step: float = Field(gt=0, allow_inf_nan=False, description="The first step up (g).")
+    growth: float = Field(1.5, ge=1, allow_inf_nan=False, description="Each step is the "
+                          "last times this (1: equal steps).")
+
+
 class Design(_Base):
-    """Records scaled to levels (msa, ida) or as given (cloud)."""
+    """Records scaled to levels (msa, ida) or as given (cloud); IDA by hunt and fill."""
 
     kind: Literal["msa", "ida", "cloud"] = Field(description="multiple-stripe (records scaled "
-                                                 "to levels), incremental dynamic analysis on "
-                                                 "a grid of levels, or cloud (unscaled)")
+                                                 "to levels), incremental dynamic analysis "
+                                                 "(on a grid of levels, or by hunt and fill), "
+                                                 "or cloud (unscaled)")
     levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida")
+    hunt: Hunt | None = Field(None, description="ida by hunt and fill (instead of levels): "
+                              "each record hunted up to the limit, then bisected")
+    resolution: float | None = Field(None, gt=0, allow_inf_nan=False, description="ida hunt: "
+                                     "bisect until the levels bracketing each capacity are "
+                                     "this close (g)")
+    limit: str = Field("pounding", description="ida hunt: the limit hunted (pounding, or a "
+                       "name of limits); a failed run (collapse, non-convergence) passes it")
+    condition: Literal["with_pounding", "without_pounding"] | None = Field(
+        None, description="ida hunt: the runs whose demand is hunted (default: with pounding "
+        "when pounding_runs, else without)")
+    max_level: float = Field(5.0, gt=0, allow_inf_nan=False, description="ida hunt: the "
+                             "highest level run; a record that has not passed the limit there "
+                             "is right-censored (g)")
 
 
 class PowerLaw(_Base):
@@ -83,6 +107,11 @@ class StudyFile(_Base):
     scene: str = Field(description="The scene file, relative to the study file.")
     suite: str | None = Field(None, description="A suite file, relative to the study file "
                               "(default: the scene's own excitation).")
+    stochastic: dict | None = Field(None, description="Stochastic motions instead of a "
+                                    "suite: the fields of a scene's stochastic excitation "
+                                    "(model, its parameters; without kind and seed), "
+                                    "realisations (how many) and seed (of the first; the "
+                                    "others follow it).")
     records_folder: str | None = Field(None, description="Where the suite's records are "
                                        "(default: beside the suite).")
     measure: str | None = Field(None, description="pga, sa:SECONDS or sa:BUILDING "
@@ -125,13 +154,25 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
         raise InputError(f"{path}, at {where}: {err['msg']} (see docs/risk.md for the study "
                          "file's fields)") from None
     design = study.design
-    if design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
+    if design.hunt is not None or design.resolution is not None:
+        _check_hunt(study, path)
+    elif design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
                                           or any(not x > 0 for x in design.levels)):
         raise InputError(f"{path}, at design.levels: a {design.kind} design needs at least two "
                          "positive intensity levels (g)")
     if design.kind == "cloud" and design.levels:
         raise InputError(f"{path}, at design.levels: a cloud analysis runs the records "
                          "unscaled; remove the levels (or use kind: msa)")
+    if study.stochastic is not None:
+        if study.suite is not None:
+            raise InputError(f"{path}, at stochastic: give a suite or stochastic motions, not "
+                             "both")
+        n, seed = study.stochastic.get("realisations"), study.stochastic.get("seed", 0)
+        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
+            raise InputError(f"{path}, at stochastic.realisations: the number of motions, an "
+                             f"integer >= 1 (got {n!r})")
+        if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
+            raise InputError(f"{path}, at stochastic.seed: an integer >= 0 (got {seed!r})")
     if study.hazard is not None and (study.hazard.file is None) == (study.hazard.power_law
                                                                     is None):
         raise InputError(f"{path}, at hazard: give either file: TABLE.csv or power_law: "
@@ -145,6 +186,39 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
             if not (v > 0 and math.isfinite(v)):
                 raise InputError(f"{path}, at limits.{kind}.{name}: a limit is a number > 0")
     return study, path.parent, text
+
+
+def _check_hunt(study, path) -> None:
+    design = study.design
+    if design.kind != "ida" or design.levels:
+        raise InputError(f"{path}, at design: hunt and resolution belong to an ida design "
+                         "without levels (kind: ida, hunt: {start, step, growth}, "
+                         "resolution: ...); a grid of levels is the other form")
+    if design.hunt is None or design.resolution is None:
+        raise InputError(f"{path}, at design.{'hunt' if design.hunt is None else 'resolution'}"
+                         ": an ida by hunt and fill needs both hunt: {start: G, step: G, "
+                         "growth: X} and resolution: G")
+    if design.max_level <= design.hunt.start:
+        raise InputError(f"{path}, at design.max_level: {design.max_level:g} g is not above "
+                         f"the hunt's start ({design.hunt.start:g} g)")
+    known = ["pounding", *study.limits.drift, *study.limits.acceleration]
+    if design.limit not in known:
+        raise InputError(f"{path}, at design.limit: {design.limit!r} is not a limit of the "
+                         f"study (known: {', '.join(known)})")
+    if design.condition == "with_pounding" and not study.pounding_runs:
+        raise InputError(f"{path}, at design.condition: with_pounding needs pounding_runs: "
+                         "true")
+
+
+def stochastic_suite(item: dict, where: str):
+    """A suite of ``realisations`` motions of a stochastic model, seeds ``seed``, ``seed + 1``,
+    ... (the scene's stochastic excitation, generated by pframe.excitation.stochastic)."""
+    from pframe.excitation.suite import Suite, stochastic_motions
+
+    item = dict(item)
+    n, seed = item.pop("realisations"), item.pop("seed", 0)
+    return Suite(tuple(stochastic_motions({**item, "seeds": list(range(seed, seed + n))},
+                                          where)), source=where.split(",")[0])
 
 
 class _Definition:
@@ -239,9 +313,13 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     spec, base, text = read_study(study)
     scene = (base / spec.scene).resolve()
     suite = None if spec.suite is None else (base / spec.suite).resolve()
+    if spec.stochastic is not None:
+        suite = stochastic_suite(spec.stochastic, f"{study}, at stochastic")
     folder = records_folder or (None if spec.records_folder is None
                                 else (base / spec.records_folder).resolve())
-    inputs = prepare(scene, suite, levels=spec.design.levels, measure=spec.measure,
+    hunt = spec.design.hunt is not None
+    levels = [spec.design.hunt.start] if hunt else spec.design.levels
+    inputs = prepare(scene, suite, levels=levels, measure=spec.measure,
                      duration=spec.duration, dt=spec.dt, records_folder=folder)
     hazard = None
     if spec.hazard is not None:
@@ -258,11 +336,18 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         output = outputs.check_output(output, inputs=[r for r in reads if r],
                                       overwrite=overwrite, what="risk file")
     chunk = spec.chunk or inputs.count
-    rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite, progress)
+    search = None
+    if hunt:
+        from pframe.risk.ida import run_hunt
+
+        rows, inputs, search = run_hunt(inputs, spec, output, threads, overwrite, progress)
+    else:
+        rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite,
+                            progress)
     result = analyse(spec, inputs, rows, hazard)
     for line in result.warnings:
         warnings.warn(f"{study}: {line}", stacklevel=2)
-    ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard)
+    ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard, search)
     if output is not None:
         import shutil
 
@@ -272,7 +357,8 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         write_dataset(ds, output)
         shutil.rmtree(parts_folder(Path(output)), ignore_errors=True)
     if timings is not None:
-        timings.update(wall_seconds=time.perf_counter() - start, variants=inputs.count,
+        timings.update(wall_seconds=time.perf_counter() - start,
+                       variants=search.runs if search is not None else inputs.count,
                        solve_seconds=float(rows["free_solve_seconds"])
                        + float(rows.get("contact_solve_seconds", 0.0)))
     return ds
