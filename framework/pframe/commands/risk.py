@@ -43,8 +43,11 @@ def _risk(args) -> int:
         print(f"pframe: warning: {args.study}: {line}", file=sys.stderr)
     if not args.quiet:
         print(summary(ds))
-        print(f"{timings['variants']} variants in {timings['wall_seconds']:.1f} s "
-              f"({timings['solve_seconds']:.1f} s kernel); wrote {output}")
+        kernel = timings["solve_seconds"]
+        print(f"{timings['variants']} runs in {timings['wall_seconds']:.1f} s"
+              + (f" ({kernel:.1f} s kernel)" if kernel == kernel else "") + f"; wrote {output}")
+    if "complete" not in ds:  # subset simulation: failed runs count as pounding
+        return 0
     return 1 if int((ds.complete.sel(condition_name="without_pounding") == 0).sum()) else 0
 
 

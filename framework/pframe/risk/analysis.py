@@ -52,7 +52,7 @@ def _ratios(rows, prefix: str, kind: str, value: float, gap: float) -> np.ndarra
     if kind == "pounding":
         if prefix == "contact":
             return np.where(rows["contact_impacts"].sum(axis=1) > 0, 2.0, 0.5)
-        return np.max(rows["free_g_req"], axis=1) / gap
+        return np.max(rows["free_g_req"], axis=1) / rows.get("free_gap", gap)  # each run's
     if kind == "drift":
         return np.max(rows[f"{prefix}_drift"], axis=1) / value
     return np.max(rows[f"{prefix}_acceleration"], axis=1) / (value * G)

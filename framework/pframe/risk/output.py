@@ -175,8 +175,65 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                               attrs=attrs))
 
 
+def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes):
+    """The result of a subset study: the probability of pounding with its c.o.v. and
+    confidence interval, the intermediate thresholds, the uncertain variables."""
+    import xarray as xr
+
+    import pframe
+
+    m = spec.stochastic
+    data = {
+        "pounding_probability": ((), estimate.probability, {
+            "units": "1", "long_name": "probability of pounding within the analysed time "
+            "(subset simulation)"}),
+        "pounding_probability_low": ((), estimate.low, {
+            "units": "1", "long_name": "lower bound of its 95 % interval (the estimator "
+            "taken lognormal)"}),
+        "pounding_probability_high": ((), estimate.high, {
+            "units": "1", "long_name": "upper bound of its 95 % interval"}),
+        "pounding_probability_cov": ((), estimate.cov, {
+            "units": "1", "long_name": "coefficient of variation of the estimator (Au & Beck "
+            "2001, the chains' correlation included)"}),
+        "evaluations": ((), np.int64(estimate.evaluations), {
+            "units": "1", "long_name": "runs of the kernel"}),
+        "threshold": (("subset_level",), np.array(estimate.levels, float), {
+            "units": "m", "long_name": "intermediate threshold of g = gap - critical gap "
+            "(0: the last level)"}),
+    }
+    coords = {}
+    if params:
+        coords["variable_name"] = ("variable", np.array([p.path for p in params], dtype=object),
+                                   {"long_name": "uncertain scene value (path)"})
+        data["variable_distribution"] = (("variable",), np.array(
+            [p.distribution for p in params], dtype=object), {"long_name": "distribution"})
+        data["variable_parameters"] = (("variable", "parameter"), np.array(
+            [[p.a, p.b] for p in params]), {"units": "1", "long_name": "mean, sd / median, "
+                                            "dispersion / low, high"})
+    attrs = {
+        "title": f"risk study (subset simulation): {inputs.loaded.scene.title or inputs.loaded.source}",
+        "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source,
+        "design": "subset", "motion": ", ".join(f"{k} {v}" for k, v in m.items()),
+        "probability_level": spec.design.probability_level,
+        "samples_per_level": spec.design.samples, "study_yaml": text,
+        "input_yaml": inputs.loaded.text, "dt": inputs.dt, "steps": inputs.steps,
+        "duration": inputs.steps * inputs.dt, "warnings": "\n".join(notes),
+        "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
+    }
+    return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
+                      coords={k: xr.Variable(*v) for k, v in coords.items()}, attrs=attrs)
+
+
 def summary(ds) -> str:
     """The terminal table: each limit's fragility and annual frequency, then the gap."""
+    if "pounding_probability" in ds:
+        return (f"probability of pounding within {float(ds.attrs['duration']):g} s: "
+                f"{float(ds.pounding_probability):.3e} (c.o.v. "
+                f"{float(ds.pounding_probability_cov):.2f}; 95 % "
+                f"{float(ds.pounding_probability_low):.3e}-"
+                f"{float(ds.pounding_probability_high):.3e}) from "
+                f"{int(ds.evaluations)} runs by subset simulation over "
+                f"{ds.sizes.get('variable', 0)} uncertain values and the motion's white noise")
     lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
              + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")]
     lines.append("-" * len(lines[0]))

@@ -50,10 +50,10 @@ class Hunt(_Base):
 class Design(_Base):
     """Records scaled to levels (msa, ida) or as given (cloud); IDA by hunt and fill."""
 
-    kind: Literal["msa", "ida", "cloud"] = Field(description="multiple-stripe (records scaled "
-                                                 "to levels), incremental dynamic analysis "
-                                                 "(on a grid of levels, or by hunt and fill), "
-                                                 "or cloud (unscaled)")
+    kind: Literal["msa", "ida", "cloud", "subset"] = Field(
+        description="multiple-stripe (records scaled to levels), incremental dynamic analysis "
+        "(on a grid of levels, or by hunt and fill), cloud (unscaled), or subset simulation "
+        "of the probability of pounding (stationary Clough-Penzien motion)")
     levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida")
     hunt: Hunt | None = Field(None, description="ida by hunt and fill (instead of levels): "
                               "each record hunted up to the limit, then bisected")
@@ -65,6 +65,9 @@ class Design(_Base):
     condition: Literal["with_pounding", "without_pounding"] | None = Field(
         None, description="ida hunt: the runs whose demand is hunted (default: with pounding "
         "when pounding_runs, else without)")
+    probability_level: float = Field(0.1, gt=0, lt=1, description="subset: the conditional "
+                                     "probability p0 of each intermediate level")
+    samples: int = Field(1000, ge=10, description="subset: runs per level")
     max_level: float = Field(5.0, gt=0, allow_inf_nan=False, description="ida hunt: the "
                              "highest level run; a record that has not passed the limit there "
                              "is right-censored (g)")
@@ -112,6 +115,12 @@ class StudyFile(_Base):
                                     "(model, its parameters; without kind and seed), "
                                     "realisations (how many) and seed (of the first; the "
                                     "others follow it).")
+    uncertain: dict[str, dict] | None = Field(None, description="Uncertain scene values: "
+                                              "a path (as sweeps name them; gap: every "
+                                              "contact's gap) to {distribution: normal|"
+                                              "lognormal|uniform, and mean/sd, median/"
+                                              "dispersion or low/high}; sampled by Latin "
+                                              "hypercube, one sample per run.")
     records_folder: str | None = Field(None, description="Where the suite's records are "
                                        "(default: beside the suite).")
     measure: str | None = Field(None, description="pga, sa:SECONDS or sa:BUILDING "
@@ -154,7 +163,17 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
         raise InputError(f"{path}, at {where}: {err['msg']} (see docs/risk.md for the study "
                          "file's fields)") from None
     design = study.design
-    if design.hunt is not None or design.resolution is not None:
+    if study.uncertain is not None:
+        from pframe.risk.uncertain import parse
+
+        parse(study.uncertain, f"{path}, at uncertain")
+        if design.hunt is not None:
+            raise InputError(f"{path}, at uncertain: an ida by hunt and fill follows each "
+                             "record with one scene; uncertain values go with msa, a grid "
+                             "ida, cloud or subset")
+    if design.kind == "subset":
+        _check_subset(study, path)
+    elif design.hunt is not None or design.resolution is not None:
         _check_hunt(study, path)
     elif design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
                                           or any(not x > 0 for x in design.levels)):
@@ -167,7 +186,8 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
         if study.suite is not None:
             raise InputError(f"{path}, at stochastic: give a suite or stochastic motions, not "
                              "both")
-        n, seed = study.stochastic.get("realisations"), study.stochastic.get("seed", 0)
+        n = study.stochastic.get("realisations", 1 if study.design.kind == "subset" else None)
+        seed = study.stochastic.get("seed", 0)
         if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
             raise InputError(f"{path}, at stochastic.realisations: the number of motions, an "
                              f"integer >= 1 (got {n!r})")
@@ -186,6 +206,25 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
             if not (v > 0 and math.isfinite(v)):
                 raise InputError(f"{path}, at limits.{kind}.{name}: a limit is a number > 0")
     return study, path.parent, text
+
+
+def _check_subset(study, path) -> None:
+    m = study.stochastic or {}
+    if (m.get("model") != "clough_penzien" or m.get("envelope") is not None
+            or m.get("duration") is None):
+        raise InputError(f"{path}, at stochastic: a subset design runs over the white noise "
+                         "of a stationary motion: give stochastic: {model: clough_penzien, "
+                         "intensity, ground_frequency, ground_damping, duration, ...} without "
+                         "an envelope (realisations are not needed)")
+    if study.design.levels or study.hazard is not None or study.target is not None:
+        raise InputError(f"{path}, at design: a subset design estimates the probability of "
+                         "pounding under the study's motion; levels, hazard and target belong "
+                         "to msa, ida and cloud")
+    n, p0 = study.design.samples, study.design.probability_level
+    seeds = n * p0
+    if abs(seeds - round(seeds)) > 1e-9 or round(seeds) < 1 or n % round(seeds):
+        raise InputError(f"{path}, at design.samples: samples x probability_level = {n} x "
+                         f"{p0:g} must be a whole number of chains that divides samples")
 
 
 def _check_hunt(study, path) -> None:
@@ -216,7 +255,7 @@ def stochastic_suite(item: dict, where: str):
     from pframe.excitation.suite import Suite, stochastic_motions
 
     item = dict(item)
-    n, seed = item.pop("realisations"), item.pop("seed", 0)
+    n, seed = item.pop("realisations", 1), item.pop("seed", 0)
     return Suite(tuple(stochastic_motions({**item, "seeds": list(range(seed, seed + n))},
                                           where)), source=where.split(",")[0])
 
@@ -242,7 +281,7 @@ def _ground(inputs, variants, steps: int, dt: float) -> np.ndarray:
 
 
 def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
-                 progress=None) -> dict:
+                 progress=None, members=None, identity: str = "") -> dict:
     """Every variant's arrays; chunks saved beside ``output`` so a stopped study resumes."""
     from pframe.risk.runs import run_batch
 
@@ -254,7 +293,7 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
     if output is not None:
         from pframe.sweep.store import Parts
 
-        digest = inputs.digest(f"risk chunk={chunk} pounding={pounding_runs}")
+        digest = inputs.digest(f"risk chunk={chunk} pounding={pounding_runs}{identity}")
         parts = Parts(Path(output), _Definition(digest, inputs.loaded.source, chunk), spec)
     done: dict[int, dict] = {}
     try:
@@ -272,12 +311,13 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
             if c in done:
                 continue
             variants = np.arange(c * chunk, min(count, (c + 1) * chunk))
-            free = run_batch(inputs.loaded, inputs.pairs,
+            scenes = inputs.loaded if members is None else members(variants)
+            free = run_batch(scenes, inputs.pairs,
                              _ground(inputs, variants, inputs.steps, inputs.dt),
                              inputs.steps, inputs.dt, contacts=False, threads=threads)
             arrays = {f"free_{k}": v for k, v in free.items()}
             if pounding_runs:
-                hit = run_batch(inputs.loaded, inputs.pairs,
+                hit = run_batch(scenes, inputs.pairs,
                                 _ground(inputs, variants, contact_steps, scene_dt),
                                 contact_steps, scene_dt, contacts=True, threads=threads)
                 arrays.update({f"contact_{k}": v for k, v in hit.items()})
@@ -317,6 +357,11 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         suite = stochastic_suite(spec.stochastic, f"{study}, at stochastic")
     folder = records_folder or (None if spec.records_folder is None
                                 else (base / spec.records_folder).resolve())
+    if spec.design.kind == "subset":
+        from pframe.risk.uncertain import run_subset
+
+        return run_subset(spec, text, study, scene, suite, output, overwrite, threads, timings,
+                          start)
     hunt = spec.design.hunt is not None
     levels = [spec.design.hunt.start] if hunt else spec.design.levels
     inputs = prepare(scene, suite, levels=levels, measure=spec.measure,
@@ -342,8 +387,20 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
 
         rows, inputs, search = run_hunt(inputs, spec, output, threads, overwrite, progress)
     else:
+        members, identity = None, ""
+        if spec.uncertain:
+            import json
+
+            from pframe.risk.sampling import latin_hypercube
+            from pframe.risk.uncertain import check_paths, parse, scenes
+
+            params = parse(spec.uncertain, f"{study}, at uncertain")
+            check_paths(inputs.loaded, params, f"{study}, at uncertain")
+            u = latin_hypercube(inputs.count, len(params), np.random.default_rng(spec.seed))
+            members = lambda variants: scenes(inputs.loaded, params, u[variants])  # noqa: E731
+            identity = f" uncertain={json.dumps(spec.uncertain, sort_keys=True)} seed={spec.seed}"
         rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite,
-                            progress)
+                            progress, members, identity)
     result = analyse(spec, inputs, rows, hazard)
     for line in result.warnings:
         warnings.warn(f"{study}: {line}", stacklevel=2)
