@@ -30,7 +30,7 @@ def _risk(args) -> int:
             warnings.simplefilter("ignore", UserWarning)
             ds = risk(args.study, output=output, overwrite=args.overwrite,
                       records_folder=args.records_folder, threads=args.threads,
-                      progress=progress, timings=timings)
+                      progress=progress, timings=timings, scheduler=args.scheduler)
     except KeyboardInterrupt:
         now = kept(output)
         print("pframe: interrupted; " + (f"{now} finished batches kept in "
@@ -67,5 +67,8 @@ def register(sub) -> None:
                    "STUDY.risk.nc)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing result file")
     p.add_argument("--threads", type=int, metavar="N", help="threads (default: one per CPU)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the batches on this Dask distributed scheduler's workers "
+                        '(pip install "pframe[cluster]"); msa, grid ida and cloud designs')
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(run=_risk)

@@ -280,15 +280,67 @@ def _ground(inputs, variants, steps: int, dt: float) -> np.ndarray:
     return out
 
 
-def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
-                 progress=None, members=None, identity: str = "") -> dict:
-    """Every variant's arrays; chunks saved beside ``output`` so a stopped study resumes."""
+def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=None) -> dict:
+    """One batch of variants (without contacts, and with them with ``pounding_runs``);
+    ``uncertain``: (variables, their standard normals per variant). A pure function of its
+    arguments: on a Dask cluster, a task."""
     from pframe.risk.runs import run_batch
 
-    count = inputs.count
-    spec = _Spec(count, chunk)
     scene_dt = float(inputs.loaded.expanded.dt)
     contact_steps = int(math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
+    scenes = inputs.loaded
+    if uncertain is not None:
+        from pframe.risk.uncertain import scenes as variants_of
+
+        scenes = variants_of(inputs.loaded, uncertain[0], uncertain[1])
+    free = run_batch(scenes, inputs.pairs, _ground(inputs, variants, inputs.steps, inputs.dt),
+                     inputs.steps, inputs.dt, contacts=False, threads=threads)
+    arrays = {f"free_{k}": v for k, v in free.items()}
+    if pounding_runs:
+        hit = run_batch(scenes, inputs.pairs, _ground(inputs, variants, contact_steps, scene_dt),
+                        contact_steps, scene_dt, contacts=True, threads=threads)
+        arrays.update({f"contact_{k}": v for k, v in hit.items()})
+    return arrays
+
+
+def _on_cluster(address: str, inputs, pounding_runs, todo, chunk, uncertain, finish):
+    """The chunks ``todo`` as tasks on the Dask scheduler at ``address`` (as sweeps)."""
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise InputError(f"--scheduler {address}: sending runs to a Dask cluster needs "
+                         "dask.distributed, which is not installed here; install pframe's "
+                         'cluster extra (pip install "pframe[cluster]") or run without '
+                         "--scheduler") from None
+    from pframe.sweep.runner import CONNECT_TIMEOUT
+
+    try:
+        client = Client(address, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError) as exc:
+        raise InputError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc}); "
+                         "start one with 'dask scheduler' and give its address as "
+                         "tcp://HOST:PORT") from None
+    with client:
+        if not client.scheduler_info().get("workers"):
+            client.wait_for_workers(1, timeout=60)
+        remote = client.scatter(inputs, broadcast=True)
+        futures = {}
+        for c in todo:
+            variants = np.arange(c * chunk, min(inputs.count, (c + 1) * chunk))
+            part = None if uncertain is None else (uncertain[0], uncertain[1][variants])
+            futures[client.submit(run_chunk, remote, pounding_runs, variants, part, 1,
+                                  retries=2, pure=False)] = c
+        for future in as_completed(list(futures)):
+            finish(futures[future], future.result())
+
+
+def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
+                 progress=None, uncertain=None, identity: str = "",
+                 scheduler: str | None = None) -> dict:
+    """Every variant's arrays; chunks saved beside ``output`` so a stopped study resumes;
+    with ``scheduler``, chunks run on that Dask cluster."""
+    count = inputs.count
+    spec = _Spec(count, chunk)
     parts = None
     if output is not None:
         from pframe.sweep.store import Parts
@@ -296,6 +348,14 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
         digest = inputs.digest(f"risk chunk={chunk} pounding={pounding_runs}{identity}")
         parts = Parts(Path(output), _Definition(digest, inputs.loaded.source, chunk), spec)
     done: dict[int, dict] = {}
+
+    def finish(c, arrays):
+        if parts is not None:
+            parts.save(c, arrays)
+        done[c] = arrays
+        if progress is not None:
+            progress(sum(len(np.atleast_1d(a["free_complete"])) for a in done.values()), count)
+
     try:
         if parts is not None:
             try:
@@ -307,25 +367,15 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
                 raise InputError(f"{parts.folder}: holds batches of another study (another "
                                  "scene, suite, levels, step, chunk size or pframe code); pass "
                                  "--overwrite to discard them, or choose another -o") from None
-        for c in range(spec.chunks):
+        todo = [c for c in range(spec.chunks) if c not in done]
+        if scheduler and todo:
+            _on_cluster(scheduler, inputs, pounding_runs, todo, chunk, uncertain, finish)
+        for c in todo:
             if c in done:
                 continue
             variants = np.arange(c * chunk, min(count, (c + 1) * chunk))
-            scenes = inputs.loaded if members is None else members(variants)
-            free = run_batch(scenes, inputs.pairs,
-                             _ground(inputs, variants, inputs.steps, inputs.dt),
-                             inputs.steps, inputs.dt, contacts=False, threads=threads)
-            arrays = {f"free_{k}": v for k, v in free.items()}
-            if pounding_runs:
-                hit = run_batch(scenes, inputs.pairs,
-                                _ground(inputs, variants, contact_steps, scene_dt),
-                                contact_steps, scene_dt, contacts=True, threads=threads)
-                arrays.update({f"contact_{k}": v for k, v in hit.items()})
-            if parts is not None:
-                parts.save(c, arrays)
-            done[c] = arrays
-            if progress is not None:
-                progress(min(count, (c + 1) * chunk), count)
+            part = None if uncertain is None else (uncertain[0], uncertain[1][variants])
+            finish(c, run_chunk(inputs, pounding_runs, variants, part, threads))
     finally:
         if parts is not None:
             parts.close()
@@ -336,7 +386,7 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
 
 def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
          records_folder=None, threads: int | None = None, progress=None,
-         timings: dict | None = None):
+         timings: dict | None = None, scheduler: str | None = None):
     """Run a risk study (a study file, see :mod:`pframe.risk.study`) and return its
     ``xarray.Dataset``: the runs (record x level), fragilities of pounding and of each
     demand limit with and without pounding (maximum likelihood, 90 % confidence bounds),
@@ -344,7 +394,9 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     rules. With ``output``, writes it (netCDF-4, CF-1.8), keeping finished batches beside it
     until then so that a stopped study resumes. Warnings (runs cut short, a hazard table too
     short for the fragilities, runs that failed) go in ``warnings`` and the file's
-    ``warnings`` attribute. Raises :class:`InputError` for bad input."""
+    ``warnings`` attribute. With ``scheduler`` (tcp://HOST:PORT), the batches of an msa,
+    grid ida or cloud design run on that Dask cluster (the ``cluster`` extra), saved as they
+    come back. Raises :class:`InputError` for bad input."""
     from pframe.gap.audit import prepare
     from pframe.risk.analysis import analyse
     from pframe.risk.output import build_dataset
@@ -357,6 +409,11 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         suite = stochastic_suite(spec.stochastic, f"{study}, at stochastic")
     folder = records_folder or (None if spec.records_folder is None
                                 else (base / spec.records_folder).resolve())
+    if scheduler and (spec.design.kind == "subset" or spec.design.hunt is not None):
+        raise InputError(f"--scheduler {scheduler}: {study} is a "
+                         + ("subset simulation" if spec.design.kind == "subset" else
+                            "hunt and fill") + ", whose rounds depend on each other; "
+                         "pframe runs it on this machine (leave out --scheduler)")
     if spec.design.kind == "subset":
         from pframe.risk.uncertain import run_subset
 
@@ -387,20 +444,20 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
 
         rows, inputs, search = run_hunt(inputs, spec, output, threads, overwrite, progress)
     else:
-        members, identity = None, ""
+        uncertain, identity = None, ""
         if spec.uncertain:
             import json
 
             from pframe.risk.sampling import latin_hypercube
-            from pframe.risk.uncertain import check_paths, parse, scenes
+            from pframe.risk.uncertain import check_paths, parse
 
             params = parse(spec.uncertain, f"{study}, at uncertain")
             check_paths(inputs.loaded, params, f"{study}, at uncertain")
             u = latin_hypercube(inputs.count, len(params), np.random.default_rng(spec.seed))
-            members = lambda variants: scenes(inputs.loaded, params, u[variants])  # noqa: E731
+            uncertain = (params, u)
             identity = f" uncertain={json.dumps(spec.uncertain, sort_keys=True)} seed={spec.seed}"
         rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite,
-                            progress, members, identity)
+                            progress, uncertain, identity, scheduler)
     result = analyse(spec, inputs, rows, hazard)
     for line in result.warnings:
         warnings.warn(f"{study}: {line}", stacklevel=2)
