@@ -109,6 +109,15 @@ def grid_layout(record: np.ndarray, im: np.ndarray, records: int) -> np.ndarray:
     return out
 
 
+class _Store:
+    """What the chunk store asks of a study (identity, chunking) and of its extent."""
+
+    def __init__(self, digest: str = "", source: str = "", chunk: int = 1, count: int = 0,
+                 chunks: int = 0):
+        self.digest, self.source, self.chunk = digest, source, chunk
+        self.count, self.chunks = count, chunks
+
+
 def _limit(spec, name: str) -> tuple[str, float | None]:
     if name == "pounding":
         return "pounding", None
@@ -166,13 +175,12 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
 
     parts = None
     if output is not None:
-        from pframe.risk.study import _Definition, _Spec
         from pframe.sweep.store import Parts
 
         digest = inputs.digest(f"risk ida hunt {design.model_dump_json()} "
                                f"pounding={spec.pounding_runs}")
-        parts = Parts(Path(output), _Definition(digest, inputs.loaded.source, 1),
-                      _Spec(max_rounds, 1))
+        parts = Parts(Path(output), _Store(digest, inputs.loaded.source, 1),
+                      _Store(count=max_rounds, chunks=max_rounds))
     saved: dict[int, dict] = {}
     done: list[dict] = []
     order_record, order_im = [], []
