@@ -39,6 +39,13 @@ def _study():
         return risk(STUDY, records_folder=RECORDS, threads=2)
 
 
+@cache
+def _check():
+    from pframe.risk.firstpassage import tubaldi_check
+
+    return tubaldi_check(threads=2)
+
+
 def _mm(x: float) -> str:
     return f"{1000 * x:.1f}" if math.isfinite(x) else "-"
 
@@ -56,7 +63,10 @@ def risk_tables() -> dict[str, str]:
         gap += ("Code rules at that IM, median over the records: " + ", ".join(
             f"{r} {_mm(float(v))} mm" for r, v in
             zip(ds.rule_name.values, ds.rule_separation_at_target.values)) + ".\n")
-    return {"summary": "```text\n" + summary(ds) + "\n```\n", "gap": gap}
+    from pframe.risk.firstpassage import check_text
+
+    return {"summary": "```text\n" + summary(ds) + "\n```\n", "gap": gap,
+            "tubaldi": "```text\n" + check_text(_check()) + "\n```\n"}
 
 
 def _rewrite(text: str, tables: dict[str, str]) -> str:

@@ -21,7 +21,8 @@ def _risk(args) -> int:
     progress = None
     if not args.quiet and sys.stderr.isatty():
         def progress(done, total):
-            sys.stderr.write(f"\r  pframe risk: {done}/{total} runs ")
+            sys.stderr.write(f"\r  pframe risk: {done}/{total} runs " if total is not None
+                             else f"\r  pframe risk: {done} runs (ida: hunt and fill) ")
             sys.stderr.flush()
     timings: dict = {}
     try:
@@ -29,7 +30,7 @@ def _risk(args) -> int:
             warnings.simplefilter("ignore", UserWarning)
             ds = risk(args.study, output=output, overwrite=args.overwrite,
                       records_folder=args.records_folder, threads=args.threads,
-                      progress=progress, timings=timings)
+                      progress=progress, timings=timings, scheduler=args.scheduler)
     except KeyboardInterrupt:
         now = kept(output)
         print("pframe: interrupted; " + (f"{now} finished batches kept in "
@@ -42,8 +43,11 @@ def _risk(args) -> int:
         print(f"pframe: warning: {args.study}: {line}", file=sys.stderr)
     if not args.quiet:
         print(summary(ds))
-        print(f"{timings['variants']} variants in {timings['wall_seconds']:.1f} s "
-              f"({timings['solve_seconds']:.1f} s kernel); wrote {output}")
+        kernel = timings["solve_seconds"]
+        print(f"{timings['variants']} runs in {timings['wall_seconds']:.1f} s"
+              + (f" ({kernel:.1f} s kernel)" if kernel == kernel else "") + f"; wrote {output}")
+    if "complete" not in ds:  # subset simulation: failed runs count as pounding
+        return 0
     return 1 if int((ds.complete.sel(condition_name="without_pounding") == 0).sum()) else 0
 
 
@@ -63,5 +67,8 @@ def register(sub) -> None:
                    "STUDY.risk.nc)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing result file")
     p.add_argument("--threads", type=int, metavar="N", help="threads (default: one per CPU)")
+    p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
+                   help="run the batches on this Dask distributed scheduler's workers "
+                        '(pip install "pframe[cluster]"); msa, grid ida and cloud designs')
     p.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     p.set_defaults(run=_risk)

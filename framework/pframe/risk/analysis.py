@@ -36,7 +36,9 @@ class Analysis:
     warnings: list = dataclasses.field(default_factory=list)
 
 
-def _variant_im(spec, inputs) -> np.ndarray:
+def _variant_im(spec, inputs, rows=None) -> np.ndarray:
+    if rows is not None and "ida_im" in rows:  # hunt and fill: each run's own level
+        return rows["ida_im"]
     R, L = inputs.factors.shape
     if spec.design.kind == "cloud":
         return np.repeat(inputs.intensities, L)
@@ -50,17 +52,19 @@ def _ratios(rows, prefix: str, kind: str, value: float, gap: float) -> np.ndarra
     if kind == "pounding":
         if prefix == "contact":
             return np.where(rows["contact_impacts"].sum(axis=1) > 0, 2.0, 0.5)
-        return np.max(rows["free_g_req"], axis=1) / gap
+        return np.max(rows["free_g_req"], axis=1) / rows.get("free_gap", gap)  # each run's
     if kind == "drift":
         return np.max(rows[f"{prefix}_drift"], axis=1) / value
     return np.max(rows[f"{prefix}_acceleration"], axis=1) / (value * G)
 
 
 def fit(kind: str, im: np.ndarray, ratio: np.ndarray, ok: np.ndarray, levels, records: int,
-        binary: bool = False) -> Fragility:
+        binary: bool = False, used: np.ndarray | None = None) -> Fragility:
     """The design's fragility of ``ratio > 1``: binomial over stripes (msa), capacities
-    (ida: the IM where the ratio first passes 1, log-interpolated between levels), or the
-    censored regression of ln ratio on ln IM (cloud; a binary outcome: probit over runs)."""
+    (ida: the IM where the ratio first passes 1, log-interpolated between the record's runs
+    in order of IM), or the censored regression of ln ratio on ln IM (cloud; a binary
+    outcome: probit over runs). ``used`` (ida by hunt and fill, runs record-major, each
+    record's in order of IM): the slots run; there a failed run passes every limit."""
     exceed = (ratio > 1) & ok
     if kind == "msa" or (kind == "cloud" and binary):
         if kind == "msa":
@@ -71,21 +75,30 @@ def fit(kind: str, im: np.ndarray, ratio: np.ndarray, ok: np.ndarray, levels, re
         return fit_msa(im[ok], np.ones(ok.sum()), exceed[ok].astype(float))
     if kind == "cloud":
         return fit_cloud(im[ok], ratio[ok]).fragility(1.0)
-    lv = np.log(np.asarray(levels))
+    ims = np.asarray(im, float).reshape(records, -1)
     r = np.log(np.maximum(ratio.reshape(records, -1), 1e-300))
-    good = ok.reshape(records, -1).all(axis=1)
+    good = ok.reshape(records, -1)
+    if used is None:  # a grid: a record with a failed run is left out
+        keep = good.all(axis=1)
+        used = np.ones_like(good)
+    else:  # hunt and fill: slots not run are left out, a failed run passes the limit
+        used = used.reshape(records, -1)
+        keep = used.any(axis=1)
+        r = np.where(good, r, np.inf)
     capacities, censored = [], []
-    for k in np.flatnonzero(good):
-        above = np.flatnonzero(r[k] > 0)
+    for k in np.flatnonzero(keep):
+        lv = np.log(ims[k][used[k]])
+        rk = r[k][used[k]]
+        above = np.flatnonzero(rk > 0)
         if not above.size:
             capacities.append(math.exp(lv[-1]))
             censored.append(True)
             continue
         j = above[0]
-        if j == 0 or binary:
+        if j == 0 or binary or not np.isfinite(rk[j]):
             capacities.append(math.exp(lv[j]))
-        else:  # ln ratio linear in ln IM between levels j-1 and j
-            f = -r[k, j - 1] / (r[k, j] - r[k, j - 1])
+        else:  # ln ratio linear in ln IM between runs j-1 and j
+            f = -rk[j - 1] / (rk[j] - rk[j - 1])
             capacities.append(math.exp(lv[j - 1] + f * (lv[j] - lv[j - 1])))
         censored.append(False)
     return fit_capacities(capacities, censored)
@@ -106,10 +119,10 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
     return (value, float(low), float(high), above)
 
 
-def _gap_solver(kind, im, g_req, ok, levels, records, hazard, target):
+def _gap_solver(kind, im, g_req, ok, levels, records, hazard, target, used=None):
     """lambda(g) of pounding at a uniform gap g, and the root of lambda(g) = target."""
     def rate(g):
-        frag = fit(kind, im, g_req / g, ok, levels, records)
+        frag = fit(kind, im, g_req / g, ok, levels, records, used=used)
         if frag.fitted:
             return mean_annual_frequency(frag.probability, hazard, points=800)[0]
         exceed = (g_req > g) & ok
@@ -142,11 +155,33 @@ def _root(rate, g_values, target) -> float:
     return math.nan
 
 
+def _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R) -> None:
+    """IDA by hunt and fill stops each record at its capacity for the hunted limit: another
+    limit a record has not passed by then is censored there (below the top level), which
+    the censored fit takes but the data then say little above it."""
+    design = spec.design
+    hunted = design.condition or ("with_pounding" if spec.pounding_runs else
+                                  "without_pounding")
+    if (name, cond) == (design.limit, hunted):
+        return
+    complete = rows[f"{prefix}_complete"]
+    runs = complete.reshape(R, -1) >= 0
+    passed = ((ratio > 1) | (complete == 0)).reshape(R, -1) & runs
+    top = np.nanmax(np.where(runs, rows["ida_im"].reshape(R, -1), np.nan), axis=1)
+    early = int(np.sum(~passed.any(axis=1) & (top < design.max_level)))
+    if early:
+        out.warnings.append(
+            f"{name} ({cond.replace('_', ' ')}): {early} of {R} records stop (at their "
+            f"{design.limit} capacity) before passing it and are right-censored there: the "
+            "fit is censored, but hunt that limit (design.limit) for its capacities")
+
+
 def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     rng = np.random.default_rng(spec.seed)
     kind = spec.design.kind
     R, L = inputs.factors.shape
-    im = _variant_im(spec, inputs)
+    im = _variant_im(spec, inputs, rows)
+    hunted = "ida_im" in rows
     gaps = np.asarray(inputs.pairs.gaps, float)
     gap = float(gaps.min())
     names = ["pounding", *spec.limits.drift, *spec.limits.acceleration]
@@ -159,7 +194,10 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     for p, bad in failed.items():
         if bad.any():
             out.warnings.append(f"{int(bad.sum())} runs {'with' if p == 'contact' else 'without'}"
-                                " contacts failed and are left out of the fits")
+                                " contacts failed and are " + (
+                                    "counted as passing every limit (collapse or "
+                                    "non-convergence, as IDA takes them)" if hunted else
+                                    "left out of the fits"))
     for name, k, value in zip(names, kinds, values):
         for cond, prefix in zip(CONDITIONS, ("free", "contact")):
             ratio = _ratios(rows, prefix, k, value, gap)
@@ -169,7 +207,10 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
             else:
                 ok = rows[f"{prefix}_complete"] == 1
                 frag = fit(kind, im, ratio, ok, inputs.levels, R,
-                           binary=(k == "pounding" and prefix == "contact"))
+                           binary=(k == "pounding" and prefix == "contact"),
+                           used=(rows[f"{prefix}_complete"] >= 0) if hunted else None)
+            if hunted and ratio is not None and frag.fitted:
+                _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R)
             out.fragilities[(name, cond)] = frag
             out.maf[(name, cond)] = _maf(frag, hazard, rng)
             share = out.maf[(name, cond)][3]
@@ -192,7 +233,9 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     out.im_at_target = hazard.intensity(target)
     g_req = np.max(rows["free_g_req"], axis=1)
     ok = rows["free_complete"] == 1
-    rate, out.gap = _gap_solver(kind, im, g_req, ok, inputs.levels, R, hazard, target)
+    used = (rows["free_complete"] >= 0) if hunted else None
+    rate, out.gap = _gap_solver(kind, im, g_req, ok, inputs.levels, R, hazard, target, used)
+    g_req = np.where(ok, g_req, np.nan)  # failed or not run
     positive = g_req[ok & (g_req > 0)]
     if positive.size:
         out.gap_grid = np.geomspace(positive.min() * 0.5, positive.max(), 40)
@@ -206,7 +249,7 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
             pick = rng.integers(0, R, R)
             idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
             found.append(_gap_solver(kind, im[idx], g_req[idx], ok[idx], inputs.levels, R,
-                                     hazard, target)[1])
+                                     hazard, target, None if used is None else used[idx])[1])
         found = np.array(found)
         if np.isfinite(found).sum() >= 0.9 * len(found):
             out.gap_low, out.gap_high = (float(v) for v in np.nanpercentile(found, [5, 95]))
@@ -228,6 +271,15 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
         rules = separations(rows["free_peak_left"], rows["free_peak_right"], rho)
         rules["simulated"] = rows["free_g_req"]
         for rule, v in rules.items():
+            if hunted:  # each record's runs in order of IM, interpolated, then the median
+                vr = np.where(ok[:, None], v, np.nan).max(axis=1).reshape(R, L)
+                x = out.im_at_target
+                at = [np.interp(x, im.reshape(R, L)[r][ok.reshape(R, L)[r]],
+                                vr[r][ok.reshape(R, L)[r]], left=np.nan, right=np.nan)
+                      for r in range(R) if ok.reshape(R, L)[r].sum() >= 2]
+                if at and np.isfinite(at).any():
+                    out.rules_at_target[rule] = float(np.nanmedian(at))
+                continue
             per_level = np.nanmedian(np.where(ok[:, None], v, np.nan).max(axis=1)
                                      .reshape(R, L), axis=0)
             x = math.log(out.im_at_target)
@@ -238,4 +290,5 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
             out.warnings.append(f"the intensity at the target frequency "
                                 f"({out.im_at_target:.3g} g) is outside the levels run: the "
                                 "code rules there are left out")
+
     return out

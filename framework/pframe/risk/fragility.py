@@ -25,7 +25,10 @@ import math
 
 import numpy as np
 from scipy.optimize import minimize
+from scipy.special import log_ndtr
 from scipy.stats import norm
+
+_LOG_SQRT_2PI = 0.5 * math.log(2 * math.pi)
 
 #: the confidence of the bounds every fit reports
 CONFIDENCE = 0.90
@@ -191,14 +194,26 @@ def fit_capacities(capacities, censored=None) -> Fragility:
     if (~cens).sum() < 2:
         return _absent("ida", "fewer than two records reach the limit")
     lc = np.log(c)
+    if np.ptp(lc[~cens]) < 1e-9 * max(1.0, float(np.max(np.abs(lc)))):
+        return _absent("ida", "every record reaching the limit does so at the same IM (the "
+                       "lowest run, or one level): the dispersion is not determined")
 
-    def nll(p):
+    exact, above = lc[~cens], lc[cens]
+
+    def nll(p):  # scipy.special directly: norm.logpdf's checks cost 30 times the sum
         mu, log_beta = p
-        t = (lc - mu) / math.exp(log_beta)
-        return -(np.sum(norm.logpdf(t[~cens]) - log_beta) + np.sum(norm.logsf(t[cens])))
+        inv = math.exp(-log_beta)
+        t = (exact - mu) * inv
+        return -(np.sum(-0.5 * t * t - _LOG_SQRT_2PI - log_beta)
+                 + np.sum(log_ndtr((mu - above) * inv)))
 
     start = np.array([lc[~cens].mean(), math.log(max(lc[~cens].std(), 0.05))])
-    best = _best(nll, (start,))
+    if not cens.any() and lc.std() > 0:  # the closed form: the mean and sd of ln c
+        best = type("Best", (), {"x": np.array([lc.mean(), math.log(lc.std())])})
+    else:
+        best = minimize(nll, start, method="Nelder-Mead",
+                        options={"xatol": 1e-8, "fatol": 1e-12 * max(1.0, abs(nll(start))),
+                                 "maxiter": 4000})
     return Fragility(math.exp(best.x[0]), math.exp(best.x[1]), _covariance(nll, best.x),
                      "ida")
 

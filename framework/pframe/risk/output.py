@@ -13,7 +13,8 @@ from pframe.risk.fragility import CONFIDENCE
 KIND = "risk_study"
 
 
-def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None):
+def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None,
+                  search=None):
     import xarray as xr
 
     import pframe
@@ -29,6 +30,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "record_name": ("record", np.array(inputs.suite.names, dtype=object),
                         {"long_name": "ground-motion record"}),
         "level": ("level", np.asarray(inputs.levels, float),
+                  {"units": "1", "long_name": "run of the record's hunt and fill, in order of "
+                   "intensity (see intensity)"} if search is not None else
                   {"units": "g" if inputs.scaled else "1",
                    "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
                                  else "records as given (cloud analysis)")}),
@@ -102,7 +105,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "complete": (("condition", "record", "level"), np.stack([
             rows.get(f"{p}_complete", np.zeros(R * L, np.int8)).reshape(R, L)
             for p in ("free", "contact")]).astype(np.int8),
-            {"units": "1", "long_name": "1 if the run completed"}),
+            {"units": "1", "long_name": "1 if the run completed, 0 if it failed, -1 if not "
+             "run (a slot of ida by hunt and fill)"}),
     }
     attrs = {
         "title": f"risk study: {inputs.loaded.scene.title or inputs.loaded.source}",
@@ -113,6 +117,13 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "warnings": "\n".join([*inputs.warnings, *result.warnings]),
         "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
     }
+    if search is not None:
+        d = spec.design
+        attrs.update(ida_limit=d.limit, ida_condition=d.condition or (
+            "with_pounding" if spec.pounding_runs else "without_pounding"),
+            ida_resolution=d.resolution, ida_rounds=search.rounds, ida_runs=search.runs,
+            ida_hunt=f"start {d.hunt.start:g} g, step {d.hunt.step:g} g, growth "
+                     f"{d.hunt.growth:g}, max_level {d.max_level:g} g")
     if any(math.isfinite(result.maf[k][0]) for k in result.maf):
         data.update({
             "annual_frequency": (("limit", "condition"), maf(0), {
@@ -164,8 +175,65 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                               attrs=attrs))
 
 
+def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes):
+    """The result of a subset study: the probability of pounding with its c.o.v. and
+    confidence interval, the intermediate thresholds, the uncertain variables."""
+    import xarray as xr
+
+    import pframe
+
+    m = spec.stochastic
+    data = {
+        "pounding_probability": ((), estimate.probability, {
+            "units": "1", "long_name": "probability of pounding within the analysed time "
+            "(subset simulation)"}),
+        "pounding_probability_low": ((), estimate.low, {
+            "units": "1", "long_name": "lower bound of its 95 % interval (the estimator "
+            "taken lognormal)"}),
+        "pounding_probability_high": ((), estimate.high, {
+            "units": "1", "long_name": "upper bound of its 95 % interval"}),
+        "pounding_probability_cov": ((), estimate.cov, {
+            "units": "1", "long_name": "coefficient of variation of the estimator (Au & Beck "
+            "2001, the chains' correlation included)"}),
+        "evaluations": ((), np.int64(estimate.evaluations), {
+            "units": "1", "long_name": "runs of the kernel"}),
+        "threshold": (("subset_level",), np.array(estimate.levels, float), {
+            "units": "m", "long_name": "intermediate threshold of g = gap - critical gap "
+            "(0: the last level)"}),
+    }
+    coords = {}
+    if params:
+        coords["variable_name"] = ("variable", np.array([p.path for p in params], dtype=object),
+                                   {"long_name": "uncertain scene value (path)"})
+        data["variable_distribution"] = (("variable",), np.array(
+            [p.distribution for p in params], dtype=object), {"long_name": "distribution"})
+        data["variable_parameters"] = (("variable", "parameter"), np.array(
+            [[p.a, p.b] for p in params]), {"units": "1", "long_name": "mean, sd / median, "
+                                            "dispersion / low, high"})
+    attrs = {
+        "title": f"risk study (subset simulation): {inputs.loaded.scene.title or inputs.loaded.source}",
+        "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source,
+        "design": "subset", "motion": ", ".join(f"{k} {v}" for k, v in m.items()),
+        "probability_level": spec.design.probability_level,
+        "samples_per_level": spec.design.samples, "study_yaml": text,
+        "input_yaml": inputs.loaded.text, "dt": inputs.dt, "steps": inputs.steps,
+        "duration": inputs.steps * inputs.dt, "warnings": "\n".join(notes),
+        "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
+    }
+    return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
+                      coords={k: xr.Variable(*v) for k, v in coords.items()}, attrs=attrs)
+
+
 def summary(ds) -> str:
     """The terminal table: each limit's fragility and annual frequency, then the gap."""
+    if "pounding_probability" in ds:
+        return (f"probability of pounding within {float(ds.attrs['duration']):g} s: "
+                f"{float(ds.pounding_probability):.3e} (c.o.v. "
+                f"{float(ds.pounding_probability_cov):.2f}; 95 % "
+                f"{float(ds.pounding_probability_low):.3e}-"
+                f"{float(ds.pounding_probability_high):.3e}) from "
+                f"{int(ds.evaluations)} runs by subset simulation over "
+                f"{ds.sizes.get('variable', 0)} uncertain values and the motion's white noise")
     lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
              + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")]
     lines.append("-" * len(lines[0]))

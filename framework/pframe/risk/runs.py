@@ -56,12 +56,17 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     from pframe.assemble import assemble_batch
     from pframe.kernel import simulate
 
-    ex = loaded.expanded if contacts else without_contacts(loaded, keep_excitation=False)
+    # ``loaded``: one scene, or one per member (uncertain parameters, docs/risk.md)
+    members = list(loaded) if isinstance(loaded, (list, tuple)) else [loaded]
     recorders = (Envelope(kind="envelope", quantities=["displacement", "story_drift"]),
                  History(kind="history", quantities=["displacement", "acceleration"]))
-    base = dataclasses.replace(ex, steps=int(steps), recorders=recorders, dt=float(dt))
-    plan = assemble_batch([dataclasses.replace(base, ground_acceleration=np.asarray(a, float))
-                           for a in accelerations])
+    bases = [dataclasses.replace(
+        m.expanded if contacts else without_contacts(m, keep_excitation=False),
+        steps=int(steps), recorders=recorders, dt=float(dt)) for m in members]
+    plan = assemble_batch([dataclasses.replace(bases[k if len(bases) > 1 else 0],
+                                               ground_acceleration=np.asarray(a, float))
+                           for k, a in enumerate(accelerations)])
+    gaps = np.array([min(c.gap for c in m.expanded.contacts) for m in members])
     sink = DemandSink(plan, pairs, np.asarray(accelerations, float))
     result = simulate(plan, threads=threads, sink=sink)
     of_dof, of_story = _owners(plan)
@@ -76,6 +81,7 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
         "impacts": (result.impacts.astype(np.int32) if contacts and result.impacts is not None
                     else np.zeros((plan.batch, len(pairs.names)), np.int32)),
         "complete": np.array([result.completed(b) for b in range(plan.batch)], dtype=np.int8),
+        "gap": np.broadcast_to(gaps, (plan.batch,)).copy(),  # the member's smallest gap
         "solve_seconds": np.float64(result.solve_seconds),
     }
     return out

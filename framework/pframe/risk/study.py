@@ -37,13 +37,40 @@ class _Base(BaseModel):
     model_config = ConfigDict(extra="forbid")
 
 
-class Design(_Base):
-    """Records scaled to levels (msa, ida) or as given (cloud)."""
+class Hunt(_Base):
+    """The hunt of an IDA by hunt and fill: levels start, start + step, then steps growing
+    by ``growth`` each time, until the limit is passed."""
 
-    kind: Literal["msa", "ida", "cloud"] = Field(description="multiple-stripe (records scaled "
-                                                 "to levels), incremental dynamic analysis on "
-                                                 "a grid of levels, or cloud (unscaled)")
+    start: float = Field(gt=0, allow_inf_nan=False, description="The first level (g).")
+    step: float = Field(gt=0, allow_inf_nan=False, description="The first step up (g).")
+    growth: float = Field(1.5, ge=1, allow_inf_nan=False, description="Each step is the "
+                          "last times this (1: equal steps).")
+
+
+class Design(_Base):
+    """Records scaled to levels (msa, ida) or as given (cloud); IDA by hunt and fill."""
+
+    kind: Literal["msa", "ida", "cloud", "subset"] = Field(
+        description="multiple-stripe (records scaled to levels), incremental dynamic analysis "
+        "(on a grid of levels, or by hunt and fill), cloud (unscaled), or subset simulation "
+        "of the probability of pounding (stationary Clough-Penzien motion)")
     levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida")
+    hunt: Hunt | None = Field(None, description="ida by hunt and fill (instead of levels): "
+                              "each record hunted up to the limit, then bisected")
+    resolution: float | None = Field(None, gt=0, allow_inf_nan=False, description="ida hunt: "
+                                     "bisect until the levels bracketing each capacity are "
+                                     "this close (g)")
+    limit: str = Field("pounding", description="ida hunt: the limit hunted (pounding, or a "
+                       "name of limits); a failed run (collapse, non-convergence) passes it")
+    condition: Literal["with_pounding", "without_pounding"] | None = Field(
+        None, description="ida hunt: the runs whose demand is hunted (default: with pounding "
+        "when pounding_runs, else without)")
+    probability_level: float = Field(0.1, gt=0, lt=1, description="subset: the conditional "
+                                     "probability p0 of each intermediate level")
+    samples: int = Field(1000, ge=10, description="subset: runs per level")
+    max_level: float = Field(5.0, gt=0, allow_inf_nan=False, description="ida hunt: the "
+                             "highest level run; a record that has not passed the limit there "
+                             "is right-censored (g)")
 
 
 class PowerLaw(_Base):
@@ -83,6 +110,17 @@ class StudyFile(_Base):
     scene: str = Field(description="The scene file, relative to the study file.")
     suite: str | None = Field(None, description="A suite file, relative to the study file "
                               "(default: the scene's own excitation).")
+    stochastic: dict | None = Field(None, description="Stochastic motions instead of a "
+                                    "suite: the fields of a scene's stochastic excitation "
+                                    "(model, its parameters; without kind and seed), "
+                                    "realisations (how many) and seed (of the first; the "
+                                    "others follow it).")
+    uncertain: dict[str, dict] | None = Field(None, description="Uncertain scene values: "
+                                              "a path (as sweeps name them; gap: every "
+                                              "contact's gap) to {distribution: normal|"
+                                              "lognormal|uniform, and mean/sd, median/"
+                                              "dispersion or low/high}; sampled by Latin "
+                                              "hypercube, one sample per run.")
     records_folder: str | None = Field(None, description="Where the suite's records are "
                                        "(default: beside the suite).")
     measure: str | None = Field(None, description="pga, sa:SECONDS or sa:BUILDING "
@@ -125,13 +163,36 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
         raise InputError(f"{path}, at {where}: {err['msg']} (see docs/risk.md for the study "
                          "file's fields)") from None
     design = study.design
-    if design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
+    if study.uncertain is not None:
+        from pframe.risk.uncertain import parse
+
+        parse(study.uncertain, f"{path}, at uncertain")
+        if design.hunt is not None:
+            raise InputError(f"{path}, at uncertain: an ida by hunt and fill follows each "
+                             "record with one scene; uncertain values go with msa, a grid "
+                             "ida, cloud or subset")
+    if design.kind == "subset":
+        _check_subset(study, path)
+    elif design.hunt is not None or design.resolution is not None:
+        _check_hunt(study, path)
+    elif design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
                                           or any(not x > 0 for x in design.levels)):
         raise InputError(f"{path}, at design.levels: a {design.kind} design needs at least two "
                          "positive intensity levels (g)")
     if design.kind == "cloud" and design.levels:
         raise InputError(f"{path}, at design.levels: a cloud analysis runs the records "
                          "unscaled; remove the levels (or use kind: msa)")
+    if study.stochastic is not None:
+        if study.suite is not None:
+            raise InputError(f"{path}, at stochastic: give a suite or stochastic motions, not "
+                             "both")
+        n = study.stochastic.get("realisations", 1 if study.design.kind == "subset" else None)
+        seed = study.stochastic.get("seed", 0)
+        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
+            raise InputError(f"{path}, at stochastic.realisations: the number of motions, an "
+                             f"integer >= 1 (got {n!r})")
+        if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
+            raise InputError(f"{path}, at stochastic.seed: an integer >= 0 (got {seed!r})")
     if study.hazard is not None and (study.hazard.file is None) == (study.hazard.power_law
                                                                     is None):
         raise InputError(f"{path}, at hazard: give either file: TABLE.csv or power_law: "
@@ -145,6 +206,58 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
             if not (v > 0 and math.isfinite(v)):
                 raise InputError(f"{path}, at limits.{kind}.{name}: a limit is a number > 0")
     return study, path.parent, text
+
+
+def _check_subset(study, path) -> None:
+    m = study.stochastic or {}
+    if (m.get("model") != "clough_penzien" or m.get("envelope") is not None
+            or m.get("duration") is None):
+        raise InputError(f"{path}, at stochastic: a subset design runs over the white noise "
+                         "of a stationary motion: give stochastic: {model: clough_penzien, "
+                         "intensity, ground_frequency, ground_damping, duration, ...} without "
+                         "an envelope (realisations are not needed)")
+    if study.design.levels or study.hazard is not None or study.target is not None:
+        raise InputError(f"{path}, at design: a subset design estimates the probability of "
+                         "pounding under the study's motion; levels, hazard and target belong "
+                         "to msa, ida and cloud")
+    n, p0 = study.design.samples, study.design.probability_level
+    seeds = n * p0
+    if abs(seeds - round(seeds)) > 1e-9 or round(seeds) < 1 or n % round(seeds):
+        raise InputError(f"{path}, at design.samples: samples x probability_level = {n} x "
+                         f"{p0:g} must be a whole number of chains that divides samples")
+
+
+def _check_hunt(study, path) -> None:
+    design = study.design
+    if design.kind != "ida" or design.levels:
+        raise InputError(f"{path}, at design: hunt and resolution belong to an ida design "
+                         "without levels (kind: ida, hunt: {start, step, growth}, "
+                         "resolution: ...); a grid of levels is the other form")
+    if design.hunt is None or design.resolution is None:
+        raise InputError(f"{path}, at design.{'hunt' if design.hunt is None else 'resolution'}"
+                         ": an ida by hunt and fill needs both hunt: {start: G, step: G, "
+                         "growth: X} and resolution: G")
+    if design.max_level <= design.hunt.start:
+        raise InputError(f"{path}, at design.max_level: {design.max_level:g} g is not above "
+                         f"the hunt's start ({design.hunt.start:g} g)")
+    known = ["pounding", *study.limits.drift, *study.limits.acceleration]
+    if design.limit not in known:
+        raise InputError(f"{path}, at design.limit: {design.limit!r} is not a limit of the "
+                         f"study (known: {', '.join(known)})")
+    if design.condition == "with_pounding" and not study.pounding_runs:
+        raise InputError(f"{path}, at design.condition: with_pounding needs pounding_runs: "
+                         "true")
+
+
+def stochastic_suite(item: dict, where: str):
+    """A suite of ``realisations`` motions of a stochastic model, seeds ``seed``, ``seed + 1``,
+    ... (the scene's stochastic excitation, generated by pframe.excitation.stochastic)."""
+    from pframe.excitation.suite import Suite, stochastic_motions
+
+    item = dict(item)
+    n, seed = item.pop("realisations", 1), item.pop("seed", 0)
+    return Suite(tuple(stochastic_motions({**item, "seeds": list(range(seed, seed + n))},
+                                          where)), source=where.split(",")[0])
 
 
 class _Definition:
@@ -167,22 +280,82 @@ def _ground(inputs, variants, steps: int, dt: float) -> np.ndarray:
     return out
 
 
-def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
-                 progress=None) -> dict:
-    """Every variant's arrays; chunks saved beside ``output`` so a stopped study resumes."""
+def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=None) -> dict:
+    """One batch of variants (without contacts, and with them with ``pounding_runs``);
+    ``uncertain``: (variables, their standard normals per variant). A pure function of its
+    arguments: on a Dask cluster, a task."""
     from pframe.risk.runs import run_batch
 
-    count = inputs.count
-    spec = _Spec(count, chunk)
     scene_dt = float(inputs.loaded.expanded.dt)
     contact_steps = int(math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
+    scenes = inputs.loaded
+    if uncertain is not None:
+        from pframe.risk.uncertain import scenes as variants_of
+
+        scenes = variants_of(inputs.loaded, uncertain[0], uncertain[1])
+    free = run_batch(scenes, inputs.pairs, _ground(inputs, variants, inputs.steps, inputs.dt),
+                     inputs.steps, inputs.dt, contacts=False, threads=threads)
+    arrays = {f"free_{k}": v for k, v in free.items()}
+    if pounding_runs:
+        hit = run_batch(scenes, inputs.pairs, _ground(inputs, variants, contact_steps, scene_dt),
+                        contact_steps, scene_dt, contacts=True, threads=threads)
+        arrays.update({f"contact_{k}": v for k, v in hit.items()})
+    return arrays
+
+
+def _on_cluster(address: str, inputs, pounding_runs, todo, chunk, uncertain, finish):
+    """The chunks ``todo`` as tasks on the Dask scheduler at ``address`` (as sweeps)."""
+    try:
+        from distributed import Client, as_completed
+    except ImportError:
+        raise InputError(f"--scheduler {address}: sending runs to a Dask cluster needs "
+                         "dask.distributed, which is not installed here; install pframe's "
+                         'cluster extra (pip install "pframe[cluster]") or run without '
+                         "--scheduler") from None
+    from pframe.sweep.runner import CONNECT_TIMEOUT
+
+    try:
+        client = Client(address, timeout=CONNECT_TIMEOUT)
+    except (OSError, TimeoutError) as exc:
+        raise InputError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc}); "
+                         "start one with 'dask scheduler' and give its address as "
+                         "tcp://HOST:PORT") from None
+    with client:
+        if not client.scheduler_info().get("workers"):
+            client.wait_for_workers(1, timeout=60)
+        remote = client.scatter(inputs, broadcast=True)
+        futures = {}
+        for c in todo:
+            variants = np.arange(c * chunk, min(inputs.count, (c + 1) * chunk))
+            part = None if uncertain is None else (uncertain[0], uncertain[1][variants])
+            futures[client.submit(run_chunk, remote, pounding_runs, variants, part, 1,
+                                  retries=2, pure=False)] = c
+        for future in as_completed(list(futures)):
+            finish(futures[future], future.result())
+
+
+def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
+                 progress=None, uncertain=None, identity: str = "",
+                 scheduler: str | None = None) -> dict:
+    """Every variant's arrays; chunks saved beside ``output`` so a stopped study resumes;
+    with ``scheduler``, chunks run on that Dask cluster."""
+    count = inputs.count
+    spec = _Spec(count, chunk)
     parts = None
     if output is not None:
         from pframe.sweep.store import Parts
 
-        digest = inputs.digest(f"risk chunk={chunk} pounding={pounding_runs}")
+        digest = inputs.digest(f"risk chunk={chunk} pounding={pounding_runs}{identity}")
         parts = Parts(Path(output), _Definition(digest, inputs.loaded.source, chunk), spec)
     done: dict[int, dict] = {}
+
+    def finish(c, arrays):
+        if parts is not None:
+            parts.save(c, arrays)
+        done[c] = arrays
+        if progress is not None:
+            progress(sum(len(np.atleast_1d(a["free_complete"])) for a in done.values()), count)
+
     try:
         if parts is not None:
             try:
@@ -194,24 +367,15 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
                 raise InputError(f"{parts.folder}: holds batches of another study (another "
                                  "scene, suite, levels, step, chunk size or pframe code); pass "
                                  "--overwrite to discard them, or choose another -o") from None
-        for c in range(spec.chunks):
+        todo = [c for c in range(spec.chunks) if c not in done]
+        if scheduler and todo:
+            _on_cluster(scheduler, inputs, pounding_runs, todo, chunk, uncertain, finish)
+        for c in todo:
             if c in done:
                 continue
             variants = np.arange(c * chunk, min(count, (c + 1) * chunk))
-            free = run_batch(inputs.loaded, inputs.pairs,
-                             _ground(inputs, variants, inputs.steps, inputs.dt),
-                             inputs.steps, inputs.dt, contacts=False, threads=threads)
-            arrays = {f"free_{k}": v for k, v in free.items()}
-            if pounding_runs:
-                hit = run_batch(inputs.loaded, inputs.pairs,
-                                _ground(inputs, variants, contact_steps, scene_dt),
-                                contact_steps, scene_dt, contacts=True, threads=threads)
-                arrays.update({f"contact_{k}": v for k, v in hit.items()})
-            if parts is not None:
-                parts.save(c, arrays)
-            done[c] = arrays
-            if progress is not None:
-                progress(min(count, (c + 1) * chunk), count)
+            part = None if uncertain is None else (uncertain[0], uncertain[1][variants])
+            finish(c, run_chunk(inputs, pounding_runs, variants, part, threads))
     finally:
         if parts is not None:
             parts.close()
@@ -222,7 +386,7 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
 
 def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
          records_folder=None, threads: int | None = None, progress=None,
-         timings: dict | None = None):
+         timings: dict | None = None, scheduler: str | None = None):
     """Run a risk study (a study file, see :mod:`pframe.risk.study`) and return its
     ``xarray.Dataset``: the runs (record x level), fragilities of pounding and of each
     demand limit with and without pounding (maximum likelihood, 90 % confidence bounds),
@@ -230,7 +394,9 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     rules. With ``output``, writes it (netCDF-4, CF-1.8), keeping finished batches beside it
     until then so that a stopped study resumes. Warnings (runs cut short, a hazard table too
     short for the fragilities, runs that failed) go in ``warnings`` and the file's
-    ``warnings`` attribute. Raises :class:`InputError` for bad input."""
+    ``warnings`` attribute. With ``scheduler`` (tcp://HOST:PORT), the batches of an msa,
+    grid ida or cloud design run on that Dask cluster (the ``cluster`` extra), saved as they
+    come back. Raises :class:`InputError` for bad input."""
     from pframe.gap.audit import prepare
     from pframe.risk.analysis import analyse
     from pframe.risk.output import build_dataset
@@ -239,9 +405,23 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     spec, base, text = read_study(study)
     scene = (base / spec.scene).resolve()
     suite = None if spec.suite is None else (base / spec.suite).resolve()
+    if spec.stochastic is not None:
+        suite = stochastic_suite(spec.stochastic, f"{study}, at stochastic")
     folder = records_folder or (None if spec.records_folder is None
                                 else (base / spec.records_folder).resolve())
-    inputs = prepare(scene, suite, levels=spec.design.levels, measure=spec.measure,
+    if scheduler and (spec.design.kind == "subset" or spec.design.hunt is not None):
+        raise InputError(f"--scheduler {scheduler}: {study} is a "
+                         + ("subset simulation" if spec.design.kind == "subset" else
+                            "hunt and fill") + ", whose rounds depend on each other; "
+                         "pframe runs it on this machine (leave out --scheduler)")
+    if spec.design.kind == "subset":
+        from pframe.risk.uncertain import run_subset
+
+        return run_subset(spec, text, study, scene, suite, output, overwrite, threads, timings,
+                          start)
+    hunt = spec.design.hunt is not None
+    levels = [spec.design.hunt.start] if hunt else spec.design.levels
+    inputs = prepare(scene, suite, levels=levels, measure=spec.measure,
                      duration=spec.duration, dt=spec.dt, records_folder=folder)
     hazard = None
     if spec.hazard is not None:
@@ -258,11 +438,30 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         output = outputs.check_output(output, inputs=[r for r in reads if r],
                                       overwrite=overwrite, what="risk file")
     chunk = spec.chunk or inputs.count
-    rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite, progress)
+    search = None
+    if hunt:
+        from pframe.risk.ida import run_hunt
+
+        rows, inputs, search = run_hunt(inputs, spec, output, threads, overwrite, progress)
+    else:
+        uncertain, identity = None, ""
+        if spec.uncertain:
+            import json
+
+            from pframe.risk.sampling import latin_hypercube
+            from pframe.risk.uncertain import check_paths, parse
+
+            params = parse(spec.uncertain, f"{study}, at uncertain")
+            check_paths(inputs.loaded, params, f"{study}, at uncertain")
+            u = latin_hypercube(inputs.count, len(params), np.random.default_rng(spec.seed))
+            uncertain = (params, u)
+            identity = f" uncertain={json.dumps(spec.uncertain, sort_keys=True)} seed={spec.seed}"
+        rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite,
+                            progress, uncertain, identity, scheduler)
     result = analyse(spec, inputs, rows, hazard)
     for line in result.warnings:
         warnings.warn(f"{study}: {line}", stacklevel=2)
-    ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard)
+    ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard, search)
     if output is not None:
         import shutil
 
@@ -272,7 +471,8 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         write_dataset(ds, output)
         shutil.rmtree(parts_folder(Path(output)), ignore_errors=True)
     if timings is not None:
-        timings.update(wall_seconds=time.perf_counter() - start, variants=inputs.count,
+        timings.update(wall_seconds=time.perf_counter() - start,
+                       variants=search.runs if search is not None else inputs.count,
                        solve_seconds=float(rows["free_solve_seconds"])
                        + float(rows.get("contact_solve_seconds", 0.0)))
     return ds

@@ -1,0 +1,182 @@
+"""Uncertain scene parameters of a study, and subset simulation of a small probability of
+pounding (docs/risk.md).
+
+``uncertain:`` maps a scene path (as sweeps name them: ``contacts.*.gap``,
+``buildings.A.story.stiffness``; ``gap`` is short for ``contacts.*.gap``) to a distribution
+(:class:`pframe.risk.sampling.Uncertain`): every value the path names takes the same sample
+(a path with ``*`` is one variable, fully correlated over its items). Each run of an msa,
+grid-ida or cloud design gets its own Latin hypercube sample.
+
+``design: {kind: subset, probability_level, samples, ...}`` estimates P(pounding) under the
+study's stationary Clough-Penzien motion by subset simulation (Au & Beck 2001) over the
+uncertain parameters and the motion's white noise: ``u`` is the standard normal vector of
+both, ``g(u) = gap - max_t (u_left - u_right)`` from a run without contacts (pounding is
+``g <= 0``: a run with contacts pounds exactly then), one batch of the kernel per call.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pframe.errors import InputError
+from pframe.risk.sampling import DISTRIBUTIONS, Uncertain
+
+SHORT = {"gap": "contacts.*.gap"}
+
+
+def parse(uncertain: dict, where: str) -> list[Uncertain]:
+    """The study's ``uncertain`` mapping as :class:`Uncertain` variables."""
+    out = []
+    for path, spec in uncertain.items():
+        at = f"{where}.{path}"
+        if not isinstance(spec, dict) or spec.get("distribution") not in DISTRIBUTIONS:
+            raise InputError(f"{at}: give distribution (one of {', '.join(DISTRIBUTIONS)}) "
+                             "and its two parameters, e.g. {distribution: lognormal, median: "
+                             "0.05, dispersion: 0.3}")
+        first, second = DISTRIBUTIONS[spec["distribution"]]
+        extra = set(spec) - {"distribution", first, second}
+        if extra or first not in spec or second not in spec:
+            raise InputError(f"{at}: a {spec['distribution']} distribution takes {first} and "
+                             f"{second}" + (f" (not {', '.join(sorted(extra))})" if extra else ""))
+        try:
+            a, b = float(spec[first]), float(spec[second])
+        except (TypeError, ValueError):
+            raise InputError(f"{at}: {first} and {second} are numbers") from None
+        try:
+            out.append(Uncertain(SHORT.get(path, path), spec["distribution"], a, b))
+        except InputError as exc:
+            raise InputError(f"{where}: {exc}") from None
+    return out
+
+
+def check_paths(loaded, params: list[Uncertain], where: str) -> None:
+    """Every path names numbers the scene gives."""
+    from pframe.sweep.paths import check_targets, resolve
+    from pframe.yamltext import compose
+
+    data, _ = compose(loaded.text, loaded.source)
+    for p in params:
+        try:
+            check_targets(data, resolve(data, tuple(p.path.split("."))), files=False)
+        except InputError as exc:
+            raise InputError(f"{where}.{p.path}: {exc} (in the scene {loaded.source})") from None
+
+
+def scenes(loaded, params: list[Uncertain], u: np.ndarray) -> list:
+    """One scene per row of the standard normals ``u`` (n, len(params))."""
+    from pframe.reader import variant
+    from pframe.sweep.paths import put, resolve
+
+    out = []
+    for row in np.atleast_2d(u):
+        values = [float(p.value(x)) for p, x in zip(params, row)]
+
+        def change(data, values=values):
+            for p, v in zip(params, values):
+                for path in resolve(data, tuple(p.path.split("."))):
+                    put(data, path, v)
+
+        out.append(variant(loaded, change))
+    return out
+
+
+def cp_filter(step: float, wg: float, zg: float, wf: float = 0.0, zf: float = 0.0):
+    """The zero-order-hold discretisation (b, a) of the Clough-Penzien filters, from white
+    noise to ground acceleration (the process of clough_penzien_stationary)."""
+    from scipy import signal
+
+    num, den = np.array([2.0 * zg * wg, wg * wg]), np.array([1.0, 2.0 * zg * wg, wg * wg])
+    if wf > 0.0:
+        num = np.convolve(num, [1.0, 0.0, 0.0])
+        den = np.convolve(den, [1.0, 2.0 * zf * wf, wf * wf])
+    dnum, dden, _ = signal.cont2discrete((num, den), step, method="zoh")
+    return np.ravel(dnum), dden
+
+
+class SubsetProblem:
+    """g(u) of a subset study: runs without contacts of the scenes and motions ``u`` names."""
+
+    def __init__(self, loaded, params: list[Uncertain], motion: dict, steps: int, dt: float,
+                 threads=None):
+        from pframe.gap.runs import contact_pairs
+
+        self.loaded, self.params, self.threads = loaded, params, threads
+        self.pairs = contact_pairs(loaded)
+        self.steps, self.dt = steps, dt
+        self.step = float(motion.get("step", 0.01))
+        self.noise = int(math.ceil(float(motion["duration"]) / self.step)) + 1
+        self.scale = math.sqrt(2.0 * math.pi * float(motion["intensity"]) / self.step)
+        self.filter = cp_filter(self.step, float(motion["ground_frequency"]),
+                                float(motion["ground_damping"]),
+                                float(motion.get("filter_frequency", 0.0)),
+                                float(motion.get("filter_damping", 0.6)))
+        self.runs = 0
+
+    @property
+    def dim(self) -> int:
+        return len(self.params) + self.noise
+
+    def accelerations(self, u: np.ndarray) -> np.ndarray:
+        from scipy import signal
+
+        a = signal.lfilter(*self.filter, u[:, len(self.params):] * self.scale, axis=1)
+        times = np.arange(self.steps + 1) * self.dt
+        grid = np.arange(self.noise) * self.step
+        return np.stack([np.interp(times, grid, row, right=0.0) for row in a])
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        from pframe.risk.runs import run_batch
+
+        u = np.atleast_2d(u)
+        members = (scenes(self.loaded, self.params, u[:, :len(self.params)]) if self.params
+                   else self.loaded)
+        out = run_batch(members, self.pairs, self.accelerations(u), self.steps, self.dt,
+                        contacts=False, threads=self.threads)
+        self.runs += len(u)
+        g = out["gap"] - np.max(out["g_req"], axis=1)
+        return np.where(out["complete"] == 1, g, -np.inf)  # a failed run counts as pounding
+
+
+def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, threads,
+               timings, start: float):
+    """A subset study: the probability of pounding, its c.o.v. and confidence interval."""
+    import time
+    import warnings
+
+    from pframe.gap.audit import prepare
+    from pframe.risk.output import subset_dataset
+    from pframe.risk.sampling import subset_simulation
+
+    inputs = prepare(scene, suite, levels=None, measure=spec.measure, duration=spec.duration,
+                     dt=spec.dt)
+    params = parse(spec.uncertain or {}, f"{study}, at uncertain")
+    check_paths(inputs.loaded, params, f"{study}, at uncertain")
+    if output is not None:
+        from pframe import outputs
+        from pframe.api import run_inputs
+
+        output = outputs.check_output(output, inputs=[r for r in (
+            *run_inputs(inputs.loaded), str(study)) if r], overwrite=overwrite,
+            what="risk file")
+    problem = SubsetProblem(inputs.loaded, params, spec.stochastic, inputs.steps, inputs.dt,
+                            threads)
+    d = spec.design
+    estimate = subset_simulation(problem, problem.dim, d.samples,
+                                 np.random.default_rng(spec.seed), p0=d.probability_level)
+    notes = list(inputs.warnings)
+    if estimate.cov > 0.3:
+        notes.append(f"the probability's coefficient of variation is {estimate.cov:.2f}: "
+                     "raise design.samples for a tighter estimate")
+    for line in notes:
+        warnings.warn(f"{study}: {line}", stacklevel=3)
+    ds = subset_dataset(spec, inputs, params, estimate, problem, text, str(study), notes)
+    if output is not None:
+        from pframe.record.netcdf import write_dataset
+
+        write_dataset(ds, output)
+    if timings is not None:
+        timings.update(wall_seconds=time.perf_counter() - start, variants=problem.runs,
+                       solve_seconds=math.nan)
+    return ds
