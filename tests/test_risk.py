@@ -289,6 +289,44 @@ def test_bad_study_exits_2_naming_the_place(tmp_path, capsys, edit, says):
     assert not out.exists()
 
 
+@pytest.mark.slow
+def test_a_drift_ratio_limit_is_the_drift_limit_over_the_storey_height(tmp_path):
+    """With storeys 3 m high, the file's peak drift ratios are the peak drifts over 3 and a
+    drift-ratio limit r has the fragility of the drift limit 3 r (the same runs, the same
+    fit); without heights a drift-ratio limit is refused, naming the place."""
+    import xarray as xr
+    import yaml
+
+    text = (REPO / "models" / "wu2021-eq14.yaml").read_text()
+    scene = tmp_path / "pair-heights.yaml"
+    scene.write_text(text.replace("    floors: 3\n", "    floors: 3\n    height: 3.0\n"))
+    assert scene.read_text().count("height: 3.0") == 2
+    study = {"scene": str(scene), "measure": "pga",
+             "stochastic": {"model": "clough_penzien", "intensity": 0.02,
+                            "ground_frequency": 15.0, "ground_damping": 0.6, "duration": 8.0,
+                            "step": 0.01, "realisations": 12, "seed": 3},
+             "design": {"kind": "msa", "levels": [0.2, 0.4, 0.6, 0.8, 1.0, 1.3, 1.6]},
+             "dt": 0.002, "pounding_runs": False, "bootstrap": 0,
+             "limits": {"drift": {"LS": 0.1}, "drift_ratio": {"LSr": 0.1 / 3.0}}}
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    out = tmp_path / "risk.nc"
+    assert main(["risk", str(path), "-o", str(out), "-q", "--threads", "2"]) == 0
+    with xr.open_dataset(out) as ds:
+        free = dict(condition=0)
+        np.testing.assert_allclose(ds.peak_story_drift_ratio[free].values,
+                                   ds.peak_story_drift[free].values / 3.0, rtol=1e-12)
+        ls = ds.fragility_median.sel(limit_name="LS").values
+        lsr = ds.fragility_median.sel(limit_name="LSr").values
+        assert np.isfinite(ls[0])
+        np.testing.assert_allclose(lsr, ls, rtol=1e-9)
+        assert str(ds.limit_units.sel(limit_name="LSr").values) == "1"
+    study["scene"] = str(REPO / "models" / "wu2021-eq14.yaml")
+    path.write_text(yaml.safe_dump(study))
+    assert main(["risk", str(path), "-o", str(tmp_path / "bare.nc"), "-q"]) == 2
+    assert not (tmp_path / "bare.nc").exists()
+
+
 def test_ida_capacities_from_a_grid_recover_the_records_capacities():
     """Demand / limit = (IM / c_r)^1.3 for record r: the IM where it passes 1 is c_r, found
     exactly by log-log interpolation between grid levels; capacities drawn lnN(ln 0.7, 0.3),

@@ -53,8 +53,8 @@ def _ratios(rows, prefix: str, kind: str, value: float, gap: float) -> np.ndarra
         if prefix == "contact":
             return np.where(rows["contact_impacts"].sum(axis=1) > 0, 2.0, 0.5)
         return np.max(rows["free_g_req"], axis=1) / rows.get("free_gap", gap)  # each run's
-    if kind == "drift":
-        return np.max(rows[f"{prefix}_drift"], axis=1) / value
+    if kind in ("drift", "drift_ratio"):
+        return np.max(rows[f"{prefix}_{kind}"], axis=1) / value
     return np.max(rows[f"{prefix}_acceleration"], axis=1) / (value * G)
 
 
@@ -184,10 +184,13 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     hunted = "ida_im" in rows
     gaps = np.asarray(inputs.pairs.gaps, float)
     gap = float(gaps.min())
-    names = ["pounding", *spec.limits.drift, *spec.limits.acceleration]
+    names = ["pounding", *spec.limits.drift, *spec.limits.drift_ratio,
+             *spec.limits.acceleration]
     kinds = (["pounding"] + ["drift"] * len(spec.limits.drift)
+             + ["drift_ratio"] * len(spec.limits.drift_ratio)
              + ["acceleration"] * len(spec.limits.acceleration))
-    values = [gap, *spec.limits.drift.values(), *spec.limits.acceleration.values()]
+    values = [gap, *spec.limits.drift.values(), *spec.limits.drift_ratio.values(),
+              *spec.limits.acceleration.values()]
     out = Analysis(names, kinds, values, im, {}, {})
     failed = {p: (rows[f"{p}_complete"] == 0) for p in ("free", "contact")
               if f"{p}_complete" in rows}

@@ -121,7 +121,7 @@ class _Store:
 def _limit(spec, name: str) -> tuple[str, float | None]:
     if name == "pounding":
         return "pounding", None
-    for kind in ("drift", "acceleration"):
+    for kind in ("drift", "drift_ratio", "acceleration"):
         values = getattr(spec.limits, kind)
         if name in values:
             return kind, float(values[name])

@@ -25,7 +25,7 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
     C = len(inputs.pairs.names)
     buildings = list(inputs.loaded.expanded.buildings)
     nb = len(buildings)
-    units = {"pounding": "m", "drift": "m", "acceleration": "g"}
+    units = {"pounding": "m", "drift": "m", "drift_ratio": "1", "acceleration": "g"}
     coords = {
         "record_name": ("record", np.array(inputs.suite.names, dtype=object),
                         {"long_name": "ground-motion record"}),
@@ -63,6 +63,7 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
 
     im = result.im.reshape(R, L)
     drift = np.stack([grid("free_drift", nb), grid("contact_drift", nb)])
+    ratio = np.stack([grid("free_drift_ratio", nb), grid("contact_drift_ratio", nb)])
     acc = np.stack([grid("free_acceleration", nb), grid("contact_acceleration", nb)]) / G
     impacts = (np.where((rows["contact_complete"] == 1)[:, None], rows["contact_impacts"], -1)
                .reshape(R, L, C).astype(np.int32) if "contact_impacts" in rows
@@ -76,14 +77,17 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
             "the gap below which the floors pound"}),
         "peak_story_drift": (("condition", "record", "level", "building"), drift, {
             "units": "m", "long_name": "peak |storey drift| over the building's storeys"}),
+        "peak_story_drift_ratio": (("condition", "record", "level", "building"), ratio, {
+            "units": "1", "long_name": "peak |storey drift ratio| over the building's storeys "
+            "(NaN without storey heights)"}),
         "peak_floor_acceleration": (("condition", "record", "level", "building"), acc, {
             "units": "g", "long_name": "peak absolute floor acceleration over the building's "
             "floors"}),
         "impact_count": (("record", "level", "contact"), impacts, {
             "units": "1", "long_name": "impacts in the run with contacts (-1: not run)"}),
         "limit_value": (("limit",), np.array(result.limit_values, float), {
-            "units": "1", "long_name": "the limit: gap (m) for pounding, drift (m), floor "
-            "acceleration (g); see limit_units"}),
+            "units": "1", "long_name": "the limit: gap (m) for pounding, drift (m), drift "
+            "ratio (1), floor acceleration (g); see limit_units"}),
         "limit_units": (("limit",), np.array([units[k] for k in result.limit_kinds],
                                              dtype=object), {"long_name": "units of the limit"}),
         "fragility_median": (("limit", "condition"), table(lambda f: f.median), {

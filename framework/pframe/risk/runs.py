@@ -24,7 +24,7 @@ def _owners(plan) -> tuple[np.ndarray, np.ndarray]:
     of_dof = np.full(plan.n_dof, -1, dtype=np.int64)
     for name, dof in zip(plan.node_names, plan.node_dof):
         of_dof[dof] = plan.buildings.index(name.split("/")[0])
-    return of_dof, of_dof[plan.story_dofs[:, 1]]
+    return of_dof, of_dof[plan.story_dofs[:len(plan.story_names), 1]]  # storeys, not links
 
 
 def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarray:
@@ -46,6 +46,7 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     # the kernel keeps the peaks (the absolute acceleration's with the ground at every
     # sub-step); only the displacements stream out, for the critical gap's running maximum
     recorders = (Envelope(kind="envelope", quantities=["displacement", "story_drift",
+                                                       "story_drift_ratio",
                                                        "absolute_acceleration"]),
                  History(kind="history", quantities=["displacement"]))
     bases = [dataclasses.replace(
@@ -65,6 +66,8 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
         "g_req": sink.gap,
         "peak_left": peak[:, sink.left], "peak_right": peak[:, sink.right],
         "drift": _per_building(drift, of_story, nb),
+        # NaN for a building without storey heights (a drift-ratio limit needs them)
+        "drift_ratio": _per_building(np.abs(result.envelope["story_drift_ratio"]), of_story, nb),
         "acceleration": _per_building(result.envelope["absolute_acceleration"], of_dof, nb),
         "impacts": (result.impacts.astype(np.int32) if contacts and result.impacts is not None
                     else np.zeros((plan.batch, len(pairs.names)), np.int32)),

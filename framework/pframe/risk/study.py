@@ -12,6 +12,7 @@ A study file (YAML; paths relative to it)::
     pounding_runs: true            # also run with the contacts (scene's step): demands with pounding
     limits:
       drift: {IO: 0.02, LS: 0.04}          # peak storey drift (m), any storey of a building
+      drift_ratio: {CP: 0.025}             # peak storey drift ratio (needs storey heights)
       acceleration: {A: 1.0}               # peak absolute floor acceleration (g)
     hazard: {file: hazard.csv}     # or {power_law: {k0: 1.0e-4, k: 2.5}}
     target: {return_period: 475}   # or {annual_frequency: 2.1e-3}
@@ -100,6 +101,9 @@ class Limits(_Base):
     """Demand limits, by name."""
 
     drift: dict[str, float] = Field(default_factory=dict, description="name: drift (m)")
+    drift_ratio: dict[str, float] = Field(
+        default_factory=dict, description="name: storey drift ratio (drift over the storey's "
+        "height; 0.01 is 1 %); needs storey heights (height) in the scene")
     acceleration: dict[str, float] = Field(default_factory=dict,
                                            description="name: absolute acceleration (g)")
 
@@ -201,6 +205,7 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
             study.target.return_period is None):
         raise InputError(f"{path}, at target: give either annual_frequency or return_period")
     for kind, values in (("drift", study.limits.drift),
+                         ("drift_ratio", study.limits.drift_ratio),
                          ("acceleration", study.limits.acceleration)):
         for name, v in values.items():
             if not (v > 0 and math.isfinite(v)):
@@ -240,7 +245,8 @@ def _check_hunt(study, path) -> None:
     if design.max_level <= design.hunt.start:
         raise InputError(f"{path}, at design.max_level: {design.max_level:g} g is not above "
                          f"the hunt's start ({design.hunt.start:g} g)")
-    known = ["pounding", *study.limits.drift, *study.limits.acceleration]
+    known = ["pounding", *study.limits.drift, *study.limits.drift_ratio,
+             *study.limits.acceleration]
     if design.limit not in known:
         raise InputError(f"{path}, at design.limit: {design.limit!r} is not a limit of the "
                          f"study (known: {', '.join(known)})")
@@ -423,6 +429,12 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     levels = [spec.design.hunt.start] if hunt else spec.design.levels
     inputs = prepare(scene, suite, levels=levels, measure=spec.measure,
                      duration=spec.duration, dt=spec.dt, records_folder=folder)
+    heights = np.asarray(inputs.loaded.expanded.story_height, float)
+    if spec.limits.drift_ratio and not np.all(np.isfinite(heights)):
+        raise InputError(f"{study}, at limits.drift_ratio: a drift-ratio limit needs every "
+                         f"storey's height, and the scene {scene} gives none for some storeys "
+                         "(give height on its buildings), or give the limit as a drift in "
+                         "metres under limits.drift")
     hazard = None
     if spec.hazard is not None:
         from pframe.risk.hazard import HazardCurve, read_hazard
