@@ -311,24 +311,12 @@ def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=Non
 
 def _on_cluster(address: str, inputs, pounding_runs, todo, chunk, uncertain, finish):
     """The chunks ``todo`` as tasks on the Dask scheduler at ``address`` (as sweeps)."""
-    try:
-        from distributed import Client, as_completed
-    except ImportError:
-        raise InputError(f"--scheduler {address}: sending runs to a Dask cluster needs "
-                         "dask.distributed, which is not installed here; install pframe's "
-                         'cluster extra (pip install "pframe[cluster]") or run without '
-                         "--scheduler") from None
-    from pframe.sweep.runner import CONNECT_TIMEOUT
+    from pframe.sweep.runner import dask_client
 
-    try:
-        client = Client(address, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError) as exc:
-        raise InputError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc}); "
-                         "start one with 'dask scheduler' and give its address as "
-                         "tcp://HOST:PORT") from None
+    client = dask_client(address, "runs")
+    from distributed import as_completed
+
     with client:
-        if not client.scheduler_info().get("workers"):
-            client.wait_for_workers(1, timeout=60)
         remote = client.scatter(inputs, broadcast=True)
         futures = {}
         for c in todo:

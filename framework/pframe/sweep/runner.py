@@ -145,11 +145,14 @@ def _on_threads(definition, todo, threads, started, finish, run: SweepRun):
         pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _on_cluster(definition, todo, address: str, started, finish, run: SweepRun):
+def dask_client(address: str, sending: str):
+    """A dask.distributed client of the scheduler at ``address`` with at least one worker
+    (sweeps and risk studies); a missing extra or an unreachable scheduler is an InputError
+    saying what to do."""
     try:
-        from distributed import Client, as_completed
+        from distributed import Client
     except ImportError:
-        raise InputError(f"--scheduler {address}: sending chunks to a Dask cluster needs "
+        raise InputError(f"--scheduler {address}: sending {sending} to a Dask cluster needs "
                          "dask.distributed, which is not installed here; install pframe's "
                          'cluster extra (pip install "pframe[cluster]") or run without '
                          "--scheduler") from None
@@ -159,9 +162,20 @@ def _on_cluster(definition, todo, address: str, started, finish, run: SweepRun):
         raise InputError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc}); "
                          "start one with 'dask scheduler' and give its address as "
                          "tcp://HOST:PORT") from None
-    with client:
+    try:
         if not client.scheduler_info().get("workers"):
             client.wait_for_workers(1, timeout=60)
+    except BaseException:
+        client.close()
+        raise
+    return client
+
+
+def _on_cluster(definition, todo, address: str, started, finish, run: SweepRun):
+    client = dask_client(address, "chunks")
+    from distributed import as_completed
+
+    with client:
         remote = client.scatter(definition, broadcast=True)
         # compile (or load) the kernel once per worker before chunks run side by side
         compile_seconds = client.run(warm_up, definition)
