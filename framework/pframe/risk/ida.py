@@ -21,8 +21,6 @@ import dataclasses
 
 import numpy as np
 
-from pframe.errors import InputError
-
 
 @dataclasses.dataclass
 class _Record:
@@ -212,15 +210,7 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
 
     try:
         if parts is not None:
-            try:
-                for c in parts.open(restart=restart):
-                    saved[c] = parts.load(c)
-            except InputError as exc:
-                if "holds" not in str(exc):
-                    raise
-                raise InputError(f"{parts.folder}: holds batches of another study (another "
-                                 "scene, suite, design, step or pframe code); pass --overwrite "
-                                 "to discard them, or choose another -o") from None
+            saved.update(parts.load_finished(restart, "scene, suite, design, step"))
         search = hunt_and_fill(passes, records, hunt.start, hunt.step, hunt.growth,
                                design.resolution, design.max_level, max_rounds)
     finally:

@@ -352,15 +352,8 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
 
     try:
         if parts is not None:
-            try:
-                for c in parts.open(restart=restart):
-                    done[c] = parts.load(c)
-            except InputError as exc:
-                if "holds" not in str(exc):
-                    raise
-                raise InputError(f"{parts.folder}: holds batches of another study (another "
-                                 "scene, suite, levels, step, chunk size or pframe code); pass "
-                                 "--overwrite to discard them, or choose another -o") from None
+            done.update(parts.load_finished(restart,
+                                            "scene, suite, levels, step, chunk size"))
         todo = [c for c in range(spec.chunks) if c not in done]
         if scheduler and todo:
             _on_cluster(scheduler, inputs, pounding_runs, todo, chunk, uncertain, finish)

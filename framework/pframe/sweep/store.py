@@ -158,6 +158,18 @@ class Parts:
     def save(self, chunk: int, arrays: dict) -> None:
         self._write_atomic(self.path(chunk), arrays=arrays)
 
+    def load_finished(self, restart: bool, whose: str) -> dict[int, dict]:
+        """Open the folder (as :meth:`open`) and load its finished chunks; a folder of another
+        study says so with ``whose`` (what may have changed: "scene, suite, design, ...")."""
+        try:
+            return {c: self.load(c) for c in self.open(restart=restart)}
+        except InputError as exc:
+            if "holds" not in str(exc):
+                raise
+            raise InputError(f"{self.folder}: holds batches of another study (another "
+                             f"{whose} or pframe code); pass --overwrite to discard them, or "
+                             "choose another -o") from None
+
     def load(self, chunk: int) -> dict:
         try:
             with np.load(self.path(chunk), allow_pickle=False) as data:
