@@ -347,11 +347,13 @@ def laws_c() -> str:
         macro = "BUILTIN_MATERIALS" if kind == "material" else "BUILTIN_CONTACT_LAWS"
         lines += [f"#define {macro} {len(laws)}", "",
                   f"/* (force, d force / d {deformation}, d force / d rate) of {kind} law `law`"
-                  f" into out: ids in registry order, then the plug-ins */",
-                  f"static void {function}(const Settings *s, int64_t law, const double *params,",
-                  "                         const double *committed, double *trial, "
-                  f"double {deformation},",
-                  "                         double rate, double *out)",
+                  f" into out: ids in registry order, then the plug-ins; inlined where the"
+                  " element loops call it, so that a law's result stays in registers */",
+                  f"static PFRAME_INLINE void {function}(const Settings *s, int64_t law,",
+                  "                                      const double *params, "
+                  "const double *committed,",
+                  f"                                      double *trial, double {deformation}, "
+                  "double rate, double *out)",
                   "{", "    switch (law) {"]
         for law_id, law in enumerate(laws):
             lines += [f"    case {law_id}: /* {law.name} */",

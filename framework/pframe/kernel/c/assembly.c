@@ -143,9 +143,16 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
-            const double d = contact_side(m, ue, b, e, 0) - contact_side(m, ue, b, e, 1) - gap[e];
-            const double r = contact_side(m, ve, b, e, 0) - contact_side(m, ve, b, e, 1);
-            double f, kd, kr, at = d;
+            const int plain = plain_contact(m, b, e);
+            double d, r, f, kd, kr, at;
+            if (plain) { /* floor to floor or to a wall: its nodes' values */
+                d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
+                r = dof_value(ve, left) - dof_value(ve, right);
+            } else {
+                d = contact_side(m, ue, b, e, 0) - contact_side(m, ue, b, e, 1) - gap[e];
+                r = contact_side(m, ve, b, e, 0) - contact_side(m, ve, b, e, 1);
+            }
+            at = d;
             if (e == held) {
                 /* Located events (events.c) hold the contact on one branch, so that its
                  * penetration is a continuous function of the sub-step length: held open, no
@@ -167,7 +174,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             calls[law] += 1;
             force[e] = f;
             penetration[e] = d;
-            if (plain_contact(m, b, e)) {
+            if (plain) {
                 if (left >= 0) /* -1: a wall, the ground's side */
                     R[left] -= f;
                 if (right >= 0)

@@ -29,6 +29,15 @@
 #define PFRAME_EXPORT
 #endif
 
+/* a function the compiler copies into its callers (the law dispatch of the element loops) */
+#if defined(_MSC_VER)
+#define PFRAME_INLINE __forceinline
+#elif defined(__GNUC__)
+#define PFRAME_INLINE inline __attribute__((always_inline))
+#else
+#define PFRAME_INLINE inline
+#endif
+
 /* the version of the interface between the driver (pframe/kernel/ckernel.py) and the kernel */
 #define PFRAME_KERNEL_INTERFACE 1
 

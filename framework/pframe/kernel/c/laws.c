@@ -1071,10 +1071,10 @@ static void material_bwbn(const double *params, const double *committed, double 
 
 #define BUILTIN_MATERIALS 8
 
-/* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins */
-static void material_force(const Settings *s, int64_t law, const double *params,
-                         const double *committed, double *trial, double drift,
-                         double rate, double *out)
+/* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins; inlined where the element loops call it, so that a law's result stays in registers */
+static PFRAME_INLINE void material_force(const Settings *s, int64_t law,
+                                      const double *params, const double *committed,
+                                      double *trial, double drift, double rate, double *out)
 {
     switch (law) {
     case 0: /* elastic */
@@ -1363,10 +1363,10 @@ static void contact_bumper(const double *params, const double *committed, double
 
 #define BUILTIN_CONTACT_LAWS 7
 
-/* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins */
-static void contact_force(const Settings *s, int64_t law, const double *params,
-                         const double *committed, double *trial, double penetration,
-                         double rate, double *out)
+/* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins; inlined where the element loops call it, so that a law's result stays in registers */
+static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
+                                      const double *params, const double *committed,
+                                      double *trial, double penetration, double rate, double *out)
 {
     switch (law) {
     case 0: /* linear */

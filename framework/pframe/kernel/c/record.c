@@ -66,6 +66,13 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
     return values[i];
 }
 
+/* Quantity q's values are its source's as they are (value() returns values[i]). */
+static int as_stored(int64_t q)
+{
+    return q != GROUND_ACCELERATION && q != ABSOLUTE_ACCELERATION && q != CONTACT_PENETRATION
+           && q != STORY_DRIFT_RATIO && q != FOUNDATION_SWAY && q != FOUNDATION_ROCKING;
+}
+
 /* The first step at or after k at which a history is due (NEVER if none is). */
 static int64_t next_due(const Recording *rec, int64_t k)
 {
@@ -112,8 +119,12 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
             const int64_t columns = rec->envelope_width[q];
             double *peak = rec->envelope[q] + b * columns;
             const double *values = source(m, st, q, b, &width);
-            for (i = 0; i < columns; i++)
-                peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
+            if (as_stored(q)) /* most quantities: their committed values */
+                for (i = 0; i < columns; i++)
+                    peak[i] = py_max(peak[i], fabs(values[i]));
+            else
+                for (i = 0; i < columns; i++)
+                    peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
             gathered += columns;
         }
     }
