@@ -267,6 +267,26 @@ def _masses_above(stories, index, masses) -> dict:
     return carried
 
 
+_SAMPLES: dict = {}  # (excitation as JSON, steps, dt) -> its samples, read-only
+
+
+def _function_samples(excitation, steps: int, dt: float) -> np.ndarray:
+    """a_g at t_n = n dt, n = 0..steps, of a motion given as a function of time, computed
+    once for the expansions that ask for the same samples (the variants of a sweep); the
+    array is shared, hence read-only."""
+    if excitation is None:
+        return ground_acceleration(None, np.arange(steps + 1) * dt)
+    key = (excitation.model_dump_json(), steps, dt)
+    samples = _SAMPLES.get(key)
+    if samples is None:
+        samples = ground_acceleration(excitation, np.arange(steps + 1) * dt)
+        samples.setflags(write=False)
+        if len(_SAMPLES) >= 8:  # a few motions at a time: memory stays bounded
+            _SAMPLES.pop(next(iter(_SAMPLES)), None)
+        _SAMPLES[key] = samples
+    return samples
+
+
 def expand(scene, base_dir: Path | str = ".") -> Expanded:
     """Resolve a validated scene; raises :class:`ModelError` with the YAML path of a problem."""
     nodes: list = []
@@ -460,9 +480,11 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     if steps < 1:
         raise ModelError(("analysis", "duration"), f"duration {analysis.duration} s is shorter "
                                                    f"than one step dt = {analysis.dt} s")
-    times = np.arange(steps + 1) * analysis.dt
-    ag = ground_acceleration(scene.excitation, times,
-                             None if record is None else (record.times, record.acceleration))
+    if record is None:  # a function of time (a sine, a pulse): shared by a sweep's variants
+        ag = _function_samples(scene.excitation, steps, analysis.dt)
+    else:
+        ag = ground_acceleration(scene.excitation, np.arange(steps + 1) * analysis.dt,
+                                 (record.times, record.acceleration))
 
     reference = 1 if len(buildings) > 1 else 0
     chosen = scene.output.reference
