@@ -48,15 +48,23 @@ def _study(folder: Path, **fields) -> Path:
     return path
 
 
+@pytest.fixture(scope="module")
+def subset_run(tmp_path_factory):
+    """The subset study run whole, uninterrupted: (its folder, its file)."""
+    folder = tmp_path_factory.mktemp("subset")
+    out = folder / "subset.nc"
+    assert main(["risk", str(_study(folder)), "-o", str(out), "-q", "--threads", "2"]) == 0
+    return folder, out
+
+
 @pytest.mark.slow
-def test_subset_study_agrees_with_conditional_monte_carlo(tmp_path):
+def test_subset_study_agrees_with_conditional_monte_carlo(subset_run):
     import xarray as xr
 
     from pframe.reader import load_scene
     from pframe.risk.uncertain import SubsetProblem
 
-    out = tmp_path / "subset.nc"
-    assert main(["risk", str(_study(tmp_path)), "-o", str(out), "-q", "--threads", "2"]) == 0
+    tmp_path, out = subset_run
     ds = xr.open_dataset(out)
     p, lo, hi = (float(ds[k]) for k in ("pounding_probability", "pounding_probability_low",
                                          "pounding_probability_high"))
@@ -72,6 +80,44 @@ def test_subset_study_agrees_with_conditional_monte_carlo(tmp_path):
     f = norm.cdf(np.log(np.maximum(critical, 1e-300) / 0.2) / 0.2)
     mean, se = f.mean(), f.std() / math.sqrt(n)
     assert lo <= mean + 1.96 * se and mean - 1.96 * se <= hi, (p, lo, hi, mean, se)
+
+
+@pytest.mark.slow
+def test_a_stopped_subset_study_resumes_to_the_same_numbers(subset_run, tmp_path, monkeypatch):
+    """Stopped after five batches (two of the first level, three of its chains), the study
+    runs only the other batches the second time and gives the uninterrupted run's numbers,
+    bit for bit: the seed draws the same u, the saved batches give the same g."""
+    import xarray as xr
+
+    import pframe.risk.runs
+    from pframe.risk import risk
+
+    whole = xr.open_dataset(subset_run[1])
+    study = _study(tmp_path)
+    out = tmp_path / "stopped.nc"
+    seen = []
+
+    def stop(done, total):
+        seen.append(done)
+        if len(seen) == 5:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        risk(study, output=out, progress=stop)
+    assert not out.exists()
+    assert len(list((tmp_path / "stopped.nc.parts").glob("chunk-*"))) == 5
+    batches = []
+    real = pframe.risk.runs.run_batch
+    monkeypatch.setattr(pframe.risk.runs, "run_batch",
+                        lambda *a, **k: batches.append(len(a[2])) or real(*a, **k))
+    risk(study, output=out)
+    again = xr.open_dataset(out)
+    assert not (tmp_path / "stopped.nc.parts").exists()
+    assert sum(batches) == int(whole.evaluations) - seen[-1]  # only the runs not saved
+    for name in ("pounding_probability", "pounding_probability_low",
+                 "pounding_probability_high", "pounding_probability_cov", "evaluations"):
+        assert float(again[name]) == float(whole[name]), name
+    assert np.array_equal(again.threshold.values, whole.threshold.values)
 
 
 @pytest.mark.parametrize("fields, says", [

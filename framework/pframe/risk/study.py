@@ -405,7 +405,7 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         from pframe.risk.uncertain import run_subset
 
         return run_subset(spec, text, study, scene, suite, output, overwrite, threads, timings,
-                          start)
+                          start, progress)
     hunt = spec.design.hunt is not None
     levels = [spec.design.hunt.start] if hunt else spec.design.levels
     inputs = prepare(scene, suite, levels=levels, measure=spec.measure,

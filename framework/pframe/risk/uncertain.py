@@ -139,11 +139,60 @@ class SubsetProblem:
         return np.where(out["complete"] == 1, g, -np.inf)  # a failed run counts as pounding
 
 
+#: runs per saved batch of a subset study (a level's first sample is cut into such batches)
+PIECE = 250
+#: batches a subset study may save (levels x chain steps, far above what max_levels allows)
+MAX_CALLS = 99_999
+
+
+class SavedCalls:
+    """g(u) of a subset study, each batch of runs saved beside the output as it finishes
+    (batch c of the study's sequence, with the SHA-256 of its u), so that a stopped study run
+    again replays the saved batches (the same seed draws the same u, hence the same chains)
+    and runs only the rest: the same numbers, bit for bit, as an uninterrupted run. Members
+    of a batch are independent, so cutting a call into batches changes no bit either."""
+
+    def __init__(self, problem: SubsetProblem, parts=None, saved: dict | None = None,
+                 progress=None):
+        self.problem, self.parts, self.progress = problem, parts, progress
+        self.saved = {} if saved is None else saved  # filled by the caller as it loads
+        self.calls = 0
+        self.replayed = 0
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        import hashlib
+
+        u = np.atleast_2d(u)
+        out = []
+        for lo in range(0, len(u), PIECE):
+            piece = np.ascontiguousarray(u[lo:lo + PIECE])
+            c, self.calls = self.calls, self.calls + 1
+            key = np.frombuffer(hashlib.sha256(piece.tobytes()).digest(), np.uint8)
+            hit = self.saved.get(c)
+            if hit is not None and np.array_equal(hit.get("u_sha256"), key):
+                y = np.asarray(hit["g"], float)
+                self.problem.runs += len(piece)
+                self.replayed += 1
+            else:
+                y = np.asarray(self.problem(piece), float)
+                if self.parts is not None:
+                    self.parts.save(c, {"g": y, "u_sha256": key})
+            out.append(y)
+            if self.progress is not None:
+                self.progress(self.problem.runs, None)
+        return np.concatenate(out)
+
+
 def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, threads,
-               timings, start: float):
-    """A subset study: the probability of pounding, its c.o.v. and confidence interval."""
+               timings, start: float, progress=None):
+    """A subset study: the probability of pounding, its c.o.v. and confidence interval. With
+    ``output``, its batches are saved beside it until the file is written, so that a stopped
+    study resumes (:class:`SavedCalls`)."""
+    import hashlib
+    import shutil
     import time
     import warnings
+    from pathlib import Path
 
     from pframe.gap.audit import prepare
     from pframe.risk.output import subset_dataset
@@ -163,8 +212,23 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
     problem = SubsetProblem(inputs.loaded, params, spec.stochastic, inputs.steps, inputs.dt,
                             threads)
     d = spec.design
-    estimate = subset_simulation(problem, problem.dim, d.samples,
-                                 np.random.default_rng(spec.seed), p0=d.probability_level)
+    parts, saved = None, {}
+    if output is not None:
+        from pframe.risk.ida import _Store
+        from pframe.sweep.store import Parts
+
+        digest = inputs.digest("risk subset " + hashlib.sha256(text.encode()).hexdigest())
+        parts = Parts(Path(output), _Store(digest, inputs.loaded.source, 1),
+                      _Store(count=MAX_CALLS, chunks=MAX_CALLS))
+    g = SavedCalls(problem, parts, saved, progress)
+    try:
+        if parts is not None:
+            saved.update(parts.load_finished(overwrite, "scene, study file"))
+        estimate = subset_simulation(g, problem.dim, d.samples,
+                                     np.random.default_rng(spec.seed), p0=d.probability_level)
+    finally:
+        if parts is not None:
+            parts.close()
     notes = list(inputs.warnings)
     if estimate.cov > 0.3:
         notes.append(f"the probability's coefficient of variation is {estimate.cov:.2f}: "
@@ -174,8 +238,10 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
     ds = subset_dataset(spec, inputs, params, estimate, problem, text, str(study), notes)
     if output is not None:
         from pframe.record.netcdf import write_dataset
+        from pframe.sweep.store import parts_folder
 
         write_dataset(ds, output)
+        shutil.rmtree(parts_folder(Path(output)), ignore_errors=True)
     if timings is not None:
         timings.update(wall_seconds=time.perf_counter() - start, variants=problem.runs,
                        solve_seconds=math.nan)
