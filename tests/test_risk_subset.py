@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from scipy.optimize import brentq
 from scipy.stats import norm
 
 from pframe.cli import main
@@ -166,3 +167,92 @@ def test_latin_hypercube_gaps_reach_the_runs_of_an_msa_study(tmp_path):
     gaps = rows["free_gap"]
     assert gaps.size == 16 and gaps.min() >= 0.1 and gaps.max() <= 0.3
     assert sorted(np.floor((gaps - 0.1) / 0.2 * 16).astype(int)) == list(range(16))
+
+
+def _records_study(folder: Path, median: float, level: float = 0.3) -> Path:
+    from conftest import record_file
+
+    for name in ("elCentro.AT2", "A-ELC180.AT2"):
+        record_file(name)  # skips, saying why, when the shared records are absent
+    from conftest import RECORDS
+
+    (folder / "suite.yaml").write_text(yaml.safe_dump({
+        "records": ["elCentro.AT2", "A-ELC180.AT2"]}))
+    study = {"scene": str(_pair(folder)), "suite": str(folder / "suite.yaml"),
+             "records_folder": str(RECORDS), "duration": 8.0, "dt": 0.01,
+             "design": {"kind": "subset", "levels": [level], "probability_level": 0.1,
+                        "samples": 300},
+             "uncertain": {"gap": {"distribution": "lognormal", "median": median,
+                                   "dispersion": 0.2},
+                           "buildings.A.story.stiffness": {
+                               "distribution": "lognormal", "median": STIFFNESS_A,
+                               "dispersion": 0.15}},
+             "seed": 3}
+    path = folder / "records-study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    return path
+
+
+STIFFNESS_A = 1000.0 * (2 * math.pi / 0.5) ** 2
+
+
+@pytest.mark.slow
+def test_subset_over_records_agrees_with_monte_carlo_over_the_stiffness(tmp_path):
+    """Two real records scaled to one level; uncertain gap and storey stiffness. Subset
+    simulation per record, averaged over the records, against Monte Carlo over the stiffness
+    with the gap integrated exactly (P(gap < critical gap) is a lognormal CDF)."""
+    import xarray as xr
+
+    from pframe.gap.audit import prepare
+    from pframe.risk.uncertain import RecordSubsetProblem, parse
+
+    probe = _records_study(tmp_path, 0.2)
+    spec = yaml.safe_load(probe.read_text())
+    inputs = prepare(tmp_path / "pair.yaml", tmp_path / "suite.yaml", levels=[0.3],
+                     duration=8.0, dt=0.01, records_folder=Path(spec["records_folder"]))
+    params = parse(spec["uncertain"], "uncertain")
+    rng = np.random.default_rng(7)
+    n = 400
+    z = rng.standard_normal(n)
+    u = np.zeros((n, 2))  # the gap at its median 0.2, the stiffness sampled
+    u[:, [p.path for p in params].index("buildings.A.story.stiffness")] = z
+    critical = []
+    for r in range(2):
+        g = RecordSubsetProblem(inputs, params, r, 0, 2)(u)
+        critical.append(0.2 - g)  # g = gap - critical gap
+    critical = np.array(critical)
+    assert np.all(critical > 0)
+
+    def chance(median):  # per stiffness sample, the mean over the records
+        return norm.cdf(np.log(critical / median) / 0.2).mean(axis=0)
+
+    # the gap median that makes pounding a rare event: 3e-3 on average
+    median = brentq(lambda m: chance(m).mean() - 3e-3, 0.01, 10.0)
+    f = chance(median)
+    mean, se = f.mean(), f.std() / math.sqrt(n)
+    assert 3e-4 < mean < 3e-2
+
+    study = _records_study(tmp_path, median)
+    out = tmp_path / "records.nc"
+    assert main(["risk", str(study), "-o", str(out), "-q", "--threads", "2"]) == 0
+    ds = xr.open_dataset(out)
+    p, lo, hi = (float(ds[k]) for k in ("pounding_probability", "pounding_probability_low",
+                                         "pounding_probability_high"))
+    assert list(ds.record.values) and ds.sizes["record"] == 2
+    assert p == pytest.approx(float(ds.record_probability.mean()), rel=1e-12)
+    assert lo <= mean + 1.96 * se and mean - 1.96 * se <= hi, (p, lo, hi, mean, se)
+    assert 0 < float(ds.pounding_probability_cov) < 0.6
+    assert np.all(ds.record_probability.values > 0)
+    print(f"subset over records: {p:.3e} ({lo:.3e}-{hi:.3e}, {int(ds.evaluations)} runs); "
+          f"Monte Carlo {mean:.3e} +- {1.96 * se:.1e}; per record "
+          f"{ds.record_probability.values}")
+
+
+def test_a_subset_design_over_records_needs_uncertain_values(tmp_path, capsys):
+    study = _records_study(tmp_path, 0.2)
+    data = yaml.safe_load(study.read_text())
+    del data["uncertain"]
+    study.write_text(yaml.safe_dump(data))
+    assert main(["risk", str(study), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert "at uncertain" in err and "suite of records" in err and "Traceback" not in err

@@ -179,9 +179,11 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                               attrs=attrs))
 
 
-def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes):
+def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
+                   terms=None):
     """The result of a subset study: the probability of pounding with its c.o.v. and
-    confidence interval, the intermediate thresholds, the uncertain variables."""
+    confidence interval, the intermediate thresholds, the uncertain variables; over a suite
+    of records (``terms``: each record's estimate), each record's conditional probability."""
     import xarray as xr
 
     import pframe
@@ -206,6 +208,17 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes)
             "(0: the last level)"}),
     }
     coords = {}
+    if terms is not None:  # over records: no common thresholds; each record's estimate
+        del data["threshold"]
+        coords["record"] = ("record", np.array([mo.name for mo in inputs.suite.motions],
+                                               dtype=object), {"long_name": "ground motion"})
+        data["record_probability"] = (("record",), np.array([t.probability for t in terms]), {
+            "units": "1", "long_name": "probability of pounding under the record (subset "
+            "simulation over the uncertain values)"})
+        data["record_probability_cov"] = (("record",), np.array([t.cov for t in terms]), {
+            "units": "1", "long_name": "its coefficient of variation"})
+        data["record_scale_factor"] = (("record",), np.asarray(inputs.factors[:, 0], float),
+                                       {"units": "1", "long_name": "scale factor applied"})
     if params:
         coords["variable_name"] = ("variable", np.array([p.path for p in params], dtype=object),
                                    {"long_name": "uncertain scene value (path)"})
@@ -217,7 +230,11 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes)
     attrs = {
         "title": f"risk study (subset simulation): {inputs.loaded.scene.title or inputs.loaded.source}",
         "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source,
-        "design": "subset", "motion": ", ".join(f"{k} {v}" for k, v in m.items()),
+        "design": "subset",
+        "motion": (", ".join(f"{k} {v}" for k, v in m.items()) if m is not None else
+                   f"the suite's {len(inputs.suite.motions)} records"
+                   + (f" scaled to {float(inputs.levels[0]):g} g" if inputs.scaled else
+                      " as recorded")),
         "probability_level": spec.design.probability_level,
         "samples_per_level": spec.design.samples, "study_yaml": text,
         "input_yaml": inputs.loaded.text, "dt": inputs.dt, "steps": inputs.steps,
@@ -237,7 +254,9 @@ def summary(ds) -> str:
                 f"{float(ds.pounding_probability_low):.3e}-"
                 f"{float(ds.pounding_probability_high):.3e}) from "
                 f"{int(ds.evaluations)} runs by subset simulation over "
-                f"{ds.sizes.get('variable', 0)} uncertain values and the motion's white noise")
+                f"{ds.sizes.get('variable', 0)} uncertain values and "
+                + ("the motion's white noise" if "record" not in ds.dims else
+                   f"each of {ds.sizes['record']} records (their mean)"))
     lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
              + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")]
     lines.append("-" * len(lines[0]))

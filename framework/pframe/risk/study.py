@@ -54,8 +54,11 @@ class Design(_Base):
     kind: Literal["msa", "ida", "cloud", "subset"] = Field(
         description="multiple-stripe (records scaled to levels), incremental dynamic analysis "
         "(on a grid of levels, or by hunt and fill), cloud (unscaled), or subset simulation "
-        "of the probability of pounding (stationary Clough-Penzien motion)")
-    levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida")
+        "of the probability of pounding (stationary Clough-Penzien motion, or a suite of records "
+        "with uncertain values)")
+    levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida; "
+                                       "the one level a subset design over records scales "
+                                       "them to")
     hunt: Hunt | None = Field(None, description="ida by hunt and fill (instead of levels): "
                               "each record hunted up to the limit, then bisected")
     resolution: float | None = Field(None, gt=0, allow_inf_nan=False, description="ida hunt: "
@@ -214,17 +217,43 @@ def read_study(path) -> tuple[StudyFile, Path, str]:
 
 
 def _check_subset(study, path) -> None:
+    if study.suite is not None:
+        _check_subset_records(study, path)
+        return
     m = study.stochastic or {}
     if (m.get("model") != "clough_penzien" or m.get("envelope") is not None
             or m.get("duration") is None):
         raise InputError(f"{path}, at stochastic: a subset design runs over the white noise "
                          "of a stationary motion: give stochastic: {model: clough_penzien, "
                          "intensity, ground_frequency, ground_damping, duration, ...} without "
-                         "an envelope (realisations are not needed)")
+                         "an envelope (realisations are not needed), or give a suite of "
+                         "records and uncertain values to run over")
     if study.design.levels or study.hazard is not None or study.target is not None:
         raise InputError(f"{path}, at design: a subset design estimates the probability of "
                          "pounding under the study's motion; levels, hazard and target belong "
                          "to msa, ida and cloud")
+    _check_chains(study, path)
+
+
+def _check_subset_records(study, path) -> None:
+    """A subset design over a suite: the uncertain values are its random space."""
+    if not study.uncertain:
+        raise InputError(f"{path}, at uncertain: a subset design over a suite of records runs "
+                         "over the uncertain scene values (each record's probability of "
+                         "pounding given those values); give uncertain: {gap: {distribution: "
+                         "lognormal, median: ..., dispersion: ...}, ...}")
+    levels = study.design.levels
+    if levels is not None and (len(levels) != 1 or not levels[0] > 0):
+        raise InputError(f"{path}, at design.levels: a subset design over records takes one "
+                         "positive intensity level (g) to scale them to, or none (as recorded)")
+    if study.hazard is not None or study.target is not None:
+        raise InputError(f"{path}, at design: a subset design estimates the probability of "
+                         "pounding at one intensity; hazard and target belong to msa, ida and "
+                         "cloud")
+    _check_chains(study, path)
+
+
+def _check_chains(study, path) -> None:
     n, p0 = study.design.samples, study.design.probability_level
     seeds = n * p0
     if abs(seeds - round(seeds)) > 1e-9 or round(seeds) < 1 or n % round(seeds):
@@ -405,7 +434,7 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         from pframe.risk.uncertain import run_subset
 
         return run_subset(spec, text, study, scene, suite, output, overwrite, threads, timings,
-                          start, progress)
+                          start, progress, folder)
     hunt = spec.design.hunt is not None
     levels = [spec.design.hunt.start] if hunt else spec.design.levels
     inputs = prepare(scene, suite, levels=levels, measure=spec.measure,

@@ -139,10 +139,82 @@ class SubsetProblem:
         return np.where(out["complete"] == 1, g, -np.inf)  # a failed run counts as pounding
 
 
+class RecordSubsetProblem:
+    """g(u) of a subset study over a suite of records, conditional on record ``record`` scaled
+    to level ``column``: runs without contacts of the scenes the uncertain values ``u`` name
+    (standard normals, one per value), all under that record."""
+
+    def __init__(self, inputs, params: list[Uncertain], record: int, column: int,
+                 threads=None):
+        self.inputs, self.params, self.threads = inputs, params, threads
+        self.ground = inputs.accelerations([record * inputs.factors.shape[1] + column])[0]
+        self.runs = 0
+
+    @property
+    def dim(self) -> int:
+        return len(self.params)
+
+    def __call__(self, u: np.ndarray) -> np.ndarray:
+        from pframe.risk.runs import run_batch
+
+        u = np.atleast_2d(u)
+        i = self.inputs
+        out = run_batch(scenes(i.loaded, self.params, u), i.pairs,
+                        np.tile(self.ground, (len(u), 1)), i.steps, i.dt, contacts=False,
+                        threads=self.threads)
+        self.runs += len(u)
+        g = out["gap"] - np.max(out["g_req"], axis=1)
+        return np.where(out["complete"] == 1, g, -np.inf)
+
+
+def over_records(g_of, records: int, dim: int, n: int, seed: int, p0: float,
+                 confidence: float = 0.95):
+    """P(pounding) = (1 / R) sum_r P(pounding | record r), each term by subset simulation over
+    the uncertain values with its own generator (seeded by (seed, r)); the terms are
+    independent, so var(P) = sum_r (cov_r p_r)^2 / R^2. A record under which the chains find
+    no pounding in subset_simulation's levels contributes 0 (its probability is below
+    p0^max_levels). Returns (the combined Estimate, the per-record estimates, notes)."""
+    from scipy.stats import norm
+
+    from pframe.risk.sampling import Estimate, subset_simulation
+
+    terms, notes = [], []
+    for r in range(records):
+        try:
+            terms.append(subset_simulation(g_of(r), dim, n, np.random.default_rng([seed, r]),
+                                           p0=p0))
+        except InputError as exc:
+            if "no failure" not in str(exc):
+                raise
+            terms.append(Estimate(0.0, 0.0, 0.0, 0.0, 0, "subset simulation", ()))
+            notes.append(f"record {r + 1}: no pounding found ({exc}); counted as 0")
+    p = np.array([t.probability for t in terms])
+    sd = np.array([t.cov * t.probability for t in terms])
+    probability = float(p.mean())
+    evaluations = int(sum(t.evaluations for t in terms))
+    if probability <= 0.0:
+        raise InputError("subset simulation over the records: no pounding under any record "
+                         "within the levels searched (the probability is below "
+                         f"{p0 ** 20:.1e} for every record)")
+    cov2 = float(np.sum(sd ** 2)) / records ** 2 / probability ** 2
+    z = norm.ppf(0.5 + confidence / 2)
+    spread_log = math.sqrt(math.log1p(cov2))
+    combined = Estimate(probability, probability * math.exp(-z * spread_log),
+                        probability * math.exp(z * spread_log), math.sqrt(cov2), evaluations,
+                        "subset simulation over the records", ())
+    return combined, terms, notes
+
+
 #: runs per saved batch of a subset study (a level's first sample is cut into such batches)
 PIECE = 250
 #: batches a subset study may save (levels x chain steps, far above what max_levels allows)
 MAX_CALLS = 99_999
+
+
+class _Runs:
+    """The run count of a subset study over records (its problems are one per record)."""
+
+    runs = 0
 
 
 class SavedCalls:
@@ -158,6 +230,7 @@ class SavedCalls:
         self.saved = {} if saved is None else saved  # filled by the caller as it loads
         self.calls = 0
         self.replayed = 0
+        self.runs = 0  # over every problem it served
 
     def __call__(self, u: np.ndarray) -> np.ndarray:
         import hashlib
@@ -178,13 +251,14 @@ class SavedCalls:
                 if self.parts is not None:
                     self.parts.save(c, {"g": y, "u_sha256": key})
             out.append(y)
+            self.runs += len(piece)
             if self.progress is not None:
-                self.progress(self.problem.runs, None)
+                self.progress(self.runs, None)
         return np.concatenate(out)
 
 
 def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, threads,
-               timings, start: float, progress=None):
+               timings, start: float, progress=None, records_folder=None):
     """A subset study: the probability of pounding, its c.o.v. and confidence interval. With
     ``output``, its batches are saved beside it until the file is written, so that a stopped
     study resumes (:class:`SavedCalls`)."""
@@ -198,8 +272,10 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
     from pframe.risk.output import subset_dataset
     from pframe.risk.sampling import subset_simulation
 
-    inputs = prepare(scene, suite, levels=None, measure=spec.measure, duration=spec.duration,
-                     dt=spec.dt)
+    on_records = spec.stochastic is None
+    inputs = prepare(scene, suite, levels=(spec.design.levels or None) if on_records else None,
+                     measure=spec.measure, duration=spec.duration, dt=spec.dt,
+                     records_folder=records_folder)
     params = parse(spec.uncertain or {}, f"{study}, at uncertain")
     check_paths(inputs.loaded, params, f"{study}, at uncertain")
     if output is not None:
@@ -209,9 +285,12 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
         output = outputs.check_output(output, inputs=[r for r in (
             *run_inputs(inputs.loaded), str(study)) if r], overwrite=overwrite,
             what="risk file")
-    problem = SubsetProblem(inputs.loaded, params, spec.stochastic, inputs.steps, inputs.dt,
-                            threads)
     d = spec.design
+    if on_records:
+        problem = _Runs()
+    else:
+        problem = SubsetProblem(inputs.loaded, params, spec.stochastic, inputs.steps, inputs.dt,
+                                threads)
     parts, saved = None, {}
     if output is not None:
         from pframe.risk.ida import _Store
@@ -224,18 +303,30 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
     try:
         if parts is not None:
             saved.update(parts.load_finished(overwrite, "scene, study file"))
-        estimate = subset_simulation(g, problem.dim, d.samples,
-                                     np.random.default_rng(spec.seed), p0=d.probability_level)
+        terms, notes = None, list(inputs.warnings)
+        if on_records:
+            def g_of(r):
+                g.problem = RecordSubsetProblem(inputs, params, r, 0, threads)
+                return g
+
+            estimate, terms, more = over_records(g_of, len(inputs.suite.motions), len(params),
+                                                 d.samples, spec.seed, d.probability_level)
+            notes += more
+            problem.runs = estimate.evaluations
+        else:
+            estimate = subset_simulation(g, problem.dim, d.samples,
+                                         np.random.default_rng(spec.seed),
+                                         p0=d.probability_level)
     finally:
         if parts is not None:
             parts.close()
-    notes = list(inputs.warnings)
     if estimate.cov > 0.3:
         notes.append(f"the probability's coefficient of variation is {estimate.cov:.2f}: "
                      "raise design.samples for a tighter estimate")
     for line in notes:
         warnings.warn(f"{study}: {line}", stacklevel=3)
-    ds = subset_dataset(spec, inputs, params, estimate, problem, text, str(study), notes)
+    ds = subset_dataset(spec, inputs, params, estimate, problem, text, str(study), notes,
+                        terms)
     if output is not None:
         from pframe.record.netcdf import write_dataset
         from pframe.sweep.store import parts_folder
