@@ -116,6 +116,16 @@ def test_malformed_yaml_is_one_message(tmp_path, capsys, text, expected):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.yaml"]
 
 
+def test_deep_nesting_is_refused_at_the_line_it_passes_the_limit(tmp_path, capsys):
+    """Reading stops at the first value nested beyond the limit and names its line (the
+    root is on line 1, so the value 101 deep opens line 102), rather than reading on
+    through thousands of brackets until Python's recursion gives up."""
+    path = tmp_path / "scene.yaml"
+    path.write_text("[\n" * 5_000 + "]" * 5_000, encoding="utf-8")
+    err = refused(capsys, ["validate", str(path)])
+    assert f"{path}, line 102: the data nests more than 100 levels deep" in err
+
+
 @pytest.mark.parametrize("text, value", [
     ("11.9e6", 11.9e6), ("1.0e9", 1.0e9), ("1e-3", 1e-3), ("1E3", 1000.0), ("-2.5", -2.5),
     (".5", 0.5), ("7", 7), ("010", 10), ("0o10", 8), ("0x1F", 31), ("+3", 3),
