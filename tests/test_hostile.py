@@ -126,6 +126,26 @@ def test_deep_nesting_is_refused_at_the_line_it_passes_the_limit(tmp_path, capsy
     assert f"{path}, line 102: the data nests more than 100 levels deep" in err
 
 
+def test_validate_reads_the_yaml_once(monkeypatch, capsys):
+    """``pframe validate`` composes a scene file once (reading YAML is most of its time),
+    and says the same as before of a scene and of a Pi-form scene."""
+    from pframe.yamltext import Loader
+
+    calls = []
+    original = Loader.get_single_node
+
+    def counted(self):
+        calls.append(1)
+        return original(self)
+
+    monkeypatch.setattr(Loader, "get_single_node", counted)
+    for name in ("wu2021-eq14.yaml", "wu2021-eq14-pi.yaml"):
+        calls.clear()
+        assert main(["validate", str(MODELS / name)]) == 0
+        assert len(calls) == 1, name
+        assert f"{MODELS / name}: valid; " in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("text, value", [
     ("11.9e6", 11.9e6), ("1.0e9", 1.0e9), ("1e-3", 1e-3), ("1E3", 1000.0), ("-2.5", -2.5),
     (".5", 0.5), ("7", 7), ("010", 10), ("0o10", 8), ("0x1F", 31), ("+3", 3),

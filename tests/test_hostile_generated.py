@@ -97,7 +97,9 @@ def _mutated(name: str, path: tuple, mutation) -> str:
         parent[key] = DEEP
     else:
         parent[key] = copy.deepcopy(mutation)
-    text = yaml.safe_dump(data, sort_keys=False, width=10**6)
+    # libyaml's writer when PyYAML has it (the same text, several times faster)
+    text = yaml.dump(data, Dumper=getattr(yaml, "CSafeDumper", yaml.SafeDumper), sort_keys=False,
+                     width=10**6)
     depth = 5_000
     if mutation == "deep-list":
         text = text.replace(DEEP, "[" * depth + "]" * depth)
