@@ -613,7 +613,7 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
     from pframe.kernel import ckernel, simulate
     from pframe.reader import parse_scene
 
-    loaded = parse_scene(yaml.safe_dump(short(scene_data(), 20_000)), "s.yaml", MODELS)
+    loaded = parse_scene(yaml.safe_dump(short(scene_data(), 100_000)), "s.yaml", MODELS)
     plan = assemble(loaded.expanded)
     real, calls = ckernel.run, []
 
@@ -622,7 +622,8 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
         return real(*args)
 
     monkeypatch.setattr(ckernel, "run", counted)
-    quiet = simulate(plan, chunk_seconds=1e-4)
+    # about 200 calls here (at 1e-4 s every call is one step: its overhead is more)
+    quiet = simulate(plan, chunk_seconds=1e-3)
     assert len(calls) > 10 and sum(calls) == plan.steps + 1
     shown = simulate(plan, progress=lambda done, total: None)
     for q in quiet.history:
