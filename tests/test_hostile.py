@@ -116,6 +116,36 @@ def test_malformed_yaml_is_one_message(tmp_path, capsys, text, expected):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["scene.yaml"]
 
 
+def test_deep_nesting_is_refused_at_the_line_it_passes_the_limit(tmp_path, capsys):
+    """Reading stops at the first value nested beyond the limit and names its line (the
+    root is on line 1, so the value 101 deep opens line 102), rather than reading on
+    through thousands of brackets until Python's recursion gives up."""
+    path = tmp_path / "scene.yaml"
+    path.write_text("[\n" * 5_000 + "]" * 5_000, encoding="utf-8")
+    err = refused(capsys, ["validate", str(path)])
+    assert f"{path}, line 102: the data nests more than 100 levels deep" in err
+
+
+def test_validate_reads_the_yaml_once(monkeypatch, capsys):
+    """``pframe validate`` composes a scene file once (reading YAML is most of its time),
+    and says the same as before of a scene and of a Pi-form scene."""
+    from pframe.yamltext import Loader
+
+    calls = []
+    original = Loader.get_single_node
+
+    def counted(self):
+        calls.append(1)
+        return original(self)
+
+    monkeypatch.setattr(Loader, "get_single_node", counted)
+    for name in ("wu2021-eq14.yaml", "wu2021-eq14-pi.yaml"):
+        calls.clear()
+        assert main(["validate", str(MODELS / name)]) == 0
+        assert len(calls) == 1, name
+        assert f"{MODELS / name}: valid; " in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("text, value", [
     ("11.9e6", 11.9e6), ("1.0e9", 1.0e9), ("1e-3", 1e-3), ("1E3", 1000.0), ("-2.5", -2.5),
     (".5", 0.5), ("7", 7), ("010", 10), ("0o10", 8), ("0x1F", 31), ("+3", 3),
@@ -583,7 +613,7 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
     from pframe.kernel import ckernel, simulate
     from pframe.reader import parse_scene
 
-    loaded = parse_scene(yaml.safe_dump(short(scene_data(), 20_000)), "s.yaml", MODELS)
+    loaded = parse_scene(yaml.safe_dump(short(scene_data(), 100_000)), "s.yaml", MODELS)
     plan = assemble(loaded.expanded)
     real, calls = ckernel.run, []
 
@@ -592,7 +622,8 @@ def test_the_kernel_runs_in_bounded_calls_without_a_progress_bar(monkeypatch):
         return real(*args)
 
     monkeypatch.setattr(ckernel, "run", counted)
-    quiet = simulate(plan, chunk_seconds=1e-4)
+    # about 200 calls here (at 1e-4 s every call is one step: its overhead is more)
+    quiet = simulate(plan, chunk_seconds=1e-3)
     assert len(calls) > 10 and sum(calls) == plan.steps + 1
     shown = simulate(plan, progress=lambda done, total: None)
     for q in quiet.history:

@@ -89,8 +89,30 @@ _PLAIN = ("tag:yaml.org,2002:map", "tag:yaml.org,2002:seq")
 _MERGE = "tag:yaml.org,2002:merge"
 
 
+class _TooDeep(Exception):
+    """Raised by :class:`Loader` at the first node nested beyond :data:`MAX_DEPTH`."""
+
+    def __init__(self, mark):
+        super().__init__()
+        self.mark = mark
+
+
 class Loader(yaml.SafeLoader):
-    """PyYAML's safe loader with YAML 1.2 (core schema) integers and floats."""
+    """PyYAML's safe loader with YAML 1.2 (core schema) integers and floats, that stops at
+    the first node nested deeper than :data:`MAX_DEPTH`: PyYAML's scanner costs time in
+    proportion to the open brackets for every token, so a file of thousands of ``[`` would
+    otherwise take seconds to be refused."""
+
+    _depth = 0
+
+    def compose_node(self, parent, index):
+        if self._depth > MAX_DEPTH and not self.check_event(yaml.AliasEvent):
+            raise _TooDeep(self.peek_event().start_mark)
+        self._depth += 1
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
 
 
 Loader.yaml_implicit_resolvers = {
@@ -150,8 +172,9 @@ def where(source: str, lines: dict, path: tuple) -> str:
 
 
 def _too_large(source: str, node, what: str) -> InputError:
+    mark = getattr(node, "start_mark", node)  # a node, or the mark where one starts
     return InputError(
-        f"{source}, line {node.start_mark.line + 1}: {what}; pframe reads YAML files of up to "
+        f"{source}, line {mark.line + 1}: {what}; pframe reads YAML files of up to "
         f"{MAX_NODES:,} values ({MAX_ALIAS_NODES:,} through aliases), nested up to {MAX_DEPTH} "
         "deep (a scene needs a small part of that). If the file uses aliases (*name), write the "
         "values out instead")
@@ -238,6 +261,9 @@ def compose(text: str, source: str = "<string>") -> tuple[object, dict]:
     try:
         try:
             root = loader.get_single_node()
+        except _TooDeep as exc:
+            raise _too_large(source, exc.mark, f"the data nests more than {MAX_DEPTH} levels "
+                             "deep") from None
         except RecursionError:
             raise InputError(f"{source}: the data nests more than {MAX_DEPTH} levels deep; "
                              "pframe reads YAML nested up to that depth") from None

@@ -87,12 +87,15 @@ def period_lines(expanded, plan) -> list[str]:
     return lines
 
 
-def _scene(path: Path, kind: str) -> int:
+def _scene(path: Path, kind: str, text: str, data, lines) -> int:
     from pframe import resources
     from pframe.assemble import assemble
-    from pframe.reader import load_scene
+    from pframe.reader import parse_scene, scene_from_data
 
-    loaded = load_scene(path)
+    # the file as _validate read and composed it: YAML is read once (its parsing is most of
+    # the time validate takes)
+    loaded = (scene_from_data(data, lines, str(path), path.parent, text)
+              if isinstance(data, dict) else parse_scene(text, str(path), path.parent))
     ex = loaded.expanded
     # announced before anything large is built: the time and file a run would take
     _warn(loaded.source, resources.check(resources.of_expanded(ex, streaming=True),
@@ -184,7 +187,8 @@ def _validate(args) -> int:
     from pframe.yamltext import compose as _compose
 
     path = Path(args.model)
-    data, _ = _compose(read_input(path, "input"), str(path))
+    text = read_input(path, "input")
+    data, lines = _compose(text, str(path))
     kind = input_kind(data)
     if kind == "suite":
         return _suite(path)
@@ -194,7 +198,7 @@ def _validate(args) -> int:
         study, _, _ = read_study(path)
         print(f"{path}: valid; a risk study ({study.design.kind}) of {study.scene}")
         return 0
-    return _sweep(path) if kind == "sweep" else _scene(path, kind)
+    return _sweep(path) if kind == "sweep" else _scene(path, kind, text, data, lines)
 
 
 def register(sub) -> None:
