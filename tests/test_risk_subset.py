@@ -256,3 +256,32 @@ def test_a_subset_design_over_records_needs_uncertain_values(tmp_path, capsys):
     assert main(["risk", str(study), "-q"]) == 2
     err = capsys.readouterr().err
     assert "at uncertain" in err and "suite of records" in err and "Traceback" not in err
+
+
+def test_member_scenes_are_the_variants_and_are_validated_whole(tmp_path):
+    """The batch's member scenes (YAML composed once, no text) are the scenes variant()
+    makes one by one, and a sample outside what a scene allows (a negative stiffness from a
+    normal distribution) is still refused, naming the scene file."""
+    from pframe.errors import InputError
+    from pframe.reader import load_scene, variant
+    from pframe.risk.uncertain import parse, scenes
+    from pframe.sweep.paths import put, resolve
+
+    loaded = load_scene(_pair(tmp_path))
+    params = parse({"gap": {"distribution": "lognormal", "median": 0.2, "dispersion": 0.3},
+                    "buildings.A.story.stiffness": {"distribution": "normal",
+                                                    "mean": STIFFNESS_A,
+                                                    "sd": 0.1 * STIFFNESS_A}}, "uncertain")
+    u = np.random.default_rng(4).standard_normal((6, 2))
+    fast = scenes(loaded, params, u)
+    for row, member in zip(u, fast):
+        def change(data, row=row):
+            for p, x in zip(params, row):
+                for path in resolve(data, tuple(p.path.split("."))):
+                    put(data, path, float(p.value(x)))
+
+        one = variant(loaded, change)
+        assert member.scene == one.scene
+        assert member.expanded.contacts[0].gap == one.expanded.contacts[0].gap
+    with pytest.raises(InputError, match="pair.yaml"):
+        scenes(loaded, params, np.array([[0.0, -20.0]]))  # stiffness mean - 20 sd < 0

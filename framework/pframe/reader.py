@@ -116,22 +116,27 @@ def load_scene(path: str | Path) -> LoadedScene:
     return parse_scene(read_input(path, "model"), str(path), path.parent)
 
 
-def variant(loaded: LoadedScene, change) -> LoadedScene:
+def variant(loaded: LoadedScene, change, composed: tuple | None = None,
+            text: bool = True) -> LoadedScene:
     """A variant of a loaded scene, made on its data -- the one way pframe makes variants.
 
     ``change(data)`` edits the scene's YAML data (a dict, as the file says it: a Pi-form
     scene stays in Pi numbers) in place; the variant is validated as a file is, its messages
     name the original file and lines, and its text (``input_yaml`` of a result) is the
     changed data. A key that ``change`` expects and does not find raises there, instead of
-    leaving the scene unchanged."""
+    leaving the scene unchanged.
+
+    Many variants of one scene: ``composed`` is ``compose(loaded.text, loaded.source)``,
+    done once (it is copied, not changed); ``text=False`` leaves the variant's text empty,
+    for variants that are run and never written (it costs more than the validation)."""
     import copy
 
     import yaml
 
-    data, lines = compose(loaded.text, loaded.source)
+    data, lines = compose(loaded.text, loaded.source) if composed is None else composed
     data = copy.deepcopy(data)
     change(data)
-    text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
+    text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True) if text else ""
     # the folder the record was read from (absolute), not base_dir again relative to a
     # current folder that may have changed since
     folder = getattr(loaded.scene.excitation, "_folder", None) or loaded.base_dir

@@ -65,10 +65,14 @@ def check_paths(loaded, params: list[Uncertain], where: str) -> None:
 
 
 def scenes(loaded, params: list[Uncertain], u: np.ndarray) -> list:
-    """One scene per row of the standard normals ``u`` (n, len(params))."""
+    """One scene per row of the standard normals ``u`` (n, len(params)), each validated
+    whole as a file is; the scene's YAML is composed once, and the members, which are run
+    and never written, keep no text of their own."""
     from pframe.reader import variant
     from pframe.sweep.paths import put, resolve
+    from pframe.yamltext import compose
 
+    composed = compose(loaded.text, loaded.source)
     out = []
     for row in np.atleast_2d(u):
         values = [float(p.value(x)) for p, x in zip(params, row)]
@@ -78,7 +82,7 @@ def scenes(loaded, params: list[Uncertain], u: np.ndarray) -> list:
                 for path in resolve(data, tuple(p.path.split("."))):
                     put(data, path, v)
 
-        out.append(variant(loaded, change))
+        out.append(variant(loaded, change, composed, text=False))
     return out
 
 
