@@ -169,7 +169,7 @@ def test_latin_hypercube_gaps_reach_the_runs_of_an_msa_study(tmp_path):
     assert sorted(np.floor((gaps - 0.1) / 0.2 * 16).astype(int)) == list(range(16))
 
 
-def _records_study(folder: Path, median: float, level: float = 0.3) -> Path:
+def _records_study(folder: Path, median: float, levels=(0.3,), **fields) -> Path:
     from conftest import record_file
 
     for name in ("elCentro.AT2", "A-ELC180.AT2"):
@@ -180,14 +180,14 @@ def _records_study(folder: Path, median: float, level: float = 0.3) -> Path:
         "records": ["elCentro.AT2", "A-ELC180.AT2"]}))
     study = {"scene": str(_pair(folder)), "suite": str(folder / "suite.yaml"),
              "records_folder": str(RECORDS), "duration": 8.0, "dt": 0.01,
-             "design": {"kind": "subset", "levels": [level], "probability_level": 0.1,
+             "design": {"kind": "subset", "levels": list(levels), "probability_level": 0.1,
                         "samples": 300},
              "uncertain": {"gap": {"distribution": "lognormal", "median": median,
                                    "dispersion": 0.2},
                            "buildings.A.story.stiffness": {
                                "distribution": "lognormal", "median": STIFFNESS_A,
                                "dispersion": 0.15}},
-             "seed": 3}
+             "seed": 3, **fields}
     path = folder / "records-study.yaml"
     path.write_text(yaml.safe_dump(study))
     return path
@@ -197,15 +197,21 @@ STIFFNESS_A = 1000.0 * (2 * math.pi / 0.5) ** 2
 
 
 @pytest.mark.slow
-def test_subset_over_records_agrees_with_monte_carlo_over_the_stiffness(tmp_path):
-    """Two real records scaled to one level; uncertain gap and storey stiffness. Subset
-    simulation per record, averaged over the records, against Monte Carlo over the stiffness
-    with the gap integrated exactly (P(gap < critical gap) is a lognormal CDF)."""
+def test_subset_over_records_agrees_with_monte_carlo_at_stripes_and_over_the_hazard(tmp_path):
+    """Two real records scaled to two stripes; uncertain gap and storey stiffness; a power-law
+    hazard. Subset simulation per record and stripe, averaged over the records, and the
+    annual frequency over the hazard, against Monte Carlo over the stiffness with the records
+    enumerated and the gap integrated exactly (P(gap < critical gap) is a lognormal CDF;
+    without contacts the pair is linear, so the critical gap at a stripe is the one at 0.3 g
+    scaled by the level), combined with the same stripe weights (checked on their own
+    above): each within the other's 95 % interval."""
     import xarray as xr
 
     from pframe.gap.audit import prepare
-    from pframe.risk.uncertain import RecordSubsetProblem, parse
+    from pframe.risk import HazardCurve
+    from pframe.risk.uncertain import RecordSubsetProblem, parse, stripe_weights
 
+    levels = np.array([0.22, 0.3])
     probe = _records_study(tmp_path, 0.2)
     spec = yaml.safe_load(probe.read_text())
     inputs = prepare(tmp_path / "pair.yaml", tmp_path / "suite.yaml", levels=[0.3],
@@ -216,36 +222,58 @@ def test_subset_over_records_agrees_with_monte_carlo_over_the_stiffness(tmp_path
     z = rng.standard_normal(n)
     u = np.zeros((n, 2))  # the gap at its median 0.2, the stiffness sampled
     u[:, [p.path for p in params].index("buildings.A.story.stiffness")] = z
-    critical = []
-    for r in range(2):
-        g = RecordSubsetProblem(inputs, params, r, 0, 2)(u)
-        critical.append(0.2 - g)  # g = gap - critical gap
-    critical = np.array(critical)
+    critical = np.array([0.2 - RecordSubsetProblem(inputs, params, r, 0, 2)(u)
+                         for r in range(2)])  # g = gap - critical gap
     assert np.all(critical > 0)
 
-    def chance(median):  # per stiffness sample, the mean over the records
-        return norm.cdf(np.log(critical / median) / 0.2).mean(axis=0)
+    def chance(median, level):  # per stiffness sample, the mean over the records
+        return norm.cdf(np.log(critical * level / 0.3 / median) / 0.2).mean(axis=0)
 
-    # the gap median that makes pounding a rare event: 3e-3 on average
-    median = brentq(lambda m: chance(m).mean() - 3e-3, 0.01, 10.0)
-    f = chance(median)
-    mean, se = f.mean(), f.std() / math.sqrt(n)
-    assert 3e-4 < mean < 3e-2
+    # the gap median that makes pounding a rare event at the upper stripe: 1e-2
+    median = brentq(lambda m: chance(m, 0.3).mean() - 1e-2, 0.01, 10.0)
+    f = np.array([chance(median, x) for x in levels])  # (stripes, samples)
+    mean, se = f.mean(axis=1), f.std(axis=1) / math.sqrt(n)
+    curve = HazardCurve.power_law(1e-4, 2.5)
+    c, _ = stripe_weights(levels, curve)
+    maf = c @ f
+    maf_mean, maf_se = maf.mean(), maf.std() / math.sqrt(n)
 
-    study = _records_study(tmp_path, median)
+    study = _records_study(tmp_path, median, levels=levels.tolist(),
+                           hazard={"power_law": {"k0": 1e-4, "k": 2.5}})
+    data = yaml.safe_load(study.read_text())
+    data["design"].update(samples=400, floor=1e-5)
+    study.write_text(yaml.safe_dump(data))
     out = tmp_path / "records.nc"
     assert main(["risk", str(study), "-o", str(out), "-q", "--threads", "2"]) == 0
     ds = xr.open_dataset(out)
-    p, lo, hi = (float(ds[k]) for k in ("pounding_probability", "pounding_probability_low",
-                                         "pounding_probability_high"))
-    assert list(ds.record.values) and ds.sizes["record"] == 2
-    assert p == pytest.approx(float(ds.record_probability.mean()), rel=1e-12)
-    assert lo <= mean + 1.96 * se and mean - 1.96 * se <= hi, (p, lo, hi, mean, se)
-    assert 0 < float(ds.pounding_probability_cov) < 0.6
-    assert np.all(ds.record_probability.values > 0)
-    print(f"subset over records: {p:.3e} ({lo:.3e}-{hi:.3e}, {int(ds.evaluations)} runs); "
-          f"Monte Carlo {mean:.3e} +- {1.96 * se:.1e}; per record "
-          f"{ds.record_probability.values}")
+    assert ds.sizes["record"] == 2 and list(ds.level.values) == levels.tolist()
+    assert "pounding_probability" not in ds  # one probability per stripe
+    for k in range(2):
+        p, lo, hi = (float(ds[v][k]) for v in ("level_probability", "level_probability_low",
+                                                "level_probability_high"))
+        assert p == pytest.approx(float(ds.record_probability[:, k].mean()), rel=1e-12)
+        assert lo <= mean[k] + 1.96 * se[k] and mean[k] - 1.96 * se[k] <= hi, (
+            k, p, lo, hi, mean[k], se[k])
+    lam, lo, hi = (float(ds[v]) for v in ("annual_frequency", "annual_frequency_low",
+                                           "annual_frequency_high"))
+    assert lam == pytest.approx(float(c @ ds.level_probability.values), rel=1e-9)
+    assert lo <= maf_mean + 1.96 * maf_se and maf_mean - 1.96 * maf_se <= hi, (
+        lam, lo, hi, maf_mean, maf_se)
+    assert 0 < float(ds.annual_frequency_cov) < 0.6
+    # a record far weaker than the other may be stopped below the floor (1e-5): it counts 0,
+    # and the warnings say so
+    stopped = (ds.record_probability.values == 0).sum(axis=0)
+    assert np.all(stopped < 2)
+    for k in range(2):
+        if stopped[k]:
+            assert (f"{stopped[k]} of 2 records stopped below the floor 1.0e-05 (probability "
+                    f"of pounding under each below it) and count 0; the interval's upper end "
+                    f"adds their bound at {levels[k]:g} g") in ds.attrs["warnings"]
+    print(f"subset over records: stripes {ds.level_probability.values} "
+          f"({ds.level_probability_low.values}-{ds.level_probability_high.values}), "
+          f"MAF {lam:.3e} ({lo:.3e}-{hi:.3e}), {int(ds.evaluations)} runs; Monte Carlo "
+          f"{mean} +- {1.96 * se}, MAF {maf_mean:.3e} +- {1.96 * maf_se:.1e}; per record "
+          f"{ds.record_probability.values.tolist()}")
 
 
 def test_a_subset_design_over_records_needs_uncertain_values(tmp_path, capsys):
@@ -285,3 +313,56 @@ def test_member_scenes_are_the_variants_and_are_validated_whole(tmp_path):
         assert member.expanded.contacts[0].gap == one.expanded.contacts[0].gap
     with pytest.raises(InputError, match="pair.yaml"):
         scenes(loaded, params, np.array([[0.0, -20.0]]))  # stiffness mean - 20 sd < 0
+
+
+@pytest.mark.parametrize("theta, beta", [(0.6, 0.4), (1.5, 0.25)])
+def test_stripe_weights_integrate_a_fragility_over_the_hazard(theta, beta):
+    """The mean annual frequency from probabilities at stripes, sum_k c_k P(x_k), tends to
+    Cornell et al.'s closed form k0 theta^-k exp(k^2 beta^2 / 2) for a lognormal P(x) as
+    the stripes fill the intensities; with few stripes it is near it, and the note on the
+    share below the first stripe appears when that share matters."""
+    from pframe.risk import HazardCurve, closed_form_maf
+    from pframe.risk.sampling import Estimate
+    from pframe.risk.uncertain import maf_from_stripes, stripe_weights
+
+    k0, k = 1e-4, 2.5
+    curve = HazardCurve.power_law(k0, k)
+    exact = closed_form_maf(theta, beta, k0, k)
+    dense = np.geomspace(0.01, 50.0, 400)
+    c, _ = stripe_weights(dense, curve)
+    p = norm.cdf(np.log(dense / theta) / beta)
+    assert float(np.dot(c, p)) == pytest.approx(exact, rel=2e-3)
+    few = theta * np.exp(beta * np.array([-2.5, -1.5, -0.75, 0.0, 0.75, 1.5, 2.5]))
+    estimates = [Estimate(float(q), float(q), float(q), 0.1, 1, "known")
+                 for q in norm.cdf(np.log(few / theta) / beta)]
+    lam, lo, hi, cov, notes = maf_from_stripes(few, estimates, curve)
+    assert lam == pytest.approx(exact, rel=0.1) and lo < lam < hi and notes == []
+    assert cov == pytest.approx(np.sqrt(np.sum((stripe_weights(few, curve)[0] * 0.1 * np.array(
+        [e.probability for e in estimates])) ** 2)) / lam, rel=1e-12)
+    # stripes starting at the median: half the frequency lies below them, and it is said
+    lam2, *_, notes2 = maf_from_stripes(few[3:], estimates[3:], curve)
+    assert lam2 < 0.8 * exact and any("below it" in n for n in notes2)
+
+
+@pytest.mark.parametrize("design, fields, says", [
+    ({"levels": [0.3, 0.2]}, {}, "positive and increasing"),
+    ({"levels": [0.3]}, {"hazard": {"power_law": {"k0": 1e-4, "k": 2.5}}}, "two or more"),
+    ({}, {"hazard": {"power_law": {"k0": 1e-4, "k": 2.5}}}, "two or more"),
+    ({"levels": [0.2, 0.3]}, {"hazard": {"power_law": {"k0": 1e-4, "k": 2.5}},
+                              "target": {"return_period": 475}}, "at target"),
+    ({"floor": 1.5}, {}, "design.floor"),
+])
+def test_bad_subset_studies_over_records_exit_2_naming_the_place(tmp_path, capsys, design,
+                                                                 fields, says):
+    """Checked before any record is read."""
+    (tmp_path / "suite.yaml").write_text(yaml.safe_dump({"records": ["elCentro.AT2"]}))
+    study = {"scene": str(_pair(tmp_path)), "suite": "suite.yaml",
+             "design": {"kind": "subset", "samples": 100, **design},
+             "uncertain": {"gap": {"distribution": "lognormal", "median": 0.2,
+                                   "dispersion": 0.2}}, **fields}
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    assert main(["risk", str(path), "-o", str(tmp_path / "out.nc"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and says in err and "Traceback" not in err
+    assert not (tmp_path / "out.nc").exists()

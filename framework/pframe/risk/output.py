@@ -180,10 +180,12 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
 
 
 def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
-                   terms=None):
+                   terms=None, stripes=None, maf=None, hazard=None):
     """The result of a subset study: the probability of pounding with its c.o.v. and
     confidence interval, the intermediate thresholds, the uncertain variables; over a suite
-    of records (``terms``: each record's estimate), each record's conditional probability."""
+    of records (``terms``: each stripe's per-record estimates; ``stripes``: each stripe's
+    estimate), each record's conditional probability at each stripe, and with a hazard
+    (``maf``: lambda, low, high, cov) the annual frequency of pounding."""
     import xarray as xr
 
     import pframe
@@ -201,7 +203,8 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
         "pounding_probability_cov": ((), estimate.cov, {
             "units": "1", "long_name": "coefficient of variation of the estimator (Au & Beck "
             "2001, the chains' correlation included)"}),
-        "evaluations": ((), np.int64(estimate.evaluations), {
+        "evaluations": ((), np.int64(sum(e.evaluations for e in stripes) if stripes
+                                     else estimate.evaluations), {
             "units": "1", "long_name": "runs of the kernel"}),
         "threshold": (("subset_level",), np.array(estimate.levels, float), {
             "units": "m", "long_name": "intermediate threshold of g = gap - critical gap "
@@ -212,13 +215,47 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
         del data["threshold"]
         coords["record"] = ("record", np.array([mo.name for mo in inputs.suite.motions],
                                                dtype=object), {"long_name": "ground motion"})
-        data["record_probability"] = (("record",), np.array([t.probability for t in terms]), {
+        coords["level"] = ("level", np.asarray(inputs.levels, float), {
+            "units": "g", "long_name": "intensity level (stripe) the records are scaled to"})
+        data["record_probability"] = (("record", "level"), np.array(
+            [[t.probability for t in stripe] for stripe in terms]).T, {
             "units": "1", "long_name": "probability of pounding under the record (subset "
-            "simulation over the uncertain values)"})
-        data["record_probability_cov"] = (("record",), np.array([t.cov for t in terms]), {
+            "simulation over the uncertain values; 0: below the floor or none found)"})
+        data["record_probability_cov"] = (("record", "level"), np.array(
+            [[t.cov for t in stripe] for stripe in terms]).T, {
             "units": "1", "long_name": "its coefficient of variation"})
-        data["record_scale_factor"] = (("record",), np.asarray(inputs.factors[:, 0], float),
+        data["record_scale_factor"] = (("record", "level"), np.asarray(inputs.factors, float),
                                        {"units": "1", "long_name": "scale factor applied"})
+        for name, key, long in (("level_probability", "probability", "probability of "
+                                 "pounding at the level: the mean over the records"),
+                                ("level_probability_low", "low", "lower bound of its 95 % "
+                                 "interval"),
+                                ("level_probability_high", "high", "upper bound of its 95 % "
+                                 "interval (with the bound of records stopped below the "
+                                 "floor)"),
+                                ("level_probability_cov", "cov", "its coefficient of "
+                                 "variation")):
+            data[name] = (("level",), np.array([getattr(e, key) for e in stripes], float),
+                          {"units": "1", "long_name": long})
+        if len(stripes) > 1:  # no single probability: one per level
+            for k in ("pounding_probability", "pounding_probability_low",
+                      "pounding_probability_high", "pounding_probability_cov"):
+                del data[k]
+        if maf is not None:
+            for name, value, long in (
+                    ("annual_frequency", maf[0], "mean annual frequency of pounding: the "
+                     "levels' probabilities, linear in ln IM between them, over the hazard"),
+                    ("annual_frequency_low", maf[1], "lower bound of its 95 % interval"),
+                    ("annual_frequency_high", maf[2], "upper bound of its 95 % interval"),
+                    ("annual_frequency_cov", maf[3], "its coefficient of variation (the "
+                     "levels' estimates' variances combined)")):
+                data[name] = ((), float(value), {"units": "1/yr" if "cov" not in name
+                                                 else "1", "long_name": long})
+            coords["hazard_im"] = ("hazard_point", np.asarray(hazard.im, float),
+                                   {"units": "g", "long_name": "hazard curve: intensity"})
+            data["hazard_frequency"] = (("hazard_point",), np.asarray(hazard.frequency, float),
+                                        {"units": "1/yr", "long_name": "hazard curve: annual "
+                                         "frequency of exceeding the intensity"})
     if params:
         coords["variable_name"] = ("variable", np.array([p.path for p in params], dtype=object),
                                    {"long_name": "uncertain scene value (path)"})
@@ -233,8 +270,8 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
         "design": "subset",
         "motion": (", ".join(f"{k} {v}" for k, v in m.items()) if m is not None else
                    f"the suite's {len(inputs.suite.motions)} records"
-                   + (f" scaled to {float(inputs.levels[0]):g} g" if inputs.scaled else
-                      " as recorded")),
+                   + (" scaled to " + ", ".join(f"{float(x):g}" for x in inputs.levels)
+                      + " g" if inputs.scaled else " as recorded")),
         "probability_level": spec.design.probability_level,
         "samples_per_level": spec.design.samples, "study_yaml": text,
         "input_yaml": inputs.loaded.text, "dt": inputs.dt, "steps": inputs.steps,
@@ -247,6 +284,22 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
 
 def summary(ds) -> str:
     """The terminal table: each limit's fragility and annual frequency, then the gap."""
+    if "level_probability" in ds and ds.sizes["level"] > 1:
+        out = [f"probability of pounding within {float(ds.attrs['duration']):g} s by subset "
+               f"simulation over {ds.sizes.get('variable', 0)} uncertain values, the mean over "
+               f"{ds.sizes['record']} records, at each level:"]
+        for k in range(ds.sizes["level"]):
+            out.append(f"  {float(ds.level[k]):8.4g} g  {float(ds.level_probability[k]):.3e} "
+                       f"(c.o.v. {float(ds.level_probability_cov[k]):.2f}; 95 % "
+                       f"{float(ds.level_probability_low[k]):.3e}-"
+                       f"{float(ds.level_probability_high[k]):.3e})")
+        if "annual_frequency" in ds:
+            out.append(f"mean annual frequency of pounding: {float(ds.annual_frequency):.3e} /yr "
+                       f"(c.o.v. {float(ds.annual_frequency_cov):.2f}; 95 % "
+                       f"{float(ds.annual_frequency_low):.3e}-"
+                       f"{float(ds.annual_frequency_high):.3e})")
+        out.append(f"{int(ds.evaluations)} runs")
+        return "\n".join(out)
     if "pounding_probability" in ds:
         return (f"probability of pounding within {float(ds.attrs['duration']):g} s: "
                 f"{float(ds.pounding_probability):.3e} (c.o.v. "

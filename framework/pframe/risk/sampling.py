@@ -117,8 +117,13 @@ def _chain_correlation(indicator: np.ndarray, p: float) -> float:
 
 def subset_simulation(g, dim: int, n: int, rng: np.random.Generator, p0: float = 0.1,
                       spread: float = 1.0, max_levels: int = 20,
-                      confidence: float = 0.95) -> Estimate:
-    """P(g(U) <= 0), U standard normal in ``dim`` dimensions, with ``n`` samples per level."""
+                      confidence: float = 0.95, floor: float = 0.0) -> Estimate:
+    """P(g(U) <= 0), U standard normal in ``dim`` dimensions, with ``n`` samples per level.
+
+    ``floor``: once the estimate of P(g <= the level's threshold), which bounds P(g <= 0), is
+    below it, stop there (no chains run) and return probability 0 with that estimate as the
+    interval's upper end (method "... stopped below the floor"): a term too small to matter
+    in a sum is not chased down to its own probability."""
     seeds = int(round(n * p0))
     if seeds < 1 or n % seeds:
         raise InputError(f"subset simulation: n * p0 = {n} * {p0} must be a whole number of "
@@ -153,6 +158,9 @@ def subset_simulation(g, dim: int, n: int, rng: np.random.Generator, p0: float =
             gamma = _chain_correlation(indicator, p0)
             cov2 += (1 - p0) / (p0 * n) * (1 + gamma)
         probability *= p0
+        if probability < floor:
+            return Estimate(0.0, 0.0, probability, 0.0, evaluations,
+                            "subset simulation stopped below the floor", tuple(thresholds))
         # modified Metropolis from the seeds: chains of `length` states each
         cur_u, cur_y = u[order[:seeds]].copy(), y[order[:seeds]].copy()
         chain_u = np.empty((seeds, length, dim))

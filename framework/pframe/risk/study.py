@@ -57,8 +57,9 @@ class Design(_Base):
         "of the probability of pounding (stationary Clough-Penzien motion, or a suite of records "
         "with uncertain values)")
     levels: list[float] | None = Field(None, description="intensity levels (g) of msa/ida; "
-                                       "the one level a subset design over records scales "
-                                       "them to")
+                                       "the stripes a subset design over records scales "
+                                       "them to (two or more with a hazard: its annual "
+                                       "frequency of pounding)")
     hunt: Hunt | None = Field(None, description="ida by hunt and fill (instead of levels): "
                               "each record hunted up to the limit, then bisected")
     resolution: float | None = Field(None, gt=0, allow_inf_nan=False, description="ida hunt: "
@@ -72,6 +73,9 @@ class Design(_Base):
     probability_level: float = Field(0.1, gt=0, lt=1, description="subset: the conditional "
                                      "probability p0 of each intermediate level")
     samples: int = Field(1000, ge=10, description="subset: runs per level")
+    floor: float = Field(1e-6, ge=0, lt=1, description="subset over records: a record whose "
+                         "probability of pounding is found below this is stopped there and "
+                         "counts 0 (its bound widens the interval's upper end)")
     max_level: float = Field(5.0, gt=0, allow_inf_nan=False, description="ida hunt: the "
                              "highest level run; a record that has not passed the limit there "
                              "is right-censored (g)")
@@ -243,13 +247,20 @@ def _check_subset_records(study, path) -> None:
                          "pounding given those values); give uncertain: {gap: {distribution: "
                          "lognormal, median: ..., dispersion: ...}, ...}")
     levels = study.design.levels
-    if levels is not None and (len(levels) != 1 or not levels[0] > 0):
-        raise InputError(f"{path}, at design.levels: a subset design over records takes one "
-                         "positive intensity level (g) to scale them to, or none (as recorded)")
-    if study.hazard is not None or study.target is not None:
-        raise InputError(f"{path}, at design: a subset design estimates the probability of "
-                         "pounding at one intensity; hazard and target belong to msa, ida and "
-                         "cloud")
+    if levels is not None and (not levels or any(not (x > 0 and math.isfinite(x))
+                                                 for x in levels)
+                               or list(levels) != sorted(set(levels))):
+        raise InputError(f"{path}, at design.levels: a subset design over records takes "
+                         "intensity levels (g) to scale them to, positive and increasing, or "
+                         "none (as recorded)")
+    if study.hazard is not None and (levels is None or len(levels) < 2):
+        raise InputError(f"{path}, at design.levels: the annual frequency of pounding over the "
+                         "hazard integrates the probability at stripes of intensity: give two "
+                         "or more levels (g) spanning the intensities that matter")
+    if study.target is not None:
+        raise InputError(f"{path}, at target: a subset design estimates the probability (and "
+                         "with a hazard, the annual frequency) of pounding at the scene's gap "
+                         "distribution; the gap at a target belongs to msa, ida and cloud")
     _check_chains(study, path)
 
 
@@ -430,11 +441,17 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
                          + ("subset simulation" if spec.design.kind == "subset" else
                             "hunt and fill") + ", whose rounds depend on each other; "
                          "pframe runs it on this machine (leave out --scheduler)")
+    hazard = None
+    if spec.hazard is not None:
+        from pframe.risk.hazard import HazardCurve, read_hazard
+
+        hazard = (read_hazard(base / spec.hazard.file) if spec.hazard.file else
+                  HazardCurve.power_law(spec.hazard.power_law.k0, spec.hazard.power_law.k))
     if spec.design.kind == "subset":
         from pframe.risk.uncertain import run_subset
 
         return run_subset(spec, text, study, scene, suite, output, overwrite, threads, timings,
-                          start, progress, folder)
+                          start, progress, folder, hazard)
     hunt = spec.design.hunt is not None
     levels = [spec.design.hunt.start] if hunt else spec.design.levels
     inputs = prepare(scene, suite, levels=levels, measure=spec.measure,
@@ -445,12 +462,6 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
                          f"storey's height, and the scene {scene} gives none for some storeys "
                          "(give height on its buildings), or give the limit as a drift in "
                          "metres under limits.drift")
-    hazard = None
-    if spec.hazard is not None:
-        from pframe.risk.hazard import HazardCurve, read_hazard
-
-        hazard = (read_hazard(base / spec.hazard.file) if spec.hazard.file else
-                  HazardCurve.power_law(spec.hazard.power_law.k0, spec.hazard.power_law.k))
     if output is not None:
         from pframe import outputs
         from pframe.api import run_inputs

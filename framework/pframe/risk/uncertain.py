@@ -172,41 +172,117 @@ class RecordSubsetProblem:
 
 
 def over_records(g_of, records: int, dim: int, n: int, seed: int, p0: float,
-                 confidence: float = 0.95):
+                 confidence: float = 0.95, floor: float = 0.0, column: int = 0):
     """P(pounding) = (1 / R) sum_r P(pounding | record r), each term by subset simulation over
-    the uncertain values with its own generator (seeded by (seed, r)); the terms are
-    independent, so var(P) = sum_r (cov_r p_r)^2 / R^2. A record under which the chains find
-    no pounding in subset_simulation's levels contributes 0 (its probability is below
-    p0^max_levels). Returns (the combined Estimate, the per-record estimates, notes)."""
+    the uncertain values with its own generator (seeded by (seed, r), and the stripe
+    ``column`` after the first); the terms are independent, so var(P) = sum_r (cov_r p_r)^2
+    / R^2. A record whose levels fall below ``floor`` before it pounds is stopped there and
+    counts 0, its level's probability (which bounds its term) added to the interval's upper
+    end / R; one under which the chains find no pounding in subset_simulation's levels
+    counts 0 too (its probability is below p0^max_levels). Returns (the combined Estimate,
+    the per-record estimates, notes)."""
     from scipy.stats import norm
 
     from pframe.risk.sampling import Estimate, subset_simulation
 
     terms, notes = [], []
+    bound = 0.0  # what the terms counted 0 may add, at most
     for r in range(records):
+        rng = np.random.default_rng([seed, r] if column == 0 else [seed, r, column])
         try:
-            terms.append(subset_simulation(g_of(r), dim, n, np.random.default_rng([seed, r]),
-                                           p0=p0))
+            term = subset_simulation(g_of(r), dim, n, rng, p0=p0, floor=floor)
         except InputError as exc:
             if "no failure" not in str(exc):
                 raise
-            terms.append(Estimate(0.0, 0.0, 0.0, 0.0, 0, "subset simulation", ()))
+            term = Estimate(0.0, 0.0, p0 ** 20, 0.0, 0, "subset simulation", ())
             notes.append(f"record {r + 1}: no pounding found ({exc}); counted as 0")
+        if term.probability == 0.0:
+            bound += term.high
+        terms.append(term)
     p = np.array([t.probability for t in terms])
     sd = np.array([t.cov * t.probability for t in terms])
     probability = float(p.mean())
     evaluations = int(sum(t.evaluations for t in terms))
+    stopped = sum(t.method.endswith("floor") for t in terms)
+    if stopped:
+        notes.append(f"{stopped} of {records} records stopped below the floor "
+                     f"{floor:.1e} (probability of pounding under each below it) and count 0; "
+                     "the interval's upper end adds their bound")
     if probability <= 0.0:
-        raise InputError("subset simulation over the records: no pounding under any record "
-                         "within the levels searched (the probability is below "
-                         f"{p0 ** 20:.1e} for every record)")
+        return (Estimate(0.0, 0.0, bound / records, math.inf, evaluations,
+                         "subset simulation over the records", ()), terms, notes)
     cov2 = float(np.sum(sd ** 2)) / records ** 2 / probability ** 2
     z = norm.ppf(0.5 + confidence / 2)
     spread_log = math.sqrt(math.log1p(cov2))
     combined = Estimate(probability, probability * math.exp(-z * spread_log),
-                        probability * math.exp(z * spread_log), math.sqrt(cov2), evaluations,
-                        "subset simulation over the records", ())
+                        probability * math.exp(z * spread_log) + bound / records,
+                        math.sqrt(cov2), evaluations, "subset simulation over the records", ())
     return combined, terms, notes
+
+
+def stripe_weights(levels, hazard) -> tuple[np.ndarray, float]:
+    """The weights c_k of the mean annual frequency lambda = sum_k c_k P_k of pounding from
+    the probabilities P_k at the stripes ``levels`` (g, increasing): P(pounding | IM = x)
+    taken linear in ln x between stripes, 0 below the first and P_K above the last, and
+    integrated over the hazard curve as every fragility is (hazard.mean_annual_frequency:
+    lambda is linear in P, so c_k is the integral of the k-th hat function). Also the rate
+    of exceeding the first stripe, lambda_IM(x_1), for the note on what lies below it."""
+    from pframe.risk.hazard import mean_annual_frequency
+
+    lx = np.log(np.asarray(levels, float))
+
+    def hat(k):
+        def h(x):
+            x = np.log(np.asarray(x, float))
+            e = np.zeros(len(lx))
+            e[k] = 1.0
+            out = np.interp(x, lx, e)
+            return np.where(x < lx[0], 0.0, out)
+        return h
+
+    c = np.array([mean_annual_frequency(hat(k), hazard)[0] for k in range(len(lx))])
+    return c, float(hazard.rate(np.array([levels[0]]))[0])
+
+
+def maf_from_stripes(levels, estimates, hazard, confidence: float = 0.95):
+    """(lambda, low, high, cov, notes): the mean annual frequency of pounding from the stripes'
+    estimates (independent: var = sum_k c_k^2 sd_k^2; the interval lognormal, the upper end
+    raised by the stripes' floor bounds), and what it leaves out."""
+    from scipy.stats import norm
+
+    c, _ = stripe_weights(levels, hazard)
+    p = np.array([e.probability for e in estimates])
+    sd = np.array([e.cov * e.probability if e.probability > 0 else 0.0 for e in estimates])
+    bound = np.array([e.high if e.probability == 0 else 0.0 for e in estimates])
+    lam = float(np.dot(c, p))
+    notes = []
+    below = 0.0
+    if p[0] > 0:  # below the first stripe, counted 0: estimated on P's power law there
+        from pframe.risk.hazard import mean_annual_frequency
+
+        x1 = float(levels[0])
+        slope = math.log(p[1] / p[0]) / math.log(levels[1] / x1) if p[1] > 0 else 0.0
+        below = mean_annual_frequency(
+            lambda x: np.where(x < x1, p[0] * (np.asarray(x) / x1) ** max(slope, 0.0), 0.0),
+            hazard)[0]
+    if lam > 0 and below > 0.05 * lam:
+        notes.append(f"the probability of pounding at the first stripe ({levels[0]:g} g) is "
+                     f"{p[0]:.2e}: the intensities below it, counted 0, would add about "
+                     f"{below:.2e} /yr ({below / lam:.0%} of the annual frequency) on the "
+                     "power law of the first two stripes; add a lower stripe")
+    # above the last stripe P is counted at P_K: at most (1 - P_K) lambda_IM(x_K) is missing
+    top = (1.0 - p[-1]) * float(np.nan_to_num(hazard.rate(np.array([levels[-1]]))[0]))
+    if lam > 0 and top > 0.05 * lam:
+        notes.append(f"the intensities above the last stripe ({levels[-1]:g} g) are counted at "
+                     f"its probability {p[-1]:.2e}; up to {top:.2e} /yr ({top / lam:.0%} of the "
+                     "annual frequency) more may come from them; add a higher stripe")
+    if lam <= 0:
+        return 0.0, 0.0, float(np.dot(c, bound)), math.inf, notes
+    cov2 = float(np.sum((c * sd) ** 2)) / lam ** 2
+    z = norm.ppf(0.5 + confidence / 2)
+    spread_log = math.sqrt(math.log1p(cov2))
+    return (lam, lam * math.exp(-z * spread_log),
+            lam * math.exp(z * spread_log) + float(np.dot(c, bound)), math.sqrt(cov2), notes)
 
 
 #: runs per saved batch of a subset study (a level's first sample is cut into such batches)
@@ -262,7 +338,7 @@ class SavedCalls:
 
 
 def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, threads,
-               timings, start: float, progress=None, records_folder=None):
+               timings, start: float, progress=None, records_folder=None, hazard=None):
     """A subset study: the probability of pounding, its c.o.v. and confidence interval. With
     ``output``, its batches are saved beside it until the file is written, so that a stopped
     study resumes (:class:`SavedCalls`)."""
@@ -307,16 +383,26 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
     try:
         if parts is not None:
             saved.update(parts.load_finished(overwrite, "scene, study file"))
-        terms, notes = None, list(inputs.warnings)
+        terms, notes, stripes, maf = None, list(inputs.warnings), None, None
         if on_records:
-            def g_of(r):
-                g.problem = RecordSubsetProblem(inputs, params, r, 0, threads)
-                return g
+            stripes, terms = [], []
+            for column in range(inputs.factors.shape[1]):
+                def g_of(r, column=column):
+                    g.problem = RecordSubsetProblem(inputs, params, r, column, threads)
+                    return g
 
-            estimate, terms, more = over_records(g_of, len(inputs.suite.motions), len(params),
-                                                 d.samples, spec.seed, d.probability_level)
-            notes += more
-            problem.runs = estimate.evaluations
+                estimate, per_record, more = over_records(
+                    g_of, len(inputs.suite.motions), len(params), d.samples, spec.seed,
+                    d.probability_level, floor=d.floor, column=column)
+                stripes.append(estimate)
+                terms.append(per_record)
+                at = f" at {float(inputs.levels[column]):g} g" if len(inputs.levels) > 1 else ""
+                notes += [line + at for line in more]
+            problem.runs = sum(e.evaluations for e in stripes)
+            estimate = stripes[0]
+            if hazard is not None:
+                maf = maf_from_stripes(inputs.levels, stripes, hazard)
+                notes += maf[4]
         else:
             estimate = subset_simulation(g, problem.dim, d.samples,
                                          np.random.default_rng(spec.seed),
@@ -324,13 +410,15 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
     finally:
         if parts is not None:
             parts.close()
-    if estimate.cov > 0.3:
-        notes.append(f"the probability's coefficient of variation is {estimate.cov:.2f}: "
-                     "raise design.samples for a tighter estimate")
+    for k, e in enumerate(stripes or [estimate]):
+        if e.cov > 0.3:
+            at = f" at {float(inputs.levels[k]):g} g" if stripes and len(stripes) > 1 else ""
+            notes.append(f"the probability's coefficient of variation is {e.cov:.2f}{at}: "
+                         "raise design.samples for a tighter estimate")
     for line in notes:
         warnings.warn(f"{study}: {line}", stacklevel=3)
     ds = subset_dataset(spec, inputs, params, estimate, problem, text, str(study), notes,
-                        terms)
+                        terms, stripes, maf, hazard)
     if output is not None:
         from pframe.record.netcdf import write_dataset
         from pframe.sweep.store import parts_folder
