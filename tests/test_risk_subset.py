@@ -366,3 +366,72 @@ def test_bad_subset_studies_over_records_exit_2_naming_the_place(tmp_path, capsy
     err = capsys.readouterr().err
     assert str(path) in err and says in err and "Traceback" not in err
     assert not (tmp_path / "out.nc").exists()
+
+
+def _kill_after(command: list[str], cwd: Path, parts: Path, chunks: int) -> int:
+    """Start ``command``, SIGKILL it as soon as ``parts`` holds ``chunks`` saved batches;
+    return how many it holds then."""
+    import os
+    import signal
+    import subprocess
+    import time
+
+    process = subprocess.Popen(command, cwd=cwd, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 600
+        while time.monotonic() < deadline:
+            if parts.is_dir() and len(list(parts.glob("chunk-*.npz"))) >= chunks:
+                break
+            if process.poll() is not None:
+                pytest.fail("the study ended before it could be killed: "
+                            f"{process.stderr.read().decode()}")
+            time.sleep(0.002)
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+    assert process.returncode == -signal.SIGKILL
+    return len(list(parts.glob("chunk-*.npz")))
+
+
+@pytest.mark.slow
+def test_a_subset_study_over_records_killed_resumes_to_the_same_file(tmp_path):
+    """Two records at two stripes (one record chased through its levels, the other stopped
+    at the floor): SIGKILLed twice part way, the same command continues from the saved
+    batches across records and stripes, and writes the very file of an uninterrupted run."""
+    import subprocess
+    import sys
+
+    from conftest import assert_same_result_file
+
+    study = _records_study(tmp_path, 0.2, levels=[0.22, 0.3])
+    data = yaml.safe_load(study.read_text())
+    data["design"].update(samples=200, floor=1e-4)
+    study.write_text(yaml.safe_dump(data))
+
+    def command(out):
+        return [sys.executable, "-c", "import sys; from pframe.cli import main; "
+                "sys.exit(main())", "risk", study.name, "-o", out, "--threads", "1", "-q"]
+
+    whole = subprocess.run(command("whole.nc"), cwd=tmp_path, capture_output=True, text=True,
+                           timeout=900)
+    assert whole.returncode == 0, whole.stderr
+    parts = tmp_path / "resumed.nc.parts"
+    first = _kill_after(command("resumed.nc"), tmp_path, parts, 8)
+    assert first >= 8 and not (tmp_path / "resumed.nc").exists()
+    second = _kill_after(command("resumed.nc"), tmp_path, parts, first + 10)
+    assert second > first and not (tmp_path / "resumed.nc").exists()
+    again = subprocess.run(command("resumed.nc"), cwd=tmp_path, capture_output=True,
+                           text=True, timeout=900)
+    assert again.returncode == 0, again.stderr
+    assert not parts.exists()
+    assert_same_result_file(tmp_path / "resumed.nc", tmp_path / "whole.nc")
+    import xarray as xr
+
+    ds = xr.open_dataset(tmp_path / "whole.nc")
+    total = int(ds.evaluations)
+    assert second < total / 20  # killed part way (most batches are a chain step of 20 runs)
+    assert (ds.record_probability.values > 0).any() and (ds.record_probability.values == 0).any()
