@@ -319,8 +319,8 @@ def test_member_scenes_are_the_variants_and_are_validated_whole(tmp_path):
 def test_stripe_weights_integrate_a_fragility_over_the_hazard(theta, beta):
     """The mean annual frequency from probabilities at stripes, sum_k c_k P(x_k), tends to
     Cornell et al.'s closed form k0 theta^-k exp(k^2 beta^2 / 2) for a lognormal P(x) as
-    the stripes fill the intensities; with few stripes it is near it, and the note on the
-    share below the first stripe appears when that share matters."""
+    the stripes fill the intensities; with few stripes it is near it, and the notes on the
+    shares below the first stripe and above the last appear when those shares matter."""
     from pframe.risk import HazardCurve, closed_form_maf
     from pframe.risk.sampling import Estimate
     from pframe.risk.uncertain import maf_from_stripes, stripe_weights
@@ -342,6 +342,9 @@ def test_stripe_weights_integrate_a_fragility_over_the_hazard(theta, beta):
     # stripes starting at the median: half the frequency lies below them, and it is said
     lam2, *_, notes2 = maf_from_stripes(few[3:], estimates[3:], curve)
     assert lam2 < 0.8 * exact and any("below it" in n for n in notes2)
+    # stripes ending at the median: the higher intensities' share is said likewise
+    lam3, *_, notes3 = maf_from_stripes(few[:4], estimates[:4], curve)
+    assert lam3 < 0.8 * exact and any("above the last stripe" in n for n in notes3)
 
 
 @pytest.mark.parametrize("design, fields, says", [

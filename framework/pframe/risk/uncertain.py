@@ -256,10 +256,10 @@ def maf_from_stripes(levels, estimates, hazard, confidence: float = 0.95):
     bound = np.array([e.high if e.probability == 0 else 0.0 for e in estimates])
     lam = float(np.dot(c, p))
     notes = []
+    from pframe.risk.hazard import mean_annual_frequency
+
     below = 0.0
     if p[0] > 0:  # below the first stripe, counted 0: estimated on P's power law there
-        from pframe.risk.hazard import mean_annual_frequency
-
         x1 = float(levels[0])
         slope = math.log(p[1] / p[0]) / math.log(levels[1] / x1) if p[1] > 0 else 0.0
         below = mean_annual_frequency(
@@ -270,12 +270,20 @@ def maf_from_stripes(levels, estimates, hazard, confidence: float = 0.95):
                      f"{p[0]:.2e}: the intensities below it, counted 0, would add about "
                      f"{below:.2e} /yr ({below / lam:.0%} of the annual frequency) on the "
                      "power law of the first two stripes; add a lower stripe")
-    # above the last stripe P is counted at P_K: at most (1 - P_K) lambda_IM(x_K) is missing
-    top = (1.0 - p[-1]) * float(np.nan_to_num(hazard.rate(np.array([levels[-1]]))[0]))
+    # above the last stripe P is counted at P_K: what P's power law of the last two stripes
+    # (capped at 1) adds there
+    top = 0.0
+    if p[-1] > 0 and p[-2] > 0:
+        xk = float(levels[-1])
+        slope = max(math.log(p[-1] / p[-2]) / math.log(xk / levels[-2]), 0.0)
+        top = mean_annual_frequency(
+            lambda x: np.where(x > xk, np.minimum(1.0, p[-1] * (np.asarray(x) / xk) ** slope)
+                               - p[-1], 0.0), hazard)[0]
     if lam > 0 and top > 0.05 * lam:
         notes.append(f"the intensities above the last stripe ({levels[-1]:g} g) are counted at "
-                     f"its probability {p[-1]:.2e}; up to {top:.2e} /yr ({top / lam:.0%} of the "
-                     "annual frequency) more may come from them; add a higher stripe")
+                     f"its probability {p[-1]:.2e}; on the power law of the last two stripes "
+                     f"(capped at 1) they would add about {top:.2e} /yr ({top / lam:.0%} of the "
+                     "annual frequency); add a higher stripe")
     if lam <= 0:
         return 0.0, 0.0, float(np.dot(c, bound)), math.inf, notes
     cov2 = float(np.sum((c * sd) ** 2)) / lam ** 2
@@ -411,8 +419,11 @@ def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, th
         if parts is not None:
             parts.close()
     for k, e in enumerate(stripes or [estimate]):
-        if e.cov > 0.3:
-            at = f" at {float(inputs.levels[k]):g} g" if stripes and len(stripes) > 1 else ""
+        at = f" at {float(inputs.levels[k]):g} g" if stripes and len(stripes) > 1 else ""
+        if e.probability == 0.0:
+            notes.append(f"no record pounds{at} within the levels searched: the probability "
+                         f"is 0 as estimated, below about {e.high:.1e} (the upper end)")
+        elif e.cov > 0.3:
             notes.append(f"the probability's coefficient of variation is {e.cov:.2f}{at}: "
                          "raise design.samples for a tighter estimate")
     for line in notes:
