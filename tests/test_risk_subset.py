@@ -344,7 +344,7 @@ def test_stripe_weights_integrate_a_fragility_over_the_hazard(theta, beta):
     assert lam2 < 0.8 * exact and any("below it" in n for n in notes2)
     # stripes ending at the median: the higher intensities' share is said likewise
     lam3, *_, notes3 = maf_from_stripes(few[:4], estimates[:4], curve)
-    assert lam3 < 0.8 * exact and any("above the last stripe" in n for n in notes3)
+    assert lam3 < 0.95 * exact and any("above the last stripe" in n for n in notes3)
 
 
 @pytest.mark.parametrize("design, fields, says", [
