@@ -438,3 +438,29 @@ def test_a_subset_study_over_records_killed_resumes_to_the_same_file(tmp_path):
     total = int(ds.evaluations)
     assert second < total / 20  # killed part way (most batches are a chain step of 20 runs)
     assert (ds.record_probability.values > 0).any() and (ds.record_probability.values == 0).any()
+
+
+@pytest.mark.slow
+def test_a_stripe_where_no_record_pounds_says_so_with_its_upper_end(tmp_path):
+    """A gap far above every critical gap and a coarse floor: both records stop below it, the
+    probability is 0 as estimated, and the file and the warnings give the upper end (the
+    floor's bound) instead of an infinite c.o.v. or an error."""
+    import warnings
+
+    from pframe.risk import risk
+
+    study = _records_study(tmp_path, 5.0)
+    data = yaml.safe_load(study.read_text())
+    data["design"].update(samples=100, floor=1e-2)
+    study.write_text(yaml.safe_dump(data))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        ds = risk(study)
+    assert float(ds.pounding_probability) == 0.0
+    assert 0.0 < float(ds.pounding_probability_high) <= 1e-2
+    assert np.all(ds.record_probability.values == 0)
+    said = [str(w.message) for w in caught]
+    assert any("2 of 2 records stopped below the floor" in m for m in said)
+    assert any("no record pounds" in m and "upper end" in m for m in said)
+    assert not any("coefficient of variation" in m for m in said)
+    assert "no record pounds" in ds.attrs["warnings"]
