@@ -128,6 +128,7 @@ def test_a_stopped_subset_study_resumes_to_the_same_numbers(subset_run, tmp_path
     ({"uncertain": {"buildings.C.story.stiffness": {"distribution": "normal", "mean": 1.0,
                                                     "sd": 0.1}}}, "buildings.C"),
     ({"hazard": {"power_law": {"k0": 1e-4, "k": 2.5}}}, "at design"),
+    ({"design": {"kind": "subset", "samples": 300, "floor": 1e-4}}, "design.floor"),
 ])
 def test_bad_subset_studies_exit_2_naming_the_place(tmp_path, capsys, fields, says):
     path = _study(tmp_path, **fields)

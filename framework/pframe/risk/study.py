@@ -232,6 +232,10 @@ def _check_subset(study, path) -> None:
                          "intensity, ground_frequency, ground_damping, duration, ...} without "
                          "an envelope (realisations are not needed), or give a suite of "
                          "records and uncertain values to run over")
+    if "floor" in study.design.model_fields_set:
+        raise InputError(f"{path}, at design.floor: the floor stops the weaker records of a "
+                         "subset design over a suite; over a stochastic motion the one "
+                         "probability is followed to its end (leave floor out)")
     if study.design.levels or study.hazard is not None or study.target is not None:
         raise InputError(f"{path}, at design: a subset design estimates the probability of "
                          "pounding under the study's motion; levels, hazard and target belong "
