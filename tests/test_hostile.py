@@ -702,7 +702,10 @@ def test_a_signal_stops_the_run_and_removes_the_temporary_file_e2e(tmp_path, sig
         _, err = process.communicate(timeout=60)  # the run would take minutes
     finally:
         process.kill()
-    assert process.returncode == code, err
+    # 128 + signum from pframe's handler; on a loaded machine the stop has been seen to end
+    # in death by that signal after the message (a shell reports both as 128 + signum): what
+    # is checked is that nothing is left half-written and the output is untouched
+    assert process.returncode in (code, -signum), err
     assert "Traceback" not in err and "no output written" in err
     assert not tmp.exists() and out.read_bytes() == SENTINEL
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.yaml", "out.h5"]
