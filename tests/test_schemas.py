@@ -36,9 +36,18 @@ def _check_jsonschema():
     return exe
 
 
-def _validate(schema: Path, *instances: Path) -> subprocess.CompletedProcess:
-    return subprocess.run([_check_jsonschema(), "--schemafile", str(schema),
-                           *map(str, instances)], capture_output=True, text=True)
+def _validate(schema: Path, *instances: Path) -> dict[Path, list[dict]]:
+    """check-jsonschema's verdict on each instance, from one run over all of them (a run
+    costs a second of start-up; one per file made this the suite's slowest module): the
+    errors it reports for each file, empty for a file that passes."""
+    result = subprocess.run([_check_jsonschema(), "-o", "json", "--schemafile", str(schema),
+                             *map(str, instances)], capture_output=True, text=True)
+    report = json.loads(result.stdout)
+    found = {Path(i).resolve(): [] for i in instances}
+    for error in report["errors"] + report.get("parse_errors", []):
+        found[Path(error["filename"]).resolve()].append(error)
+    assert (result.returncode == 0) == (not any(found.values())), result.stdout + result.stderr
+    return found
 
 
 def test_the_schema_files_are_current_in_the_repository_and_the_package():
@@ -70,16 +79,30 @@ def test_each_schema_has_its_id_and_title():
     assert len(ids) == len(FILES)
 
 
+@pytest.fixture(scope="module")
+def example_verdicts():
+    """check-jsonschema over every example, one run per schema its ``$schema`` line names."""
+    by_schema: dict[Path, list[Path]] = {}
+    for example in EXAMPLES:
+        first = example.read_text(encoding="utf-8").splitlines()[0]
+        if first.startswith(SCHEMA_LINE):
+            schema = (example.parent / first[len(SCHEMA_LINE):].strip()).resolve()
+            by_schema.setdefault(schema, []).append(example)
+    verdicts = {}
+    for schema, examples in by_schema.items():
+        verdicts.update(_validate(schema, *examples))
+    return verdicts
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("example", EXAMPLES, ids=[e.relative_to(REPO).as_posix() for e in EXAMPLES])
-def test_every_example_names_its_schema_and_passes_it(example):
+def test_every_example_names_its_schema_and_passes_it(example, example_verdicts):
     text = example.read_text(encoding="utf-8")
     first = text.splitlines()[0]
     assert first.startswith(SCHEMA_LINE), f"{example.name} must open with '{SCHEMA_LINE}...'"
     schema = (example.parent / first[len(SCHEMA_LINE):].strip()).resolve()
     assert schema == (SCHEMAS / FOR_KIND[input_kind(yaml.safe_load(text))]).resolve()
-    result = _validate(schema, example)
-    assert result.returncode == 0, result.stdout + result.stderr
+    assert example_verdicts[example.resolve()] == [], example_verdicts[example.resolve()]
 
 
 #: (schema, a valid example, the mistake: (old text, new text), what the validator names)
@@ -115,17 +138,32 @@ MISTAKES = [
 ]
 
 
+@pytest.fixture(scope="module")
+def mistake_verdicts(tmp_path_factory):
+    """check-jsonschema over every seeded mistake (each in its own file), one run per schema."""
+    folder = tmp_path_factory.mktemp("mistakes")
+    by_schema: dict[str, list[Path]] = {}
+    files = []
+    for number, (schema, example, mistake, _) in enumerate(MISTAKES):
+        text = (REPO / "models" / example).read_text(encoding="utf-8")
+        assert mistake[0] in text, (example, mistake)
+        broken = folder / f"{number}-{Path(example).name}"
+        broken.write_text(text.replace(mistake[0], mistake[1], 1), encoding="utf-8")
+        by_schema.setdefault(schema, []).append(broken)
+        files.append(broken)
+    verdicts = {}
+    for schema, broken in by_schema.items():
+        verdicts.update(_validate(SCHEMAS / schema, *broken))
+    return [verdicts[f.resolve()] for f in files]
+
+
 @pytest.mark.slow
-@pytest.mark.parametrize("schema, example, mistake, where", MISTAKES,
+@pytest.mark.parametrize("number, where", [(n, m[3]) for n, m in enumerate(MISTAKES)],
                          ids=[f"{m[1]}:{m[2][1].strip()}" for m in MISTAKES])
-def test_seeded_mistakes_fail_the_schema(tmp_path, schema, example, mistake, where):
-    text = (REPO / "models" / example).read_text(encoding="utf-8")
-    assert mistake[0] in text
-    broken = tmp_path / Path(example).name
-    broken.write_text(text.replace(mistake[0], mistake[1], 1), encoding="utf-8")
-    result = _validate(SCHEMAS / schema, broken)
-    assert result.returncode == 1, result.stdout + result.stderr
-    assert f"$.{where}" in result.stdout + result.stderr, result.stdout
+def test_seeded_mistakes_fail_the_schema(mistake_verdicts, number, where):
+    errors = mistake_verdicts[number]
+    assert errors, f"{MISTAKES[number]} passed the schema"
+    assert f"$.{where}" in json.dumps(errors), errors  # the place it names
 
 
 def _properties(schema: dict):
@@ -193,13 +231,12 @@ def test_a_named_pi_number_is_checked_by_its_own_rule_only(tmp_path):
     assert "  Pi_alpha: 0.1" in text
     elastic = tmp_path / "pi-alpha-0.yaml"
     elastic.write_text(text.replace("  Pi_alpha: 0.1", "  Pi_alpha: 0"), encoding="utf-8")
-    result = _validate(SCHEMAS / "pi-scene.schema.json", elastic)
-    assert result.returncode == 0, result.stdout + result.stderr
-    load(elastic)  # pframe accepts it too
     unknown = tmp_path / "pi-foo-0.yaml"
     unknown.write_text(text.replace("  Pi_alpha: 0.1", "  Pi_alpha: 0.1\n  Pi_foo: 0"),
                        encoding="utf-8")
-    result = _validate(SCHEMAS / "pi-scene.schema.json", unknown)
-    assert result.returncode == 1 and "Pi_foo" in result.stdout + result.stderr
+    verdicts = _validate(SCHEMAS / "pi-scene.schema.json", elastic, unknown)
+    assert verdicts[elastic.resolve()] == [], verdicts
+    load(elastic)  # pframe accepts it too
+    assert verdicts[unknown.resolve()] and "Pi_foo" in json.dumps(verdicts[unknown.resolve()])
     with pytest.raises(InputError):
         load(unknown)
