@@ -12,6 +12,11 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import signal
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -361,3 +366,45 @@ def drive_material(law, packed, drifts):
         tangents.append(k)
         states.append(committed)
     return np.array(forces), np.array(tangents), np.array(states)
+
+
+def _dask(*args, cwd) -> subprocess.Popen:
+    return subprocess.Popen([sys.executable, "-m", "dask", *args], cwd=cwd,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            start_new_session=True)
+
+
+@pytest.fixture(scope="session")
+def cluster(tmp_path_factory):
+    """The address of a real ``dask scheduler`` on a free loopback port with two one-thread
+    ``dask worker`` processes, shared by the modules that run on Dask (started once: each
+    process costs seconds of imports)."""
+    folder = tmp_path_factory.mktemp("dask")
+    file = folder / "scheduler.json"
+    processes = [_dask("scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+                       "--scheduler-file", str(file), cwd=folder)]
+    try:
+        deadline = time.monotonic() + 120
+        while not file.exists() and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert file.exists(), "the dask scheduler did not start"
+        address = json.loads(file.read_text())["address"]
+        for _ in range(2):
+            processes.append(_dask("worker", address, "--nthreads", "1", "--nworkers", "1",
+                                   "--host", "127.0.0.1", "--no-dashboard",
+                                   "--local-directory", str(folder), cwd=folder))
+        from distributed import Client
+
+        with Client(address, timeout="60s") as client:
+            client.wait_for_workers(2, timeout=120)
+        yield address
+    finally:
+        for process in reversed(processes):
+            if process.poll() is None:
+                os.killpg(process.pid, signal.SIGTERM)
+        for process in processes:
+            try:
+                process.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(process.pid, signal.SIGKILL)
+                process.wait()

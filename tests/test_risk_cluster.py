@@ -11,13 +11,12 @@ import pytest
 pytest.importorskip("distributed")
 
 from test_risk import pulse_study  # noqa: E402
-from test_sweep_cluster import cluster  # noqa: E402, F401  (the fixture)
 
 from pframe.errors import InputError  # noqa: E402
 
 
 @pytest.mark.slow
-def test_a_study_on_dask_equals_the_local_run_and_resumes(tmp_path, cluster):  # noqa: F811
+def test_a_study_on_dask_equals_the_local_run_and_resumes(tmp_path, cluster):
     import warnings
 
     import xarray as xr

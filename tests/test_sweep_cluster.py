@@ -5,13 +5,6 @@ workers. Skipped when dask.distributed is not installed (the ``cluster`` extra).
 
 from __future__ import annotations
 
-import json
-import os
-import signal
-import subprocess
-import sys
-import time
-
 import numpy as np
 import pytest
 
@@ -29,46 +22,6 @@ axes:
   - {name: gap, path: contacts.*.gap, linspace: [0.0, 0.02, 5], units: m}
 chunk: 3
 """
-
-
-def _dask(*args, cwd) -> subprocess.Popen:
-    return subprocess.Popen([sys.executable, "-m", "dask", *args], cwd=cwd,
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
-                            start_new_session=True)
-
-
-@pytest.fixture(scope="module")
-def cluster(tmp_path_factory):
-    """(address, processes) of a scheduler on a free loopback port and two one-thread workers."""
-    folder = tmp_path_factory.mktemp("dask")
-    file = folder / "scheduler.json"
-    processes = [_dask("scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                       "--scheduler-file", str(file), cwd=folder)]
-    try:
-        deadline = time.monotonic() + 120
-        while not file.exists() and time.monotonic() < deadline:
-            time.sleep(0.1)
-        assert file.exists(), "the dask scheduler did not start"
-        address = json.loads(file.read_text())["address"]
-        for _ in range(2):
-            processes.append(_dask("worker", address, "--nthreads", "1", "--nworkers", "1",
-                                   "--host", "127.0.0.1", "--no-dashboard",
-                                   "--local-directory", str(folder), cwd=folder))
-        from distributed import Client
-
-        with Client(address, timeout="60s") as client:
-            client.wait_for_workers(2, timeout=120)
-        yield address
-    finally:
-        for process in reversed(processes):
-            if process.poll() is None:
-                os.killpg(process.pid, signal.SIGTERM)
-        for process in processes:
-            try:
-                process.wait(timeout=30)
-            except subprocess.TimeoutExpired:
-                os.killpg(process.pid, signal.SIGKILL)
-                process.wait()
 
 
 @pytest.mark.slow
