@@ -413,7 +413,7 @@ def test_a_subset_study_over_records_killed_resumes_to_the_same_file(tmp_path):
 
     study = _records_study(tmp_path, 0.2, levels=[0.22, 0.3])
     data = yaml.safe_load(study.read_text())
-    data["design"].update(samples=200, floor=1e-4)
+    data["design"].update(samples=100, floor=1e-4)
     study.write_text(yaml.safe_dump(data))
 
     def command(out):
