@@ -368,6 +368,12 @@ def drive_material(law, packed, drifts):
     return np.array(forces), np.array(tangents), np.array(states)
 
 
+def pytest_collection_modifyitems(items):
+    """Tests on the Dask :func:`cluster` run last, one after the other: the cluster starts
+    once for all of them and stops at once (idle, its three processes still cost CPU)."""
+    items.sort(key=lambda item: "cluster" in getattr(item, "fixturenames", ()))
+
+
 def _dask(*args, cwd) -> subprocess.Popen:
     return subprocess.Popen([sys.executable, "-m", "dask", *args], cwd=cwd,
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
