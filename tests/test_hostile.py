@@ -743,6 +743,39 @@ def test_a_signal_stops_the_run_and_removes_the_temporary_file_e2e(tmp_path, sig
     assert sorted(p.name for p in tmp_path.iterdir()) == ["long.yaml", "out.h5"]
 
 
+LATE_SIGINT = """
+import os, signal, sys
+from pframe import cli, outputs
+restore = outputs.restore_signals
+def late(before):  # a Ctrl-C that arrives just as the command puts the handlers back
+    restore(before)
+    os.kill(os.getpid(), signal.SIGINT)
+    signal.getsignal(signal.SIGINT)  # (Python runs the handler at the next instruction)
+outputs.restore_signals = late
+sys.argv = ["pframe", *sys.argv[1:]]
+sys.exit(cli.console_main())
+"""
+
+
+@pytest.mark.parametrize("command", [["validate"], ["solve", "-q"]])
+def test_a_ctrl_c_as_the_command_ends_is_said_once_without_a_traceback_e2e(tmp_path, command):
+    """A SIGINT that arrives after the command restored the signal handlers (seen on a loaded
+    machine as a death by SIGINT after the message) ends in exit 130 and one message, and
+    what the command wrote stays whole."""
+    done = subprocess.run([sys.executable, "-c", LATE_SIGINT, command[0], str(WU2021),
+                           *command[1:]], capture_output=True, text=True, timeout=120,
+                          cwd=tmp_path, env=os.environ | {"PYTHONPATH": str(REPO / "framework")})
+    assert done.returncode == 130, done.stderr
+    assert "Traceback" not in done.stderr
+    said = [line for line in done.stderr.splitlines() if line.startswith("pframe: interrupted")]
+    assert said == ["pframe: interrupted as the command ended; what it printed above stands"]
+    if command[0] == "solve":  # the run had ended: its file is complete
+        import xarray as xr
+
+        with xr.open_dataset(tmp_path / "wu2021-eq14.nc") as ds:
+            assert ds.attrs["status"] == "completed"
+
+
 @pytest.mark.slow
 def test_alias_bomb_in_its_own_process_e2e(tmp_path):
     bomb = tmp_path / "bomb.yaml"

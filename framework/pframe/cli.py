@@ -56,7 +56,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"pframe: stopped by signal {exc.signum}; no output written", file=sys.stderr)
         return 128 + exc.signum
     except KeyboardInterrupt:
-        print("pframe: interrupted; no output written", file=sys.stderr)
+        _interrupted()
         return 130
     except MemoryError:
         print("pframe: the machine ran out of memory; nothing was written. Reduce what the "
@@ -72,6 +72,15 @@ def main(argv: list[str] | None = None) -> int:
     finally:
         sys.unraisablehook, sys.excepthook = hook, excepthook
         outputs.restore_signals(before)
+
+
+_said: list[str] = []  # the stop message, once printed
+
+
+def _interrupted() -> None:
+    if not _said:
+        _said.append("interrupted")
+        print("pframe: interrupted; no output written", file=sys.stderr)
 
 
 def _quiet_h5py(hook):
@@ -124,9 +133,19 @@ def console_main() -> int:
     if next((a for a in sys.argv[1:] if not a.startswith("-")), None) in _SHORT:
         gc.disable()
     try:
-        code = main()
-    finally:
-        gc.freeze()
+        try:
+            code = main()
+        finally:
+            _leaving()
+            gc.freeze()
+    except KeyboardInterrupt:
+        # a Ctrl-C that arrived as main() put the signal handlers back: exit 130 as for any
+        # Ctrl-C, not a traceback; the command has already said how it ended (its files are
+        # complete or removed), or this says so
+        if not _said:
+            print("pframe: interrupted as the command ended; what it printed above stands",
+                  file=sys.stderr)
+        code = 130
     if code == 3:
         # after a failed write (disk full), a library may hold files it cannot close; leave
         # without the interpreter's clean-up, which would try again (the message is out)
@@ -136,6 +155,16 @@ def console_main() -> int:
 
         os._exit(code)
     return code
+
+
+def _leaving() -> None:
+    """From here on a Ctrl-C could only interrupt the interpreter's clean-up (the command has
+    said how it ended, and its files are complete or removed): ignore it."""
+    import signal
+    import threading
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 if __name__ == "__main__":
