@@ -368,6 +368,31 @@ def drive_material(law, packed, drifts):
     return np.array(forces), np.array(tangents), np.array(states)
 
 
+def kill_after(command: list[str], cwd: Path, parts: Path, chunks: int) -> int:
+    """Start ``command`` in its own session, SIGKILL it as soon as the folder ``parts`` holds
+    ``chunks`` saved chunk files (``chunk-*.npz``: a sweep's chunks, a study's batches);
+    return how many it holds then. Fails the test if the command ends first."""
+    process = subprocess.Popen(command, cwd=cwd, stdout=subprocess.DEVNULL,
+                               stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        deadline = time.monotonic() + 600
+        while time.monotonic() < deadline:
+            if parts.is_dir() and len(list(parts.glob("chunk-*.npz"))) >= chunks:
+                break
+            if process.poll() is not None:
+                pytest.fail("the command ended before it could be killed: "
+                            f"{process.stderr.read().decode()}")
+            time.sleep(0.002)
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    finally:
+        if process.poll() is None:
+            os.killpg(process.pid, signal.SIGKILL)
+            process.wait()
+    assert process.returncode == -signal.SIGKILL
+    return len(list(parts.glob("chunk-*.npz")))
+
+
 def pytest_collection_modifyitems(items):
     """Tests on the Dask :func:`cluster` run last, one after the other: the cluster starts
     once for all of them and stops at once (idle, its three processes still cost CPU)."""

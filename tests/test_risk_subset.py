@@ -372,35 +372,6 @@ def test_bad_subset_studies_over_records_exit_2_naming_the_place(tmp_path, capsy
     assert not (tmp_path / "out.nc").exists()
 
 
-def _kill_after(command: list[str], cwd: Path, parts: Path, chunks: int) -> int:
-    """Start ``command``, SIGKILL it as soon as ``parts`` holds ``chunks`` saved batches;
-    return how many it holds then."""
-    import os
-    import signal
-    import subprocess
-    import time
-
-    process = subprocess.Popen(command, cwd=cwd, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.PIPE, start_new_session=True)
-    try:
-        deadline = time.monotonic() + 600
-        while time.monotonic() < deadline:
-            if parts.is_dir() and len(list(parts.glob("chunk-*.npz"))) >= chunks:
-                break
-            if process.poll() is not None:
-                pytest.fail("the study ended before it could be killed: "
-                            f"{process.stderr.read().decode()}")
-            time.sleep(0.002)
-        os.killpg(process.pid, signal.SIGKILL)
-        process.wait()
-    finally:
-        if process.poll() is None:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
-    assert process.returncode == -signal.SIGKILL
-    return len(list(parts.glob("chunk-*.npz")))
-
-
 @pytest.mark.slow
 def test_a_subset_study_over_records_killed_resumes_to_the_same_file(tmp_path):
     """Two records at two stripes (one record chased through its levels, the other stopped
@@ -409,7 +380,7 @@ def test_a_subset_study_over_records_killed_resumes_to_the_same_file(tmp_path):
     import subprocess
     import sys
 
-    from conftest import assert_same_result_file
+    from conftest import assert_same_result_file, kill_after
 
     study = _records_study(tmp_path, 0.2, levels=[0.22, 0.3])
     data = yaml.safe_load(study.read_text())
@@ -424,9 +395,9 @@ def test_a_subset_study_over_records_killed_resumes_to_the_same_file(tmp_path):
                            timeout=900)
     assert whole.returncode == 0, whole.stderr
     parts = tmp_path / "resumed.nc.parts"
-    first = _kill_after(command("resumed.nc"), tmp_path, parts, 8)
+    first = kill_after(command("resumed.nc"), tmp_path, parts, 8)
     assert first >= 8 and not (tmp_path / "resumed.nc").exists()
-    second = _kill_after(command("resumed.nc"), tmp_path, parts, first + 10)
+    second = kill_after(command("resumed.nc"), tmp_path, parts, first + 10)
     assert second > first and not (tmp_path / "resumed.nc").exists()
     again = subprocess.run(command("resumed.nc"), cwd=tmp_path, capture_output=True,
                            text=True, timeout=900)

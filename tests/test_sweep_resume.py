@@ -6,15 +6,12 @@ The sweeps share the kernel of tests/test_sweep.py (same laws, default envelopes
 
 from __future__ import annotations
 
-import os
-import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import pytest
-from conftest import assert_same_result_file  # noqa: E402
+from conftest import assert_same_result_file, kill_after  # noqa: E402
 from test_sweep import BASE  # noqa: E402
 
 from pframe.cli import main
@@ -47,26 +44,7 @@ def _command(folder: Path, out: str) -> list[str]:
 def _kill_after(folder: Path, out: str, chunks: int) -> int:
     """Start the sweep, SIGKILL it as soon as ``chunks`` chunk files exist in total; return
     how many there are then."""
-    parts = folder / f"{out}.parts"
-    process = subprocess.Popen(_command(folder, out), cwd=folder, stdout=subprocess.DEVNULL,
-                               stderr=subprocess.PIPE, start_new_session=True)
-    try:
-        deadline = time.monotonic() + 600
-        while time.monotonic() < deadline:
-            if parts.is_dir() and len(list(parts.glob("chunk-*.npz"))) >= chunks:
-                break
-            if process.poll() is not None:
-                pytest.fail(f"the sweep ended before it could be killed: "
-                            f"{process.stderr.read().decode()}")
-            time.sleep(0.002)
-        os.killpg(process.pid, signal.SIGKILL)
-        process.wait()
-    finally:
-        if process.poll() is None:
-            os.killpg(process.pid, signal.SIGKILL)
-            process.wait()
-    assert process.returncode == -signal.SIGKILL
-    return len(list(parts.glob("chunk-*.npz")))
+    return kill_after(_command(folder, out), folder, folder / f"{out}.parts", chunks)
 
 
 @pytest.mark.slow
