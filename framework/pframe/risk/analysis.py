@@ -121,7 +121,19 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
 
 def _gap_solver(kind, im, g_req, ok, levels, records, hazard, target, used=None):
     """lambda(g) of pounding at a uniform gap g, and the root of lambda(g) = target."""
+    known: dict = {}  # msa: lambda by the stripes' counts of pounding runs
+
     def rate(g):
+        if kind != "msa":
+            return rate_at(g)
+        # an msa fit sees g only through how many runs of each stripe pound: lambda(g) is a
+        # step function, and a root search meets each step many times (the same numbers)
+        key = ((g_req / g > 1) & ok).reshape(records, -1).sum(axis=0).tobytes()
+        if key not in known:
+            known[key] = rate_at(g)
+        return known[key]
+
+    def rate_at(g):
         frag = fit(kind, im, g_req / g, ok, levels, records, used=used)
         if frag.fitted:
             return mean_annual_frequency(frag.probability, hazard, points=800)[0]
