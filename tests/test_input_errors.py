@@ -202,6 +202,22 @@ CASES = {
                           ", contacts[0].restitusion", ("unknown field",)),
     "unknown-top-level-field": Case(BASE + "dampng: {ratio: 0.02}\n", "dampng",
                                     ", dampng", ("unknown field",)),
+    # a line left behind when the law was changed: said so, not "check the spelling"
+    "field-of-another-law": Case(
+        edit("law: improved_kelvin\n    stiffness: 1.0e7\n    restitution: 0.5",
+             "law: linear\n    stiffness: 1.0e7\n    calibration: published"), "calibration",
+        ", contacts[0].calibration",
+        ("the contact law linear takes no 'calibration' (it takes stiffness, frequency, "
+         "frequency_ratio); kelvin, improved_kelvin, hertzdamp, jankowski, bumper take it",)),
+    "field-of-another-material": Case(
+        edit("yield_drift: 0.02\n      alpha: 0.1", "yield_drift: 0.02\n      alpha: 0.1\n"
+             "      restitution: 0.5"), "restitution", ", buildings[0].story.restitution",
+        ("unknown field",)),  # no material takes it: the spelling may be the mistake
+    "field-of-another-material-taken": Case(
+        edit("yield_drift: 0.02\n      alpha: 0.1", "yield_drift: 0.02\n      alpha: 0.1\n"
+             "      damping: 5.0e3"), "damping", ", buildings[0].story.damping",
+        ("the material bilinear takes no 'damping' (it takes stiffness, yield_drift, "
+         "yield_force, alpha); viscous, kelvin_voigt take it",)),
     "duration-below-dt": Case(edit("duration: 0.2", "duration: 0.0001"), "duration:",
                               ", analysis.duration", ("shorter than one step",)),
 }

@@ -81,12 +81,43 @@ def _format_validation(exc: ValidationError, data, lines: dict, source: str) -> 
         if err["type"] == "missing":
             msg = "this field is required"
         elif err["type"] == "extra_forbidden":
-            msg = "unknown field (check the spelling; see the YAML reference)"
+            msg = _not_this_laws(data, path) or (
+                "unknown field (check the spelling; see the YAML reference)")
         elif "input" in err and not isinstance(err["input"], (dict, list)):
             msg += f" (got {err['input']!r})"
         messages.append(f"{_where(source, lines, path)}: {msg}")
     more = f" ({len(messages) - 3} more problems not shown)" if len(messages) > 3 else ""
     return "; ".join(messages[:3]) + more
+
+
+def _not_this_laws(data, path: Path_) -> str | None:
+    """For a field its law does not take but other built-in laws do (a line left behind
+    when the law was changed: ``calibration`` on a ``linear`` contact), what to say instead
+    of "unknown field"; None otherwise."""
+    from pframe.laws.registry import builtin_laws
+
+    parent = data
+    for part in path[:-1]:
+        try:
+            parent = parent[part]
+        except (KeyError, IndexError, TypeError):
+            return None
+    if not path or not isinstance(parent, dict):
+        return None
+    field = path[-1]
+    for kind, tag, what in (("contact", "law", "contact law"), ("material", "material",
+                                                                  "material")):
+        name = parent.get(tag)
+        laws = {law.name: law for law in builtin_laws(kind)}
+        if name not in laws:
+            continue
+        others = [n for n, law in laws.items() if field in law.Params.model_fields]
+        if not others:
+            return None
+        own = [f for f in laws[name].Params.model_fields if f != tag]
+        return (f"the {what} {name} takes no {field!r} (it takes {', '.join(own)}); "
+                f"{', '.join(others)} take it. Remove the line, or choose one of those")
+    return None
 
 
 _MISSING = object()
