@@ -41,6 +41,18 @@ class BuildKernel(build_ext):
                 extension.extra_compile_args[flags.index("-O2")] = "-O3"
         super().build_extensions()
 
+    def run(self):
+        super().run()
+        if self.inplace:
+            # pip install -e .: the package is the source tree, which pip does not byte-compile
+            # as it does an installed wheel. Compile it now, like the kernel: a process that
+            # may not write bytecode (PYTHONDONTWRITEBYTECODE, a read-only checkout) would
+            # otherwise compile pframe's modules from source at every start, a quarter of a
+            # warm `pframe solve` here. A module edited later is compiled again when imported.
+            import compileall
+
+            compileall.compile_dir(str(Path("framework") / "pframe"), quiet=1)
+
 
 kernel = Extension(
     "pframe.kernel._ckernel",
