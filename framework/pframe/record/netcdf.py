@@ -62,11 +62,15 @@ class Writer:
         self.file = _open(target)
         self.compress = compress
         self._coordinates: dict[str, list[str]] = {}  # dimension -> its auxiliary coordinates
+        # dimension -> its length (0 for an unlimited one until resized): h5netcdf finds an
+        # unlimited dimension's length by scanning every variable along it
+        self._sizes: dict[str, int] = {}
 
     # -- structure --------------------------------------------------------------------------
     def dimension(self, name: str, size: int | None) -> None:
         """A dimension; ``size`` None makes it unlimited (resizable: streamed histories)."""
         self.file.dimensions[name] = size
+        self._sizes[name] = size or 0
 
     def coordinate(self, name: str, values, **attrs):
         """A numeric coordinate variable: dimension ``name`` with values ``values``."""
@@ -125,7 +129,7 @@ class Writer:
         if np.dtype(dtype) == np.int64:
             raise TypeError(f"{name}: CF files hold no int64 variables; use int32")
         if chunk_rows:
-            shape = tuple(self.file.dimensions[d].size for d in dims)
+            shape = tuple(self._sizes[d] for d in dims)
             width = int(np.prod(shape[1:], dtype=np.int64)) if len(shape) > 1 else 1
             rows = max(1, CHUNK_BYTES // (8 * max(1, width)))
             kwargs["chunks"] = (max(1, min(rows, shape[0] or rows)),) + tuple(
@@ -141,6 +145,7 @@ class Writer:
     def resize(self, dimension: str, size: int) -> None:
         """Set the length of an unlimited dimension (and of every variable along it)."""
         self.file.resize_dimension(dimension, size)
+        self._sizes[dimension] = size
 
     def __getitem__(self, name: str):
         return self.file[name]
