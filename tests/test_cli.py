@@ -207,3 +207,17 @@ def test_help_lists_every_command_and_each_parses_alone(capsys):
         with pytest.raises(SystemExit) as stop:
             sub.parse_args([name, "--help"])
         assert stop.value.code == 0 and f"usage: pframe {name}" in capsys.readouterr().out
+
+
+def test_each_interrupted_command_says_so(monkeypatch, capsys):
+    """The "interrupted" line is said once per command, not once per process: main() called
+    again in the same process (the Python API, a notebook, these tests) says it again."""
+    import pframe.commands.validate as validate
+
+    def stopped(args):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(validate, "_validate", stopped)
+    for _ in range(2):
+        assert main(["validate", "scene.yaml"]) == 130
+        assert capsys.readouterr().err == "pframe: interrupted; no output written\n"

@@ -39,6 +39,7 @@ def main(argv: list[str] | None = None) -> int:
     from pframe import outputs
 
     argv = sys.argv[1:] if argv is None else list(argv)
+    _said.clear()  # a new command (main may be called again in one process)
     # the sub-command comes first (an option before it is the top level's: all are listed)
     args = parser(argv[0] if argv else None).parse_args(argv)
     args.command_line = shlex.join(["pframe", *argv])  # the files' history attribute

@@ -160,8 +160,8 @@ class Writer:
 
     @property
     def attrs(self):
-        """The global attributes: reads as h5netcdf's; ``update`` and item assignment write
-        text as fixed-length strings at once (see :func:`_put`)."""
+        """The global attributes, to be set: ``update`` and item assignment write text as
+        fixed-length strings at once (see :func:`_put`)."""
         return _Attributes(self.file.attrs, self.file._h5file.attrs)
 
     def close(self) -> None:
@@ -359,8 +359,8 @@ def _put(attrs, h5attrs, values: dict) -> None:
 
 
 class _Attributes:
-    """A file's global attributes (:attr:`Writer.attrs`): h5netcdf's for reading, text
-    written fixed-length by :func:`_put`."""
+    """A file's global attributes as :attr:`Writer.attrs` gives them, to be set (``update``,
+    item assignment): text written fixed-length by :func:`_put`."""
 
     def __init__(self, attrs, h5attrs):
         self._attrs, self._h5attrs = attrs, h5attrs
@@ -370,24 +370,6 @@ class _Attributes:
 
     def __setitem__(self, name: str, value) -> None:
         _put(self._attrs, self._h5attrs, {name: value})
-
-    def __getitem__(self, name: str):
-        return self._attrs[name]
-
-    def __contains__(self, name) -> bool:
-        return name in self._attrs
-
-    def __iter__(self):
-        return iter(self._attrs)
-
-    def __len__(self) -> int:
-        return len(self._attrs)
-
-    def get(self, name: str, default=None):
-        return self._attrs.get(name, default)
-
-    def keys(self):
-        return self._attrs.keys()
 
 
 def fixed_length_text(f) -> None:
