@@ -12,11 +12,14 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pframe.assemble import stability, timescales
+from pframe.assemble import incidence, stability, timescales
+from pframe.assemble import modes as modes_in_plan
+from pframe.assemble.incidence import Sides
 from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
+from pframe.model.plan import COMPONENTS
 
 if TYPE_CHECKING:
     from pframe.peers.scene import PeerScene
@@ -64,7 +67,7 @@ class Plan:
     contact_dofs: np.ndarray  # (c, 2) [left, right]
     contact_gap: np.ndarray  # (B, c) m
     contact_groups: tuple[LawGroup, ...]
-    ground_acceleration: np.ndarray  # (B, steps + 1) m/s^2
+    ground_acceleration: np.ndarray  # (B, steps + 1) m/s^2 along the first channel (x)
     initial_displacement: np.ndarray  # (B, n)
     initial_velocity: np.ndarray  # (B, n)
     history: tuple[tuple[str, int], ...]  # (quantity, every)
@@ -75,28 +78,46 @@ class Plan:
     link_names: tuple[str, ...] = ()  # the last len(link_names) spring elements
     story_height: np.ndarray = None  # (B, s) storey heights (m), NaN: not given (and links)
     story_kg: np.ndarray = None  # (B, s) P-delta's geometric stiffness P / h (N/m), 0: none
-    #: floor-to-column contacts: (c, 2) the struck storey's lower floor DOF on each side (-1:
-    #: none or the ground) and (B, c, 2) the weight psi of each side's node (1: a floor)
-    contact_lower: np.ndarray = None
-    contact_share: np.ndarray = None
     contact_capacity: np.ndarray = None  # (c,) a struck column's shear capacity (N), NaN: none
+    #: (B, c, 2) floor-to-column contacts: the weight psi of each side's named node (1: a
+    #: floor; a column point is psi u_upper + (1 - psi) u_lower, held in contact_sides)
+    contact_share: np.ndarray = None
     #: soil (docs/soil.md): the buildings whose foundations sway and rock, their (F, 2) sway
-    #: and rocking DOFs, each spring's rocking DOF (s,) (-1: none; the lever is its height),
-    #: and the ground load's influence (n,): 1 on a translational DOF, 0 on a rocking one
-    #: (the ground load is -m influence a_g; an absolute acceleration is a + influence a_g).
-    #: The soil's springs are the last 2 F spring elements (after the links), sway then
-    #: rocking per foundation; their work is booked with the links'.
+    #: and rocking DOFs; the soil's springs are the last 2 F spring elements (after the
+    #: links), sway then rocking per foundation; their work is booked with the links'. A
+    #: storey on soil deforms by u_upper - u_lower - h theta (its sides hold the lever h).
     foundations: tuple[str, ...] = ()
     foundation_dofs: np.ndarray = None
-    story_theta: np.ndarray = None
-    ground_influence: np.ndarray = None
     #: what each foundation's soil is (FoundationSoil.describe), for the summary and the file
     foundation_soil: tuple[str, ...] = ()
+    #: the elements that are not plain (pframe.assemble.incidence): lines of resistance in
+    #: plan, contacts at points, floor-to-column contacts, storeys on soil
+    story_sides: Sides = None
+    contact_sides: Sides = None
+    #: the ground motion's channels (the site's axes 'x', 'y' it loads), their motions (B, C,
+    #: steps + 1) m/s^2 (None: the first channel alone, ground_acceleration) and each DOF's
+    #: channel (-1: none, a rotation)
+    channels: tuple[str, ...] = ("x",)
+    more_channels: np.ndarray = None
+    dof_channel: np.ndarray = None
+    #: each DOF's node (declaration order; foundations' DOFs: -1) and component (0 u_x, 1 u_y,
+    #: 2 theta): the file's layout of a scene in plan
+    dof_node: np.ndarray = None
+    dof_component: np.ndarray = None
+    #: the scene moves its floors along x only (one DOF per node, today's layout)
+    planar: bool = True
 
     @property
     def n_springs(self) -> int:
         """Spring elements in the kernel: the storeys, then the links, then the soil's."""
         return len(self.story_names) + len(self.link_names) + 2 * len(self.foundations)
+
+    @property
+    def ground_channels(self) -> np.ndarray:
+        """(B, C, steps + 1): the ground motion along each channel (m/s^2)."""
+        if self.more_channels is not None:
+            return self.more_channels
+        return self.ground_acceleration[:, None, :]
 
     @property
     def batch(self) -> int:
@@ -177,8 +198,9 @@ def _sparse_lowest(springs, scale, n: int, count: int) -> np.ndarray:
     return np.sqrt(np.clip(np.sort(values), 0, None))
 
 
-def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
-    """a0 m per DOF and a1 per storey, fitted per building on its fixed-base modes."""
+def _rayleigh(ex: Expanded, k0: np.ndarray, building_dofs, n: int, springs):
+    """a0 m per DOF and a1 per storey, fitted per building on its fixed-base modes (in plan:
+    its lateral-torsional modes)."""
     a0 = np.zeros(n)
     a1 = np.zeros(len(ex.stories))
     for b, name in enumerate(ex.buildings):
@@ -187,27 +209,35 @@ def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
             continue  # no storeys: masses carried by links only (a tuned mass) are damped by
             # their links, not by a Rayleigh fit
         nodes = np.flatnonzero(ex.node_building == b)
+        keys = [key for key in ex.dofs or () if ex.node_building[key[0]] == b]
         modes = damping.modes
         try:
             with np.errstate(all="ignore"):
-                omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
+                if ex.dofs is None:
+                    omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
+                else:
+                    position = {key: i for i, key in enumerate(ex.dofs)}
+                    omega = modes_in_plan.lowest_frequencies(
+                        keys, ex.dof_mass[[position[k] for k in keys]], springs, k0,
+                        np.flatnonzero(ex.story_building == b), max(modes))
         except (np.linalg.LinAlgError, ArithmeticError, ValueError):
             omega = np.array([np.nan])
         if not np.all(np.isfinite(omega)):
             raise InputError(f"building {name!r}: its natural frequencies (for Rayleigh damping) "
                              "cannot be computed from its masses and storey stiffnesses; they "
                              "span more than floating point carries (check the units)")
-        if max(modes) > len(nodes):
-            if len(nodes) == 1 and modes == (1, 2):
+        count = len(keys) if ex.dofs is not None else len(nodes)
+        if max(modes) > count:
+            if count == 1 and modes == (1, 2):
                 modes = (1, 1)  # a one-storey building has one mode: fit the ratio there
             else:
-                raise InputError(f"building {name!r} has {len(nodes)} modes; damping modes "
+                raise InputError(f"building {name!r} has {count} modes; damping modes "
                                  f"{list(damping.modes)} cannot be fitted")
         wi, wj = omega[modes[0] - 1], omega[modes[1] - 1]
         if wi + wj == 0.0:
             raise InputError(f"building {name!r} has no stiffness to fit Rayleigh damping to "
                              "(add storeys or set damping ratio 0)")
-        a0[dof_of_node[nodes]] = 2.0 * damping.ratio * wi * wj / (wi + wj)
+        a0[building_dofs(b)] = 2.0 * damping.ratio * wi * wj / (wi + wj)
         a1[ex.story_building == b] = 2.0 * damping.ratio / (wi + wj)
     return a0, a1
 
@@ -292,21 +322,31 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
 
 class _Soil:
     """The foundations on soil of a scene (docs/soil.md): foundation f's sway DOF is the
-    extra node ``nodes + 2 f``, its rocking DOF ``nodes + 2 f + 1``."""
+    extra node ``nodes + 2 f``, its rocking DOF ``nodes + 2 f + 1`` (each one component)."""
 
     def __init__(self, ex: Expanded, nodes: int):
         self.nodes = nodes
         self.sway = {f.building: nodes + 2 * i for i, f in enumerate(ex.foundations)}
         self.count = len(ex.foundations)
 
+    def keys(self) -> list[tuple[int, int]]:
+        return [(self.nodes + i, 0) for i in range(2 * self.count)]
+
     def stories(self, ex: Expanded) -> tuple:
-        """The storeys, a first storey on soil standing on its foundation's sway DOF."""
+        """The storeys; a storey on soil deforms by u_upper - u_lower - h theta (its lower
+        side holds the rocking's lever h) and a first storey stands on the sway DOF."""
         if not self.count:
             return ex.stories
         out = []
-        for e, b in zip(ex.stories, ex.story_building):
-            if e.nodes[0] < 0 and int(b) in self.sway:
-                e = dataclasses.replace(e, nodes=(self.sway[int(b)], e.nodes[1]))
+        for e, b, h in zip(ex.stories, ex.story_building, ex.story_height):
+            if int(b) in self.sway:
+                sway = self.sway[int(b)]
+                lower, upper = e.side_terms()
+                nodes = e.nodes
+                if e.nodes[0] < 0:
+                    lower, nodes = ((sway, 0, 1.0),), (sway, e.nodes[1])
+                e = dataclasses.replace(e, nodes=nodes,
+                                        sides=(lower + ((sway + 1, 0, float(h)),), upper))
             out.append(e)
         return tuple(out)
 
@@ -327,46 +367,32 @@ class _Soil:
         return tuple(out)
 
     def masses(self, ex: Expanded) -> np.ndarray:
-        """Every DOF's mass: the nodes', then m_f and I_f of each foundation."""
+        """Every DOF's mass: the nodes' degrees of freedom, then m_f and I_f of each
+        foundation."""
         extra = [x for f in ex.foundations for x in (f.mass, f.rotational_inertia)]
-        return np.concatenate([np.asarray(ex.masses, dtype=float), np.array(extra, dtype=float)])
+        own = ex.dof_mass if ex.dof_mass is not None else ex.masses
+        return np.concatenate([np.asarray(own, dtype=float), np.array(extra, dtype=float)])
 
     def pad(self, values: np.ndarray, fill: float) -> np.ndarray:
         return np.concatenate([values, np.full(2 * self.count, fill)])
 
-    def rocking_groups(self, ex: Expanded, springs) -> dict:
+    def rocking_groups(self, ex: Expanded, springs, key_index) -> dict:
         """rocking DOF -> the DOFs its storeys join (its building's floors and sway DOF)."""
-        groups = {sway + 1: {sway} for sway in self.sway.values()}
+        groups = {key_index[(sway + 1, 0)]: {key_index[(sway, 0)]}
+                  for sway in self.sway.values()}
         for e, b in zip(springs, ex.story_building):  # the storeys come first in springs
             if int(b) in self.sway:
-                groups[self.sway[int(b)] + 1].update(i for i in e.nodes if i >= 0)
+                rock = key_index[(self.sway[int(b)] + 1, 0)]
+                groups[rock].update(key_index[(i, 0)] for i in e.nodes if i >= 0)
         return groups
 
-    def rocking_edges(self, ex: Expanded, springs) -> list:
-        return [(th, i) for th, group in self.rocking_groups(ex, springs).items()
-                for i in group]
-
-    def story_theta(self, ex: Expanded, springs, dof_of_node) -> np.ndarray:
-        out = np.full(len(springs), -1, dtype=np.int64)
-        for s, b in enumerate(ex.story_building):
-            if int(b) in self.sway:
-                if not np.isfinite(ex.story_height[s]):
-                    raise InputError(f"storey {ex.stories[s].name!r} of a building on soil has "
-                                     "no height (the rocking's lever): give height")
-                out[s] = dof_of_node[self.sway[int(b)] + 1]
-        return out
-
-    def plan_fields(self, ex: Expanded, springs, dof_of_node) -> dict:
+    def plan_fields(self, ex: Expanded, dof_of) -> dict:
         if not self.count:
             return {}
-        influence = np.ones(len(dof_of_node))
-        dofs = np.array([[dof_of_node[s], dof_of_node[s + 1]] for s in self.sway.values()],
+        dofs = np.array([[dof_of(s, 0), dof_of(s + 1, 0)] for s in self.sway.values()],
                         dtype=np.int64)
-        influence[dofs[:, 1]] = 0.0  # the ground load acts on translations only
         return dict(foundations=tuple(ex.buildings[f.building] for f in ex.foundations),
                     foundation_dofs=dofs,
-                    story_theta=self.story_theta(ex, springs, dof_of_node),
-                    ground_influence=influence,
                     foundation_soil=tuple(f.describe() for f in ex.foundations))
 
 
@@ -377,9 +403,11 @@ def batch_key(ex: Expanded) -> tuple:
     numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
     return (
         ex.node_names,
-        tuple((e.name, e.nodes, e.law) for e in ex.stories),
-        tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
-        tuple((e.name, e.nodes, e.law) for e in ex.links),
+        tuple((e.name, e.nodes, e.law, _structure(e)) for e in ex.stories),
+        tuple((e.name, e.nodes, e.law, e.lower, _structure(e)) for e in ex.contacts),
+        tuple((e.name, e.nodes, e.law, _structure(e)) for e in ex.links),
+        ex.dofs,
+        ex.channels,
         ex.steps,
         ex.integrator,
         ex.recorders,
@@ -387,6 +415,14 @@ def batch_key(ex: Expanded) -> tuple:
         (ex.tolerance, ex.absolute_tolerance, ex.max_iterations),
         tuple(f.building for f in ex.foundations),
     )
+
+
+def _structure(element) -> tuple | None:
+    """The degrees of freedom an element's sides hold, without their coefficients (which a
+    batch may vary: an eccentricity, a point)."""
+    if element.sides is None:
+        return None
+    return tuple(tuple((node, c) for node, c, _ in side) for side in element.sides)
 
 
 def assemble(expanded: Expanded) -> Plan:
@@ -405,38 +441,56 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                              "recorders or Newton settings; a batch may vary numbers only")
     nodes = len(first.node_names)
     soil = _Soil(first, nodes)
-    n = nodes + 2 * len(first.foundations)  # a foundation's sway and rocking DOFs after the nodes
+    # the degrees of freedom: the nodes' (u_x of each in a planar scene), then each
+    # foundation's sway and rocking
+    keys = list(first.dofs or [(i, 0) for i in range(nodes)]) + soil.keys()
+    key_index = {key: i for i, key in enumerate(keys)}
+    n = len(keys)
     # the kernel's spring elements: storeys (a first storey on soil stands on its foundation's
     # sway DOF), then links, then the soil's springs
-    springs = soil.stories(first) + first.links + soil.springs(first)
-    edges = [e.nodes for e in springs] + [e.nodes for e in first.contacts]
-    for e in first.contacts:  # a floor-to-column contact couples up to four nodes
-        if max(e.lower) >= 0:
-            ends = [i for i in (e.nodes[0], e.lower[0], e.nodes[1], e.lower[1]) if i >= 0]
-            edges += [(a, c) for a in ends for c in ends if a < c]
-    order = reverse_cuthill_mckee(n, edges)
-    if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
-        order = place_last(order, soil.rocking_groups(first, springs))
-        edges += soil.rocking_edges(first, springs)
-    dof_of_node = np.empty(n, dtype=np.int64)
-    dof_of_node[order] = np.arange(n)
+    spring_sets = [soil.stories(ex) + ex.links + soil.springs(ex) for ex in variants]
+    springs = spring_sets[0]
+    raw = (incidence.build(spring_sets, lambda node, c: key_index[(node, c)]),
+           incidence.build([ex.contacts for ex in variants],
+                           lambda node, c: key_index[(node, c)]))
+    principal = _principal(keys, nodes + 2 * len(first.foundations))
 
-    def dofs(elements):
-        out = np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
+    def node_dofs(elements):  # each side's node's first DOF (the plain element's DOFs)
+        out = np.array([[principal[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
                        dtype=np.int64)
         return out.reshape(len(elements), 2)
 
+    rocking = {key_index[(sway + 1, 0)] for sway in soil.sway.values()}
+    edges = [(a, c) for a, c in incidence.edges(node_dofs(springs), raw[0])
+             + incidence.edges(node_dofs(first.contacts), raw[1])
+             if a not in rocking and c not in rocking]
+    order = reverse_cuthill_mckee(n, edges)
+    if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
+        order = place_last(order, soil.rocking_groups(first, springs, key_index))
+    dof_of_key = np.empty(n, dtype=np.int64)
+    dof_of_key[order] = np.arange(n)
+    story_sides, contact_sides = (_renumbered(x, dof_of_key) for x in raw)
+    story_dofs = _renumbered_dofs(node_dofs(springs), dof_of_key)
+    contact_dofs = _renumbered_dofs(node_dofs(first.contacts), dof_of_key)
+    all_edges = incidence.edges(story_dofs, story_sides) + incidence.edges(contact_dofs,
+                                                                           contact_sides)
     packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
     k0 = np.array([[_initial_tangent(e.law, p) for e, p in zip(springs, row)]
                    for row in packed])
     k0 = k0.reshape(len(variants), len(springs))
     masses = [soil.masses(ex) for ex in variants]
     mass_damping, story_beta = [], []
+    node_of_dof = np.array([key[0] if key[0] < nodes else -1 for key in keys])[order]
+
+    def building_dofs(b: int) -> np.ndarray:  # the DOFs of building b's floors, new numbers
+        owner = first.node_building[np.clip(node_of_dof, 0, None)]
+        return np.flatnonzero((node_of_dof >= 0) & (owner == b))
+
     fits: dict = {}  # members with the same masses, stiffnesses and damping share their fit
     for b, ex in enumerate(variants):
         key = (ex.masses.tobytes(), k0[b].tobytes(), id(ex.damping))
-        if key not in fits:
-            fits[key] = _rayleigh(ex, k0[b], dof_of_node[:nodes], n)  # foundations: a0 = 0
+        if key not in fits:  # foundations: a0 = 0
+            fits[key] = _rayleigh(ex, k0[b], building_dofs, n, spring_sets[b])
         a0, a1 = fits[key]
         mass_damping.append(a0 * masses[b][order])
         story_beta.append(np.concatenate([a1, np.zeros(len(springs) - len(first.stories))]))
@@ -466,15 +520,15 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
         dtype=np.int64,  # no Rayleigh term (a1 = 0)
     )
-    pad = np.zeros(n - nodes)
+    pad = np.zeros(2 * len(first.foundations))
     plan = Plan(
         node_names=first.node_names,
-        node_dof=dof_of_node[:nodes],
+        node_dof=dof_of_key[principal[:nodes]],
         story_names=tuple(e.name for e in first.stories),
         contact_names=tuple(e.name for e in first.contacts),
         buildings=first.buildings,
         steps=first.steps,
-        bandwidth=int(bandwidth(edges, dof_of_node)),
+        bandwidth=int(bandwidth(all_edges, np.arange(n))),
         integrator=first.integrator.coefficients(),
         integrator_name=first.integrator.describe(),
         tolerance=first.tolerance,
@@ -483,17 +537,19 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         dt=np.array([ex.dt for ex in variants]),
         mass=np.array([m[order] for m in masses]),
         mass_damping=np.array(mass_damping),
-        story_dofs=dofs(springs),
+        story_dofs=story_dofs,
         story_k0=k0,
         story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
         story_groups=_groups(springs, packed),
-        contact_dofs=dofs(first.contacts),
+        contact_dofs=contact_dofs,
         contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
             len(variants), len(first.contacts)),
         contact_groups=_groups(first.contacts,
                                [[e.packed for e in ex.contacts] for ex in variants]),
-        ground_acceleration=np.array([ex.ground_acceleration for ex in variants]),
+        ground_acceleration=np.array([_channels(ex)[0] for ex in variants]),
+        more_channels=(np.array([_channels(ex) for ex in variants])
+                       if len(first.channels) > 1 else None),
         initial_displacement=np.array([np.concatenate([ex.initial_displacement, pad])[order]
                                        for ex in variants]),
         initial_velocity=np.array([np.concatenate([ex.initial_velocity, pad])[order]
@@ -504,19 +560,53 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_height=np.array([soil.pad(_spring_values(ex, "story_height", np.nan), np.nan)
                                for ex in variants]),
         story_kg=np.array([soil.pad(_geometric_stiffness(ex), 0.0) for ex in variants]),
-        contact_lower=np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.lower]
-                                for e in first.contacts], dtype=np.int64).reshape(-1, 2),
         contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
                                dtype=float).reshape(len(variants), len(first.contacts), 2),
         contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
                                    for e in first.contacts], dtype=float),
-        **soil.plan_fields(first, springs, dof_of_node),
+        **soil.plan_fields(first, lambda node, c: int(dof_of_key[key_index[(node, c)]])),
+        story_sides=story_sides,
+        contact_sides=contact_sides,
+        channels=first.channels,
+        dof_channel=np.array([first.channels.index(COMPONENTS[c]) if node < nodes and c < 2
+                              and COMPONENTS[c] in first.channels else
+                              (0 if node >= nodes and (node - nodes) % 2 == 0
+                               and "x" in first.channels else -1)
+                              for node, c in keys], dtype=np.int64)[order],
+        dof_node=node_of_dof,
+        dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
+        planar=first.dofs is None,
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
+
+
+def _principal(keys, nodes: int) -> np.ndarray:
+    """(nodes,) each node's first DOF (its u_x in a planar scene) by key index."""
+    out = np.full(nodes, -1, dtype=np.int64)
+    for i, (node, _) in reversed(list(enumerate(keys))):
+        out[node] = i
+    return out
+
+
+def _renumbered(sides: Sides, dof_of_key: np.ndarray) -> Sides:
+    return dataclasses.replace(sides, dof=dof_of_key[sides.dof] if sides.dof.size
+                               else sides.dof)
+
+
+def _renumbered_dofs(dofs: np.ndarray, dof_of_key: np.ndarray) -> np.ndarray:
+    out = dofs.copy()
+    out[dofs >= 0] = dof_of_key[dofs[dofs >= 0]]
+    return out
+
+
+def _channels(ex: Expanded) -> np.ndarray:
+    """(C, steps + 1): the ground motion along each of the scene's channels."""
+    rows = {"x": ex.ground_acceleration, "y": ex.ground_acceleration_y}
+    return np.array([rows[c] for c in ex.channels], dtype=float)
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
@@ -528,10 +618,11 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
     c = plan.integrator
-    if plan.contact_lower is not None and np.any(plan.contact_lower >= 0) or (
-            plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0)):
+    if plan.contact_sides is not None and np.any(plan.contact_sides.general()):
         problems.append("its contacts join floors (floor-to-column contacts need a "
                         "multi-point constraint the script does not write)")
+    if not plan.planar:
+        problems.append("its floors move in plan (the script is planar: one DOF per floor)")
     if plan.story_kg is not None and np.any(plan.story_kg[member]):
         problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
                         "gravity_load")

@@ -68,31 +68,32 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
     foundation's sway and rocking DOFs and springs: its flexible-base period (Veletsos & Meek
     lengthening), with the Rayleigh ratio of its storeys (the soil's dashpots left out).
     Springs between buildings (links) are left out of both."""
+    from pframe.assemble.incidence import incidence
+
     owner = np.full(plan.n_dof, -1)
-    for name, dof in zip(plan.node_names, plan.node_dof):
-        owner[dof] = plan.buildings.index(name.split("/")[0])
+    nodes = plan.dof_node if plan.dof_node is not None else np.full(plan.n_dof, -1)
+    if plan.dof_node is None:
+        nodes[plan.node_dof] = np.arange(len(plan.node_names))
+    building_of_node = [plan.buildings.index(n.split("/")[0]) for n in plan.node_names]
+    owner[nodes >= 0] = np.array(building_of_node, dtype=int)[nodes[nodes >= 0]] \
+        if len(building_of_node) else []
     for building, dofs in zip(plan.foundations, plan.foundation_dofs
                               if plan.foundations else ()):
         owner[dofs] = plan.buildings.index(building)
     stories = len(plan.story_names)
-    theta = plan.story_theta if plan.story_theta is not None else \
-        np.full(plan.n_springs, -1)
+    G = incidence(plan.story_dofs, plan.story_sides, member, plan.n_dof).tocsr()
     periods, ratios = [], []
     for b in range(len(plan.buildings)):
         dofs = np.flatnonzero(owner == b)
-        local = {int(d): i for i, d in enumerate(dofs)}
         k = np.zeros((dofs.size, dofs.size))
         beta = 0.0
-        for s, (low, up) in enumerate(plan.story_dofs):
-            ends = [(int(up), 1.0), (int(low), -1.0)]
-            if theta[s] >= 0:
-                ends.append((int(theta[s]), -float(plan.story_height[member, s])))
-            if any(d >= 0 and d not in local for d, _ in ends) or int(up) not in local:
-                continue
-            g = np.zeros(dofs.size)
-            for d, c in ends:
-                if d >= 0:
-                    g[local[d]] += c
+        for s in range(plan.n_springs):
+            row = G.getrow(s)
+            if row.nnz == 0 or np.any(owner[row.indices] != b):
+                continue  # a link to another building, or a spring of another building
+            g = np.zeros(plan.n_dof)
+            g[row.indices] = row.data
+            g = g[dofs]
             k += plan.story_k0[member, s] * np.outer(g, g)
             if s < stories:
                 beta = plan.story_beta[member, s]
@@ -113,7 +114,9 @@ def base_plan(loaded):
     from pframe.assemble import assemble
 
     ex = without_contacts(loaded, keep_excitation=False)
-    ex = dataclasses.replace(ex, steps=1, ground_acceleration=np.zeros(2), recorders=())
+    ex = dataclasses.replace(ex, steps=1, ground_acceleration=np.zeros(2), recorders=(),
+                             ground_acceleration_y=None if ex.ground_acceleration_y is None
+                             else np.zeros(2))
     return assemble(ex)
 
 

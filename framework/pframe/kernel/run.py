@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pframe.errors import InputError
 from pframe.integrators import SCHEMES
 from pframe.kernel.state import (
     ENERGY_TERMS,
@@ -126,7 +127,7 @@ class Result:
         at the point: its lower floor takes (1 - psi) F, its upper psi F)."""
         plan = self.plan
         out = np.full(len(plan.contact_names), np.nan)
-        if plan.contact_share is None:
+        if plan.contact_share is None or not len(plan.contact_names):
             return out
         if "contact_force" in self.envelope:
             peak = self.envelope["contact_force"][b]
@@ -206,23 +207,39 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         story_kg=(plan.story_kg if plan.story_kg is not None
                   else np.zeros((B, plan.n_springs))),
         contact_dofs=plan.contact_dofs,
-        contact_lower=(plan.contact_lower if plan.contact_lower is not None
-                       else np.full((len(plan.contact_names), 2), -1, dtype=np.int64)),
-        contact_share=(plan.contact_share if plan.contact_share is not None
-                       else np.ones((B, len(plan.contact_names), 2))),
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
         gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
         event_parts=plan.event_parts if plan.event_parts is not None else ones,
         stop=np.zeros(1, dtype=np.int64),
-        story_theta=(plan.story_theta if plan.story_theta is not None
-                     else np.full(plan.n_springs, -1, dtype=np.int64)),
-        ground_influence=(plan.ground_influence if plan.ground_influence is not None
-                          else np.ones(plan.n_dof)),
+        ground_influence=_influence(plan),
         foundation_dofs=(plan.foundation_dofs if plan.foundation_dofs is not None
                          else np.zeros((0, 2), dtype=np.int64)),
+        **_sides("story", plan.story_sides, plan.n_springs, B),
+        **_sides("contact", plan.contact_sides, len(plan.contact_names), B),
     )
     return _normalised(model), story_state, contact_state
+
+
+def _sides(kind: str, sides, count: int, batch: int) -> dict:
+    """The Model's arrays of the sides of a kind of element (none: every element plain)."""
+    if sides is None:
+        return {f"{kind}_side_start": np.zeros(2 * count + 1, dtype=np.int64),
+                f"{kind}_side_dof": np.zeros(0, dtype=np.int64),
+                f"{kind}_side_coef": np.zeros((batch, 0))}
+    return {f"{kind}_side_start": sides.start, f"{kind}_side_dof": sides.dof,
+            f"{kind}_side_coef": sides.coef}
+
+
+def _influence(plan) -> np.ndarray:
+    """(n,) 1 on a DOF the ground motion loads, 0 elsewhere (a rotation, a foundation's
+    rocking). The kernel takes one channel of ground motion: a scene with a motion along y
+    as well is refused until it takes two."""
+    if plan.dof_channel is None:
+        return np.ones(plan.n_dof)
+    if len(plan.channels) > 1:
+        raise InputError("a ground motion in two components is not run yet")
+    return (plan.dof_channel >= 0).astype(float)
 
 
 def _normalised(group):
@@ -376,9 +393,9 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
-           "contact_lower",
-           "contact_order", "contact_law", "stop", "story_theta", "ground_influence",
-           "foundation_dofs"}
+           "contact_order", "contact_law", "stop", "ground_influence",
+           "foundation_dofs", "story_side_start", "story_side_dof", "contact_side_start",
+           "contact_side_dof"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -459,7 +476,9 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                      contact_width=model.contact_params.shape[2],
                      contact_states=st.contact_committed.shape[2],
                      ground_width=model.ground.shape[1], materials=laws.materials,
-                     contact_laws=laws.contact_laws, foundations=len(plan.foundations))
+                     contact_laws=laws.contact_laws, foundations=len(plan.foundations),
+                     story_terms=model.story_side_dof.shape[0],
+                     contact_terms=model.contact_side_dof.shape[0])
         structs.append((ckernel.arrays(ckernel.Model, sliced, **sizes),
                         ckernel.arrays(ckernel.State, _slice(st, lo, hi)),
                         ckernel.arrays(ckernel.Work, work), ckernel.arrays(ckernel.Saved, saved)))

@@ -196,10 +196,6 @@ Model = namedtuple("Model", [
     "story_height",     # (B, s) storey height (m; NaN: not given), for drift ratios
     "story_kg",         # (B, s) P-delta's geometric stiffness P / h (N/m; 0: none)
     "contact_dofs",     # (c, 2) left and right DOF (-1: the ground, a wall)
-    "contact_lower",    # (c, 2) a floor-to-column contact: the lower floor's DOF of the struck
-                        # storey on the left and right side (negative: none, or the ground)
-    "contact_share",    # (B, c, 2) the weight psi of the named node on each side (1: a floor;
-                        # a column point is psi u_upper + (1 - psi) u_lower)
     "contact_order",    # (c,) contacts in evaluation order (grouped by law)
     "contact_law",      # (c,) contact law id
     "contact_params",   # (B, c, Q) the law's packed parameters
@@ -209,12 +205,18 @@ Model = namedtuple("Model", [
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
     "stop",             # (1,) set to 1 by the driver (Ctrl-C): seen at every evaluation
-    # soil under a building (docs/soil.md): its storeys deform as u_upper - u_lower - h theta
-    "story_theta",      # (s,) the rocking DOF of the storey's building (-1: a fixed base);
-                        # its lever is the storey's height (story_height)
-    "ground_influence", # (n,) the ground load is -m a_g times this: 1 on a translational DOF,
-                        # 0 on a rocking one (an absolute acceleration is a + influence a_g)
+    "ground_influence", # (n,) the ground load is -m a_g times this: 1 on a DOF the motion
+                        # loads, 0 on a rotation (an absolute acceleration is a + influence a_g)
     "foundation_dofs",  # (F, 2) sway and rocking DOF of each foundation on soil
+    # the sides of the elements that are not plain (pframe.assemble.incidence): side s of
+    # element e is sum coef[b, t] x[dof[t]] over t in start[2 e + s] .. start[2 e + s + 1];
+    # a plain element (no terms) joins its two DOFs of *_dofs with coefficient 1
+    "story_side_start",    # (2 s + 1,)
+    "story_side_dof",      # (Ts,)
+    "story_side_coef",     # (B, Ts)
+    "contact_side_start",  # (2 c + 1,)
+    "contact_side_dof",    # (Tc,)
+    "contact_side_coef",   # (B, Tc)
 ])
 
 Settings = namedtuple("Settings", [
@@ -269,15 +271,16 @@ Work = namedtuple("Work", [
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
          "contact_width", "contact_states", "ground_width", "materials", "contact_laws",
-         "foundations")
+         "foundations", "story_terms", "contact_terms")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
 C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
-              "contact_lower": "int64_t *", "story_theta": "int64_t *",
               "foundation_dofs": "int64_t *",
+              "story_side_start": "int64_t *", "story_side_dof": "int64_t *",
+              "contact_side_start": "int64_t *", "contact_side_dof": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

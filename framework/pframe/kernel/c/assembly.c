@@ -23,14 +23,28 @@ static int fail(State *st, int64_t b, int64_t code, int64_t k, int64_t kind, int
     return 0;
 }
 
-/* Add f to R at a side of a floor-to-column contact: share psi to its node, 1 - psi to the
- * struck storey's lower floor (none: negative). */
-static void scatter(double *R, int64_t node, int64_t lower, double psi, double f)
+/* kk g g^T into the band over element e's terms, g its first side's coefficients times
+ * sign_first and its second side's times -sign_first (a spring: -1, its lower side first; a
+ * contact: +1, left first); two terms on one DOF (cannot happen: sides of distinct nodes)
+ * add twice their product to its diagonal. */
+static void band_sides(double *band, int64_t bw, const int64_t *start, const int64_t *dof,
+                       const double *coef, int64_t e, double sign_first, double kk)
 {
-    if (node >= 0)
-        R[node] += psi * f;
-    if (lower >= 0)
-        R[lower] += (1.0 - psi) * f;
+    const int64_t lo = start[2 * e], mid = start[2 * e + 1], hi = start[2 * e + 2];
+    int64_t x, y;
+    for (x = lo; x < hi; x++) {
+        const double gx = (x < mid ? sign_first : -sign_first) * coef[x];
+        for (y = lo; y <= x; y++) {
+            const double gy = (y < mid ? sign_first : -sign_first) * coef[y];
+            const int64_t high = imax(dof[x], dof[y]), low = imin(dof[x], dof[y]);
+            if (x == y)
+                band[dof[x] * (bw + 1)] += kk * gx * gx;
+            else if (high != low)
+                band[high * (bw + 1) + (high - low)] += kk * gx * gy;
+            else
+                band[high * (bw + 1)] += 2.0 * kk * gx * gy;
+        }
+    }
 }
 
 /* Element forces and the residual at the evaluation point, ground acceleration age.
@@ -60,8 +74,9 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const double *committed = st->story_committed + b * ns * S;
         double *trial = st->story_trial + b * ns * S;
         const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
-        const double *kg = m->story_kg + b * ns, *height = m->story_height + b * ns;
-        const int64_t *rocking = m->story_theta;
+        const double *kg = m->story_kg + b * ns;
+        const int64_t *start = m->story_side_start, *side_dof = m->story_side_dof;
+        const double *side_coef = m->story_side_coef + b * m->story_terms;
         const double *tangent_c = st->story_tangent + b * ns;
         int64_t *calls = st->material_calls + b * m->materials;
         double *drift = w->drift, *force = w->story_force;
@@ -72,14 +87,18 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
             const int64_t law = laws[e];
             const int64_t mode = modes[e];
-            double d = ue[up], r = ve[up], f, kt, kr, kd, fd;
-            if (lo >= 0) {
-                d -= ue[lo];
-                r -= ve[lo];
-            }
-            if (rocking[e] >= 0) { /* on soil: less the rigid rotation's share, h theta */
-                d -= height[e] * ue[rocking[e]];
-                r -= height[e] * ve[rocking[e]];
+            const int sided = general(start, e);
+            double d, r, f, kt, kr, kd, fd;
+            if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
+                d = sides_sum(start, side_dof, side_coef, e, 1, ue);
+                r = sides_sum(start, side_dof, side_coef, e, 1, ve);
+            } else {
+                d = ue[up];
+                r = ve[up];
+                if (lo >= 0) {
+                    d -= ue[lo];
+                    r -= ve[lo];
+                }
             }
             material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
                            out);
@@ -105,11 +124,14 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             }
             force[e] = f;
             damping_force[e] = fd;
-            R[up] -= f + fd;
-            if (lo >= 0)
-                R[lo] += f + fd;
-            if (rocking[e] >= 0) /* the storey's moment on the rocking DOF: lever -h */
-                R[rocking[e]] += height[e] * (f + fd);
+            if (sided) {
+                side_add(R, start, side_dof, side_coef, e, 1, -(f + fd));
+                side_add(R, start, side_dof, side_coef, e, 0, f + fd);
+            } else {
+                R[up] -= f + fd;
+                if (lo >= 0)
+                    R[lo] += f + fd;
+            }
             if (tangent) {
                 double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
                 if (kk != kks[e]) {
@@ -138,19 +160,20 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
          * (tangent off: the commit's evaluation) sees the real law. */
         const int hold_start = tangent && s->events && s->scheme == WILSON_THETA;
         const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
-        const double *share = m->contact_share + b * nc * 2;
+        const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
+        const double *side_coef = m->contact_side_coef + b * m->contact_terms;
         for (j = 0; j < nc; j++) {
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
-            const int plain = plain_contact(m, b, e);
+            const int plain = !general(start, e);
             double d, r, f, kd, kr, at;
             if (plain) { /* floor to floor or to a wall: its nodes' values */
                 d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
                 r = dof_value(ve, left) - dof_value(ve, right);
-            } else {
-                d = contact_side(m, ue, b, e, 0) - contact_side(m, ue, b, e, 1) - gap[e];
-                r = contact_side(m, ve, b, e, 0) - contact_side(m, ve, b, e, 1);
+            } else { /* points off the centre of mass, a struck column: its sides */
+                d = sides_sum(start, side_dof, side_coef, e, 0, ue) - gap[e];
+                r = sides_sum(start, side_dof, side_coef, e, 0, ve);
             }
             at = d;
             if (e == held) {
@@ -179,9 +202,9 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                     R[left] -= f;
                 if (right >= 0)
                     R[right] += f;
-            } else { /* floor-to-column: the force shared as the point's displacement is */
-                scatter(R, left, m->contact_lower[2 * e], share[2 * e], -f);
-                scatter(R, right, m->contact_lower[2 * e + 1], share[2 * e + 1], f);
+            } else { /* the force on each side's DOFs, as its point moves with them */
+                side_add(R, start, side_dof, side_coef, e, 0, -f);
+                side_add(R, start, side_dof, side_coef, e, 1, f);
             }
             if (tangent) {
                 double kk = (kd + c1 * kr) * wf;
@@ -253,18 +276,15 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->stories; e++) {
         const double kk = kks[e];
         const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
+        if (general(m->story_side_start, e)) { /* kk g g^T, g = upper side - lower side */
+            band_sides(band, bw, m->story_side_start, m->story_side_dof,
+                       m->story_side_coef + b * m->story_terms, e, -1.0, kk);
+            continue;
+        }
         band[up * (bw + 1)] += kk;
         if (lo >= 0) {
             band[lo * (bw + 1)] += kk;
             band[imax(lo, up) * (bw + 1) + iabs(lo - up)] -= kk;
-        }
-        if (m->story_theta[e] >= 0) { /* kk g g^T, g = (1, -1, -h) on (up, lo, theta) */
-            const int64_t th = m->story_theta[e];
-            const double h = m->story_height[b * m->stories + e];
-            band[th * (bw + 1)] += kk * h * h;
-            band[imax(th, up) * (bw + 1) + iabs(th - up)] -= kk * h;
-            if (lo >= 0)
-                band[imax(th, lo) * (bw + 1) + iabs(th - lo)] += kk * h;
         }
     }
     dofs = m->contact_dofs;
@@ -272,37 +292,17 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->contacts; e++) {
         const double kk = kks[e];
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-        const int64_t *lower = m->contact_lower + 2 * e;
-        const double *share = m->contact_share + (b * m->contacts + e) * 2;
-        if (plain_contact(m, b, e)) {
-            if (left >= 0)
-                band[left * (bw + 1)] += kk;
-            if (right >= 0)
-                band[right * (bw + 1)] += kk;
-            if (left >= 0 && right >= 0)
-                band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
-        } else { /* floor-to-column: kk g g^T over up to four DOFs */
-            const int64_t at[4] = {left, lower[0], right, lower[1]};
-            const double g[4] = {share[0], 1.0 - share[0], -share[1], -(1.0 - share[1])};
-            int64_t x, y;
-            for (x = 0; x < 4; x++) {
-                if (at[x] < 0 || g[x] == 0.0)
-                    continue;
-                for (y = 0; y <= x; y++) {
-                    int64_t hi, lo_;
-                    if (at[y] < 0 || g[y] == 0.0)
-                        continue;
-                    hi = imax(at[x], at[y]);
-                    lo_ = imin(at[x], at[y]);
-                    if (x == y)
-                        band[at[x] * (bw + 1)] += kk * g[x] * g[x];
-                    else if (hi != lo_)
-                        band[hi * (bw + 1) + (hi - lo_)] += kk * g[x] * g[y];
-                    else /* two entries on one DOF (cannot happen: distinct nodes) */
-                        band[hi * (bw + 1)] += 2.0 * kk * g[x] * g[y];
-                }
-            }
+        if (general(m->contact_side_start, e)) { /* kk g g^T, g = left side - right side */
+            band_sides(band, bw, m->contact_side_start, m->contact_side_dof,
+                       m->contact_side_coef + b * m->contact_terms, e, 1.0, kk);
+            continue;
         }
+        if (left >= 0)
+            band[left * (bw + 1)] += kk;
+        if (right >= 0)
+            band[right * (bw + 1)] += kk;
+        if (left >= 0 && right >= 0)
+            band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
     }
     st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
     if (ldl_factor(band, n, bw))

@@ -195,7 +195,7 @@ static int64_t touching(const Model *m, const State *st, int64_t b)
     int64_t e;
     for (e = 0; e < nc; e++) {
         if (st->penetration[b * nc + e] == 0.0 && st->contact_force[b * nc + e] == 0.0
-            && contact_side(m, V, b, e, 0) - contact_side(m, V, b, e, 1) > 0.0)
+            && contact_closing(m, b, e, V) > 0.0)
             return e;
     }
     return -1;

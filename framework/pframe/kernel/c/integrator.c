@@ -165,17 +165,11 @@ static double evaluation_work(const Model *m, State *st, Work *w, int64_t b, dou
     for (i = 0; i < n; i++)
         work += (damping[i] * ve[i] + m->ground_influence[i] * mass[i] * age) * (u[i] - U[i]);
     for (e = 0; e < ns; e++) {
-        const int64_t lo = m->story_dofs[2 * e], up = m->story_dofs[2 * e + 1];
-        const int64_t th = m->story_theta[e];
-        double d = u[up] - dof_value(u, lo);
-        if (th >= 0)
-            d -= m->story_height[b * ns + e] * u[th];
+        const double d = spring_deformation(m, b, e, u);
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
     }
-    for (e = 0; e < nc; e++) {
-        work += w->contact_force[e]
-                * ((contact_side(m, u, b, e, 0) - contact_side(m, u, b, e, 1) - gap[e]) - pen_c[e]);
-    }
+    for (e = 0; e < nc; e++)
+        work += w->contact_force[e] * ((contact_closing(m, b, e, u) - gap[e]) - pen_c[e]);
     return work;
 }
 

@@ -105,8 +105,6 @@ typedef struct Model {
     double *story_height;
     double *story_kg;
     int64_t *contact_dofs;
-    int64_t *contact_lower;
-    double *contact_share;
     int64_t *contact_order;
     int64_t *contact_law;
     double *contact_params;
@@ -116,9 +114,14 @@ typedef struct Model {
     int64_t *cd_parts;
     int64_t *event_parts;
     int64_t *stop;
-    int64_t *story_theta;
     double *ground_influence;
     int64_t *foundation_dofs;
+    int64_t *story_side_start;
+    int64_t *story_side_dof;
+    double *story_side_coef;
+    int64_t *contact_side_start;
+    int64_t *contact_side_dof;
+    double *contact_side_coef;
     int64_t batch;
     int64_t dofs;
     int64_t stories;
@@ -132,6 +135,8 @@ typedef struct Model {
     int64_t materials;
     int64_t contact_laws;
     int64_t foundations;
+    int64_t story_terms;
+    int64_t contact_terms;
 } Model;
 
 typedef struct Settings {
