@@ -11,6 +11,7 @@ with what turns it).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -102,18 +103,26 @@ def check_storeys(floors, resolver, storeys, dofs: Dofs) -> None:
         values, vectors = np.linalg.eigh(gram / scale)
         if values[0] > 1e-10:
             continue
-        loose = vectors[:, 0]
-        component = comps[int(np.argmax(np.abs(loose)))]
+        loose = np.zeros(3)
+        loose[comps] = vectors[:, 0]
         floor = floors.nodes[upper]
-        path = floors.stories[0].path
-        for spec in floors.stories:
-            if spec.nodes[1] == floor.name:
-                path = spec.path
-                break
+        path = next((spec.path for spec in floors.stories if spec.nodes[1] == floor.name),
+                    floor.building_path)
+        twist = abs(loose[2]) > 1e-9 * max(float(np.max(np.abs(loose))), 1e-300)
+        component = 2 if twist else (0 if abs(loose[0]) >= abs(loose[1]) else 1)
         reason = dofs.reasons.get((upper, component)) or _loaded_reason(component)
+        if twist:  # a rotation about the point that does not move
+            centre = (floor.centre[0] - loose[1] / loose[2], floor.centre[1] + loose[0] / loose[2])
+            what = (f"in torsion: it can turn about the point [{centre[0]:.4g}, "
+                    f"{centre[1]:.4g}] (site, m)")
+        elif len(comps) > 1 and min(abs(loose[0]), abs(loose[1])) > 1e-9:
+            angle = math.degrees(math.atan2(loose[1], loose[0]))
+            what = f"along the direction at {angle:.4g} degrees from x"
+        else:
+            what = _AXIS_WORDS[component]
         raise ModelError(path, f"storey {floor.name}: its storey springs give it no stiffness "
-                         f"{_AXIS_WORDS[component]}, but its floor moves so ({reason}); "
-                         f"{_remedy(component, len(lines))}")
+                         f"{what}, but its floor moves so ({reason}); "
+                         f"{_remedy(2 if twist else component, len(lines))}")
 
 
 def _loaded_reason(component: int) -> str:

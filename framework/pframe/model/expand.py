@@ -91,13 +91,20 @@ class Expanded:
 def _check_size(scene) -> None:
     """Refuse, before building them, more floors than the machine can hold, or than pframe
     sets up without the opt-in PFRAME_MAX_FLOORS (resources.MAX_FLOORS)."""
-    total = len(scene.nodes)
+    total, lines = len(scene.nodes), 0
     for building in scene.buildings:
-        lengths = [len(v) for v in [building.mass, *building.story.model_dump().values()]
-                   if isinstance(v, list)]
-        total += building.floors or max(lengths, default=0)
-    # each floor has its storey; generic storeys and contacts are elements of their own
-    elements = 2 * total - len(scene.nodes) + len(scene.stories) + len(scene.contacts)
+        values = [building.mass, *(building.story.model_dump().values() if building.story
+                                   else ())]
+        for line in building.lines or ():
+            values += list(line.model_dump().values())
+        floors = building.floors or max((len(v) for v in values if isinstance(v, list)),
+                                        default=0)
+        total += floors
+        lines += floors * (len(building.lines) - 1 if building.lines else 0)
+    # each floor has its storey (or its lines); generic storeys and contacts are elements of
+    # their own
+    elements = (2 * total - len(scene.nodes) + lines + len(scene.stories)
+                + len(scene.contacts))
     problem = check_floors(total, elements,
                            steps_of(scene.analysis.duration, scene.analysis.dt))
     if problem:

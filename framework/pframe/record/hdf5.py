@@ -48,13 +48,23 @@ COUNTER_ATTRIBUTES = (("solves", "newton_solves"), ("split_steps", "split_steps"
 _FAILED: list = []
 #: rows of a time coordinate computed at once (bounded memory for long runs)
 _TIME_BLOCK = 2**16
+#: a floor's rotation in a scene in plan: the variable each node quantity's theta goes to
+ROTATION = {"displacement": ("displacement_rz", "rad", "floor rotation about the vertical "
+                             "(counter-clockwise)"),
+            "velocity": ("velocity_rz", "rad/s", "floor angular velocity about the vertical"),
+            "acceleration": ("acceleration_rz", "rad/s^2", "floor angular acceleration about "
+                             "the vertical"),
+            "absolute_acceleration": ("absolute_acceleration_rz", "rad/s^2", "floor angular "
+                                      "acceleration about the vertical (the ground does not "
+                                      "turn)")}
 #: the label variable and long name of each named dimension
 LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "story": ("story_name", "storey (named by the floor above it)"),
           "contact": ("contact_name", "contact element"),
           "link": ("link_name", "link element (damper, coupling, tuned mass spring)"),
           "building": ("building_name", "building"),
-          "foundation": ("foundation_name", "foundation on soil (named by its building)")}
+          "foundation": ("foundation_name", "foundation on soil (named by its building)"),
+          "direction": ("direction_name", "horizontal direction of the site (x, y)")}
 
 
 def _free_bytes(folder: Path) -> int | None:
@@ -167,7 +177,8 @@ class ResultWriter:
     def _bytes(self, states: int) -> int:
         """The histories and their time coordinates at full length, uncompressed (bytes)."""
         plan = self.plan
-        widths = {"node": plan.n_dof, "story": len(plan.story_names),
+        widths = {"node": plan.n_dof if plan.planar else 3 * len(plan.node_names),
+                  "story": len(plan.story_names),
                   "contact": len(plan.contact_names), "link": len(plan.link_names), None: 1,
                   "foundation": len(plan.foundations)}
         total = 0
@@ -207,6 +218,8 @@ class ResultWriter:
         names = {"node": plan.node_names, "story": plan.story_names,
                  "contact": plan.contact_names, "link": plan.link_names,
                  "foundation": plan.foundations}
+        if not plan.planar:
+            names["direction"] = ("x", "y")
         for dim, values in names.items():
             if values or dim == "node":
                 f.labels(dim, LABELS[dim][0], list(values), long_name=LABELS[dim][1])
@@ -214,8 +227,21 @@ class ResultWriter:
         for q, every in plan.history:
             dim = self.time_dims[every]
             dims = (dim,) if DIMENSION[q] is None else (dim, DIMENSION[q])
-            _, units, long_name = self.convert.variable(np.zeros(0), *UNITS[q])
-            f.variable(q, dims, chunk_rows=True, units=units, long_name=long_name)
+            for name, units, long_name, shape in self._variables(q):
+                _, units, long_name = self.convert.variable(np.zeros(0), units, long_name)
+                f.variable(name, dims + shape, chunk_rows=True, units=units,
+                           long_name=long_name)
+
+    def _variables(self, q: str) -> list[tuple[str, str, str, tuple]]:
+        """(name, units, long name, trailing dimensions) of the variables quantity ``q``
+        writes: itself, and in a scene in plan a node quantity along the site's x and y
+        (dimension ``direction``) and its rotation (:data:`ROTATION`)."""
+        units, long_name = UNITS[q]
+        if self.plan.planar or DIMENSION[q] != "node":
+            return [(q, units, long_name, ())]
+        name, rotation_units, rotation_name = ROTATION[q]
+        return [(q, units, long_name.replace("floor ", "floor centre of mass "),
+                 ("direction",)), (name, rotation_units, rotation_name, ())]
 
     def _connectivity(self):
         """Which nodes each storey and contact joins, and the contact gaps: a file draws its
@@ -229,6 +255,11 @@ class ResultWriter:
         def labels(name, dim, values, long_name):
             f.strings(name, (dim,), values, auxiliary=True, long_name=long_name)
 
+        if not self.plan.planar and ex.node_centre is not None:
+            for axis, column in (("x", 0), ("y", 1)):
+                f.variable(f"node_{axis}", ("node",), ex.node_centre[:, column], auxiliary=True,
+                           units="m", long_name=f"{axis} of the floor's centre of mass on the "
+                           "site")
         if ex.stories:
             labels("story_lower", "story", [node(e.nodes[0]) for e in ex.stories],
                    "node below the storey ('ground' at the base)")
@@ -249,8 +280,20 @@ class ResultWriter:
             f.variable("contact_gap", ("contact",), data, auxiliary=True, units=units,
                        long_name=long_name)
 
-    def _columns(self, q: str, data):
-        return data[..., self.plan.node_dof] if DIMENSION[q] == "node" else data
+    def _columns(self, q: str, data) -> list:
+        """The values of each of :meth:`_variables`' variables from the kernel's columns (a
+        node quantity in DOF order; in plan, a DOF the scene does not move is 0)."""
+        if DIMENSION[q] != "node":
+            return [data]
+        plan = self.plan
+        if plan.planar:
+            return [data[..., plan.node_dof]]
+        data = np.asarray(data)
+        nodes = len(plan.node_names)
+        out = np.zeros(data.shape[:-1] + (nodes, 3))
+        own = plan.dof_node >= 0
+        out[..., plan.dof_node[own], plan.dof_component[own]] = data[..., own]
+        return [out[..., :2], out[..., 2]]
 
     def append(self, quantity: str, first_row: int, rows) -> None:
         """History rows ``first_row ..`` of ``quantity`` for the whole batch, as the kernel's
@@ -272,13 +315,15 @@ class ResultWriter:
                            np.abs(np.fmin.reduce(rows, axis=0)))
             seen = self.peaks.get(quantity)
             self.peaks[quantity] = peak if seen is None else np.fmax(seen, peak)
-        data, _, _ = self.convert.variable(self._columns(quantity, rows), *UNITS[quantity])
-        self.room(data.nbytes)
-        try:
-            var[first_row:stop] = data
-        except OSError:
-            self.failed = True  # HDF5 met a failing disk: never flushed again (see abort)
-            raise
+        for (name, units, long_name, _), values in zip(self._variables(quantity),
+                                                       self._columns(quantity, rows)):
+            data, _, _ = self.convert.variable(values, units, long_name)
+            self.room(data.nbytes)
+            try:
+                self.file.rows(name)[first_row:stop] = data
+            except OSError:
+                self.failed = True  # HDF5 met a failing disk: never flushed again (see abort)
+                raise
 
     def room(self, nbytes: int) -> None:
         """Raise ENOSPC *before* a block of ``nbytes`` is handed to HDF5 if the disk cannot
@@ -340,11 +385,12 @@ class ResultWriter:
     def _summaries(self, result):
         f, member = self.file, self.member
         for q, peak in result.envelope.items():
-            data, units, long_name = self.convert.variable(
-                np.asarray(self._columns(q, peak[member])), *UNITS[q])
             dims = () if DIMENSION[q] is None else (DIMENSION[q],)
-            f.variable(f"peak_{q}", dims, data, units=units,
-                       long_name=f"peak absolute {long_name}")
+            for (name, units, long_name, shape), values in zip(
+                    self._variables(q), self._columns(q, np.asarray(peak[member]))):
+                data, units, long_name = self.convert.variable(values, units, long_name)
+                f.variable(f"peak_{name}", dims + shape, data, units=units,
+                           long_name=f"peak absolute {long_name}")
         if self.plan.contact_names:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")

@@ -1,0 +1,226 @@
+"""Buildings in plan (docs/plan.md): floors that translate along x and y and turn, lines of
+resistance at plan points, contacts at corners.
+
+Checked against the closed form of a torsionally coupled one-storey building (Chopra,
+Dynamics of Structures, ch. 9), against today's planar scenes written in plan form (the same
+bits), and for the input a plan scene may get wrong."""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+
+import numpy as np
+import pytest
+import yaml
+from conftest import REPO, analysis, run_text
+
+from pframe.errors import InputError
+from pframe.reader import parse_scene
+
+
+def dof_history(plan, result, node: str, component: int, quantity: str = "displacement"):
+    """History of one degree of freedom (component 0 u_x, 1 u_y, 2 theta) of a node."""
+    i = plan.node_names.index(node)
+    column = np.flatnonzero((plan.dof_node == i) & (plan.dof_component == component))
+    return result.history[quantity][0, :, int(column[0])]
+
+
+# --- a one-storey eccentric building: the closed form ---------------------------------------
+
+MASS, SIDE, KX, KY = 1.0e5, 10.0, 4.0e7, 3.0e7
+
+
+def eccentric(eccentricity: float, dt: float, duration: float, **more) -> str:
+    """A square floor of side 10 m on four frames (two along x at y = 0 and 10 with KX each,
+    two along y at x = 0 and 10 with KY each), its mass off the centre by ``eccentricity``
+    along x: the centre of rigidity stays at the plan's centre."""
+    scene = {
+        "buildings": [{
+            "name": "A", "floors": 1, "mass": MASS, "plan": {"size": [SIDE, SIDE]},
+            "centre_of_mass": [SIDE / 2 + eccentricity, SIDE / 2],
+            "lines": [
+                {"name": "X1", "position": [0, 0], "direction": "x", "material": "elastic",
+                 "stiffness": KX},
+                {"name": "X2", "position": [0, SIDE], "direction": "x", "material": "elastic",
+                 "stiffness": KX},
+                {"name": "Y1", "position": [0, 0], "direction": "y", "material": "elastic",
+                 "stiffness": KY},
+                {"name": "Y2", "position": [SIDE, 0], "direction": "y", "material": "elastic",
+                 "stiffness": KY}]}],
+        "damping": {"ratio": 0.0},
+        "analysis": analysis(dt, duration),
+        "recorders": [{"kind": "history", "quantities": ["displacement"]}],
+    } | more
+    return json.dumps(scene)
+
+
+def chopra_frequencies(eccentricity: float) -> np.ndarray:
+    """The two coupled frequencies (rad/s) of the y-torsion motion of :func:`eccentric`:
+    lambda / w_y^2 = [(1 + W^2 + eps^2) -/+ sqrt((1 + W^2 + eps^2)^2 - 4 W^2)] / 2, eps = e/r,
+    W = w_theta / w_y with w_theta^2 = K_theta (about the centre of rigidity) / J (Chopra,
+    Dynamics of Structures, section 9.5)."""
+    r2 = (SIDE**2 + SIDE**2) / 12.0  # J / m of a uniform square slab
+    k_y = 2 * KY
+    k_theta = 2 * KX * (SIDE / 2) ** 2 + 2 * KY * (SIDE / 2) ** 2  # about the plan's centre
+    w_y2, w_t2 = k_y / MASS, k_theta / (MASS * r2)
+    big2, eps2 = w_t2 / w_y2, eccentricity**2 / r2
+    s = 1.0 + big2 + eps2
+    root = math.sqrt(s * s - 4.0 * big2)
+    return np.sqrt(w_y2 * np.array([(s - root) / 2.0, (s + root) / 2.0]))
+
+
+def exact_free_vibration(eccentricity: float, u0: np.ndarray, times: np.ndarray):
+    """(u_y, theta) of the free vibration from rest at displacement u0 = (u_y, theta), by
+    modal superposition of the stiffness and mass written from the geometry."""
+    r2 = (SIDE**2 + SIDE**2) / 12.0
+    e = eccentricity
+    # about the centre of mass: u_y of the rigidity centre is u_y - e theta
+    k_y = 2 * KY
+    k_theta_cr = 2 * KX * (SIDE / 2) ** 2 + 2 * KY * (SIDE / 2) ** 2
+    K = np.array([[k_y, -k_y * e], [-k_y * e, k_theta_cr + k_y * e * e]])
+    M = np.diag([MASS, MASS * r2])
+    scale = 1.0 / np.sqrt(np.diag(M))
+    w2, phi = np.linalg.eigh(K * np.outer(scale, scale))
+    modes = phi * scale[:, None]  # mass-normalised
+    q0 = modes.T @ M @ u0
+    return (modes * q0) @ np.cos(np.outer(np.sqrt(w2), times)), np.sqrt(w2)
+
+
+def test_closed_form_frequencies_match_the_geometry():
+    """The stiffness written from the frames' positions has the closed form's frequencies
+    (the hand-written K of the next test is the physics, not pframe's code)."""
+    for e in (0.0, 1.5, 3.0):
+        _, w = exact_free_vibration(e, np.array([0.01, 0.0]), np.zeros(1))
+        np.testing.assert_allclose(w, chopra_frequencies(e), rtol=1e-12)
+
+
+@pytest.mark.parametrize("eccentricity", [1.5, 3.0])
+def test_eccentric_building_vibrates_at_the_coupled_frequencies(eccentricity):
+    """Free vibration from a push along y: the floor twists as it sways, and the kernel
+    follows the exact modal solution to Newmark's period error, which falls as dt^2."""
+    errors = []
+    for dt in (4e-4, 2e-4):
+        text = eccentric(eccentricity, dt, 1.0, initial_conditions={
+            "displacement": {"A/1": [0.0, 0.01, 0.0]}})
+        plan, result = run_text(text)
+        assert result.completed(0)
+        uy, theta = (dof_history(plan, result, "A/1", c) for c in (1, 2))
+        (ey, et), _ = exact_free_vibration(eccentricity, np.array([0.01, 0.0]), plan.times)
+        assert np.max(np.abs(theta)) > 0.05 * 0.01 / SIDE  # it twists
+        errors.append(max(np.max(np.abs(uy - ey)) / 0.01,
+                          np.max(np.abs(theta - et)) / np.max(np.abs(et))))
+        assert result.energy_error(0) < 1e-10
+        # the floor never moves along x: no frame is loaded that way
+        assert np.all(dof_history(plan, result, "A/1", 0) == 0.0)
+    assert errors[0] < 2e-3
+    assert 3.5 < errors[0] / errors[1] < 4.5  # second order
+
+
+def test_a_symmetric_floor_does_not_twist():
+    """The centre of mass on the centre of rigidity: a push along y gives a pure sway at
+    w_y = sqrt(2 KY / m), no rotation at all."""
+    plan, result = run_text(eccentric(0.0, 2e-4, 0.5, initial_conditions={
+        "displacement": {"A/1": [0.0, 0.01, 0.0]}}))
+    assert np.all(dof_history(plan, result, "A/1", 2) == 0.0)
+    w = math.sqrt(2 * KY / MASS)
+    uy = dof_history(plan, result, "A/1", 1)
+    np.testing.assert_allclose(uy, 0.01 * np.cos(w * plan.times), atol=2e-3 * 0.01)
+
+
+# --- today's scenes written in plan form give today's bits ------------------------------------
+
+def _in_plan(data: dict, size=(12.0, 8.0)) -> dict:
+    """A scene's buildings written in plan: a floor plan, and one line of resistance along x
+    through the centre of mass for the storey spring."""
+    out = copy.deepcopy(data)
+    for building in out.get("buildings", []):
+        story = building.pop("story")
+        building["plan"] = {"size": list(size)}
+        building["lines"] = [{"name": "F", "position": [size[0] / 2, size[1] / 2],
+                              "direction": "x", **story}]
+    return out
+
+
+@pytest.mark.parametrize("model", ["wu2021-eq14.yaml", "isolated-moat-wall.yaml"])
+def test_a_planar_scene_in_plan_form_gives_the_same_bits(model):
+    """The paper's pair and an isolated building at a moat wall, each storey written as one
+    line through the centres of mass along x: the same DOFs, the same results to the bit."""
+    from conftest import runnable_model
+
+    from pframe.assemble import assemble
+    from pframe.kernel import simulate
+    from pframe.reader import load_scene
+
+    path = REPO / "models" / model
+    data = yaml.safe_load(path.read_text())
+    data["analysis"]["duration"] = min(data["analysis"]["duration"], 2.0)
+    runs = []
+    for scene in (data, _in_plan(data)):
+        loaded = parse_scene(json.dumps(scene), base_dir=path.parent)
+        plan = assemble(loaded.expanded)
+        assert plan.planar and plan.n_dof == len(plan.node_names)
+        runs.append(simulate(plan))
+    assert runs[0].completed(0)
+    for q in runs[0].history:
+        np.testing.assert_array_equal(runs[0].history[q], runs[1].history[q])
+    np.testing.assert_array_equal(runs[0].energy, runs[1].energy)
+    del runnable_model, load_scene
+
+
+# --- input a scene in plan may get wrong ------------------------------------------------------
+
+def _refused(text: str) -> str:
+    with pytest.raises(InputError) as caught:
+        parse_scene(text)
+    return str(caught.value)
+
+
+def test_a_corner_impact_needs_torsional_stiffness():
+    """A planar building struck off its centre of mass has no torsional stiffness: refused,
+    naming the storey and what turns it."""
+    scene = {
+        "buildings": [
+            {"name": "A", "floors": 1, "mass": 1e5, "plan": {"size": [10, 10]},
+             "story": {"material": "elastic", "stiffness": 1e8}},
+            {"name": "B", "floors": 1, "mass": 1e5, "plan": {"size": [10, 10]},
+             "story": {"material": "elastic", "stiffness": 1e8}}],
+        "contacts": [{"nodes": ["A/1", "B/1"], "gap": 0.01, "law": "linear",
+                      "stiffness": 1e9, "points": ["NE", "NW"]}],
+        "excitation": {"kind": "sine", "amplitude": 1.0, "frequency": 5.0},
+        "analysis": analysis(0.01, 1.0)}
+    message = _refused(json.dumps(scene))
+    assert "storey A/1" in message and "torsion" in message
+    assert "A/1-B/1 acts on it" in message
+
+
+def test_a_point_outside_the_plan_is_refused():
+    text = eccentric(0.0, 0.01, 0.1, contacts=[
+        {"nodes": ["A/1", "ground"], "gap": 0.01, "law": "linear", "stiffness": 1e9,
+         "points": [[12.0, 5.0], None]}])
+    assert "outside the plan" in _refused(text) and "contacts[0].points[0]" in _refused(text)
+
+
+def test_a_normal_of_zero_length_is_refused():
+    text = eccentric(0.0, 0.01, 0.1, contacts=[
+        {"nodes": ["A/1", "ground"], "gap": 0.01, "law": "linear", "stiffness": 1e9,
+         "points": ["NE", None], "normal": [0.0, 0.0]}])
+    message = _refused(text)
+    assert "normal" in message and "zero length" in message
+
+
+def test_a_floor_that_turns_needs_its_polar_inertia():
+    """Lines in plan but no plan and no polar_inertia: the floor's J is unknown."""
+    scene = json.loads(eccentric(1.0, 0.01, 0.1))
+    del scene["buildings"][0]["plan"]
+    message = _refused(json.dumps(scene))
+    assert "polar_inertia" in message and "A/1" in message
+
+
+def test_lines_through_one_point_give_no_torsional_stiffness():
+    scene = json.loads(eccentric(1.0, 0.01, 0.1))
+    for line in scene["buildings"][0]["lines"]:
+        line["position"] = [5.0, 5.0]
+    message = _refused(json.dumps(scene))
+    assert "no stiffness in torsion" in message and "place them apart" in message
