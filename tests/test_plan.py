@@ -224,3 +224,48 @@ def test_lines_through_one_point_give_no_torsional_stiffness():
         line["position"] = [5.0, 5.0]
     message = _refused(json.dumps(scene))
     assert "no stiffness in torsion" in message and "place them apart" in message
+
+
+def test_named_points_move_with_their_floors():
+    """The corners of a two-storey building in plan, turned on the site: each point moves as
+    its floor's centre of mass plus theta times its arm, along its building's axes; its drift
+    is the same point of the floor below subtracted; an envelope is the peak of the history."""
+    angle = 30.0
+    scene = json.loads(eccentric(2.0, 1e-3, 0.5, initial_conditions={
+        "displacement": {"A/1": [0.002, 0.01, 0.001], "A/2": [-0.001, 0.02, -0.002]}}))
+    building = scene["buildings"][0]
+    building.update(floors=2, angle=angle, origin=[3.0, -4.0], height=3.0,
+                    points={"P": [2.0, 7.0]})
+    scene["recorders"] = [{"kind": "history", "quantities": ["displacement", "point_displacement",
+                                                             "point_drift"]},
+                          {"kind": "envelope", "quantities": ["point_displacement"]}]
+    plan, result = run_text(json.dumps(scene))
+    assert result.completed(0) and plan.point_names[:5] == (
+        "A/1:SW", "A/1:SE", "A/1:NE", "A/1:NW", "A/1:P")
+    c, s = math.cos(math.radians(angle)), math.sin(math.radians(angle))
+    centre_local = np.array([SIDE / 2 + 2.0, SIDE / 2])
+    local = {"SW": (0, 0), "SE": (SIDE, 0), "NE": (SIDE, SIDE), "NW": (0, SIDE), "P": (2, 7)}
+    moves = result.history["point_displacement"][0].reshape(plan.steps + 1, -1, 2)
+    drifts = result.history["point_drift"][0].reshape(plan.steps + 1, -1, 2)
+    floor_motion = {}
+    for floor in ("A/1", "A/2"):
+        ux, uy, th = (dof_history(plan, result, floor, k) for k in range(3))
+        floor_motion[floor] = {}
+        for label, (x, y) in local.items():
+            arm = np.array([x, y]) - centre_local  # building axes
+            # the point's motion in the site's axes, then along the building's axes
+            site = np.stack([ux - th * (c * arm[1] + s * arm[0]),
+                             uy + th * (c * arm[0] - s * arm[1])], axis=1)
+            along = np.stack([c * site[:, 0] + s * site[:, 1], -s * site[:, 0] + c * site[:, 1]],
+                             axis=1)
+            floor_motion[floor][label] = along
+            p = plan.point_names.index(f"{floor}:{label}")
+            np.testing.assert_allclose(moves[:, p], along, rtol=0, atol=1e-15)
+    for label in local:
+        p = plan.point_names.index(f"A/2:{label}")
+        np.testing.assert_allclose(drifts[:, p], floor_motion["A/2"][label]
+                                   - floor_motion["A/1"][label], rtol=0, atol=1e-15)
+        q = plan.point_names.index(f"A/1:{label}")
+        np.testing.assert_allclose(drifts[:, q], floor_motion["A/1"][label], rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(result.envelope["point_displacement"][0],
+                                  np.abs(result.history["point_displacement"][0]).max(axis=0))

@@ -106,6 +106,13 @@ class Plan:
     dof_component: np.ndarray = None
     #: the scene moves its floors along x only (one DOF per node, today's layout)
     planar: bool = True
+    #: the named plan points of the floors ('<node>:<point>') and their gauges (the kernel's
+    #: Model.gauge_*): point g's displacement along its building's x, y (gauges 2g, 2g + 1),
+    #: then its drifts (2P + 2g, 2P + 2g + 1)
+    point_names: tuple[str, ...] = ()
+    gauge_start: np.ndarray = None  # (4 P + 1,)
+    gauge_dof: np.ndarray = None  # (T,)
+    gauge_coef: np.ndarray = None  # (B, T)
 
     @property
     def n_springs(self) -> int:
@@ -408,6 +415,8 @@ def batch_key(ex: Expanded) -> tuple:
         tuple((e.name, e.nodes, e.law, _structure(e)) for e in ex.links),
         ex.dofs,
         ex.channels,
+        ex.point_names,
+        tuple(tuple((node, c) for node, c, _ in g) for g in ex.gauges),
         ex.steps,
         ex.integrator,
         ex.recorders,
@@ -509,8 +518,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     if any(e.shear_capacity is not None for e in first.contacts) and \
             "contact_force" not in envelope:
         envelope.append("contact_force")  # the struck columns' shear is checked on its peak
+    if first.point_names and first.dofs is not None and "point_drift" not in envelope:
+        envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
     for kind, elements in (("contact_", first.contacts), ("link_", first.links),
-                           ("foundation_", first.foundations)):
+                           ("foundation_", first.foundations), ("point_", first.point_names)):
         if not elements:
             history = {q: k for q, k in history.items() if not q.startswith(kind)}
             envelope = [q for q in envelope if not q.startswith(kind)]
@@ -576,6 +587,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         dof_node=node_of_dof,
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
         planar=first.dofs is None,
+        **_gauges(variants, key_index, dof_of_key),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
@@ -601,6 +613,17 @@ def _renumbered_dofs(dofs: np.ndarray, dof_of_key: np.ndarray) -> np.ndarray:
     out = dofs.copy()
     out[dofs >= 0] = dof_of_key[dofs[dofs >= 0]]
     return out
+
+
+def _gauges(variants, key_index, dof_of_key) -> dict:
+    """The plan's gauge arrays (Plan.gauge_*) of the named plan points."""
+    first = variants[0]
+    start = np.cumsum([0] + [len(g) for g in first.gauges]).astype(np.int64)
+    dof = np.array([dof_of_key[key_index[(node, c)]] for g in first.gauges for node, c, _ in g],
+                   dtype=np.int64)
+    coef = np.array([[a for g in ex.gauges for *_, a in g] for ex in variants], dtype=float)
+    return dict(point_names=first.point_names, gauge_start=start, gauge_dof=dof,
+                gauge_coef=coef.reshape(len(variants), len(dof)))
 
 
 def _channels(ex: Expanded) -> np.ndarray:

@@ -54,7 +54,8 @@ ALWAYS_REFACTOR = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
-_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5}
+_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5,
+         "point": 6}
 
 
 @dataclass
@@ -217,6 +218,10 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
                          else np.zeros((0, 2), dtype=np.int64)),
         **_sides("story", plan.story_sides, plan.n_springs, B),
         **_sides("contact", plan.contact_sides, len(plan.contact_names), B),
+        gauge_start=(plan.gauge_start if plan.gauge_start is not None
+                     else np.zeros(1, dtype=np.int64)),
+        gauge_dof=plan.gauge_dof if plan.gauge_dof is not None else np.zeros(0, dtype=np.int64),
+        gauge_coef=plan.gauge_coef if plan.gauge_coef is not None else np.zeros((B, 0)),
     )
     return _normalised(model), story_state, contact_state
 
@@ -297,7 +302,7 @@ class _Recorders:
         B = plan.batch
         self.plan, self.sink = plan, sink
         sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
-                 len(plan.link_names), len(plan.foundations))
+                 len(plan.link_names), len(plan.foundations), 2 * len(plan.point_names))
         self.widths = [sizes[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
         self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
         for q, every in plan.history:
@@ -395,7 +400,7 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
            "contact_order", "contact_law", "stop", "ground_influence",
            "foundation_dofs", "story_side_start", "story_side_dof", "contact_side_start",
-           "contact_side_dof"}
+           "contact_side_dof", "gauge_start", "gauge_dof"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -478,7 +483,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                      ground_width=model.ground.shape[1], materials=laws.materials,
                      contact_laws=laws.contact_laws, foundations=len(plan.foundations),
                      story_terms=model.story_side_dof.shape[0],
-                     contact_terms=model.contact_side_dof.shape[0])
+                     contact_terms=model.contact_side_dof.shape[0],
+                     points=len(plan.point_names), gauge_terms=model.gauge_dof.shape[0])
         structs.append((ckernel.arrays(ckernel.Model, sliced, **sizes),
                         ckernel.arrays(ckernel.State, _slice(st, lo, hi)),
                         ckernel.arrays(ckernel.Work, work), ckernel.arrays(ckernel.Saved, saved)))

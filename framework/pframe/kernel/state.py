@@ -217,6 +217,12 @@ Model = namedtuple("Model", [
     "contact_side_start",  # (2 c + 1,)
     "contact_side_dof",    # (Tc,)
     "contact_side_coef",   # (B, Tc)
+    # the named plan points of the floors (point_displacement, point_drift): gauge g is
+    # sum gauge_coef[b, t] U[gauge_dof[t]], t in gauge_start[g] .. gauge_start[g + 1]; the
+    # displacements along the building's x and y of each point, then its drifts
+    "gauge_start",         # (4 P + 1,)
+    "gauge_dof",           # (Tg,)
+    "gauge_coef",          # (B, Tg)
 ])
 
 Settings = namedtuple("Settings", [
@@ -271,7 +277,7 @@ Work = namedtuple("Work", [
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
          "contact_width", "contact_states", "ground_width", "materials", "contact_laws",
-         "foundations", "story_terms", "contact_terms")
+         "foundations", "story_terms", "contact_terms", "points", "gauge_terms")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
@@ -281,6 +287,7 @@ C_TYPES = {
               "foundation_dofs": "int64_t *",
               "story_side_start": "int64_t *", "story_side_dof": "int64_t *",
               "contact_side_start": "int64_t *", "contact_side_dof": "int64_t *",
+              "gauge_start": "int64_t *", "gauge_dof": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

@@ -351,3 +351,30 @@ def _check_row_order(name, buildings, left, right, nodes, path) -> None:
                            "u_right - gap) and this one would close when the buildings move "
                            f"apart; write nodes [{nodes[1]}, {nodes[0]}], or declare the "
                            "buildings in their left-to-right order")
+
+
+def gauges(floors, resolver, active) -> tuple[tuple[str, ...], tuple, tuple]:
+    """The named plan points of the floors (their buildings' corners and points) and their
+    gauges: the displacement of each point along its building's x and y axes, then the drift
+    at each (the point less the same plan point of the floor below; the ground below the
+    first floor), each a tuple of (node, component, coefficient) over the degrees of freedom
+    in ``active`` (a DOF the scene does not move adds nothing); and each point's position in
+    its building's axes (m)."""
+    names, moves, drifts, positions = [], [], [], []
+    for i, floor in enumerate(floors.nodes):
+        if not floor.points:
+            continue
+        storey, level = floor.name.rsplit("/", 1)
+        below = resolver.index.get(f"{storey}/{int(level) - 1}", -1) if level.isdigit() else -1
+        axes = (floor.placement.vector((1.0, 0.0)), floor.placement.vector((0.0, 1.0)))
+        for label, local in floor.points.items():
+            point = floor.placement.point(local)
+            names.append(f"{floor.name}:{label}")
+            positions.append((float(local[0]), float(local[1])))
+            for axis in axes:
+                up = tuple(t for t in side(i, floor, point, axis) if (t[0], t[1]) in active)
+                low = tuple((n, c, -a) for n, c, a in side(below, resolver.floor(below), point,
+                                                             axis) if (n, c) in active)
+                moves.append(up)
+                drifts.append(up + low)
+    return tuple(names), tuple(moves + drifts), tuple(positions)

@@ -13,6 +13,7 @@ from pframe.model.elements import (
     Element,
     Resolver,
     contact_sides,
+    gauges,
     link_elements,
     p_delta_elements,
     pack_contacts,
@@ -86,6 +87,13 @@ class Expanded:
     node_extent: np.ndarray = None
     #: (component axis, applied record) of each record a two-component motion reads
     component_records: tuple = ()
+    #: the named plan points of the floors ('<node>:<point>') and their gauges: the point's
+    #: displacement along its building's x and y, then its drift, each ((node, component,
+    #: coefficient), ...) (pframe.model.elements.gauges)
+    point_names: tuple[str, ...] = ()
+    gauges: tuple = ()
+    #: each named point's position in its building's axes (m)
+    point_positions: tuple = ()
 
 
 def _check_size(scene) -> None:
@@ -140,6 +148,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                        lambda node, c: dofs.mass[position[(node, c)]],
                                        excitation_frequency)
     reference = _reference(scene, resolver.buildings)
+    point_names, point_gauges, point_positions = gauges(floors, resolver, position)
     heights = [s.height for s in floors.stories] + [h for *_, h, _ in p_delta]
     gravity = [s.gravity for s in floors.stories] + [g for _, g, *_ in p_delta]
     return Expanded(
@@ -182,6 +191,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         node_centre=np.array([f.centre for f in floors.nodes], dtype=float),
         node_extent=np.array([f.plan.extent() if f.plan is not None else np.nan
                               for f in floors.nodes]),
+        point_names=point_names,
+        gauges=point_gauges,
+        point_positions=point_positions,
     )
 
 

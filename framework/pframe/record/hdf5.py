@@ -64,7 +64,9 @@ LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "link": ("link_name", "link element (damper, coupling, tuned mass spring)"),
           "building": ("building_name", "building"),
           "foundation": ("foundation_name", "foundation on soil (named by its building)"),
-          "direction": ("direction_name", "horizontal direction of the site (x, y)")}
+          "direction": ("direction_name", "horizontal direction of the site (x, y)"),
+          "point": ("point_name", "named plan point of a floor (<floor>:<point>)"),
+          "axis": ("axis_name", "axis of the point's building (x, y)")}
 
 
 def _free_bytes(folder: Path) -> int | None:
@@ -178,7 +180,7 @@ class ResultWriter:
         """The histories and their time coordinates at full length, uncompressed (bytes)."""
         plan = self.plan
         widths = {"node": plan.n_dof if plan.planar else 3 * len(plan.node_names),
-                  "story": len(plan.story_names),
+                  "story": len(plan.story_names), "point": 2 * len(plan.point_names),
                   "contact": len(plan.contact_names), "link": len(plan.link_names), None: 1,
                   "foundation": len(plan.foundations)}
         total = 0
@@ -220,6 +222,10 @@ class ResultWriter:
                  "foundation": plan.foundations}
         if not plan.planar:
             names["direction"] = ("x", "y")
+        if plan.point_names and any(DIMENSION[q] == "point" for q in
+                                    [*(q for q, _ in plan.history), *plan.envelope]):
+            names["point"] = plan.point_names
+            names["axis"] = ("x", "y")
         for dim, values in names.items():
             if values or dim == "node":
                 f.labels(dim, LABELS[dim][0], list(values), long_name=LABELS[dim][1])
@@ -237,6 +243,8 @@ class ResultWriter:
         writes: itself, and in a scene in plan a node quantity along the site's x and y
         (dimension ``direction``) and its rotation (:data:`ROTATION`)."""
         units, long_name = UNITS[q]
+        if DIMENSION[q] == "point":
+            return [(q, units, long_name, ("axis",))]
         if self.plan.planar or DIMENSION[q] != "node":
             return [(q, units, long_name, ())]
         name, rotation_units, rotation_name = ROTATION[q]
@@ -283,6 +291,9 @@ class ResultWriter:
     def _columns(self, q: str, data) -> list:
         """The values of each of :meth:`_variables`' variables from the kernel's columns (a
         node quantity in DOF order; in plan, a DOF the scene does not move is 0)."""
+        if DIMENSION[q] == "point":
+            data = np.asarray(data)
+            return [data.reshape(data.shape[:-1] + (data.shape[-1] // 2, 2))]
         if DIMENSION[q] != "node":
             return [data]
         plan = self.plan
@@ -394,6 +405,17 @@ class ResultWriter:
         if self.plan.contact_names:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")
+        if "point_drift" in result.envelope and not self.plan.planar:
+            from pframe.demands import torsional_irregularity
+
+            ex = self.loaded.expanded
+            peak = np.asarray(result.envelope["point_drift"][member]).reshape(-1, 2)
+            ratio = torsional_irregularity(ex.point_names, ex.point_positions, peak,
+                                           self.plan.node_names)
+            f.variable("torsional_irregularity", ("node", "axis"), ratio, units="1",
+                       long_name="torsional irregularity ratio of the storey below the floor "
+                       "(ASCE 7-22 Table 12.3-1): the larger peak drift at the plan's two ends "
+                       "across the axis over their mean; type 1a above 1.2, 1b above 1.4")
 
     def _attributes(self, result):
         f, plan, loaded, member = self.file, self.plan, self.loaded, self.member

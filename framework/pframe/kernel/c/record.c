@@ -31,6 +31,9 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     /* a foundation's sway and rocking DOFs (m->foundation_dofs) */
     case FOUNDATION_SWAY: *width = m->foundations; return st->U + b * n;
     case FOUNDATION_ROCKING: *width = m->foundations; return st->U + b * n;
+    /* the named plan points: sums of the DOFs (m->gauge_*), along x and y of each point */
+    case POINT_DISPLACEMENT: *width = 2 * m->points; return st->U + b * n;
+    case POINT_DRIFT: *width = 2 * m->points; return st->U + b * n;
     default: *width = 1; return NULL;
     }
 }
@@ -43,6 +46,17 @@ static double absolute_acceleration(const Model *m, int64_t b, int64_t i, double
 {
     (void)b;
     return relative + m->ground_influence[i] * ag;
+}
+
+/* Gauge g of member b at the displacements U: a named plan point's motion along an axis. */
+static double gauge(const Model *m, int64_t b, int64_t g, const double *U)
+{
+    const double *coef = m->gauge_coef + b * m->gauge_terms;
+    double sum = 0.0;
+    int64_t t;
+    for (t = m->gauge_start[g]; t < m->gauge_start[g + 1]; t++)
+        sum += coef[t] * U[m->gauge_dof[t]];
+    return sum;
 }
 
 /* Committed value i of quantity q (its values from source); ag is the ground acceleration at
@@ -63,6 +77,10 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
         return values[m->foundation_dofs[2 * i]];
     if (q == FOUNDATION_ROCKING)
         return values[m->foundation_dofs[2 * i + 1]];
+    if (q == POINT_DISPLACEMENT)
+        return gauge(m, b, i, values);
+    if (q == POINT_DRIFT)
+        return gauge(m, b, 2 * m->points + i, values);
     return values[i];
 }
 
@@ -70,7 +88,8 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
 static int as_stored(int64_t q)
 {
     return q != GROUND_ACCELERATION && q != ABSOLUTE_ACCELERATION && q != CONTACT_PENETRATION
-           && q != STORY_DRIFT_RATIO && q != FOUNDATION_SWAY && q != FOUNDATION_ROCKING;
+           && q != STORY_DRIFT_RATIO && q != FOUNDATION_SWAY && q != FOUNDATION_ROCKING
+           && q != POINT_DISPLACEMENT && q != POINT_DRIFT;
 }
 
 /* The first step at or after k at which a history is due (NEVER if none is). */

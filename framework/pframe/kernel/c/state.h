@@ -66,7 +66,9 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define FOUNDATION_SWAY 11
 #define FOUNDATION_ROCKING 12
 #define ABSOLUTE_ACCELERATION 13
-#define RECORDABLE_COUNT 14
+#define POINT_DISPLACEMENT 14
+#define POINT_DRIFT 15
+#define RECORDABLE_COUNT 16
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
@@ -122,6 +124,9 @@ typedef struct Model {
     int64_t *contact_side_start;
     int64_t *contact_side_dof;
     double *contact_side_coef;
+    int64_t *gauge_start;
+    int64_t *gauge_dof;
+    double *gauge_coef;
     int64_t batch;
     int64_t dofs;
     int64_t stories;
@@ -137,6 +142,8 @@ typedef struct Model {
     int64_t foundations;
     int64_t story_terms;
     int64_t contact_terms;
+    int64_t points;
+    int64_t gauge_terms;
 } Model;
 
 typedef struct Settings {
