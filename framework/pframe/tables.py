@@ -79,7 +79,7 @@ def _torsion(ds, i: int, name: str) -> list[tuple]:
     (ASCE 7-22 Table 12.3-1), where its plan gives one."""
     import numpy as np
 
-    from pframe.demands import TORSIONAL_IRREGULARITY
+    from pframe.irregularity import TORSIONAL_IRREGULARITY
 
     out = []
     for j, axis in enumerate(ds.axis.values):

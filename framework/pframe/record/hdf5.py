@@ -406,7 +406,7 @@ class ResultWriter:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")
         if "point_drift" in result.envelope and not self.plan.planar:
-            from pframe.demands import torsional_irregularity
+            from pframe.irregularity import torsional_irregularity
 
             ex = self.loaded.expanded
             peak = np.asarray(result.envelope["point_drift"][member]).reshape(-1, 2)
