@@ -5,7 +5,6 @@ from __future__ import annotations
 
 import numpy as np
 
-
 #: ASCE 7-22 Table 12.3-1: a storey is torsionally irregular (type 1a) when its largest drift
 #: at one end exceeds this many times the mean of the drifts at its two ends, extremely so
 #: (type 1b) above the second
