@@ -336,12 +336,16 @@ def export_csv(result, folder: str | Path) -> list[Path]:
     folder.mkdir(exist_ok=True)
     written = []
     for name, var in ds.data_vars.items():
-        if var.ndim not in (1, 2) or not var.dims[0].startswith("t") or var.dtype.kind not in "fi":
+        if var.ndim not in (1, 2, 3) or not var.dims[0].startswith("t") \
+                or var.dtype.kind not in "fi":
             continue
         time = ds[var.dims[0]]
         columns = [f"{var.dims[0]} [{_text(time.attrs.get('units', ''))}]"]
         units = _text(var.attrs.get("units", ""))
-        if var.ndim == 2:
+        if var.ndim == 3:  # in plan: a column per node (or point) and direction
+            columns += [f"{n} {d} [{units}]" for n in ds[var.dims[1]].values
+                        for d in ds[var.dims[2]].values]
+        elif var.ndim == 2:
             columns += [f"{n} [{units}]" for n in ds[var.dims[1]].values]
         else:
             columns += [f"{name} [{units}]"]

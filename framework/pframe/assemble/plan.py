@@ -641,7 +641,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
     c = plan.integrator
-    if plan.contact_sides is not None and np.any(plan.contact_sides.general()):
+    if plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0):
         problems.append("its contacts join floors (floor-to-column contacts need a "
                         "multi-point constraint the script does not write)")
     if not plan.planar:
