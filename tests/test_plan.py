@@ -269,3 +269,24 @@ def test_named_points_move_with_their_floors():
         np.testing.assert_allclose(drifts[:, q], floor_motion["A/1"][label], rtol=0, atol=1e-15)
     np.testing.assert_array_equal(result.envelope["point_displacement"][0],
                                   np.abs(result.history["point_displacement"][0]).max(axis=0))
+
+
+def test_a_batch_over_eccentricity_equals_its_single_runs():
+    """Variants whose centre of mass moves onto a line of resistance (its arm, hence a
+    coefficient, is 0 there) and off the plan's centre: one batch, each member the bits of
+    its own run; the floors twist more as the eccentricity grows."""
+    from conftest import run_batch
+
+    values = (0.0, 2.0, 5.0)  # 5: the centre of mass on line Y2 (x = 10)
+    texts = [eccentric(e, 1e-3, 0.3, initial_conditions={
+        "displacement": {"A/1": [0.0, 0.01, 0.0]}}) for e in values]
+    plan, batch = run_batch(texts)
+    twist = []
+    for b, text in enumerate(texts):
+        single_plan, single = run_text(text)
+        order = [int(np.flatnonzero((plan.dof_node == n) & (plan.dof_component == c))[0])
+                 for n, c in zip(single_plan.dof_node, single_plan.dof_component)]
+        np.testing.assert_array_equal(batch.history["displacement"][b][:, order],
+                                      single.history["displacement"][0])
+        twist.append(np.max(np.abs(dof_history(single_plan, single, "A/1", 2))))
+    assert twist[0] == 0.0 < twist[1] < twist[2]

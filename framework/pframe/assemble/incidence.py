@@ -46,18 +46,23 @@ def empty(count: int, batch: int) -> Sides:
 
 def build(elements_of_members, dof_of) -> Sides:
     """The sides of the elements of every batch member (one list of elements per member, the
-    same topology); ``dof_of(node, component)`` numbers a degree of freedom. A plain element
-    gets no terms."""
+    same elements); ``dof_of(node, component)`` numbers a degree of freedom. An element plain
+    in every member gets no terms; otherwise each side holds the union of its members' terms
+    (in the order first met), a coefficient 0 where a member has none (a line through one
+    member's centre of mass does not turn that member's floor, but turns the others')."""
     first = elements_of_members[0]
     start, dofs = [0], []
     coefs = [[] for _ in elements_of_members]
-    for e, element in enumerate(first):
+    for e in range(len(first)):
+        sided = any(elements[e].sides is not None for elements in elements_of_members)
         for s in range(2):
-            if element.sides is not None:
-                for node, component, _ in element.sides[s]:
-                    dofs.append(dof_of(node, component))
-                for b, elements in enumerate(elements_of_members):
-                    coefs[b] += [c for *_, c in elements[e].sides[s]]
+            if sided:
+                members = [dict(((node, c), a) for node, c, a in elements[e].side_terms()[s])
+                           for elements in elements_of_members]
+                keys = list(dict.fromkeys(key for terms in members for key in terms))
+                dofs += [dof_of(*key) for key in keys]
+                for b, terms in enumerate(members):
+                    coefs[b] += [terms.get(key, 0.0) for key in keys]
             start.append(len(dofs))
     return Sides(np.array(start, dtype=np.int64), np.array(dofs, dtype=np.int64),
                  np.array(coefs, dtype=float).reshape(len(elements_of_members), len(dofs)))

@@ -410,13 +410,11 @@ def batch_key(ex: Expanded) -> tuple:
     numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
     return (
         ex.node_names,
-        tuple((e.name, e.nodes, e.law, _structure(e)) for e in ex.stories),
-        tuple((e.name, e.nodes, e.law, e.lower, _structure(e)) for e in ex.contacts),
-        tuple((e.name, e.nodes, e.law, _structure(e)) for e in ex.links),
-        ex.dofs,
+        tuple((e.name, e.nodes, e.law) for e in ex.stories),
+        tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
+        tuple((e.name, e.nodes, e.law) for e in ex.links),
         ex.channels,
         ex.point_names,
-        tuple(tuple((node, c) for node, c, _ in g) for g in ex.gauges),
         ex.steps,
         ex.integrator,
         ex.recorders,
@@ -426,12 +424,22 @@ def batch_key(ex: Expanded) -> tuple:
     )
 
 
-def _structure(element) -> tuple | None:
-    """The degrees of freedom an element's sides hold, without their coefficients (which a
-    batch may vary: an eccentricity, a point)."""
-    if element.sides is None:
-        return None
-    return tuple(tuple((node, c) for node, c, _ in side) for side in element.sides)
+def _dof_keys(variants) -> list[tuple[int, int]]:
+    """The degrees of freedom of a batch: those any member moves ((node, component), in node
+    then component order); a member that leaves one at rest keeps it at rest (no element of
+    it acts on it, nothing loads it)."""
+    nodes = len(variants[0].node_names)
+    if all(ex.dofs is None for ex in variants):
+        return [(i, 0) for i in range(nodes)]
+    return sorted({key for ex in variants for key in ex.dofs or [(i, 0) for i in range(nodes)]})
+
+
+def _per_key(ex: Expanded, keys, values: np.ndarray, fallback: dict) -> np.ndarray:
+    """A member's per-DOF values on the batch's DOFs: its own where it has them, else
+    ``fallback`` (a mass: another member's) or 0."""
+    own = ex.dofs or [(i, 0) for i in range(len(ex.node_names))]
+    mine = dict(zip(own, np.asarray(values, dtype=float)))
+    return np.array([mine.get(key, fallback.get(key, 0.0)) for key in keys])
 
 
 def assemble(expanded: Expanded) -> Plan:
@@ -452,7 +460,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     soil = _Soil(first, nodes)
     # the degrees of freedom: the nodes' (u_x of each in a planar scene), then each
     # foundation's sway and rocking
-    keys = list(first.dofs or [(i, 0) for i in range(nodes)]) + soil.keys()
+    keys = _dof_keys(variants) + soil.keys()
     key_index = {key: i for i, key in enumerate(keys)}
     n = len(keys)
     # the kernel's spring elements: storeys (a first storey on soil stands on its foundation's
@@ -487,7 +495,13 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     k0 = np.array([[_initial_tangent(e.law, p) for e, p in zip(springs, row)]
                    for row in packed])
     k0 = k0.reshape(len(variants), len(springs))
-    masses = [soil.masses(ex) for ex in variants]
+    node_keys = keys[:len(keys) - 2 * len(first.foundations)]
+    known = {key: m for ex in variants for key, m in zip(
+        ex.dofs or [(i, 0) for i in range(nodes)],
+        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+    masses = [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
+                                       else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
+                              if soil.count else np.zeros(0)]) for ex in variants]
     mass_damping, story_beta = [], []
     node_of_dof = np.array([key[0] if key[0] < nodes else -1 for key in keys])[order]
 
@@ -518,7 +532,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     if any(e.shear_capacity is not None for e in first.contacts) and \
             "contact_force" not in envelope:
         envelope.append("contact_force")  # the struck columns' shear is checked on its peak
-    if first.point_names and first.dofs is not None and "point_drift" not in envelope:
+    planar = all(ex.dofs is None for ex in variants)
+    if first.point_names and not planar and "point_drift" not in envelope:
         envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
     for kind, elements in (("contact_", first.contacts), ("link_", first.links),
                            ("foundation_", first.foundations), ("point_", first.point_names)):
@@ -561,10 +576,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         ground_acceleration=np.array([_channels(ex)[0] for ex in variants]),
         more_channels=(np.array([_channels(ex) for ex in variants])
                        if len(first.channels) > 1 else None),
-        initial_displacement=np.array([np.concatenate([ex.initial_displacement, pad])[order]
-                                       for ex in variants]),
-        initial_velocity=np.array([np.concatenate([ex.initial_velocity, pad])[order]
-                                   for ex in variants]),
+        initial_displacement=np.array([np.concatenate([_per_key(
+            ex, node_keys, ex.initial_displacement, {}), pad])[order] for ex in variants]),
+        initial_velocity=np.array([np.concatenate([_per_key(
+            ex, node_keys, ex.initial_velocity, {}), pad])[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
         link_names=tuple(e.name for e in first.links),
@@ -586,7 +601,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                               for node, c in keys], dtype=np.int64)[order],
         dof_node=node_of_dof,
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
-        planar=first.dofs is None,
+        planar=planar,
         **_gauges(variants, key_index, dof_of_key),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
@@ -617,13 +632,18 @@ def _renumbered_dofs(dofs: np.ndarray, dof_of_key: np.ndarray) -> np.ndarray:
 
 def _gauges(variants, key_index, dof_of_key) -> dict:
     """The plan's gauge arrays (Plan.gauge_*) of the named plan points."""
-    first = variants[0]
-    start = np.cumsum([0] + [len(g) for g in first.gauges]).astype(np.int64)
-    dof = np.array([dof_of_key[key_index[(node, c)]] for g in first.gauges for node, c, _ in g],
-                   dtype=np.int64)
-    coef = np.array([[a for g in ex.gauges for *_, a in g] for ex in variants], dtype=float)
-    return dict(point_names=first.point_names, gauge_start=start, gauge_dof=dof,
-                gauge_coef=coef.reshape(len(variants), len(dof)))
+    start, dof, coefs = [0], [], [[] for _ in variants]
+    for g in range(len(variants[0].gauges)):  # each gauge's terms: those of any member
+        members = [{(node, c): a for node, c, a in ex.gauges[g]} for ex in variants]
+        terms = list(dict.fromkeys(key for mine in members for key in mine))
+        dof += [int(dof_of_key[key_index[key]]) for key in terms]
+        for b, mine in enumerate(members):
+            coefs[b] += [mine.get(key, 0.0) for key in terms]
+        start.append(len(dof))
+    return dict(point_names=variants[0].point_names,
+                gauge_start=np.array(start, dtype=np.int64),
+                gauge_dof=np.array(dof, dtype=np.int64),
+                gauge_coef=np.array(coefs, dtype=float).reshape(len(variants), len(dof)))
 
 
 def _channels(ex: Expanded) -> np.ndarray:

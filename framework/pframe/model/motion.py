@@ -130,8 +130,11 @@ def ground_motion(excitation, base_dir, steps: int, dt: float) -> GroundMotion:
                 part = weight * values if weight != 1.0 else values
                 samples[site] = part if site not in samples else samples[site] + part
     warnings += _pair_warnings(excitation, base_dir)
-    return GroundMotion({k: samples[k] for k in ("x", "y") if k in samples}, None,
-                        tuple(records), tuple(warnings))
+    # a motion in two components loads both of the site's axes, whatever its angle (a sweep
+    # over the incidence keeps one layout: zero along an axis at some angles)
+    zero = np.zeros(steps + 1)
+    return GroundMotion({k: samples.get(k, zero) for k in ("x", "y")}, None, tuple(records),
+                        tuple(warnings))
 
 
 def _pair_warnings(excitation, base_dir) -> list[str]:
