@@ -525,7 +525,9 @@ class Stochastic(Base):
     parameters: StochasticParameters | None = Field(
         None, description="rezaeian2010: the six parameters given (instead of the site).")
     highpass: bool = Field(True, description="rezaeian2010: the 0.2 Hz critically damped "
-                           "high-pass post-filter (no residual velocity).")
+                           "high-pass post-filter, run on 7.96 s (10 / w_c) past the modulated "
+                           "motion until it is at rest: no residual velocity or displacement "
+                           "(below 1e-3 of their peaks); the motion is that much longer.")
     intensity: Positive | None = Field(None, description="clough_penzien: white-noise "
                                        "intensity S_0 (m^2/s^3), of the two-sided PSD.")
     ground_frequency: Positive | None = Field(None, description="clough_penzien: w_g (rad/s).")
