@@ -265,6 +265,15 @@ def impact_storey_shear(ds, loaded=None) -> np.ndarray:
     return np.nan_to_num(force) @ loads @ _above(ex)[stories].T.astype(float)
 
 
+def column_weight(contact) -> float | None:
+    """The struck column's shear per unit contact force of a floor-to-column contact,
+    max(psi, 1 - psi): its segments carry psi F (above the struck point) and (1 - psi) F
+    (below it), the end reactions of a member fixed at both floors under a point load
+    (:func:`pframe.model.expand.column_share`); None for a floor-to-floor contact."""
+    side = contact.column_side
+    return None if side is None else max(contact.share[side], 1.0 - contact.share[side])
+
+
 def _order(ds, dim: str, declared: list[str]) -> list[int]:
     """The declared elements in the order of the result's ``dim`` (its columns)."""
     if dim not in ds.coords:
@@ -275,14 +284,16 @@ def _order(ds, dim: str, declared: list[str]) -> list[int]:
 #: the impact table's columns and units
 IMPACT_COLUMNS = (("contact", ""), ("onset", "s"), ("approach_velocity", "m/s"),
                   ("peak_force", "N"), ("duration", "s"), ("impulse", "N s"),
-                  ("closed_at_start", ""), ("closed_at_end", ""))
+                  ("column_shear", "N"), ("closed_at_start", ""), ("closed_at_end", ""))
 
 
 def impacts(result):
     """The impacts of a run as a pandas DataFrame, one row per contact episode in time order:
     ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
     ``peak_force`` (N), ``duration`` (onset to separation, s), ``impulse`` (the time integral
-    of the contact force, N s), and whether the episode was already closed at the first
+    of the contact force, N s), ``column_shear`` (N: the peak shear a floor-to-column
+    contact's impact put into the struck column, :func:`column_weight` times its peak force;
+    NaN for a floor-to-floor contact), and whether the episode was already closed at the first
     sample (``closed_at_start``: no onset, approach velocity NaN) or still closed at the last
     (``closed_at_end``: duration NaN). ``result``: a Dataset or a result file's path.
 
@@ -320,7 +331,7 @@ def impacts(result):
         e = by_name[name]
         rate = -(velocity @ loads[e])
         rows += _episodes(name, t, np.nan_to_num(force[:, col]), rate,
-                          None if pen is None else pen[:, col])
+                          None if pen is None else pen[:, col], column_weight(ex.contacts[e]))
     table = pd.DataFrame(rows, columns=[c for c, _ in IMPACT_COLUMNS])
     return table.sort_values(["onset", "contact"], kind="stable").reset_index(drop=True)
 
@@ -330,8 +341,10 @@ def _crossing(t0, t1, s0, s1) -> float:
     return t0 + (t1 - t0) * s0 / (s0 - s1) if s0 != s1 else 0.5 * (t0 + t1)
 
 
-def _episodes(name, t, f, rate, pen) -> list[tuple]:
-    active = f > 0.0
+def positive_runs(f) -> list[tuple[int, int]]:
+    """``(first, last)`` sample of each run of positive values of ``f``: a contact's episodes
+    in its force history (an impact shorter than the recording stride is not seen)."""
+    active = np.asarray(f) > 0.0
     if not active.any():
         return []
     edges = np.diff(active.astype(np.int8))
@@ -340,9 +353,13 @@ def _episodes(name, t, f, rate, pen) -> list[tuple]:
     if active[0]:
         starts.insert(0, 0)
     if active[-1]:
-        ends.append(len(t) - 1)
+        ends.append(len(f) - 1)
+    return list(zip(starts, ends))
+
+
+def _episodes(name, t, f, rate, pen, weight=None) -> list[tuple]:
     rows = []
-    for i, j in zip(starts, ends):
+    for i, j in positive_runs(f):
         closed_start, closed_end = i == 0, j == len(t) - 1
         if closed_start:
             onset, approach = float(t[0]), float("nan")
@@ -373,6 +390,8 @@ def _episodes(name, t, f, rate, pen) -> list[tuple]:
         fs = np.concatenate(([0.0 if not closed_start else f[i]], f[i:j + 1],
                              [] if closed_end else [0.0]))
         impulse = float(np.sum(0.5 * (fs[1:] + fs[:-1]) * np.diff(ts)))
-        rows.append((name, onset, approach, float(f[i:j + 1].max()),
-                     end - onset, impulse, bool(closed_start), bool(closed_end)))
+        peak = float(f[i:j + 1].max())
+        rows.append((name, onset, approach, peak, end - onset, impulse,
+                     float("nan") if weight is None else weight * peak,
+                     bool(closed_start), bool(closed_end)))
     return rows

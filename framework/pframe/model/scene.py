@@ -240,10 +240,14 @@ class ContactBase(Base):
         "floor (floors at different heights).")
     at: float | None = Field(None, gt=0, lt=1, allow_inf_nan=False,
                              description="Where the column is struck: the fraction of the "
-                             "storey's height above its lower floor (0 < at < 1).")
+                             "storey's height above its lower floor (0 < at < 1). With both "
+                             "buildings' storey heights it is computed from them (leave it "
+                             "out; one that differs by more than 0.001 is refused); without "
+                             "them it is required.")
     shear_capacity: float | None = Field(
-        None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N): "
-        "the local shear the impact puts into it is checked against it.")
+        None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N) "
+        "of a floor-to-column contact: the local shear the impact puts into it is checked "
+        "against it.")
 
 
 class Rayleigh(Base):
