@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pframe.episodes import positive_runs
 from pframe.errors import InputError
 
 #: the final share of a run over which residual drift is judged (see residual_drift)
@@ -265,15 +266,6 @@ def impact_storey_shear(ds, loaded=None) -> np.ndarray:
     return np.nan_to_num(force) @ loads @ _above(ex)[stories].T.astype(float)
 
 
-def column_weight(contact) -> float | None:
-    """The struck column's shear per unit contact force of a floor-to-column contact,
-    max(psi, 1 - psi): its segments carry psi F (above the struck point) and (1 - psi) F
-    (below it), the end reactions of a member fixed at both floors under a point load
-    (:func:`pframe.model.expand.column_share`); None for a floor-to-floor contact."""
-    side = contact.column_side
-    return None if side is None else max(contact.share[side], 1.0 - contact.share[side])
-
-
 def _order(ds, dim: str, declared: list[str]) -> list[int]:
     """The declared elements in the order of the result's ``dim`` (its columns)."""
     if dim not in ds.coords:
@@ -292,7 +284,7 @@ def impacts(result):
     ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
     ``peak_force`` (N), ``duration`` (onset to separation, s), ``impulse`` (the time integral
     of the contact force, N s), ``column_shear`` (N: the peak shear a floor-to-column
-    contact's impact put into the struck column, :func:`column_weight` times its peak force;
+    contact's impact put into the struck column, ``Element.column_weight`` times its peak force;
     NaN for a floor-to-floor contact), and whether the episode was already closed at the first
     sample (``closed_at_start``: no onset, approach velocity NaN) or still closed at the last
     (``closed_at_end``: duration NaN). ``result``: a Dataset or a result file's path.
@@ -331,7 +323,7 @@ def impacts(result):
         e = by_name[name]
         rate = -(velocity @ loads[e])
         rows += _episodes(name, t, np.nan_to_num(force[:, col]), rate,
-                          None if pen is None else pen[:, col], column_weight(ex.contacts[e]))
+                          None if pen is None else pen[:, col], ex.contacts[e].column_weight)
     table = pd.DataFrame(rows, columns=[c for c, _ in IMPACT_COLUMNS])
     return table.sort_values(["onset", "contact"], kind="stable").reset_index(drop=True)
 
@@ -339,22 +331,6 @@ def impacts(result):
 def _crossing(t0, t1, s0, s1) -> float:
     """Where the linear interpolation of s between (t0, s0) and (t1, s1) is zero."""
     return t0 + (t1 - t0) * s0 / (s0 - s1) if s0 != s1 else 0.5 * (t0 + t1)
-
-
-def positive_runs(f) -> list[tuple[int, int]]:
-    """``(first, last)`` sample of each run of positive values of ``f``: a contact's episodes
-    in its force history (an impact shorter than the recording stride is not seen)."""
-    active = np.asarray(f) > 0.0
-    if not active.any():
-        return []
-    edges = np.diff(active.astype(np.int8))
-    starts = list(np.flatnonzero(edges == 1) + 1)
-    ends = list(np.flatnonzero(edges == -1))
-    if active[0]:
-        starts.insert(0, 0)
-    if active[-1]:
-        ends.append(len(f) - 1)
-    return list(zip(starts, ends))
 
 
 def _episodes(name, t, f, rate, pen, weight=None) -> list[tuple]:

@@ -167,22 +167,11 @@ class Law:
         """The law's governing variables for ``pframe pi``: root name -> (what it measures,
         as in :attr:`dimensions`, value), from its packed numbers. By default every packed
         parameter under its own name; built-in laws name theirs as the paper does (``K``,
-        ``u_y``, ``w_bar``, ``k_h``).
-
-        Raises
-        ------
-        InputError
-            For a parameter without a declared dimension (or one declared ``undimensioned``):
-            the default cannot list it, and leaving it out would make the Pi groups
-            incomplete.
-        """
-        from pframe.nondim.fields import field_dimension  # nondim imports the laws
-
-        out = {}
-        for p, v in zip(cls.param_names, packed):
-            if field_dimension(cls, p) is not None:  # None: a flag
-                out[p] = (cls.dimensions[p], v)
-        return out
+        ``u_y``, ``w_bar``, ``k_h``). ``pframe pi`` first refuses a law with a parameter it
+        cannot list (:func:`pframe.nondim.fields.check_declared`): one without a declared
+        dimension, or one declared ``undimensioned`` that this default would have to list."""
+        return {p: (cls.dimensions[p], v) for p, v in zip(cls.param_names, packed)
+                if p in cls.dimensions}
 
     @staticmethod
     def force(params, committed, trial, deformation, rate):  # pragma: no cover - interface

@@ -45,6 +45,15 @@ class Element:
         storey; None for a contact between floors (or a floor and a wall)."""
         return next((side for side in (0, 1) if not math.isnan(self.at[side])), None)
 
+    @property
+    def column_weight(self) -> float | None:
+        """The struck column's shear per unit contact force of a floor-to-column contact,
+        max(psi, 1 - psi): its segments carry psi F (above the struck point) and
+        (1 - psi) F (below it), the end reactions of a member fixed at both floors under a
+        point load (:func:`column_share`); None for a contact between floors."""
+        side = self.column_side
+        return None if side is None else max(self.share[side], 1.0 - self.share[side])
+
 
 #: a floor-to-column contact's ``at`` may differ from the one its storey heights give by this
 #: much (the rounding of a value written with three decimals); more is a contradiction

@@ -55,15 +55,23 @@ def field_dimension(cls, field: str) -> Dimension | None:
 def check_declared(cls) -> None:
     """Refuse a law with a numeric field that declares neither a dimension nor why it has
     none (``undimensioned``): its governing variables cannot be listed in full, and a Pi
-    form without one of them is incomplete (``pframe pi``).
+    form without one of them is incomplete (``pframe pi``). A law with the default
+    ``governing``, which lists every packed parameter under its own name, needs a dimension
+    for each of them (an ``undimensioned`` one is refused with its reason: the law must
+    list it in a form of fixed dimension, in its own ``governing``).
 
     Raises
     ------
     InputError
         Naming the law, the field and the declaration it needs.
     """
+    from pframe.laws import Law
+
     for name, info in cls.Params.model_fields.items():
         if name not in (getattr(cls, "undimensioned", None) or {}) and _numeric(info.annotation):
+            field_dimension(cls, name)
+    if getattr(cls.governing, "__func__", None) is Law.governing.__func__:
+        for name in cls.param_names:
             field_dimension(cls, name)
 
 

@@ -372,8 +372,8 @@ class ResultWriter:
         contact force) and, with a ``contact_force`` history, that of each impact seen in it
         (``impact_column_shear`` along the dimension ``impact``, at ``impact_time``, the
         sample of its peak force): max(psi, 1 - psi) times the contact force
-        (:func:`pframe.demands.column_weight`)."""
-        from pframe.demands import column_weight, positive_runs
+        (``Element.column_weight``)."""
+        from pframe.episodes import positive_runs
 
         f, contacts = self.file, self.loaded.expanded.contacts
         name = "shear put into the struck column (floor-to-column contact)"
@@ -388,7 +388,7 @@ class ResultWriter:
         force, times = f.values("contact_force"), f.values(dim)
         rows = []  # (contact, time of the peak, column shear), in file units
         for c, contact in enumerate(contacts):
-            weight = column_weight(contact)
+            weight = contact.column_weight
             if weight is None:
                 continue
             column = np.nan_to_num(force[:, c])
