@@ -452,9 +452,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if any(e.shear_capacity is not None for e in first.contacts) and \
+    if any(e.column_side is not None for e in first.contacts) and \
             "contact_force" not in envelope:
-        envelope.append("contact_force")  # the struck columns' shear is checked on its peak
+        # the struck columns' shear: written (peak_column_shear) and checked on its peak
+        envelope.append("contact_force")
     for kind, elements in (("contact_", first.contacts), ("link_", first.links),
                            ("foundation_", first.foundations)):
         if not elements:

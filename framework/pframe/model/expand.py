@@ -32,10 +32,64 @@ class Element:
     packed: tuple[float, ...]
     gap: float = 0.0
     #: a floor-to-column contact: the struck storey's lower floor on each side (-1: none or
-    #: the ground) and the weight psi of the named node (1: a floor)
+    #: the ground), the weight psi of the named node (1: a floor) and where the column is
+    #: struck (the fraction of the storey's height; NaN: a floor)
     lower: tuple[int, int] = (-1, -1)
     share: tuple[float, float] = (1.0, 1.0)
     shear_capacity: float | None = None
+    at: tuple[float, float] = (math.nan, math.nan)
+
+    @property
+    def column_side(self) -> int | None:
+        """The side (0 left, 1 right) of a floor-to-column contact whose node tops the struck
+        storey; None for a contact between floors (or a floor and a wall)."""
+        return next((side for side in (0, 1) if not math.isnan(self.at[side])), None)
+
+    @property
+    def column_weight(self) -> float | None:
+        """The struck column's shear per unit contact force of a floor-to-column contact,
+        max(psi, 1 - psi): its segments carry psi F (above the struck point) and
+        (1 - psi) F (below it), the end reactions of a member fixed at both floors under a
+        point load (:func:`column_share`); None for a contact between floors."""
+        side = self.column_side
+        return None if side is None else max(self.share[side], 1.0 - self.share[side])
+
+
+#: a floor-to-column contact's ``at`` may differ from the one its storey heights give by this
+#: much (the rounding of a value written with three decimals); more is a contradiction
+AT_TOLERANCE = 1e-3
+
+
+def column_share(at: float) -> float:
+    """psi = 3 at^2 - 2 at^3 of a column struck ``at`` of the way up its storey.
+
+    The column is a member fixed at both floors (the floors' rotations neglected, as a shear
+    building's): psi is the deflection at ``at`` when its upper end sways by 1 with its lower
+    end fixed (the cubic of a fixed-fixed member), and, by reciprocity, the reaction at the
+    upper end of a unit load at ``at``, R_upper = a^2 (a + 3 b) / L^3 = psi, R_lower =
+    b^2 (3 a + b) / L^3 = 1 - psi (a = at L, b = L - a: AISC Steel Construction Manual,
+    Table 3-23, case 16, beam fixed at both ends, concentrated load at any point). So the
+    contact force F goes to the upper floor as psi F and to the lower floor as (1 - psi) F,
+    and the column's two segments carry those shears.
+    """
+    return at * at * (3.0 - 2.0 * at)
+
+
+def elevations(stories, heights) -> dict[int, float]:
+    """Node index -> its elevation above the ground (m; -1, the ground, at 0): a storey's
+    upper floor stands its height above its lower floor. Floors above a storey without a
+    height (NaN) are left out."""
+    above: dict[int, list] = {}
+    for story, h in zip(stories, heights):
+        above.setdefault(story.nodes[0], []).append((story.nodes[1], float(h)))
+    level, todo = {-1: 0.0}, [-1]
+    while todo:
+        node = todo.pop()
+        for upper, h in above.get(node, ()):
+            if math.isfinite(h) and upper not in level:
+                level[upper] = level[node] + h
+                todo.append(upper)
+    return level
 
 
 @dataclass(frozen=True)
@@ -413,6 +467,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         excitation_frequency = scene.excitation.frequency
     masses = np.array([m for _, m, _ in nodes], dtype=float)
     contacts, seen, rebounds = [], {}, {}
+    level = None  # the floors' elevations, for the floor-to-column contacts
     for c, contact in enumerate(scene.contacts):
         path = ("contacts", c)
         if contact.nodes[0] == "ground" and contact.nodes[1] == "ground":
@@ -433,25 +488,24 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         seen[name] = True
         law = get_law("contact", contact.law)
         params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
-        lower, share = [-1, -1], [1.0, 1.0]
+        lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
         side_mass = [masses[left] if left >= 0 else math.inf,
                      masses[right] if right >= 0 else math.inf]
-        if (contact.column is None) != (contact.at is None):
-            raise ModelError(path, "a floor-to-column contact needs both column (the side "
-                                   "whose node names the struck storey) and at (0 < at < 1)")
+        if contact.column is None and contact.at is not None:
+            raise ModelError(path + ("at",), "at is where a column is struck: give column "
+                                             "(the side whose node names the struck storey)")
+        if contact.column is None and contact.shear_capacity is not None:
+            raise ModelError(path + ("shear_capacity",), "shear_capacity is a struck "
+                             "column's: give column (a floor-to-column contact); a "
+                             "floor-to-floor contact loads no column between floors")
         if contact.column is not None:
-            side = 0 if contact.column == "left" else 1
+            if level is None:
+                level = elevations(story_elements, [math.nan if h is None else h
+                                                    for *_, h, _ in stories])
+            side, lower[side], at[side] = _struck_column(contact, path, (left, right),
+                                                         story_elements, level, index)
             upper = (left, right)[side]
-            below = [k for k, (_, (lo, up), *_) in enumerate(stories)
-                     if up == contact.nodes[side]]
-            if upper < 0 or not below:
-                raise ModelError(path + ("column",), f"the {contact.column} node "
-                                 f"{contact.nodes[side]!r} tops no storey: a struck column is "
-                                 "named by the floor above it")
-            low_name = stories[below[0]][1][0]
-            lower[side] = -1 if low_name == "ground" else index[low_name]
-            xi = float(contact.at)
-            share[side] = xi * xi * (3.0 - 2.0 * xi)  # a fixed-fixed column swaying
+            share[side] = column_share(at[side])
             inverse = share[side] ** 2 / masses[upper] + (
                 (1.0 - share[side]) ** 2 / masses[lower[side]] if lower[side] >= 0 else 0.0)
             side_mass[side] = 1.0 / inverse
@@ -464,7 +518,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
         contacts.append(Element(name, (left, right), law, packed, float(contact.gap),
-                                tuple(lower), tuple(share), contact.shear_capacity))
+                                tuple(lower), tuple(share), contact.shear_capacity, tuple(at)))
         obtained = published_rebound(law, params)
         if obtained is not None:
             chosen = "calibration" in contact.model_fields_set
@@ -530,6 +584,53 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
         foundations=_foundations(shorthand_foundations, scene, buildings, building_of),
     )
+
+
+def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int, float]:
+    """``(side, lower floor, at)`` of a floor-to-column contact: the side whose node tops the
+    struck storey, that storey's lower floor (-1: the ground) and where it is struck.
+
+    When the elevations of the striking floor and of the struck storey's two floors are known
+    (every storey below them has a height), ``at = (z_floor - z_lower) / (z_upper - z_lower)``
+    and must lie strictly between 0 and 1: a floor level with one of the storey's floors is a
+    floor-to-floor contact, one outside the storey cannot strike it; a given ``at`` that
+    differs from it by more than :data:`AT_TOLERANCE` is refused. Otherwise ``at`` is
+    required."""
+    names = {i: n for n, i in index.items()} | {-1: "ground"}
+    side = 0 if contact.column == "left" else 1
+    upper, floor = ends[side], ends[1 - side]
+    below = [s for s in stories if s.nodes[1] == upper] if upper >= 0 else []
+    if not below:
+        raise ModelError(path + ("column",), f"the {contact.column} node "
+                         f"{contact.nodes[side]!r} tops no storey: a struck column is named "
+                         "by the floor above it")
+    lower = below[0].nodes[0]
+    if floor < 0 or not {floor, lower, upper} <= level.keys():
+        if contact.at is None:
+            raise ModelError(path + ("at",), "a floor-to-column contact needs at, where the "
+                             "column is struck (0 < at < 1 of the storey's height), when the "
+                             "heights of the striking floor and of the struck storey are not "
+                             "known: give at, or the storey heights (height) of both "
+                             "buildings, from which pframe computes it")
+        return side, lower, float(contact.at)
+    z, bottom, top = level[floor], level[lower], level[upper]
+    where = (f"floor {names[floor]} at {z:g} m and the storey below {names[upper]}, from "
+             f"{bottom:g} to {top:g} m")
+    for end, height in ((lower, bottom), (upper, top)):
+        if math.isclose(z, height, rel_tol=1e-9, abs_tol=1e-9):
+            raise ModelError(path + ("column",), f"{where}: the floor is level with "
+                             f"{names[end]}, a floor-to-floor contact; name those two floors "
+                             "in nodes, without column and at")
+    at = (z - bottom) / (top - bottom)
+    if not 0.0 < at < 1.0:
+        raise ModelError(path + ("nodes",), f"{where}: the floor cannot strike that storey "
+                         f"(it is {'below' if at < 0 else 'above'} it); name the storey the "
+                         f"floor faces, by its upper floor")
+    if contact.at is not None and abs(contact.at - at) > AT_TOLERANCE:
+        raise ModelError(path + ("at",), f"at {contact.at:g} contradicts the storey heights: "
+                         f"{where} put the struck point at {at:.6g} of the storey; leave at "
+                         "out (pframe computes it from the heights) or correct the heights")
+    return side, lower, at
 
 
 def _foundations(shorthand, scene, buildings, building_of) -> tuple:
