@@ -51,10 +51,20 @@ def files(tmp_path_factory) -> dict[str, Path]:
     from test_risk import pulse_study
 
     assert main(["risk", str(pulse_study(folder)), "-o", str(out["risk"]), "-q"]) == 0
+    # floor-to-column contacts (their struck points, the column shear of each impact), under
+    # a sine rather than the example's record
+    import yaml
+
+    scene = yaml.safe_load((REPO / "models" / "floor-to-column.yaml").read_text())
+    scene["excitation"] = {"kind": "sine", "amplitude": 4.0, "frequency": 9.0}
+    scene["analysis"]["duration"] = 3.0
+    (folder / "column.yaml").write_text(yaml.safe_dump(scene))
+    out["column"] = folder / "column.nc"
+    assert main(["solve", str(folder / "column.yaml"), "-o", str(out["column"]), "-q"]) == 0
     return out
 
 
-KINDS = ["solve", "pi", "sweep", "gap", "risk"]
+KINDS = ["solve", "pi", "sweep", "gap", "risk", "column"]
 HEADER = "IOOS Compliance Checker Report"
 
 
@@ -81,7 +91,7 @@ def test_compliance_checker_finds_nothing(compliance_reports, kind):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap", "risk"])
+@pytest.mark.parametrize("kind", KINDS)
 def test_cfchecks_finds_nothing(files, kind, tmp_path):
     checker = _tool("cfchecks")
     probe = subprocess.run([sys.executable, "-c", "import cfunits"], capture_output=True,
@@ -106,7 +116,7 @@ def test_cfchecks_finds_nothing(files, kind, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("kind", ["solve", "pi", "sweep", "gap", "risk"])
+@pytest.mark.parametrize("kind", KINDS)
 def test_every_text_attribute_is_nc_char(files, kind):
     """Text attributes are fixed-length strings (netCDF's NC_CHAR), which every netCDF
     reader reads (Octave's netcdf package cannot read NC_STRING): checked in the HDF5

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import warnings
 
 import numpy as np
@@ -19,6 +20,10 @@ import pytest
 from conftest import REPO, record_file, run_text, runnable_model
 
 from pframe.errors import InputError
+
+
+def _psi(at):
+    return at * at * (3.0 - 2.0 * at)
 
 
 def _scene(at: float, m_a=500.0, m1=1000.0, m2=2000.0, k_c=1e8, v0=0.5, capacity=None,
@@ -63,6 +68,27 @@ def test_an_impact_on_a_column_is_a_two_body_impact(at):
                                [max(psi, 1 - psi) * np.max(force)], rtol=1e-12)
 
 
+@pytest.mark.filterwarnings("ignore:.*its first period")  # free masses: no storeys to speak of
+def test_the_impact_table_and_the_dataset_give_each_impacts_column_shear():
+    """The two-body impact at 0.25 of the storey: one impact whose column shear is
+    max(psi, 1 - psi) times its peak force, in the impact table (pframe.impacts, the
+    summary) and in the Dataset (impact_column_shear, peak_column_shear), in N."""
+    import pframe
+
+    psi = _psi(0.25)
+    ds = pframe.solve(pframe.load(json.loads(_scene(0.25))))
+    table = pframe.impacts(ds)
+    assert len(table) == 1
+    shear = max(psi, 1 - psi) * table.peak_force[0]
+    assert table.column_shear[0] == pytest.approx(shear, rel=1e-15)
+    peak = float(ds.contact_force.max())
+    assert float(ds.impact_column_shear[0]) == pytest.approx(max(psi, 1 - psi) * peak, rel=1e-15)
+    assert float(ds.peak_column_shear[0]) == pytest.approx(max(psi, 1 - psi) * peak, rel=1e-15)
+    summary = pframe.summary(ds)
+    row = summary[(summary.part == "impact") & (summary.quantity == "column shear")]
+    assert list(row.value) == [table.column_shear[0]] and list(row.units) == ["N"]
+
+
 def test_the_calibrated_restitution_uses_the_struck_points_mass():
     """exact calibration for the effective mass of the floor and the column point: the
     relative velocity of the two points rebounds with e."""
@@ -96,7 +122,7 @@ def test_floor_to_column_errors_are_clear():
 
     data = json.loads(_scene(0.5))
     del data["contacts"][0]["at"]
-    with pytest.raises(InputError, match="needs both column"):
+    with pytest.raises(InputError, match="needs at, where the column is struck"):
         _ = parse_scene(json.dumps(data)).expanded
     data = json.loads(_scene(0.5))
     data["contacts"][0]["column"] = "left"  # A/1 tops a storey, B/2 is the node: fine
@@ -104,6 +130,57 @@ def test_floor_to_column_errors_are_clear():
     data["contacts"][0]["nodes"] = ["ground", "B/2"]
     with pytest.raises(InputError, match="tops no storey"):
         _ = parse_scene(json.dumps(data)).expanded
+
+
+def _offset_pair(contact: dict) -> str:
+    """A (storeys of 3 m: floors at 3, 6, 9 m) beside B (storeys of 4.5 m: 4.5, 9 m)."""
+    return json.dumps({
+        "buildings": [{"name": "A", "floors": 3, "mass": 1000.0, "height": 3.0,
+                       "story": {"material": "elastic", "stiffness": 1e6}},
+                      {"name": "B", "floors": 2, "mass": 1000.0, "height": 4.5,
+                       "story": {"material": "elastic", "stiffness": 1e6}}],
+        "contacts": [{"name": "c", "gap": 0.01, "law": "linear", "stiffness": 1e8} | contact],
+        "excitation": {"kind": "sine", "amplitude": 1.0, "frequency": 5.0},
+        "analysis": {"dt": 1e-3, "duration": 0.01}})
+
+
+def test_at_follows_the_storey_heights():
+    """With both buildings' heights, at = (z_floor - z_lower) / (z_upper - z_lower): A/2 at
+    6 m strikes B's storey from 4.5 to 9 m at 1/3 of it, whether at is left out or given
+    within 0.001; a contradicting at (the 0.9 once accepted) is refused, naming the value the
+    heights give."""
+    from pframe.reader import parse_scene
+
+    computed = parse_scene(_offset_pair({"nodes": ["A/2", "B/2"], "column": "right"}))
+    c = computed.expanded.contacts[0]
+    psi = (1 / 3) ** 2 * (3 - 2 / 3)
+    assert c.at[1] == pytest.approx(1 / 3, rel=1e-15) and c.share[1] == pytest.approx(psi)
+    names = computed.expanded.node_names
+    assert names[c.lower[1]] == "B/1" and c.share[0] == 1.0 and math.isnan(c.at[0])
+    close = parse_scene(_offset_pair({"nodes": ["A/2", "B/2"], "column": "right", "at": 0.333}))
+    assert close.expanded.contacts[0].at[1] == c.at[1]
+    with pytest.raises(InputError, match=r"contacts\[0\]\.at: at 0\.9 contradicts the storey "
+                                         r"heights: floor A/2 at 6 m .* from 4\.5 to 9 m put "
+                                         r"the struck point at 0\.333333"):
+        _ = parse_scene(_offset_pair({"nodes": ["A/2", "B/2"], "column": "right",
+                                      "at": 0.9})).expanded
+
+
+@pytest.mark.parametrize("contact, says", [
+    # A/1 at 3 m is below B's second storey (4.5 to 9 m)
+    ({"nodes": ["A/1", "B/2"], "column": "right"}, "cannot strike that storey (it is below"),
+    # A/3 at 9 m is level with B/2: a floor-to-floor contact
+    ({"nodes": ["A/3", "B/2"], "column": "right"}, "level with B/2, a floor-to-floor contact"),
+    # B/1 at 4.5 m is above A's first storey (0 to 3 m), even with an at
+    ({"nodes": ["A/1", "B/1"], "column": "left", "at": 0.5}, "(it is above it)"),
+    ({"nodes": ["A/2", "B/2"], "at": 0.5}, "at is where a column is struck: give column"),
+    ({"nodes": ["A/2", "B/2"], "shear_capacity": 1e5}, "shear_capacity is a struck column's"),
+])
+def test_impossible_floor_to_column_pairings_are_refused(contact, says):
+    from pframe.reader import parse_scene
+
+    with pytest.raises(InputError, match=re.escape(says)):
+        _ = parse_scene(_offset_pair(contact)).expanded
 
 
 def test_the_example(tmp_path):
@@ -131,3 +208,91 @@ def test_the_example(tmp_path):
         plan, contact_capacity=plan.contact_capacity / 2))
     over = [w for w in of_result(weaker).warnings if "shear capacity" in w]
     assert len(over) == int(np.sum(shear > plan.contact_capacity / 2)) >= 1
+
+
+@pytest.fixture(scope="module")
+def example_file(tmp_path_factory):
+    """models/floor-to-column.yaml solved to a file (displacement and contact_force
+    histories at every step)."""
+    from pframe.cli import main
+
+    folder = tmp_path_factory.mktemp("f2c")
+    record_file("elCentro.AT2")
+    out = folder / "f2c.nc"
+    model = runnable_model(REPO / "models" / "floor-to-column.yaml", folder)
+    assert main(["solve", str(model), "-o", str(out), "-q"]) == 0
+    return out
+
+
+@pytest.mark.slow
+def test_the_file_holds_each_impacts_column_shear(example_file):
+    """The file (as the Dataset) holds where each column is struck and its shear: per
+    contact the peak over the run, max(psi, 1 - psi) times the peak contact force, and per
+    impact the same of that impact's peak (every impact the run counted, read back from the
+    force history independently here); the summary lists both."""
+    import pframe
+
+    with pframe.open(example_file) as ds:
+        ds = ds.load()
+    side = {c: str(v) for c, v in zip(ds.contact.values, ds.contact_column.values)}
+    assert side["A2-column-B2"] == "right" and side["B1-column-A2"] == "left"
+    assert str(ds.contact_column_lower.sel(contact="B1-column-A2").values) == "A/1"
+    np.testing.assert_array_equal(ds.contact_at.values, 0.5)  # from the storey heights
+    weight = max(_psi(0.5), 1 - _psi(0.5))
+    np.testing.assert_allclose(ds.peak_column_shear.values,
+                               weight * ds.peak_contact_force.values, rtol=1e-15)
+    assert ds.peak_column_shear.attrs["units"] == "N" and ds.impact_column_shear.attrs["units"] == "N"
+    expected = []
+    for contact in ds.contact.values:
+        force = ds.contact_force.sel(contact=contact).values
+        closed = np.flatnonzero(force > 0)
+        for run in np.split(closed, np.flatnonzero(np.diff(closed) > 1) + 1) if closed.size else []:
+            k = run[np.argmax(force[run])]
+            expected.append((float(ds.t[k]), str(contact), weight * force[k]))
+    expected.sort()
+    assert len(expected) == int(ds.impact_count.sum()) == ds.sizes["impact"] == 13
+    assert [str(c) for c in ds.impact_contact.values] == [c for _, c, _ in expected]
+    np.testing.assert_array_equal(ds.impact_time.values, [t for t, _, _ in expected])
+    np.testing.assert_allclose(ds.impact_column_shear.values, [v for *_, v in expected],
+                               rtol=1e-15)
+    table = pframe.summary(example_file)
+    peak = table[(table.part == "contact") & (table.quantity == "peak column shear")]
+    assert len(peak) == 7 and peak.value.max() == pytest.approx(ds.peak_column_shear.max())
+    shears = table[(table.part == "impact") & (table.quantity == "column shear")]
+    assert sorted(shears.value) == pytest.approx(sorted(v for *_, v in expected), rel=1e-12)
+
+
+@pytest.mark.slow
+def test_the_pounding_figure_follows_the_struck_point(example_file):
+    """The gap closing of a floor-to-column contact is that of the floor and the struck point
+    of the column, psi u_upper + (1 - psi) u_lower: its impacts are the run's (the named
+    nodes' closing counted 3 where the run counted 0 at B2-column-A3, and 8 where it counted
+    7 at B4-column-A5)."""
+    import pframe
+    from pframe.plot import figures
+
+    with pframe.open(example_file) as ds:
+        ds = ds.load()
+    drawn = set()
+    for fig in figures(example_file, kind="pounding").values():
+        for ax in fig.axes:
+            if not ax.get_label().startswith("gap "):
+                continue
+            contact = ax.get_label()[len("gap "):]
+            c = ds.sel(contact=contact)
+            floor, upper, lower = (str(c.contact_left.values), str(c.contact_right.values),
+                                   str(c.contact_column_lower.values))
+            if str(c.contact_column.values) == "left":
+                floor, upper = upper, floor
+            psi = _psi(float(c.contact_at))
+            point = psi * ds.displacement.sel(node=upper) + (1 - psi) * (
+                ds.displacement.sel(node=lower) if lower != "ground" else 0.0)
+            sign = 1.0 if str(c.contact_column.values) == "right" else -1.0
+            expected = sign * (ds.displacement.sel(node=floor) - point).values
+            line = next(ln for ln in ax.get_lines() if ln.get_label() == "relative")
+            np.testing.assert_allclose(line.get_ydata(), expected, rtol=1e-12, atol=1e-15)
+            impacts = next(ln for ln in ax.get_lines() if ln.get_label() == "impacts")
+            assert len(impacts.get_xdata()) == int(c.impact_count)
+            assert "the run counted" not in ax.get_title(loc="left")
+            drawn.add(contact)
+    assert len(drawn) == 7  # each at both its levels

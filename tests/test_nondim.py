@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import replace
 from fractions import Fraction
 from pathlib import Path
 
@@ -15,9 +16,12 @@ import pytest
 import yaml
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
+from pydantic import Field
 
 from pframe.cli import main
 from pframe.errors import InputError
+from pframe.laws import Law
+from pframe.laws.params import LawParams, Positive
 from pframe.nondim import (
     QUANTITY,
     Dimension,
@@ -291,6 +295,75 @@ def test_a_record_takes_its_pga_and_mean_period(tmp_path):
     assert by_name["a_p"] == pytest.approx(2.5, rel=1e-6)
     assert by_name["w_p"] == pytest.approx(4 * np.pi, rel=0.02)
     assert "Rathje" in report.notes[0]
+
+
+def _eq14_with_dashpot_storeys(exponent: float, damping: float = 3000.0):
+    data = yaml.safe_load((MODELS / "wu2021-eq14.yaml").read_text(encoding="utf-8"))
+    data["buildings"][0]["story"] = {"material": "kelvin_voigt", "stiffness": 197392.0,
+                                     "damping": damping, "exponent": exponent}
+    return parse_scene(json.dumps(data), base_dir=MODELS)
+
+
+@pytest.mark.parametrize("exponent", [1.0, 0.5])
+def test_a_dashpot_storeys_coefficient_is_a_governing_variable(exponent):
+    """A Kelvin-Voigt storey's c of F = k u + c |v|^alpha sign v is in N (s/m)^alpha
+    = M L^(1 - alpha) T^(alpha - 2): with m_b, a_p, w_p repeating its group is
+    c / (m_b a_p^(1 - alpha) w_p^alpha) (pframe pi once left c out and exited 0, and named
+    alpha "post-yield stiffness ratio")."""
+    loaded = _eq14_with_dashpot_storeys(exponent)
+    report = scene_pi(loaded.scene, loaded.expanded)
+    c = {v.name: v for v in report.variables}["c"]
+    a = Fraction(exponent)
+    assert c.dimension == Dimension(1, 1 - a, a - 2) and c.value == 3000.0
+    m_b, a_p, w_p = 1000.0, 9.81, 2 * math.pi
+    expected = 3000.0 / (m_b * a_p ** (1 - exponent) * w_p ** exponent)
+    assert report.values["Pi_c"] == pytest.approx(expected, rel=1e-12)
+    # its exponent is not the bilinear storeys' post-yield ratio, though both are "alpha"
+    assert report.values["Pi_alpha_v"] == exponent and report.values["Pi_alpha"] == 0.1
+
+
+def test_every_numeric_field_of_a_built_in_law_declares_its_dimension():
+    """Or why it has none: pframe pi and pframe scale would refuse the law otherwise (the
+    dashpots' c, in N (s/m)^alpha, once declared neither)."""
+    from pframe.laws.registry import builtin_laws
+    from pframe.nondim.fields import check_declared
+
+    for kind in ("material", "contact"):
+        for law in builtin_laws(kind):
+            check_declared(law)
+
+
+def test_pi_refuses_a_law_parameter_without_a_declared_dimension():
+    """A law field that declares no dimension (nor why it has none) cannot be a governing
+    variable: pframe pi refuses the scene, naming the law, the field and the declaration,
+    where it once left the field out and exited 0 (the default governing() of a plug-in law
+    dropped it; a law with its own governing() never listed it)."""
+    class Undeclared(Law):  # a plug-in law as a third party might write it
+        class Params(LawParams):
+            stiffness: Positive = Field(description="k (N/m)")
+            reach: Positive = Field(description="a length (m) whose dimension is not declared")
+
+        kind, name = "material", "undeclared"
+        param_names = ("stiffness", "reach")
+        dimensions = {"stiffness": "stiffness"}
+
+    class OwnGoverning(Undeclared):
+        name = "own_governing"
+
+        @classmethod
+        def governing(cls, packed, effective_mass=None):
+            return {"K": ("stiffness", packed[0])}
+
+    loaded = load_scene(MODELS / "wu2021-eq14.yaml")
+    for law in (Undeclared, OwnGoverning):
+        stories = tuple(replace(s, law=law, packed=(s.packed[0], 0.02))
+                        for s in loaded.expanded.stories)
+        expanded = replace(loaded.expanded, stories=stories)
+        with pytest.raises(InputError) as refused:
+            scene_pi(loaded.scene, expanded)
+        message = str(refused.value)
+        assert f"field 'reach' of material {law.name!r}" in message
+        assert "dimensions = {'reach':" in message
 
 
 # ---------------------------------------------------------------------------------------------

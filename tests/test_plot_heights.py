@@ -17,24 +17,27 @@ from pframe.cli import main
 from pframe.plot.animate import animation_data
 
 A_HEIGHTS = [3.0] * 5
-B_HEIGHTS = [4.5, 3.0, 3.0, 3.0]
+B_HEIGHTS = [5.1, 3.0, 3.0, 3.0]
 AT = 0.3
+#: where each side's columns are struck: B's floors stand 0.7 up A's storeys, A's 0.3 up B's
+AT_OF = {"right": AT, "left": 1.0 - AT}
 
 
 def _scene(heights: bool = True) -> str:
-    """models/floor-to-column.yaml's pair (floors offset by half a storey) under a sine, with a
-    contact struck at AT of the way up each column."""
+    """models/floor-to-column.yaml's pair, with B's floors raised to 0.7 of A's storeys (A's
+    at 0.3 of B's) under a sine: each contact struck at AT_OF its column side (as its
+    heights give it: a contradicting at is refused)."""
     story = {"material": "elastic", "stiffness": 3.0e7}
     a = {"name": "A", "floors": 5, "mass": 3.0e4, "story": story}
     b = {"name": "B", "floors": 4, "mass": 3.0e4, "story": story}
     if heights:
         a["height"], b["height"] = A_HEIGHTS, B_HEIGHTS
     contacts = [{"name": f"A{i}-column-B{i}", "nodes": [f"A/{i}", f"B/{i}"], "gap": 0.002,
-                 "law": "linear", "stiffness": 1.0e9, "column": "right", "at": AT}
+                 "law": "linear", "stiffness": 1.0e9, "column": "right", "at": AT_OF["right"]}
                 for i in (2, 3, 4)]
     contacts += [{"name": f"B{i}-column-A{i + 1}", "nodes": [f"A/{i + 1}", f"B/{i}"],
                   "gap": 0.002, "law": "linear", "stiffness": 1.0e9, "column": "left",
-                  "at": AT} for i in (1, 2, 3)]
+                  "at": AT_OF["left"]} for i in (1, 2, 3)]
     return json.dumps({
         "buildings": [a, b], "contacts": contacts, "damping": {"ratio": 0.05},
         "excitation": {"kind": "sine", "amplitude": 4.0, "frequency": 1.5, "cycles": 3},
@@ -63,9 +66,9 @@ def _elevations():
 
 @pytest.mark.slow
 def test_floors_stand_at_their_elevations_and_contacts_at_their_column_point(run):
-    """Each floor's drawn height is the sum of the storey heights below it (B's half a storey
-    above A's); each floor-to-column contact's column end is AT of the way up the struck
-    storey: the striking floor's own elevation here for AT = 0.5, not for AT = 0.3."""
+    """Each floor's drawn height is the sum of the storey heights below it; each
+    floor-to-column contact's column end is its at of the way up the struck storey, the
+    striking floor's own elevation."""
     with pframe.open(run[True]) as ds:
         data = animation_data(ds)
     elevation = _elevations()
@@ -78,10 +81,12 @@ def test_floors_stand_at_their_elevations_and_contacts_at_their_column_point(run
         upper = f"{upper[0]}/{upper[1]}"
         lower = f"{upper[0]}/{int(upper[2]) - 1}"
         bottom = elevation.get(lower, 0.0)
-        assert c["column"]["y"] == pytest.approx(bottom + AT * (elevation[upper] - bottom))
+        at = AT_OF[c["column"]["side"]]
+        assert c["column"]["y"] == pytest.approx(bottom + at * (elevation[upper] - bottom))
+        assert c["column"]["y"] == pytest.approx(elevation[f"{striking}/{c['name'][1]}"])
         assert c["column"]["side"] == ("right" if struck == "B" else "left")
         assert c["column"]["lower"] == (floors.index(lower) if lower in floors else -1)
-        assert c["column"]["share"] == pytest.approx(AT * AT * (3 - 2 * AT))
+        assert c["column"]["share"] == pytest.approx(at * at * (3 - 2 * at))
         assert striking != struck
 
 
@@ -100,7 +105,6 @@ def test_the_page_draws_contacts_from_the_floor_to_the_column_point(run):
     frames = list(range(0, len(data["time"]), 97))
     drawn = _layout(html, frames)
     elevation = _elevations()
-    share = AT * AT * (3 - 2 * AT)
     with pframe.open(run[True]) as ds:
         t = ds.t.values
         u = ds.displacement.values
@@ -114,11 +118,13 @@ def test_the_page_draws_contacts_from_the_floor_to_the_column_point(run):
             lower = f"{upper[0]}/{int(upper[2:]) - 1}"
             low = u[row, nodes.index(lower)] if lower in nodes else 0.0
             base = next(b["base"] for b in data["buildings"] if b["name"] == upper[0])
+            at = AT_OF[c["column"]["side"]]
+            share = at * at * (3 - 2 * at)
             point = share * u[row, nodes.index(upper)] + (1 - share) * low
             assert column["left"] == pytest.approx(base + data["scale"] * point,
                                                    rel=1e-5, abs=1e-6)
             bottom = elevation.get(lower, 0.0)
-            assert column["y"] == pytest.approx(bottom + AT * (elevation[upper] - bottom))
+            assert column["y"] == pytest.approx(bottom + at * (elevation[upper] - bottom))
             assert floor["y"] == pytest.approx(elevation[floor["node"]])
 
 

@@ -161,6 +161,22 @@ def test_uncompilable_plugin_law_is_named(run_pframe, tmp_path):
 
 
 @pytest.mark.slow
+def test_pi_refuses_a_plugin_law_without_declared_dimensions(run_pframe, tmp_path):
+    """``broken`` declares no dimension for its stiffness: pframe pi cannot list it as a
+    governing variable and says which law, which field and what to declare, exit 2 (it once
+    left the stiffness out of the groups and exited 0)."""
+    scene = json.loads(_two_masses({"law": "broken", "stiffness": STIFFNESS}))
+    scene["excitation"] = {"kind": "sine", "amplitude": 1.0, "frequency": 6.0}
+    model = tmp_path / "broken.yaml"
+    model.write_text(json.dumps(scene), encoding="utf-8")
+    run = run_pframe("pi", str(model), cwd=tmp_path)
+    assert run.returncode == 2, run.stdout
+    assert "Traceback" not in run.stderr and run.stdout == ""
+    assert "field 'stiffness' of contact law 'broken'" in run.stderr
+    assert "dimensions = {'stiffness':" in run.stderr
+
+
+@pytest.mark.slow
 def test_unknown_law_lists_plugin_laws(run_pframe, tmp_path):
     model = tmp_path / "typo.yaml"
     model.write_text(_two_masses(SOFTSTOP | {"law": "softstp"}), encoding="utf-8")

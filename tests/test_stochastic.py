@@ -111,6 +111,44 @@ def test_highpass_leaves_no_residual_velocity():
         assert (ratio < 0.02) == small, ratio
 
 
+def _integrated(a, step):
+    """The ground velocity and displacement at the samples of the acceleration a scene
+    applies (linear between samples, from rest), integrated exactly."""
+    v = np.concatenate([[0.0], np.cumsum(0.5 * (a[1:] + a[:-1]) * step)])
+    d = np.concatenate([[0.0], np.cumsum(v[:-1] * step + (2 * a[:-1] + a[1:]) * step**2 / 6)])
+    return v, d
+
+
+@pytest.mark.slow
+def test_rezaeian_motions_end_at_rest():
+    """After the modulated motion the high-pass filter runs on over 10 / w_c of zeros: its
+    velocity and displacement there follow the free decay of a critically damped oscillator
+    from their values at the motion's end (closed form), and what is left at the end, the
+    motion's residual velocity and displacement, is below 1e-3 of their peaks over 240
+    realisations of 12 sites (median below 1e-4). Without the zeros, the same motions stopped
+    with up to 17 % of their peak velocity (median 1.4 %) and 28 % of their peak displacement
+    (median 2.8 %)."""
+    step, wc = 0.01, 2 * math.pi * st.HIGHPASS_HZ
+    pad = st.settling_samples(step)
+    assert pad == math.ceil(st.HIGHPASS_SETTLE / wc / step) == 796
+    residual = []
+    for magnitude in (5.5, 6.5, 7.5):
+        for distance, vs30 in ((5.0, 200.0), (5.0, 760.0), (30.0, 200.0), (30.0, 760.0)):
+            site = dict(magnitude=magnitude, distance=distance, vs30=vs30)
+            for m in st.rezaeian_batch(range(20), step, site):
+                v, d = _integrated(m.acceleration, step)
+                end = m.times.size - pad  # the first zero of the input
+                tail = m.times[end:] - m.times[end]
+                free_v, free_d = st.settling(v[end], d[end], tail)
+                scale = abs(v[end]) + wc * abs(d[end])
+                assert np.max(np.abs(v[end:] - free_v)) < 1e-6 * scale
+                assert np.max(np.abs(d[end:] - free_d)) < 1e-6 * scale / wc
+                residual.append((abs(v[-1]) / np.max(np.abs(v)), abs(d[-1]) / np.max(np.abs(d))))
+    residual = np.array(residual)
+    assert np.all(residual < 1e-3), residual.max(axis=0)
+    assert np.all(np.median(residual, axis=0) < 1e-4), np.median(residual, axis=0)
+
+
 def test_clough_penzien_periodogram_is_the_psd():
     """The averaged periodogram of 100 stationary realisations (time-domain filters driven by
     held white noise) against S(omega) sinc^2(omega dt / 2), in bands of 1 rad/s from 0.5 to

@@ -20,6 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pframe.episodes import positive_runs
 from pframe.errors import InputError
 
 #: the final share of a run over which residual drift is judged (see residual_drift)
@@ -275,14 +276,16 @@ def _order(ds, dim: str, declared: list[str]) -> list[int]:
 #: the impact table's columns and units
 IMPACT_COLUMNS = (("contact", ""), ("onset", "s"), ("approach_velocity", "m/s"),
                   ("peak_force", "N"), ("duration", "s"), ("impulse", "N s"),
-                  ("closed_at_start", ""), ("closed_at_end", ""))
+                  ("column_shear", "N"), ("closed_at_start", ""), ("closed_at_end", ""))
 
 
 def impacts(result):
     """The impacts of a run as a pandas DataFrame, one row per contact episode in time order:
     ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
     ``peak_force`` (N), ``duration`` (onset to separation, s), ``impulse`` (the time integral
-    of the contact force, N s), and whether the episode was already closed at the first
+    of the contact force, N s), ``column_shear`` (N: the peak shear a floor-to-column
+    contact's impact put into the struck column, ``Element.column_weight`` times its peak force;
+    NaN for a floor-to-floor contact), and whether the episode was already closed at the first
     sample (``closed_at_start``: no onset, approach velocity NaN) or still closed at the last
     (``closed_at_end``: duration NaN). ``result``: a Dataset or a result file's path.
 
@@ -320,7 +323,7 @@ def impacts(result):
         e = by_name[name]
         rate = -(velocity @ loads[e])
         rows += _episodes(name, t, np.nan_to_num(force[:, col]), rate,
-                          None if pen is None else pen[:, col])
+                          None if pen is None else pen[:, col], ex.contacts[e].column_weight)
     table = pd.DataFrame(rows, columns=[c for c, _ in IMPACT_COLUMNS])
     return table.sort_values(["onset", "contact"], kind="stable").reset_index(drop=True)
 
@@ -330,19 +333,9 @@ def _crossing(t0, t1, s0, s1) -> float:
     return t0 + (t1 - t0) * s0 / (s0 - s1) if s0 != s1 else 0.5 * (t0 + t1)
 
 
-def _episodes(name, t, f, rate, pen) -> list[tuple]:
-    active = f > 0.0
-    if not active.any():
-        return []
-    edges = np.diff(active.astype(np.int8))
-    starts = list(np.flatnonzero(edges == 1) + 1)
-    ends = list(np.flatnonzero(edges == -1))
-    if active[0]:
-        starts.insert(0, 0)
-    if active[-1]:
-        ends.append(len(t) - 1)
+def _episodes(name, t, f, rate, pen, weight=None) -> list[tuple]:
     rows = []
-    for i, j in zip(starts, ends):
+    for i, j in positive_runs(f):
         closed_start, closed_end = i == 0, j == len(t) - 1
         if closed_start:
             onset, approach = float(t[0]), float("nan")
@@ -373,7 +366,9 @@ def _episodes(name, t, f, rate, pen) -> list[tuple]:
         fs = np.concatenate(([0.0 if not closed_start else f[i]], f[i:j + 1],
                              [] if closed_end else [0.0]))
         impulse = float(np.sum(0.5 * (fs[1:] + fs[:-1]) * np.diff(ts)))
-        rows.append((name, onset, approach, float(f[i:j + 1].max()),
-                     end - onset, impulse, bool(closed_start), bool(closed_end)))
+        peak = float(f[i:j + 1].max())
+        rows.append((name, onset, approach, peak, end - onset, impulse,
+                     float("nan") if weight is None else weight * peak,
+                     bool(closed_start), bool(closed_end)))
     return rows
 

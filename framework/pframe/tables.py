@@ -160,6 +160,8 @@ def summary(result, output: str | Path | None = None):
         peaks = _peaks(ds, entity)
         for i, name in enumerate(names):
             for quantity, (values, units) in peaks.items():
+                if quantity == "column_shear" and values[i] != values[i]:
+                    continue  # a floor-to-floor contact: no column between floors
                 rows.append((entity, name, f"peak {quantity.replace('_', ' ')}",
                              float(values[i]), units))
             if entity == "story" and "story_drift" in peaks and name in ductility:
@@ -243,13 +245,33 @@ def _demands(ds) -> tuple[dict, list, list]:
             table = demands.impacts(ds)
         except InputError as exc:
             warnings.append(("warning", "", "impact table not computed", str(exc), ""))
+            impacts += _column_impacts(ds)
         else:
             for n, row in enumerate(table.itertuples(), start=1):
                 label = f"{n}: {row.contact}"
-                for column, unit in demands.IMPACT_COLUMNS[1:6]:
-                    impacts.append(("impact", label, column.replace("_", " "),
-                                    float(getattr(row, column)), unit))
+                for column, unit in demands.IMPACT_COLUMNS[1:7]:
+                    value = float(getattr(row, column))
+                    if column == "column_shear" and value != value:
+                        continue  # a floor-to-floor contact: no column between floors
+                    impacts.append(("impact", label, column.replace("_", " "), value, unit))
     return per_story, impacts, warnings
+
+
+def _column_impacts(ds) -> list:
+    """The summary's rows of the impacts on struck columns the result file holds
+    (``impact_column_shear``), when the impact table cannot be computed."""
+    if "impact_column_shear" not in ds:
+        return []
+    rows = []
+    for n, (contact, time, shear) in enumerate(zip(
+            ds.impact_contact.values, ds.impact_time.values, ds.impact_column_shear.values),
+            start=1):
+        label = f"{n}: {contact}"
+        rows.append(("impact", label, "time of peak force", float(time),
+                     _text(ds.impact_time.attrs.get("units", ""))))
+        rows.append(("impact", label, "column shear", float(shear),
+                     _text(ds.impact_column_shear.attrs.get("units", ""))))
+    return rows
 
 
 def markdown(table) -> str:

@@ -529,9 +529,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if any(e.shear_capacity is not None for e in first.contacts) and \
+    if any(e.column_side is not None for e in first.contacts) and \
             "contact_force" not in envelope:
-        envelope.append("contact_force")  # the struck columns' shear is checked on its peak
+        # the struck columns' shear: written (peak_column_shear) and checked on its peak
+        envelope.append("contact_force")
     planar = all(ex.dofs is None for ex in variants)
     if first.point_names and not planar and "point_drift" not in envelope:
         envelope.append("point_drift")  # the storeys' torsional irregularity is read off it

@@ -14,7 +14,8 @@ Two models:
   gamma-form modulating function alpha_1 t^(alpha_2 - 1) exp(-alpha_3 t) whose (alpha_1,
   alpha_2, alpha_3) give the expected Arias intensity I_a, the significant duration D5-95 and
   the time t_mid at which 45 % of I_a is reached; then a critically damped high-pass
-  post-filter (f_c = 0.2 Hz) that leaves no residual velocity. The six parameters (I_a,
+  post-filter (f_c = 0.2 Hz), run on until it has come to rest (10 / w_c = 7.96 s of zeros
+  after the modulated motion), which leaves no residual velocity or displacement. The six parameters (I_a,
   D5-95, t_mid, f_mid, f', zeta_f) are given directly or sampled per realisation from the
   earthquake and site (magnitude, R_rup, Vs30, mechanism) by predictive relations: normal
   variables nu_i = mean_i(F, M, R, V) + correlated error, mapped to each parameter's marginal
@@ -40,10 +41,15 @@ from pframe.excitation.records import G
 
 #: the high-pass post-filter's corner frequency (Hz) of Rezaeian & Der Kiureghian (2008)
 HIGHPASS_HZ = 0.2
+#: the high-pass filter is run on this many 1 / w_c of zeros after the modulated motion
+#: (7.96 s at 0.2 Hz), for it to come to rest: its velocity and displacement there, the
+#: motion's residual ones, are its free decay from the motion's end (:func:`settling`)
+HIGHPASS_SETTLE = 10.0
 #: the filter frequency omega_f(t)/2pi is kept above this (Hz): f_mid + f'(t - t_mid) may fall
 #: below zero late in a long motion with a steep negative slope; the facts say when it does
 FILTER_FLOOR_HZ = 0.3
-#: the generated motion lasts until the modulating function has delivered this part of I_a
+#: the modulated motion lasts until the modulating function has delivered this part of I_a
+#: (rezaeian2010: then the high-pass filter settles, :data:`HIGHPASS_SETTLE`)
 ENERGY_COVERED = 0.9995
 
 # Marginal distributions of the six parameters (Rezaeian & Der Kiureghian 2010, fitted to
@@ -407,6 +413,9 @@ def rezaeian_batch(seeds, step: float, site: dict | None = None,
     vs30, mechanism) or ``parameters`` given. Parameters and modulating functions are
     computed for all seeds at once; each motion's filter is the compiled one.
 
+    With ``highpass_filter`` the motion runs :func:`settling_samples` past the modulated
+    part, over which the high-pass filter comes to rest.
+
     ``until`` (s, or a function of a realisation's :class:`RezaeianParameters` giving seconds)
     keeps only the motion up to that time: the same samples as the whole motion's (every
     filter is causal), at a part of the cost."""
@@ -429,16 +438,18 @@ def rezaeian_batch(seeds, step: float, site: dict | None = None,
     for b, rng in enumerate(rngs):
         params = RezaeianParameters(*(float(v[b]) for v in values))
         env = GammaEnvelope(float(a1[b]), float(a2[b]), float(a3[b]))
-        n = int(math.ceil(float(ends[b]) / step)) + 1
+        n = int(math.ceil(float(ends[b]) / step)) + 1  # the modulated motion
+        total = n + (settling_samples(step) if highpass_filter else 0)
         if until is not None:
             stop = until(params) if callable(until) else until
-            n = max(2, min(n, int(math.floor(float(stop) / step + 1e-9)) + 1))
-        times = np.arange(n) * step
-        omega, floored = filter_frequencies(params, times)
+            total = max(2, min(total, int(math.floor(float(stop) / step + 1e-9)) + 1))
+        n = min(n, total)
+        times = np.arange(total) * step
+        omega, floored = filter_frequencies(params, times[:n])
         u = rng.standard_normal(n)
-        acc = env(times) * filtered_unit(omega, u, params.damping, step)
+        acc = env(times[:n]) * filtered_unit(omega, u, params.damping, step)
         if highpass_filter:
-            acc = highpass(acc, step)
+            acc = highpass(np.concatenate([acc, np.zeros(total - n)]), step)
         notes = list(warnings)
         if floored:
             notes.append(f"stochastic motion: the filter frequency f_mid + f' (t - t_mid) "
@@ -459,6 +470,30 @@ def highpass(acceleration: np.ndarray, step: float, corner_hz: float = HIGHPASS_
 
     num, den = _highpass_coefficients(float(step), float(corner_hz))
     return signal.lfilter(num, den, acceleration)
+
+
+def settling_samples(step: float, corner_hz: float = HIGHPASS_HZ) -> int:
+    """The zeros after a rezaeian2010 motion over which its high-pass filter comes to rest:
+    :data:`HIGHPASS_SETTLE` / w_c, in steps (rounded up).
+
+    The filter's state at the modulated motion's end, its velocity v_0 = z'(T) and
+    displacement d_0 = z(T) (those of the filtered motion: z'' is it, from rest), then decays
+    freely, critically damped (:func:`settling`): after s = w_c t_s the residual velocity is
+    at most ((s - 1) |v_0| + s w_c |d_0|) e^-s, the displacement at most ((1 + s) |d_0| +
+    s |v_0| / w_c) e^-s; s = 10: 4.5e-4 of (|v_0| + w_c |d_0|). Without it, the motion would
+    stop with the residual velocity v_0 (up to a fifth of the peak velocity).
+    """
+    return int(math.ceil(HIGHPASS_SETTLE / (2.0 * math.pi * corner_hz) / step - 1e-9))
+
+
+def settling(velocity: float, displacement: float, t, corner_hz: float = HIGHPASS_HZ):
+    """(z'(t), z(t)) of the high-pass filter's free decay z'' + 2 w_c z' + w_c^2 z = 0 from
+    z'(0) = ``velocity``, z(0) = ``displacement``: z = (d_0 + (v_0 + w_c d_0) t) e^(-w_c t)."""
+    wc = 2.0 * math.pi * corner_hz
+    t = np.asarray(t, float)
+    decay = np.exp(-wc * t)
+    slope = velocity + wc * displacement
+    return ((velocity - wc * slope * t) * decay, (displacement + slope * t) * decay)
 
 
 @functools.lru_cache(maxsize=16)

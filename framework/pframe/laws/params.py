@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 from typing import Annotated, Literal
 
 from pydantic import AfterValidator, BaseModel, ConfigDict, Field, model_validator
@@ -98,3 +99,21 @@ def kelvin_damping_ratio(e: float) -> float:
         return 0.0
     ln_e = math.log(e)
     return -ln_e / math.sqrt(math.pi**2 + ln_e**2)
+
+
+#: why a dashpot's coefficient c of F = c |v|^alpha sign v has no fixed dimension (the
+#: ``undimensioned`` declaration of the laws with a power-law dashpot)
+DASHPOT_UNDIMENSIONED = ("c of F = c |v|^alpha sign v is in N (s/m)^alpha, a dimension that "
+                         "depends on alpha; scale it by hand (by S_F S_v^-alpha)")
+
+
+def dashpot_units(alpha: float) -> str:
+    """The units of c of F = c |v|^alpha sign v, N (s/m)^alpha = kg m^(1 - alpha)
+    s^(alpha - 2), as a unit string :func:`pframe.nondim.dimensions.parse_units` reads.
+
+    alpha is read as the nearest fraction of denominator at most 1000 (1/3 for 0.333...): a
+    dimension's exponents are exact rationals, and a velocity exponent is a design value of
+    a few digits.
+    """
+    a = Fraction(alpha).limit_denominator(1000)
+    return f"kg m^({1 - a}) s^({a - 2})"

@@ -167,7 +167,9 @@ class Law:
         """The law's governing variables for ``pframe pi``: root name -> (what it measures,
         as in :attr:`dimensions`, value), from its packed numbers. By default every packed
         parameter under its own name; built-in laws name theirs as the paper does (``K``,
-        ``u_y``, ``w_bar``, ``k_h``)."""
+        ``u_y``, ``w_bar``, ``k_h``). ``pframe pi`` first refuses a law with a parameter it
+        cannot list (:func:`pframe.nondim.fields.check_declared`): one without a declared
+        dimension, or one declared ``undimensioned`` that this default would have to list."""
         return {p: (cls.dimensions[p], v) for p, v in zip(cls.param_names, packed)
                 if p in cls.dimensions}
 

@@ -45,12 +45,67 @@ class Element:
     share: tuple[float, float] = (1.0, 1.0)
     shear_capacity: float | None = None
     sides: tuple[Side, Side] | None = None
+    #: a floor-to-column contact: where its column is struck on each side (the fraction of
+    #: the storey's height; NaN: a floor)
+    at: tuple[float, float] = (math.nan, math.nan)
+
+    @property
+    def column_side(self) -> int | None:
+        """The side (0 left, 1 right) of a floor-to-column contact whose node tops the struck
+        storey; None for a contact between floors (or a floor and a wall)."""
+        return next((side for side in (0, 1) if not math.isnan(self.at[side])), None)
+
+    @property
+    def column_weight(self) -> float | None:
+        """The struck column's shear per unit contact force of a floor-to-column contact,
+        max(psi, 1 - psi): its segments carry psi F (above the struck point) and
+        (1 - psi) F (below it), the end reactions of a member fixed at both floors under a
+        point load (:func:`column_share`); None for a contact between floors."""
+        side = self.column_side
+        return None if side is None else max(self.share[side], 1.0 - self.share[side])
 
     def side_terms(self) -> tuple[Side, Side]:
         """Both sides as terms, the plain element's included."""
         if self.sides is not None:
             return self.sides
         return tuple(((i, 0, 1.0),) if i >= 0 else () for i in self.nodes)
+
+
+#: a floor-to-column contact's ``at`` may differ from the one its storey heights give by this
+#: much (the rounding of a value written with three decimals); more is a contradiction
+AT_TOLERANCE = 1e-3
+
+
+def column_share(at: float) -> float:
+    """psi = 3 at^2 - 2 at^3 of a column struck ``at`` of the way up its storey.
+
+    The column is a member fixed at both floors (the floors' rotations neglected, as a shear
+    building's): psi is the deflection at ``at`` when its upper end sways by 1 with its lower
+    end fixed (the cubic of a fixed-fixed member), and, by reciprocity, the reaction at the
+    upper end of a unit load at ``at``, R_upper = a^2 (a + 3 b) / L^3 = psi, R_lower =
+    b^2 (3 a + b) / L^3 = 1 - psi (a = at L, b = L - a: AISC Steel Construction Manual,
+    Table 3-23, case 16, beam fixed at both ends, concentrated load at any point). So the
+    contact force F goes to the upper floor as psi F and to the lower floor as (1 - psi) F,
+    and the column's two segments carry those shears.
+    """
+    return at * at * (3.0 - 2.0 * at)
+
+
+def elevations(stories, heights) -> dict[int, float]:
+    """Node index -> its elevation above the ground (m; -1, the ground, at 0): a storey's
+    upper floor stands its height above its lower floor. Floors above a storey without a
+    height (NaN) are left out."""
+    above: dict[int, list] = {}
+    for story, h in zip(stories, heights):
+        above.setdefault(story.nodes[0], []).append((story.nodes[1], float(h)))
+    level, todo = {-1: 0.0}, [-1]
+    while todo:
+        node = todo.pop()
+        for upper, h in above.get(node, ()):
+            if math.isfinite(h) and upper not in level:
+                level[upper] = level[node] + h
+                todo.append(upper)
+    return level
 
 
 def plain_sides(sides, nodes) -> bool:
@@ -254,9 +309,11 @@ class ContactGeometry:
     element: Element  # packed () until pack_contacts
 
 
-def contact_sides(scene, resolver, stories) -> list[ContactGeometry]:
-    """The contacts of a scene resolved to nodes and sides (see the module)."""
-    out, seen = [], {}
+def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
+    """The contacts of a scene resolved to nodes and sides (see the module); ``stories`` the
+    storey elements (node indices) and ``heights`` their heights (m, NaN: not given), for
+    the floor-to-column contacts."""
+    out, seen, level = [], {}, None
     for c, contact in enumerate(scene.contacts):
         path = ("contacts", c)
         if contact.nodes[0] == "ground" and contact.nodes[1] == "ground":
@@ -281,22 +338,21 @@ def contact_sides(scene, resolver, stories) -> list[ContactGeometry]:
         law = get_law("contact", contact.law)
         sides = list(_sides(resolver, (left, right), contact.points, contact.normal, path,
                             "normal"))
-        lower, share = [-1, -1], [1.0, 1.0]
-        if (contact.column is None) != (contact.at is None):
-            raise ModelError(path, "a floor-to-column contact needs both column (the side "
-                                   "whose node names the struck storey) and at (0 < at < 1)")
+        lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
+        if contact.column is None and contact.at is not None:
+            raise ModelError(path + ("at",), "at is where a column is struck: give column "
+                                             "(the side whose node names the struck storey)")
+        if contact.column is None and contact.shear_capacity is not None:
+            raise ModelError(path + ("shear_capacity",), "shear_capacity is a struck "
+                             "column's: give column (a floor-to-column contact); a "
+                             "floor-to-floor contact loads no column between floors")
         if contact.column is not None:
-            side_ = 0 if contact.column == "left" else 1
+            if level is None:
+                level = elevations(stories, heights)
+            side_, lower[side_], at[side_] = _struck_column(contact, path, (left, right),
+                                                            stories, level, resolver.index)
             upper = (left, right)[side_]
-            below = [s for s in stories if s.nodes[1] == contact.nodes[side_]]
-            if upper < 0 or not below:
-                raise ModelError(path + ("column",), f"the {contact.column} node "
-                                 f"{contact.nodes[side_]!r} tops no storey: a struck column is "
-                                 "named by the floor above it")
-            low_name = below[0].nodes[0]
-            lower[side_] = -1 if low_name == "ground" else resolver.index[low_name]
-            xi = float(contact.at)
-            share[side_] = xi * xi * (3.0 - 2.0 * xi)  # a fixed-fixed column swaying
+            share[side_] = column_share(at[side_])
             refs = contact.points if contact.points is not None else (None, None)
             point = resolver.point(upper, refs[side_], path + ("points", side_))
             normal = normalised(contact.normal)
@@ -305,7 +361,8 @@ def contact_sides(scene, resolver, stories) -> list[ContactGeometry]:
                                    1.0 - share[side_]))
         out.append(ContactGeometry(path, contact, element(
             name, (left, right), law, (), tuple(sides), gap=float(contact.gap),
-            lower=tuple(lower), share=tuple(share), shear_capacity=contact.shear_capacity)))
+            lower=tuple(lower), share=tuple(share), shear_capacity=contact.shear_capacity,
+            at=tuple(at))))
     return out
 
 
@@ -335,6 +392,53 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
             key = (chosen, contact.law, law.published_source(params), params.restitution, obtained)
             rebounds.setdefault(key, []).append(e.name)
     return out, rebounds
+
+
+def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int, float]:
+    """``(side, lower floor, at)`` of a floor-to-column contact: the side whose node tops the
+    struck storey, that storey's lower floor (-1: the ground) and where it is struck.
+
+    When the elevations of the striking floor and of the struck storey's two floors are known
+    (every storey below them has a height), ``at = (z_floor - z_lower) / (z_upper - z_lower)``
+    and must lie strictly between 0 and 1: a floor level with one of the storey's floors is a
+    floor-to-floor contact, one outside the storey cannot strike it; a given ``at`` that
+    differs from it by more than :data:`AT_TOLERANCE` is refused. Otherwise ``at`` is
+    required."""
+    names = {i: n for n, i in index.items()} | {-1: "ground"}
+    side = 0 if contact.column == "left" else 1
+    upper, floor = ends[side], ends[1 - side]
+    below = [s for s in stories if s.nodes[1] == upper] if upper >= 0 else []
+    if not below:
+        raise ModelError(path + ("column",), f"the {contact.column} node "
+                         f"{contact.nodes[side]!r} tops no storey: a struck column is named "
+                         "by the floor above it")
+    lower = below[0].nodes[0]
+    if floor < 0 or not {floor, lower, upper} <= level.keys():
+        if contact.at is None:
+            raise ModelError(path + ("at",), "a floor-to-column contact needs at, where the "
+                             "column is struck (0 < at < 1 of the storey's height), when the "
+                             "heights of the striking floor and of the struck storey are not "
+                             "known: give at, or the storey heights (height) of both "
+                             "buildings, from which pframe computes it")
+        return side, lower, float(contact.at)
+    z, bottom, top = level[floor], level[lower], level[upper]
+    where = (f"floor {names[floor]} at {z:g} m and the storey below {names[upper]}, from "
+             f"{bottom:g} to {top:g} m")
+    for end, height in ((lower, bottom), (upper, top)):
+        if math.isclose(z, height, rel_tol=1e-9, abs_tol=1e-9):
+            raise ModelError(path + ("column",), f"{where}: the floor is level with "
+                             f"{names[end]}, a floor-to-floor contact; name those two floors "
+                             "in nodes, without column and at")
+    at = (z - bottom) / (top - bottom)
+    if not 0.0 < at < 1.0:
+        raise ModelError(path + ("nodes",), f"{where}: the floor cannot strike that storey "
+                         f"(it is {'below' if at < 0 else 'above'} it); name the storey the "
+                         f"floor faces, by its upper floor")
+    if contact.at is not None and abs(contact.at - at) > AT_TOLERANCE:
+        raise ModelError(path + ("at",), f"at {contact.at:g} contradicts the storey heights: "
+                         f"{where} put the struck point at {at:.6g} of the storey; leave at "
+                         "out (pframe computes it from the heights) or correct the heights")
+    return side, lower, at
 
 
 def _check_row_order(name, buildings, left, right, nodes, path) -> None:

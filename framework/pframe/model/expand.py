@@ -3,6 +3,7 @@ indices, law parameters packed into numbers. Every problem is reported at its YA
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -10,9 +11,12 @@ import numpy as np
 
 from pframe.model import dofs as dof_table
 from pframe.model.elements import (
+    AT_TOLERANCE,
     Element,
     Resolver,
+    column_share,
     contact_sides,
+    elevations,
     gauges,
     link_elements,
     p_delta_elements,
@@ -25,7 +29,8 @@ from pframe.model.motion import ground_motion
 from pframe.model.soil import FoundationSoil, foundation_soil
 from pframe.resources import check_floors, check_steps, steps_of
 
-__all__ = ["Element", "Expanded", "FoundationSoil", "expand", "foundation_soil"]
+__all__ = ["AT_TOLERANCE", "Element", "Expanded", "FoundationSoil", "column_share",
+           "elevations", "expand", "foundation_soil"]
 
 
 @dataclass(frozen=True)
@@ -138,7 +143,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
     initial = _initial_conditions(scene, resolver)
-    geometries = contact_sides(scene, resolver, floors.stories)
+    geometries = contact_sides(scene, resolver, stories,
+                               [math.nan if s.height is None else s.height
+                                for s in floors.stories])
     springs = stories + [e for e, *_ in p_delta]
     dofs = dof_table.active(floors, [g.element for g in geometries] + links + springs,
                             motion.channels, initial)

@@ -267,10 +267,14 @@ class ContactBase(Base):
         "floor (floors at different heights).")
     at: float | None = Field(None, gt=0, lt=1, allow_inf_nan=False,
                              description="Where the column is struck: the fraction of the "
-                             "storey's height above its lower floor (0 < at < 1).")
+                             "storey's height above its lower floor (0 < at < 1). With both "
+                             "buildings' storey heights it is computed from them (leave it "
+                             "out; one that differs by more than 0.001 is refused); without "
+                             "them it is required.")
     shear_capacity: float | None = Field(
-        None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N): "
-        "the local shear the impact puts into it is checked against it.")
+        None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N) "
+        "of a floor-to-column contact: the local shear the impact puts into it is checked "
+        "against it.")
     points: tuple[PointRef | None, PointRef | None] | None = Field(
         None, description="[left, right]: the point of each floor that strikes (a corner, a "
         "point of an edge; null: its centre of mass, the default). A wall's side takes null.")
@@ -294,6 +298,7 @@ class LineBase(Base):
     storeys: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] | None = Field(
         None, description="[first, last]: the storeys the line stands in (1-based, "
         "inclusive); default: all.")
+
     @model_validator(mode="after")
     def _storey_range(self):
         if self.storeys is not None and self.storeys[1] < self.storeys[0]:
@@ -580,7 +585,9 @@ class Stochastic(Base):
     parameters: StochasticParameters | None = Field(
         None, description="rezaeian2010: the six parameters given (instead of the site).")
     highpass: bool = Field(True, description="rezaeian2010: the 0.2 Hz critically damped "
-                           "high-pass post-filter (no residual velocity).")
+                           "high-pass post-filter, run on 7.96 s (10 / w_c) past the modulated "
+                           "motion until it is at rest: no residual velocity or displacement "
+                           "(below 1e-3 of their peaks); the motion is that much longer.")
     intensity: Positive | None = Field(None, description="clough_penzien: white-noise "
                                        "intensity S_0 (m^2/s^3), of the two-sided PSD.")
     ground_frequency: Positive | None = Field(None, description="clough_penzien: w_g (rad/s).")

@@ -10,6 +10,8 @@ unknown is an error rather than a guess: scaling it wrongly would silently break
 
 from __future__ import annotations
 
+from typing import ForwardRef, get_args
+
 from pframe.errors import InputError
 from pframe.nondim.dimensions import QUANTITY, Dimension, parse_units
 
@@ -26,23 +28,62 @@ def law_field_dimension(kind: str, law: str, field: str) -> Dimension | None:
     InputError
         For a numeric field of a law that declares no dimension for it.
     """
-    if field in NON_NUMERIC:
-        return None
     from pframe.laws import get_law
 
-    cls = get_law(kind, law)
+    return field_dimension(get_law(kind, law), field)
+
+
+def field_dimension(cls, field: str) -> Dimension | None:
+    """:func:`law_field_dimension` of the law class ``cls``."""
+    if field in NON_NUMERIC:
+        return None
     declared = getattr(cls, "dimensions", None) or {}
     if field in declared:
-        return dimension_of(declared[field], kind, law, field)
-    what = "material" if kind == "material" else "contact law"
+        return dimension_of(declared[field], cls.kind, cls.name, field)
+    what = "material" if cls.kind == "material" else "contact law"
     reason = (getattr(cls, "undimensioned", None) or {}).get(field)
     if reason:  # a field whose dimension depends on another field's value (the law says why)
-        raise InputError(f"field {field!r} of {what} {law!r} has no fixed dimension: {reason}")
+        raise InputError(f"field {field!r} of {what} {cls.name!r} has no fixed dimension: "
+                         f"{reason}")
     raise InputError(
-        f"the dimension of field {field!r} of {what} {law!r} is unknown; a law declares it "
-        f"with a class attribute dimensions = {{{field!r}: 'N/m', ...}} (a quantity such as "
+        f"the dimension of field {field!r} of {what} {cls.name!r} is unknown; a law declares "
+        f"it with a class attribute dimensions = {{{field!r}: 'N/m', ...}} (a quantity such as "
         "'stiffness' or 'length', or a unit string such as 'N/m', 'm', 'rad/s', '1'; "
         "docs/contact-laws.md)")
+
+
+def check_declared(cls) -> None:
+    """Refuse a law with a numeric field that declares neither a dimension nor why it has
+    none (``undimensioned``): its governing variables cannot be listed in full, and a Pi
+    form without one of them is incomplete (``pframe pi``). A law with the default
+    ``governing``, which lists every packed parameter under its own name, needs a dimension
+    for each of them (an ``undimensioned`` one is refused with its reason: the law must
+    list it in a form of fixed dimension, in its own ``governing``).
+
+    Raises
+    ------
+    InputError
+        Naming the law, the field and the declaration it needs.
+    """
+    from pframe.laws import Law
+
+    for name, info in cls.Params.model_fields.items():
+        if name not in (getattr(cls, "undimensioned", None) or {}) and _numeric(info.annotation):
+            field_dimension(cls, name)
+    if getattr(cls.governing, "__func__", None) is Law.governing.__func__:
+        for name in cls.param_names:
+            field_dimension(cls, name)
+
+
+def _numeric(annotation) -> bool:
+    """Whether a field's annotation admits a number (a float or int, bare, in a union or in
+    ``Annotated``; not a bool, not a ``Literal`` choice). One not yet resolved (a forward
+    reference) may: it counts as numeric rather than pass unchecked."""
+    if annotation is bool:
+        return False
+    if annotation in (float, int) or isinstance(annotation, (str, ForwardRef)):
+        return True
+    return any(_numeric(a) for a in get_args(annotation) if isinstance(a, type) or get_args(a))
 
 
 def dimension_of(declared: str, kind: str = "", law: str = "", field: str = "") -> Dimension:

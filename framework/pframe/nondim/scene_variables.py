@@ -38,7 +38,7 @@ from pframe.excitation.characteristic import characteristic
 from pframe.laws import ContactContext
 from pframe.nondim.buckingham import Variable
 from pframe.nondim.dimensions import QUANTITY, Dimension
-from pframe.nondim.fields import dimension_of
+from pframe.nondim.fields import check_declared, dimension_of
 
 _SI = {QUANTITY[q]: u for q, u in (
     ("dimensionless", "1"), ("mass", "kg"), ("length", "m"), ("time", "s"),
@@ -75,12 +75,14 @@ def _same(values) -> bool:
 
 def _material_values(law, packed) -> dict[str, tuple[Dimension, float]]:
     """root -> (dimension, value) of one storey, as its law names them (``Law.governing``)."""
+    check_declared(law)
     return {root: (dimension_of(what, "material", law.name, root), value)
             for root, (what, value) in law.governing(packed).items()}
 
 
 def _contact_values(contact, element, masses) -> dict[str, tuple[Dimension, float]]:
     law = element.law
+    check_declared(law)
     left, right = element.nodes  # -1: a wall (the ground), of infinite mass
     m_eff = ContactContext(masses[left] if left >= 0 else math.inf,
                            masses[right] if right >= 0 else math.inf).effective_mass
@@ -149,7 +151,9 @@ _PER_BUILDING = ("m", "K", "u_y")  # kept per building even when buildings agree
 _WHAT = {"m": "floor mass", "K": "storey stiffness", "u_y": "yield drift",
          "alpha": "post-yield stiffness ratio", "xi": "Rayleigh damping ratio",
          "w_bar": "contact frequency sqrt(k (m1 + m2) / (m1 m2))",
-         "k_h": "Hertz contact stiffness", "e": "coefficient of restitution", "d": "gap"}
+         "k_h": "Hertz contact stiffness", "e": "coefficient of restitution", "d": "gap",
+         "c": "dashpot coefficient of F = c |v|^alpha_v sign v",
+         "alpha_v": "velocity exponent of a dashpot"}
 
 
 def _add_per_building(out: _Collector, root, per_building, buildings, scene_wide: bool):
@@ -162,6 +166,8 @@ def _add_per_building(out: _Collector, root, per_building, buildings, scene_wide
     what = _WHAT.get(root, root)
     if scene_wide and _same(every):
         scope = "every building" if root == "xi" else "every storey"
+        if len(present) < len(per_building):  # the others have no such parameter
+            scope += " of " + ", ".join(buildings[b] for b in present)
         out.add(root, "", dimension, every[0], f"{what} ({scope})")
         return
     for b in present:

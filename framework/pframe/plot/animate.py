@@ -46,6 +46,7 @@ def elevations(ds, nodes: list[str]):
     if "input_yaml" not in ds.attrs:
         return None, "the result holds no scene"
     from pframe.api import scene_of_attributes
+    from pframe.model.expand import elevations
 
     try:
         loaded = scene_of_attributes(dict(ds.attrs), "the result", Path("."))
@@ -54,12 +55,7 @@ def elevations(ds, nodes: list[str]):
     expanded = loaded.expanded
     names = expanded.node_names
     heights = np.asarray(expanded.story_height, dtype=float)
-    level = {-1: 0.0}
-    for _ in expanded.stories:  # a storey's upper floor stands its height above its lower one
-        for story, h in zip(expanded.stories, heights):
-            lower, upper = story.nodes
-            if lower in level and np.isfinite(h) and upper not in level:
-                level[upper] = level[lower] + float(h)
+    level = elevations(expanded.stories, heights)
     missing = [n for n in nodes if n not in names or names.index(n) not in level]
     if missing:
         return None, f"{missing[0]} stands on a storey without height"
@@ -69,17 +65,10 @@ def elevations(ds, nodes: list[str]):
         for side in (0, 1):
             if c.share[side] != 1.0 or c.lower[side] >= 0:
                 upper, lower = c.nodes[side], c.lower[side]
-                share = c.share[side]
-                # at from the weight share = at^2 (3 - 2 at), monotone on [0, 1]
-                lo, hi = 0.0, 1.0
-                for _ in range(60):
-                    mid = 0.5 * (lo + hi)
-                    lo, hi = (mid, hi) if mid * mid * (3 - 2 * mid) < share else (lo, mid)
-                at = 0.5 * (lo + hi)
                 bottom = level[lower]
                 points[c.name] = ("left" if side == 0 else "right",
-                                  None if lower < 0 else names[lower], share,
-                                  bottom + at * (level[upper] - bottom))
+                                  None if lower < 0 else names[lower], c.share[side],
+                                  bottom + c.at[side] * (level[upper] - bottom))
     drawn = [h for h in heights if np.isfinite(h)]
     return (floor, points, float(np.mean(drawn)) if drawn else 1.0), ""
 

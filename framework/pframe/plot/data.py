@@ -102,6 +102,9 @@ class Result:
     gap_units: str = ""
     #: contact -> the run's own count of impacts (``impact_count``; none for a time window)
     impacts: dict = field(default_factory=dict)
+    #: floor-to-column contact -> (side 0 or 1 whose node tops the struck storey, the
+    #: storey's lower floor or "ground", the weight psi of its upper floor, at)
+    columns: dict = field(default_factory=dict)
 
     @property
     def is_dimensionless(self) -> bool:
@@ -316,6 +319,17 @@ def read_result(source) -> Result:
         if values.size == len(names["contact"]):
             gaps = dict(zip(names["contact"], map(float, values)))
             gap_units = _text(ds["contact_gap"].attrs.get("units", ""))
+    columns = {}
+    if "contact_column" in ds.variables and "contact_at" in ds.variables:
+        from pframe.model.expand import column_share
+
+        for name, side, lower, at in zip(names["contact"],
+                                         map(str, ds["contact_column"].values.tolist()),
+                                         map(str, ds["contact_column_lower"].values.tolist()),
+                                         np.asarray(ds["contact_at"].values, float)):
+            if side in ("left", "right"):
+                columns[name] = (("left", "right").index(side), lower,
+                                 column_share(float(at)), float(at))
     impacts = {}
     if "impact_count" in ds.variables and names["contact"]:
         counts = np.asarray(ds["impact_count"].values).ravel()
@@ -337,4 +351,5 @@ def read_result(source) -> Result:
         gaps=gaps,
         gap_units=gap_units,
         impacts=impacts,
+        columns=columns,
     )

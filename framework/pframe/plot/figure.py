@@ -124,17 +124,26 @@ def _level_content(result: Result, level: str, kind: str):
 
 def gap_closing(result: Result, contact: str):
     """``(time, relative, gap, onsets)`` of one contact: the relative displacement
-    ``u_left - u_right`` of its two nodes, its gap, and the times the gap closes (each
+    ``u_left - u_right`` of its two points, its gap, and the times the gap closes (each
     impact: the relative displacement rises past the gap; a run that starts closed counts
-    an impact at its first time, as the kernel does). None when the file lacks the nodes'
-    displacements or the gap."""
+    an impact at its first time, as the kernel does). A point is a node, or, on the column
+    side of a floor-to-column contact, the struck point of the column, psi u_upper +
+    (1 - psi) u_lower, as the kernel's contact sees it. None when the file lacks the
+    displacements of the nodes or the gap."""
     history = result.histories.get("displacement")
     pair = result.contacts.get(contact)
     if history is None or pair is None or contact not in result.gaps:
         return None
-    if any(node not in history.names for node in pair):
+    column = result.columns.get(contact)
+    lower = [] if column is None or column[1] == "ground" else [column[1]]
+    if any(node not in history.names for node in (*pair, *lower)):
         return None
-    relative = history.column(pair[0]) - history.column(pair[1])
+    points = [history.column(node) for node in pair]
+    if column is not None:  # displacements are relative to the ground: 0 at a column's foot
+        side, _, psi, _ = column
+        points[side] = psi * points[side] + (1.0 - psi) * (
+            history.column(lower[0]) if lower else 0.0)
+    relative = points[0] - points[1]
     gap = result.gaps[contact]
     closed = relative > gap
     onsets = np.flatnonzero(closed & ~np.concatenate(([False], closed[:-1])))
@@ -190,7 +199,11 @@ def draw_pounding(result: Result, level: str, fig=None):
         order = {"relative": 0, "gap": 1, "closed": 2, "impacts": 3}
         handles.sort(key=lambda h: order[h.get_label()])
         gap_text = f"{gap:.4g}" + ("" if units == DIMENSIONLESS else f" {units}")
-        ax.legend(handles, [f"{left} - {right}", f"gap {gap_text}", "closed", "impacts"],
+        ends = [left, right]
+        column = result.columns.get(contact)
+        if column is not None:  # the struck point of the column, as the kernel's contact
+            ends[column[0]] += f" column at {column[3]:.3g}"
+        ax.legend(handles, [" - ".join(ends), f"gap {gap_text}", "closed", "impacts"],
                   fontsize="x-small", loc="lower right", bbox_to_anchor=(1.0, 1.0), ncols=4,
                   frameon=False, borderaxespad=0.1, handlelength=1.5)
         _tidy(ax)

@@ -287,6 +287,21 @@ class ResultWriter:
             data, units, long_name = self.convert.variable(gaps, "m", "initial gap")
             f.variable("contact_gap", ("contact",), data, auxiliary=True, units=units,
                        long_name=long_name)
+            sides = [e.column_side for e in ex.contacts]
+            if any(side is not None for side in sides):  # floor-to-column contacts
+                labels("contact_column", "contact",
+                       ["none" if s is None else ("left", "right")[s] for s in sides],
+                       "side whose node tops the storey struck mid-height (floor-to-column "
+                       "contact; none: floor to floor)")
+                labels("contact_column_lower", "contact",
+                       ["none" if s is None else node(e.lower[s])
+                        for e, s in zip(ex.contacts, sides)],
+                       "lower floor of the struck storey ('ground' at the base; none: floor "
+                       "to floor)")
+                at = [math.nan if s is None else e.at[s] for e, s in zip(ex.contacts, sides)]
+                f.variable("contact_at", ("contact",), np.array(at), auxiliary=True,
+                           fill=np.nan, units="1", long_name="where the column is struck: "
+                           "fraction of the struck storey's height above its lower floor")
 
     def _columns(self, q: str, data) -> list:
         """The values of each of :meth:`_variables`' variables from the kernel's columns (a
@@ -416,6 +431,48 @@ class ResultWriter:
                        long_name="torsional irregularity ratio of the storey below the floor "
                        "(ASCE 7-22 Table 12.3-1): the larger peak drift at the plan's two ends "
                        "across the axis over their mean; type 1a above 1.2, 1b above 1.4")
+        if any(e.column_side is not None for e in self.loaded.expanded.contacts):
+            self._column_shears(result)
+
+    def _column_shears(self, result):
+        """The shear the floor-to-column contacts put into the struck columns: the peak of
+        each contact over the run (``peak_column_shear``, from the kernel's envelope of the
+        contact force) and, with a ``contact_force`` history, that of each impact seen in it
+        (``impact_column_shear`` along the dimension ``impact``, at ``impact_time``, the
+        sample of its peak force): max(psi, 1 - psi) times the contact force
+        (``Element.column_weight``)."""
+        from pframe.episodes import positive_runs
+
+        f, contacts = self.file, self.loaded.expanded.contacts
+        name = "shear put into the struck column (floor-to-column contact)"
+        data, units, long_name = self.convert.variable(result.column_shear(self.member), "N",
+                                                       name)
+        f.variable("peak_column_shear", ("contact",), data, fill=np.nan, units=units,
+                   long_name=f"peak absolute {long_name}")
+        every = dict(self.plan.history).get("contact_force")
+        if every is None:
+            return
+        dim = self.time_dims[every]
+        force, times = f.values("contact_force"), f.values(dim)
+        rows = []  # (contact, time of the peak, column shear), in file units
+        for c, contact in enumerate(contacts):
+            weight = contact.column_weight
+            if weight is None:
+                continue
+            column = np.nan_to_num(force[:, c])
+            for i, j in positive_runs(column):
+                k = i + int(np.argmax(column[i:j + 1]))
+                rows.append((contact.name, float(times[k]), weight * float(column[k])))
+        rows.sort(key=lambda row: row[1])
+        f.labels("impact", "impact_contact", [r[0] for r in rows],
+                 long_name="floor-to-column contact of the impact")
+        _, time_units, _ = self.convert.time(np.zeros(0))
+        f.variable("impact_time", ("impact",), np.array([r[1] for r in rows]),
+                   units=time_units, long_name="time of the impact's peak contact force "
+                   "(its sample in the contact_force history)")
+        _, units, long_name = self.convert.variable(np.zeros(0), "N", name)
+        f.variable("impact_column_shear", ("impact",), np.array([r[2] for r in rows]),
+                   units=units, long_name=f"peak {long_name} in one impact")
 
     def _attributes(self, result):
         f, plan, loaded, member = self.file, self.plan, self.loaded, self.member

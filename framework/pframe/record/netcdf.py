@@ -158,6 +158,10 @@ class Writer:
         var = self.file[name]
         return getattr(var, "_h5ds", var)
 
+    def values(self, name: str) -> np.ndarray:
+        """The values written so far of ``name`` (read back: a history the file holds)."""
+        return np.asarray(self.rows(name)[...])
+
     @property
     def attrs(self):
         """The global attributes, to be set: ``update`` and item assignment write text as
@@ -466,6 +470,9 @@ class DatasetWriter:
         return _Rows(self, name)
 
     rows = __getitem__
+
+    def values(self, name: str) -> np.ndarray:
+        return self.variables[name][1]
 
     def close(self) -> None:
         pass

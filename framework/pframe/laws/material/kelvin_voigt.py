@@ -13,7 +13,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.params import LawParams, Positive
+from pframe.laws.params import DASHPOT_UNDIMENSIONED, LawParams, Positive, dashpot_units
 from pframe.laws.registry import Law, material
 
 
@@ -35,12 +35,16 @@ class KelvinVoigt(Law):
     param_names = ("stiffness", "damping", "exponent", "linear_below")
     dimensions = {"stiffness": "stiffness", "exponent": "dimensionless",
                   "linear_below": "velocity"}
+    undimensioned = {"damping": DASHPOT_UNDIMENSIONED}
     branches = "smooth"
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
-        """The spring stiffness K and alpha."""
-        return {"K": ("stiffness", packed[0]), "alpha": ("dimensionless", packed[2])}
+        """The spring stiffness K, the dashpot's c (in N (s/m)^alpha) and its exponent,
+        alpha_v (not a storey's post-yield ratio alpha). v_0 is the numerical bound of the
+        linear branch, not a property of the dashpot."""
+        return {"K": ("stiffness", packed[0]), "c": (dashpot_units(packed[2]), packed[1]),
+                "alpha_v": ("dimensionless", packed[2])}
 
     @classmethod
     def pack(cls, params, context=None):

@@ -16,7 +16,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.params import LawParams, Positive
+from pframe.laws.params import DASHPOT_UNDIMENSIONED, LawParams, Positive, dashpot_units
 from pframe.laws.registry import Law, material
 
 
@@ -35,14 +35,17 @@ class Viscous(Law):
 
     param_names = ("damping", "exponent", "linear_below")
     dimensions = {"exponent": "dimensionless", "linear_below": "velocity"}
+    undimensioned = {"damping": DASHPOT_UNDIMENSIONED}
     branches = "smooth"
     opensees = "Viscous"
     stiffness_free = True  # no initial stiffness: a link, not a storey
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
-        """alpha (the coefficient's units depend on it: N (s/m)^alpha)."""
-        return {"alpha": ("dimensionless", packed[1])}
+        """c (in N (s/m)^alpha) and its exponent, alpha_v. v_0 is the numerical bound of the
+        linear branch, not a property of the dashpot."""
+        return {"c": (dashpot_units(packed[1]), packed[0]),
+                "alpha_v": ("dimensionless", packed[1])}
 
     @classmethod
     def pack(cls, params, context=None):
