@@ -290,3 +290,64 @@ def test_a_batch_over_eccentricity_equals_its_single_runs():
                                       single.history["displacement"][0])
         twist.append(np.max(np.abs(dof_history(single_plan, single, "A/1", 2))))
     assert twist[0] == 0.0 < twist[1] < twist[2]
+
+
+def test_p_delta_softens_sway_and_twist():
+    """P-delta in plan: the weight P = m g on a storey of height h takes P / h off its sway
+    stiffness and P r^2 / h off its torsional stiffness (r^2 = J / m, the load spread as the
+    mass), so a symmetric floor sways at sqrt((2 KY - P/h) / m) and twists at
+    sqrt((K_theta - P r^2 / h) / J) (Wilson & Habibullah 1987: the geometric stiffness of a
+    rigid floor's gravity load)."""
+    height, g = 3.0, 9.80665
+    r2 = (SIDE**2 + SIDE**2) / 12.0
+    load = MASS * g
+    k_theta = 2 * KX * (SIDE / 2) ** 2 + 2 * KY * (SIDE / 2) ** 2
+    for push, component, w in (
+            ([0.0, 0.01, 0.0], 1, math.sqrt((2 * KY - load / height) / MASS)),
+            ([0.0, 0.0, 0.002], 2, math.sqrt((k_theta - load * r2 / height) / (MASS * r2)))):
+        scene = json.loads(eccentric(0.0, 2e-4, 0.5, initial_conditions={
+            "displacement": {"A/1": push}}))
+        scene["buildings"][0].update(height=height, p_delta=True)
+        plan, result = run_text(json.dumps(scene))
+        assert result.completed(0) and result.energy_error(0) < 1e-10
+        u = dof_history(plan, result, "A/1", component)
+        np.testing.assert_allclose(u, push[component] * np.cos(w * plan.times),
+                                   atol=2e-3 * push[component])
+        without = math.sqrt((2 * KY / MASS) if component == 1 else k_theta / (MASS * r2))
+        # without P-delta the floor would be ahead by more than the tolerance at the end
+        assert np.max(np.abs(u - push[component] * np.cos(without * plan.times))) \
+            > 1e-2 * push[component]
+
+
+def test_a_rotation_too_large_for_the_small_rotation_model_is_said():
+    """The floor's edge (14.1 m across) moves r theta^2 / 2 off the linearised path: 0.05 rad
+    puts it 1.8 cm off, more than 1 % of the 0.5 m gap to the wall; 0.002 rad does not."""
+    from pframe.verdict import IN_DOUBT, TRUSTED, of_result
+
+    for theta, doubted in ((0.05, True), (0.002, False)):
+        text = eccentric(0.0, 1e-3, 0.3, initial_conditions={
+            "displacement": {"A/1": [0.0, 0.0, theta]}}, contacts=[
+            {"nodes": ["A/1", "ground"], "gap": 0.5, "law": "linear", "stiffness": 1e9,
+             "points": ["NE", None]}])
+        _, result = run_text(text)
+        verdict = of_result(result)
+        rotation = [w for w in verdict.warnings if "small-rotation" in w]
+        assert bool(rotation) == doubted
+        assert verdict.level == (IN_DOUBT if doubted else TRUSTED)
+        if doubted:
+            assert "floor A/1 turns by up to 0.05 rad" in rotation[0]
+
+
+def test_the_pi_form_refuses_a_scene_in_plan(tmp_path, capsys):
+    """pframe pi of a scene in plan: exit 2, the file named, the reason (its groups are not
+    derived), nothing printed as if they were."""
+    from pframe.cli import main
+
+    path = tmp_path / "ecc.yaml"
+    scene = json.loads(eccentric(1.0, 0.01, 0.1))
+    scene["excitation"] = {"kind": "sine", "amplitude": 1.0, "frequency": 5.0}
+    path.write_text(json.dumps(scene))
+    assert main(["pi", str(path)]) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and str(path) in captured.err
+    assert "no buildings in plan yet" in captured.err

@@ -110,6 +110,8 @@ class Plan:
     #: Model.gauge_*): point g's displacement along its building's x, y (gauges 2g, 2g + 1),
     #: then its drifts (2P + 2g, 2P + 2g + 1)
     point_names: tuple[str, ...] = ()
+    #: (n,) the extent of each node's floor plan (m; NaN: no plan): the small-rotation check
+    node_extent: np.ndarray = None
     gauge_start: np.ndarray = None  # (4 P + 1,)
     gauge_dof: np.ndarray = None  # (T,)
     gauge_coef: np.ndarray = None  # (B, T)
@@ -536,6 +538,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     planar = all(ex.dofs is None for ex in variants)
     if first.point_names and not planar and "point_drift" not in envelope:
         envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
+    if not planar and "displacement" not in envelope:
+        envelope.append("displacement")  # the floors' rotations: the small-rotation check
     for kind, elements in (("contact_", first.contacts), ("link_", first.links),
                            ("foundation_", first.foundations), ("point_", first.point_names)):
         if not elements:
@@ -603,6 +607,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         dof_node=node_of_dof,
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
         planar=planar,
+        node_extent=first.node_extent,
         **_gauges(variants, key_index, dof_of_key),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
