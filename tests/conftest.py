@@ -50,7 +50,8 @@ def runnable_model(model: Path, folder: Path) -> Path:
     if excitation.get("kind") != "record" or (model.parent / excitation["file"]).is_file():
         return model
     record = record_file(Path(excitation["file"]).name)
-    (folder / record.name).symlink_to(record)
+    if not (folder / record.name).exists():  # another model of the folder reads it too
+        (folder / record.name).symlink_to(record)
     copy = folder / model.name
     copy.write_text(model.read_text(encoding="utf-8"), encoding="utf-8")
     return copy
