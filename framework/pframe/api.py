@@ -63,14 +63,16 @@ def _origin(scene):
 
 
 def to_opensees(scene, *, base_dir: str | Path | None = None) -> str:
-    """A standalone OpenSeesPy script of a scene (anything :func:`load` takes): linear
-    contacts, elastic or bilinear storeys, starting at rest; it runs without pframe, to
-    cross-check it. Laws OpenSees cannot model are refused with every reason at once."""
+    """A standalone OpenSeesPy script of a scene (anything :func:`load` takes), planar or in
+    plan: linear contacts, elastic or bilinear storeys, starting at rest; it runs without
+    pframe, to cross-check it. Laws OpenSees cannot model are refused with every reason at
+    once."""
     from pframe.assemble import assemble
     from pframe.assemble.plan import peer_scene
     from pframe.peers.opensees import script_text
 
-    return script_text(peer_scene(assemble(_loaded(scene, base_dir).expanded)))
+    expanded = _loaded(scene, base_dir).expanded
+    return script_text(peer_scene(assemble(expanded), centres=expanded.node_centre))
 
 
 def loaded_scene(source, base_dir=None):

@@ -658,20 +658,15 @@ def _channels(ex: Expanded) -> np.ndarray:
     return np.array([rows[c] for c in ex.channels], dtype=float)
 
 
-def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
-    """The scene of one batch member for peer programs: linear contacts, start at rest,
-    Rayleigh on the initial stiffness (what the OpenSees peer models)."""
-    from pframe.peers.scene import PeerScene
-
-    problems = []  # every reason at once
+def _peer_refusals(plan: Plan, member: int) -> list[str]:
+    """Every reason the OpenSees peer cannot model a plan's member (none: it can)."""
+    problems = []
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
     c = plan.integrator
     if plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0):
         problems.append("its contacts join floors (floor-to-column contacts need a "
                         "multi-point constraint the script does not write)")
-    if not plan.planar:
-        problems.append("its floors move in plan (the script is planar: one DOF per floor)")
     if plan.story_kg is not None and np.any(plan.story_kg[member]):
         problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
                         "gravity_load")
@@ -725,8 +720,12 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if plan.foundations:
         problems.append("its bases are fixed: the script has no soil (a foundation's rocking "
                         "needs a rigid-link constraint it does not write); remove soil")
-    if problems:
-        raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
+    return problems
+
+
+def _peer_materials(plan: Plan, member: int) -> tuple[list, list]:
+    """The storeys' and the links' materials of a :class:`PeerScene`, in element order."""
+    ns = len(plan.story_names)
     materials = []
     for group in plan.story_groups:
         for j, i in enumerate(group.index):
@@ -743,49 +742,144 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                 materials.append((i, ("bwbn", *p[:6], *p[9:17])))
             else:
                 materials.append((i, ("bilinear", p[0], p[1], p[2])))
-    materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
-    ns = len(plan.story_names)
     links = sorted((i, ("elastic", p[0]) if group.law.name == "elastic"
                     else ("bilinear", p[0], p[1], p[2]) if group.law.name == "bilinear"
                     else ("viscous", p[0], p[1]) if group.law.name == "viscous"
                     else ("kelvin_voigt", p[0], p[1], p[2]))
                    for group in plan.story_groups
                    for i, p in zip(group.index, group.params[member]) if i >= ns)
-    link_materials = [m for _, m in links]
+    return [m for _, m in sorted(materials, key=lambda t: t[0])], [m for _, m in links]
+
+
+def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
+    """The scene of one batch member for peer programs: linear contacts, start at rest,
+    Rayleigh on the initial stiffness (what the OpenSees peer models).
+
+    A scene in plan draws its floors at ``centres`` ((nodes, 2), the site coordinates of
+    their centres of mass in m: ``Expanded.node_centre``); without them every floor's centre
+    is at the origin, the same model drawn elsewhere (an element acts through the arms of its
+    ends about its floor's centre, which its sides hold)."""
+    from pframe.peers.scene import PeerScene
+
+    problems = _peer_refusals(plan, member)  # every reason at once
+    if problems:
+        raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
+    c = plan.integrator
+    ns = len(plan.story_names)
+    materials, link_materials = _peer_materials(plan, member)
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         stiffness[group.index] = group.params[member, :, 0]
+    floors = None if plan.planar else _floors_in_plan(plan, member, centres)
+    if floors is None:  # a planar scene: its nodes are its DOFs
+        names = [""] * plan.n_dof
+        for name, dof in zip(plan.node_names, plan.node_dof):
+            names[dof] = name
+        node_names, node_of_dof = names, np.arange(plan.n_dof)
+
+        def nodes(dofs):
+            return dofs.copy()
+    else:  # its nodes are its floors
+        node_names, node_of_dof = list(plan.node_names), plan.dof_node
+        names = [f"{plan.node_names[f]}:{COMPONENTS[k]}" for f, k in floors.dofs]
+
+        def nodes(dofs):
+            return np.where(dofs >= 0, plan.dof_node[np.clip(dofs, 0, None)], -1)
     rayleigh = []
-    names = [""] * plan.n_dof
-    for name, dof in zip(plan.node_names, plan.node_dof):
-        names[dof] = name
-    building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
-    story_building = building_of_node[plan.story_dofs[:ns, 1]]
+    building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in node_names])
+    story_nodes = nodes(plan.story_dofs[:ns])
+    story_building = building_of_node[story_nodes[:, 1]]
+    dof_building = building_of_node[node_of_dof]
     for b in range(len(plan.buildings)):
-        nodes = np.flatnonzero(building_of_node == b)
+        own = np.flatnonzero(dof_building == b)  # every DOF of a building has one alpha_m
         stories = np.flatnonzero(story_building == b)
-        alpha = float(plan.mass_damping[member, nodes[0]] / plan.mass[member, nodes[0]])
+        alpha = float(plan.mass_damping[member, own[0]] / plan.mass[member, own[0]])
         beta = float(plan.story_beta[member, stories[0]]) if len(stories) else 0.0
-        rayleigh.append((alpha, beta, nodes, stories))
+        rayleigh.append((alpha, beta, np.flatnonzero(building_of_node == b), stories))
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
-        story_nodes=plan.story_dofs[:ns].copy(),
+        story_nodes=story_nodes,
         story_names=list(plan.story_names),
         story_materials=materials,
-        contact_nodes=plan.contact_dofs.copy(),
+        contact_nodes=nodes(plan.contact_dofs),
         contact_names=list(plan.contact_names),
         contact_gaps=plan.contact_gap[member].copy(),
         contact_stiffness=stiffness,
         rayleigh=rayleigh,
-        ground_acceleration=plan.ground_acceleration[member].copy(),
+        ground_acceleration=(plan.ground_acceleration[member].copy() if floors is None
+                             else plan.ground_channels[member].copy()),
         dt=float(plan.dt[member]),
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
-        link_nodes=plan.story_dofs[ns:].copy(),
+        link_nodes=nodes(plan.story_dofs[ns:]),
         link_materials=link_materials,
         integrator=(("wilson_theta", c.theta) if c.scheme == "wilson_theta"
                     else ("newmark", c.gamma, c.beta) if not c.alpha
                     else ("hht", c.alpha_f, c.gamma, c.beta)),
+        channels=tuple(plan.channels),
+        floors=floors,
     )
+
+
+def _floors_in_plan(plan: Plan, member: int, centres):
+    """The :class:`pframe.peers.scene.FloorsInPlan` of a scene in plan (see peer_scene)."""
+    from pframe.peers.scene import FloorsInPlan
+
+    count = len(plan.node_names)
+    centres = (np.zeros((count, 2)) if centres is None
+               else np.array(centres, dtype=float).reshape(count, 2))
+    masses, moves = np.zeros((count, 3)), np.zeros((count, 3), dtype=bool)
+    masses[plan.dof_node, plan.dof_component] = plan.mass[member]
+    moves[plan.dof_node, plan.dof_component] = True
+    ns, nl = len(plan.story_names), len(plan.link_names)
+    ends = {kind: _element_ends(plan, dofs, sides, elements, member, centres)
+            for kind, dofs, sides, elements in (
+                ("story", plan.story_dofs, plan.story_sides, range(ns)),
+                ("link", plan.story_dofs, plan.story_sides, range(ns, ns + nl)),
+                ("contact", plan.contact_dofs, plan.contact_sides,
+                 range(len(plan.contact_names))))}
+    return FloorsInPlan(
+        names=list(plan.node_names), centres=centres, masses=masses, moves=moves,
+        dofs=np.stack([plan.dof_node, plan.dof_component], axis=1),
+        story_points=ends["story"][0], story_directions=ends["story"][1],
+        contact_points=ends["contact"][0], contact_directions=ends["contact"][1],
+        link_points=ends["link"][0], link_directions=ends["link"][1])
+
+
+def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres):
+    """(e, 2, 2) a point of each end of each element and (e, 2) its direction, from its sides.
+
+    A floor's side along the unit n at P is a = (n_x, n_y, (P - c) x n) (pframe.model.plan;
+    a zero coefficient left out), so n = (a_x, a_y), and P = c + a_theta (n_y, -n_x) is the
+    point of the line of action nearest the centre c ((P - c) x n = a_theta |n|^2). Both ends
+    are then slid along n to one station, so that ends on one line coincide (a storey's
+    floors, a contact along its normal); an end on the ground stands at the other end."""
+    general = (sides.general() if sides is not None and len(sides.start) > 1
+               else np.zeros(len(dofs), dtype=bool))
+    points, directions = np.zeros((len(elements), 2, 2)), np.zeros((len(elements), 2))
+    for k, e in enumerate(elements):
+        coefficient = np.zeros((2, 3))
+        floor = [-1, -1]
+        for s in range(2):
+            terms = (sides.side(e, s, member) if general[e] else
+                     [(int(dofs[e, s]), 1.0)] if dofs[e, s] >= 0 else [])
+            for d, a in terms:
+                floor[s] = int(plan.dof_node[d])
+                coefficient[s, plan.dof_component[d]] += a
+        on = [s for s in range(2) if floor[s] >= 0]
+        n = coefficient[on[0], :2]
+        if any(not np.array_equal(coefficient[s, :2], n) for s in on):
+            raise ValueError(f"element {e}: its sides act along two directions")
+        across = np.array([n[1], -n[0]])
+        for s in on:
+            points[k, s] = centres[floor[s]] + coefficient[s, 2] * across
+        station = np.mean([points[k, s] @ n for s in on])
+        for s in on:
+            points[k, s] += (station - points[k, s] @ n) * n
+        for s in range(2):
+            if floor[s] < 0:
+                points[k, s] = points[k, on[0]]
+        directions[k] = n
+    return points, directions
