@@ -85,6 +85,13 @@ def test_the_gap_at_target_is_the_largest_crossing_of_a_non_monotone_curve():
     crossings = [b for a, b, ra, rb in zip(gaps[:-1], gaps[1:], rates[:-1], rates[1:])
                  if ra > target >= rb]
     assert len(crossings) == 3  # the case is the one it is meant to be
+    # the curve fitted at all gaps at once (vectorised) is the fit at each gap, one by one
+    from pframe.risk.analysis import _gap_curve
+
+    R, L = g_req.shape
+    curve = _gap_curve("msa", np.tile(LEVELS, R), g_req.ravel(), np.ones(R * L, bool), LEVELS,
+                       R, HazardCurve.power_law(K0, K))
+    np.testing.assert_allclose(curve.values, rates, rtol=1e-5)  # to the fits' tolerance
     assert out.gap == pytest.approx(crossings[-1], rel=1e-9)
     assert all(r <= target for g, r in zip(gaps, rates) if g >= out.gap)
     assert _raw(g_req, LEVELS, out.gap * 0.999) > target

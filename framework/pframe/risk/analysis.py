@@ -143,8 +143,14 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
             known[key] = rate_at(g)
         return known[key]
 
+    regression = fit_cloud(im[ok], np.maximum(g_req[ok], 0.0)) if kind == "cloud" else None
+
     def rate_at(g):
-        frag = fit(kind, im, g_req / g, ok, levels, records, used=used, checked=False)
+        if regression is not None:  # the cloud's regression of ln(g_req / g) on ln IM is
+            # that of ln g_req shifted by -ln g: one fit serves every gap (and is monotone)
+            frag = regression.fragility(g, check=False)
+        else:
+            frag = fit(kind, im, g_req / g, ok, levels, records, used=used, checked=False)
         if frag.fitted:
             return mean_annual_frequency(frag.probability, hazard, points=800)[0]
         exceed = (g_req > g) & ok
@@ -160,7 +166,47 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
             return float(value) if np.isfinite(value) else math.nan
         return math.nan
 
-    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"))
+    many = None
+    if kind == "msa":
+        def many(grid):
+            return _msa_rates(grid, g_req, ok, levels, records, hazard)
+    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
+
+
+def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
+    """lambda(g) of the msa fit at every gap of ``grid`` at once: the numbers of rate_at in
+    :func:`_gap_curve` (the same fit, the same integral, its fallbacks), with the probit fits
+    of the distinct count rows in one vectorised Fisher scoring (a curve of hundreds of
+    gaps, and one per bootstrap resample)."""
+    from scipy.special import ndtr
+
+    from pframe.risk.fragility import probit_rows
+
+    lv = np.asarray(levels, float)
+    n = ok.reshape(records, -1).sum(axis=0)
+    counts = np.array([((g_req / g > 1) & ok).reshape(records, -1).sum(axis=0) for g in grid])
+    rows, back = np.unique(counts, axis=0, return_inverse=True)
+    keep = n > 0
+    nn, zz = n[keep].astype(float), rows[:, keep].astype(float)
+    none = zz.sum(axis=1) == 0
+    fitted = np.zeros(len(rows), bool)
+    out = np.where(none, 0.0, np.nan)
+    if keep.sum() >= 2:
+        tried = np.flatnonzero(~none & ~np.all((zz == 0) | (zz == nn), axis=1))
+        c, good = probit_rows(np.log(lv[keep]), nn, zz[tried])
+        x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
+        lam = hazard.rate(x)
+        eta = c[good, :1] + c[good, 1:] * np.log(np.sqrt(x[1:] * x[:-1]))
+        inside = np.nan_to_num(ndtr(eta)) @ (lam[:-1] - lam[1:])
+        above = np.nan_to_num(ndtr(c[good, 0] + c[good, 1] * math.log(x[-1]))) * lam[-1]
+        out[tried[good]] = inside + above
+        fitted[tried[good]] = True
+    for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
+        first = int(np.argmax(rows[k] > 0))
+        step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
+        value = float(hazard.rate(step))
+        out[k] = value if math.isfinite(value) else math.nan
+    return out[back.ravel()]
 
 
 def _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R) -> None:

@@ -292,6 +292,60 @@ def _probit(lx, n, z) -> Fragility:
     return Fragility(math.exp(-c[0] / c[1]), float(1.0 / c[1]), jac @ cov_c @ jac.T, "msa")
 
 
+def probit_rows(lx, n, z) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_probit` for many rows of counts at once: ``z`` (m, L) exceedances of the
+    ``n`` (L,) runs at the levels ``lx`` (L,, log); the same Fisher scoring with step halving,
+    row by row in lockstep (the gap's curve fits one row per gap). Returns the coefficients
+    ``c`` (m, 2) of P = Phi(c0 + c1 ln x) and whether each is an interior maximum (the rows
+    :func:`_probit` would fit; the others it reports absent)."""
+    z = np.atleast_2d(np.asarray(z, float))
+    m = z.shape[0]
+
+    def loglik(c, rows):
+        eta = c[:, :1] + c[:, 1:] * lx
+        return np.sum(z[rows] * log_ndtr(eta) + (n - z[rows]) * log_ndtr(-eta), axis=1)
+
+    mid = np.argmin(np.abs(z / n - 0.5), axis=1)
+    beta0 = max(float(np.std(lx)), 0.3)
+    c = np.stack([-lx[mid] / beta0, np.full(m, 1.0 / beta0)], axis=1)
+    current = loglik(c, np.arange(m))
+    active = np.ones(m, bool)
+    for _ in range(200):
+        rows = np.flatnonzero(active)
+        if not rows.size:
+            break
+        eta = c[rows, :1] + c[rows, 1:] * lx
+        p = np.clip(_cdf(eta), 1e-300, 1 - 1e-16)
+        q = np.clip(_sf(eta), 1e-300, 1 - 1e-16)
+        phi = _pdf(eta)
+        w = (z[rows] - n * p) * phi / (p * q)
+        score = np.stack([w.sum(axis=1), (w * lx).sum(axis=1)], axis=1)
+        weight = n * phi * phi / (p * q)
+        a, b, d = weight.sum(axis=1), (weight * lx).sum(axis=1), (weight * lx * lx).sum(axis=1)
+        det = a * d - b * b
+        solvable = np.isfinite(det) & (np.abs(det) > 1e-300)
+        active[rows[~solvable]] = False  # a singular system: _probit stops there too
+        rows, score, a, b, d, det = (v[solvable] for v in (rows, score, a, b, d, det))
+        step = np.stack([d * score[:, 0] - b * score[:, 1],
+                         a * score[:, 1] - b * score[:, 0]], axis=1) / det[:, None]
+        scale = np.ones(rows.size)
+        trial = c[rows] + step
+        value = loglik(trial, rows)
+        worse = value < current[rows] - 1e-12
+        while worse.any():  # halve the step of the rows it made worse, down to 1e-6
+            scale[worse] *= 0.5
+            worse &= scale > 1e-6
+            trial[worse] = c[rows[worse]] + scale[worse, None] * step[worse]
+            value[worse] = loglik(trial[worse], rows[worse])
+            worse &= value < current[rows] - 1e-12
+        moved = np.abs(value - current[rows])
+        c[rows], current[rows] = trial, value
+        done = ((np.max(np.abs(scale[:, None] * step), axis=1) < 1e-10) | (moved < 1e-13)
+                | (trial[:, 1] > 1e3))
+        active[rows[done]] = False
+    return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current)
+
+
 def fit_capacities(capacities, censored=None) -> Fragility:
     """Lognormal MLE of IM capacities (IDA; > 0, g); ``censored[i]``: record i never exceeded
     the limit, its capacity is above ``capacities[i]`` (the highest IM run). Absent (NaN, with

@@ -20,7 +20,8 @@ more often than the target (conservative), and a non-monotone raw curve is repor
 With msa the raw curve is a step function of ``g`` (the fit sees ``g`` only through how many
 runs of each stripe pound), constant between consecutive critical gaps: evaluated at each
 distinct critical gap it is known exactly, and the envelope with it. IDA and cloud fits move
-continuously with ``g``; their curve is evaluated on a log grid over the critical gaps.
+continuously with ``g``; their curve is evaluated on a log grid over the critical gaps (a
+rise narrower than its spacing, about a tenth of the gap, can be missed there).
 """
 
 from __future__ import annotations
@@ -31,8 +32,8 @@ import numpy as np
 from scipy.optimize import brentq
 
 #: points of the log grid of an ida or cloud curve (between half the smallest critical gap
-#: and the largest)
-GRID = 64
+#: and the largest; the crossing is then refined by Brent's method)
+GRID = 48
 
 
 class GapCurve:
@@ -41,14 +42,13 @@ class GapCurve:
     target. ``g_req``: the critical gaps of the runs that count (m); ``step``: the raw curve
     is constant between consecutive critical gaps (msa)."""
 
-    def __init__(self, rate_at, g_req: np.ndarray, step: bool):
+    def __init__(self, rate_at, g_req: np.ndarray, step: bool, many=None):
         self.rate_at, self.step = rate_at, step
         g = np.unique(g_req[np.isfinite(g_req) & (g_req > 0)])
-        if step or g.size < 2:
-            self.grid = g
-        else:
-            self.grid = np.unique(np.concatenate([np.geomspace(g[0] * 0.5, g[-1], GRID), g]))
-        self.values = np.array([self.raw(x) for x in self.grid], dtype=float)
+        self.grid = g if step or g.size < 2 else np.geomspace(g[0] * 0.5, g[-1], GRID)
+        # ``many(grid)``: the same numbers as rate_at at every gap, computed at once
+        self.values = (np.asarray(many(self.grid), float) if many is not None else
+                       np.array([self.raw(x) for x in self.grid], dtype=float))
         # the envelope at each grid point: the largest raw value at or to its right
         finite = np.where(np.isfinite(self.values), self.values, -np.inf)
         self.right = np.maximum.accumulate(finite[::-1])[::-1]
