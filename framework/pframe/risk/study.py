@@ -33,6 +33,9 @@ from pydantic import BaseModel, ConfigDict, Field
 from pframe.errors import InputError
 
 G = 9.80665
+#: bytes per step of a run's ground motion while a batch runs (the copies the kernel and
+#: its caller hold, as pframe.resources counts them)
+GROUND_BYTES = 4 * 8.0
 
 
 class _Base(BaseModel):
@@ -223,10 +226,10 @@ def _read(path):
             if not (v > 0 and math.isfinite(v)):
                 raise InputError(f"{at(f'limits.{kind}.{name}')}: a limit is a number > 0")
     if study.measure is not None:
-        from pframe.gap.audit import _measure
+        from pframe.gap.audit import parse_measure
 
         try:
-            _measure(study.measure)
+            parse_measure(study.measure)
         except InputError:
             raise InputError(f"{at('measure')}: {study.measure!r} is not an intensity "
                              "measure; write pga, or sa:PERIOD with PERIOD in seconds or a "
@@ -251,9 +254,9 @@ def _check_measure(spec, at, buildings) -> None:
     study's line, not the suite's)."""
     if spec.measure is None:
         return
-    from pframe.gap.audit import _measure
+    from pframe.gap.audit import parse_measure
 
-    chosen = _measure(spec.measure)
+    chosen = parse_measure(spec.measure)
     if chosen.kind != "sa":
         return
     try:
@@ -591,7 +594,7 @@ def _check_runs(spec, at, inputs) -> None:
                              "allows; use fewer samples per level")
         return
     batch = min(spec.chunk or inputs.count, inputs.count)
-    need = resources._GROUND_COPIES * 8.0 * batch * (inputs.steps + 1)
+    need = GROUND_BYTES * batch * (inputs.steps + 1)
     if need > limit:
         raise InputError(f"{at('chunk' if spec.chunk else field)}: {batch:,} runs of "
                          f"{inputs.steps + 1:,} steps in one batch need about "
