@@ -15,7 +15,14 @@ import numpy as np
 import pytest
 
 from pframe.errors import InputError
-from pframe.risk import HazardCurve, fit_capacities, fit_cloud, fit_msa, mean_annual_frequency
+from pframe.risk import (
+    HazardCurve,
+    closed_form_maf,
+    fit_capacities,
+    fit_cloud,
+    fit_msa,
+    mean_annual_frequency,
+)
 from pframe.risk.analysis import analyse, fit
 from pframe.risk.study import StudyFile
 
@@ -201,6 +208,10 @@ def test_a_study_warns_of_every_fit_it_leaves_out():
     (lambda: fit_capacities([0.5, 0.6, 0.7], [True, False]), "one value per"),
     (lambda: fit_cloud([0.1, 0.2, 0.3], [1.0, 2.0]), "one value per"),
     (lambda: fit_cloud([0.1, 0.0, 0.3], [1.0, 2.0, 3.0]), r"intensities\[1\]"),
+    (lambda: HazardCurve.power_law(K0, K).intensity(0.0), "number > 0"),
+    (lambda: mean_annual_frequency(lambda x: x, "hazard.csv"), "HazardCurve"),
+    (lambda: closed_form_maf(-0.5, 0.3, K0, K), "median"),
+    (lambda: HazardCurve([0.1, 0.2, 0.3], [1e-2, np.nan, 1e-4]), "point 2"),
 ])
 def test_fitting_functions_refuse_what_is_not_data(call, says):
     with pytest.raises(InputError, match=says):

@@ -104,6 +104,9 @@ class HazardCurve:
 
     def intensity(self, frequency: float) -> float:
         """The IM exceeded with ``frequency`` per year (NaN outside the table)."""
+        if not (isinstance(frequency, (int, float, np.number)) and frequency > 0):
+            raise InputError(f"{self.source or 'hazard curve'}: an annual frequency is a number "
+                             f"> 0 (got {frequency!r})")
         lf = np.log(self.frequency[::-1])
         lx = np.log(self.im[::-1])
         f = math.log(frequency)
@@ -216,6 +219,11 @@ def mean_annual_frequency(probability, curve: HazardCurve, points: int = 4000) \
     """(lambda_LS, the share of it from above the table) for a fragility ``probability(x)``
     (vectorised). The integral runs over the table's IM range on a log grid (midpoint rule
     in |d lambda|), plus P(x_max) lambda(x_max) for the intensities above the table."""
+    if not isinstance(curve, HazardCurve):
+        raise InputError(f"mean_annual_frequency: curve must be a HazardCurve (read_hazard, "
+                         f"HazardCurve.power_law), got {type(curve).__name__}")
+    if not (isinstance(points, (int, np.integer)) and points >= 2):
+        raise InputError(f"mean_annual_frequency: points={points!r}: a whole number >= 2")
     x = np.geomspace(curve.im[0], curve.im[-1], points)
     lam = curve.rate(x)
     mid = np.sqrt(x[1:] * x[:-1])
@@ -227,5 +235,12 @@ def mean_annual_frequency(probability, curve: HazardCurve, points: int = 4000) \
 
 
 def closed_form_maf(median: float, dispersion: float, k0: float, k: float) -> float:
-    """Cornell et al. (2002): k0 theta^-k exp(k^2 beta^2 / 2)."""
+    """Cornell et al. (2002): k0 theta^-k exp(k^2 beta^2 / 2); theta, k0, k > 0, beta >= 0."""
+    for name, value, low in (("median", median, 0), ("k0", k0, 0), ("k", k, 0)):
+        if not (isinstance(value, (int, float, np.number)) and math.isfinite(value)
+                and value > low):
+            raise InputError(f"closed_form_maf: {name}={value!r}: a number > 0")
+    if not (isinstance(dispersion, (int, float, np.number)) and math.isfinite(dispersion)
+            and dispersion >= 0):
+        raise InputError(f"closed_form_maf: dispersion={dispersion!r}: a number >= 0")
     return k0 * median ** -k * math.exp(0.5 * k * k * dispersion * dispersion)
