@@ -112,7 +112,7 @@ class GapCurve:
         later = np.maximum.accumulate(v[keep][::-1])[::-1]  # max at or right of each point
         ratio = later / v[keep]
         k = int(np.argmax(ratio))
-        if ratio[k] <= 1 + 1e-9:
+        if ratio[k] <= 1 + 1e-6:  # below: the optimisers' own tolerance, not a rise
             return None
         j = keep[k:][int(np.argmax(v[keep[k:]]))]
         return (float(self.grid[keep[k]]), float(v[keep[k]]), float(self.grid[j]), float(v[j]))
