@@ -295,3 +295,32 @@ def test_wilson_theta_dissipation_is_counted():
                + energy[Energy.ALGORITHMIC])
     assert abs(balance) <= 1e-12 * start, balance
     assert energy[Energy.ALGORITHMIC] > 0.2 * start
+
+
+@pytest.mark.parametrize("integrator", [
+    {"type": "newmark", "variant": "linear_acceleration"},
+    {"type": "newmark", "gamma": 0.6, "beta": 0.3025}, {"type": "hht", "alpha": 0.1},
+    {"type": "generalized_alpha", "rho_infinity": 0.6}, {"type": "wilson_theta", "theta": 1.4}],
+    ids=lambda config: ",".join(f"{v}" for v in config.values()))
+def test_balance_closes_with_substeps_of_changing_length(integrator):
+    """Steps retried in sub-steps (Kelvin contacts at 32 times the paper's step, without
+    events) and located events (with them) take sub-steps of changing lengths; the modified
+    kinetic energy of a scheme with beta != 1/4 depends on the length, and is re-taken when it
+    changes. The balance closes to round-off on both paths. Before, HHT, generalised-alpha,
+    Wilson-theta and Newmark with beta != 1/4 left 1e-7 to 4e-3 (above the verdict's warning:
+    a sound run reported in doubt)."""
+    import json
+
+    import yaml
+
+    scene = yaml.safe_load(load_scene("models/wu2021-eq14.yaml").text)
+    scene["analysis"]["dt"] *= 32
+    scene["analysis"]["duration"] = 4.0
+    for contact in scene["contacts"]:
+        contact["law"] = "kelvin"
+    for events in (False, True):
+        scene["analysis"]["integrator"] = integrator | {"events": events}
+        result = simulate(assemble(parse_scene(json.dumps(scene)).expanded))
+        assert result.completed(), result.describe_failure()
+        assert result.counter("split_steps") > 0 or events
+        assert result.energy_error(0) < 1e-10, (events, result.energy_error(0))
