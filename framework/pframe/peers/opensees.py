@@ -22,7 +22,11 @@ Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node
   coordinates), its sample times accumulated as OpenSees accumulates time, so that step ``n``
   sees ``a_g[n]`` exactly; Newton iterations with a ``NormDispIncr`` test, one
   ``analyze(steps, dt)`` call and binary recorders;
-* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's) or ``WilsonTheta``.
+* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's), ``WilsonTheta`` or
+  ``TRBDF2`` (Bathe's method with gamma = 1/2: OpenSees takes its trapezoidal and backward
+  sub-steps as alternate analysis steps of dt / 2, so the script analyses twice the steps at
+  half the step, with the ground motion sampled between pframe's samples as pframe
+  interpolates it, linearly, and records every second step).
   Not generalised-alpha: OpenSees' ``GeneralizedAlpha`` sets the nodes' accelerations to
   a(n+1) in its Newton update (``GeneralizedAlpha::update``) where its tangent and the method
   have a(n+1-alpha_m); a linear oscillator (w dt = 5, rho_inf = 0.6) grows in amplitude under
@@ -141,12 +145,14 @@ def build():
     # n DT by rounding (about 1e-12 s after 50,000 steps); a "Path -dt" series, interpolating
     # at t_n / DT, would then feed a_g a hair off AG[n] (~1e-11 relative late in a run). Sample
     # times accumulated the same way make step n see AG[n] itself. A Path returns 0 past its
-    # last sample: one more sample repeats the last value.
-    ag = [float(a) for a in AG]
+    # last sample: one more sample repeats the last value. With SUBSTEPS analysis steps a step
+    # (TRBDF2) the samples between pframe's are its linear interpolation, as pframe has them.
+    ag = [float(AG[0])] + [(1.0 - j / SUBSTEPS) * float(a0) + j / SUBSTEPS * float(a1)
+                           for a0, a1 in zip(AG[:-1], AG[1:]) for j in range(1, SUBSTEPS + 1)]
     times, t = [], 0.0
     for _ in ag:
         times.append(t)
-        t += DT
+        t += DT / SUBSTEPS
     ops.timeSeries("Path", 1, "-time", *times, t, "-values", *ag, ag[-1])
     ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
     # OpenSees starts from zero acceleration; equilibrium at rest asks for -a_g(0).
@@ -169,7 +175,8 @@ def _read_binary(path, columns):
 
 
 def simulate(workdir):
-    """Build, run one ``analyze(STEPS, DT)`` and return the histories (row 0 is t = 0)."""
+    """Build, run one ``analyze(STEPS * SUBSTEPS, DT / SUBSTEPS)`` and return the histories of
+    pframe's steps (row 0 is t = 0)."""
     stories, contacts, links = build()
     nodes = list(range(1, len(MASSES) + 1))
     recorders = {
@@ -193,7 +200,7 @@ def simulate(workdir):
     ops.analysis("Transient")
 
     start = time.perf_counter()
-    status = ops.analyze(STEPS, DT)
+    status = ops.analyze(STEPS * SUBSTEPS, DT / SUBSTEPS)
     seconds = time.perf_counter() - start
     reached = ops.getTime()
     ops.wipe()  # closes (flushes) the recorders
@@ -205,8 +212,10 @@ def simulate(workdir):
         history = np.zeros((STEPS + 1, len(tags)))
         if tags:
             rows = _read_binary(os.path.join(workdir, name + ".bin"), len(tags) + 1)
-            if rows.shape[0] != STEPS:
-                raise RuntimeError(f"{name}: {rows.shape[0]} recorded steps, not {STEPS}")
+            if rows.shape[0] != STEPS * SUBSTEPS:
+                raise RuntimeError(f"{name}: {rows.shape[0]} recorded steps, not "
+                                   f"{STEPS * SUBSTEPS}")
+            rows = rows[SUBSTEPS - 1::SUBSTEPS]  # pframe's steps
             result["time"][1:] = rows[:, 0]
             history[1:] = rows[:, 1:]
         result[name] = history
@@ -227,6 +236,8 @@ if __name__ == "__main__":
 def opensees_integrator(integrator: tuple) -> tuple:
     """OpenSees' ``integrator`` arguments for a :class:`PeerScene` integrator."""
     kind = integrator[0]
+    if kind == "trbdf2":
+        return ("TRBDF2",)
     if kind == "newmark":
         return ("Newmark", float(integrator[1]), float(integrator[2]))
     if kind == "wilson_theta":
@@ -234,6 +245,11 @@ def opensees_integrator(integrator: tuple) -> tuple:
     if kind == "hht":  # OpenSees weighs the step end by its alpha
         return ("HHT", 1.0 - float(integrator[1]), float(integrator[2]), float(integrator[3]))
     raise ValueError(f"unknown integrator {kind!r}")
+
+
+def analysis_steps(integrator: tuple) -> int:
+    """OpenSees analysis steps per pframe step: 2 for TRBDF2 (a sub-step each), else 1."""
+    return 2 if integrator[0] == "trbdf2" else 1
 
 
 def _data_block(scene: PeerScene, out_npz: str | None) -> str:
@@ -274,6 +290,7 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         "TOL": float(scene.tolerance),
         "MAX_ITER": int(scene.max_iterations),
         "INTEGRATOR": opensees_integrator(scene.integrator),
+        "SUBSTEPS": analysis_steps(scene.integrator),
         "LINK_NODES": np.asarray(scene.link_nodes if scene.link_nodes is not None else [],
                                  dtype=int).reshape(-1, 2).tolist(),
         "LINK_MATERIALS": [tuple(m[:1]) + tuple(float(v) for v in m[1:])
