@@ -32,6 +32,46 @@ WU2021 = REPO / "models" / "wu2021-eq14.yaml"
 RECORDS = REPO.parent / "shared" / "records"
 
 
+def fact(cls, name: str):
+    """An integrator's declared fact (pframe.integrators' Facts): the generic tests ask the
+    integrator what to check. One left out fails here, naming the integrator and the fact."""
+    value = getattr(cls.facts, name, None)
+    if value is None:
+        pytest.fail(f"the integrator {cls.__name__} ({cls.__module__}) has not declared its "
+                    f"fact {name!r} (Facts.{name} in its class's facts)")
+    return value
+
+
+def integrator_class(config: dict):
+    """The integrator class of a configuration (the YAML ``analysis.integrator`` mapping)."""
+    from pframe.integrators import ALL_INTEGRATORS
+
+    return {cls.type_name(): cls for cls in ALL_INTEGRATORS}[config.get("type", "newmark")]
+
+
+def integrator_examples() -> list[tuple[str, type, dict]]:
+    """(label, class, configuration) of every example every integrator declares (an
+    integrator that declares none has none here; test_integrators fails it by name)."""
+    from pframe.integrators import ALL_INTEGRATORS
+
+    return [(label, cls, config) for cls in ALL_INTEGRATORS
+            for label, config in (cls.facts.examples or {}).items()]
+
+
+def integrator_configurations() -> dict[str, dict]:
+    """Every integrator in its reference configuration (its first example) by its type, and
+    with ``events: true`` (``<type>+events``) where it runs on that path."""
+    from pframe.integrators import ALL_INTEGRATORS
+
+    out = {}
+    for cls in ALL_INTEGRATORS:
+        config = next(iter((cls.facts.examples or {}).values()), {"type": cls.type_name()})
+        out[cls.type_name()] = config
+        if "events" in (cls.facts.paths or ()):
+            out[f"{cls.type_name()}+events"] = config | {"events": True}
+    return out
+
+
 def record_file(name: str) -> Path:
     """A record of :data:`RECORDS`; the test is skipped, saying why, when it is absent."""
     path = RECORDS / name

@@ -11,7 +11,7 @@ import sys
 import numpy as np
 import pytest
 import yaml
-from conftest import RECORDERS, WU2021, scene_text
+from conftest import RECORDERS, WU2021, integrator_configurations, scene_text
 
 from pframe.assemble import assemble
 from pframe.kernel import simulate
@@ -196,6 +196,11 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
                    {"type": "hht", "alpha": 0.1}, {"type": "generalized_alpha", "events": True},
                    {"type": "wilson_theta", "events": True},
                    {"type": "central_difference", "substeps": "auto"}]
+    # and every other integrator of the table, with event location where it has it
+    configurations = integrator_configurations()
+    integrators += [configurations.get(f"{name}+events", configurations[name])
+                    for name in configurations if "+" not in name
+                    and name not in {config["type"] for config in integrators}]
     assert set(contact) == {law.name for law in all_contact_laws()}
     assert set(story) | set(links) == {law.name for law in all_materials()}
     from pframe.kernel.state import RECORDABLE

@@ -14,6 +14,7 @@ once; its names load on first use, so ``import pframe`` stays light::
 __version__ = "0.1.0"
 
 from pframe.errors import EnvironmentFailure, InputError, PframeError  # noqa: E402
+from pframe.integrators import TABLE as _INTEGRATORS  # noqa: E402
 
 #: public name -> module that defines it
 _API = {
@@ -36,17 +37,16 @@ _API = {
     "History": "pframe.model.scene", "Envelope": "pframe.model.scene",
     "InitialConditions": "pframe.model.scene", "Output": "pframe.model.scene",
     "OutputScales": "pframe.model.scene",
-    "Newmark": "pframe.integrators", "HHT": "pframe.integrators",
-    "GeneralizedAlpha": "pframe.integrators", "CentralDifference": "pframe.integrators",
+    # every integrator of pframe.integrators' table (which names them without loading them)
+    **{cls: "pframe.integrators" for cls in _INTEGRATORS.values()},
 }
 
-__all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Contact",
-           "Cycloidal", "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History",
-           "IncompleteRun", "InitialConditions", "InputError", "Newmark", "Newton", "Node",
-           "Output", "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene",
-           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "impacts", "load", "open",
-           "plot", "risk", "solve",
-           "summary", "sweep", "to_opensees"]
+__all__ = ["AccuracyWarning", "Analysis", "Building", "Contact", "Cycloidal", "Envelope",
+           "EnvironmentFailure", "History", "IncompleteRun", "InitialConditions", "InputError",
+           "Newton", "Node", "Output", "OutputScales", "PframeError", "Rayleigh", "Record",
+           "Ricker", "Scene", "Sine", "Stochastic", "Story", "StoryProperties", "__version__",
+           "impacts", "load", "open", "plot", "risk", "solve", "summary", "sweep", "to_opensees"]
+__all__ += list(_INTEGRATORS.values())
 
 
 def __getattr__(name: str):

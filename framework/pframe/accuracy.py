@@ -11,16 +11,12 @@ from pathlib import Path
 import numpy as np
 
 from pframe.errors import InputError
+from pframe.integrators import TABLE
 
-#: integrators compared by default: name -> the YAML ``analysis.integrator`` mapping
-INTEGRATORS = {
-    "newmark": {"type": "newmark"},
-    "newmark+events": {"type": "newmark", "events": True},
-    "hht": {"type": "hht", "alpha": 0.05},
-    "generalized_alpha": {"type": "generalized_alpha", "rho_infinity": 0.8},
-    "wilson_theta": {"type": "wilson_theta", "theta": 1.4},
-    "central_difference": {"type": "central_difference"},
-}
+#: integrators compared by default: every integrator of pframe.integrators' table at its
+#: defaults, and Newmark with event location: name -> the YAML ``analysis.integrator`` mapping
+INTEGRATORS = {"newmark": {"type": "newmark"}, "newmark+events": {"type": "newmark", "events": True},
+               **{name: {"type": name} for name in TABLE if name != "newmark"}}
 FACTORS = (4.0, 2.0, 1.0, 0.5, 0.25)
 TOLERANCES = (1e-2, 1e-3, 1e-4)
 

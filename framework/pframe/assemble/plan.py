@@ -688,14 +688,8 @@ def _peer_refusals(plan: Plan, member: int) -> list[str]:
     if plan.story_kg is not None and np.any(plan.story_kg[member]):
         problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
                         "gravity_load")
-    if c.explicit:
-        problems.append("it integrates with an implicit integrator (newmark, hht, "
-                        "generalized_alpha or wilson_theta), not central_difference")
-    if c.scheme == "alpha_family" and c.alpha_m != 0.0:
-        problems.append("OpenSees' GeneralizedAlpha does not integrate the generalised-alpha "
-                        "method (its Newton update takes the inertia at the step end instead "
-                        "of at t(n+1-alpha_m), and a linear oscillator's amplitude grows under "
-                        "it): compare with newmark, hht or wilson_theta")
+    if isinstance(c.opensees, str):  # the integrator's own reason (pframe.integrators)
+        problems.append(c.opensees)
     if c.events and plan.contact_names:
         problems.append("OpenSees has no event-aware stepping: set 'events: false' on the "
                         "integrator")
@@ -833,9 +827,7 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
         max_iterations=plan.max_iterations,
         link_nodes=nodes(plan.story_dofs[ns:]),
         link_materials=link_materials,
-        integrator=(("wilson_theta", c.theta) if c.scheme == "wilson_theta"
-                    else ("newmark", c.gamma, c.beta) if not c.alpha
-                    else ("hht", c.alpha_f, c.gamma, c.beta)),
+        integrator=c.opensees,
         channels=tuple(plan.channels),
         floors=floors,
     )

@@ -182,6 +182,25 @@ def _suite(path: Path) -> int:
     return 0
 
 
+def _risk(path: Path, records_folder) -> int:
+    """A risk study checked as ``pframe risk`` checks it before running: the study file, its
+    hazard table, scene, suite and records, the measure, the limits against the scene."""
+    from pframe.risk.study import open_study
+
+    opened = open_study(path, records_folder)
+    spec, inputs = opened.spec, opened.inputs
+    R, L = inputs.factors.shape
+    design = spec.design
+    runs = (f"{R} motions x {L} levels" if design.kind in ("msa", "ida") and design.hunt is None
+            else f"{R} motions")
+    print(f"{path}: valid; a risk study ({design.kind}) of {inputs.loaded.source}: {runs}"
+          + (f", hazard {opened.hazard.source or 'table'} ({opened.hazard.im.size} points, "
+             f"{opened.hazard.im[0]:.3g}-{opened.hazard.im[-1]:.3g} g)"
+             if opened.hazard is not None else ""))
+    _warn(str(path), inputs.warnings)
+    return 0
+
+
 def _validate(args) -> int:
     from pframe.model.load import read_input
     from pframe.yamltext import compose as _compose
@@ -193,11 +212,7 @@ def _validate(args) -> int:
     if kind == "suite":
         return _suite(path)
     if kind == "risk":
-        from pframe.risk.study import read_study
-
-        study, _, _ = read_study(path)
-        print(f"{path}: valid; a risk study ({study.design.kind}) of {study.scene}")
-        return 0
+        return _risk(path, getattr(args, "records_folder", None))
     return _sweep(path) if kind == "sweep" else _scene(path, kind, text, data, lines)
 
 
@@ -207,5 +222,9 @@ def register(sub) -> None:
         description="Check a scene file, a scene in Pi numbers or a sweep file (recognised by "
                     "its keys) without running it; print how each record file was read and "
                     "the warnings a run would give.")
-    validate.add_argument("model", help="scene, Pi-form scene or sweep file (YAML)")
+    validate.add_argument("model", help="scene, Pi-form scene, sweep, suite or risk study "
+                          "file (YAML)")
+    validate.add_argument("--records-folder", metavar="DIR",
+                          help="a risk study: where its suite's records are (as pframe risk "
+                               "--records-folder; default: the study's records_folder)")
     validate.set_defaults(run=_validate)

@@ -65,7 +65,9 @@ class AuditInputs:
         return h.hexdigest()[:32]
 
 
-def _measure(measure) -> Measure | None:
+def parse_measure(measure) -> Measure | None:
+    """A suite's intensity measure from ``pga``, ``sa:SECONDS``, ``sa:BUILDING`` (or a dict,
+    or a Measure); None stays None. InputError for anything else."""
     if measure is None or isinstance(measure, Measure):
         return measure
     if isinstance(measure, dict):
@@ -137,7 +139,7 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
         files = [Path(f) for f in suite]
         suite = (load_suite(files[0], records_folder) if len(files) == 1
                  else suite_from_files(files, source=", ".join(map(str, files))))
-    chosen = _measure(measure)
+    chosen = parse_measure(measure)
     if chosen is not None:
         suite = dataclasses.replace(suite, measure=chosen)
     if levels is not None:

@@ -8,26 +8,37 @@ its contacts closed: pframe refuses a larger step with the limit in the message,
 ``substeps: auto``, integrates each recorded step in as many sub-steps as the limit needs.
 """
 
-from typing import Literal
+from typing import ClassVar, Literal
 
 from pydantic import Field
 
-from pframe.integrators._base import IntegratorParams
+from pframe.integrators._base import Facts, IntegratorParams
+from pframe.integrators.coefficients import Coefficients
 
 
 class CentralDifference(IntegratorParams):
     """Explicit central difference."""
 
     type: Literal["central_difference"] = "central_difference"
+    # no Newton iteration to fail nor events to locate: its own path (kernel/c/explicit.c)
+    facts: ClassVar[Facts] = Facts(
+        order=2, paths=frozenset(),
+        examples={"central_difference": {"type": "central_difference"}},
+        restitution_tolerance=2e-3, impact_balance_tolerance=1e-10,
+        balance={"central_difference": ({"type": "central_difference", "substeps": "auto"},
+                                        (-1e-6, 1e-6))},
+        # its velocity corrector's O(h^2): about 2e-6 at 4 times the paper's step
+        balance_tolerance=1e-5,
+        spectral_decay=())
     substeps: Literal["none", "auto"] = Field(
         "none", description="auto: split each step to stay below the stability limit."
     )
     safety: float = Field(0.9, gt=0, le=1, description="Fraction of the stability limit used.")
 
     def coefficients(self):
-        from pframe.integrators import Coefficients
-
-        return Coefficients(0.5, 0.0, explicit=True)
+        return Coefficients(0.5, 0.0, explicit=True, retry=False, opensees=(
+            "it integrates with central_difference; the OpenSees export writes an implicit "
+            "integrator (newmark, hht, wilson_theta, or bathe with gamma: 0.5)"))
 
     def describe(self) -> str:
         return "central_difference"

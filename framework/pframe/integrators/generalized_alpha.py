@@ -8,27 +8,44 @@ Second order and unconditionally stable; rho_inf = 1 is average acceleration, sm
 damp the high modes (contact chatter) with the least low-mode damping of the family.
 """
 
-from typing import Literal
+from typing import ClassVar, Literal
 
 from pydantic import Field
 
-from pframe.integrators._base import Implicit
+from pframe.integrators._base import Facts, Implicit
+from pframe.integrators.coefficients import Coefficients
 
 
 class GeneralizedAlpha(Implicit):
     """Chung-Hulbert generalised-alpha with full Newton iterations."""
 
     type: Literal["generalized_alpha"] = "generalized_alpha"
+    scheme: ClassVar[str] = "alpha_family"
+    facts: ClassVar[Facts] = Facts(
+        order=2, paths=frozenset({"events", "retry"}),
+        examples={"generalized_alpha": {"type": "generalized_alpha", "rho_infinity": 0.6}},
+        restitution_tolerance=2e-3, impact_balance_tolerance=1e-10,
+        balance={"generalized_alpha": ({"type": "generalized_alpha", "rho_infinity": 0.8},
+                                       (-1e-2, 0.0)),
+                 "generalized_alpha-0": ({"type": "generalized_alpha", "rho_infinity": 0.0},
+                                         (1e-4, float("inf")))},
+        balance_tolerance=1e-10,
+        spectral_decay=({"type": "generalized_alpha", "rho_infinity": 0.5},))
     rho_infinity: float = Field(0.8, ge=0, le=1, description="Spectral radius at dt w -> inf.")
 
     def coefficients(self):
-        from pframe.integrators import Coefficients
-
         rho = self.rho_infinity
         am = (2.0 * rho - 1.0) / (rho + 1.0)
         af = rho / (rho + 1.0)
-        return Coefficients(0.5 - am + af, 0.25 * (1.0 - am + af) ** 2, am, af,
-                            events=self.events)
+        gamma, beta = 0.5 - am + af, 0.25 * (1.0 - am + af) ** 2
+        # alpha_m = 0 (rho_inf = 1/2) is HHT; otherwise OpenSees' GeneralizedAlpha is not the
+        # method (pframe.peers.opensees)
+        opensees = ("hht", af, gamma, beta) if am == 0.0 else (
+            "OpenSees' GeneralizedAlpha does not integrate the generalised-alpha method (its "
+            "Newton update takes the inertia at the step end instead of at t(n+1-alpha_m), and "
+            "a linear oscillator's amplitude grows under it): compare with newmark, hht or "
+            "wilson_theta")
+        return Coefficients(gamma, beta, am, af, opensees=opensees, **self.runs_on())
 
     def describe(self) -> str:
         return f"generalized_alpha(rho_infinity={self.rho_infinity:.6g})"

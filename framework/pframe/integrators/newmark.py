@@ -2,17 +2,30 @@
 unconditionally stable, second order, no numerical damping) or linear acceleration
 (gamma 1/2, beta 1/6, stable for dt <= sqrt(12) / w_max)."""
 
-from typing import Literal
+from typing import ClassVar, Literal
 
 from pydantic import Field, model_validator
 
-from pframe.integrators._base import Implicit
+from pframe.integrators._base import Facts, Implicit
+from pframe.integrators.coefficients import Coefficients
 
 
 class Newmark(Implicit):
     """Newmark's method with full Newton iterations."""
 
     type: Literal["newmark"] = "newmark"
+    scheme: ClassVar[str] = "alpha_family"
+    facts: ClassVar[Facts] = Facts(
+        order=2, paths=frozenset({"events", "retry"}),
+        examples={"average_acceleration": {"type": "newmark"},
+                  "linear_acceleration": {"type": "newmark", "variant": "linear_acceleration"}},
+        restitution_tolerance=2e-3, impact_balance_tolerance=1e-10,
+        balance={"newmark": ({"type": "newmark"}, (-1e-6, 1e-6)),
+                 "newmark-gamma-0.6": ({"type": "newmark", "gamma": 0.6, "beta": 0.3025},
+                                       (1e-4, float("inf"))),
+                 "newmark-events": ({"type": "newmark", "events": True}, (-1e-6, 1e-6))},
+        balance_tolerance=1e-10,
+        spectral_decay=({"type": "newmark", "gamma": 0.6, "beta": 0.3025},))
     variant: Literal["average_acceleration", "linear_acceleration"] | None = Field(
         None, description="A named member; sets gamma and beta (do not give them too)."
     )
@@ -26,13 +39,12 @@ class Newmark(Implicit):
         return self
 
     def coefficients(self):
-        from pframe.integrators import Coefficients
-
         if self.variant == "linear_acceleration":
-            return Coefficients(0.5, 1.0 / 6.0, events=self.events)
-        gamma = 0.5 if self.gamma is None else self.gamma
-        beta = 0.25 if self.beta is None else self.beta
-        return Coefficients(gamma, beta, events=self.events)
+            gamma, beta = 0.5, 1.0 / 6.0
+        else:
+            gamma = 0.5 if self.gamma is None else self.gamma
+            beta = 0.25 if self.beta is None else self.beta
+        return Coefficients(gamma, beta, opensees=("newmark", gamma, beta), **self.runs_on())
 
     def describe(self) -> str:
         c = self.coefficients()

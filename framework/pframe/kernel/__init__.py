@@ -1,8 +1,9 @@
 """The time-stepping kernel (C, compiled when pframe is installed) and its driver.
 
 The algorithm is C, one idea per file of ``c/``: ``loop.c`` (the time loop, the entry point
-``pframe_run``), ``implicit.c`` (a generalised-alpha step with sub-step retries),
-``newton.c``, ``explicit.c``, ``events.c``, ``assembly.c`` (residual, tangents, the band),
+``pframe_run``), ``implicit.c`` (an implicit step in parts: retried sub-steps, events),
+``integrator.c`` (a stage's relations), ``newton.c`` (the stage loop and Newton),
+``explicit.c``, ``events.c``, ``assembly.c`` (residual, tangents, the band),
 ``energy.c`` (commit and energy bookkeeping), ``record.c``, ``banded.c`` and the generated
 ``laws.c`` (the built-in laws, translated from their Python ``force`` by
 :mod:`pframe.kernel.translate`), over the structs of the generated ``state.h``

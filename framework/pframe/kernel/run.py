@@ -24,23 +24,29 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pframe.errors import InputError
-from pframe.integrators import SCHEMES
+from pframe.integrators.tableau import RELATIONS
 from pframe.kernel.state import (
     ENERGY_TERMS,
     RECORDABLE,
     RECORDABLE_SLOT,
+    STAGE_WIDTH,
     Counter,
     Energy,
     Kind,
     Model,
     Recording,
+    Relation,
     Run,
     Saved,
     Scalar,
+    Scheme,
     Settings,
+    StageColumn,
+    StagePoint,
     State,
     Status,
     StatusColumn,
+    Value,
     Work,
 )
 from pframe.outputs import check_stop
@@ -51,6 +57,9 @@ MAX_SPLIT = 10
 #: refactor the effective stiffness before every solve (a test shows that reusing the
 #: factorisation changes no bit)
 ALWAYS_REFACTOR = False
+#: take every implicit step of a nonlinear scene through the retry path, in sub-steps (a test
+#: shows that each path runs the scene's integrator)
+FORCE_SPLIT = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
@@ -162,8 +171,10 @@ class Result:
         else:
             dof_names = {int(d): nm for nm, d in zip(plan.node_names, plan.node_dof)}
             where = f"node {dof_names.get(index, index)}"
+        retried = (f"nor in 2^{MAX_SPLIT} sub-steps" if plan.integrator.retry
+                   else "the integrator does not retry a failed step in sub-steps")
         why = {Status.NOT_CONVERGED: f"Newton did not converge in {plan.max_iterations} iterations "
-                              f"(nor in 2^{MAX_SPLIT} sub-steps)",
+                              f"({retried})",
                Status.NOT_FINITE: "a force became NaN or infinite",
                Status.NOT_DEFINITE: "the effective stiffness is not positive definite",
                Status.NOT_STABLE: "the run diverged (the numerics created more energy than the "
@@ -260,17 +271,37 @@ def _normalised(group):
     return type(group)(*out)
 
 
+def tableau_rows(tableau) -> np.ndarray:
+    """Settings.tableau: one row of STAGE_WIDTH numbers per stage (pframe.kernel.state's
+    StageColumn, then the coefficients [Relation, StagePoint, Value])."""
+    if len(tableau.stages) > len(StagePoint) - 1:
+        raise ValueError(f"the kernel runs at most {len(StagePoint) - 1} stages a step")
+    rows = np.zeros((len(tableau.stages), STAGE_WIDTH))
+    for stage, (row, cls) in enumerate(zip(rows, tableau.stiffness_classes())):
+        row[StageColumn.END] = tableau.stages[stage].end
+        row[StageColumn.AT] = tableau.stages[stage].at
+        row[StageColumn.STIFFNESS] = cls
+        coefficients = row[len(StageColumn):].reshape(len(Relation), len(StagePoint), len(Value))
+        for relation, name in zip(Relation, RELATIONS, strict=True):
+            for point, values in enumerate(tableau.stages[stage].relation(name)):
+                coefficients[relation, point] = values
+    return rows
+
+
 def _settings(plan, laws) -> Settings:
     c = plan.integrator
     return Settings(
         gamma=float(c.gamma), beta=float(c.beta), alpha_m=float(c.alpha_m),
-        alpha_f=float(c.alpha_f), scheme=SCHEMES.index(c.scheme), theta=float(c.theta),
+        alpha_f=float(c.alpha_f), scheme=int(Scheme[c.scheme.upper()]),
+        theta=float(c.theta), stages=c.stages, tableau=tableau_rows(c.tableau),
+        kinetic_weight=float(c.tableau.kinetic_weight), beyond=bool(c.tableau.beyond),
         tolerance=float(plan.tolerance),
         absolute_tolerance=float(plan.absolute_tolerance),
         max_iterations=int(plan.max_iterations), bandwidth=int(plan.bandwidth),
-        max_split=int(MAX_SPLIT), linear=bool(plan.linear and not c.explicit),
+        max_split=int(MAX_SPLIT if c.retry else 0), linear=bool(plan.linear and not c.explicit),
         explicit=bool(c.explicit), events=bool(c.events and plan.contact_names),
         alpha=bool(c.alpha), always_refactor=bool(ALWAYS_REFACTOR),
+        force_split=bool(FORCE_SPLIT),
         material_plugins=laws.address(laws.material_table),
         contact_plugins=laws.address(laws.contact_table),
     )
@@ -366,10 +397,12 @@ class _Recorders:
         return {q: self._shaped(q, self.envelope[RECORDABLE_SLOT[q]]) for q in self.plan.envelope}
 
 
-def work_arrays(plan) -> Work:
+def work_arrays(plan, st: State) -> Work:
     """Scratch arrays of one member at a time: its trial state (for Newmark the evaluation
-    point is the step end itself), the band, the tangents in its factorisation."""
+    point is the step end itself), the band, the tangents in its factorisation, and what the
+    stages before the last keep (their ends, and the deformations and law states there)."""
     n, s, c = plan.n_dof, plan.n_springs, len(plan.contact_names)
+    stages = plan.integrator.stages
     u, v, a = np.zeros(n), np.zeros(n), np.zeros(n)
     if plan.integrator.alpha:
         ue, ve, ae = np.zeros(n), np.zeros(n), np.zeros(n)
@@ -379,7 +412,9 @@ def work_arrays(plan) -> Work:
         ue, ve, ae = u, v, a
     work = Work(u, v, a, ue, ve, ae, np.zeros(n), np.zeros((n, plan.bandwidth + 1)),
                 *(np.zeros(s) for _ in range(4)), np.zeros(c), np.zeros(c), np.zeros(s),
-                np.zeros(c), np.zeros(len(Scalar)))
+                np.zeros(c), np.zeros(len(Scalar)),
+                np.zeros((stages - 1, len(Value), n)), np.zeros(s), np.zeros(c),
+                np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size))
     return work
 
 
@@ -468,7 +503,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     pieces = _pieces(plan.batch, threads)
     # always a pool, even of one thread: the main thread waits and receives the signals
     pool = ThreadPoolExecutor(len(pieces))
-    scratch = [(work_arrays(plan), _saved(st)) for _ in pieces]
+    scratch = [(work_arrays(plan, st), _saved(st)) for _ in pieces]
     c_settings = ckernel.arrays(ckernel.Settings, settings)
     # the structs of each piece of the batch: the same arrays for every call
     structs = []

@@ -27,6 +27,7 @@ from __future__ import annotations
 from collections import namedtuple
 from enum import IntEnum, auto
 
+from pframe.integrators import SCHEMES
 from pframe.quantities import QUANTITIES
 
 
@@ -97,14 +98,15 @@ ENERGY_BOOKKEEPING = (Energy.INPUT_ABS, Energy.START)
 class Counter(Slots):
     """counters[b, slot]: linear solves, factorisations of the effective stiffness,
     evaluations of the residual (each evaluates every element once), steps split into
-    sub-steps, and values gathered by recorders. ``Counter[name.upper()]`` of a name of
-    :data:`COUNTER_NAMES`."""
+    sub-steps, values gathered by recorders, and contact events located inside steps.
+    ``Counter[name.upper()]`` of a name of :data:`COUNTER_NAMES`."""
 
     SOLVES = auto()
     FACTORISATIONS = auto()
     EVALUATIONS = auto()
     SPLIT_STEPS = auto()
     GATHERS = auto()
+    EVENTS = auto()  # sub-steps ended at a located contact event (kernel/c/events.c)
 
 
 #: the counters' names (``Result.counter(name)``), in slot order
@@ -118,12 +120,56 @@ RECORDABLE = tuple(QUANTITIES)
 RECORDABLE_SLOT = {q: Recordable[q.upper()] for q in RECORDABLE}
 
 
-class Scheme(Slots):
-    """Settings.scheme: the implicit integrator (kernel/c/integrator.c): the generalised-alpha
-    family (Newmark, HHT, Chung-Hulbert) or Wilson's theta method (C: ``ALPHA_FAMILY``, ...)."""
+#: Settings.scheme: how the kernel runs the implicit integrator (kernel/c/integrator.c): the
+#: schemes of :data:`pframe.integrators.SCHEMES`, which follow from the integrators' table (C:
+#: ``ALPHA_FAMILY``, ``WILSON_THETA``, ``TABLEAU``: the fast paths of one Newmark stage and the
+#: generic stage loop)
+Scheme = Slots("Scheme", [scheme.upper() for scheme in SCHEMES])
 
-    ALPHA_FAMILY = auto()
-    WILSON_THETA = auto()
+
+class StagePoint(Slots):
+    """The points a stage's relations combine: the step start, then the ends of the stages
+    (at most ``STAGE_POINTS - 1`` stages a step; see pframe.integrators.tableau; C:
+    ``POINT_START``, ...)."""
+
+    START = auto()
+    STAGE_1 = auto()
+    STAGE_2 = auto()
+    STAGE_3 = auto()
+
+
+class Relation(Slots):
+    """A stage's relations: its end displacement and velocity, and the displacement, velocity
+    and acceleration of its evaluation point (C: ``U_END``, ...)."""
+
+    U_END = auto()
+    V_END = auto()
+    U_EVAL = auto()
+    V_EVAL = auto()
+    A_EVAL = auto()
+
+
+class StageColumn(Slots):
+    """Settings.tableau[stage, column]: where the stage ends and where it is evaluated
+    (fractions of the step), its effective-stiffness class (stages of one class share a
+    factorisation), then the relations' coefficients from ``STAGE_HEAD`` on:
+    ``[relation, point, value]`` (C: ``STAGE_END``, ...)."""
+
+    END = auto()
+    AT = auto()
+    STIFFNESS = auto()
+
+
+class Value(Slots):
+    """The values of a point a relation weighs: u, h v and h^2 a (C: ``VALUE_U``, ...)."""
+
+    U = auto()
+    V = auto()
+    A = auto()
+
+
+#: the width of one stage's row of Settings.tableau
+STAGE_WIDTH = len(StageColumn) + len(Relation) * len(StagePoint) * len(Value)
 
 
 class DampingStiffness(Slots):
@@ -142,7 +188,10 @@ class Scalar(Slots):
     open; see kernel/c/events.c), the work of the non-inertial forces at the alpha point over
     the whole (sub-)step (kernel/c/energy.c), and 1.0 when a step's coefficient divided by
     zero (a step length or Newmark beta that underflows): the kernel stops and the driver
-    raises ZeroDivisionError, as Python would."""
+    raises ZeroDivisionError, as Python would. The generic stage loop (kernel/c/newton.c) adds
+    the effective-stiffness class of the factorisation in hand, the work of the inertia at the
+    stages' evaluation points over the step (kernel/c/energy.c), and 1.0 while a stage after
+    the first is solved (the laws start from the previous stage's state, Work.story_stage)."""
 
     H_FACTORED = auto()
     STALE = auto()
@@ -151,6 +200,9 @@ class Scalar(Slots):
     HELD_CLOSED = auto()
     ALPHA_WORK = auto()
     ZERO_DIVISION = auto()
+    STIFFNESS_FACTORED = auto()
+    INERTIAL_WORK = auto()
+    LAWS_FROM_STAGE = auto()
 
 
 class Run(Slots):
@@ -174,6 +226,10 @@ C_CONSTANTS = (
     ("recordable quantities", Recordable, "", "RECORDABLE_COUNT"),
     ("damping stiffness", DampingStiffness, "DAMPING_", None),
     ("integrator schemes", Scheme, "", None),
+    ("stage points", StagePoint, "POINT_", "STAGE_POINTS"),
+    ("stage relations", Relation, "", "RELATIONS"),
+    ("stage columns", StageColumn, "STAGE_", "STAGE_HEAD"),
+    ("point values", Value, "VALUE_", "VALUE_SLOTS"),
     ("work scalars", Scalar, "", "SCALAR_SLOTS"),
     ("pframe_run's return values", Run, "RUN_", None),
 )
@@ -229,6 +285,9 @@ Settings = namedtuple("Settings", [
     "gamma", "beta", "alpha_m", "alpha_f",  # Newmark's gamma and beta, the inertia and force
                                             # weights of the previous step (alpha family)
     "scheme", "theta",                      # Scheme, and Wilson's theta
+    "stages", "tableau",  # the step's implicit stages, and their rows (stages, STAGE_WIDTH)
+    "kinetic_weight",     # the kinetic energy's (1/2) a M a weight, times h^2 (beta - 1/4)
+    "beyond",     # some stage is evaluated past its end (Wilson-theta): see assembly.c
     "tolerance", "absolute_tolerance",      # Newton: |du| <= tolerance |u| + absolute_tolerance
     "max_iterations",                       # Newton iterations per (sub-)step
     "bandwidth",                            # half-bandwidth of the effective stiffness
@@ -238,6 +297,8 @@ Settings = namedtuple("Settings", [
     "events",     # locate contact onset and separation inside steps
     "alpha",      # equilibrium off the step end (HHT, generalised-alpha, Wilson-theta)
     "always_refactor",  # refactor before every solve (a test's check that reuse changes no bit)
+    "force_split",  # take every implicit step in sub-steps, as a failed one is retried (a
+                    # test's check that the retry path runs the integrator)
     "material_plugins", "contact_plugins",  # function pointers of plug-in laws (ids after
                                             # the built-in ones; see pframe.kernel.plugins)
 ])
@@ -272,6 +333,9 @@ Work = namedtuple("Work", [
     "contact_force", "penetration",                                  # (c,) trial
     "story_kk", "contact_kk",  # element tangents in the current factorisation
     "scalars",                 # (len(Scalar),) see Scalar
+    # the generic stage loop: the ends of the stages before the last, (stages - 1, 3, n) u, v
+    # and a, the deformations and law states at the previous stage's end, the laws start from
+    "stage_values", "stage_drift", "stage_penetration", "story_stage", "contact_stage",
 ])
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
@@ -292,7 +356,8 @@ C_TYPES = {
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},
     "Settings": {"gamma": "double", "beta": "double", "alpha_m": "double", "alpha_f": "double",
-                 "scheme": "int64_t", "theta": "double",
+                 "scheme": "int64_t", "theta": "double", "stages": "int64_t",
+                 "kinetic_weight": "double", "beyond": "int64_t", "force_split": "int64_t",
                  "tolerance": "double", "absolute_tolerance": "double",
                  "max_iterations": "int64_t", "bandwidth": "int64_t", "max_split": "int64_t",
                  "linear": "int64_t", "explicit": "int64_t", "events": "int64_t",

@@ -21,7 +21,7 @@ from pydantic import (
     model_validator,
 )
 
-from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark, WilsonTheta
+from pframe.integrators import ALL_INTEGRATORS, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.model.plan import Direction, FloorPlan, Point
@@ -691,16 +691,12 @@ def tag_reader(key: str, default: str):
 _integrator_tag = tag_reader("type", "newmark")
 
 
+#: the scene's integrator: one of pframe.integrators' table, tagged by its ``type``
 Integrator = Annotated[
-    Union[  # noqa: UP007
-        Annotated[Newmark, Tag("newmark")],
-        Annotated[HHT, Tag("hht")],
-        Annotated[GeneralizedAlpha, Tag("generalized_alpha")],
-        Annotated[WilsonTheta, Tag("wilson_theta")],
-        Annotated[CentralDifference, Tag("central_difference")],
-    ],
+    Union[tuple(Annotated[cls, Tag(cls.type_name())] for cls in ALL_INTEGRATORS)],  # noqa: UP007
     Discriminator(_integrator_tag),
 ]
+_INTEGRATOR_TYPES = [cls.type_name() for cls in ALL_INTEGRATORS]
 
 
 class Newton(Base):
@@ -716,8 +712,9 @@ class Newton(Base):
 class Analysis(Base):
     """Time integration: integrator, step, duration and Newton settings."""
 
-    integrator: Integrator = Field(Newmark(), description="The time integrator (type: newmark, "
-                                   "hht, generalized_alpha, wilson_theta or central_difference).")
+    integrator: Integrator = Field(Newmark(), description="The time integrator (type: "
+                                   + ", ".join(_INTEGRATOR_TYPES[:-1]) + " or "
+                                   + _INTEGRATOR_TYPES[-1] + ").")
     dt: Positive = Field(description="Time step (s).")
     duration: Positive = Field(description="Analysed time (s).")
     newton: Newton = Field(Newton(), description="Newton-Raphson settings (nonlinear scenes).")

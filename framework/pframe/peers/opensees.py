@@ -35,7 +35,11 @@ named on that line. The components the scene does not move are fixed. Both model
   accumulated as OpenSees accumulates time, so that step ``n`` sees ``a_g[n]`` exactly;
   Newton iterations with a ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and
   binary recorders;
-* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's) or ``WilsonTheta``.
+* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's), ``WilsonTheta`` or
+  ``TRBDF2`` (Bathe's method with gamma = 1/2: OpenSees takes its trapezoidal and backward
+  sub-steps as alternate analysis steps of dt / 2, so the script analyses twice the steps at
+  half the step, with the ground motion sampled between pframe's samples as pframe
+  interpolates it, linearly, and records every second step).
   Not generalised-alpha: OpenSees' ``GeneralizedAlpha`` sets the nodes' accelerations to
   a(n+1) in its Newton update (``GeneralizedAlpha::update``) where its tangent and the method
   have a(n+1-alpha_m); a linear oscillator (w dt = 5, rho_inf = 0.6) grows in amplitude under
@@ -73,6 +77,8 @@ _WIDTH = 100  # line length of the generated script
 def opensees_integrator(integrator: tuple) -> tuple:
     """OpenSees' ``integrator`` arguments for a :class:`PeerScene` integrator."""
     kind = integrator[0]
+    if kind == "trbdf2":
+        return ("TRBDF2",)
     if kind == "newmark":
         return ("Newmark", float(integrator[1]), float(integrator[2]))
     if kind == "wilson_theta":
@@ -80,6 +86,11 @@ def opensees_integrator(integrator: tuple) -> tuple:
     if kind == "hht":  # OpenSees weighs the step end by its alpha
         return ("HHT", 1.0 - float(integrator[1]), float(integrator[2]), float(integrator[3]))
     raise ValueError(f"unknown integrator {kind!r}")
+
+
+def analysis_steps(integrator: tuple) -> int:
+    """OpenSees analysis steps per pframe step: 2 for TRBDF2 (a sub-step each), else 1."""
+    return 2 if integrator[0] == "trbdf2" else 1
 
 
 def _materials(scene: PeerScene) -> list:
@@ -125,6 +136,7 @@ def _values(scene: PeerScene, out_npz: str | None) -> dict:
         "TOL": float(scene.tolerance),
         "MAX_ITER": int(scene.max_iterations),
         "INTEGRATOR": opensees_integrator(scene.integrator),
+        "SUBSTEPS": analysis_steps(scene.integrator),
         "LINK_NODES": _pairs(scene.link_nodes),
         "LINK_MATERIALS": [tuple(m[:1]) + tuple(float(v) for v in m[1:])
                            for m in (scene.link_materials or [])],

@@ -74,12 +74,15 @@ def ground_motion(channels):
         # interpolating at t_n / DT, would then feed a_g a hair off the sample n (~1e-11
         # relative late in a run). Sample times accumulated the same way make step n see
         # sample n itself. A Path returns 0 past its last sample: one more sample repeats
-        # the last value.
-        ag = [float(a) for a in samples]
+        # the last value. With SUBSTEPS analysis steps a step (TRBDF2) the samples between
+        # pframe's are its linear interpolation, as pframe has them.
+        ag = [float(samples[0])] + [
+            (1.0 - j / SUBSTEPS) * float(a0) + j / SUBSTEPS * float(a1)
+            for a0, a1 in zip(samples[:-1], samples[1:]) for j in range(1, SUBSTEPS + 1)]
         times, t = [], 0.0
         for _ in ag:
             times.append(t)
-            t += DT
+            t += DT / SUBSTEPS
         ops.timeSeries("Path", c + 1, "-time", *times, t, "-values", *ag, ag[-1])
         ops.pattern("UniformExcitation", c + 1, dof, "-accel", c + 1)
         # OpenSees starts from zero acceleration; equilibrium at rest asks for -a_g(0).
@@ -267,7 +270,8 @@ def _read_binary(path, columns):
 
 
 def simulate(workdir):
-    """Build, run one ``analyze(STEPS, DT)`` and return the histories (row 0 is t = 0)."""
+    """Build, run one ``analyze(STEPS * SUBSTEPS, DT / SUBSTEPS)`` and return the histories
+    of pframe's steps (row 0 is t = 0)."""
     stories, contacts, links = build()
     recorded = recorders(stories, contacts, links)
     for name, (kind, columns, args) in recorded.items():
@@ -284,7 +288,7 @@ def simulate(workdir):
     ops.analysis("Transient")
 
     start = time.perf_counter()
-    status = ops.analyze(STEPS, DT)
+    status = ops.analyze(STEPS * SUBSTEPS, DT / SUBSTEPS)
     seconds = time.perf_counter() - start
     reached = ops.getTime()
     ops.wipe()  # closes (flushes) the recorders
@@ -296,8 +300,10 @@ def simulate(workdir):
         history = np.zeros((STEPS + 1, columns))
         if columns:
             rows = _read_binary(os.path.join(workdir, name + ".bin"), columns + 1)
-            if rows.shape[0] != STEPS:
-                raise RuntimeError(f"{name}: {rows.shape[0]} recorded steps, not {STEPS}")
+            if rows.shape[0] != STEPS * SUBSTEPS:
+                raise RuntimeError(f"{name}: {rows.shape[0]} recorded steps, not "
+                                   f"{STEPS * SUBSTEPS}")
+            rows = rows[SUBSTEPS - 1::SUBSTEPS]  # pframe's steps
             result["time"][1:] = rows[:, 0]
             history[1:] = rows[:, 1:]
         result[name] = history
@@ -308,7 +314,7 @@ def simulate(workdir):
 if __name__ == "__main__":
     with tempfile.TemporaryDirectory() as tmp:
         result = simulate(tmp)
-    print(f"analyze({STEPS}, {DT!r}): {result['analyze_seconds']:.4f} s")
+    print(f"analyze({STEPS * SUBSTEPS}, {DT / SUBSTEPS!r}): {result['analyze_seconds']:.4f} s")
     if OUT_NPZ is not None:
         np.savez(OUT_NPZ, **result)
 '''

@@ -100,7 +100,10 @@ class PeerScene:
         ``("kelvin_voigt", k, c, alpha)``.
     integrator : tuple
         ``("newmark", gamma, beta)``, ``("hht", alpha, gamma, beta)`` with alpha the weight of
-        the step's start (pframe's convention), or ``("wilson_theta", theta)``.
+        the step's start (pframe's convention), ``("wilson_theta", theta)``, or
+        ``("trbdf2",)``: Bathe's composite method with gamma = 1/2, whose two sub-steps are two
+        analysis steps of OpenSees' TRBDF2. Each integrator says which it is (its
+        coefficients' ``opensees``).
     channels : tuple of str
         The site's axes ('x', 'y') the rows of a scene in plan's ground motion load.
     floors : FloorsInPlan, optional

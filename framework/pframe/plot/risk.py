@@ -79,7 +79,11 @@ def risk_figures(path: str | Path) -> dict:
         out["hazard"] = fig
     if "pounding_frequency" in ds:
         fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
-        ax.semilogy(1000 * ds.gap.values, ds.pounding_frequency.values, "o-", ms=3)
+        ax.semilogy(1000 * ds.gap.values, ds.pounding_frequency.values, "o-", ms=3,
+                    label="envelope (used)")
+        if "pounding_frequency_raw" in ds:  # the refitted curve, where it rises with the gap
+            ax.semilogy(1000 * ds.gap.values, ds.pounding_frequency_raw.values, ":",
+                        color="0.4", lw=1, label="refitted at each gap")
         if "gap_at_target" in ds:
             ax.axhline(float(ds.target_annual_frequency), color="k", ls="--", lw=1,
                        label="target")

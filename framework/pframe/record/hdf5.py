@@ -42,7 +42,7 @@ UNITS = {q: (units, name) for q, (_, units, name) in QUANTITIES.items()}
 DIMENSION = {q: dim for q, (dim, _, _) in QUANTITIES.items()}
 #: kernel counter (pframe.kernel.state.COUNTER_NAMES) -> file attribute, in the file's order
 COUNTER_ATTRIBUTES = (("solves", "newton_solves"), ("split_steps", "split_steps"),
-                      ("factorisations", "factorisations"),
+                      ("events", "events_located"), ("factorisations", "factorisations"),
                       ("evaluations", "residual_evaluations"), ("gathers", "gathered_values"))
 #: files whose writing failed inside HDF5: never closed (closing one crashes libhdf5)
 _FAILED: list = []
@@ -123,9 +123,10 @@ def _temporary(path: Path) -> Path:
 
 def integrator_text(plan) -> str:
     """How the plan integrates, in words (the ``integrator`` attribute)."""
+    each = "stage" if plan.integrator.stages > 1 else "step"
     return plan.integrator_name + (
         "" if plan.integrator.explicit
-        else (", linear: one solve per step" if plan.linear else ", full Newton")
+        else (f", linear: one solve per {each}" if plan.linear else ", full Newton")
         + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
 
 
@@ -483,6 +484,7 @@ class ResultWriter:
         attrs["input_yaml"] = loaded.text
         attrs.update(record_attributes(loaded))
         attrs["integrator"] = integrator_text(plan)
+        attrs["integrator_scheme"] = plan.integrator.describe_scheme()
         if plan.foundations:  # the soil applied (docs/soil.md)
             attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
                                       zip(plan.foundations, plan.foundation_soil))

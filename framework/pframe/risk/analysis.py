@@ -7,9 +7,10 @@ import dataclasses
 import math
 
 import numpy as np
-from scipy.optimize import brentq
 
-from pframe.risk.fragility import Fragility, fit_capacities, fit_cloud, fit_msa
+from pframe.risk import fragility
+from pframe.risk.fragility import Fragility, capacity_fit, fit_cloud, msa_fit, unfixed
+from pframe.risk.gapcurve import GapCurve
 from pframe.risk.hazard import HazardCurve, mean_annual_frequency
 
 G = 9.80665
@@ -32,7 +33,8 @@ class Analysis:
     gap_regression: float = math.nan
     rules_at_target: dict = dataclasses.field(default_factory=dict)
     gap_grid: np.ndarray = None  # uniform gaps (m) and the annual frequency of pounding at each
-    gap_rates: np.ndarray = None
+    gap_rates: np.ndarray = None  # the envelope from the right of the refitted curve
+    gap_rates_raw: np.ndarray = None  # the refitted curve itself
     warnings: list = dataclasses.field(default_factory=list)
 
 
@@ -59,22 +61,29 @@ def _ratios(rows, prefix: str, kind: str, value: float, gap: float) -> np.ndarra
 
 
 def fit(kind: str, im: np.ndarray, ratio: np.ndarray, ok: np.ndarray, levels, records: int,
-        binary: bool = False, used: np.ndarray | None = None) -> Fragility:
+        binary: bool = False, used: np.ndarray | None = None, checked: bool = True) -> Fragility:
     """The design's fragility of ``ratio > 1``: binomial over stripes (msa), capacities
     (ida: the IM where the ratio first passes 1, log-interpolated between the record's runs
     in order of IM), or the censored regression of ln ratio on ln IM (cloud; a binary
     outcome: probit over runs). ``used`` (ida by hunt and fill, runs record-major, each
-    record's in order of IM): the slots run; there a failed run passes every limit."""
+    record's in order of IM): the slots run; there a failed run passes every limit.
+    ``checked``: a fit the data do not fix is absent, with the reason
+    (:func:`pframe.risk.fragility.unfixed`); the gap's curve keeps it (False)."""
+    frag = _fit(kind, im, ratio, ok, levels, records, binary, used)
+    return fragility.checked(frag) if checked else frag
+
+
+def _fit(kind, im, ratio, ok, levels, records, binary, used) -> Fragility:
     exceed = (ratio > 1) & ok
     if kind == "msa" or (kind == "cloud" and binary):
         if kind == "msa":
             lv = np.asarray(levels)
             n = ok.reshape(records, -1).sum(axis=0)
             z = exceed.reshape(records, -1).sum(axis=0)
-            return fit_msa(lv, n, z)
-        return fit_msa(im[ok], np.ones(ok.sum()), exceed[ok].astype(float))
+            return msa_fit(lv, n, z)
+        return msa_fit(im[ok], np.ones(ok.sum()), exceed[ok].astype(float))
     if kind == "cloud":
-        return fit_cloud(im[ok], ratio[ok]).fragility(1.0)
+        return fit_cloud(im[ok], ratio[ok]).fragility(1.0, check=False)
     ims = np.asarray(im, float).reshape(records, -1)
     r = np.log(np.maximum(ratio.reshape(records, -1), 1e-300))
     good = ok.reshape(records, -1)
@@ -101,7 +110,7 @@ def fit(kind: str, im: np.ndarray, ratio: np.ndarray, ok: np.ndarray, levels, re
             f = -rk[j - 1] / (rk[j] - rk[j - 1])
             capacities.append(math.exp(lv[j - 1] + f * (lv[j] - lv[j - 1])))
         censored.append(False)
-    return fit_capacities(capacities, censored)
+    return capacity_fit(capacities, censored)
 
 
 def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
@@ -119,22 +128,29 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
     return (value, float(low), float(high), above)
 
 
-def _gap_solver(kind, im, g_req, ok, levels, records, hazard, target, used=None):
-    """lambda(g) of pounding at a uniform gap g, and the root of lambda(g) = target."""
+def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCurve:
+    """lambda(g) of pounding at a uniform gap g, the design's fit refitted at each g
+    (:mod:`pframe.risk.gapcurve`: its envelope from the right and the largest crossing)."""
     known: dict = {}  # msa: lambda by the stripes' counts of pounding runs
 
     def rate(g):
         if kind != "msa":
             return rate_at(g)
         # an msa fit sees g only through how many runs of each stripe pound: lambda(g) is a
-        # step function, and a root search meets each step many times (the same numbers)
+        # step function, and the curve meets each step many times (the same numbers)
         key = ((g_req / g > 1) & ok).reshape(records, -1).sum(axis=0).tobytes()
         if key not in known:
             known[key] = rate_at(g)
         return known[key]
 
+    regression = fit_cloud(im[ok], np.maximum(g_req[ok], 0.0)) if kind == "cloud" else None
+
     def rate_at(g):
-        frag = fit(kind, im, g_req / g, ok, levels, records, used=used)
+        if regression is not None:  # the cloud's regression of ln(g_req / g) on ln IM is
+            # that of ln g_req shifted by -ln g: one fit serves every gap (and is monotone)
+            frag = regression.fragility(g, check=False)
+        else:
+            frag = fit(kind, im, g_req / g, ok, levels, records, used=used, checked=False)
         if frag.fitted:
             return mean_annual_frequency(frag.probability, hazard, points=800)[0]
         exceed = (g_req > g) & ok
@@ -150,21 +166,47 @@ def _gap_solver(kind, im, g_req, ok, levels, records, hazard, target, used=None)
             return float(value) if np.isfinite(value) else math.nan
         return math.nan
 
-    return rate, _root(rate, g_req[ok], target)
+    many = None
+    if kind == "msa":
+        def many(grid):
+            return _msa_rates(grid, g_req, ok, levels, records, hazard)
+    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
 
 
-def _root(rate, g_values, target) -> float:
-    g = np.sort(g_values[g_values > 0])
-    if g.size < 2:
-        return math.nan
-    lo, hi = g[0] * 0.5, g[-1]
-    f = lambda x: math.log(max(rate(x), 1e-300)) - math.log(target)  # noqa: E731
-    grid = np.geomspace(lo, hi, 24)
-    values = [f(x) for x in grid]
-    for a, b, fa, fb in zip(grid[:-1], grid[1:], values[:-1], values[1:]):
-        if math.isfinite(fa) and math.isfinite(fb) and fa > 0 >= fb:
-            return float(brentq(f, a, b, xtol=1e-6 * a))
-    return math.nan
+def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
+    """lambda(g) of the msa fit at every gap of ``grid`` at once: the numbers of rate_at in
+    :func:`_gap_curve` (the same fit, the same integral, its fallbacks), with the probit fits
+    of the distinct count rows in one vectorised Fisher scoring (a curve of hundreds of
+    gaps, and one per bootstrap resample)."""
+    from scipy.special import ndtr
+
+    from pframe.risk.fragility import probit_rows
+
+    lv = np.asarray(levels, float)
+    n = ok.reshape(records, -1).sum(axis=0)
+    counts = np.array([((g_req / g > 1) & ok).reshape(records, -1).sum(axis=0) for g in grid])
+    rows, back = np.unique(counts, axis=0, return_inverse=True)
+    keep = n > 0
+    nn, zz = n[keep].astype(float), rows[:, keep].astype(float)
+    none = zz.sum(axis=1) == 0
+    fitted = np.zeros(len(rows), bool)
+    out = np.where(none, 0.0, np.nan)
+    if keep.sum() >= 2:
+        tried = np.flatnonzero(~none & ~np.all((zz == 0) | (zz == nn), axis=1))
+        c, good = probit_rows(np.log(lv[keep]), nn, zz[tried])
+        x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
+        lam = hazard.rate(x)
+        eta = c[good, :1] + c[good, 1:] * np.log(np.sqrt(x[1:] * x[:-1]))
+        inside = np.nan_to_num(ndtr(eta)) @ (lam[:-1] - lam[1:])
+        above = np.nan_to_num(ndtr(c[good, 0] + c[good, 1] * math.log(x[-1]))) * lam[-1]
+        out[tried[good]] = inside + above
+        fitted[tried[good]] = True
+    for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
+        first = int(np.argmax(rows[k] > 0))
+        step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
+        value = float(hazard.rate(step))
+        out[k] = value if math.isfinite(value) else math.nan
+    return out[back.ravel()]
 
 
 def _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R) -> None:
@@ -227,6 +269,9 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
             if hunted and ratio is not None and frag.fitted:
                 _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R)
             out.fragilities[(name, cond)] = frag
+            if ratio is not None and not frag.fitted:
+                out.warnings.append(f"{name} ({cond.replace('_', ' ')}): no fragility (NaN): "
+                                    f"{frag.note}")
             out.maf[(name, cond)] = _maf(frag, hazard, rng)
             share = out.maf[(name, cond)][3]
             if share == share and share > 0.05:
@@ -240,8 +285,18 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
                     f"{float(frag.probability(hazard.im[0])):.0%} at the hazard table's first "
                     "IM, so the frequency from lower intensities is missing (an underestimate);"
                     " extend the table down")
-    if spec.target is None or hazard is None:
-        return out
+    if spec.target is not None and hazard is not None:
+        _at_target(out, spec, inputs, rows, hazard, im, rng)
+    return out
+
+
+def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) -> None:
+    """The gap at the target annual frequency of pounding (the largest crossing of the
+    refitted curve, :mod:`pframe.risk.gapcurve`), its bootstrap interval, the regression's
+    estimate and the code rules at the target's intensity."""
+    kind = spec.design.kind
+    R, L = inputs.factors.shape
+    hunted = "ida_im" in rows
     target = (spec.target.annual_frequency if spec.target.annual_frequency is not None
               else 1.0 / spec.target.return_period)
     out.target = target
@@ -249,22 +304,30 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     g_req = np.max(rows["free_g_req"], axis=1)
     ok = rows["free_complete"] == 1
     used = (rows["free_complete"] >= 0) if hunted else None
-    rate, out.gap = _gap_solver(kind, im, g_req, ok, inputs.levels, R, hazard, target, used)
+    curve = _gap_curve(kind, im, g_req, ok, inputs.levels, R, hazard, used)
     g_req = np.where(ok, g_req, np.nan)  # failed or not run
     positive = g_req[ok & (g_req > 0)]
     if positive.size:
         out.gap_grid = np.geomspace(positive.min() * 0.5, positive.max(), 40)
-        out.gap_rates = np.array([rate(g) for g in out.gap_grid])
+        out.gap_rates = np.array([curve.envelope(g) for g in out.gap_grid])
+        out.gap_rates_raw = np.array([curve.raw(g) for g in out.gap_grid])
+    outside = _outside_table(hazard, target)
+    if outside:
+        out.warnings.append(outside + "; the gap at target is left out")
+        _rules_at_target(out, kind, inputs, rows, im, ok, hunted)
+        return
+    out.gap = curve.gap(target)
+    _say_not_monotone(out, curve, target)
     reg = fit_cloud(im[ok], g_req[ok])
-    out.gap_regression = _root(lambda g: mean_annual_frequency(
-        reg.fragility(g).probability, hazard, points=800)[0], g_req[ok], target)
+    out.gap_regression = GapCurve(lambda g: mean_annual_frequency(
+        reg.fragility(g, check=False).probability, hazard, points=800)[0], g_req[ok], step=False).gap(target)
     if spec.bootstrap and kind != "cloud":
         found = []
         for _ in range(spec.bootstrap):
             pick = rng.integers(0, R, R)
             idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
-            found.append(_gap_solver(kind, im[idx], g_req[idx], ok[idx], inputs.levels, R,
-                                     hazard, target, None if used is None else used[idx])[1])
+            found.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], inputs.levels, R,
+                                    hazard, None if used is None else used[idx]).gap(target))
         found = np.array(found)
         if np.isfinite(found).sum() >= 0.9 * len(found):
             out.gap_low, out.gap_high = (float(v) for v in np.nanpercentile(found, [5, 95]))
@@ -276,34 +339,112 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
             f"no gap between the runs' critical gaps reaches the target annual frequency "
             f"{target:.3g} (too few levels near it, or a hazard table that does not cover "
             "the fragility); the gap at target is left out")
-    # the code rules at the intensity of the target's frequency (median over the records,
-    # interpolated in ln IM between levels)
-    if kind != "cloud" and math.isfinite(out.im_at_target):
-        from pframe.gap.rules import cqc_correlation, separations
+    else:
+        _say_what_the_gap_rests_on(out, kind, im, g_req, ok, inputs.levels, R, hazard, used)
+    _rules_at_target(out, kind, inputs, rows, im, ok, hunted)
 
-        rho = cqc_correlation(inputs.periods[0], inputs.periods[-1], inputs.damping[0],
-                              inputs.damping[-1])
-        rules = separations(rows["free_peak_left"], rows["free_peak_right"], rho)
-        rules["simulated"] = rows["free_g_req"]
-        for rule, v in rules.items():
-            if hunted:  # each record's runs in order of IM, interpolated, then the median
-                vr = np.where(ok[:, None], v, np.nan).max(axis=1).reshape(R, L)
-                x = out.im_at_target
-                at = [np.interp(x, im.reshape(R, L)[r][ok.reshape(R, L)[r]],
-                                vr[r][ok.reshape(R, L)[r]], left=np.nan, right=np.nan)
-                      for r in range(R) if ok.reshape(R, L)[r].sum() >= 2]
-                if at and np.isfinite(at).any():
-                    out.rules_at_target[rule] = float(np.nanmedian(at))
-                continue
-            per_level = np.nanmedian(np.where(ok[:, None], v, np.nan).max(axis=1)
-                                     .reshape(R, L), axis=0)
-            x = math.log(out.im_at_target)
-            lv = np.log(inputs.levels)
-            if lv[0] <= x <= lv[-1]:
-                out.rules_at_target[rule] = float(np.interp(x, lv, per_level))
-        if not out.rules_at_target:
-            out.warnings.append(f"the intensity at the target frequency "
-                                f"({out.im_at_target:.3g} g) is outside the levels run: the "
-                                "code rules there are left out")
 
-    return out
+def _outside_table(hazard: HazardCurve, target: float) -> str:
+    """Why the hazard table cannot give the gap at ``target``, or ''."""
+    low, high = float(hazard.frequency[-1]), float(hazard.frequency[0])
+    if target < low:
+        return (f"the target annual frequency {target:.3g} is below the hazard table's "
+                f"smallest ({low:.3g} /yr at {hazard.im[-1]:.3g} g): the frequency of "
+                "pounding there rests on intensities the table does not cover (counted at "
+                "the fragility at its last IM, a lower bound that would give too small a "
+                "gap); extend the table to intensities exceeded less often than the target")
+    if target > high:
+        return (f"the target annual frequency {target:.3g} is above the hazard table's "
+                f"largest ({high:.3g} /yr at {hazard.im[0]:.3g} g): no gap pounds that often "
+                "by the table; extend it down to intensities exceeded more often")
+    return ""
+
+
+def _say_not_monotone(out: Analysis, curve: GapCurve, target: float) -> None:
+    rise = curve.rise()
+    if rise is None:
+        return
+    g1, v1, g2, v2 = rise
+    crossings = curve.crossings(target)
+    several = (f"; the refitted curve crosses the target {len(crossings)} times (at "
+               + ", ".join(f"{1000 * g:.1f}" for g in crossings) + " mm) and the gap at "
+               "target is the largest crossing" if len(crossings) > 1 else "")
+    out.warnings.append(
+        "the annual frequency of pounding refitted at each gap is not monotone: it rises "
+        f"from {v1:.3g} /yr at {1000 * g1:.1f} mm to {v2:.3g} /yr at {1000 * g2:.1f} mm "
+        "(the fit's dispersion moves with the gap); pframe uses its upper envelope from the "
+        "right (at each gap, the largest frequency of any wider gap: conservative)" + several)
+
+
+def _say_what_the_gap_rests_on(out, kind, im, g_req, ok, levels, R, hazard, used) -> None:
+    """Warnings when the fit at the gap found (just below it, where pounding is more frequent
+    than the target) is one the data do not fix, or rests on intensities above the table."""
+    below = out.gap * (1 - 1e-6)
+    frag = fit(kind, im, g_req / below, ok, levels, R, used=used, checked=False)
+    if not frag.fitted:
+        out.warnings.append(
+            f"the gap at target ({1000 * out.gap:.1f} mm) rests on stripes that are all or "
+            "nothing there (the likelihood's limit, a step in the intensity): add levels "
+            "between the stripes where pounding starts")
+        return
+    why = unfixed(frag)
+    if why:
+        out.warnings.append(f"the gap at target ({1000 * out.gap:.1f} mm) rests on a fit the "
+                            f"data do not fix ({why}): treat it as indicative; add records "
+                            "or levels where pounding starts")
+    share = mean_annual_frequency(frag.probability, hazard, points=800)[1]
+    if share > 0.05:
+        out.warnings.append(
+            f"{share:.0%} of the frequency of pounding at the gap at target comes from "
+            "intensities above the hazard table's last value (counted at the fragility there, "
+            "a lower bound: the gap may be larger); extend the table")
+
+
+def _interp_loglog(x: float, xs, ys) -> float:
+    """y at x, linear in log-log between the points (exact for a power law: an elastic pair's
+    displacements scale with the intensity); linear where a value is not positive; NaN
+    outside the points or where they are not finite."""
+    xs, ys = np.asarray(xs, float), np.asarray(ys, float)
+    good = np.isfinite(xs) & np.isfinite(ys) & (xs > 0)
+    xs, ys = xs[good], ys[good]
+    if xs.size < 1 or not xs[0] <= x <= xs[-1]:
+        return math.nan
+    j = min(int(np.searchsorted(xs, x, side="right")), xs.size - 1)
+    i = max(j - 1, 0)
+    if xs[j] == xs[i]:
+        return float(ys[j])
+    if ys[i] > 0 and ys[j] > 0:
+        f = math.log(x / xs[i]) / math.log(xs[j] / xs[i])
+        return float(math.exp(math.log(ys[i]) + f * math.log(ys[j] / ys[i])))
+    return float(np.interp(x, xs[i:j + 1], ys[i:j + 1]))
+
+
+def _rules_at_target(out: Analysis, kind: str, inputs, rows, im, ok, hunted: bool) -> None:
+    """The code rules and the simulated critical gap at the intensity of the target's
+    frequency: median over the records, interpolated in log-log between levels (each record's
+    runs in order of IM, then the median, for a hunt)."""
+    if out.im_at_target != out.im_at_target or kind == "cloud":
+        return
+    from pframe.gap.rules import cqc_correlation, separations
+
+    R, L = inputs.factors.shape
+    rho = cqc_correlation(inputs.periods[0], inputs.periods[-1], inputs.damping[0],
+                          inputs.damping[-1])
+    rules = separations(rows["free_peak_left"], rows["free_peak_right"], rho)
+    rules["simulated"] = rows["free_g_req"]
+    x = out.im_at_target
+    for rule, v in rules.items():
+        per_run = np.where(ok[:, None], v, np.nan).max(axis=1).reshape(R, L)
+        if hunted:
+            ims, good = im.reshape(R, L), ok.reshape(R, L)
+            at = [_interp_loglog(x, ims[r][good[r]], per_run[r][good[r]])
+                  for r in range(R) if good[r].sum() >= 2]
+            if at and np.isfinite(at).any():
+                out.rules_at_target[rule] = float(np.nanmedian(at))
+            continue
+        value = _interp_loglog(x, inputs.levels, np.nanmedian(per_run, axis=0))
+        if math.isfinite(value):
+            out.rules_at_target[rule] = value
+    if not out.rules_at_target:
+        out.warnings.append(f"the intensity at the target frequency ({x:.3g} g) is outside "
+                            "the levels run: the code rules there are left out")

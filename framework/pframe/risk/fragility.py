@@ -70,6 +70,78 @@ def _absent(method: str, note: str) -> Fragility:
     return Fragility(math.nan, math.nan, method=method, note=note)
 
 
+#: the largest standard deviation of ln theta or ln beta of a fit the data fix: above it the
+#: 90 % bounds span more than a factor exp(2 x 1.645 x 2) ~ 700 (the MAF's range is not
+#: sampled either, pframe.risk.analysis)
+MAX_SD = 2.0
+
+
+def unfixed(f: Fragility) -> str:
+    """Why the data do not fix the fitted ``f``, or '' when they do: the covariance of
+    (ln theta, ln beta) (the inverse observed information) is not finite and positive
+    definite (the likelihood is flat, or its maximum lies at a boundary: beta -> 0 or a
+    median beyond the data), or a standard deviation is above :data:`MAX_SD`."""
+    if not f.fitted:
+        return ""
+    cov = np.asarray(f.cov, float)
+    if not np.all(np.isfinite(cov)) or np.min(np.linalg.eigvalsh(cov)) <= 0:
+        return ("the likelihood has no curvature at its maximum (flat, or its maximum at a "
+                "limit: a dispersion going to 0 or a median beyond the data)")
+    sd = np.sqrt(np.diag(cov))
+    k = int(np.argmax(sd))
+    if sd[k] > MAX_SD:
+        z = norm.ppf(0.5 + CONFIDENCE / 2)
+        return (f"the standard deviation of ln {('theta', 'beta')[k]} is {sd[k]:.3g}: its "
+                f"{100 * CONFIDENCE:g} % bounds would span a factor of "
+                f"{math.exp(min(2 * z * sd[k], 700.0)):.3g}")
+    return ""
+
+
+def checked(f: Fragility) -> Fragility:
+    """``f``, or an absent fit (NaN) with the reason when the data do not fix it."""
+    why = unfixed(f)
+    if not why:
+        return f
+    return _absent(f.method, f"the data do not fix the fit: {why} (add runs or levels where "
+                   "the limit is passed)")
+
+
+def _numbers(name: str, values, where: str = "") -> np.ndarray:
+    """A 1-D float array of finite numbers, or InputError naming the argument."""
+    from pframe.errors import InputError
+
+    try:
+        out = np.asarray(values, dtype=float)
+    except (TypeError, ValueError):
+        raise InputError(f"{where}{name}: expected a list of numbers, got {values!r:.80}") \
+            from None
+    if out.ndim != 1 or out.size == 0:
+        raise InputError(f"{where}{name}: expected a non-empty list of numbers (one per "
+                         f"{'level' if 'level' in name else 'value'}), got shape {out.shape}")
+    bad = np.flatnonzero(~np.isfinite(out))
+    if bad.size:
+        raise InputError(f"{where}{name}[{bad[0]}] is {out[bad[0]]}: expected a finite number")
+    return out
+
+
+def _same_length(**arrays) -> None:
+    from pframe.errors import InputError
+
+    sizes = {k: v.size for k, v in arrays.items()}
+    if len(set(sizes.values())) > 1:
+        raise InputError("expected one value per level (or run) in each of "
+                         + ", ".join(f"{k} ({n})" for k, n in sizes.items()))
+
+
+def _positive(name: str, values: np.ndarray, what: str) -> None:
+    from pframe.errors import InputError
+
+    bad = np.flatnonzero(values <= 0)
+    if bad.size:
+        raise InputError(f"{name}[{bad[0]}] is {values[bad[0]]:g}: {what} must be > 0 (the "
+                         "lognormal fragility takes its logarithm)")
+
+
 def _hessian(f, p: np.ndarray, h: float = 1e-4) -> np.ndarray:
     n = p.size
     out = np.empty((n, n))
@@ -109,13 +181,31 @@ def _best(nll, starts) -> object:
 
 
 def fit_msa(levels, trials, exceeded) -> Fragility:
-    """Baker's binomial MLE over stripes: ``trials[j]`` runs at ``levels[j]``, ``exceeded[j]``
-    of them exceed the limit. Absent (NaN, with the reason) when the data cannot fix both
-    parameters: fewer than two levels with runs, or no exceedance at all, or every level all
-    or nothing in a way no finite dispersion explains (a perfect separation)."""
-    x = np.asarray(levels, float)
-    n = np.asarray(trials, float)
-    z = np.asarray(exceeded, float)
+    """Baker's binomial MLE over stripes: ``trials[j]`` runs at ``levels[j]`` (> 0, g),
+    ``exceeded[j]`` of them (0 to ``trials[j]``) exceed the limit. Absent (NaN, with the
+    reason in ``note``) when the data cannot fix both parameters: fewer than two levels with
+    runs, no exceedance at all, every level all or nothing (a perfect separation), or a
+    likelihood too flat at its maximum (:func:`unfixed`). Raises
+    :class:`~pframe.errors.InputError` for arguments that are not stripes."""
+    from pframe.errors import InputError
+
+    x = _numbers("levels", levels)
+    n = _numbers("trials", trials)
+    z = _numbers("exceeded", exceeded)
+    _same_length(levels=x, trials=n, exceeded=z)
+    _positive("levels", x, "an intensity level")
+    for j in range(x.size):
+        if not 0 <= z[j] <= n[j]:
+            raise InputError(f"exceeded[{j}] is {z[j]:g} of trials[{j}] = {n[j]:g} runs: the "
+                             "runs that exceed the limit are between 0 and the runs at the "
+                             "level")
+    return checked(msa_fit(x, n, z))
+
+
+def msa_fit(x, n, z) -> Fragility:
+    """:func:`fit_msa` on checked arrays, keeping a fit the data hardly fix (the gap at a
+    target refits at every gap, where the likelihood's limits are meaningful)."""
+    x, n, z = (np.asarray(a, float) for a in (x, n, z))
     keep = n > 0
     x, n, z = x[keep], n[keep], z[keep]
     if x.size < 2:
@@ -202,9 +292,79 @@ def _probit(lx, n, z) -> Fragility:
     return Fragility(math.exp(-c[0] / c[1]), float(1.0 / c[1]), jac @ cov_c @ jac.T, "msa")
 
 
+def probit_rows(lx, n, z) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_probit` for many rows of counts at once: ``z`` (m, L) exceedances of the
+    ``n`` (L,) runs at the levels ``lx`` (L,, log); the same Fisher scoring with step halving,
+    row by row in lockstep (the gap's curve fits one row per gap). Returns the coefficients
+    ``c`` (m, 2) of P = Phi(c0 + c1 ln x) and whether each is an interior maximum (the rows
+    :func:`_probit` would fit; the others it reports absent)."""
+    z = np.atleast_2d(np.asarray(z, float))
+    m = z.shape[0]
+
+    def loglik(c, rows):
+        eta = c[:, :1] + c[:, 1:] * lx
+        return np.sum(z[rows] * log_ndtr(eta) + (n - z[rows]) * log_ndtr(-eta), axis=1)
+
+    mid = np.argmin(np.abs(z / n - 0.5), axis=1)
+    beta0 = max(float(np.std(lx)), 0.3)
+    c = np.stack([-lx[mid] / beta0, np.full(m, 1.0 / beta0)], axis=1)
+    current = loglik(c, np.arange(m))
+    active = np.ones(m, bool)
+    for _ in range(200):
+        rows = np.flatnonzero(active)
+        if not rows.size:
+            break
+        eta = c[rows, :1] + c[rows, 1:] * lx
+        p = np.clip(_cdf(eta), 1e-300, 1 - 1e-16)
+        q = np.clip(_sf(eta), 1e-300, 1 - 1e-16)
+        phi = _pdf(eta)
+        w = (z[rows] - n * p) * phi / (p * q)
+        score = np.stack([w.sum(axis=1), (w * lx).sum(axis=1)], axis=1)
+        weight = n * phi * phi / (p * q)
+        a, b, d = weight.sum(axis=1), (weight * lx).sum(axis=1), (weight * lx * lx).sum(axis=1)
+        det = a * d - b * b
+        solvable = np.isfinite(det) & (np.abs(det) > 1e-300)
+        active[rows[~solvable]] = False  # a singular system: _probit stops there too
+        rows, score, a, b, d, det = (v[solvable] for v in (rows, score, a, b, d, det))
+        step = np.stack([d * score[:, 0] - b * score[:, 1],
+                         a * score[:, 1] - b * score[:, 0]], axis=1) / det[:, None]
+        scale = np.ones(rows.size)
+        trial = c[rows] + step
+        value = loglik(trial, rows)
+        worse = value < current[rows] - 1e-12
+        while worse.any():  # halve the step of the rows it made worse, down to 1e-6
+            scale[worse] *= 0.5
+            worse &= scale > 1e-6
+            trial[worse] = c[rows[worse]] + scale[worse, None] * step[worse]
+            value[worse] = loglik(trial[worse], rows[worse])
+            worse &= value < current[rows] - 1e-12
+        moved = np.abs(value - current[rows])
+        c[rows], current[rows] = trial, value
+        done = ((np.max(np.abs(scale[:, None] * step), axis=1) < 1e-10) | (moved < 1e-13)
+                | (trial[:, 1] > 1e3))
+        active[rows[done]] = False
+    return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current)
+
+
 def fit_capacities(capacities, censored=None) -> Fragility:
-    """Lognormal MLE of IM capacities (IDA); ``censored[i]``: record i never exceeded the
-    limit, its capacity is above ``capacities[i]`` (the highest IM run)."""
+    """Lognormal MLE of IM capacities (IDA; > 0, g); ``censored[i]``: record i never exceeded
+    the limit, its capacity is above ``capacities[i]`` (the highest IM run). Absent (NaN, with
+    the reason) when the data do not fix it; :class:`~pframe.errors.InputError` for arguments
+    that are not capacities."""
+    c = _numbers("capacities", capacities)
+    _positive("capacities", c, "a capacity")
+    if censored is not None:
+        flags = _numbers("censored", censored)
+        _same_length(capacities=c, censored=flags)
+        if not np.all((flags == 0) | (flags == 1)):
+            from pframe.errors import InputError
+
+            raise InputError("censored: expected true/false (or 1/0) per capacity")
+    return checked(capacity_fit(c, censored))
+
+
+def capacity_fit(capacities, censored=None) -> Fragility:
+    """:func:`fit_capacities` on checked arrays, keeping a fit the data hardly fix."""
     c = np.asarray(capacities, float)
     cens = np.zeros(c.shape, bool) if censored is None else np.asarray(censored, bool)
     keep = np.isfinite(c) & (c > 0)
@@ -244,9 +404,13 @@ class Regression:
     b: float
     s: float
     cov: np.ndarray
+    note: str = ""  # why the regression is absent, when it is
 
-    def fragility(self, limit: float) -> Fragility:
-        """P(D > limit | IM) as a lognormal fragility in IM (b > 0)."""
+    def fragility(self, limit: float, check: bool = True) -> Fragility:
+        """P(D > limit | IM) as a lognormal fragility in IM (b > 0); absent (NaN, with the
+        reason) when the data do not fix it (``check``)."""
+        if self.note:
+            return _absent("cloud", self.note)
         if not (self.b > 0 and math.isfinite(self.s)):
             return _absent("cloud", "the demand does not grow with the intensity (b <= 0)")
         ll = math.log(limit)
@@ -258,20 +422,35 @@ class Regression:
 
         cov = jac(p) @ self.cov @ jac(p).T if np.all(np.isfinite(self.cov)) else \
             np.full((2, 2), np.nan)
-        return Fragility(math.exp((ll - self.a) / self.b), self.s / self.b, cov, "cloud")
+        out = Fragility(math.exp((ll - self.a) / self.b), self.s / self.b, cov, "cloud")
+        return checked(out) if check else out
 
 
 def fit_cloud(intensities, demands, censor: float | None = None) -> Regression:
-    """Maximum-likelihood regression of ln demand on ln IM; demands >= ``censor`` are
-    right-censored there (their ln D is only known to be above ln censor)."""
-    x = np.log(np.asarray(intensities, float))
-    d = np.asarray(demands, float)
-    keep = np.isfinite(x) & np.isfinite(d) & (d > 0)
+    """Maximum-likelihood regression of ln demand on ln IM (intensities > 0, demands >= 0; a
+    demand of 0 has no logarithm and is left out); demands >= ``censor`` are right-censored
+    there (their ln D is only known to be above ln censor). :class:`~pframe.errors.InputError`
+    for arguments that are not such runs."""
+    from pframe.errors import InputError
+
+    im = _numbers("intensities", intensities)
+    d = _numbers("demands", demands)
+    _same_length(intensities=im, demands=d)
+    _positive("intensities", im, "an intensity")
+    if np.any(d < 0):
+        k = int(np.argmax(d < 0))
+        raise InputError(f"demands[{k}] is {d[k]:g}: a demand is >= 0")
+    if censor is not None and not (math.isfinite(censor) and censor > 0):
+        raise InputError(f"censor={censor!r}: the censoring demand is a number > 0")
+    x = np.log(im)
+    keep = d > 0
     x, d = x[keep], d[keep]
     cens = np.zeros(d.shape, bool) if censor is None else d >= censor
     y = np.log(np.where(cens, censor if censor else 1.0, d))
     if (~cens).sum() < 3:
-        return Regression(math.nan, math.nan, math.nan, np.full((3, 3), np.nan))
+        return Regression(math.nan, math.nan, math.nan, np.full((3, 3), np.nan),
+                          f"{int((~cens).sum())} run(s) with a positive demand below the "
+                          "censoring: the regression needs three or more")
     b0, a0 = np.polyfit(x[~cens], y[~cens], 1)
     s0 = max(float(np.std(y[~cens] - a0 - b0 * x[~cens])), 1e-3)
 

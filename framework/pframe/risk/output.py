@@ -106,6 +106,10 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         "fragility_dispersion_high": (("limit", "condition"),
                                       table(lambda f: f.bounds()[1][1]),
                                       {"units": "1", "long_name": f"upper {pct} bound of beta"}),
+        "fragility_note": (("limit", "condition"), np.array(
+            [[frag[(n, c)].note for c in cond] for n in lim], dtype=object), {
+            "long_name": "why the fragility is absent (NaN), where it is: what the data "
+            "cannot fix"}),
         "complete": (("condition", "record", "level"), np.stack([
             rows.get(f"{p}_complete", np.zeros(R * L, np.int8)).reshape(R, L)
             for p in ("free", "contact")]).astype(np.int8),
@@ -146,8 +150,12 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
     if result.gap_grid is not None:
         coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
         data["pounding_frequency"] = (("gap",), result.gap_rates, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap (the "
-            "design's fragility refitted at each gap)"})
+            "units": "year-1", "long_name": "annual frequency of pounding at the gap: the "
+            "upper envelope from the right of pounding_frequency_raw (at each gap, the "
+            "largest of any wider gap), whose root is gap_at_target"})
+        data["pounding_frequency_raw"] = (("gap",), result.gap_rates_raw, {
+            "units": "year-1", "long_name": "annual frequency of pounding at the gap, the "
+            "design's fragility refitted at each gap (not monotone in general)"})
     if math.isfinite(result.target):
         data.update({
             "target_annual_frequency": ((), result.target, {"units": "year-1",
@@ -156,8 +164,9 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                 "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
                 "target frequency"}),
             "gap_at_target": ((), result.gap, {
-                "units": "m", "long_name": "uniform gap whose annual frequency of pounding is "
-                "the target (root search over the gap)"}),
+                "units": "m", "long_name": "smallest uniform gap at and above which the "
+                "annual frequency of pounding is at most the target (the largest crossing of "
+                "the refitted curve)"}),
             "gap_at_target_low": ((), result.gap_low, {
                 "units": "m", "long_name": "5th percentile of the gap over record bootstrap"}),
             "gap_at_target_high": ((), result.gap_high, {
@@ -326,13 +335,17 @@ def summary(ds) -> str:
                         f"{float(ds.annual_frequency_high.sel(sel)):<10.3e}")
             lines.append(row)
     if "gap_at_target" in ds:
+        def mm(name):
+            value = float(ds[name])
+            return f"{1000 * value:.1f}" if math.isfinite(value) else "NaN"
+
+        gap = (f"{mm('gap_at_target')} mm" if math.isfinite(float(ds.gap_at_target)) else
+               "NaN (not given: see the warnings)")
         lines.append(f"gap at annual frequency {float(ds.target_annual_frequency):.3g} "
                      f"(return period {1 / float(ds.target_annual_frequency):.0f} years, "
-                     f"IM {float(ds.intensity_at_target):.3g} g): "
-                     f"{1000 * float(ds.gap_at_target):.1f} mm "
-                     f"(90 % bootstrap {1000 * float(ds.gap_at_target_low):.1f}-"
-                     f"{1000 * float(ds.gap_at_target_high):.1f} mm; regression "
-                     f"{1000 * float(ds.gap_at_target_regression):.1f} mm)")
+                     f"IM {float(ds.intensity_at_target):.3g} g): {gap} "
+                     f"(90 % bootstrap {mm('gap_at_target_low')}-{mm('gap_at_target_high')} "
+                     f"mm; regression {mm('gap_at_target_regression')} mm)")
         if "rule_separation_at_target" in ds:
             lines.append("code rules at that IM (median over the records): " + ", ".join(
                 f"{r} {1000 * float(v):.1f} mm" for r, v in

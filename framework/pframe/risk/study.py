@@ -20,6 +20,7 @@ A study file (YAML; paths relative to it)::
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import time
 import warnings
@@ -27,11 +28,14 @@ from pathlib import Path
 from typing import Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field
 
 from pframe.errors import InputError
 
 G = 9.80665
+#: bytes per step of a run's ground motion while a batch runs (the copies the kernel and
+#: its caller hold, as pframe.resources counts them)
+GROUND_BYTES = 4 * 8.0
 
 
 class _Base(BaseModel):
@@ -153,100 +157,148 @@ class StudyFile(_Base):
                               "study resumes from them).")
 
 
+class _At:
+    """``FILE, line N, at FIELD`` for the messages about a study's fields."""
+
+    def __init__(self, path, lines: dict):
+        self.path, self.lines = path, lines
+
+    def __call__(self, field: str) -> str:
+        parts = tuple(int(p) if p.isdigit() else p for p in field.split("."))
+        for cut in range(len(parts), 0, -1):
+            if parts[:cut] in self.lines:
+                return f"{self.path}, line {self.lines[parts[:cut]]}, at {field}"
+        return f"{self.path}, at {field}"
+
+
 def read_study(path) -> tuple[StudyFile, Path, str]:
-    import yaml
+    """The study file checked (its YAML as strictly as a scene's: a key given twice, YAML 1.2
+    numbers, line numbers in every message) and its folder and text; InputError otherwise."""
+    study, base, text, _ = _read(path)
+    return study, base, text
+
+
+def _read(path):
+    from pframe.model.load import read_input, validated
+    from pframe.yamltext import compose
 
     path = Path(path)
-    try:
-        text = path.read_text()
-        data = yaml.safe_load(text)
-    except OSError as exc:
-        raise InputError(f"{path}: cannot read the study ({exc.strerror or exc})") from None
-    except yaml.YAMLError as exc:
-        raise InputError(f"{path}: not YAML ({exc})") from None
+    text = read_input(path, "study")
+    data, lines = compose(text, str(path))
     if not isinstance(data, dict):
         raise InputError(f"{path}: a risk study is a mapping (scene:, suite:, design:, ...)")
-    try:
-        study = StudyFile(**data)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(p) for p in err["loc"])
-        raise InputError(f"{path}, at {where}: {err['msg']} (see docs/risk.md for the study "
-                         "file's fields)") from None
+    study = validated(StudyFile, data, lines, str(path))
+    at = _At(path, lines)
     design = study.design
     if study.uncertain is not None:
         from pframe.risk.uncertain import parse
 
-        parse(study.uncertain, f"{path}, at uncertain")
+        parse(study.uncertain, at("uncertain"))
         if design.hunt is not None:
-            raise InputError(f"{path}, at uncertain: an ida by hunt and fill follows each "
+            raise InputError(f"{at('uncertain')}: an ida by hunt and fill follows each "
                              "record with one scene; uncertain values go with msa, a grid "
                              "ida, cloud or subset")
     if design.kind == "subset":
-        _check_subset(study, path)
+        _check_subset(study, at)
     elif design.hunt is not None or design.resolution is not None:
-        _check_hunt(study, path)
+        _check_hunt(study, at)
     elif design.kind in ("msa", "ida") and (not design.levels or len(design.levels) < 2
-                                          or any(not x > 0 for x in design.levels)):
-        raise InputError(f"{path}, at design.levels: a {design.kind} design needs at least two "
+                                          or any(not (x > 0 and math.isfinite(x))
+                                                 for x in design.levels)):
+        raise InputError(f"{at('design.levels')}: a {design.kind} design needs at least two "
                          "positive intensity levels (g)")
     if design.kind == "cloud" and design.levels:
-        raise InputError(f"{path}, at design.levels: a cloud analysis runs the records "
+        raise InputError(f"{at('design.levels')}: a cloud analysis runs the records "
                          "unscaled; remove the levels (or use kind: msa)")
     if study.stochastic is not None:
-        if study.suite is not None:
-            raise InputError(f"{path}, at stochastic: give a suite or stochastic motions, not "
-                             "both")
-        n = study.stochastic.get("realisations", 1 if study.design.kind == "subset" else None)
-        seed = study.stochastic.get("seed", 0)
-        if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
-            raise InputError(f"{path}, at stochastic.realisations: the number of motions, an "
-                             f"integer >= 1 (got {n!r})")
-        if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
-            raise InputError(f"{path}, at stochastic.seed: an integer >= 0 (got {seed!r})")
+        _check_stochastic(study, at)
     if study.hazard is not None and (study.hazard.file is None) == (study.hazard.power_law
                                                                     is None):
-        raise InputError(f"{path}, at hazard: give either file: TABLE.csv or power_law: "
+        raise InputError(f"{at('hazard')}: give either file: TABLE.csv or power_law: "
                          "{k0: ..., k: ...}")
     if study.target is not None and (study.target.annual_frequency is None) == (
             study.target.return_period is None):
-        raise InputError(f"{path}, at target: give either annual_frequency or return_period")
+        raise InputError(f"{at('target')}: give either annual_frequency or return_period")
     for kind, values in (("drift", study.limits.drift),
                          ("drift_ratio", study.limits.drift_ratio),
                          ("acceleration", study.limits.acceleration)):
         for name, v in values.items():
             if not (v > 0 and math.isfinite(v)):
-                raise InputError(f"{path}, at limits.{kind}.{name}: a limit is a number > 0")
-    return study, path.parent, text
+                raise InputError(f"{at(f'limits.{kind}.{name}')}: a limit is a number > 0")
+    if study.measure is not None:
+        from pframe.gap.audit import parse_measure
+
+        try:
+            parse_measure(study.measure)
+        except InputError:
+            raise InputError(f"{at('measure')}: {study.measure!r} is not an intensity "
+                             "measure; write pga, or sa:PERIOD with PERIOD in seconds or a "
+                             "building's name (sa:0.5, sa:A)") from None
+    return study, path.parent, text, lines
 
 
-def _check_subset(study, path) -> None:
+def _check_stochastic(study, at) -> None:
     if study.suite is not None:
-        _check_subset_records(study, path)
+        raise InputError(f"{at('stochastic')}: give a suite or stochastic motions, not both")
+    n = study.stochastic.get("realisations", 1 if study.design.kind == "subset" else None)
+    seed = study.stochastic.get("seed", 0)
+    if not (isinstance(n, int) and not isinstance(n, bool) and n >= 1):
+        raise InputError(f"{at('stochastic.realisations')}: the number of motions, an "
+                         f"integer >= 1 (got {n!r})")
+    if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
+        raise InputError(f"{at('stochastic.seed')}: an integer >= 0 (got {seed!r})")
+
+
+def _check_measure(spec, at, buildings) -> None:
+    """The study's ``sa:PERIOD``: seconds > 0 or a building of the scene (named at the
+    study's line, not the suite's)."""
+    if spec.measure is None:
+        return
+    from pframe.gap.audit import parse_measure
+
+    chosen = parse_measure(spec.measure)
+    if chosen.kind != "sa":
+        return
+    try:
+        period = float(chosen.period)
+    except ValueError:
+        if chosen.period not in buildings:
+            raise InputError(f"{at('measure')}: {chosen.period!r} is neither a period in "
+                             "seconds nor a building of the scene (" + ", ".join(buildings)
+                             + ")") from None
+        return
+    if not (period > 0 and math.isfinite(period)):
+        raise InputError(f"{at('measure')}: the spectral period must be a number > 0 s (got "
+                         f"{chosen.period})")
+
+
+def _check_subset(study, at) -> None:
+    if study.suite is not None:
+        _check_subset_records(study, at)
         return
     m = study.stochastic or {}
     if (m.get("model") != "clough_penzien" or m.get("envelope") is not None
             or m.get("duration") is None):
-        raise InputError(f"{path}, at stochastic: a subset design runs over the white noise "
+        raise InputError(f"{at('stochastic')}: a subset design runs over the white noise "
                          "of a stationary motion: give stochastic: {model: clough_penzien, "
                          "intensity, ground_frequency, ground_damping, duration, ...} without "
                          "an envelope (realisations are not needed), or give a suite of "
                          "records and uncertain values to run over")
     if "floor" in study.design.model_fields_set:
-        raise InputError(f"{path}, at design.floor: the floor stops the weaker records of a "
+        raise InputError(f"{at('design.floor')}: the floor stops the weaker records of a "
                          "subset design over a suite; over a stochastic motion the one "
                          "probability is followed to its end (leave floor out)")
     if study.design.levels or study.hazard is not None or study.target is not None:
-        raise InputError(f"{path}, at design: a subset design estimates the probability of "
+        raise InputError(f"{at('design')}: a subset design estimates the probability of "
                          "pounding under the study's motion; levels, hazard and target belong "
                          "to msa, ida and cloud")
-    _check_chains(study, path)
+    _check_chains(study, at)
 
 
-def _check_subset_records(study, path) -> None:
+def _check_subset_records(study, at) -> None:
     """A subset design over a suite: the uncertain values are its random space."""
     if not study.uncertain:
-        raise InputError(f"{path}, at uncertain: a subset design over a suite of records runs "
+        raise InputError(f"{at('uncertain')}: a subset design over a suite of records runs "
                          "over the uncertain scene values (each record's probability of "
                          "pounding given those values); give uncertain: {gap: {distribution: "
                          "lognormal, median: ..., dispersion: ...}, ...}")
@@ -254,48 +306,48 @@ def _check_subset_records(study, path) -> None:
     if levels is not None and (not levels or any(not (x > 0 and math.isfinite(x))
                                                  for x in levels)
                                or list(levels) != sorted(set(levels))):
-        raise InputError(f"{path}, at design.levels: a subset design over records takes "
+        raise InputError(f"{at('design.levels')}: a subset design over records takes "
                          "intensity levels (g) to scale them to, positive and increasing, or "
                          "none (as recorded)")
     if study.hazard is not None and (levels is None or len(levels) < 2):
-        raise InputError(f"{path}, at design.levels: the annual frequency of pounding over the "
+        raise InputError(f"{at('design.levels')}: the annual frequency of pounding over the "
                          "hazard integrates the probability at stripes of intensity: give two "
                          "or more levels (g) spanning the intensities that matter")
     if study.target is not None:
-        raise InputError(f"{path}, at target: a subset design estimates the probability (and "
+        raise InputError(f"{at('target')}: a subset design estimates the probability (and "
                          "with a hazard, the annual frequency) of pounding at the scene's gap "
                          "distribution; the gap at a target belongs to msa, ida and cloud")
-    _check_chains(study, path)
+    _check_chains(study, at)
 
 
-def _check_chains(study, path) -> None:
+def _check_chains(study, at) -> None:
     n, p0 = study.design.samples, study.design.probability_level
     seeds = n * p0
     if abs(seeds - round(seeds)) > 1e-9 or round(seeds) < 1 or n % round(seeds):
-        raise InputError(f"{path}, at design.samples: samples x probability_level = {n} x "
+        raise InputError(f"{at('design.samples')}: samples x probability_level = {n} x "
                          f"{p0:g} must be a whole number of chains that divides samples")
 
 
-def _check_hunt(study, path) -> None:
+def _check_hunt(study, at) -> None:
     design = study.design
     if design.kind != "ida" or design.levels:
-        raise InputError(f"{path}, at design: hunt and resolution belong to an ida design "
+        raise InputError(f"{at('design')}: hunt and resolution belong to an ida design "
                          "without levels (kind: ida, hunt: {start, step, growth}, "
                          "resolution: ...); a grid of levels is the other form")
     if design.hunt is None or design.resolution is None:
-        raise InputError(f"{path}, at design.{'hunt' if design.hunt is None else 'resolution'}"
+        raise InputError(f"{at('design.hunt' if design.hunt is None else 'design.resolution')}"
                          ": an ida by hunt and fill needs both hunt: {start: G, step: G, "
                          "growth: X} and resolution: G")
     if design.max_level <= design.hunt.start:
-        raise InputError(f"{path}, at design.max_level: {design.max_level:g} g is not above "
+        raise InputError(f"{at('design.max_level')}: {design.max_level:g} g is not above "
                          f"the hunt's start ({design.hunt.start:g} g)")
     known = ["pounding", *study.limits.drift, *study.limits.drift_ratio,
              *study.limits.acceleration]
     if design.limit not in known:
-        raise InputError(f"{path}, at design.limit: {design.limit!r} is not a limit of the "
+        raise InputError(f"{at('design.limit')}: {design.limit!r} is not a limit of the "
                          f"study (known: {', '.join(known)})")
     if design.condition == "with_pounding" and not study.pounding_runs:
-        raise InputError(f"{path}, at design.condition: with_pounding needs pounding_runs: "
+        raise InputError(f"{at('design.condition')}: with_pounding needs pounding_runs: "
                          "true")
 
 
@@ -415,6 +467,160 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
                 sum(float(o[k]) for o in ordered)) for k in ordered[0]}
 
 
+@dataclasses.dataclass
+class Opened:
+    """A study read and checked against its scene, suite and hazard, ready to run."""
+
+    spec: StudyFile
+    text: str
+    hazard: object  # HazardCurve or None
+    inputs: object  # pframe.gap.audit.AuditInputs
+    params: list  # the uncertain values (pframe.risk.sampling.Uncertain)
+    reads: list  # every file the study reads: never an output
+
+
+def open_study(study, records_folder=None) -> Opened:
+    """Read the study file, its hazard table, scene and suite (with its records), and check
+    everything ``pframe risk`` would refuse before it runs (``pframe validate`` runs this).
+    Raises :class:`InputError` naming the file, the line and the field."""
+    from pframe.gap.audit import prepare
+    from pframe.reader import load_scene
+
+    spec, base, text, lines = _read(study)
+    at = _At(study, lines)
+    scene = (base / spec.scene).resolve()
+    suite = None if spec.suite is None else (base / spec.suite).resolve()
+    if spec.stochastic is not None:
+        _check_motions(spec, at)
+        suite = stochastic_suite(spec.stochastic, at("stochastic"))
+    folder = records_folder or (None if spec.records_folder is None
+                                else (base / spec.records_folder).resolve())
+    hazard, table = None, None
+    if spec.hazard is not None:
+        from pframe.risk.hazard import HazardCurve, read_hazard
+
+        if spec.hazard.file:
+            table = base / spec.hazard.file
+            if not table.exists():
+                raise InputError(f"{at('hazard.file')}: no hazard table {table} (the path is "
+                                 "relative to the study file)")
+            hazard = read_hazard(table)
+        else:
+            hazard = HazardCurve.power_law(spec.hazard.power_law.k0, spec.hazard.power_law.k)
+    if hazard is not None and d_levels_above(spec, hazard):
+        raise InputError(f"{at('design.levels')}: every stripe is above the hazard table's "
+                         f"last intensity ({hazard.im[-1]:g} g): the table says nothing of how "
+                         "often they are exceeded, so no annual frequency can be given; "
+                         "extend the table up to the stripes, or lower them")
+    loaded = load_scene(scene)
+    _check_measure(spec, at, list(loaded.expanded.buildings))
+    if suite is None:  # the scene's own excitation runs as the scene says
+        for field, value, own in (("dt", spec.dt, loaded.expanded.dt),
+                                  ("duration", spec.duration, None)):
+            if value is not None and value != own:
+                raise InputError(f"{at(field)}: the study runs the scene's own excitation, "
+                                 f"on the scene's step and for its analysis.duration ({scene});"
+                                 f" {field} applies to a suite of records or stochastic "
+                                 "motions (remove it, or change the scene)")
+    d = spec.design
+    if d.kind == "subset":
+        levels = (d.levels or None) if spec.stochastic is None else None
+    else:
+        levels = [d.hunt.start] if d.hunt is not None else d.levels
+    inputs = prepare(loaded, suite, levels=levels, measure=spec.measure,
+                     duration=spec.duration, dt=spec.dt, records_folder=folder)
+    _check_runs(spec, at, inputs)
+    heights = np.asarray(inputs.loaded.expanded.story_height, float)
+    if spec.limits.drift_ratio and not np.all(np.isfinite(heights)):
+        raise InputError(f"{at('limits.drift_ratio')}: a drift-ratio limit needs every "
+                         f"storey's height, and the scene {scene} gives none for some storeys "
+                         "(give height on its buildings), or give the limit as a drift in "
+                         "metres under limits.drift")
+    params = []
+    if spec.uncertain:
+        from pframe.risk.uncertain import check_paths, parse
+
+        params = parse(spec.uncertain, at("uncertain"))
+        check_paths(inputs.loaded, params, at("uncertain"))
+    return Opened(spec, text, hazard, inputs, params, study_reads(study, inputs, table))
+
+
+def _check_motions(spec, at) -> None:
+    """Stochastic motions that could not be held (each is kept whole, on its own step), or
+    more runs than a study takes: refused before one is generated, naming the count."""
+    from pframe import resources
+
+    m, design = spec.stochastic, spec.design
+    n = m.get("realisations", 1)
+    levels = len(design.levels or [1]) if design.kind in ("msa", "ida", "subset") else 1
+    if n * levels > resources.MAX_VARIANTS:
+        raise InputError(f"{at('stochastic.realisations')}: {n:,} motions x {levels} levels is "
+                         f"{n * levels:,} runs; a study runs at most "
+                         f"{resources.MAX_VARIANTS:,} (an extra zero typed is the usual cause)")
+    try:
+        points = float(m.get("duration", 0.0)) / float(m.get("step", 0.01)) + 1
+    except (TypeError, ValueError, ZeroDivisionError):
+        return  # the motion's own checks name it
+    need = 16.0 * n * points  # times and accelerations of every motion
+    if need > resources.memory_limit():
+        raise InputError(f"{at('stochastic.realisations')}: {n:,} motions of {points:,.0f} "
+                         f"points each need about {resources.human(need)} of memory, more than "
+                         f"the {resources.human(resources.memory_limit())} this machine allows; "
+                         "use fewer realisations (or a longer step)")
+
+
+def _check_runs(spec, at, inputs) -> None:
+    """Steps, batches and subset samples that could not run on this machine, refused before
+    anything runs, naming the study's field that sets them (not what a run records)."""
+    from pframe import resources
+
+    field = "dt" if spec.dt is not None else "duration"
+    if resources.check_steps(inputs.steps, inputs.dt, inputs.steps * inputs.dt):
+        raise InputError(f"{at(field)}: {inputs.steps * inputs.dt:g} s analysed on a step of "
+                         f"{inputs.dt:g} s is {inputs.steps:,} steps per run, more than "
+                         f"pframe runs ({resources.MAX_STEPS:.0e} steps, or what this machine's "
+                         "memory holds); check the units (seconds) and give a larger dt or a "
+                         "shorter duration")
+    limit = resources.memory_limit()
+    if spec.design.kind == "subset":
+        dim = len(spec.uncertain or {}) + (0 if spec.stochastic is None else int(
+            math.ceil(float(spec.stochastic["duration"])
+                      / float(spec.stochastic.get("step", 0.01)))) + 1)
+        need = 3 * 8.0 * spec.design.samples * dim  # the samples, their proposals, a level's
+        if need > limit:
+            raise InputError(f"{at('design.samples')}: {spec.design.samples:,} samples of "
+                             f"{dim:,} standard normals each need about {resources.human(need)} "
+                             f"of memory, more than the {resources.human(limit)} this machine "
+                             "allows; use fewer samples per level")
+        return
+    batch = min(spec.chunk or inputs.count, inputs.count)
+    need = GROUND_BYTES * batch * (inputs.steps + 1)
+    if need > limit:
+        raise InputError(f"{at('chunk' if spec.chunk else field)}: {batch:,} runs of "
+                         f"{inputs.steps + 1:,} steps in one batch need about "
+                         f"{resources.human(need)} of memory for their ground motions, more than "
+                         f"the {resources.human(limit)} this machine allows; give chunk: N (runs "
+                         "per batch) or a larger dt")
+
+
+def d_levels_above(spec, hazard) -> bool:
+    """A subset design over stripes whose every stripe lies above the hazard table (its
+    annual frequency would rest on the table's lower bound above its last IM only)."""
+    levels = spec.design.levels
+    return (spec.design.kind == "subset" and bool(levels)
+            and min(levels) > float(hazard.im[-1]))
+
+
+def study_reads(study, inputs, table=None) -> list[str]:
+    """Every file a study reads (the study, its scene and the scene's record, the suite and
+    its records, the hazard table): the inputs an output must never replace."""
+    from pframe.api import run_inputs
+
+    reads = [*run_inputs(inputs.loaded), inputs.suite.source, str(study),
+             *(m.source for m in inputs.suite.motions), table]
+    return [str(r) for r in reads if r]
+
+
 def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
          records_folder=None, threads: int | None = None, progress=None,
          timings: dict | None = None, scheduler: str | None = None):
@@ -428,52 +634,28 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     ``warnings`` attribute. With ``scheduler`` (tcp://HOST:PORT), the batches of an msa,
     grid ida or cloud design run on that Dask cluster (the ``cluster`` extra), saved as they
     come back. Raises :class:`InputError` for bad input."""
-    from pframe.gap.audit import prepare
     from pframe.risk.analysis import analyse
     from pframe.risk.output import build_dataset
 
     start = time.perf_counter()
-    spec, base, text = read_study(study)
-    scene = (base / spec.scene).resolve()
-    suite = None if spec.suite is None else (base / spec.suite).resolve()
-    if spec.stochastic is not None:
-        suite = stochastic_suite(spec.stochastic, f"{study}, at stochastic")
-    folder = records_folder or (None if spec.records_folder is None
-                                else (base / spec.records_folder).resolve())
+    opened = open_study(study, records_folder)
+    spec, text, hazard, inputs = opened.spec, opened.text, opened.hazard, opened.inputs
     if scheduler and (spec.design.kind == "subset" or spec.design.hunt is not None):
         raise InputError(f"--scheduler {scheduler}: {study} is a "
                          + ("subset simulation" if spec.design.kind == "subset" else
                             "hunt and fill") + ", whose rounds depend on each other; "
                          "pframe runs it on this machine (leave out --scheduler)")
-    hazard = None
-    if spec.hazard is not None:
-        from pframe.risk.hazard import HazardCurve, read_hazard
+    if output is not None:
+        from pframe import outputs
 
-        hazard = (read_hazard(base / spec.hazard.file) if spec.hazard.file else
-                  HazardCurve.power_law(spec.hazard.power_law.k0, spec.hazard.power_law.k))
+        output = outputs.check_output(output, inputs=opened.reads, overwrite=overwrite,
+                                      what="risk file")
     if spec.design.kind == "subset":
         from pframe.risk.uncertain import run_subset
 
-        return run_subset(spec, text, study, scene, suite, output, overwrite, threads, timings,
-                          start, progress, folder, hazard)
+        return run_subset(spec, text, study, inputs, opened.params, output, overwrite,
+                          threads, timings, start, progress, hazard)
     hunt = spec.design.hunt is not None
-    levels = [spec.design.hunt.start] if hunt else spec.design.levels
-    inputs = prepare(scene, suite, levels=levels, measure=spec.measure,
-                     duration=spec.duration, dt=spec.dt, records_folder=folder)
-    heights = np.asarray(inputs.loaded.expanded.story_height, float)
-    if spec.limits.drift_ratio and not np.all(np.isfinite(heights)):
-        raise InputError(f"{study}, at limits.drift_ratio: a drift-ratio limit needs every "
-                         f"storey's height, and the scene {scene} gives none for some storeys "
-                         "(give height on its buildings), or give the limit as a drift in "
-                         "metres under limits.drift")
-    if output is not None:
-        from pframe import outputs
-        from pframe.api import run_inputs
-
-        reads = [*run_inputs(inputs.loaded), inputs.suite.source, str(study),
-                 *(m.source for m in inputs.suite.motions)]
-        output = outputs.check_output(output, inputs=[r for r in reads if r],
-                                      overwrite=overwrite, what="risk file")
     chunk = spec.chunk or inputs.count
     search = None
     if hunt:
@@ -486,10 +668,8 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
             import json
 
             from pframe.risk.sampling import latin_hypercube
-            from pframe.risk.uncertain import check_paths, parse
 
-            params = parse(spec.uncertain, f"{study}, at uncertain")
-            check_paths(inputs.loaded, params, f"{study}, at uncertain")
+            params = opened.params
             u = latin_hypercube(inputs.count, len(params), np.random.default_rng(spec.seed))
             uncertain = (params, u)
             identity = f" uncertain={json.dumps(spec.uncertain, sort_keys=True)} seed={spec.seed}"

@@ -284,13 +284,29 @@ def maf_from_stripes(levels, estimates, hazard, confidence: float = 0.95):
                      f"its probability {p[-1]:.2e}; on the power law of the last two stripes "
                      f"(capped at 1) they would add about {top:.2e} /yr ({top / lam:.0%} of the "
                      "annual frequency); add a higher stripe")
-    if lam <= 0:
-        return 0.0, 0.0, float(np.dot(c, bound)), math.inf, notes
+    above = _share_above(levels, p, hazard, lam)
+    if above > 0.05:
+        notes.append(f"{above:.0%} of the annual frequency comes from intensities above the "
+                     f"hazard table's last value ({hazard.im[-1]:g} g), counted at the "
+                     "probability there (a lower bound); extend the table up")
+    if lam <= 0:  # no stripe pounds: 0 as estimated, its c.o.v. undefined
+        return 0.0, 0.0, float(np.dot(c, bound)), math.nan, notes
     cov2 = float(np.sum((c * sd) ** 2)) / lam ** 2
     z = norm.ppf(0.5 + confidence / 2)
     spread_log = math.sqrt(math.log1p(cov2))
     return (lam, lam * math.exp(-z * spread_log),
             lam * math.exp(z * spread_log) + float(np.dot(c, bound)), math.sqrt(cov2), notes)
+
+
+def _share_above(levels, p, hazard, lam: float) -> float:
+    """The share of ``lam`` that the stripes' probabilities (linear in ln x between them)
+    contribute through the intensities above the hazard table (counted at its last IM)."""
+    if not lam > 0:
+        return 0.0
+    x = float(hazard.im[-1])
+    lx = np.log(np.asarray(levels, float))
+    at = 0.0 if math.log(x) < lx[0] else float(np.interp(math.log(x), lx, p))
+    return at * float(hazard.frequency[-1]) / lam
 
 
 #: runs per saved batch of a subset study (a level's first sample is cut into such batches)
@@ -345,34 +361,22 @@ class SavedCalls:
         return np.concatenate(out)
 
 
-def run_subset(spec, text: str, study, scene, suite, output, overwrite: bool, threads,
-               timings, start: float, progress=None, records_folder=None, hazard=None):
-    """A subset study: the probability of pounding, its c.o.v. and confidence interval. With
-    ``output``, its batches are saved beside it until the file is written, so that a stopped
-    study resumes (:class:`SavedCalls`)."""
+def run_subset(spec, text: str, study, inputs, params, output, overwrite: bool, threads,
+               timings, start: float, progress=None, hazard=None):
+    """A subset study (``inputs``: the study opened, :func:`pframe.risk.study.open_study`;
+    ``output`` checked): the probability of pounding, its c.o.v. and confidence interval.
+    With ``output``, its batches are saved beside it until the file is written, so that a
+    stopped study resumes (:class:`SavedCalls`)."""
     import hashlib
     import shutil
     import time
     import warnings
     from pathlib import Path
 
-    from pframe.gap.audit import prepare
     from pframe.risk.output import subset_dataset
     from pframe.risk.sampling import subset_simulation
 
     on_records = spec.stochastic is None
-    inputs = prepare(scene, suite, levels=(spec.design.levels or None) if on_records else None,
-                     measure=spec.measure, duration=spec.duration, dt=spec.dt,
-                     records_folder=records_folder)
-    params = parse(spec.uncertain or {}, f"{study}, at uncertain")
-    check_paths(inputs.loaded, params, f"{study}, at uncertain")
-    if output is not None:
-        from pframe import outputs
-        from pframe.api import run_inputs
-
-        output = outputs.check_output(output, inputs=[r for r in (
-            *run_inputs(inputs.loaded), str(study)) if r], overwrite=overwrite,
-            what="risk file")
     d = spec.design
     if on_records:
         problem = _Runs()

@@ -58,6 +58,9 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
     const double *ue = w->ue, *ve = w->ve, *ae = w->ae, *influence = m->ground_influence;
+    /* the laws' committed state: the step start's, or in a stage after the first the end of
+     * the stage before (newton.c, keep_stage) */
+    const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
     double *R = w->R;
     int stale = 0;
     int64_t i, j;
@@ -71,7 +74,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const int64_t *modes = m->story_damping;
         const int64_t P = m->story_width, S = m->story_states;
         const double *params = m->story_params + b * ns * P;
-        const double *committed = st->story_committed + b * ns * S;
+        const double *committed = from_stage ? w->story_stage
+                                             : st->story_committed + b * ns * S;
         double *trial = st->story_trial + b * ns * S;
         const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
         const double *kg = m->story_kg + b * ns;
@@ -146,19 +150,20 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         const int64_t *dofs = m->contact_dofs, *order = m->contact_order, *laws = m->contact_law;
         const int64_t Q = m->contact_width, T = m->contact_states;
         const double *params = m->contact_params + b * nc * Q;
-        const double *committed = st->contact_committed + b * nc * T;
+        const double *committed = from_stage ? w->contact_stage
+                                             : st->contact_committed + b * nc * T;
         double *trial = st->contact_trial + b * nc * T;
         const double *gap = m->gap + b * nc;
         int64_t *calls = st->contact_calls + b * m->contact_laws;
         double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
         const int64_t held = (int64_t)w->scalars[HELD];
-        /* With located events, Wilson-theta's evaluation point (t + theta h, past the
-         * sub-step's end) holds every contact on the branch it has at the sub-step start: a
-         * contact that closes or opens beyond the sub-step's end must not act inside it (a
-         * dashpot's jump there changed the sub-step before an impact by O(h)); one that
+        /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
+         * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
+         * start: a contact that closes or opens beyond the sub-step's end must not act inside
+         * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
          * crosses inside it is located (events.c) and the sub-step cut there. The step end
          * (tangent off: the commit's evaluation) sees the real law. */
-        const int hold_start = tangent && s->events && s->scheme == WILSON_THETA;
+        const int hold_start = tangent && s->events && s->beyond;
         const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
         const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
         const double *side_coef = m->contact_side_coef + b * m->contact_terms;

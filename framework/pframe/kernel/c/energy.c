@@ -25,6 +25,16 @@
  * evaluation point, G_e . du, less the trapezoidal works: the identity behind the balance needs
  * only Newmark's end relations and ae = alpha_m A + (1 - alpha_m) a, so it holds there too (the
  * code below takes that form for every scheme off the step end).
+ *
+ * For the generic stage loop (TABLEAU: any stages, docs/theory.md) the step's stages s, with
+ * increments du_s from the previous point and equilibrium M ae_s + G_e,s = 0 at their
+ * evaluation points, give the same balance with
+ *
+ *     D_algorithmic = sum_s (M ae_s . du_s + G_e,s . du_s) - dE_kinetic - (trapezoidal works),
+ *
+ * the first sum the work of the inertia at the evaluation points (the inertial work) and the
+ * second the evaluation work, both counted stage by stage as the stages converge (newton.c).
+ * What the balance then leaves is sum_s R_s . du_s: the stages' residuals, Newton's tolerance.
  */
 
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
@@ -46,6 +56,21 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
     double *energy = st->energy + b * ENERGY_SLOTS;
     double work_in = 0.0, shadow, kinetic, raw, budget, t;
     int64_t i, e;
+    shadow = kinetic_shadow(s, h);
+    kinetic = 0.0;
+    for (i = 0; i < n; i++)
+        kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
+    if (k > 0 && shadow != 0.0) {
+        /* The modified kinetic energy depends on the step length: after a (sub-)step of
+         * another length (events, retries) the start's is re-taken with this one, as at an
+         * event's restart (events.c), and the change booked to the integrator's own account
+         * (nothing changes when the length is the same: the same numbers give the same sum). */
+        double start = 0.0;
+        for (i = 0; i < n; i++)
+            start += 0.5 * mass[i] * (V[i] * V[i] + shadow * A[i] * A[i]);
+        energy[ALGORITHMIC] -= start - energy[KINETIC];
+        energy[KINETIC] = start;
+    }
     if (k > 0) {
         const double *damping = m->mass_damping + b * n;
         double work_damp = 0.0, work_story = 0.0, work_link = 0.0, work_contact = 0.0, inertial;
@@ -86,8 +111,11 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
             }
             energy[CONTACTS] += work_contact;
         }
-        inertial = inertial_dissipation(s, h, d_aMa, v_Mda, du_Mda);
-        if (s->alpha) {
+        if (s->scheme == TABLEAU)
+            inertial = w->scalars[INERTIAL_WORK] - (kinetic - energy[KINETIC]);
+        else
+            inertial = inertial_dissipation(s, h, d_aMa, v_Mda, du_Mda);
+        if (s->alpha || s->scheme == TABLEAU) {
             /* equilibrium holds at the evaluation point, with the forces evaluated there (not
              * the weighted end forces: the two differ where a law is nonlinear) */
             const double trapezoid = work_damp + work_story + work_link + work_contact - work_in;
@@ -97,15 +125,12 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         }
     }
 
-    shadow = kinetic_shadow(s, h);
-    kinetic = 0.0;
     raw = 0.0;
     for (i = 0; i < n; i++) {
         U[i] = u[i];
         V[i] = v[i];
         A[i] = a[i];
         raw += 0.5 * mass[i] * v[i] * v[i];
-        kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
     }
     energy[KINETIC] = kinetic;
     if (k == 0)

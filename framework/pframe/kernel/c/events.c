@@ -234,8 +234,11 @@ static int event_substeps(const Model *m, const Settings *s, State *st, Work *w,
         if (!locate_event(m, s, st, w, b, k, h, pos, &f_try, &hs, &ag_old, &ag_new, &located)
             || !commit(m, s, st, w, b, k, hs, ag_old, ag_new))
             return 0;
-        if (located && !restart(m, s, st, w, b, k, hs, ag_new, -1))
-            return 0;
+        if (located) {
+            st->counters[b * COUNTER_SLOTS + EVENTS] += 1;
+            if (!restart(m, s, st, w, b, k, hs, ag_new, -1))
+                return 0;
+        }
         record_substep(m, st, rec, b, k, ag_new);
         pos = f_try;
     }

@@ -1,10 +1,11 @@
-/* One step of the implicit generalised-alpha family (Newmark, HHT, Chung-Hulbert).
+/* An implicit step in parts: the retry of a failed step, and event-aware stepping.
  *
- * The coefficient sets (gamma, beta, alpha_m, alpha_f) come from pframe.integrators;
- * solve_step (newton.c) iterates a (sub-)step to equilibrium. A step that has no Newton root
- * (a law with a jump or an infinite slope at contact onset) is retried from its start as 2, 4,
- * ... 2^max_split sub-steps with the ground motion interpolated; recording stays on the step
- * grid. With event-aware stepping each part is further cut at contact events.
+ * solve_step (newton.c) runs the integrator's stages over a (sub-)step, here as in the time
+ * loop: every part is a step of the scene's integrator. A step that has no Newton root (a law
+ * with a jump or an infinite slope at contact onset) is retried from its start as 2, 4, ...
+ * 2^max_split sub-steps with the ground motion interpolated (max_split = 0: the integrator
+ * does not retry, and the run stops there); recording stays on the step grid. With
+ * event-aware stepping each part is further cut at contact events.
  */
 
 static void copy_values(double *saved, double *live, int64_t count, int to_saved)
@@ -102,7 +103,7 @@ static int step_in_parts(const Model *m, const Settings *s, State *st, Work *w, 
     int64_t split = 0;
     if (!s->events) {
         const int64_t code = st->status[b * STATUS_SLOTS + STATUS_CODE];
-        if (s->linear || code == NOT_FINITE || code == NOT_STABLE)
+        if (s->linear || s->max_split == 0 || code == NOT_FINITE || code == NOT_STABLE)
             return 0;
         st->counters[b * COUNTER_SLOTS + SPLIT_STEPS] += 1;
         clear_status(st, b);

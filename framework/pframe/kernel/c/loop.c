@@ -71,7 +71,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             continue;
         reset_work(m, w, b);
         if (s->linear && !s->explicit && end > first_step) { /* factored once per call */
-            if (!factor_linear(m, s, st, w, b, first_step, h)) {
+            if (!factor_linear(m, s, st, w, b, first_step, h, 0)) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)
                     return RUN_ZERO_DIVISION;
                 continue;
@@ -90,7 +90,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             } else {
                 double ag_old, ag_new;
                 ground_between(m, b, k, 0.0, 1.0, &ag_old, &ag_new);
-                if (solve_step(m, s, st, w, b, k, h, ag_old, ag_new))
+                if ((s->linear || !s->force_split) && solve_step(m, s, st, w, b, k, h, ag_old, ag_new))
                     ok = commit(m, s, st, w, b, k, h, ag_old, ag_new);
                 else
                     ok = step_in_parts(m, s, st, w, sv, rec, b, k, h);

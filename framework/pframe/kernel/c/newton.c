@@ -1,39 +1,45 @@
-/* Newton iterations of one implicit (sub-)step.
+/* Newton iterations of one implicit (sub-)step: the integrator's stages in turn.
  *
- * From the committed state (U, V, A) at the step start, find the end acceleration a such that
- * equilibrium holds at the scheme's evaluation point,
+ * From the committed state (U, V, A) at the step start, each stage finds the acceleration a
+ * at its end such that equilibrium holds at its evaluation point,
  *
  *     M ae + C ve + F(ue) = -M a_g(t_e),
  *
  * with the scheme's relations (integrator.c: the end relations, the evaluation point and the
- * effective-stiffness weights). A linear scene takes one solve with the factor made once
- * before its first step. A nonlinear scene starts from the scheme's predictor and refactors
- * the effective stiffness only when an element tangent or the step length changed.
+ * effective-stiffness weights). solve_step runs the stages: it is the implicit step of every
+ * path (loop.c, implicit.c, events.c), so that no path steps with another integrator than
+ * the scene's. A linear scene takes one solve a stage with a factor made once per effective
+ * stiffness. A nonlinear scene starts from a predictor and refactors the effective stiffness
+ * only when an element tangent, the step length or the stage's stiffness class changed.
  */
 
-/* Factor the constant effective stiffness of a linear scene (initial tangents). */
+/* Factor the constant effective stiffness of a linear scene (initial tangents) for stage
+ * `stage`. */
 static int factor_linear(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                         int64_t k, double h)
+                         int64_t k, double h, int64_t stage)
 {
     Weights c;
     const double *k0 = m->story_k0 + b * m->stories, *beta = m->story_beta + b * m->stories;
     int64_t e;
-    if (!step_weights(s, w, h, &c))
+    if (!stage_weights(m, s, st, w, b, h, stage, &c))
         return fail(st, b, NOT_FINITE, k, NODE, 0);
     for (e = 0; e < m->stories; e++) {
         const double kg = m->story_kg[b * m->stories + e]; /* P-delta, P / h */
         w->story_kk[e] = kg == 0.0 ? k0[e] * (1.0 + c.c1 * beta[e]) * c.wf
                                    : ((k0[e] - kg) + c.c1 * beta[e] * k0[e]) * c.wf;
     }
+    w->scalars[STIFFNESS_FACTORED] = c.stiffness;
     return factor(m, s, st, w, b, k, c.c0, c.c1, c.wm, c.wf);
 }
 
-/* Iterate a step of length h from the committed state to equilibrium at ag_new.
+/* Iterate stage `stage` of a step of length h to equilibrium (ground acceleration ag_old at
+ * the step start, ag_new at its end).
  *
- * Leaves u, v, a at the step end and the element forces and law states evaluated there;
- * returns 0 (after recording why in st->status) if it failed. */
-static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                      int64_t k, double h, double ag_old, double ag_new)
+ * Leaves u, v, a at the stage end and the element forces and law states evaluated there, and
+ * adds the stage's works at its evaluation point to the work scalars (energy.c); returns 0
+ * (after recording why in st->status) if it failed. */
+static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                       int64_t k, double h, int64_t stage, double ag_old, double ag_new)
 {
     const int64_t n = m->dofs;
     const double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
@@ -43,12 +49,16 @@ static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int
     double inv_c0_mmin, norm_u = 0.0, age = ag_new;
     int converged = 0;
     int64_t i, it;
-    if (!step_weights(s, w, h, &c))
+    if (!stage_weights(m, s, st, w, b, h, stage, &c))
         return fail(st, b, NOT_FINITE, k, NODE, 0);
     inv_c0_mmin = 1.0 / (c.c0 * c.wm * scalars[MASS_MIN]);
-    predict(n, A, a);
+    if (s->linear && c.stiffness != scalars[STIFFNESS_FACTORED]
+        && !factor_linear(m, s, st, w, b, k, h, stage))
+        return 0;
+    if (stage == 0) /* a later stage starts from the acceleration of the one before */
+        predict(n, A, a);
     for (it = 0; it < s->max_iterations + 1; it++) {
-        end_point(n, &c, U, V, A, a, u, v);
+        end_point(s, n, &c, U, V, A, a, u, v);
         age = evaluation_point(m, s, st, w, &c, b, ag_old, ag_new);
         if (evaluate(m, s, st, w, b, age, c.c1, c.wf, !s->linear))
             scalars[STALE] = 1.0;
@@ -75,13 +85,15 @@ static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int
                     worst = i;
             return fail(st, b, NOT_CONVERGED, k, NODE, worst);
         }
-        /* Refactor only when a tangent or the step changed: a storey that stays elastic or
-         * keeps yielding and an open contact keep theirs, so most steps reuse the factor (bit
-         * for bit what refactoring would give). */
+        /* Refactor only when a tangent, the step or the stage's stiffness changed: a storey
+         * that stays elastic or keeps yielding and an open contact keep theirs, so most steps
+         * reuse the factor (bit for bit what refactoring would give). */
         if (!s->linear
-            && (s->always_refactor || scalars[STALE] != 0.0 || h != scalars[H_FACTORED])) {
+            && (s->always_refactor || scalars[STALE] != 0.0 || h != scalars[H_FACTORED]
+                || c.stiffness != scalars[STIFFNESS_FACTORED])) {
             scalars[STALE] = 0.0;
             scalars[H_FACTORED] = h;
+            scalars[STIFFNESS_FACTORED] = c.stiffness;
             if (!factor(m, s, st, w, b, k, c.c0, c.c1, c.wm, c.wf))
                 return 0;
         }
@@ -102,11 +114,63 @@ static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int
             converged = sqrt(norm_du) <= s->tolerance * sqrt(norm_u) + s->absolute_tolerance;
         }
     }
+    if (s->scheme == TABLEAU || s->alpha) {
+        const int later = stage > 0;
+        const double *from = later ? w->stage_values + (stage - 1) * VALUE_SLOTS * n : U;
+        scalars[ALPHA_WORK] += evaluation_work(
+            m, w, b, age, from, later ? w->stage_drift : st->drift + b * m->stories,
+            later ? w->stage_penetration : st->penetration + b * m->contacts);
+        if (s->scheme == TABLEAU)
+            scalars[INERTIAL_WORK] += inertial_work(m, w, b, from);
+    }
     if (s->alpha) {
-        scalars[ALPHA_WORK] = evaluation_work(m, st, w, b, age);
-        /* commit the laws' state and forces at the step end, not at the evaluation point */
+        /* the laws' state and forces at the stage end, not at the evaluation point */
         at_end_point(m, s, w);
         evaluate(m, s, st, w, b, ag_new, c.c1, c.wf, 0);
     }
     return 1;
+}
+
+/* The end of stage `stage` becomes a point of the stages after it, and their laws' start. */
+static void keep_stage(const Model *m, State *st, Work *w, int64_t b, int64_t stage)
+{
+    const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
+    const int64_t S = ns * m->story_states, T = nc * m->contact_states;
+    double *kept = w->stage_values + stage * VALUE_SLOTS * n;
+    int64_t i;
+    for (i = 0; i < n; i++) {
+        kept[VALUE_U * n + i] = w->u[i];
+        kept[VALUE_V * n + i] = w->v[i];
+        kept[VALUE_A * n + i] = w->a[i];
+    }
+    for (i = 0; i < ns; i++)
+        w->stage_drift[i] = w->drift[i];
+    for (i = 0; i < nc; i++)
+        w->stage_penetration[i] = w->penetration[i];
+    for (i = 0; i < S; i++)
+        w->story_stage[i] = st->story_trial[b * S + i];
+    for (i = 0; i < T; i++)
+        w->contact_stage[i] = st->contact_trial[b * T + i];
+    w->scalars[LAWS_FROM_STAGE] = 1.0;
+}
+
+/* One implicit step of length h from the committed state of member b: its stages in turn.
+ *
+ * Leaves u, v, a at the step end and the element forces and law states evaluated there (the
+ * committed state untouched); returns 0 (after recording why in st->status) if a stage
+ * failed. */
+static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                      int64_t k, double h, double ag_old, double ag_new)
+{
+    int64_t stage;
+    int ok = 1;
+    w->scalars[ALPHA_WORK] = 0.0;
+    w->scalars[INERTIAL_WORK] = 0.0;
+    for (stage = 0; stage < s->stages && ok; stage++) {
+        ok = solve_stage(m, s, st, w, b, k, h, stage, ag_old, ag_new);
+        if (ok && stage + 1 < s->stages)
+            keep_stage(m, st, w, b, stage);
+    }
+    w->scalars[LAWS_FROM_STAGE] = 0.0;
+    return ok;
 }

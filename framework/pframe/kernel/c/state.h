@@ -49,7 +49,8 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define EVALUATIONS 2
 #define SPLIT_STEPS 3
 #define GATHERS 4
-#define COUNTER_SLOTS 5
+#define EVENTS 5
+#define COUNTER_SLOTS 6
 
 /* recordable quantities */
 #define DISPLACEMENT 0
@@ -78,6 +79,34 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 /* integrator schemes */
 #define ALPHA_FAMILY 0
 #define WILSON_THETA 1
+#define TABLEAU 2
+
+/* stage points */
+#define POINT_START 0
+#define POINT_STAGE_1 1
+#define POINT_STAGE_2 2
+#define POINT_STAGE_3 3
+#define STAGE_POINTS 4
+
+/* stage relations */
+#define U_END 0
+#define V_END 1
+#define U_EVAL 2
+#define V_EVAL 3
+#define A_EVAL 4
+#define RELATIONS 5
+
+/* stage columns */
+#define STAGE_END 0
+#define STAGE_AT 1
+#define STAGE_STIFFNESS 2
+#define STAGE_HEAD 3
+
+/* point values */
+#define VALUE_U 0
+#define VALUE_V 1
+#define VALUE_A 2
+#define VALUE_SLOTS 3
 
 /* work scalars */
 #define H_FACTORED 0
@@ -87,7 +116,10 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define HELD_CLOSED 4
 #define ALPHA_WORK 5
 #define ZERO_DIVISION 6
-#define SCALAR_SLOTS 7
+#define STIFFNESS_FACTORED 7
+#define INERTIAL_WORK 8
+#define LAWS_FROM_STAGE 9
+#define SCALAR_SLOTS 10
 
 /* pframe_run's return values */
 #define RUN_OK 0
@@ -153,6 +185,10 @@ typedef struct Settings {
     double alpha_f;
     int64_t scheme;
     double theta;
+    int64_t stages;
+    double *tableau;
+    double kinetic_weight;
+    int64_t beyond;
     double tolerance;
     double absolute_tolerance;
     int64_t max_iterations;
@@ -163,6 +199,7 @@ typedef struct Settings {
     int64_t events;
     int64_t alpha;
     int64_t always_refactor;
+    int64_t force_split;
     LawFunction *material_plugins;
     LawFunction *contact_plugins;
 } Settings;
@@ -218,6 +255,11 @@ typedef struct Work {
     double *story_kk;
     double *contact_kk;
     double *scalars;
+    double *stage_values;
+    double *stage_drift;
+    double *stage_penetration;
+    double *story_stage;
+    double *contact_stage;
 } Work;
 
 typedef struct Saved {
