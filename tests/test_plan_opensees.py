@@ -332,24 +332,28 @@ def test_motion_along_y():
         "kind": "components", "y": {"kind": "sine", "amplitude": 4.0, "frequency": 2.0,
                                     "cycles": 3}})
     both = solve_both(data)
-    assert both.plan.channels == ("y",) and both.peer.channels == ("y",)
+    # a motion in components loads both site axes (one layout whatever its angle): x is 0
+    assert both.plan.channels == ("x", "y") == tuple(both.peer.channels)
+    assert np.all(both.plan.ground_channels[0, 0] == 0.0)
+    assert np.max(np.abs(both.plan.ground_channels[0, 1])) > 0.0
     assert_agreement(both)
     assert_energy_closes(both)
 
 
 @pytest.mark.slow
-def test_two_components_superpose():
-    """pframe's kernel runs one channel; the script writes a UniformExcitation per channel. On
-    an elastic building (turned on the site) the response to both is the sum of the responses
-    to each: OpenSees' two-component run equals pframe's x run plus its y run."""
+def test_two_components_agree_and_superpose():
+    """Both components at once (the script writes a UniformExcitation per channel): pframe
+    agrees with OpenSees; and on an elastic building (turned on the site) the response to both
+    is the sum of the responses to each, pframe's x run plus its y run."""
     x = {"kind": "sine", "amplitude": 3.0, "frequency": 2.0, "cycles": 3}
     y = {"kind": "sine", "amplitude": 2.0, "frequency": 3.0, "cycles": 4}
     pair = scene([building("A", 2, "elastic", angle=20.0)], excitation={
         "kind": "components", "x": x, "y": y})
-    loaded = parse_scene(json.dumps(pair))
-    plan = assemble(loaded.expanded)
+    both = solve_both(pair)
+    assert_agreement(both)
+    assert_energy_closes(both)
+    plan, opensees = both.plan, both.opensees
     assert plan.channels == ("x", "y")
-    opensees = run(peer_scene(plan, centres=loaded.expanded.node_centre))
     total = 0.0
     for alone in ({"x": x}, {"y": y}):
         part = scene(pair["buildings"], excitation={"kind": "components"} | alone)
@@ -361,6 +365,7 @@ def test_two_components_superpose():
         assert result.completed()
         total = total + result.history["displacement"][0]
     assert relative_difference(total, opensees["displacement"]) <= 1e-12
+    assert relative_difference(total, both.result.history["displacement"][0]) <= 1e-12
 
 
 # ---------------------------------------------------------------------------------------------

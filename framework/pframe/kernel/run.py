@@ -23,7 +23,6 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pframe.errors import InputError
 from pframe.integrators.tableau import RELATIONS
 from pframe.kernel.state import (
     ENERGY_TERMS,
@@ -220,11 +219,12 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
                   else np.zeros((B, plan.n_springs))),
         contact_dofs=plan.contact_dofs,
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
-        gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
+        gap=plan.contact_gap, ground=plan.ground_channels, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
         event_parts=plan.event_parts if plan.event_parts is not None else ones,
         stop=np.zeros(1, dtype=np.int64),
-        ground_influence=_influence(plan),
+        dof_channel=(plan.dof_channel if plan.dof_channel is not None
+                     else np.zeros(plan.n_dof, dtype=np.int64)),
         foundation_dofs=(plan.foundation_dofs if plan.foundation_dofs is not None
                          else np.zeros((0, 2), dtype=np.int64)),
         **_sides("story", plan.story_sides, plan.n_springs, B),
@@ -245,17 +245,6 @@ def _sides(kind: str, sides, count: int, batch: int) -> dict:
                 f"{kind}_side_coef": np.zeros((batch, 0))}
     return {f"{kind}_side_start": sides.start, f"{kind}_side_dof": sides.dof,
             f"{kind}_side_coef": sides.coef}
-
-
-def _influence(plan) -> np.ndarray:
-    """(n,) 1 on a DOF the ground motion loads, 0 elsewhere (a rotation, a foundation's
-    rocking). The kernel takes one channel of ground motion: a scene with a motion along y
-    as well is refused until it takes two."""
-    if plan.dof_channel is None:
-        return np.ones(plan.n_dof)
-    if len(plan.channels) > 1:
-        raise InputError("a ground motion in two components is not run yet")
-    return (plan.dof_channel >= 0).astype(float)
 
 
 def _normalised(group):
@@ -332,7 +321,7 @@ class _Recorders:
     def __init__(self, plan, sink):
         B = plan.batch
         self.plan, self.sink = plan, sink
-        sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
+        sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), len(plan.channels),
                  len(plan.link_names), len(plan.foundations), 2 * len(plan.point_names))
         self.widths = [sizes[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
         self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
@@ -386,7 +375,8 @@ class _Recorders:
                     self.sink(name, first, self._shaped(name, rec.history[q][:, :stop - first]))
 
     def _shaped(self, name, array):
-        return array[..., 0] if QUANTITIES[name][0] is None else array
+        # one value a step: a column per channel of the ground motion, one column for one
+        return array[..., 0] if QUANTITIES[name][0] is None and array.shape[-1] == 1 else array
 
     def histories(self) -> dict:
         if self.whole is None:
@@ -414,7 +404,8 @@ def work_arrays(plan, st: State) -> Work:
                 *(np.zeros(s) for _ in range(4)), np.zeros(c), np.zeros(c), np.zeros(s),
                 np.zeros(c), np.zeros(len(Scalar)),
                 np.zeros((stages - 1, len(Value), n)), np.zeros(s), np.zeros(c),
-                np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size))
+                np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size),
+                *(np.zeros(len(plan.channels)) for _ in range(3)))
     return work
 
 
@@ -433,7 +424,7 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
-           "contact_order", "contact_law", "stop", "ground_influence",
+           "contact_order", "contact_law", "stop", "dof_channel",
            "foundation_dofs", "story_side_start", "story_side_dof", "contact_side_start",
            "contact_side_dof", "gauge_start", "gauge_dof"}
 
@@ -515,7 +506,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                      story_states=st.story_committed.shape[2],
                      contact_width=model.contact_params.shape[2],
                      contact_states=st.contact_committed.shape[2],
-                     ground_width=model.ground.shape[1], materials=laws.materials,
+                     ground_width=model.ground.shape[2], channels=model.ground.shape[1],
+                     materials=laws.materials,
                      contact_laws=laws.contact_laws, foundations=len(plan.foundations),
                      story_terms=model.story_side_dof.shape[0],
                      contact_terms=model.contact_side_dof.shape[0],

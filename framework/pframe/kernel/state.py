@@ -256,13 +256,15 @@ Model = namedtuple("Model", [
     "contact_law",      # (c,) contact law id
     "contact_params",   # (B, c, Q) the law's packed parameters
     "gap",              # (B, c) m
-    "ground",           # (B, steps + 1) ground acceleration (m/s^2)
+    "ground",           # (B, C, steps + 1) ground acceleration along each channel (m/s^2):
+                        # the site's axes the motion loads (pframe.assemble.Plan.channels)
     "dt",               # (B,) s
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
     "stop",             # (1,) set to 1 by the driver (Ctrl-C): seen at every evaluation
-    "ground_influence", # (n,) the ground load is -m a_g times this: 1 on a DOF the motion
-                        # loads, 0 on a rotation (an absolute acceleration is a + influence a_g)
+    "dof_channel",      # (n,) the channel whose ground motion loads a DOF (-m a_g): -1 for a
+                        # rotation or a foundation's rocking (an absolute acceleration is
+                        # a + a_g of its channel)
     "foundation_dofs",  # (F, 2) sway and rocking DOF of each foundation on soil
     # the sides of the elements that are not plain (pframe.assemble.incidence): side s of
     # element e is sum coef[b, t] x[dof[t]] over t in start[2 e + s] .. start[2 e + s + 1];
@@ -336,11 +338,14 @@ Work = namedtuple("Work", [
     # the generic stage loop: the ends of the stages before the last, (stages - 1, 3, n) u, v
     # and a, the deformations and law states at the previous stage's end, the laws start from
     "stage_values", "stage_drift", "stage_penetration", "story_stage", "contact_stage",
+    # (C,) the ground accelerations at a (sub-)step's start and end and at its evaluation point
+    "ag_old", "ag_new", "age",
 ])
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
-         "contact_width", "contact_states", "ground_width", "materials", "contact_laws",
+         "contact_width", "contact_states", "ground_width", "channels", "materials",
+         "contact_laws",
          "foundations", "story_terms", "contact_terms", "points", "gauge_terms")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
@@ -348,7 +353,7 @@ SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_
 C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
-              "foundation_dofs": "int64_t *",
+              "foundation_dofs": "int64_t *", "dof_channel": "int64_t *",
               "story_side_start": "int64_t *", "story_side_dof": "int64_t *",
               "contact_side_start": "int64_t *", "contact_side_dof": "int64_t *",
               "gauge_start": "int64_t *", "gauge_dof": "int64_t *",

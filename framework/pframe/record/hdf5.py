@@ -246,6 +246,8 @@ class ResultWriter:
         units, long_name = UNITS[q]
         if DIMENSION[q] == "point":
             return [(q, units, long_name, ("axis",))]
+        if DIMENSION[q] is None and len(self.plan.channels) > 1:  # along the site's x and y
+            return [(q, units, long_name + " along the site's x and y", ("direction",))]
         if self.plan.planar or DIMENSION[q] != "node":
             return [(q, units, long_name, ())]
         name, rotation_units, rotation_name = ROTATION[q]

@@ -47,17 +47,18 @@ static void band_sides(double *band, int64_t bw, const int64_t *start, const int
     }
 }
 
-/* Element forces and the residual at the evaluation point, ground acceleration age.
+/* Element forces and the residual at the evaluation point, ground accelerations age (one per
+ * channel).
  *
  * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
  * with the one in the current factorisation; returns 1 when one changed (the factorisation is
  * then stale). */
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                    double age, double c1, double wf, int tangent)
+                    const double *age, double c1, double wf, int tangent)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
-    const double *ue = w->ue, *ve = w->ve, *ae = w->ae, *influence = m->ground_influence;
+    const double *ue = w->ue, *ve = w->ve, *ae = w->ae;
     /* the laws' committed state: the step start's, or in a stage after the first the end of
      * the stage before (newton.c, keep_stage) */
     const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
@@ -66,7 +67,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     int64_t i, j;
     double out[3];
     for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
-        R[i] = -mass[i] * (influence[i] * age + ae[i]) - damping[i] * ve[i];
+        R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
     {
@@ -315,13 +316,24 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     return fail(st, b, NOT_DEFINITE, k, NODE, 0);
 }
 
-/* Ground accelerations at fractions start and stop of step k (linear between the samples
- * k - 1 and k). */
+/* Ground accelerations of each channel at fractions start and stop of step k (linear between
+ * the samples k - 1 and k). */
 static void ground_between(const Model *m, int64_t b, int64_t k, double start, double stop,
                            double *ag_old, double *ag_new)
 {
-    const double *ag = m->ground + b * m->ground_width;
-    const double slope = ag[k] - ag[k - 1];
-    *ag_old = ag[k - 1] + slope * start;
-    *ag_new = ag[k - 1] + slope * stop;
+    int64_t c;
+    for (c = 0; c < m->channels; c++) {
+        const double *ag = m->ground + (b * m->channels + c) * m->ground_width;
+        const double slope = ag[k] - ag[k - 1];
+        ag_old[c] = ag[k - 1] + slope * start;
+        ag_new[c] = ag[k - 1] + slope * stop;
+    }
+}
+
+/* The ground accelerations of each channel at sample k. */
+static void ground_at(const Model *m, int64_t b, int64_t k, double *ag)
+{
+    int64_t c;
+    for (c = 0; c < m->channels; c++)
+        ag[c] = m->ground[(b * m->channels + c) * m->ground_width + k];
 }

@@ -97,10 +97,27 @@ static void side_add(double *R, const int64_t *start, const int64_t *dof, const 
         R[dof[t]] += coef[t] * w;
 }
 
+/* The ground acceleration that loads DOF i, from the channels' values g: that of its channel
+ * (m->dof_channel), 0 for a rotation or a foundation's rocking (-1). */
+static double dof_ground(const Model *m, int64_t i, const double *g)
+{
+    const int64_t c = m->dof_channel[i];
+    return c >= 0 ? g[c] : 0.0;
+}
+
+/* out = wa a + wb b, channel by channel: the ground accelerations between two times */
+static void ground_mix(const Model *m, double *out, double wa, const double *a, double wb,
+                       const double *b)
+{
+    int64_t c;
+    for (c = 0; c < m->channels; c++)
+        out[c] = wa * a[c] + wb * b[c];
+}
+
 /* functions used before the file that defines them */
 static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                      int64_t k, double h, double ag_old, double ag_new);
+                      int64_t k, double h, const double *ag_old, const double *ag_new);
 static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                  int64_t k, double h, double ag_old, double ag_new);
+                  int64_t k, double h, const double *ag_old, const double *ag_new);
 
 #endif

@@ -10,7 +10,7 @@
 #define NEVER ((int64_t)1 << 62)
 
 /* The committed values of quantity q of member b, and how many there are (NULL for the
- * ground acceleration, which is m->ground[b, k]). */
+ * ground acceleration, which is m->ground[b, c, k], a value per channel c). */
 static const double *source(const Model *m, const State *st, int64_t q, int64_t b,
                             int64_t *width)
 {
@@ -34,18 +34,25 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     /* the named plan points: sums of the DOFs (m->gauge_*), along x and y of each point */
     case POINT_DISPLACEMENT: *width = 2 * m->points; return st->U + b * n;
     case POINT_DRIFT: *width = 2 * m->points; return st->U + b * n;
-    default: *width = 1; return NULL;
+    default: *width = m->channels; return NULL;
     }
 }
 
-/* The absolute acceleration of DOF i: its acceleration relative to the ground plus the
- * ground's (ag) as the ground load sees it (m->ground_influence: 1 on a translation, 0 on a
- * foundation's rocking), the one place the sum is made. */
-static double absolute_acceleration(const Model *m, int64_t b, int64_t i, double relative,
-                                    double ag)
+/* The ground acceleration of channel c of member b at the committed state: ag[c] at the end
+ * of a sub-step, or (ag NULL) the sample of step k itself. */
+static double ground_of(const Model *m, int64_t b, int64_t k, int64_t c, const double *ag)
 {
-    (void)b;
-    return relative + m->ground_influence[i] * ag;
+    return ag != NULL ? ag[c] : m->ground[(b * m->channels + c) * m->ground_width + k];
+}
+
+/* The absolute acceleration of DOF i: its acceleration relative to the ground plus the
+ * ground's as the ground load sees it (its channel's, m->dof_channel; none on a rotation or a
+ * foundation's rocking), the one place the sum is made. */
+static double absolute_acceleration(const Model *m, int64_t b, int64_t k, int64_t i,
+                                    double relative, const double *ag)
+{
+    const int64_t c = m->dof_channel[i];
+    return c >= 0 ? relative + ground_of(m, b, k, c, ag) : relative + 0.0;
 }
 
 /* Gauge g of member b at the displacements U: a named plan point's motion along an axis. */
@@ -59,16 +66,15 @@ static double gauge(const Model *m, int64_t b, int64_t g, const double *U)
     return sum;
 }
 
-/* Committed value i of quantity q (its values from source); ag is the ground acceleration at
- * the committed state (step k's end, or a sub-step's). */
+/* Committed value i of quantity q (its values from source); ag holds the ground accelerations
+ * at the committed state (a sub-step's end; NULL: the samples of step k). */
 static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
-                    int64_t i, double ag)
+                    int64_t i, const double *ag)
 {
-    (void)k;
     if (q == GROUND_ACCELERATION)
-        return ag;
+        return ground_of(m, b, k, i, ag);
     if (q == ABSOLUTE_ACCELERATION)
-        return absolute_acceleration(m, b, i, values[i], ag);
+        return absolute_acceleration(m, b, k, i, values[i], ag);
     if (q == CONTACT_PENETRATION)
         return py_max(values[i], 0.0);
     if (q == STORY_DRIFT_RATIO)
@@ -119,7 +125,7 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
             double *history = rec->history[q] + (b * rec->history_rows[q] + row) * columns;
             const double *values = source(m, st, q, b, &width); /* once per quantity */
             for (i = 0; i < columns; i++)
-                history[i] = value(m, q, values, b, k, i, m->ground[b * m->ground_width + k]);
+                history[i] = value(m, q, values, b, k, i, NULL);
             gathered += columns;
         }
     }
@@ -128,9 +134,9 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
 }
 
 /* Update the running peaks of the enveloped quantities with step k (or a sub-step of it, at
- * whose end the ground acceleration is ag). */
+ * whose end the ground accelerations are ag; NULL: step k's samples). */
 static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
-                             double ag)
+                             const double *ag)
 {
     int64_t gathered = 0, q, i, width;
     for (q = 0; q < RECORDABLE_COUNT; q++) {
@@ -154,7 +160,7 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
  * difference's substeps, event location, split steps), not only at the step end: a contact
  * that opens and closes inside one step has its peak force recorded. */
 static void record_substep(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
-                           double ag)
+                           const double *ag)
 {
     int64_t q;
     int envelopes = 0;

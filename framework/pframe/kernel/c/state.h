@@ -148,7 +148,7 @@ typedef struct Model {
     int64_t *cd_parts;
     int64_t *event_parts;
     int64_t *stop;
-    double *ground_influence;
+    int64_t *dof_channel;
     int64_t *foundation_dofs;
     int64_t *story_side_start;
     int64_t *story_side_dof;
@@ -169,6 +169,7 @@ typedef struct Model {
     int64_t contact_width;
     int64_t contact_states;
     int64_t ground_width;
+    int64_t channels;
     int64_t materials;
     int64_t contact_laws;
     int64_t foundations;
@@ -260,6 +261,9 @@ typedef struct Work {
     double *stage_penetration;
     double *story_stage;
     double *contact_stage;
+    double *ag_old;
+    double *ag_new;
+    double *age;
 } Work;
 
 typedef struct Saved {
