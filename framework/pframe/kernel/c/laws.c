@@ -110,24 +110,140 @@ static void material_kelvin_voigt(const double *params, const double *committed,
     return;
 }
 
-/* pframe.laws.material.bouc_wen.BoucWen.force */
-static void material_bouc_wen(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+/* pframe.laws.material._bouc_wen.hysteretic */
+static PFRAME_INLINE void bouc_wen_hysteretic(const double *params_, double z_, double strain_,
+                                              double committed_energy_, double *ret0,
+                                              double *ret1, double *ret2, double *ret3,
+                                              double *ret4, double *ret5)
 {
     double alpha_;
     double ko_;
+    double te_;
+    double ta_;
+    double tnu_;
+    double teta_;
+    double psi_;
+    double phi_;
+    (void)params_; (void)z_; (void)strain_; (void)committed_energy_;
+    alpha_ = params_[0];
+    ko_ = params_[1];
+    te_ = (committed_energy_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    ta_ = (params_[5] - (params_[6] * te_));
+    tnu_ = (1.0 + (params_[7] * te_));
+    teta_ = (1.0 + (params_[8] * te_));
+    psi_ = (params_[3] + (params_[4] * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
+    phi_ = (ta_ - ((pow(fabs(z_), params_[2]) * psi_) * tnu_));
+    *ret0 = te_;
+    *ret1 = ta_;
+    *ret2 = tnu_;
+    *ret3 = teta_;
+    *ret4 = psi_;
+    *ret5 = phi_;
+    return;
+}
+
+/* pframe.laws.material._bouc_wen.hysteretic_slope */
+static PFRAME_INLINE void bouc_wen_hysteretic_slope(const double *params_, double z_,
+                                                    double strain_, double psi_, double tnu_,
+                                                    double *ret0, double *ret1)
+{
     double n_;
-    double gamma_;
-    double beta_;
-    double a0_;
-    double delta_a_;
-    double delta_nu_;
-    double delta_eta_;
-    double tolerance_;
-    double most_;
+    double te__;
+    double ta__;
+    double tnu__;
+    double teta__;
+    double sign_;
+    double pow1_;
+    double pow2_;
+    double phi__;
+    (void)params_; (void)z_; (void)strain_; (void)psi_; (void)tnu_;
+    n_ = params_[2];
+    te__ = (((1.0 - params_[0]) * params_[1]) * strain_);
+    ta__ = ((-params_[6]) * te__);
+    tnu__ = (params_[7] * te__);
+    teta__ = (params_[8] * te__);
+    sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
+    pow1_ = 0.0;
+    pow2_ = 0.0;
+    if ((z_ != 0.0)) {
+        pow1_ = pow(fabs(z_), (n_ - 1.0));
+        pow2_ = pow(fabs(z_), n_);
+    }
+    phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
+    *ret0 = phi__;
+    *ret1 = teta__;
+    return;
+}
+
+/* pframe.laws.material._bouc_wen.pinching */
+static PFRAME_INLINE void bouc_wen_pinching(const double *params_, double z_, double strain_,
+                                            double te_, double ta_, double tnu_, double *ret0,
+                                            double *ret1)
+{
+    double zetas_;
+    double n_;
+    double p_;
+    double psi0_;
+    double delta_psi_;
+    double lamda_;
+    double q_;
+    double sd_;
+    double te__;
+    double ta__;
+    double tnu__;
+    double zeta1_;
+    double zeta2_;
+    double zu_;
+    double zu__;
+    double x_;
+    double x__;
+    double g_;
+    double h_;
+    double zeta1__;
+    double zeta2__;
+    double h__;
+    (void)params_; (void)z_; (void)strain_; (void)te_; (void)ta_; (void)tnu_;
+    zetas_ = params_[10];
+    if ((!(zetas_ > 0.0))) {
+        *ret0 = 1.0;
+        *ret1 = 0.0;
+        return;
+    }
+    n_ = params_[2];
+    p_ = params_[11];
+    psi0_ = params_[12];
+    delta_psi_ = params_[13];
+    lamda_ = params_[14];
+    q_ = params_[9];
+    sd_ = ((strain_ > 0.0) ? 1.0 : (-1.0));
+    te__ = (((1.0 - params_[0]) * params_[1]) * strain_);
+    ta__ = ((-params_[6]) * te__);
+    tnu__ = (params_[7] * te__);
+    zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
+    zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
+    zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (params_[4] + params_[3]))), (1.0 / n_));
+    zu__ = 0.0;
+    if ((ta_ > 0.0)) {
+        zu__ = ((zu_ / n_) * ((ta__ / ta_) - (tnu__ / tnu_)));
+    }
+    x_ = ((z_ * sd_) - (q_ * zu_));
+    x__ = (sd_ - (q_ * zu__));
+    g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
+    h_ = (1.0 - (zeta1_ * g_));
+    zeta1__ = (((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0))) * te__);
+    zeta2__ = ((((psi0_ * zeta1__) + ((lamda_ * delta_psi_) * te__)) + ((delta_psi_ * te_) * zeta1__)) + ((delta_psi_ * te__) * zeta1_));
+    h__ = ((-g_) * ((zeta1__ - ((((zeta1_ * 2.0) * x_) * x__) / (zeta2_ * zeta2_))) + ((((zeta2__ * zeta1_) * 2.0) * (x_ * x_)) / ((zeta2_ * zeta2_) * zeta2_))));
+    *ret0 = h_;
+    *ret1 = h__;
+    return;
+}
+
+/* pframe.laws.material._bouc_wen.trial_z */
+static PFRAME_INLINE double bouc_wen_trial_z(const double *params_, const double *committed_,
+                                             double strain_, double tolerance_, double most_,
+                                             double pinched_)
+{
     double cz_;
-    double ce_;
-    double strain_;
     double z_;
     double z_old_;
     double z_new_;
@@ -138,39 +254,15 @@ static void material_bouc_wen(const double *params, const double *committed, dou
     double teta_;
     double psi_;
     double phi_;
-    double f_;
-    double te__;
-    double ta__;
-    double tnu__;
-    double teta__;
-    double sign_;
-    double pow1_;
-    double pow2_;
     double phi__;
+    double teta__;
+    double f_;
     double f__;
-    double stress_;
-    double tangent_;
-    double b1_;
-    double b2_;
-    double b3_;
-    double b4_;
-    double b5_;
+    double h_;
+    double h__;
     int64_t loop0_;
-    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
-    alpha_ = params[0];
-    ko_ = params[1];
-    n_ = params[2];
-    gamma_ = params[3];
-    beta_ = params[4];
-    a0_ = params[5];
-    delta_a_ = params[6];
-    delta_nu_ = params[7];
-    delta_eta_ = params[8];
-    tolerance_ = params[9];
-    most_ = params[10];
-    cz_ = committed[1];
-    ce_ = committed[2];
-    strain_ = (deformation - committed[0]);
+    (void)params_; (void)committed_; (void)strain_; (void)tolerance_; (void)most_; (void)pinched_;
+    cz_ = committed_[1];
     z_ = 0.01;
     z_old_ = 0.01;
     z_new_ = 1.0;
@@ -179,40 +271,62 @@ static void material_bouc_wen(const double *params, const double *committed, dou
         if ((!((fabs((z_old_ - z_new_)) > tolerance_) && (count_ < most_)))) {
             break;
         }
-        te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
-        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
-        f_ = ((z_ - cz_) - ((phi_ / teta_) * strain_));
-        te__ = (((1.0 - alpha_) * ko_) * strain_);
-        ta__ = ((-delta_a_) * te__);
-        tnu__ = (delta_nu_ * te__);
-        teta__ = (delta_eta_ * te__);
-        sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
-        pow1_ = 0.0;
-        pow2_ = 0.0;
-        if ((z_ != 0.0)) {
-            pow1_ = pow(fabs(z_), (n_ - 1.0));
-            pow2_ = pow(fabs(z_), n_);
+        bouc_wen_hysteretic(params_, z_, strain_, committed_[2], &te_, &ta_, &tnu_, &teta_, &psi_, &phi_);
+        bouc_wen_hysteretic_slope(params_, z_, strain_, psi_, tnu_, &phi__, &teta__);
+        if ((pinched_ == 0.0)) {
+            f_ = ((z_ - cz_) - ((phi_ / teta_) * strain_));
+            f__ = (1.0 - ((((phi__ * teta_) - (phi_ * teta__)) / (teta_ * teta_)) * strain_));
+        } else {
+            bouc_wen_pinching(params_, z_, strain_, te_, ta_, tnu_, &h_, &h__);
+            f_ = ((z_ - cz_) - (((phi_ * h_) / teta_) * strain_));
+            f__ = (1.0 - ((((((phi__ * h_) + (phi_ * h__)) * teta_) - ((phi_ * h_) * teta__)) / (teta_ * teta_)) * strain_));
         }
-        phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
-        f__ = (1.0 - ((((phi__ * teta_) - (phi_ * teta__)) / (teta_ * teta_)) * strain_));
         z_new_ = (z_ - (f_ / f__));
         z_old_ = z_;
         z_ = z_new_;
         count_ = (count_ + 1.0);
     }
+    return z_;
+}
+
+/* pframe.laws.material.bouc_wen.BoucWen.force */
+static void material_bouc_wen(const double *params, const double *committed, double *trial,
+                              double deformation, double rate, double *out)
+{
+    double alpha_;
+    double ko_;
+    double n_;
+    double strain_;
+    double z_;
+    double stress_;
+    double te_;
+    double ta_;
+    double tnu_;
+    double teta_;
+    double psi_;
+    double phi_;
+    double tangent_;
+    double delta_a_;
+    double delta_nu_;
+    double delta_eta_;
+    double b1_;
+    double b2_;
+    double b3_;
+    double b4_;
+    double b5_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    alpha_ = params[0];
+    ko_ = params[1];
+    n_ = params[2];
+    strain_ = (deformation - committed[0]);
+    z_ = bouc_wen_trial_z(params, committed, strain_, params[9], params[10], 0.0);
     stress_ = (((alpha_ * ko_) * deformation) + (((1.0 - alpha_) * ko_) * z_));
-    te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    bouc_wen_hysteretic(params, z_, strain_, committed[2], &te_, &ta_, &tnu_, &teta_, &psi_, &phi_);
     tangent_ = ((alpha_ * ko_) + ((1.0 - alpha_) * ko_));
     if ((z_ != 0.0)) {
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
-        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
+        delta_a_ = params[6];
+        delta_nu_ = params[7];
+        delta_eta_ = params[8];
         b1_ = (((1.0 - alpha_) * ko_) * z_);
         b2_ = (((1.0 - alpha_) * ko_) * strain_);
         b3_ = (strain_ / teta_);
@@ -878,6 +992,67 @@ static void material_imk_peak(const double *params, const double *committed, dou
     return;
 }
 
+/* pframe.laws.material.bwbn._pinching_at */
+static PFRAME_INLINE void bwbn__pinching_at(const double *params_, double z_, double sd_,
+                                            double te_, double ta_, double tnu_, double *ret0,
+                                            double *ret1, double *ret2)
+{
+    double zetas_;
+    double n_;
+    double p_;
+    double psi0_;
+    double delta_psi_;
+    double lamda_;
+    double q_;
+    double delta_a_;
+    double delta_nu_;
+    double zeta1_;
+    double zeta2_;
+    double zu_;
+    double zu_e_;
+    double x_;
+    double g_;
+    double h_;
+    double zeta1_e_;
+    double zeta2_e_;
+    double h_x_;
+    double h_e_;
+    (void)params_; (void)z_; (void)sd_; (void)te_; (void)ta_; (void)tnu_;
+    zetas_ = params_[10];
+    if ((!(zetas_ > 0.0))) {
+        *ret0 = 1.0;
+        *ret1 = 0.0;
+        *ret2 = 0.0;
+        return;
+    }
+    n_ = params_[2];
+    p_ = params_[11];
+    psi0_ = params_[12];
+    delta_psi_ = params_[13];
+    lamda_ = params_[14];
+    q_ = params_[9];
+    delta_a_ = params_[6];
+    delta_nu_ = params_[7];
+    zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
+    zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
+    zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (params_[4] + params_[3]))), (1.0 / n_));
+    zu_e_ = 0.0;
+    if ((ta_ > 0.0)) {
+        zu_e_ = ((zu_ / n_) * (((-delta_a_) / ta_) - (delta_nu_ / tnu_)));
+    }
+    x_ = ((z_ * sd_) - (q_ * zu_));
+    g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
+    h_ = (1.0 - (zeta1_ * g_));
+    zeta1_e_ = ((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0)));
+    zeta2_e_ = ((((psi0_ * zeta1_e_) + (lamda_ * delta_psi_)) + ((delta_psi_ * te_) * zeta1_e_)) + (delta_psi_ * zeta1_));
+    h_x_ = ((((zeta1_ * g_) * 2.0) * x_) / (zeta2_ * zeta2_));
+    h_e_ = (((-g_) * (zeta1_e_ + ((((zeta1_ * 2.0) * (x_ * x_)) * zeta2_e_) / ((zeta2_ * zeta2_) * zeta2_)))) - ((h_x_ * q_) * zu_e_));
+    *ret0 = h_;
+    *ret1 = h_e_;
+    *ret2 = h_x_;
+    return;
+}
+
 /* pframe.laws.material.bwbn.Bwbn.force */
 static void material_bwbn(const double *params, const double *committed, double *trial,
                           double deformation, double rate, double *out)
@@ -885,177 +1060,46 @@ static void material_bwbn(const double *params, const double *committed, double 
     double alpha_;
     double ko_;
     double n_;
-    double gamma_;
-    double beta_;
-    double a0_;
-    double delta_a_;
-    double delta_nu_;
-    double delta_eta_;
-    double q_;
-    double zetas_;
-    double p_;
-    double psi0_;
-    double delta_psi_;
-    double lamda_;
-    double tolerance_;
-    double most_;
-    double cz_;
-    double ce_;
     double strain_;
     double sd_;
     double z_;
-    double z_old_;
-    double z_new_;
-    double count_;
+    double stress_;
     double te_;
     double ta_;
     double tnu_;
     double teta_;
     double psi_;
     double phi_;
-    double te__;
-    double ta__;
-    double tnu__;
-    double teta__;
-    double h_;
-    double h__;
-    double zeta1_;
-    double zeta2_;
-    double zu_;
-    double zu__;
-    double x_;
-    double x__;
-    double g_;
-    double zeta1__;
-    double zeta2__;
-    double f_;
-    double sign_;
-    double pow1_;
-    double pow2_;
-    double phi__;
-    double f__;
-    double stress_;
     double tangent_;
+    double pow2_;
     double e_du_;
     double e_dz_;
     double phi_e_;
     double phi_z_;
+    double h_;
     double h_e_;
     double h_x_;
-    double zu_e_;
-    double zeta1_e_;
-    double zeta2_e_;
     double w_e_;
     double numerator_;
     double denominator_;
-    int64_t loop0_;
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
     alpha_ = params[0];
     ko_ = params[1];
     n_ = params[2];
-    gamma_ = params[3];
-    beta_ = params[4];
-    a0_ = params[5];
-    delta_a_ = params[6];
-    delta_nu_ = params[7];
-    delta_eta_ = params[8];
-    q_ = params[9];
-    zetas_ = params[10];
-    p_ = params[11];
-    psi0_ = params[12];
-    delta_psi_ = params[13];
-    lamda_ = params[14];
-    tolerance_ = params[15];
-    most_ = params[16];
-    cz_ = committed[1];
-    ce_ = committed[2];
     strain_ = (deformation - committed[0]);
     sd_ = ((strain_ > 0.0) ? 1.0 : (-1.0));
-    z_ = 0.01;
-    z_old_ = 0.01;
-    z_new_ = 1.0;
-    count_ = 0.0;
-    for (loop0_ = 0; loop0_ < 100; loop0_++) {
-        if ((!((fabs((z_old_ - z_new_)) > tolerance_) && (count_ < most_)))) {
-            break;
-        }
-        te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
-        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
-        te__ = (((1.0 - alpha_) * ko_) * strain_);
-        ta__ = ((-delta_a_) * te__);
-        tnu__ = (delta_nu_ * te__);
-        teta__ = (delta_eta_ * te__);
-        h_ = 1.0;
-        h__ = 0.0;
-        if ((zetas_ > 0.0)) {
-            zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
-            zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
-            zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (beta_ + gamma_))), (1.0 / n_));
-            zu__ = 0.0;
-            if ((ta_ > 0.0)) {
-                zu__ = ((zu_ / n_) * ((ta__ / ta_) - (tnu__ / tnu_)));
-            }
-            x_ = ((z_ * sd_) - (q_ * zu_));
-            x__ = (sd_ - (q_ * zu__));
-            g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
-            h_ = (1.0 - (zeta1_ * g_));
-            zeta1__ = (((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0))) * te__);
-            zeta2__ = ((((psi0_ * zeta1__) + ((lamda_ * delta_psi_) * te__)) + ((delta_psi_ * te_) * zeta1__)) + ((delta_psi_ * te__) * zeta1_));
-            h__ = ((-g_) * ((zeta1__ - ((((zeta1_ * 2.0) * x_) * x__) / (zeta2_ * zeta2_))) + ((((zeta2__ * zeta1_) * 2.0) * (x_ * x_)) / ((zeta2_ * zeta2_) * zeta2_))));
-        }
-        f_ = ((z_ - cz_) - (((phi_ * h_) / teta_) * strain_));
-        sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
-        pow1_ = 0.0;
-        pow2_ = 0.0;
-        if ((z_ != 0.0)) {
-            pow1_ = pow(fabs(z_), (n_ - 1.0));
-            pow2_ = pow(fabs(z_), n_);
-        }
-        phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
-        f__ = (1.0 - ((((((phi__ * h_) + (phi_ * h__)) * teta_) - ((phi_ * h_) * teta__)) / (teta_ * teta_)) * strain_));
-        z_new_ = (z_ - (f_ / f__));
-        z_old_ = z_;
-        z_ = z_new_;
-        count_ = (count_ + 1.0);
-    }
+    z_ = bouc_wen_trial_z(params, committed, strain_, params[15], params[16], 1.0);
     stress_ = (((alpha_ * ko_) * deformation) + (((1.0 - alpha_) * ko_) * z_));
-    te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    bouc_wen_hysteretic(params, z_, strain_, committed[2], &te_, &ta_, &tnu_, &teta_, &psi_, &phi_);
     tangent_ = ((alpha_ * ko_) + ((1.0 - alpha_) * ko_));
     if ((z_ != 0.0)) {
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
         pow2_ = pow(fabs(z_), n_);
-        phi_ = (ta_ - ((pow2_ * psi_) * tnu_));
         e_du_ = (((1.0 - alpha_) * ko_) * z_);
         e_dz_ = (((1.0 - alpha_) * ko_) * strain_);
-        phi_e_ = ((-delta_a_) - ((pow2_ * psi_) * delta_nu_));
+        phi_e_ = ((-params[6]) - ((pow2_ * psi_) * params[7]));
         phi_z_ = (((((-n_) * pow(fabs(z_), (n_ - 1.0))) * ((z_ > 0.0) ? 1.0 : (-1.0))) * psi_) * tnu_);
-        h_ = 1.0;
-        h_e_ = 0.0;
-        h_x_ = 0.0;
-        if ((zetas_ > 0.0)) {
-            zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
-            zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
-            zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (beta_ + gamma_))), (1.0 / n_));
-            zu_e_ = 0.0;
-            if ((ta_ > 0.0)) {
-                zu_e_ = ((zu_ / n_) * (((-delta_a_) / ta_) - (delta_nu_ / tnu_)));
-            }
-            x_ = ((z_ * sd_) - (q_ * zu_));
-            g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
-            h_ = (1.0 - (zeta1_ * g_));
-            zeta1_e_ = ((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0)));
-            zeta2_e_ = ((((psi0_ * zeta1_e_) + (lamda_ * delta_psi_)) + ((delta_psi_ * te_) * zeta1_e_)) + (delta_psi_ * zeta1_));
-            h_x_ = ((((zeta1_ * g_) * 2.0) * x_) / (zeta2_ * zeta2_));
-            h_e_ = (((-g_) * (zeta1_e_ + ((((zeta1_ * 2.0) * (x_ * x_)) * zeta2_e_) / ((zeta2_ * zeta2_) * zeta2_)))) - ((h_x_ * q_) * zu_e_));
-        }
-        w_e_ = ((((phi_e_ * h_) + (phi_ * h_e_)) / teta_) - (((phi_ * h_) * delta_eta_) / (teta_ * teta_)));
+        bwbn__pinching_at(params, z_, sd_, te_, ta_, tnu_, &h_, &h_e_, &h_x_);
+        w_e_ = ((((phi_e_ * h_) + (phi_ * h_e_)) / teta_) - (((phi_ * h_) * params[8]) / (teta_ * teta_)));
         numerator_ = (((phi_ * h_) / teta_) + ((strain_ * w_e_) * e_du_));
         denominator_ = (1.0 - (strain_ * ((w_e_ * e_dz_) + (((phi_z_ * h_) + ((phi_ * h_x_) * sd_)) / teta_))));
         tangent_ = ((alpha_ * ko_) + (((1.0 - alpha_) * ko_) * (numerator_ / denominator_)));
