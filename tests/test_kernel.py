@@ -457,3 +457,173 @@ def test_the_translator_takes_a_bounded_loop_with_break():
     assert "int64_t loop0_;" in source
     trial = np.zeros(1)
     assert Cubic.force(None, None, trial, 8.0, 0.0)[0] == 2.0 and 3 < trial[0] < 50
+
+
+# --- helper functions: module-level functions a law's force calls ----------------------------
+
+#: a module-level number a law reads (translated as its value)
+_SLOT = 1
+
+
+def _spring(k, x):
+    """A number from numbers."""
+    return k * x * (1.0 + 0.25 * x)
+
+
+def _spring_and_slope(k, x):
+    """A tuple, unpacked by the caller."""
+    return _spring(k, x), k * (1.0 + 0.5 * x)
+
+
+def _remember(state, x):
+    """Writes the array it is given (the law's trial)."""
+    state[0] = x
+    state[_SLOT] = x * x
+
+
+def _three(params, x, r):
+    """Returned as the force's three numbers."""
+    f, kd = _spring_and_slope(params[0], x)
+    return f + params[1] * r, kd, params[1]
+
+
+def _countdown(x):
+    return _countdown(x - 1.0)
+
+
+class _Helped:
+    kind, name, __qualname__ = "contact", "helped", "_Helped"
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            return 0.0, 0.0, 0.0
+        _remember(trial, deformation + committed[0])
+        if rate < 0.0:
+            return _three(params, deformation, rate)
+        f, kd = _spring_and_slope(params[0], deformation)
+        return f + _spring(params[1], rate), kd, params[1] * (1.0 + 0.5 * rate)
+
+
+def test_the_translator_takes_helper_functions():
+    """A module-level function a force calls becomes one static C function: numbers and
+    arrays in, a number or a tuple out (written through pointers), a read-only array const, a
+    written one not; a module-level number is its value."""
+    from pframe.kernel.translate import translate
+
+    source = " ".join(translate(_Helped, "contact_helped").split())  # unwrapped
+    assert "static PFRAME_INLINE double test_kernel__spring(double k_, double x_)" in source
+    assert ("static PFRAME_INLINE void test_kernel__spring_and_slope(double k_, double x_, "
+            "double *ret0, double *ret1)") in source
+    assert "static PFRAME_INLINE void test_kernel__remember(double *state_, double x_)" in source
+    assert "state_[1] = (x_ * x_);" in source
+    assert ("static PFRAME_INLINE void test_kernel__three(const double *params_, double x_, "
+            "double r_,") in source
+    assert "test_kernel__spring_and_slope(params[0], deformation, &f_, &kd_);" in source
+    assert "test_kernel__three(params, deformation, rate, &out[0], &out[1], &out[2]);" in source
+    assert source.count("static PFRAME_INLINE double test_kernel__spring(") == 1
+    # each helper before its first caller, the force last
+    assert source.index("test_kernel__spring(double") < source.index(
+        "test_kernel__spring_and_slope(double") < source.index("static void contact_helped(")
+
+
+def test_the_translator_refuses_helpers_it_cannot_translate():
+    """Recursion, a read-only array written through a helper, an array passed where a number
+    was, a dropped result and a tuple of the wrong length are refused, naming the law, the
+    line and what."""
+    import re
+
+    from pframe.kernel.translate import TranslationError, translate
+
+    class Recursing:
+        kind, name, __qualname__ = "contact", "recursing", "Recursing"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            return _countdown(deformation), 0.0, 0.0
+
+    class WritingParams:
+        kind, name, __qualname__ = "contact", "writing_params", "WritingParams"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            _remember(params, deformation)
+            return 0.0, 0.0, 0.0
+
+    class Mixed:
+        kind, name, __qualname__ = "contact", "mixed", "Mixed"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            _remember(trial, deformation)
+            _remember(deformation, deformation)
+            return 0.0, 0.0, 0.0
+
+    class Dropping:
+        kind, name, __qualname__ = "contact", "dropping", "Dropping"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            _spring(1.0, deformation)
+            return 0.0, 0.0, 0.0
+
+    class Unpacking:
+        kind, name, __qualname__ = "contact", "unpacking", "Unpacking"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            a, b, c = _spring_and_slope(1.0, deformation)
+            return a, b, c
+
+    for law, what in ((Recursing, "calls itself"),
+                      (WritingParams, "only trial[i] may be written"),
+                      (Mixed, "called with arrays in other places than before"),
+                      (Dropping, "the result of test_kernel._spring is dropped"),
+                      (Unpacking, "returns 2, not a tuple of 3 numbers")):
+        with pytest.raises(TranslationError, match=re.escape(what)) as error:
+            translate(law, "c_name")
+        assert f"'{law.name}'" in str(error.value) and "line" in str(error.value)
+
+
+@pytest.mark.slow
+def test_a_law_with_helpers_gives_its_python_bits_in_c_and_numba(tmp_path):
+    """The C of a force with helpers, compiled with the kernel's flags, and its numba copy
+    (pframe.laws.compiled, as plug-ins and the reference solver compile laws) give the
+    Python function's force, tangents and trial state bit for bit."""
+    import ctypes
+    import shutil
+    import subprocess
+
+    from pframe.kernel.translate import translate
+    from pframe.laws.compiled import njit
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    prelude = ("#include <math.h>\n#include <stdint.h>\n#define PFRAME_INLINE inline\n"
+               "static inline double py_min(double a, double b) { return b < a ? b : a; }\n"
+               "static inline double py_max(double a, double b) { return b > a ? b : a; }\n")
+    source = prelude + translate(_Helped, "contact_helped").replace("static void contact_helped",
+                                                                     "void contact_helped")
+    (tmp_path / "helped.c").write_text(source, encoding="utf-8")
+    library = tmp_path / "helped.so"
+    subprocess.run([compiler, "-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math",
+                    "-shared", "-fPIC", "-o", str(library), str(tmp_path / "helped.c")],
+                   check=True)
+    c_force = ctypes.CDLL(str(library)).contact_helped
+    c_force.restype = None
+    pointer = ctypes.c_void_p
+    numba_force = njit(_Helped.force, error_model="numpy")
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        params, committed = rng.uniform(0.1, 3.0, 2), rng.uniform(-1.0, 1.0, 2)
+        x, r = float(rng.uniform(-0.5, 2.0)), float(rng.uniform(-2.0, 2.0))
+        trial, c_trial, n_trial = np.zeros(2), np.zeros(2), np.zeros(2)
+        out = np.zeros(3)
+        expected = _Helped.force(params, committed, trial, x, r)
+        c_force(pointer(params.ctypes.data), pointer(committed.ctypes.data),
+                pointer(c_trial.ctypes.data), ctypes.c_double(x), ctypes.c_double(r),
+                pointer(out.ctypes.data))
+        assert out.tolist() == [float(v) for v in expected]
+        assert numba_force(params, committed, n_trial, x, r) == expected
+        assert c_trial.tolist() == trial.tolist() == n_trial.tolist()

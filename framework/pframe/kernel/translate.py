@@ -353,9 +353,11 @@ class _Body:
 
     # --- expressions ------------------------------------------------------------------------
     def _index(self, node, parent) -> str:
-        if isinstance(node, ast.Constant) and type(node.value) is int and node.value >= 0:
-            return str(node.value)
-        raise self._error(parent, "an array index must be a non-negative integer constant")
+        value = node.value if isinstance(node, ast.Constant) else self._constant(node)
+        if type(value) is int and value >= 0:
+            return str(value)
+        raise self._error(parent, "an array index must be a non-negative integer constant "
+                                  "(a number or a module-level name of one)")
 
     def _constant(self, node):
         """The value of a module-level number that ``node`` names, or None."""
