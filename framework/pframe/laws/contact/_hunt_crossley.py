@@ -31,8 +31,16 @@ from __future__ import annotations
 
 import math
 
+from pframe.laws.facts import V0, contact_states
+
 STATE_NAMES = ("onset_velocity", "in_contact")
 PARAM_NAMES = ("stiffness", "exponent", "chi", "inverse_effective_mass")
+
+
+def hunt_crossley_tangent_states(cls, packed):
+    """The contact tests' states: the onset step (no contact committed), then a running
+    contact that began at V0 (a law's ``tangent_states``)."""
+    return contact_states((0.0, 0.0), (V0, 1.0))
 
 
 def hunt_crossley_force(params, committed, trial, deformation, rate):

@@ -18,8 +18,20 @@ from __future__ import annotations
 
 import math
 
+from pframe.laws.facts import TangentState
+
 #: upper bound of the local Newton loop (``max_iterations`` is at most this)
 MAX_ITERATIONS = 100
+
+
+def tangent_states(cls, packed):
+    """Loading from rest, loading and unloading on a loop, both ways (committed (u, z, e)),
+    at two drift rates: the tangent is rate independent (a law's ``tangent_states``)."""
+    rows = [((0.0, 0.0, 0.0), 0.003), ((0.01, 0.008, 50.0), 0.013),
+            ((0.01, 0.008, 50.0), 0.004), ((-0.02, -0.009, 400.0), -0.03),
+            ((-0.02, -0.009, 400.0), -0.011)]
+    return [TangentState(c, x, rate, (0.01, 0.3), rate_tangent=0.0)
+            for rate in (0.3, -0.2) for c, x in rows]
 
 
 def hysteretic(params, z, strain, committed_energy):

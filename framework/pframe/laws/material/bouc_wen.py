@@ -28,7 +28,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, trial_z
+from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, tangent_states, trial_z
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -78,6 +78,10 @@ class BoucWen(Law):
                 "on n; scale them by hand (by S_L^-n)"}
     branches = "smooth"
     opensees = "BoucWen"
+    examples = ({"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0},
+                {"alpha": 0.0, "ko": 1.0e5, "n": 1.0, "gamma": 30.0, "beta": 70.0,
+                 "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4})
+    tangent_states = classmethod(tangent_states)
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

@@ -40,7 +40,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, trial_z
+from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, tangent_states, trial_z
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -120,6 +120,11 @@ class Bwbn(Law):
     #: step's backward-Euler update, whose state the reference solver does not integrate
     branches = None
     opensees = "BWBN"
+    examples = ({"alpha": 0.05, "ko": 1.0e5, "n": 1.5, "gamma": 300.0, "beta": 700.0,
+                 "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4, "q": 0.2, "zetas": 0.8,
+                 "p": 1e-2, "psi": 0.004, "deltaPsi": 1e-5, "lamda": 0.5},
+                {"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0})
+    tangent_states = classmethod(tangent_states)
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

@@ -37,6 +37,7 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.facts import TangentState
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -113,6 +114,36 @@ class ImkPeak(Law):
     #: rather than integrate across unlocated kinks
     branches = None
     opensees = "ModIMKPeakOriented"
+    examples = (dict(k0=2.0e6, as_plus=0.03, as_neg=0.03, my_plus=1.0e4, my_neg=1.0e4,
+                     lamda_s=0.05, lamda_c=0.05, lamda_a=0.05, lamda_k=0.05, c_s=1.0, c_c=1.0,
+                     c_a=1.0, c_k=1.0, theta_p_plus=0.01, theta_p_neg=0.01, theta_pc_plus=0.05,
+                     theta_pc_neg=0.05, res_plus=0.3, res_neg=0.3, theta_u_plus=0.2,
+                     theta_u_neg=0.2, d_plus=1.0, d_neg=1.0),
+                dict(k0=4.0e7, as_plus=0.03, as_neg=0.04, my_plus=1.0e5, my_neg=1.2e5,
+                     lamda_s=0.6, lamda_c=0.6, lamda_a=0.6, lamda_k=0.6, c_s=1.0, c_c=1.0,
+                     c_a=1.0, c_k=1.0, theta_p_plus=0.02, theta_p_neg=0.025,
+                     theta_pc_plus=0.06, theta_pc_neg=0.08, res_plus=0.3, res_neg=0.25,
+                     theta_u_plus=0.15, theta_u_neg=0.17, d_plus=1.0, d_neg=0.9))
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """From rest onto each branch of the backbone both ways (elastic, hardening, capping,
+        residual: their slopes), and unloading after a first excursion past yield (its
+        unloading stiffness, deteriorated at the reversal, is in the state)."""
+        k, as_pos, as_neg = packed[0], packed[1], packed[2]
+        rest = (0.0,) * len(cls.state_names)
+        cap_pos = -(packed[3] + as_pos * k * packed[13]) / packed[15]
+        cap_neg = (packed[4] - as_neg * k * packed[14]) / packed[16]
+        loaded = list(rest)
+        for d in (0.004, 0.008, 0.01):
+            trial = list(rest)
+            cls.force(packed, loaded, trial, d, 0.0)
+            loaded = trial
+        rows = [(rest, 0.001, k), (rest, -0.001, k), (rest, 0.01, as_pos * k),
+                (rest, -0.01, as_neg * k), (rest, 0.04, cap_pos), (rest, -0.05, cap_neg),
+                (rest, 0.1, 1e-7), (rest, -0.15, 1e-7), (tuple(loaded), 0.009, None)]
+        return [TangentState(c, x, 0.1, (1e-3, 0.1), tangent=t, rate_tangent=0.0)
+                for c, x, t in rows]
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
