@@ -1333,6 +1333,33 @@ static void contact_kelvin(const double *params, const double *committed, double
     return;
 }
 
+/* pframe.laws.contact._hunt_crossley.impact_damping */
+static PFRAME_INLINE void hunt_crossley_impact_damping(double spring_, double dspring_,
+                                                       double chi_, double rate_, double v0_,
+                                                       double onset_, double *ret0,
+                                                       double *ret1, double *ret2)
+{
+    double factor_;
+    (void)spring_; (void)dspring_; (void)chi_; (void)rate_; (void)v0_; (void)onset_;
+    if (onset_) {
+        *ret0 = (spring_ * (1.0 + chi_));
+        *ret1 = (dspring_ * (1.0 + chi_));
+        *ret2 = 0.0;
+        return;
+    }
+    factor_ = (1.0 + ((chi_ * rate_) / v0_));
+    if ((factor_ <= 0.0)) {
+        *ret0 = 0.0;
+        *ret1 = 0.0;
+        *ret2 = 0.0;
+        return;
+    }
+    *ret0 = (spring_ * factor_);
+    *ret1 = (dspring_ * factor_);
+    *ret2 = ((spring_ * chi_) / v0_);
+    return;
+}
+
 /* pframe.laws.contact.improved_kelvin.ImprovedKelvin.force */
 static void contact_hunt_crossley_force(const double *params, const double *committed, double *trial,
                                         double deformation, double rate, double *out)
@@ -1346,7 +1373,6 @@ static void contact_hunt_crossley_force(const double *params, const double *comm
     double spring_;
     double dspring_;
     double ve2_;
-    double factor_;
     double damping_;
     double f_;
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
@@ -1376,22 +1402,7 @@ static void contact_hunt_crossley_force(const double *params, const double *comm
     }
     ve2_ = ((((2.0 * spring_) * deformation) * params[3]) / (n_ + 1.0));
     if (((v0_ * v0_) >= ve2_)) {
-        if (onset_) {
-            out[0] = (spring_ * (1.0 + chi_));
-            out[1] = (dspring_ * (1.0 + chi_));
-            out[2] = 0.0;
-            return;
-        }
-        factor_ = (1.0 + ((chi_ * rate) / v0_));
-        if ((factor_ <= 0.0)) {
-            out[0] = 0.0;
-            out[1] = 0.0;
-            out[2] = 0.0;
-            return;
-        }
-        out[0] = (spring_ * factor_);
-        out[1] = (dspring_ * factor_);
-        out[2] = ((spring_ * chi_) / v0_);
+        hunt_crossley_impact_damping(spring_, dspring_, chi_, rate, v0_, onset_, &out[0], &out[1], &out[2]);
         return;
     }
     damping_ = ((chi_ * spring_) / sqrt(ve2_));
@@ -1474,7 +1485,6 @@ static void contact_bumper(const double *params, const double *committed, double
     double crushed_;
     double hard_root_;
     double ve2_;
-    double factor_;
     double ve_;
     double damping_;
     double f_;
@@ -1512,22 +1522,7 @@ static void contact_bumper(const double *params, const double *committed, double
     }
     ve2_ = ((2.0 * stored_) * params[3]);
     if (((v0_ * v0_) >= ve2_)) {
-        if (onset_) {
-            out[0] = (spring_ * (1.0 + chi_));
-            out[1] = (dspring_ * (1.0 + chi_));
-            out[2] = 0.0;
-            return;
-        }
-        factor_ = (1.0 + ((chi_ * rate) / v0_));
-        if ((factor_ <= 0.0)) {
-            out[0] = 0.0;
-            out[1] = 0.0;
-            out[2] = 0.0;
-            return;
-        }
-        out[0] = (spring_ * factor_);
-        out[1] = (dspring_ * factor_);
-        out[2] = ((spring_ * chi_) / v0_);
+        hunt_crossley_impact_damping(spring_, dspring_, chi_, rate, v0_, onset_, &out[0], &out[1], &out[2]);
         return;
     }
     ve_ = sqrt(ve2_);

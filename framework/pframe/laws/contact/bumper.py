@@ -30,7 +30,7 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.contact._hunt_crossley import hunt_crossley_tangent_states
+from pframe.laws.contact._hunt_crossley import hunt_crossley_tangent_states, impact_damping
 from pframe.laws.contact.hertzdamp import CHI_FORMULAS
 from pframe.laws.facts import Impact
 from pframe.laws.params import HERTZ_STIFFNESS, Calibration, DampedRestitution, LawParams, Positive
@@ -145,12 +145,7 @@ class Bumper(HertzContact):
             return spring, dspring, 0.0
         ve2 = 2.0 * stored * params[3]  # energy velocity squared, 2 E / m_eff
         if v0 * v0 >= ve2:  # an impact: v_ref = v0
-            if onset:
-                return spring * (1.0 + chi), dspring * (1.0 + chi), 0.0
-            factor = 1.0 + chi * rate / v0
-            if factor <= 0.0:
-                return 0.0, 0.0, 0.0
-            return spring * factor, dspring * factor, spring * chi / v0
+            return impact_damping(spring, dspring, chi, rate, v0, onset)
         # v_ref = v_e = sqrt(2 E / m_eff), which grows with delta: d v_e / d delta = F_s / (m v_e)
         ve = math.sqrt(ve2)
         damping = chi * spring / ve
