@@ -35,6 +35,7 @@ _BUILTIN_MODULES = {
         "pframe.laws.contact.hertzdamp",
         "pframe.laws.contact.jankowski",
         "pframe.laws.contact.bumper",
+        "pframe.laws.contact.hunt_crossley",
     ),
     "material": (
         "pframe.laws.material.elastic",

@@ -1541,7 +1541,7 @@ static void contact_bumper(const double *params, const double *committed, double
     return;
 }
 
-#define BUILTIN_CONTACT_LAWS 7
+#define BUILTIN_CONTACT_LAWS 8
 
 /* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins; inlined where the element loops call it, so that a law's result stays in registers */
 static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
@@ -1569,6 +1569,9 @@ static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
         return;
     case 6: /* bumper */
         contact_bumper(params, committed, trial, penetration, rate, out);
+        return;
+    case 7: /* hunt_crossley */
+        contact_hunt_crossley_force(params, committed, trial, penetration, rate, out);
         return;
     default:
         s->contact_plugins[law - BUILTIN_CONTACT_LAWS](params, committed, trial, penetration, rate, out);
