@@ -35,6 +35,7 @@ _BUILTIN_MODULES = {
         "pframe.laws.contact.hertzdamp",
         "pframe.laws.contact.jankowski",
         "pframe.laws.contact.bumper",
+        "pframe.laws.contact.hunt_crossley",
     ),
     "material": (
         "pframe.laws.material.elastic",
@@ -172,6 +173,28 @@ class Law:
         dimension, or one declared ``undimensioned`` that this default would have to list."""
         return {p: (cls.dimensions[p], v) for p, v in zip(cls.param_names, packed)
                 if p in cls.dimensions}
+
+    # What the generic tests check, declared by the law (pframe.laws.facts says what each
+    # is; a built-in law that lacks one fails its tests with one message naming the fact):
+    #: parameter sets as a scene writes them (without ``law:`` / ``material:``), the first
+    #: the one the every-law kernel run uses
+    examples: ClassVar[tuple[dict, ...]] = ()
+    #: contact laws: name -> :class:`pframe.laws.facts.Impact`, the tests' two-body impacts
+    impacts: ClassVar[dict | None] = None
+    #: contact laws: ``reference_force(params, context, v0)`` -> F(delta, delta'), the force
+    #: written from the law's paper (the impact tests' oracle), a classmethod
+    reference_force = None
+
+    @classmethod
+    def tangent_states(cls, packed) -> list | None:
+        """The :class:`pframe.laws.facts.TangentState` rows at which the tests check the
+        tangents of ``force`` with these packed parameters. By default, for a contact law
+        without state, the contact tests' five states; None (not declared) otherwise."""
+        if cls.kind == "contact" and not cls.state_names:
+            from pframe.laws.facts import contact_states
+
+            return contact_states((), ())
+        return None
 
     @staticmethod
     def force(params, committed, trial, deformation, rate):  # pragma: no cover - interface
