@@ -279,11 +279,13 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
     # the code rules at the intensity of the target's frequency (median over the records,
     # interpolated in ln IM between levels)
     if kind != "cloud" and math.isfinite(out.im_at_target):
-        from pframe.gap.rules import cqc_correlation, separations
+        from pframe.gap.audit import code_rules
+        from pframe.gap.selection import rules_over_runs
 
-        rho = cqc_correlation(inputs.periods[0], inputs.periods[-1], inputs.damping[0],
-                              inputs.damping[-1])
-        rules = separations(rows["free_peak_left"], rows["free_peak_right"], rho)
+        found, geometry, extra = code_rules(spec.codes, inputs)
+        out.warnings.extend(extra)
+        rules = rules_over_runs(inputs, found, geometry, rows["free_peak_left"],
+                                rows["free_peak_right"])
         rules["simulated"] = rows["free_g_req"]
         for rule, v in rules.items():
             if hunted:  # each record's runs in order of IM, interpolated, then the median
