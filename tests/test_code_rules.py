@@ -4,6 +4,7 @@ each against a worked example derived by hand from the clause text."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -365,3 +366,79 @@ def test_docs_and_help_list_every_rule_with_its_clause():
     flat = " ".join(out.split())
     for name, rules in CODES.items():
         assert f"{name} ({rules[0].code} {rules[0].clause}" in flat
+
+
+# --- where the rules appear: the command line and pframe risk -----------------------------------
+
+@pytest.mark.slow
+def test_pframe_gap_codes_from_a_rules_file_and_bad_ones_exit_2(tmp_path, capsys):
+    """--codes takes a rules file; a bad one exits 2 naming the file and the rule, writing
+    nothing; --aligned replaces the decision from the heights (file variable 1)."""
+    import xarray as xr
+
+    from pframe.cli import main
+
+    (tmp_path / "s.yaml").write_text(_two([3.0, 3.5, 3.0], [3.0] * 3))
+    rules = tmp_path / "rules.yaml"
+    rules.write_text("codes:\n  rules: [is1893, {code: tbdy2018, R: 4}]\n")
+    out = tmp_path / "a.nc"
+    assert main(["gap", str(tmp_path / "s.yaml"), "--codes", str(rules), "-o", str(out),
+                 "-q"]) == 0
+    with xr.open_dataset(out) as ds:
+        assert list(ds.rule_name.values) == ["ABS", "SRSS", "DDC", "IS1893", "TBDY2018",
+                                             "simulated"]
+        assert float(ds.floors_aligned[0]) == 0.0  # A's 3.5 m storey: 6.5 m against 6 m
+        g = ds.gap_required.isel(level=0, contact=0)
+        assert np.allclose(g.sel(rule_name="IS1893"), g.sel(rule_name="ABS"))  # I u, not / 2
+    forced = tmp_path / "b.nc"
+    assert main(["gap", str(tmp_path / "s.yaml"), "--codes", str(rules), "--aligned", "yes",
+                 "-o", str(forced), "-q"]) == 0
+    with xr.open_dataset(forced) as ds:
+        g = ds.gap_required.isel(level=0, contact=0)
+        assert float(ds.floors_aligned[0]) == 1.0
+        assert np.allclose(g.sel(rule_name="IS1893"), 0.5 * g.sel(rule_name="ABS"))
+    rules.write_text("codes:\n  rules: [{name: mine, combination: srss}]\n")
+    bad = tmp_path / "c.nc"
+    assert main(["gap", str(tmp_path / "s.yaml"), "--codes", str(rules), "-o", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert str(rules) in err and "text" in err and "Traceback" not in err
+    assert not bad.exists()
+
+
+@pytest.mark.slow
+def test_pframe_risk_shows_the_study_codes_beside_the_gap_at_target(tmp_path):
+    """A study's codes: NBC on the simulated peaks is the SRSS of the peaks (R_d R_o / I_E
+    cancels), so at the target's intensity it equals the SRSS rule; the file describes it."""
+    import xarray as xr
+    import yaml
+
+    from pframe.cli import main
+
+    repo = Path(__file__).resolve().parents[1]
+    study = {"scene": str(repo / "models" / "wu2021-pulse.yaml"), "measure": "pga",
+             "design": {"kind": "msa", "levels": [0.2, 0.4, 0.6, 0.8, 1.0]},
+             "hazard": {"power_law": {"k0": 1e-4, "k": 2.5}}, "target": {"return_period": 475},
+             "bootstrap": 0, "pounding_runs": False, "codes": ["nbcc"]}
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study))
+    out = tmp_path / "r.nc"
+    assert main(["risk", str(path), "-o", str(out), "-q", "--threads", "2"]) == 0
+    with xr.open_dataset(out) as ds:
+        at = dict(zip(ds.rule_name.values, ds.rule_separation_at_target.values))
+        assert at["NBCC"] == pytest.approx(at["SRSS"], rel=1e-12)
+        assert "NBC of Canada 4.1.8.14" in ds.attrs["code_rules"]
+
+
+def test_a_study_with_a_bad_code_exits_2_naming_the_place(tmp_path, capsys):
+    import yaml
+
+    from pframe.cli import main
+
+    repo = Path(__file__).resolve().parents[1]
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump({"scene": str(repo / "models" / "wu2021-pulse.yaml"),
+                                    "design": {"kind": "msa", "levels": [0.2, 0.4]},
+                                    "codes": [{"code": "tbdy2018", "Q": 3}]}))
+    assert main(["risk", str(path), "-o", str(tmp_path / "r.nc"), "-q"]) == 2
+    err = capsys.readouterr().err
+    assert str(path) in err and "at codes" in err and "Q" in err

@@ -186,9 +186,10 @@ def selection(codes=None, *, aligned: bool | None = None,
     else:
         config: dict = {}
         if isinstance(codes, (str, Path)) and str(codes).lower().endswith((".yaml", ".yml")):
-            codes, where = _read(Path(codes)), str(codes)
+            codes, where = _read(Path(codes)), f"{codes}, at codes"
         if isinstance(codes, str):
             config["rules"] = _from_text(codes)
+            where = f"--codes {codes}" if where == "codes" else where
         elif isinstance(codes, dict) and set(codes) <= set(CONFIG_FIELDS) and codes:
             config = dict(codes)
         elif isinstance(codes, dict):
@@ -198,7 +199,15 @@ def selection(codes=None, *, aligned: bool | None = None,
         rules = config.get("rules") or []
         if isinstance(rules, (str, dict)):
             rules = _from_text(rules) if isinstance(rules, str) else [rules]
-        chosen = [c for i, item in enumerate(rules) for c in _chosen(item, f"{where}[{i}]")]
+        chosen = []
+        for i, item in enumerate(rules):
+            item_where = where if where.startswith("--codes") else f"{where}[{i}]"
+            try:
+                chosen.extend(_chosen(item, item_where))
+            except InputError as exc:
+                text = str(exc)
+                raise InputError(text if text.startswith(item_where) else
+                                 f"{item_where}: {text}") from None
         names = [c.rule.name for c in chosen]
         twice = sorted({n for n in names if names.count(n) > 1})
         if twice:
