@@ -386,6 +386,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         except InputError as exc:  # e.g. a friction pendulum's weight: a link carries none
             raise ModelError(path, f"link {name!r}: {exc}") from None
         link_elements.append(Element(name, (first, second), law, _finite(packed, path)))
+    floating = _check_held(scene, nodes, story_elements, link_elements)
 
     record = None
     if scene.excitation is not None and scene.excitation.kind == "record":
@@ -526,10 +527,60 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
         + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt)))
-        + tuple(stochastic_warnings(scene.excitation)),
+        + tuple(stochastic_warnings(scene.excitation)) + floating,
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
         foundations=_foundations(shorthand_foundations, scene, buildings, building_of),
     )
+
+
+def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
+    """Refuse a node that nothing holds to the ground in a building that has storeys: no chain
+    of storeys, links with a stiffness or (a shorthand building's) soil joins it to the ground,
+    and it is not declared ``free``. Such a floor floats (a storey left out, a node
+    mistyped): the static stiffness is singular, and a run would complete with the floor
+    drifting as a free body. A contact does not hold it (it acts only once closed), nor does a
+    dashpot (a stiffness-free link). The nodes of a building without storeys are free bodies
+    by design (masses that strike each other or a wall): under a ground motion a warning says
+    what they do (the ground moves under them), unless they are declared ``free``."""
+    parent = list(range(len(nodes) + 1))  # the last entry is the ground
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    ground = len(nodes)
+    for element in list(stories) + [e for e in links
+                                    if not getattr(e.law, "stiffness_free", False)]:
+        a, b = (ground if i < 0 else i for i in element.nodes)
+        parent[root(a)] = root(b)
+    free = {n.name for n in scene.nodes if n.free}
+    with_storeys = {nodes[e.nodes[1]][0].split("/")[0] for e in stories}
+    loose = [i for i, (name, _, _) in enumerate(nodes)
+             if root(i) != root(ground) and name not in free]
+    refused = [i for i in loose if nodes[i][0].split("/")[0] in with_storeys]
+    if refused:
+        first = refused[0]
+        group = [nodes[i][0] for i in loose if root(i) == root(first)]
+        what = (f"node {group[0]!r}" if len(group) == 1 else
+                f"nodes {', '.join(repr(g) for g in group)} (joined to each other)")
+        it = "it" if len(group) == 1 else "them"
+        raise ModelError(nodes[first][2], f"{what}: no storey, link with a stiffness or soil "
+                         f"holds {it} to the ground (a contact does not, nor a dashpot), though "
+                         f"the building has storeys; {it} would float, with no stiffness to "
+                         f"return {it}. Give {it} a storey (nodes: [ground or the floor below, "
+                         f"{group[0]}]) or a link with a stiffness, or write free: true on "
+                         f"{'the node' if len(group) == 1 else 'each node'} if {it} is meant "
+                         "to be a free body")
+    if not loose or scene.excitation is None:
+        return ()
+    names = [nodes[i][0] for i in loose]
+    return (f"node{'s' if len(names) > 1 else ''} {', '.join(names[:6])}"
+            f"{' ...' if len(names) > 6 else ''}: no storey, link with a stiffness or soil "
+            "holds them to the ground, so they are free bodies: the ground motion moves under "
+            "them (their displacement relative to the ground is -u_g until a contact or a "
+            "dashpot acts); write free: true on them if that is meant, or give them storeys",)
 
 
 def _foundations(shorthand, scene, buildings, building_of) -> tuple:

@@ -153,6 +153,10 @@ class Node(Base):
 
     name: NodeName
     mass: Positive = Field(description="Lumped floor mass (kg).")
+    free: bool = Field(False, description="A free body: no storey, link with a stiffness or "
+                       "soil holds it to the ground. Such a node is refused in a building that "
+                       "has storeys (a storey left out?) and warned about under a ground "
+                       "motion, unless it says free: true.")
 
 
 #: a node's name, or the ground (a storey's base, a wall's side of a contact, a link's anchor)
