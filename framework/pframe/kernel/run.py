@@ -32,6 +32,7 @@ from pframe.kernel.state import (
     Energy,
     Kind,
     Model,
+    Recordable,
     Recording,
     Run,
     Saved,
@@ -288,6 +289,12 @@ class _Recorders:
         self.enveloped = np.array([q in plan.envelope for q in RECORDABLE], dtype=np.int64)
         self.envelope = tuple(np.zeros((B, w if on else 0))
                               for w, on in zip(self.widths, self.enveloped))
+        if self.enveloped[Recordable.STORY_DRIFT_RATIO] and plan.story_height is not None:
+            # a storey without a height has no drift ratio: its peak stays NaN (the kernel's
+            # running maximum keeps a NaN it starts from), never 0, which would pass a limit
+            ns = len(plan.story_names)
+            self.envelope[Recordable.STORY_DRIFT_RATIO][
+                np.isnan(plan.story_height[:, :ns])] = np.nan
         self.whole = None if sink is not None else self._buffers(0, plan.steps + 1)
 
     def _rows(self, q: int, begin: int, end: int) -> tuple[int, int]:
