@@ -29,6 +29,7 @@ _API = {
     "Scene": "pframe.api", "Building": "pframe.api", "StoryProperties": "pframe.api",
     "Story": "pframe.api", "Contact": "pframe.api",
     "Node": "pframe.model.scene", "Rayleigh": "pframe.model.scene",
+    "Modal": "pframe.model.scene",
     "Sine": "pframe.model.scene", "Record": "pframe.model.scene",
     "Cycloidal": "pframe.model.scene", "Ricker": "pframe.model.scene",
     "Stochastic": "pframe.model.scene",
@@ -40,13 +41,12 @@ _API = {
     "GeneralizedAlpha": "pframe.integrators", "CentralDifference": "pframe.integrators",
 }
 
-__all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Contact",
-           "Cycloidal", "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History",
-           "IncompleteRun", "InitialConditions", "InputError", "Newmark", "Newton", "Node",
-           "Output", "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene",
-           "Sine", "Stochastic", "Story", "StoryProperties", "__version__", "impacts", "load", "open",
-           "plot", "risk", "solve",
-           "summary", "sweep", "to_opensees"]
+__all__ = ["AccuracyWarning", "Analysis", "Building", "CentralDifference", "Contact", "Cycloidal",
+           "Envelope", "EnvironmentFailure", "GeneralizedAlpha", "HHT", "History", "IncompleteRun",
+           "InitialConditions", "InputError", "Modal", "Newmark", "Newton", "Node", "Output",
+           "OutputScales", "PframeError", "Rayleigh", "Record", "Ricker", "Scene", "Sine",
+           "Stochastic", "Story", "StoryProperties", "__version__", "impacts", "load", "open",
+           "plot", "risk", "solve", "summary", "sweep", "to_opensees"]
 
 
 def __getattr__(name: str):

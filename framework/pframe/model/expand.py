@@ -131,6 +131,10 @@ class Expanded:
     notes: tuple[str, ...] = ()
     #: the foundations on soil (FoundationSoil), in building order; none: every base fixed
     foundations: tuple = ()
+    #: (s,) what each storey's ``isolator`` and ``stiffness_damping`` say: True, False or
+    #: None (not said: pframe.assemble.modes decides); empty: none said (every None)
+    story_isolator: tuple = ()
+    story_stiffness_damping: tuple = ()
 
 
 #: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
@@ -322,7 +326,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                    f"{', '.join(list(index)[:12])}{' ...' if len(index) > 12 else ''}")
         return index[name]
 
+    flags = [(None, None)] * len(stories)  # (isolator, stiffness_damping) of each storey
     for s, story in enumerate(scene.stories):
+        flags.append((story.isolator, story.stiffness_damping))
         law = get_law("material", story.material)
         params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
         if story.gravity_load is not None and story.height is None:
@@ -530,6 +536,10 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         + tuple(stochastic_warnings(scene.excitation)) + floating,
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
         foundations=_foundations(shorthand_foundations, scene, buildings, building_of),
+        story_isolator=tuple(f[0] for f in flags) if any(f != (None, None) for f in flags)
+        else (),
+        story_stiffness_damping=tuple(f[1] for f in flags)
+        if any(f != (None, None) for f in flags) else (),
     )
 
 

@@ -373,6 +373,8 @@ class ResultWriter:
         attrs["input_yaml"] = loaded.text
         attrs.update(record_attributes(loaded))
         attrs["integrator"] = integrator_text(plan)
+        if plan.damping_text:  # each building's damping as applied (docs/theory.md#damping)
+            attrs["damping"] = "\n".join(plan.damping_text)
         if plan.foundations:  # the soil applied (docs/soil.md)
             attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
                                       zip(plan.foundations, plan.foundation_soil))

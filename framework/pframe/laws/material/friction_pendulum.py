@@ -74,6 +74,14 @@ class FrictionPendulum(Law):
                   "k_init": "stiffness"}
     branches = "smooth"
     opensees = None  # an element (flatSliderBearing / singleFPBearing), not a uniaxialMaterial
+    #: a sliding bearing: k_init only keeps the stick phase finite, it is no structural
+    #: stiffness (a Rayleigh term on it damps the pendulum far above the ratio asked)
+    isolator = True
+
+    @classmethod
+    def post_yield_stiffness(cls, packed):
+        """W / R: the pendulum's restoring stiffness while it slides (0: a flat slider)."""
+        return packed[0] * packed[1]
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
