@@ -231,14 +231,17 @@ def checks(ex, result: Fit, k0, k_post, iso) -> tuple[str, ...]:
             continue
         causes = []
         initial = getattr(damping, "stiffness", "initial") == "initial"
+        said = ex.story_isolator or (None,) * len(ex.stories)
         for s in mine:
             if damped[s] and result.a1[s] > 0.0 and initial \
                     and k0[s] >= INITIAL_OVER_POST * k_post[s]:
                 ratio = "far" if k_post[s] == 0.0 else f"{k0[s] / k_post[s]:.3g} times"
+                remedy = ("it says isolator: false; an isolator gets no stiffness term"
+                          if said[s] is False else "leave out its stiffness_damping: an "
+                          "isolator gets none by default")
                 causes.append(f"Rayleigh's stiffness term acts on storey {ex.stories[s].name}'s "
                               f"initial stiffness {k0[s]:.4g} N/m, {ratio} above its post-"
-                              "yield or sliding stiffness (leave out its stiffness_damping: "
-                              "an isolator gets none by default)")
+                              f"yield or sliding stiffness ({remedy})")
         if damping.fit == "initial":
             causes.append("the damping is fitted on the initial stiffness (fit: initial; the "
                           "default, fit: isolated, fits the isolated modes)")
