@@ -279,12 +279,13 @@ def period_lines(ex) -> list[str]:
         parts = []
         isolators = np.flatnonzero(mine & iso.isolator)
         if isolators.size:
-            omega = lowest_modes(ex, b, isolated_stiffness(k0, k_post, iso.isolator))
+            omega = lowest_modes(ex, b, isolated_stiffness(k0, k_post, iso.isolator),
+                                 SHOWN_MODES)
             which = ", ".join(f"{ex.stories[s].name} at {k_post[s]:.4g} N/m"
                               for s in isolators[:3]) + (" ..." if isolators.size > 3 else "")
             parts.append(f"periods {_periods(omega)} s (isolated: {which})")
-        parts.append(f"periods {_periods(lowest_modes(ex, b, k0))} s (fixed base, initial "
-                     "stiffness)")
+        fixed = lowest_modes(ex, b, k0, SHOWN_MODES)
+        parts.append(f"periods {_periods(fixed)} s (fixed base, initial stiffness)")
         soil = _soil_frequencies(ex, b, k0)
         if soil is not None:
             parts.append(f"periods {_periods(soil)} s (on its soil, initial stiffness)")
