@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pframe.assemble import stability, timescales
+from pframe.assemble import damping, modes, stability, timescales
 from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
@@ -92,6 +92,19 @@ class Plan:
     ground_influence: np.ndarray = None
     #: what each foundation's soil is (FoundationSoil.describe), for the summary and the file
     foundation_soil: tuple[str, ...] = ()
+    #: modal damping (docs/theory.md#damping): the DOFs of each building damped so, one block
+    #: after another (q,), where each block starts (blocks + 1,), and the blocks' dense
+    #: matrices (B, sum of n_b^2), row-major in the order of their DOFs (N s/m)
+    modal_dofs: np.ndarray = None
+    modal_start: np.ndarray = None
+    modal_matrix: np.ndarray = None
+    #: what validate tells besides the warnings (storeys taken as isolators) and each
+    #: building's damping as applied, one line per building (validate, the result file)
+    notes: tuple[str, ...] = ()
+    damping_text: tuple[str, ...] = ()
+    #: (B, s) each spring's stiffness in its building's isolated modes (N/m): an isolator's
+    #: post-yield or sliding stiffness, every other spring's initial stiffness
+    story_isolated: np.ndarray = None
 
     @property
     def n_springs(self) -> int:
@@ -119,97 +132,20 @@ class Plan:
     def times(self) -> np.ndarray:
         return np.arange(self.steps + 1) * self.dt[0]
 
-
-def _initial_tangent(law, packed) -> float:
-    params = np.asarray(packed, dtype=float)
-    state = np.zeros(len(law.state_names))
-    return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
-
-
-#: buildings of up to this many floors are analysed as a dense matrix; taller ones in banded
-#: form (a shear building is tridiagonal): memory and time grow with n, not n^2 or n^3
-DENSE_FLOORS = 256
-
-
-def _lowest_frequencies(ex: Expanded, b: int, nodes: np.ndarray, k0: np.ndarray,
-                        count: int) -> np.ndarray:
-    """The fixed-base circular frequencies (rad/s) of building ``b``: all of them for a
-    building of up to :data:`DENSE_FLOORS` floors, else (at least) the lowest ``count``."""
-    local = {node: i for i, node in enumerate(nodes)}
-    n = len(nodes)
-    springs = []
-    for s in np.flatnonzero(ex.story_building == b):
-        low, up = ex.stories[s].nodes
-        springs.append((local[low] if low >= 0 else -1, local[up], k0[s]))
-    scale = 1.0 / np.sqrt(ex.masses[nodes])
-    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
-    if n <= DENSE_FLOORS or width > 64:
-        if n > 4 * DENSE_FLOORS and width > 64:
-            return _sparse_lowest(springs, scale, n, count)
-        stiffness = stability.spring_matrix(springs, n)
-        return np.sqrt(np.clip(np.linalg.eigvalsh(stiffness * np.outer(scale, scale)), 0, None))
-    from scipy.linalg import eig_banded, eigh_tridiagonal
-
-    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
-    for il, iu, k in springs:
-        band[0, iu] += k * scale[iu] ** 2
-        if il >= 0:
-            band[0, il] += k * scale[il] ** 2
-            lo, hi = min(il, iu), max(il, iu)
-            band[hi - lo, lo] -= k * scale[il] * scale[iu]
-    last = min(count, n) - 1
-    if width <= 1:
-        values = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
-                                  eigvals_only=True, select="i", select_range=(0, last))
-    else:
-        values = eig_banded(band, lower=True, eigvals_only=True, select="i",
-                            select_range=(0, last))
-    return np.sqrt(np.clip(values, 0, None))
-
-
-def _sparse_lowest(springs, scale, n: int, count: int) -> np.ndarray:
-    """Lowest ``count`` frequencies of a large building that is not banded (sparse solver)."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.linalg import eigsh
-
-    matrix = coo_matrix(timescales.scaled_triplets(springs, scale), shape=(n, n)).tocsc()
-    values = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM", return_eigenvectors=False)
-    return np.sqrt(np.clip(np.sort(values), 0, None))
-
-
-def _rayleigh(ex: Expanded, k0: np.ndarray, dof_of_node: np.ndarray, n: int):
-    """a0 m per DOF and a1 per storey, fitted per building on its fixed-base modes."""
-    a0 = np.zeros(n)
-    a1 = np.zeros(len(ex.stories))
-    for b, name in enumerate(ex.buildings):
-        damping = ex.damping[b]
-        if damping.ratio == 0.0 or not np.any(ex.story_building == b):
-            continue  # no storeys: masses carried by links only (a tuned mass) are damped by
-            # their links, not by a Rayleigh fit
-        nodes = np.flatnonzero(ex.node_building == b)
-        modes = damping.modes
-        try:
-            with np.errstate(all="ignore"):
-                omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
-        except (np.linalg.LinAlgError, ArithmeticError, ValueError):
-            omega = np.array([np.nan])
-        if not np.all(np.isfinite(omega)):
-            raise InputError(f"building {name!r}: its natural frequencies (for Rayleigh damping) "
-                             "cannot be computed from its masses and storey stiffnesses; they "
-                             "span more than floating point carries (check the units)")
-        if max(modes) > len(nodes):
-            if len(nodes) == 1 and modes == (1, 2):
-                modes = (1, 1)  # a one-storey building has one mode: fit the ratio there
-            else:
-                raise InputError(f"building {name!r} has {len(nodes)} modes; damping modes "
-                                 f"{list(damping.modes)} cannot be fitted")
-        wi, wj = omega[modes[0] - 1], omega[modes[1] - 1]
-        if wi + wj == 0.0:
-            raise InputError(f"building {name!r} has no stiffness to fit Rayleigh damping to "
-                             "(add storeys or set damping ratio 0)")
-        a0[dof_of_node[nodes]] = 2.0 * damping.ratio * wi * wj / (wi + wj)
-        a1[ex.story_building == b] = 2.0 * damping.ratio / (wi + wj)
-    return a0, a1
+    def modal_damping(self, member: int = 0) -> np.ndarray:
+        """The modal damping of batch member ``member`` as one dense n x n matrix over the
+        DOFs (N s/m): its blocks where they are, zeros elsewhere (and without any)."""
+        out = np.zeros((self.n_dof, self.n_dof))
+        if self.modal_start is None:
+            return out
+        at = 0
+        for k in range(len(self.modal_start) - 1):
+            dofs = self.modal_dofs[self.modal_start[k]:self.modal_start[k + 1]]
+            size = len(dofs)
+            out[np.ix_(dofs, dofs)] += self.modal_matrix[member, at:at + size * size].reshape(
+                size, size)
+            at += size * size
+        return out
 
 
 def _groups(elements, n_batch_values):
@@ -372,9 +308,10 @@ class _Soil:
 
 def batch_key(ex: Expanded) -> tuple:
     """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
-    steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
-    plan holds one tolerance and one iteration limit). Variants with equal keys differ in
-    numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
+    steps, integrator, recorders, each building's kind of damping and Rayleigh's stiffness
+    choice, and the Newton settings (one plan holds one tolerance and one iteration limit).
+    Variants with equal keys differ in numbers only (masses, stiffnesses, gaps, law
+    parameters, excitation, dt)."""
     return (
         ex.node_names,
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
@@ -383,7 +320,7 @@ def batch_key(ex: Expanded) -> tuple:
         ex.steps,
         ex.integrator,
         ex.recorders,
-        tuple(d.stiffness for d in ex.damping),
+        tuple((d.kind, getattr(d, "stiffness", None)) for d in ex.damping),
         (ex.tolerance, ex.absolute_tolerance, ex.max_iterations),
         tuple(f.building for f in ex.foundations),
     )
@@ -401,8 +338,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     key = batch_key(first)
     for i, ex in enumerate(variants[1:], start=1):
         if batch_key(ex) != key:
-            raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps, "
-                             "recorders or Newton settings; a batch may vary numbers only")
+            raise InputError(f"variant {i} differs from variant 0 in topology, laws, kinds of "
+                             "damping, steps, recorders or Newton settings; a batch may vary "
+                             "numbers only")
     nodes = len(first.node_names)
     soil = _Soil(first, nodes)
     n = nodes + 2 * len(first.foundations)  # a foundation's sway and rocking DOFs after the nodes
@@ -414,12 +352,6 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         if max(e.lower) >= 0:
             ends = [i for i in (e.nodes[0], e.lower[0], e.nodes[1], e.lower[1]) if i >= 0]
             edges += [(a, c) for a in ends for c in ends if a < c]
-    order = reverse_cuthill_mckee(n, edges)
-    if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
-        order = place_last(order, soil.rocking_groups(first, springs))
-        edges += soil.rocking_edges(first, springs)
-    dof_of_node = np.empty(n, dtype=np.int64)
-    dof_of_node[order] = np.arange(n)
 
     def dofs(elements):
         out = np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
@@ -427,19 +359,25 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         return out.reshape(len(elements), 2)
 
     packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
-    k0 = np.array([[_initial_tangent(e.law, p) for e, p in zip(springs, row)]
+    k0 = np.array([[modes.initial_tangent(e.law, p) for e, p in zip(springs, row)]
                    for row in packed])
     k0 = k0.reshape(len(variants), len(springs))
     masses = [soil.masses(ex) for ex in variants]
-    mass_damping, story_beta = [], []
-    fits: dict = {}  # members with the same masses, stiffnesses and damping share their fit
-    for b, ex in enumerate(variants):
-        key = (ex.masses.tobytes(), k0[b].tobytes(), id(ex.damping))
-        if key not in fits:
-            fits[key] = _rayleigh(ex, k0[b], dof_of_node[:nodes], n)  # foundations: a0 = 0
-        a0, a1 = fits[key]
-        mass_damping.append(a0 * masses[b][order])
-        story_beta.append(np.concatenate([a1, np.zeros(len(springs) - len(first.stories))]))
+    fitted = damping.BatchDamping(variants, k0[:, :len(first.stories)])
+    if fitted.modal_nodes:  # a building's modal damping couples all its floors
+        edges += [(a, c) for block in fitted.modal_nodes for a in block for c in block if a < c]
+    order = reverse_cuthill_mckee(n, edges)
+    if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
+        order = place_last(order, soil.rocking_groups(first, springs))
+        edges += soil.rocking_edges(first, springs)
+    dof_of_node = np.empty(n, dtype=np.int64)
+    dof_of_node[order] = np.arange(n)
+    pad_dofs = np.zeros(n - nodes)
+    mass_damping = [np.concatenate([f.a0, pad_dofs]) * masses[b]  # foundations: a0 = 0
+                    for b, f in enumerate(fitted.fits)]
+    mass_damping = [m[order] for m in mass_damping]
+    story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
+                  for f in fitted.fits]
 
     history: dict[str, int] = {}
     envelope: list[str] = []
@@ -463,7 +401,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
             envelope = [q for q in envelope if not q.startswith(kind)]
 
     damping_codes = np.array(
-        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building]
+        [DAMPING_STIFFNESS[getattr(first.damping[b], 'stiffness', 'initial')]
+         for b in first.story_building]
         + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
         dtype=np.int64,  # no Rayleigh term (a1 = 0)
     )
@@ -486,6 +425,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         mass_damping=np.array(mass_damping),
         story_dofs=dofs(springs),
         story_k0=k0,
+        story_isolated=np.concatenate([fitted.isolated, k0[:, len(first.stories):]], axis=1),
         story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
         story_groups=_groups(springs, packed),
@@ -512,12 +452,46 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
                                    for e in first.contacts], dtype=float),
         **soil.plan_fields(first, springs, dof_of_node),
+        **fitted.plan_fields(dof_of_node),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
-    warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
+    warnings = (warnings + fitted.warnings + _p_delta_warnings(plan)
+                + _material_warnings(plan))
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
+
+
+def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
+    """The ratio of each mode of the whole scene (its storeys on their initial stiffness) that
+    OpenSees' global ``modalDamping`` needs to reproduce the plan's modal damping, or None
+    for Rayleigh damping; what it cannot reproduce goes to ``problems``."""
+    if plan.modal_start is None or len(plan.modal_start) < 2:
+        return None
+    n, ns = plan.n_dof, len(plan.story_names)
+    damping = plan.modal_damping(member)
+    if plan.link_names or np.any(plan.mass_damping[member]) or np.any(plan.story_beta[member]):
+        problems.append("OpenSees' modalDamping damps the modes of the whole model: every "
+                        "building needs modal damping, and no links may join them")
+        return None
+    springs = [(int(lo), int(up), float(plan.story_k0[member, e]))
+               for e, (lo, up) in enumerate(plan.story_dofs[:ns])]
+    mass = plan.mass[member]
+    scale = 1.0 / np.sqrt(mass)
+    values, vectors = np.linalg.eigh(modes.spring_matrix(springs, n) * np.outer(scale, scale))
+    omega = np.sqrt(np.clip(values, 0.0, None))
+    phi = vectors * scale[:, None]
+    ratios = np.array([p @ damping @ p / (2.0 * w) if w > 0.0 else 0.0
+                       for p, w in zip(phi.T, omega)])
+    mphi = mass[:, None] * phi
+    again = mphi @ np.diag(2.0 * ratios * omega) @ mphi.T
+    if not np.allclose(again, damping, rtol=1e-9, atol=1e-9 * np.max(np.abs(damping))):
+        problems.append("OpenSees' modalDamping takes the modes of the initial stiffness, with "
+                        "one ratio per mode of the whole model: give every building the same "
+                        "ratio for all its modes, fitted on the initial stiffness (fit: "
+                        "initial, or no isolators)")
+        return None
+    return [float(r) for r in ratios]
 
 
 def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
@@ -543,6 +517,7 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                         "integrator")
     if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
         problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
+    modal = _peer_modal(plan, member, problems)
     ns = len(plan.story_names)
     for group in plan.story_groups:
         if np.any(group.index >= ns) and group.law.name not in (
@@ -619,9 +594,11 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     for b in range(len(plan.buildings)):
         nodes = np.flatnonzero(building_of_node == b)
         stories = np.flatnonzero(story_building == b)
+        # the storeys with the stiffness term (not the isolators, by default): one a1 for all
+        damped = stories[plan.story_beta[member, stories] != 0.0]
         alpha = float(plan.mass_damping[member, nodes[0]] / plan.mass[member, nodes[0]])
-        beta = float(plan.story_beta[member, stories[0]]) if len(stories) else 0.0
-        rayleigh.append((alpha, beta, nodes, stories))
+        beta = float(plan.story_beta[member, damped[0]]) if len(damped) else 0.0
+        rayleigh.append((alpha, beta, nodes, damped))
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
@@ -640,5 +617,6 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
         max_iterations=plan.max_iterations,
         link_nodes=plan.story_dofs[ns:].copy(),
         link_materials=link_materials,
+        modal=modal,
         integrator=c.opensees,
     )

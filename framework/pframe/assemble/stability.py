@@ -11,6 +11,7 @@ import math
 
 import numpy as np
 
+from pframe.assemble.modes import spring_matrix
 from pframe.errors import InputError
 
 #: steps per contact period below which an implicit run is warned about
@@ -38,19 +39,6 @@ def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: 
         return k
     depth = (0.5 * (exponent + 1.0) * effective_mass * velocity**2 / k) ** (1.0 / (exponent + 1.0))
     return exponent * k * depth ** (exponent - 1.0)
-
-
-def spring_matrix(springs, n: int) -> np.ndarray:
-    """The dense n x n stiffness of springs ``(i, j, k)`` between DOFs i and j (i = -1: the
-    ground), for the small scenes where a dense matrix is the simplest form."""
-    K = np.zeros((n, n))
-    for i, j, k in springs:
-        K[j, j] += k
-        if i >= 0:
-            K[i, i] += k
-            K[i, j] -= k
-            K[j, i] -= k
-    return K
 
 
 def wall_effective_mass(mass: np.ndarray, left: int, right: int) -> float:

@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from pframe.assemble.modes import scaled_triplets, spring_matrix
+
 #: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
 STEPS_PER_PERIOD = 20
 #: the modes judged are the lowest ones whose effective modal masses reach this share of the
@@ -86,7 +88,6 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     time, until they carry :data:`MASS_SHARE` (at most :data:`LOWEST_MODES`; memory stays
     linear in the floors). The share of mode n is ``(phi_n^T M 1)^2 / sum(m)`` for ``phi_n``
     normalised on the mass: the shares of all modes add up to 1."""
-    from pframe.assemble.stability import spring_matrix
 
     nodes, springs, width = _building_matrix(ex, b, k0)
     mass = ex.masses[nodes]
@@ -124,20 +125,6 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if float(np.sum(np.concatenate(shares))) >= MASS_SHARE:
             break
     return np.concatenate(omegas), np.concatenate(shares)
-
-
-def scaled_triplets(springs, scale):
-    """(values, (rows, cols)) of M^-1/2 K M^-1/2 (``scale`` = M^-1/2) from springs
-    ``(i, j, k)`` between DOFs i and j (i = -1: the ground), for a sparse matrix."""
-    rows, cols, vals = [], [], []
-    for il, iu, k in springs:
-        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
-        if il >= 0:
-            off = -k * scale[il] * scale[iu]
-            rows += [il, il, iu]
-            cols += [il, iu, il]
-            vals += [k * scale[il] ** 2, off, off]
-    return vals, (rows, cols)
 
 
 def carrying_modes(omega: np.ndarray, shares: np.ndarray) -> int:

@@ -271,6 +271,10 @@ Model = namedtuple("Model", [
     "ground_influence", # (n,) the ground load is -m a_g times this: 1 on a translational DOF,
                         # 0 on a rocking one (an absolute acceleration is a + influence a_g)
     "foundation_dofs",  # (F, 2) sway and rocking DOF of each foundation on soil
+    # modal damping (docs/theory.md#damping): a dense block over each such building's DOFs
+    "modal_dofs",       # (q,) the DOFs of the blocks, one block after another
+    "modal_start",      # (blocks + 1,) where each block starts in modal_dofs
+    "modal_matrix",     # (B, sum of n_b^2) each block's matrix, row-major (N s/m)
 ])
 
 Settings = namedtuple("Settings", [
@@ -333,7 +337,7 @@ Work = namedtuple("Work", [
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
          "contact_width", "contact_states", "ground_width", "materials", "contact_laws",
-         "foundations")
+         "foundations", "modal_blocks", "modal_width")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
@@ -341,7 +345,8 @@ C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
               "contact_lower": "int64_t *", "story_theta": "int64_t *",
-              "foundation_dofs": "int64_t *",
+              "foundation_dofs": "int64_t *", "modal_dofs": "int64_t *",
+              "modal_start": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

@@ -148,10 +148,18 @@ class Law:
     #: :data:`pframe.reference.branches.BRANCHES` (``gap``, ``kelvin``, ``hunt_crossley``,
     #: ``jankowski``, ``smooth``, ``bilinear``); None: a stateless law's only kink is the gap
     branches: ClassVar[str | None] = None
-    #: a storey material's smallest tangent after yielding, from its packed parameters (N/m),
-    #: or None where it has no such bound: the P-delta check compares it with P / h
+    #: a device whose initial stiffness is not a structural stiffness (a sliding bearing's
+    #: stick stiffness): a storey of it is an isolator by default (no stiffness-proportional
+    #: Rayleigh damping; its building's isolated modes take its post-yield stiffness;
+    #: docs/theory.md#damping)
+    isolator: ClassVar[bool] = False
+
     @classmethod
     def post_yield_stiffness(cls, packed) -> float | None:
+        """A storey material's smallest tangent after yielding or sliding, from its packed
+        parameters (N/m), or None where it has no such bound (its initial tangent then
+        stands for it). The P-delta check compares it with P / h; an isolator's is the
+        stiffness its building's isolated modes (and their damping fit) take."""
         return None
 
     @classmethod

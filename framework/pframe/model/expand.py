@@ -185,6 +185,10 @@ class Expanded:
     notes: tuple[str, ...] = ()
     #: the foundations on soil (FoundationSoil), in building order; none: every base fixed
     foundations: tuple = ()
+    #: (s,) what each storey's ``isolator`` and ``stiffness_damping`` say: True, False or
+    #: None (not said: pframe.assemble.modes decides); empty: none said (every None)
+    story_isolator: tuple = ()
+    story_stiffness_damping: tuple = ()
 
 
 #: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
@@ -376,7 +380,9 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                    f"{', '.join(list(index)[:12])}{' ...' if len(index) > 12 else ''}")
         return index[name]
 
+    flags = [(None, None)] * len(stories)  # (isolator, stiffness_damping) of each storey
     for s, story in enumerate(scene.stories):
+        flags.append((story.isolator, story.stiffness_damping))
         law = get_law("material", story.material)
         params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
         if story.gravity_load is not None and story.height is None:
@@ -440,6 +446,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         except InputError as exc:  # e.g. a friction pendulum's weight: a link carries none
             raise ModelError(path, f"link {name!r}: {exc}") from None
         link_elements.append(Element(name, (first, second), law, _finite(packed, path)))
+    floating = _check_held(scene, nodes, story_elements, link_elements)
 
     record = None
     if scene.excitation is not None and scene.excitation.kind == "record":
@@ -580,9 +587,13 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
         + tuple(motion_warnings(applied_motion(scene.excitation, record, steps * analysis.dt)))
-        + tuple(stochastic_warnings(scene.excitation)),
+        + tuple(stochastic_warnings(scene.excitation)) + floating,
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
         foundations=_foundations(shorthand_foundations, scene, buildings, building_of),
+        story_isolator=tuple(f[0] for f in flags) if any(f != (None, None) for f in flags)
+        else (),
+        story_stiffness_damping=tuple(f[1] for f in flags)
+        if any(f != (None, None) for f in flags) else (),
     )
 
 
@@ -631,6 +642,56 @@ def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int
                          f"{where} put the struck point at {at:.6g} of the storey; leave at "
                          "out (pframe computes it from the heights) or correct the heights")
     return side, lower, at
+
+
+def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
+    """Refuse a node that nothing holds to the ground in a building that has storeys: no chain
+    of storeys, links with a stiffness or (a shorthand building's) soil joins it to the ground,
+    and it is not declared ``free``. Such a floor floats (a storey left out, a node
+    mistyped): the static stiffness is singular, and a run would complete with the floor
+    drifting as a free body. A contact does not hold it (it acts only once closed), nor does a
+    dashpot (a stiffness-free link). The nodes of a building without storeys are free bodies
+    by design (masses that strike each other or a wall): under a ground motion a warning says
+    what they do (the ground moves under them), unless they are declared ``free``."""
+    parent = list(range(len(nodes) + 1))  # the last entry is the ground
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    ground = len(nodes)
+    for element in list(stories) + [e for e in links
+                                    if not getattr(e.law, "stiffness_free", False)]:
+        a, b = (ground if i < 0 else i for i in element.nodes)
+        parent[root(a)] = root(b)
+    free = {n.name for n in scene.nodes if n.free}
+    with_storeys = {nodes[e.nodes[1]][0].split("/")[0] for e in stories}
+    loose = [i for i, (name, _, _) in enumerate(nodes)
+             if root(i) != root(ground) and name not in free]
+    refused = [i for i in loose if nodes[i][0].split("/")[0] in with_storeys]
+    if refused:
+        first = refused[0]
+        group = [nodes[i][0] for i in loose if root(i) == root(first)]
+        what = (f"node {group[0]!r}" if len(group) == 1 else
+                f"nodes {', '.join(repr(g) for g in group)} (joined to each other)")
+        it = "it" if len(group) == 1 else "them"
+        raise ModelError(nodes[first][2], f"{what}: no storey, link with a stiffness or soil "
+                         f"holds {it} to the ground (a contact does not, nor a dashpot), though "
+                         f"the building has storeys; {it} would float, with no stiffness to "
+                         f"return {it}. Give {it} a storey (nodes: [ground or the floor below, "
+                         f"{group[0]}]) or a link with a stiffness, or write free: true on "
+                         f"{'the node' if len(group) == 1 else 'each node'} if {it} is meant "
+                         "to be a free body")
+    if not loose or scene.excitation is None:
+        return ()
+    names = [nodes[i][0] for i in loose]
+    return (f"node{'s' if len(names) > 1 else ''} {', '.join(names[:6])}"
+            f"{' ...' if len(names) > 6 else ''}: no storey, link with a stiffness or soil "
+            "holds them to the ground, so they are free bodies: the ground motion moves under "
+            "them (their displacement relative to the ground is -u_g until a contact or a "
+            "dashpot acts); write free: true on them if that is meant, or give them storeys",)
 
 
 def _foundations(shorthand, scene, buildings, building_of) -> tuple:

@@ -17,7 +17,10 @@ Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node
   ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
   compression force;
 * Rayleigh damping: ``alpha_m`` on the building's nodes, ``beta_k`` on the initial stiffness of
-  its storeys (``-doRayleigh 1``); contacts are undamped;
+  its storeys that take the stiffness term (``-doRayleigh 1``; not its isolators); contacts
+  are undamped; or modal damping: ``eigen`` of every mode with ``-fullGenLapack`` on the
+  storeys' initial stiffness (before the contacts exist), then ``modalDamping`` with the
+  ratio of each mode;
 * ground motion: ``Path`` series driving a ``UniformExcitation`` (load ``-m a_g`` in relative
   coordinates), its sample times accumulated as OpenSees accumulates time, so that step ``n``
   sees ``a_g[n]`` exactly; Newton iterations with a ``NormDispIncr`` test, one
@@ -99,6 +102,12 @@ def build():
         ops.element("zeroLength", tag, i_node, upper + 1, "-mat", tag, "-dir", 1,
                     "-doRayleigh", 1)
         stories.append(tag)
+
+    if MODAL:
+        # every mode of the buildings on their own: before the contacts (and their tangents)
+        # join the domain; -fullGenLapack is the solver that gives all n modes
+        ops.eigen("-fullGenLapack", n)
+        ops.modalDamping(*MODAL)
 
     contacts = []
     for j, ((left, right), gap, k) in enumerate(
@@ -285,6 +294,7 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         "CONTACT_GAPS": [float(g) for g in scene.contact_gaps],
         "CONTACT_STIFFNESS": [float(k) for k in scene.contact_stiffness],
         "RAYLEIGH": rayleigh,  # (alpha_m, beta_k on initial stiffness, DOFs, storeys)
+        "MODAL": [float(r) for r in scene.modal] if scene.modal else [],  # ratio per mode
         "DT": float(scene.dt),
         "STEPS": int(scene.steps),
         "TOL": float(scene.tolerance),

@@ -216,7 +216,22 @@ class ResultWriter:
             dim = self.time_dims[every]
             dims = (dim,) if DIMENSION[q] is None else (dim, DIMENSION[q])
             _, units, long_name = self.convert.variable(np.zeros(0), *UNITS[q])
-            f.variable(q, dims, chunk_rows=True, units=units, long_name=long_name)
+            f.variable(q, dims, chunk_rows=True, units=units, long_name=long_name,
+                       comment=self._undefined(q))
+
+    def _undefined(self, q: str) -> str | None:
+        """Why some values of ``q`` are NaN by definition (the drift ratio of a storey without
+        a height), for the variable's ``comment``; None when none is."""
+        if q != "story_drift_ratio" or self.plan.story_height is None:
+            return None
+        names = self.plan.story_names
+        heights = self.plan.story_height[self.member, :len(names)]
+        missing = [n for n, h in zip(names, heights) if not np.isfinite(h)]
+        if not missing:
+            return None
+        return (f"NaN at {', '.join(missing)}: no height was given, so the drift ratio is not "
+                "defined there (never 0); their drift is in story_drift, and height on the "
+                "storey gives the ratio")
 
     def _connectivity(self):
         """Which nodes each storey and contact joins, and the contact gaps: a file draws its
@@ -360,7 +375,7 @@ class ResultWriter:
                 np.asarray(self._columns(q, peak[member])), *UNITS[q])
             dims = () if DIMENSION[q] is None else (DIMENSION[q],)
             f.variable(f"peak_{q}", dims, data, units=units,
-                       long_name=f"peak absolute {long_name}")
+                       long_name=f"peak absolute {long_name}", comment=self._undefined(q))
         if self.plan.contact_names:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")
@@ -417,6 +432,8 @@ class ResultWriter:
         attrs.update(record_attributes(loaded))
         attrs["integrator"] = integrator_text(plan)
         attrs["integrator_scheme"] = plan.integrator.describe_scheme()
+        if plan.damping_text:  # each building's damping as applied (docs/theory.md#damping)
+            attrs["damping"] = "\n".join(plan.damping_text)
         if plan.foundations:  # the soil applied (docs/soil.md)
             attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
                                       zip(plan.foundations, plan.foundation_soil))

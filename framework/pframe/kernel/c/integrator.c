@@ -287,6 +287,8 @@ static double evaluation_work(const Model *m, Work *w, int64_t b, double age, co
     int64_t i, e;
     for (i = 0; i < n; i++)
         work += (damping[i] * ve[i] + m->ground_influence[i] * mass[i] * age) * (u[i] - U[i]);
+    if (m->modal_blocks)
+        work += modal_work(m, b, ve, ve, 0.0, u, U);
     for (e = 0; e < ns; e++) {
         const int64_t lo = m->story_dofs[2 * e], up = m->story_dofs[2 * e + 1];
         const int64_t th = m->story_theta[e];

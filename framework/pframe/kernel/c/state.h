@@ -151,6 +151,9 @@ typedef struct Model {
     int64_t *story_theta;
     double *ground_influence;
     int64_t *foundation_dofs;
+    int64_t *modal_dofs;
+    int64_t *modal_start;
+    double *modal_matrix;
     int64_t batch;
     int64_t dofs;
     int64_t stories;
@@ -164,6 +167,8 @@ typedef struct Model {
     int64_t materials;
     int64_t contact_laws;
     int64_t foundations;
+    int64_t modal_blocks;
+    int64_t modal_width;
 } Model;
 
 typedef struct Settings {

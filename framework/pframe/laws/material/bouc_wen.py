@@ -99,6 +99,11 @@ class BoucWen(Law):
                 "deltaEta_e": ("dimensionless", deta * energy)}
 
     @classmethod
+    def post_yield_stiffness(cls, packed):
+        """alpha k0: the elastic part's slope, which the tangent tends to once z saturates."""
+        return packed[0] * packed[1]
+
+    @classmethod
     def pack(cls, params, context=None):
         return (float(params.alpha), float(params.ko), float(params.n), float(params.gamma),
                 float(params.beta), float(params.Ao), float(params.deltaA),

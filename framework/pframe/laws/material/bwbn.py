@@ -148,6 +148,11 @@ class Bwbn(Law):
                 "lamda": ("dimensionless", lamda)}
 
     @classmethod
+    def post_yield_stiffness(cls, packed):
+        """alpha k0: the elastic part's slope, which the tangent tends to once z saturates."""
+        return packed[0] * packed[1]
+
+    @classmethod
     def pack(cls, params, context=None):
         # without pinching (zetas = 0) psi and lamda are never read: 1 keeps them harmless
         psi = 1.0 if params.psi is None else float(params.psi)

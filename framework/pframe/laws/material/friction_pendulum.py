@@ -90,6 +90,15 @@ class FrictionPendulum(Law):
                 ((0.015,), 0.005)]
         return [TangentState(c, x, rate, (0.01, 0.3)) for rate in (0.3, -0.2) for c, x in rows]
 
+    #: a sliding bearing: k_init only keeps the stick phase finite, it is no structural
+    #: stiffness (a Rayleigh term on it damps the pendulum far above the ratio asked)
+    isolator = True
+
+    @classmethod
+    def post_yield_stiffness(cls, packed):
+        """W / R: the pendulum's restoring stiffness while it slides (0: a flat slider)."""
+        return packed[0] * packed[1]
+
     @classmethod
     def governing(cls, packed, effective_mass=None):
         """K = k_init, the slip drift u_s = mu_fast W / k_init, the pendulum length R (omitted

@@ -1,0 +1,294 @@
+"""The modes of a scene's buildings, and which storeys are isolators.
+
+A building's modes are those of its masses and storeys alone on a fixed base (links to other
+buildings and contacts left out), on a stiffness chosen per storey:
+
+- **fixed base, initial stiffness**: every storey at its initial tangent (the elastic modes);
+- **isolated**: each isolator storey at its post-yield or sliding stiffness (the law's
+  ``post_yield_stiffness``: W / R of a friction pendulum, alpha k0 of a Bouc-Wen or bilinear
+  bearing), every other storey at its initial tangent: the modes that govern a base-isolated
+  building once its bearings yield or slide, which its damping is fitted on
+  (:mod:`pframe.assemble.damping`; Ryan & Polanco 2008);
+- **flexible base**: a building on soil with its foundation's sway and rocking springs
+  (docs/soil.md).
+
+A storey is an isolator when the scene says so (``isolator``), when its law is a bearing by
+nature (``Law.isolator``: friction_pendulum), or when its post-yield stiffness is at most
+1 / :data:`ISOLATION_RATIO` of that of every storey above it: the building then rides on it
+as a nearly rigid block (two equal masses on a storey ten times softer than the one above
+put 95 % of the top's displacement of the first mode into it), which is what isolation is.
+A frame whose storeys all yield alike is not an isolator (its storeys soften together).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: a storey whose post-yield stiffness is at most this many times below that of every storey
+#: above it is an isolator (see the module's docstring)
+ISOLATION_RATIO = 10.0
+#: buildings of up to this many floors are analysed as a dense matrix; taller ones in banded
+#: form (a shear building is tridiagonal): memory and time grow with n, not n^2 or n^3
+DENSE_FLOORS = 256
+#: the periods shown per building (validate, a loaded scene's repr)
+SHOWN_MODES = 3
+
+
+def initial_tangent(law, packed) -> float:
+    """The tangent of a law at zero deformation from rest (N/m)."""
+    params = np.asarray(packed, dtype=float)
+    state = np.zeros(len(law.state_names))
+    return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
+
+
+def post_yield(ex, k0: np.ndarray) -> np.ndarray:
+    """(s,) the post-yield or sliding stiffness each storey's law declares (N/m): its initial
+    tangent ``k0`` where the law declares none, and never above it."""
+    post = [e.law.post_yield_stiffness(np.asarray(e.packed, dtype=float)) for e in ex.stories]
+    return np.array([k if p is None else min(float(p), k) for k, p in zip(k0, post)],
+                    dtype=float)
+
+
+def storey_stiffness(ex) -> tuple[np.ndarray, np.ndarray]:
+    """(k0, k_post) of every storey of an Expanded scene (N/m): the initial tangent and the
+    post-yield or sliding stiffness (:func:`post_yield`)."""
+    k0 = np.array([initial_tangent(e.law, e.packed) for e in ex.stories], dtype=float)
+    return k0, post_yield(ex, k0)
+
+
+def spring_matrix(springs, n: int) -> np.ndarray:
+    """The dense n x n stiffness of springs ``(i, j, k)`` between DOFs i and j (i = -1: the
+    ground), for the small scenes where a dense matrix is the simplest form."""
+    K = np.zeros((n, n))
+    for i, j, k in springs:
+        K[j, j] += k
+        if i >= 0:
+            K[i, i] += k
+            K[i, j] -= k
+            K[j, i] -= k
+    return K
+
+
+def scaled_triplets(springs, scale):
+    """(values, (rows, cols)) of M^-1/2 K M^-1/2 (``scale`` = M^-1/2) from springs
+    ``(i, j, k)`` between DOFs i and j (i = -1: the ground), for a sparse matrix."""
+    rows, cols, vals = [], [], []
+    for il, iu, k in springs:
+        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
+        if il >= 0:
+            off = -k * scale[il] * scale[iu]
+            rows += [il, il, iu]
+            cols += [il, iu, il]
+            vals += [k * scale[il] ** 2, off, off]
+    return vals, (rows, cols)
+
+
+def building_springs(ex, b: int, k: np.ndarray):
+    """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
+    storey's stiffness taken from ``k`` (one per storey of the scene)."""
+    nodes = np.flatnonzero(ex.node_building == b)
+    local = {node: i for i, node in enumerate(nodes)}
+    springs = []
+    for s in np.flatnonzero(ex.story_building == b):
+        low, up = ex.stories[s].nodes
+        springs.append((local[low] if low >= 0 else -1, local[up], float(k[s])))
+    return nodes, springs
+
+
+def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """phi^T K phi of building b's storeys with stiffnesses ``k`` (one per storey of the
+    scene; 0 leaves a storey out) for each column of ``phi`` (its floors, in declaration
+    order): sum over the storeys of k (phi_upper - phi_lower)^2, without an n x n matrix."""
+    nodes = np.flatnonzero(ex.node_building == b)
+    local = np.full(len(ex.node_names), -1)
+    local[nodes] = np.arange(len(nodes))
+    mine = np.flatnonzero(ex.story_building == b)
+    upper = local[[ex.stories[s].nodes[1] for s in mine]]
+    lower = np.array([local[ex.stories[s].nodes[0]] if ex.stories[s].nodes[0] >= 0 else -1
+                      for s in mine], dtype=np.int64)
+    phi = np.asarray(phi, dtype=float).reshape(len(nodes), -1)
+    drift = phi[upper] - np.where(lower[:, None] >= 0, phi[np.maximum(lower, 0)], 0.0)
+    return np.asarray(k, dtype=float)[mine] @ (drift * drift)
+
+
+def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
+                 vectors: bool = False):
+    """The circular frequencies (rad/s, ascending) of building ``b`` with storey stiffnesses
+    ``k``, and with ``vectors`` its mode shapes (columns, normalised on the masses:
+    phi^T M phi = 1): all its modes up to :data:`DENSE_FLOORS` floors (or ``count`` None),
+    else (at least) the lowest ``count``."""
+    nodes, springs = building_springs(ex, b, k)
+    n = len(nodes)
+    scale = 1.0 / np.sqrt(ex.masses[nodes])
+    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
+    if count is None or n <= DENSE_FLOORS or width > 64:
+        if count is not None and n > 4 * DENSE_FLOORS and width > 64:
+            return _sparse_lowest(springs, scale, n, count, vectors)
+        stiffness = spring_matrix(springs, n) * np.outer(scale, scale)
+        if not vectors:
+            return np.sqrt(np.clip(np.linalg.eigvalsh(stiffness), 0, None))
+        values, shapes = np.linalg.eigh(stiffness)
+        return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
+    from scipy.linalg import eig_banded, eigh_tridiagonal
+
+    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
+    for il, iu, kk in springs:
+        band[0, iu] += kk * scale[iu] ** 2
+        if il >= 0:
+            band[0, il] += kk * scale[il] ** 2
+            lo, hi = min(il, iu), max(il, iu)
+            band[hi - lo, lo] -= kk * scale[il] * scale[iu]
+    last = min(count, n) - 1
+    if width <= 1:
+        out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
+                               eigvals_only=not vectors, select="i", select_range=(0, last))
+    else:
+        out = eig_banded(band, lower=True, eigvals_only=not vectors, select="i",
+                         select_range=(0, last))
+    if not vectors:
+        return np.sqrt(np.clip(out, 0, None))
+    return np.sqrt(np.clip(out[0], 0, None)), out[1] * scale[:, None]
+
+
+def _sparse_lowest(springs, scale, n: int, count: int, vectors: bool):
+    """Lowest ``count`` modes of a large building that is not banded (sparse solver)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import eigsh
+
+    matrix = coo_matrix(scaled_triplets(springs, scale), shape=(n, n)).tocsc()
+    values, shapes = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM")
+    order = np.argsort(values)
+    omega = np.sqrt(np.clip(values[order], 0, None))
+    return (omega, shapes[:, order] * scale[:, None]) if vectors else omega
+
+
+@dataclass(frozen=True)
+class Isolation:
+    """Which storeys of a scene are isolators, and why."""
+
+    isolator: np.ndarray  # (s,) bool: treated as an isolator
+    looks: np.ndarray  # (s,) bool: an isolator by its law or its stiffness (whatever is said)
+    notes: tuple[str, ...]  # why a storey the scene did not name is taken as one
+
+
+def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
+    """For each storey, the smallest post-yield stiffness of the storeys above it (those
+    reached upward from its upper node; inf: none), in one pass however tall."""
+    starting: dict[int, list[int]] = {}
+    for s, e in enumerate(ex.stories):
+        starting.setdefault(e.nodes[0], []).append(s)
+    below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
+    for start in {e.nodes[1] for e in ex.stories}:
+        todo, open_ = [(start, False)], set()
+        while todo:  # post-order; a loop of storeys (refused elsewhere) is cut where it closes
+            node, done = todo.pop()
+            if done:
+                open_.discard(node)
+                below_top[node] = min([math.inf] + [
+                    min(k_post[s], below_top.get(ex.stories[s].nodes[1], math.inf))
+                    for s in starting.get(node, ()) if ex.stories[s].nodes[1] not in open_])
+                continue
+            if node in below_top or node in open_:
+                continue
+            open_.add(node)
+            todo.append((node, True))
+            todo += [(ex.stories[s].nodes[1], False) for s in starting.get(node, ())]
+    return np.array([below_top.get(e.nodes[1], math.inf) for e in ex.stories], dtype=float)
+
+
+def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
+    """The isolators of a scene (see the module's docstring), with a note for each storey
+    taken as one without the scene saying so."""
+    said = ex.story_isolator or (None,) * len(ex.stories)
+    above = _min_above(ex, k_post)
+    looks = np.array([bool(e.law.isolator)
+                      or (np.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m)
+                      for e, kp, m in zip(ex.stories, k_post, above)], dtype=bool)
+    isolator = np.array([looks[s] if said[s] is None else bool(said[s])
+                         for s in range(len(ex.stories))], dtype=bool)
+    notes = []
+    for s in np.flatnonzero(looks & np.array([x is None for x in said], dtype=bool)):
+        e = ex.stories[s]
+        why = (f"a {e.law.name} is a bearing" if e.law.isolator else
+               f"its post-yield stiffness {k_post[s]:.4g} N/m is 1/{above[s] / k_post[s]:.3g} "
+               "of that of the storeys above it")
+        notes.append(f"storey {e.name} is taken as an isolator ({why}): no stiffness-"
+                     "proportional damping on it, and its building's damping is fitted on its "
+                     "isolated modes; write isolator: false on it to damp it as a frame "
+                     "storey")
+    return Isolation(isolator, looks, tuple(notes))
+
+
+def isolated_stiffness(k0: np.ndarray, k_post: np.ndarray, isolator: np.ndarray) -> np.ndarray:
+    """Every storey's stiffness in the isolated modes: the isolators' post-yield stiffness,
+    the others' initial tangent."""
+    return np.where(isolator, k_post, k0)
+
+
+def _soil_frequencies(ex, b: int, k0: np.ndarray) -> np.ndarray | None:
+    """The circular frequencies of building b on its soil (sway and rocking DOFs after its
+    floors; a storey deforms by u_upper - u_lower - h theta), or None on a fixed base."""
+    soil = [f for f in ex.foundations if f.building == b]
+    if not soil:
+        return None
+    f = soil[0]
+    nodes = np.flatnonzero(ex.node_building == b)
+    n = len(nodes)
+    local = {node: i for i, node in enumerate(nodes)}
+    sway, rock = n, n + 1
+    stiffness = np.zeros((n + 2, n + 2))
+    for s in np.flatnonzero(ex.story_building == b):
+        low, up = ex.stories[s].nodes
+        g = np.zeros(n + 2)
+        g[local[up]] += 1.0
+        g[local[low] if low >= 0 else sway] -= 1.0
+        g[rock] -= ex.story_height[s]
+        stiffness += k0[s] * np.outer(g, g)
+    stiffness[sway, sway] += f.sway_stiffness
+    stiffness[rock, rock] += f.rocking_stiffness
+    scale = 1.0 / np.sqrt(np.concatenate([ex.masses[nodes], [f.mass, f.rotational_inertia]]))
+    values = np.linalg.eigvalsh(stiffness * np.outer(scale, scale))
+    return np.sqrt(np.clip(values, 0, None))
+
+
+def _periods(omega) -> str:
+    shown = [2.0 * math.pi / w if w > 0 else math.inf for w in omega[:SHOWN_MODES]]
+    return ", ".join("inf" if math.isinf(t) else f"{t:#.3g}" for t in shown)
+
+
+def period_lines(ex) -> list[str]:
+    """The periods that matter of each building, as lines: fixed base on the initial
+    stiffness; isolated (a building with isolators); flexible base (a building on soil)."""
+    k0, k_post = storey_stiffness(ex)
+    iso = isolation(ex, k0, k_post)
+    lines = []
+    for b, name in enumerate(ex.buildings):
+        nodes = np.flatnonzero(ex.node_building == b)
+        mine = ex.story_building == b
+        if not np.any(mine):
+            lines.append(f"building {name}: {len(nodes)} floor{'s' if len(nodes) > 1 else ''}"
+                         " without storeys (held by links)")
+            continue
+        if len(nodes) > 2000:  # a dense eigen-solve of n^2 values: not for a tall building
+            lines.append(f"building {name}: {len(nodes)} floors (periods not computed above "
+                         "2,000 floors)")
+            continue
+        parts = []
+        isolators = np.flatnonzero(mine & iso.isolator)
+        if isolators.size:
+            omega = lowest_modes(ex, b, isolated_stiffness(k0, k_post, iso.isolator),
+                                 SHOWN_MODES)
+            which = ", ".join(f"{ex.stories[s].name} at {k_post[s]:.4g} N/m"
+                              for s in isolators[:3]) + (" ..." if isolators.size > 3 else "")
+            parts.append(f"periods {_periods(omega)} s (isolated: {which})")
+        fixed = lowest_modes(ex, b, k0, SHOWN_MODES)
+        parts.append(f"periods {_periods(fixed)} s (fixed base, initial stiffness)")
+        soil = _soil_frequencies(ex, b, k0)
+        if soil is not None:
+            parts.append(f"periods {_periods(soil)} s (on its soil, initial stiffness)")
+        lines.append(f"building {name}: {len(nodes)} floor{'s' if len(nodes) > 1 else ''}, "
+                     + "; ".join(parts))
+    return lines
