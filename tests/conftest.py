@@ -220,31 +220,25 @@ M_EFF = M_LEFT * M_RIGHT / (M_LEFT + M_RIGHT)
 V_IMPACT = 0.5  # m/s, L/1 moving right into R/1 at rest
 K_LINEAR = 1.0e7  # N/m
 K_HERTZ = 1.0e9  # N/m^1.5
-K_BUMPER = 1.0e8  # N/m^1.5, the rubber stage of the bumper law
-BUMPER_THICKNESS = 0.005  # m (crushed at the default crush_ratio 0.9: 4.5 mm)
 
-#: The damped laws, one variant per row of docs/restitution.md's tables:
-#: (law, extra YAML keys, label).
-IMPACT_VARIANTS = {
-    "kelvin-tension": ("kelvin", {"stiffness": K_LINEAR, "keep_tension": True},
-                       "`kelvin`, `keep_tension: true`"),
-    "kelvin-clipped": ("kelvin", {"stiffness": K_LINEAR}, "`kelvin` (clipped)"),
-    "improved_kelvin": ("improved_kelvin", {"stiffness": K_LINEAR}, "`improved_kelvin`"),
-    "hertzdamp-muthukumar": ("hertzdamp", {"stiffness": K_HERTZ, "formula": "muthukumar"},
-                             "`hertzdamp`, `formula: muthukumar`"),
-    "hertzdamp-ye": ("hertzdamp", {"stiffness": K_HERTZ, "formula": "ye"},
-                     "`hertzdamp`, `formula: ye`"),
-    "jankowski": ("jankowski", {"stiffness": K_HERTZ}, "`jankowski`"),
-    # a rubber bumper 10x softer than the hard contact, crushed by the impact at 0.5 m/s
-    # (alone the rubber would penetrate 5.6 mm; it is crushed at 0.9 x 5 mm)
-    "bumper": ("bumper", {"stiffness": K_BUMPER, "hard_stiffness": K_HERTZ,
-                          "thickness": BUMPER_THICKNESS}, "`bumper`"),
-}
+def _impact_variants(damped: bool) -> dict:
+    """case -> (law, extra YAML keys, label) of every built-in contact law's declared impacts
+    (``Law.impacts``, pframe.laws.facts.Impact), the damped laws' or the others'."""
+    from pframe.laws.registry import builtin_laws
+
+    out = {}
+    for law in builtin_laws("contact"):
+        if ("restitution" in law.Params.model_fields) == damped:
+            for case, impact in (getattr(law, "impacts", None) or {}).items():
+                out[case] = (law.name, impact.params, impact.label)
+    return out
+
+
+#: The damped laws, one variant per row of docs/restitution.md's tables (their declared
+#: impacts): (law, extra YAML keys, label).
+IMPACT_VARIANTS = _impact_variants(damped=True)
 #: The laws without damping (e = 1): (law, extra YAML keys, label).
-UNDAMPED_VARIANTS = {
-    "linear": ("linear", {"stiffness": K_LINEAR}, "`linear`"),
-    "hertz": ("hertz", {"stiffness": K_HERTZ}, "`hertz`"),
-}
+UNDAMPED_VARIANTS = _impact_variants(damped=False)
 
 
 def _variant(case: str):
@@ -260,6 +254,13 @@ def contact_context():
 CONTEXT = contact_context()
 
 
+def impact_law(case: str):
+    """The law class of ``case``."""
+    from pframe.laws import get_law
+
+    return get_law("contact", _variant(case)[0])
+
+
 def impact_contact(case: str, e: float | None = None, calibration: str | None = None) -> dict:
     """The contact's YAML keys (law, stiffness, restitution, calibration, ...) of ``case``."""
     law, extra, _ = _variant(case)
@@ -268,40 +269,25 @@ def impact_contact(case: str, e: float | None = None, calibration: str | None = 
     return {"law": law, "restitution": e, "calibration": calibration} | extra
 
 
+def impact_params(case: str, e: float | None = None, calibration: str | None = None):
+    """The law's parameters (its pydantic ``Params``) for ``case``."""
+    return impact_law(case).Params(**impact_contact(case, e, calibration))
+
+
 def impact_packed(case: str, e: float | None = None,
                   calibration: str | None = None) -> tuple[float, ...]:
     """The numbers the law packs for ``case`` (pframe's own calibration)."""
-    from pframe.laws import get_law
-
-    law = get_law("contact", _variant(case)[0])
-    return law.pack(law.Params(**impact_contact(case, e, calibration)), CONTEXT)
+    return impact_law(case).pack(impact_params(case, e, calibration), CONTEXT)
 
 
-def impact_force(case: str, packed):
-    """F(delta, delta') of the law with its packed numbers, written out here (not pframe's
-    force function) for a free impact at V_IMPACT."""
-    law = _variant(case)[0]
-    if law == "linear":
-        k, = packed
-        return lambda x, r: k * x
-    if law == "hertz":
-        k, = packed
-        return lambda x, r: k * x**1.5
-    if law == "kelvin":
-        k, c, tension = packed
-        if tension:
-            return lambda x, r: k * x + c * r
-        return lambda x, r: max(k * x + c * r, 0.0)
-    if law in ("improved_kelvin", "hertzdamp"):
-        k, n, chi, _ = packed
-        return lambda x, r: max(k * x**n * (1.0 + chi * r / V_IMPACT), 0.0)
-    if law == "bumper":  # the rubber, then the hard contact past the crush depth
-        k, _, chi, _, hard, depth = packed
-        return lambda x, r: max((k * x**1.5 + hard * max(x - depth, 0.0)**1.5)
-                                * (1.0 + chi * r / V_IMPACT), 0.0)
-    beta, zeta, m_eff = packed
-    return lambda x, r: beta * x**1.5 + (2 * zeta * math.sqrt(beta * math.sqrt(x) * m_eff) * r
-                                         if r > 0 else 0.0)
+def impact_force(case: str, e: float | None = None, calibration: str | None = None):
+    """F(delta, delta') of ``case`` for a free impact at V_IMPACT: the law's reference force,
+    written from its paper (``Law.reference_force``, never pframe's force function)."""
+    from pframe.laws import facts
+
+    law = impact_law(case)
+    reference = facts.declared(law, "reference_force")
+    return reference(impact_params(case, e, calibration), CONTEXT, V_IMPACT)
 
 
 def impact_ode(force, m_eff: float, v: float):
@@ -324,8 +310,9 @@ def impact_ode(force, m_eff: float, v: float):
 
 
 def reference_impact(case: str, e: float | None = None, calibration: str | None = None):
-    """(restitution, contact duration) of the two-mass impact of ``case``, from the ODE."""
-    return impact_ode(impact_force(case, impact_packed(case, e, calibration)), M_EFF, V_IMPACT)
+    """(restitution, contact duration) of the two-mass impact of ``case``, from the ODE of its
+    reference force."""
+    return impact_ode(impact_force(case, e, calibration), M_EFF, V_IMPACT)
 
 
 @pytest.fixture(scope="session")

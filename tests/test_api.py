@@ -421,11 +421,16 @@ def test_a_scene_prints_as_the_calls_that_build_it():
         "analysis": {"dt": 0.0005, "duration": 2.0},
     })
     text = repr(scene)
-    lines = text.splitlines()
+    lines = [line for line in text.splitlines() if not line.startswith("# ")]
     assert "Contact_" not in text and "Storeys(" not in text and str(scene) == text
     assert [line.strip()[:9] for line in lines if line.startswith("    ")] == [
         "Building(", "Building(", "Contact(l", "Contact(l"]
     assert len(lines) == 13 and max(map(len, lines)) < 160
+    # then, as comments, what loading found: the periods of each building (A: 2 pi / w_r,
+    # w_r = 2 sqrt(k / m) sin((2r - 1) pi / 14); B: its 2 x 2 eigenproblem)
+    assert text.splitlines()[13:] == [
+        "# building A: 3 floors, periods 0.499, 0.178, 0.123 s (fixed base, initial stiffness)",
+        "# building B: 2 floors, periods 0.219, 0.0855 s (fixed base, initial stiffness)"]
     namespace = {name: getattr(pframe, name) for name in pframe._API}
     assert eval(text, namespace) == scene  # noqa: S307 - the test of a repr
     assert eval(repr(scene.contacts[1]), namespace) == scene.contacts[1]  # noqa: S307

@@ -97,6 +97,9 @@ def gap_tables() -> dict[str, str]:
         out[f"{name}-modes"] = _modes(name)
         out[f"{name}-separations"] = _separations(name)
         out[f"{name}-fragility"] = _fragility(name)
+    from pframe.gap.codes import docs_table
+
+    out["code-rules"] = docs_table() + "\n"  # the code rules (tests/test_code_rules.py)
     return out
 
 

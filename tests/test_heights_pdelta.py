@@ -160,3 +160,42 @@ def test_a_scene_without_p_delta_is_bit_for_bit_unchanged():
     _, without = run_text(json.dumps(scene))
     np.testing.assert_array_equal(with_heights.history["displacement"],
                                   without.history["displacement"])
+
+
+@pytest.mark.slow
+def test_a_storey_without_a_height_has_no_drift_ratio(tmp_path, capsys):
+    """A storey without a height (an isolator, typically) has no drift ratio: NaN in the
+    history, the envelope, the file, the Dataset and the summary, with the reason, never 0
+    (which passes any drift limit); the storeys with a height keep d / h."""
+    import pframe
+    from pframe.cli import main
+
+    scene = {
+        "nodes": [{"name": "I/1", "mass": 4.0e4}, {"name": "I/2", "mass": 3.0e4},
+                  {"name": "I/3", "mass": 3.0e4}],
+        "stories": [{"name": "bearing", "nodes": ["ground", "I/1"], "material": "bilinear",
+                     "stiffness": 4.0e6, "yield_drift": 0.01, "alpha": 0.1},
+                    {"nodes": ["I/1", "I/2"], "material": "elastic", "stiffness": 1.2e8,
+                     "height": 3.2},
+                    {"nodes": ["I/2", "I/3"], "material": "elastic", "stiffness": 1.0e8,
+                     "height": 3.2}],
+        "excitation": {"kind": "sine", "amplitude": 2.0, "frequency": 3.0},
+        "analysis": {"dt": 0.01, "duration": 2.0},
+        "recorders": [{"kind": "history", "quantities": ["story_drift_ratio"]},
+                      {"kind": "envelope", "quantities": ["story_drift", "story_drift_ratio"]}],
+    }
+    path = tmp_path / "scene.yaml"
+    path.write_text(json.dumps(scene))
+    assert main(["solve", str(path), "-o", str(tmp_path / "out.nc")]) == 0
+    assert "; not defined at bearing (no height)" in capsys.readouterr().out
+    ds = pframe.open(tmp_path / "out.nc")
+    peak = ds.peak_story_drift_ratio.values
+    assert np.isnan(peak[0]) and np.all(peak[1:] > 0.0)
+    np.testing.assert_allclose(peak[1:], ds.peak_story_drift.values[1:] / 3.2, rtol=1e-12)
+    assert np.all(np.isnan(ds.story_drift_ratio.values[:, 0]))
+    for variable in (ds.peak_story_drift_ratio, ds.story_drift_ratio):
+        assert variable.attrs["comment"].startswith("NaN at bearing: no height was given")
+    table = pframe.summary(ds)
+    row = table[(table.name == "bearing") & (table.quantity == "peak story drift ratio")]
+    assert np.isnan(row.value.iloc[0])
+    assert "NaN at bearing" in table[table.quantity == "drift ratio not defined"].value.iloc[0]

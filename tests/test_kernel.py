@@ -157,41 +157,19 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
     excitation: one process, one
     compiled kernel (loaded once), and nothing compiled at run time (numba never imported)."""
     from pframe.kernel import ckernel
-    from pframe.laws import all_contact_laws, all_materials
+    from pframe.laws import all_contact_laws, all_materials, facts
 
     numba_before = "numba" in sys.modules
 
-    contact = {
-        "linear": {"law": "linear", "stiffness": 2.0e7},
-        "kelvin": {"law": "kelvin", "stiffness": 2.0e7, "restitution": 0.6},
-        "improved_kelvin": {"law": "improved_kelvin", "stiffness": 2.0e7, "restitution": 0.6},
-        "hertz": {"law": "hertz", "stiffness": 1.0e9},
-        "hertzdamp": {"law": "hertzdamp", "stiffness": 1.0e9, "restitution": 0.6},
-        "jankowski": {"law": "jankowski", "stiffness": 1.0e9, "restitution": 0.6},
-        "bumper": {"law": "bumper", "stiffness": 1.0e8, "hard_stiffness": 1.0e9,
-                   "thickness": 0.001, "restitution": 0.6},
-    }
-    story = {"elastic": {"material": "elastic", "stiffness": 2.0e6},
-             "bilinear": {"material": "bilinear", "stiffness": 2.0e6, "yield_drift": 0.005,
-                          "alpha": 0.1},
-             "bouc_wen": {"material": "bouc_wen", "alpha": 0.1, "ko": 2.0e6, "n": 1.0,
-                          "gamma": 100.0, "beta": 100.0},
-             "bwbn": {"material": "bwbn", "alpha": 0.1, "ko": 2.0e6, "n": 1.0,
-                      "gamma": 100.0, "beta": 100.0, "deltaNu": 1e-4, "q": 0.1,
-                      "zetas": 0.5, "p": 1e-3, "psi": 0.003, "lamda": 0.5},
-             "friction_pendulum": {"material": "friction_pendulum", "radius": 1.0,
-                                   "mu_slow": 0.05, "mu_fast": 0.1, "rate_parameter": 30.0,
-                                   "k_init": 2.0e6},
-             "imk_peak": {"material": "imk_peak", "k0": 2.0e6, "as_plus": 0.03, "as_neg": 0.03,
-                          "my_plus": 1.0e4, "my_neg": 1.0e4, "lamda_s": 0.05, "lamda_c": 0.05,
-                          "lamda_a": 0.05, "lamda_k": 0.05, "c_s": 1.0, "c_c": 1.0,
-                          "c_a": 1.0, "c_k": 1.0, "theta_p_plus": 0.01, "theta_p_neg": 0.01,
-                          "theta_pc_plus": 0.05, "theta_pc_neg": 0.05, "res_plus": 0.3,
-                          "res_neg": 0.3, "theta_u_plus": 0.2, "theta_u_neg": 0.2,
-                          "d_plus": 1.0, "d_neg": 1.0}}
-    links = {"viscous": {"material": "viscous", "damping": 2.0e3, "exponent": 0.5},
-             "kelvin_voigt": {"material": "kelvin_voigt", "stiffness": 1.0e5,
-                              "damping": 1.0e3}}
+    def first(law, tag):  # the law's first example
+        return {tag: law.name} | facts.declared(law, "examples")[0]
+
+    # a material without stiffness of its own is a link's
+    contact = {law.name: first(law, "law") for law in all_contact_laws()}
+    story = {law.name: first(law, "material") for law in all_materials()
+             if not getattr(law, "stiffness_free", False)}
+    links = {law.name: first(law, "material") for law in all_materials()
+             if getattr(law, "stiffness_free", False)}
     integrators = [{"type": "newmark"}, {"type": "newmark", "events": True},
                    {"type": "hht", "alpha": 0.1}, {"type": "generalized_alpha", "events": True},
                    {"type": "wilson_theta", "events": True},
@@ -201,8 +179,6 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
     integrators += [configurations.get(f"{name}+events", configurations[name])
                     for name in configurations if "+" not in name
                     and name not in {config["type"] for config in integrators}]
-    assert set(contact) == {law.name for law in all_contact_laws()}
-    assert set(story) | set(links) == {law.name for law in all_materials()}
     from pframe.kernel.state import RECORDABLE
 
     every = list(RECORDABLE)
@@ -210,7 +186,7 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
     for i, integrator in enumerate(integrators):
         for j, (law, params) in enumerate(contact.items()):
             material = list(story)[(i + j) % len(story)]
-            link = list(links)[(i + j) % 2]
+            link = list(links)[(i + j) % len(links)]
             scene = {
                 "buildings": [{"name": "A", "floors": 2, "mass": 1000.0, "story": story[material],
                                "height": 3.0, "p_delta": bool(j % 2)},
@@ -462,3 +438,173 @@ def test_the_translator_takes_a_bounded_loop_with_break():
     assert "int64_t loop0_;" in source
     trial = np.zeros(1)
     assert Cubic.force(None, None, trial, 8.0, 0.0)[0] == 2.0 and 3 < trial[0] < 50
+
+
+# --- helper functions: module-level functions a law's force calls ----------------------------
+
+#: a module-level number a law reads (translated as its value)
+_SLOT = 1
+
+
+def _spring(k, x):
+    """A number from numbers."""
+    return k * x * (1.0 + 0.25 * x)
+
+
+def _spring_and_slope(k, x):
+    """A tuple, unpacked by the caller."""
+    return _spring(k, x), k * (1.0 + 0.5 * x)
+
+
+def _remember(state, x):
+    """Writes the array it is given (the law's trial)."""
+    state[0] = x
+    state[_SLOT] = x * x
+
+
+def _three(params, x, r):
+    """Returned as the force's three numbers."""
+    f, kd = _spring_and_slope(params[0], x)
+    return f + params[1] * r, kd, params[1]
+
+
+def _countdown(x):
+    return _countdown(x - 1.0)
+
+
+class _Helped:
+    kind, name, __qualname__ = "contact", "helped", "_Helped"
+
+    @staticmethod
+    def force(params, committed, trial, deformation, rate):
+        if deformation <= 0.0:
+            return 0.0, 0.0, 0.0
+        _remember(trial, deformation + committed[0])
+        if rate < 0.0:
+            return _three(params, deformation, rate)
+        f, kd = _spring_and_slope(params[0], deformation)
+        return f + _spring(params[1], rate), kd, params[1] * (1.0 + 0.5 * rate)
+
+
+def test_the_translator_takes_helper_functions():
+    """A module-level function a force calls becomes one static C function: numbers and
+    arrays in, a number or a tuple out (written through pointers), a read-only array const, a
+    written one not; a module-level number is its value."""
+    from pframe.kernel.translate import translate
+
+    source = " ".join(translate(_Helped, "contact_helped").split())  # unwrapped
+    assert "static PFRAME_INLINE double test_kernel__spring(double k_, double x_)" in source
+    assert ("static PFRAME_INLINE void test_kernel__spring_and_slope(double k_, double x_, "
+            "double *ret0, double *ret1)") in source
+    assert "static PFRAME_INLINE void test_kernel__remember(double *state_, double x_)" in source
+    assert "state_[1] = (x_ * x_);" in source
+    assert ("static PFRAME_INLINE void test_kernel__three(const double *params_, double x_, "
+            "double r_,") in source
+    assert "test_kernel__spring_and_slope(params[0], deformation, &f_, &kd_);" in source
+    assert "test_kernel__three(params, deformation, rate, &out[0], &out[1], &out[2]);" in source
+    assert source.count("static PFRAME_INLINE double test_kernel__spring(") == 1
+    # each helper before its first caller, the force last
+    assert source.index("test_kernel__spring(double") < source.index(
+        "test_kernel__spring_and_slope(double") < source.index("static void contact_helped(")
+
+
+def test_the_translator_refuses_helpers_it_cannot_translate():
+    """Recursion, a read-only array written through a helper, an array passed where a number
+    was, a dropped result and a tuple of the wrong length are refused, naming the law, the
+    line and what."""
+    import re
+
+    from pframe.kernel.translate import TranslationError, translate
+
+    class Recursing:
+        kind, name, __qualname__ = "contact", "recursing", "Recursing"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            return _countdown(deformation), 0.0, 0.0
+
+    class WritingParams:
+        kind, name, __qualname__ = "contact", "writing_params", "WritingParams"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            _remember(params, deformation)
+            return 0.0, 0.0, 0.0
+
+    class Mixed:
+        kind, name, __qualname__ = "contact", "mixed", "Mixed"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            _remember(trial, deformation)
+            _remember(deformation, deformation)
+            return 0.0, 0.0, 0.0
+
+    class Dropping:
+        kind, name, __qualname__ = "contact", "dropping", "Dropping"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            _spring(1.0, deformation)
+            return 0.0, 0.0, 0.0
+
+    class Unpacking:
+        kind, name, __qualname__ = "contact", "unpacking", "Unpacking"
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            a, b, c = _spring_and_slope(1.0, deformation)
+            return a, b, c
+
+    for law, what in ((Recursing, "calls itself"),
+                      (WritingParams, "only trial[i] may be written"),
+                      (Mixed, "called with arrays in other places than before"),
+                      (Dropping, "the result of test_kernel._spring is dropped"),
+                      (Unpacking, "returns 2, not a tuple of 3 numbers")):
+        with pytest.raises(TranslationError, match=re.escape(what)) as error:
+            translate(law, "c_name")
+        assert f"'{law.name}'" in str(error.value) and "line" in str(error.value)
+
+
+@pytest.mark.slow
+def test_a_law_with_helpers_gives_its_python_bits_in_c_and_numba(tmp_path):
+    """The C of a force with helpers, compiled with the kernel's flags, and its numba copy
+    (pframe.laws.compiled, as plug-ins and the reference solver compile laws) give the
+    Python function's force, tangents and trial state bit for bit."""
+    import ctypes
+    import shutil
+    import subprocess
+
+    from pframe.kernel.translate import translate
+    from pframe.laws.compiled import njit
+
+    compiler = shutil.which("cc") or shutil.which("gcc")
+    if compiler is None:
+        pytest.skip("no C compiler")
+    prelude = ("#include <math.h>\n#include <stdint.h>\n#define PFRAME_INLINE inline\n"
+               "static inline double py_min(double a, double b) { return b < a ? b : a; }\n"
+               "static inline double py_max(double a, double b) { return b > a ? b : a; }\n")
+    source = prelude + translate(_Helped, "contact_helped").replace("static void contact_helped",
+                                                                     "void contact_helped")
+    (tmp_path / "helped.c").write_text(source, encoding="utf-8")
+    library = tmp_path / "helped.so"
+    subprocess.run([compiler, "-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math",
+                    "-shared", "-fPIC", "-o", str(library), str(tmp_path / "helped.c")],
+                   check=True)
+    c_force = ctypes.CDLL(str(library)).contact_helped
+    c_force.restype = None
+    pointer = ctypes.c_void_p
+    numba_force = njit(_Helped.force, error_model="numpy")
+    rng = np.random.default_rng(3)
+    for _ in range(200):
+        params, committed = rng.uniform(0.1, 3.0, 2), rng.uniform(-1.0, 1.0, 2)
+        x, r = float(rng.uniform(-0.5, 2.0)), float(rng.uniform(-2.0, 2.0))
+        trial, c_trial, n_trial = np.zeros(2), np.zeros(2), np.zeros(2)
+        out = np.zeros(3)
+        expected = _Helped.force(params, committed, trial, x, r)
+        c_force(pointer(params.ctypes.data), pointer(committed.ctypes.data),
+                pointer(c_trial.ctypes.data), ctypes.c_double(x), ctypes.c_double(r),
+                pointer(out.ctypes.data))
+        assert out.tolist() == [float(v) for v in expected]
+        assert numba_force(params, committed, n_trial, x, r) == expected
+        assert c_trial.tolist() == trial.tolist() == n_trial.tolist()

@@ -94,3 +94,56 @@ def test_a_contact_against_the_row_order_is_refused_at_its_line():
                           "  - {nodes: [D/1, C/1], gap: 0.01, law: linear, stiffness: 1.0e8}")
     with pytest.raises(InputError, match="contact 'D/1-C/1' has 'D/1' on the left of 'C/1'"):
         parse_scene(generic)
+
+
+@pytest.mark.parametrize(("change", "message"), [
+    ({"stories": [{"nodes": ["ground", "A/1"], "material": "elastic", "stiffness": 1e6}]},
+     r"line \d+, nodes\[1\]\.name: node 'A/2': no storey, link with a stiffness or soil "
+     r"holds it to the ground"),
+    ({"stories": [{"nodes": ["A/1", "A/2"], "material": "elastic", "stiffness": 1e6}]},
+     r"nodes\[0\]\.name: nodes 'A/1', 'A/2' \(joined to each other\)"),
+    ({"links": [{"nodes": ["ground", "A/2"], "material": "viscous", "damping": 1e3}]},
+     "nor a dashpot"),
+])
+def test_a_node_nothing_holds_is_refused(change, message):
+    """A floor of a building with storeys that no storey (or stiff link, or soil) joins to
+    the ground floats: refused at its line, naming it (it ran to 'completed' before)."""
+    scene = {"nodes": [{"name": "A/1", "mass": 1e3}, {"name": "A/2", "mass": 1e3}],
+             "stories": [{"nodes": ["ground", "A/1"], "material": "elastic",
+                          "stiffness": 1e6}],
+             "contacts": [{"nodes": ["A/2", "ground"], "gap": 0.1, "law": "linear",
+                           "stiffness": 1e7}],
+             "analysis": {"dt": 0.01, "duration": 0.1}} | change
+    with pytest.raises(InputError, match=message):
+        _load(scene)
+    _load(scene | {"nodes": [node | {"free": True} for node in scene["nodes"]]})
+    held = {"nodes": [{"name": "A/1", "mass": 1e3}, {"name": "A/2", "mass": 1e3}],
+            "links": [{"nodes": ["ground", "A/1"], "material": "elastic", "stiffness": 1e5},
+                      {"nodes": ["A/1", "A/2"], "material": "bilinear", "stiffness": 1e5,
+                       "yield_drift": 0.01, "alpha": 0.1}],
+            "stories": [{"nodes": ["ground", "A/1"], "material": "elastic", "stiffness": 1e6}],
+            "analysis": {"dt": 0.01, "duration": 0.1}}
+    _load(held)  # links with a stiffness hold a node
+
+
+def test_free_masses_under_a_ground_motion_are_said_to_be_free():
+    """Masses of a building without storeys are free bodies (two masses striking): silent in
+    free vibration, warned under a ground motion (the ground moves under them), silent again
+    when they say free: true."""
+    scene = {"nodes": [{"name": "L/1", "mass": 1e3}, {"name": "R/1", "mass": 1e3}],
+             "contacts": [{"nodes": ["L/1", "R/1"], "gap": 0.0, "law": "linear",
+                           "stiffness": 1e7}],
+             "damping": {"ratio": 0.0}, "analysis": {"dt": 0.01, "duration": 0.1}}
+    assert not _load(scene).expanded.warnings
+    shaken = scene | {"excitation": {"kind": "sine", "amplitude": 1.0, "frequency": 3.0}}
+    warnings = _load(shaken).expanded.warnings
+    assert any("nodes L/1, R/1: no storey" in w and "free bodies" in w for w in warnings)
+    for node in shaken["nodes"]:
+        node["free"] = True
+    assert not _load(shaken).expanded.warnings
+
+
+def _load(scene: dict):
+    import json
+
+    return parse_scene(json.dumps(scene))

@@ -18,7 +18,6 @@ from conftest import (  # tests/ is on sys.path under pytest and when run as a s
     IMPACT_VARIANTS,
     K_HERTZ,
     K_LINEAR,
-    M_EFF,
     M_LEFT,
     M_RIGHT,
     V_IMPACT,
@@ -27,9 +26,9 @@ from conftest import (  # tests/ is on sys.path under pytest and when run as a s
     element_history,
     hunt_crossley_restitution,
     impact_contact,
-    impact_force,
+    impact_law,
     impact_ode,
-    impact_packed,
+    impact_params,
     node_history,
     observed_order,
     reference_impact,
@@ -48,8 +47,7 @@ END = "<!-- END generated -->"
 
 #: The damped laws, one variant per row of the tables (shared with test_contact_matrix.py)
 VARIANTS = IMPACT_VARIANTS
-_contact, _packed, _reference_force, _impact_ode = (impact_contact, impact_packed,
-                                                     impact_force, impact_ode)
+_contact, _impact_ode = impact_contact, impact_ode
 #: The restitutions the exact calibration is held to (issue 4: e from 0.05 to 0.95).
 KERNEL_TARGETS = (0.05, 0.2, 0.4, 0.6, 0.8, 0.95)
 #: The columns of the table in docs/restitution.md.
@@ -158,13 +156,9 @@ def test_jankowski_published_formula_is_near_but_not_exact():
 #: (test_kelvin_with_tension_is_first_order_where_separation_falls_inside_a_step).
 STEPS_PER_CONTACT = 8000
 #: the batches: one kernel per law, every case and target of that law in one batch
-BATCHES = {
-    "kelvin": ("kelvin-tension", "kelvin-clipped"),
-    "improved_kelvin": ("improved_kelvin",),
-    "hertzdamp": ("hertzdamp-muthukumar", "hertzdamp-ye"),
-    "jankowski": ("jankowski",),
-    "bumper": ("bumper",),
-}
+BATCHES: dict[str, tuple] = {}
+for _case, (_law, _, _) in VARIANTS.items():
+    BATCHES[_law] = BATCHES.get(_law, ()) + (_case,)
 
 
 def test_every_damped_law_is_covered():
@@ -174,7 +168,7 @@ def test_every_damped_law_is_covered():
     assert damped == {law for law, _, _ in VARIANTS.values()}
     for name in damped:
         assert "calibration" in get_law("contact", name).Params.model_fields
-    assert {case for case, _, _ in ROWS} == set(VARIANTS)
+    assert {row[0] for row in ROWS} == set(VARIANTS)
 
 
 @pytest.mark.slow
@@ -216,57 +210,63 @@ def test_exact_calibration_rebounds_with_e(law, request):
 # the tables of docs/restitution.md
 # ---------------------------------------------------------------------------------------------
 
-#: rows of the restitution table: (case, calibration, what the damping is)
-ROWS = [
-    ("kelvin-tension", "published", "published (Anagnostopoulos 1988) = exact"),
-    ("kelvin-clipped", "published", "published (Anagnostopoulos 1988)"),
-    ("kelvin-clipped", "exact", "exact"),
-    ("improved_kelvin", "published", "published (Ye, Li & Zhu 2009)"),
-    ("improved_kelvin", "exact", "exact"),
-    ("hertzdamp-muthukumar", "published", "published (Muthukumar & DesRoches 2006)"),
-    ("hertzdamp-ye", "published", "published (Ye, Li & Zhu 2009)"),
-    ("hertzdamp-ye", "exact", "exact (either formula)"),
-    ("jankowski", "published", "published (Jankowski 2005)"),
-    ("jankowski", "exact", "exact"),
-    ("bumper", "published", "published (Muthukumar & DesRoches 2006)"),
-    ("bumper", "exact", "exact"),
-]
+def _rows() -> list[tuple[str, str, str, str]]:
+    """The rows of the restitution table, from each case's declared impact (its calibrations,
+    descriptions and labels): (case, calibration, what the damping is, label)."""
+    rows = []
+    for case in VARIANTS:
+        law = impact_law(case)
+        impact = law.impacts[case]
+        for calibration in impact.calibrations:
+            what = impact.descriptions.get(calibration)
+            if what is None and calibration == "published":
+                what = f"published ({law.published_source(impact_params(case, 0.5, 'published'))})"
+            label = impact.exact_label if calibration == "exact" and impact.exact_label \
+                else impact.label
+            rows.append((case, calibration, what or calibration, label))
+    return rows
+
+
+#: rows of the restitution table: (case, calibration, what the damping is, label)
+ROWS = _rows()
 
 
 def _damping_number(case: str, e: float, calibration: str) -> float:
-    """chi for the Hunt-Crossley laws, zeta for Kelvin and Jankowski."""
-    packed = _packed(case, e, calibration)
-    law = VARIANTS[case][0]
-    if law == "kelvin":
-        return packed[1] / (2.0 * math.sqrt(packed[0] * M_EFF))
-    return packed[2] if law != "jankowski" else packed[1]
+    """The law's damping number: chi for the Hunt-Crossley laws, zeta for the others."""
+    law = impact_law(case)
+    params = impact_params(case, e, calibration)
+    return law.chi(params) if hasattr(law, "chi") else law.zeta(params)
 
 
-def _label(case, calibration):
-    label = VARIANTS[case][2]
-    if case == "hertzdamp-ye" and calibration == "exact":
-        return "`hertzdamp`"
-    return label
+def _damping_names() -> str:
+    """Which damping number the laws pack, for the table's caption."""
+    laws = dict.fromkeys(impact_law(case) for case in VARIANTS)
+    chi = [f"`{law.name}`" for law in laws if hasattr(law, "chi")]
+    zeta = [f"`{law.name}`" for law in laws if not hasattr(law, "chi")]
+    return f"`chi` for {_and(chi)}, `zeta` for {_and(zeta)}"
+
+
+def _and(names: list[str]) -> str:
+    return names[0] if len(names) == 1 else ", ".join(names[:-1]) + " and " + names[-1]
 
 
 def restitution_tables() -> str:
     """The generated part of docs/restitution.md: what each law really rebounds with (from the
-    ODE of the law's packed numbers) and the damping number it packs."""
+    ODE of the law's reference force) and the damping number it packs."""
     head = " | ".join(f"{e:g}" for e in TABLE_TARGETS)
     rule = "|".join(["---"] * (len(TABLE_TARGETS) + 2))
     out = ["Restitution of a two-body impact, for the target `e` of each column:", "",
            f"| law | damping | {head} |", f"|{rule}|"]
-    for case, calibration, what in ROWS:
+    for case, calibration, what, label in ROWS:
         values = " | ".join(f"{reference_impact(case, e, calibration)[0]:.4f}"
                             for e in TABLE_TARGETS)
-        out.append(f"| {_label(case, calibration)} | {what} | {values} |")
-    out += ["", "The damping number each row packs (`chi` for `improved_kelvin` and `hertzdamp`, "
-            "`zeta` for `kelvin` and `jankowski`):", "",
+        out.append(f"| {label} | {what} | {values} |")
+    out += ["", f"The damping number each row packs ({_damping_names()}):", "",
             f"| law | damping | {head} |", f"|{rule}|"]
-    for case, calibration, what in ROWS:
+    for case, calibration, what, label in ROWS:
         values = " | ".join(f"{_damping_number(case, e, calibration):#.4g}"
                             for e in TABLE_TARGETS)
-        out.append(f"| {_label(case, calibration)} | {what} | {values} |")
+        out.append(f"| {label} | {what} | {values} |")
     return "\n".join(out) + "\n"
 
 
@@ -289,7 +289,7 @@ def test_restitution_table_is_current():
 def test_exact_rows_give_the_target():
     """In the tables' own numbers: every exact row rebounds with its target, and the published
     formulas are off by the amounts the docs quote."""
-    for case, calibration, _ in ROWS:
+    for case, calibration, _, _ in ROWS:
         for e in TABLE_TARGETS:
             got = reference_impact(case, e, calibration)[0]
             if calibration == "exact" or case == "kelvin-tension":

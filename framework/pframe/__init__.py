@@ -30,6 +30,7 @@ _API = {
     "Scene": "pframe.api", "Building": "pframe.api", "StoryProperties": "pframe.api",
     "Story": "pframe.api", "Contact": "pframe.api",
     "Node": "pframe.model.scene", "Rayleigh": "pframe.model.scene",
+    "Modal": "pframe.model.scene",
     "Sine": "pframe.model.scene", "Record": "pframe.model.scene",
     "Cycloidal": "pframe.model.scene", "Ricker": "pframe.model.scene",
     "Stochastic": "pframe.model.scene",
@@ -43,7 +44,7 @@ _API = {
 
 __all__ = ["AccuracyWarning", "Analysis", "Building", "Contact", "Cycloidal", "Envelope",
            "EnvironmentFailure", "History", "IncompleteRun", "InitialConditions", "InputError",
-           "Newton", "Node", "Output", "OutputScales", "PframeError", "Rayleigh", "Record",
+           "Modal", "Newton", "Node", "Output", "OutputScales", "PframeError", "Rayleigh", "Record",
            "Ricker", "Scene", "Sine", "Stochastic", "Story", "StoryProperties", "__version__",
            "impacts", "load", "open", "plot", "risk", "solve", "summary", "sweep", "to_opensees"]
 __all__ += list(_INTEGRATORS.values())

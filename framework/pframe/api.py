@@ -50,11 +50,21 @@ _ORIGIN: dict[int, tuple] = {}
 def _scene_of(loaded):
     import weakref
 
+    from pframe.model.scene import attach_facts
+
     scene = loaded.scene
     key = id(scene)
     _ORIGIN[key] = (weakref.ref(scene, lambda _, key=key, origin=_ORIGIN: origin.pop(key, None)),
                     loaded)
+    attach_facts(scene, lambda: _periods(loaded.expanded))
     return scene
+
+
+def _periods(expanded) -> list[str]:
+    """The periods of a loaded scene's buildings (its repr ends with them)."""
+    from pframe.assemble.modes import period_lines
+
+    return period_lines(expanded)
 
 
 def _origin(scene):

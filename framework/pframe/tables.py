@@ -177,6 +177,11 @@ def summary(result, output: str | Path | None = None):
                 rows += demands.get(name, [])
     if why and not ductility:
         rows.append(("warning", "", "ductility not computed", why, ""))
+    for name in ("peak_story_drift_ratio", "story_drift_ratio"):
+        if name in ds and ds[name].attrs.get("comment"):  # storeys without a height
+            rows.append(("warning", "", "drift ratio not defined",
+                         _text(ds[name].attrs["comment"]), ""))
+            break
     rows += impact_rows + demand_warnings
     for line in _text(ds.attrs.get("warnings", "")).splitlines():
         if line.strip():

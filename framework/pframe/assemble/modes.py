@@ -1,86 +1,405 @@
-"""Natural frequencies of a building in plan: its floors' translations and rotations coupled
-by its lines of resistance (lateral-torsional modes; Chopra, Dynamics of Structures, ch. 9).
+"""The modes of a scene's buildings, and which storeys are isolators.
 
-The stiffness is K = sum k a a^T over the building's storey springs, a the weights of a
-spring's sides (pframe.model.elements), the mass diagonal (m, m and J of each floor)."""
+A building's modes are those of its masses and storeys alone on a fixed base (links to other
+buildings and contacts left out), on a stiffness chosen per storey:
+
+- **fixed base, initial stiffness**: every storey at its initial tangent (the elastic modes);
+- **isolated**: each isolator storey at its post-yield or sliding stiffness (the law's
+  ``post_yield_stiffness``: W / R of a friction pendulum, alpha k0 of a Bouc-Wen or bilinear
+  bearing), every other storey at its initial tangent: the modes that govern a base-isolated
+  building once its bearings yield or slide, which its damping is fitted on
+  (:mod:`pframe.assemble.damping`; Ryan & Polanco 2008);
+- **flexible base**: a building on soil with its foundation's sway and rocking springs
+  (docs/soil.md).
+
+A storey is an isolator when the scene says so (``isolator``), when its law is a bearing by
+nature (``Law.isolator``: friction_pendulum), or when its post-yield stiffness is at most
+1 / :data:`ISOLATION_RATIO` of that of every storey above it: the building then rides on it
+as a nearly rigid block (two equal masses on a storey ten times softer than the one above
+put 95 % of the top's displacement of the first mode into it), which is what isolation is.
+A frame whose storeys all yield alike is not an isolator (its storeys soften together).
+"""
 
 from __future__ import annotations
 
+import math
+from dataclasses import dataclass
+
 import numpy as np
 
-#: buildings of up to this many degrees of freedom are solved as a dense matrix; larger ones
-#: by a sparse shift-invert solver for their lowest modes
-DENSE_DOFS = 768
+#: a storey whose post-yield stiffness is at most this many times below that of every storey
+#: above it is an isolator (see the module's docstring)
+ISOLATION_RATIO = 10.0
+#: buildings of up to this many floors are analysed as a dense matrix; taller ones in banded
+#: form (a shear building is tridiagonal): memory and time grow with n, not n^2 or n^3
+DENSE_FLOORS = 256
+#: the periods shown per building (validate, a loaded scene's repr)
+SHOWN_MODES = 3
 
 
-def stiffness_triplets(springs, k0, local: dict, building_springs) -> tuple[list, list, list]:
-    """(rows, cols, values) of sum k a a^T over the springs ``building_springs`` (indices
-    into ``springs``, with initial stiffness ``k0``), in the local numbering ``local`` of
-    (node, component) keys; terms off the building (another building's floor) are left out."""
-    rows, cols, values = [], [], []
-    for s in building_springs:
-        lower, upper = springs[s].side_terms()
-        g = {}
+def initial_tangent(law, packed) -> float:
+    """The tangent of a law at zero deformation from rest (N/m)."""
+    params = np.asarray(packed, dtype=float)
+    state = np.zeros(len(law.state_names))
+    return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
+
+
+def post_yield(ex, k0: np.ndarray) -> np.ndarray:
+    """(s,) the post-yield or sliding stiffness each storey's law declares (N/m): its initial
+    tangent ``k0`` where the law declares none, and never above it."""
+    post = [e.law.post_yield_stiffness(np.asarray(e.packed, dtype=float)) for e in ex.stories]
+    return np.array([k if p is None else min(float(p), k) for k, p in zip(k0, post)],
+                    dtype=float)
+
+
+def storey_stiffness(ex) -> tuple[np.ndarray, np.ndarray]:
+    """(k0, k_post) of every storey of an Expanded scene (N/m): the initial tangent and the
+    post-yield or sliding stiffness (:func:`post_yield`)."""
+    k0 = np.array([initial_tangent(e.law, e.packed) for e in ex.stories], dtype=float)
+    return k0, post_yield(ex, k0)
+
+
+def spring_matrix(springs, n: int) -> np.ndarray:
+    """The dense n x n stiffness of springs ``(i, j, k)`` between DOFs i and j (i = -1: the
+    ground), for the small scenes where a dense matrix is the simplest form."""
+    K = np.zeros((n, n))
+    for i, j, k in springs:
+        K[j, j] += k
+        if i >= 0:
+            K[i, i] += k
+            K[i, j] -= k
+            K[j, i] -= k
+    return K
+
+
+def scaled_triplets(springs, scale):
+    """(values, (rows, cols)) of M^-1/2 K M^-1/2 (``scale`` = M^-1/2) from springs
+    ``(i, j, k)`` between DOFs i and j (i = -1: the ground), for a sparse matrix."""
+    rows, cols, vals = [], [], []
+    for il, iu, k in springs:
+        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
+        if il >= 0:
+            off = -k * scale[il] * scale[iu]
+            rows += [il, il, iu]
+            cols += [il, iu, il]
+            vals += [k * scale[il] ** 2, off, off]
+    return vals, (rows, cols)
+
+
+def building_keys(ex, b: int) -> tuple[list, np.ndarray]:
+    """The degrees of freedom of building b's floors, (node, component) in the scene's order,
+    and their masses (kg; kg m^2 for a rotation): u_x of each floor in a planar scene, every
+    DOF the scene moves in plan."""
+    if ex.dofs is None:
+        nodes = np.flatnonzero(ex.node_building == b)
+        return [(int(i), 0) for i in nodes], np.asarray(ex.masses, dtype=float)[nodes]
+    mine = [p for p, (node, _) in enumerate(ex.dofs) if ex.node_building[node] == b]
+    return [ex.dofs[p] for p in mine], np.asarray(ex.dof_mass, dtype=float)[mine]
+
+
+def _plan_rows(ex, b: int, local: dict) -> list[tuple[int, dict]]:
+    """(storey, {local DOF: weight}) of each storey spring of building b in plan: its
+    deformation's weights on the building's DOFs (upper side less lower side)."""
+    out = []
+    for s in np.flatnonzero(ex.story_building == b):
+        lower, upper = ex.stories[s].side_terms()
+        g: dict[int, float] = {}
         for sign, side in ((-1.0, lower), (1.0, upper)):
             for node, c, a in side:
-                key = (node, c)
-                if key in local:
-                    g[local[key]] = g.get(local[key], 0.0) + sign * a
-        items = list(g.items())
-        for i, a in items:
-            for j, b in items:
-                rows.append(i)
-                cols.append(j)
-                values.append(k0[s] * a * b)
-    return rows, cols, values
+                if (node, c) in local:
+                    g[local[(node, c)]] = g.get(local[(node, c)], 0.0) + sign * a
+        out.append((int(s), g))
+    return out
 
 
-def lowest_frequencies(keys, masses, springs, k0, building_springs, count: int) -> np.ndarray:
-    """The lowest ``count`` circular frequencies (rad/s) of the building whose degrees of
-    freedom are ``keys`` ((node, component), masses ``masses``); all of them for a building
-    of up to :data:`DENSE_DOFS` degrees of freedom."""
+def _plan_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
+    """:func:`lowest_modes` of a building in plan: its lateral-torsional modes over its
+    floors' DOFs (K = sum k g g^T of its storey springs, M diagonal)."""
+    keys, masses = building_keys(ex, b)
     local = {key: i for i, key in enumerate(keys)}
     n = len(keys)
-    rows, cols, values = stiffness_triplets(springs, k0, local, building_springs)
-    scale = 1.0 / np.sqrt(np.asarray(masses, dtype=float))
-    if n <= DENSE_DOFS:
+    rows, cols, values = [], [], []
+    for s, g in _plan_rows(ex, b, local):
+        for i, a in g.items():
+            for j, c in g.items():
+                rows.append(i)
+                cols.append(j)
+                values.append(float(k[s]) * a * c)
+    scale = 1.0 / np.sqrt(masses)
+    if count is None or n <= 3 * DENSE_FLOORS:
         K = np.zeros((n, n))
         np.add.at(K, (rows, cols), values)
-        return np.sqrt(np.clip(np.linalg.eigvalsh(K * np.outer(scale, scale)), 0, None))
+        K *= np.outer(scale, scale)
+        if not vectors:
+            return np.sqrt(np.clip(np.linalg.eigvalsh(K), 0, None))
+        w2, shapes = np.linalg.eigh(K)
+        return np.sqrt(np.clip(w2, 0, None)), shapes * scale[:, None]
     from scipy.sparse import coo_matrix
     from scipy.sparse.linalg import eigsh
 
-    K = coo_matrix((np.array(values) * scale[rows] * scale[cols], (rows, cols)),
-                   shape=(n, n)).tocsc()
-    found = eigsh(K, k=min(count, n - 1), sigma=0, which="LM", return_eigenvectors=False)
-    return np.sqrt(np.clip(np.sort(found), 0, None))
+    values = np.array(values) * scale[rows] * scale[cols]
+    matrix = coo_matrix((values, (rows, cols)), shape=(n, n)).tocsc()
+    w2, shapes = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM")
+    order = np.argsort(w2)
+    omega = np.sqrt(np.clip(w2[order], 0, None))
+    return (omega, shapes[:, order] * scale[:, None]) if vectors else omega
 
 
-def modes_and_shares(keys, masses, springs, k0, building_springs, count: int = 60):
-    """Circular frequencies (rad/s, ascending) and the share of the building's mass each mode
-    carries, both horizontal directions together: (p_x^2 + p_y^2) / (M_x + M_y) with p_d =
-    phi^T M iota_d for phi normalised on the mass (the shares of all modes add up to 1); all
-    modes up to :data:`DENSE_DOFS` degrees of freedom, else the lowest ``count``."""
-    local = {key: i for i, key in enumerate(keys)}
-    n = len(keys)
-    masses = np.asarray(masses, dtype=float)
-    rows, cols, values = stiffness_triplets(springs, k0, local, building_springs)
-    root = np.sqrt(masses)
-    scale = 1.0 / root
-    if n <= DENSE_DOFS:
-        K = np.zeros((n, n))
-        np.add.at(K, (rows, cols), values)
-        omega2, vectors = np.linalg.eigh(K * np.outer(scale, scale))
+def directions(ex, b: int, phi: np.ndarray) -> list[str]:
+    """The direction each mode of building b in plan mostly moves in (x, y or torsion): the
+    largest of its participation along the site's x and y and in twist, each over its total
+    (p_d^2 / sum m_d with p_d = phi^T M iota_d, phi normalised on the masses)."""
+    keys, masses = building_keys(ex, b)
+    out = []
+    for mode in np.asarray(phi).T:
+        shares = []
+        for c in range(3):
+            on = np.array([k[1] == c for k in keys])
+            total = float(np.sum(masses[on]))
+            shares.append((float(mode[on] @ masses[on]) ** 2 / total) if total > 0 else 0.0)
+        out.append(("x", "y", "torsion")[int(np.argmax(shares))])
+    return out
+
+
+def building_springs(ex, b: int, k: np.ndarray):
+    """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
+    storey's stiffness taken from ``k`` (one per storey of the scene)."""
+    nodes = np.flatnonzero(ex.node_building == b)
+    local = {node: i for i, node in enumerate(nodes)}
+    springs = []
+    for s in np.flatnonzero(ex.story_building == b):
+        low, up = ex.stories[s].nodes
+        springs.append((local[low] if low >= 0 else -1, local[up], float(k[s])))
+    return nodes, springs
+
+
+def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
+    """phi^T K phi of building b's storeys with stiffnesses ``k`` (one per storey of the
+    scene; 0 leaves a storey out) for each column of ``phi`` (its floors, in declaration
+    order; in plan its DOFs, :func:`building_keys`): sum over the storeys of k d^2, d the
+    storey's deformation (phi_upper - phi_lower), without an n x n matrix."""
+    if ex.dofs is not None:
+        keys, _ = building_keys(ex, b)
+        local = {key: i for i, key in enumerate(keys)}
+        phi = np.asarray(phi, dtype=float).reshape(len(keys), -1)
+        total = np.zeros(phi.shape[1])
+        for s, g in _plan_rows(ex, b, local):
+            d = sum(a * phi[i] for i, a in g.items()) if g else np.zeros(phi.shape[1])
+            total += float(k[s]) * d * d
+        return total
+    nodes = np.flatnonzero(ex.node_building == b)
+    local = np.full(len(ex.node_names), -1)
+    local[nodes] = np.arange(len(nodes))
+    mine = np.flatnonzero(ex.story_building == b)
+    upper = local[[ex.stories[s].nodes[1] for s in mine]]
+    lower = np.array([local[ex.stories[s].nodes[0]] if ex.stories[s].nodes[0] >= 0 else -1
+                      for s in mine], dtype=np.int64)
+    phi = np.asarray(phi, dtype=float).reshape(len(nodes), -1)
+    drift = phi[upper] - np.where(lower[:, None] >= 0, phi[np.maximum(lower, 0)], 0.0)
+    return np.asarray(k, dtype=float)[mine] @ (drift * drift)
+
+
+def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
+                 vectors: bool = False):
+    """The circular frequencies (rad/s, ascending) of building ``b`` with storey stiffnesses
+    ``k``, and with ``vectors`` its mode shapes (columns, normalised on the masses:
+    phi^T M phi = 1): all its modes up to :data:`DENSE_FLOORS` floors (or ``count`` None),
+    else (at least) the lowest ``count``. In plan: its lateral-torsional modes over its
+    floors' DOFs (:func:`building_keys`)."""
+    if ex.dofs is not None:
+        return _plan_modes(ex, b, k, count, vectors)
+    nodes, springs = building_springs(ex, b, k)
+    n = len(nodes)
+    scale = 1.0 / np.sqrt(ex.masses[nodes])
+    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
+    if count is None or n <= DENSE_FLOORS or width > 64:
+        if count is not None and n > 4 * DENSE_FLOORS and width > 64:
+            return _sparse_lowest(springs, scale, n, count, vectors)
+        stiffness = spring_matrix(springs, n) * np.outer(scale, scale)
+        if not vectors:
+            return np.sqrt(np.clip(np.linalg.eigvalsh(stiffness), 0, None))
+        values, shapes = np.linalg.eigh(stiffness)
+        return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
+    from scipy.linalg import eig_banded, eigh_tridiagonal
+
+    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
+    for il, iu, kk in springs:
+        band[0, iu] += kk * scale[iu] ** 2
+        if il >= 0:
+            band[0, il] += kk * scale[il] ** 2
+            lo, hi = min(il, iu), max(il, iu)
+            band[hi - lo, lo] -= kk * scale[il] * scale[iu]
+    last = min(count, n) - 1
+    if width <= 1:
+        out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
+                               eigvals_only=not vectors, select="i", select_range=(0, last))
     else:
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.linalg import eigsh
+        out = eig_banded(band, lower=True, eigvals_only=not vectors, select="i",
+                         select_range=(0, last))
+    if not vectors:
+        return np.sqrt(np.clip(out, 0, None))
+    return np.sqrt(np.clip(out[0], 0, None)), out[1] * scale[:, None]
 
-        K = coo_matrix((np.array(values) * scale[rows] * scale[cols], (rows, cols)),
-                       shape=(n, n)).tocsc()
-        omega2, vectors = eigsh(K, k=min(count, n - 1), sigma=0, which="LM")
-        order = np.argsort(omega2)
-        omega2, vectors = omega2[order], vectors[:, order]
+
+def _sparse_lowest(springs, scale, n: int, count: int, vectors: bool):
+    """Lowest ``count`` modes of a large building that is not banded (sparse solver)."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import eigsh
+
+    matrix = coo_matrix(scaled_triplets(springs, scale), shape=(n, n)).tocsc()
+    values, shapes = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM")
+    order = np.argsort(values)
+    omega = np.sqrt(np.clip(values[order], 0, None))
+    return (omega, shapes[:, order] * scale[:, None]) if vectors else omega
+
+
+@dataclass(frozen=True)
+class Isolation:
+    """Which storeys of a scene are isolators, and why."""
+
+    isolator: np.ndarray  # (s,) bool: treated as an isolator
+    looks: np.ndarray  # (s,) bool: an isolator by its law or its stiffness (whatever is said)
+    notes: tuple[str, ...]  # why a storey the scene did not name is taken as one
+
+
+def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
+    """For each storey, the smallest post-yield stiffness of the storeys above it (those
+    reached upward from its upper node; inf: none), in one pass however tall."""
+    starting: dict[int, list[int]] = {}
+    for s, e in enumerate(ex.stories):
+        starting.setdefault(e.nodes[0], []).append(s)
+    below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
+    for start in {e.nodes[1] for e in ex.stories}:
+        todo, open_ = [(start, False)], set()
+        while todo:  # post-order; a loop of storeys (refused elsewhere) is cut where it closes
+            node, done = todo.pop()
+            if done:
+                open_.discard(node)
+                below_top[node] = min([math.inf] + [
+                    min(k_post[s], below_top.get(ex.stories[s].nodes[1], math.inf))
+                    for s in starting.get(node, ()) if ex.stories[s].nodes[1] not in open_])
+                continue
+            if node in below_top or node in open_:
+                continue
+            open_.add(node)
+            todo.append((node, True))
+            todo += [(ex.stories[s].nodes[1], False) for s in starting.get(node, ())]
+    return np.array([below_top.get(e.nodes[1], math.inf) for e in ex.stories], dtype=float)
+
+
+def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
+    """The isolators of a scene (see the module's docstring), with a note for each storey
+    taken as one without the scene saying so."""
+    said = ex.story_isolator or (None,) * len(ex.stories)
+    # a spring of no stiffness of its own (P-delta's in plan) is neither an isolator nor the
+    # storey above one
+    stiff = k0 > 0.0
+    above = _min_above(ex, np.where(stiff, k_post, math.inf))
+    looks = np.array([s_ and (bool(e.law.isolator)
+                              or (np.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
+                      for e, kp, m, s_ in zip(ex.stories, k_post, above, stiff)], dtype=bool)
+    isolator = np.array([looks[s] if said[s] is None else bool(said[s])
+                         for s in range(len(ex.stories))], dtype=bool)
+    notes = []
+    for s in np.flatnonzero(looks & np.array([x is None for x in said], dtype=bool)):
+        e = ex.stories[s]
+        why = (f"a {e.law.name} is a bearing" if e.law.isolator else
+               f"its post-yield stiffness {k_post[s]:.4g} N/m is 1/{above[s] / k_post[s]:.3g} "
+               "of that of the storeys above it")
+        notes.append(f"storey {e.name} is taken as an isolator ({why}): no stiffness-"
+                     "proportional damping on it, and its building's damping is fitted on its "
+                     "isolated modes; write isolator: false on it to damp it as a frame "
+                     "storey")
+    return Isolation(isolator, looks, tuple(notes))
+
+
+def isolated_stiffness(k0: np.ndarray, k_post: np.ndarray, isolator: np.ndarray) -> np.ndarray:
+    """Every storey's stiffness in the isolated modes: the isolators' post-yield stiffness,
+    the others' initial tangent."""
+    return np.where(isolator, k_post, k0)
+
+
+def _soil_frequencies(ex, b: int, k0: np.ndarray) -> np.ndarray | None:
+    """The circular frequencies of building b on its soil (sway and rocking DOFs after its
+    floors; a storey deforms by u_upper - u_lower - h theta), or None on a fixed base."""
+    soil = [f for f in ex.foundations if f.building == b]
+    if not soil:
+        return None
+    f = soil[0]
+    nodes = np.flatnonzero(ex.node_building == b)
+    n = len(nodes)
+    local = {node: i for i, node in enumerate(nodes)}
+    sway, rock = n, n + 1
+    stiffness = np.zeros((n + 2, n + 2))
+    for s in np.flatnonzero(ex.story_building == b):
+        low, up = ex.stories[s].nodes
+        g = np.zeros(n + 2)
+        g[local[up]] += 1.0
+        g[local[low] if low >= 0 else sway] -= 1.0
+        g[rock] -= ex.story_height[s]
+        stiffness += k0[s] * np.outer(g, g)
+    stiffness[sway, sway] += f.sway_stiffness
+    stiffness[rock, rock] += f.rocking_stiffness
+    scale = 1.0 / np.sqrt(np.concatenate([ex.masses[nodes], [f.mass, f.rotational_inertia]]))
+    values = np.linalg.eigvalsh(stiffness * np.outer(scale, scale))
+    return np.sqrt(np.clip(values, 0, None))
+
+
+def _periods(omega) -> str:
+    shown = [2.0 * math.pi / w if w > 0 else math.inf for w in omega[:SHOWN_MODES]]
+    return ", ".join("inf" if math.isinf(t) else f"{t:#.3g}" for t in shown)
+
+
+def period_lines(ex) -> list[str]:
+    """The periods that matter of each building, as lines: fixed base on the initial
+    stiffness; isolated (a building with isolators); flexible base (a building on soil)."""
+    k0, k_post = storey_stiffness(ex)
+    iso = isolation(ex, k0, k_post)
+    lines = []
+    for b, name in enumerate(ex.buildings):
+        nodes = np.flatnonzero(ex.node_building == b)
+        mine = ex.story_building == b
+        if not np.any(mine):
+            lines.append(f"building {name}: {len(nodes)} floor{'s' if len(nodes) > 1 else ''}"
+                         " without storeys (held by links)")
+            continue
+        if len(nodes) > 2000:  # a dense eigen-solve of n^2 values: not for a tall building
+            lines.append(f"building {name}: {len(nodes)} floors (periods not computed above "
+                         "2,000 floors)")
+            continue
+        parts = []
+        isolators = np.flatnonzero(mine & iso.isolator)
+        if isolators.size:
+            omega = lowest_modes(ex, b, isolated_stiffness(k0, k_post, iso.isolator),
+                                 SHOWN_MODES)
+            which = ", ".join(f"{ex.stories[s].name} at {k_post[s]:.4g} N/m"
+                              for s in isolators[:3]) + (" ..." if isolators.size > 3 else "")
+            parts.append(f"periods {_periods(omega)} s (isolated: {which})")
+        if ex.dofs is not None:  # in plan: each period with the direction it mostly moves in
+            fixed, shapes = lowest_modes(ex, b, k0, SHOWN_MODES, vectors=True)
+            shown = [f"{2.0 * math.pi / w:#.3g} s ({d})" if w > 0 else f"inf ({d})"
+                     for w, d in zip(fixed[:SHOWN_MODES], directions(ex, b, shapes))]
+            parts.append(f"periods {', '.join(shown)} (fixed base, initial stiffness, "
+                         "lateral-torsional)")
+        else:
+            fixed = lowest_modes(ex, b, k0, SHOWN_MODES)
+            parts.append(f"periods {_periods(fixed)} s (fixed base, initial stiffness)")
+        soil = _soil_frequencies(ex, b, k0)
+        if soil is not None:
+            parts.append(f"periods {_periods(soil)} s (on its soil, initial stiffness)")
+        lines.append(f"building {name}: {len(nodes)} floor{'s' if len(nodes) > 1 else ''}, "
+                     + "; ".join(parts))
+    return lines
+
+
+def modes_and_shares(ex, b: int, k0: np.ndarray, count: int = 60):
+    """Circular frequencies (rad/s, ascending) of building b in plan and the share of its mass
+    each mode carries, both horizontal directions together: (p_x^2 + p_y^2) / (M_x + M_y)
+    with p_d = phi^T M iota_d (the shares of all modes add up to 1); all modes up to
+    3 x :data:`DENSE_FLOORS` degrees of freedom, else the lowest ``count``."""
+    keys, masses = building_keys(ex, b)
+    omega, phi = _plan_modes(ex, b, k0, count, vectors=True)
     translation = np.array([[1.0 if c == d else 0.0 for _, c in keys] for d in (0, 1)])
-    participation = (vectors.T @ (root * translation).T) ** 2  # (modes, 2)
+    participation = ((phi.T * masses) @ translation.T) ** 2
     total = float(np.sum(masses * translation))
-    return np.sqrt(np.clip(omega2, 0.0, None)), participation.sum(axis=1) / max(total, 1e-300)
+    return omega, participation.sum(axis=1) / max(total, 1e-300)

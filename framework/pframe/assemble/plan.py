@@ -12,8 +12,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pframe.assemble import incidence, stability, timescales
-from pframe.assemble import modes as modes_in_plan
+from pframe.assemble import damping, incidence, modes, stability, timescales
 from pframe.assemble.incidence import Sides
 from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
 from pframe.errors import InputError
@@ -112,6 +111,19 @@ class Plan:
     point_names: tuple[str, ...] = ()
     #: (n,) the extent of each node's floor plan (m; NaN: no plan): the small-rotation check
     node_extent: np.ndarray = None
+    #: modal damping (docs/theory.md#damping): the DOFs of each building damped so, one block
+    #: after another (q,), where each block starts (blocks + 1,), and the blocks' dense
+    #: matrices (B, sum of n_b^2), row-major in the order of their DOFs (N s/m)
+    modal_dofs: np.ndarray = None
+    modal_start: np.ndarray = None
+    modal_matrix: np.ndarray = None
+    #: what validate tells besides the warnings (storeys taken as isolators) and each
+    #: building's damping as applied, one line per building (validate, the result file)
+    notes: tuple[str, ...] = ()
+    damping_text: tuple[str, ...] = ()
+    #: (B, s) each spring's stiffness in its building's isolated modes (N/m): an isolator's
+    #: post-yield or sliding stiffness, every other spring's initial stiffness
+    story_isolated: np.ndarray = None
     gauge_start: np.ndarray = None  # (4 P + 1,)
     gauge_dof: np.ndarray = None  # (T,)
     gauge_coef: np.ndarray = None  # (B, T)
@@ -149,106 +161,21 @@ class Plan:
     def times(self) -> np.ndarray:
         return np.arange(self.steps + 1) * self.dt[0]
 
+    def modal_damping(self, member: int = 0) -> np.ndarray:
+        """The modal damping of batch member ``member`` as one dense n x n matrix over the
+        DOFs (N s/m): its blocks where they are, zeros elsewhere (and without any)."""
+        out = np.zeros((self.n_dof, self.n_dof))
+        if self.modal_start is None:
+            return out
+        at = 0
+        for k in range(len(self.modal_start) - 1):
+            dofs = self.modal_dofs[self.modal_start[k]:self.modal_start[k + 1]]
+            size = len(dofs)
+            out[np.ix_(dofs, dofs)] += self.modal_matrix[member, at:at + size * size].reshape(
+                size, size)
+            at += size * size
+        return out
 
-def _initial_tangent(law, packed) -> float:
-    params = np.asarray(packed, dtype=float)
-    state = np.zeros(len(law.state_names))
-    return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
-
-
-#: buildings of up to this many floors are analysed as a dense matrix; taller ones in banded
-#: form (a shear building is tridiagonal): memory and time grow with n, not n^2 or n^3
-DENSE_FLOORS = 256
-
-
-def _lowest_frequencies(ex: Expanded, b: int, nodes: np.ndarray, k0: np.ndarray,
-                        count: int) -> np.ndarray:
-    """The fixed-base circular frequencies (rad/s) of building ``b``: all of them for a
-    building of up to :data:`DENSE_FLOORS` floors, else (at least) the lowest ``count``."""
-    local = {node: i for i, node in enumerate(nodes)}
-    n = len(nodes)
-    springs = []
-    for s in np.flatnonzero(ex.story_building == b):
-        low, up = ex.stories[s].nodes
-        springs.append((local[low] if low >= 0 else -1, local[up], k0[s]))
-    scale = 1.0 / np.sqrt(ex.masses[nodes])
-    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
-    if n <= DENSE_FLOORS or width > 64:
-        if n > 4 * DENSE_FLOORS and width > 64:
-            return _sparse_lowest(springs, scale, n, count)
-        stiffness = stability.spring_matrix(springs, n)
-        return np.sqrt(np.clip(np.linalg.eigvalsh(stiffness * np.outer(scale, scale)), 0, None))
-    from scipy.linalg import eig_banded, eigh_tridiagonal
-
-    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
-    for il, iu, k in springs:
-        band[0, iu] += k * scale[iu] ** 2
-        if il >= 0:
-            band[0, il] += k * scale[il] ** 2
-            lo, hi = min(il, iu), max(il, iu)
-            band[hi - lo, lo] -= k * scale[il] * scale[iu]
-    last = min(count, n) - 1
-    if width <= 1:
-        values = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
-                                  eigvals_only=True, select="i", select_range=(0, last))
-    else:
-        values = eig_banded(band, lower=True, eigvals_only=True, select="i",
-                            select_range=(0, last))
-    return np.sqrt(np.clip(values, 0, None))
-
-
-def _sparse_lowest(springs, scale, n: int, count: int) -> np.ndarray:
-    """Lowest ``count`` frequencies of a large building that is not banded (sparse solver)."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.linalg import eigsh
-
-    matrix = coo_matrix(timescales.scaled_triplets(springs, scale), shape=(n, n)).tocsc()
-    values = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM", return_eigenvectors=False)
-    return np.sqrt(np.clip(np.sort(values), 0, None))
-
-
-def _rayleigh(ex: Expanded, k0: np.ndarray, building_dofs, n: int, springs):
-    """a0 m per DOF and a1 per storey, fitted per building on its fixed-base modes (in plan:
-    its lateral-torsional modes)."""
-    a0 = np.zeros(n)
-    a1 = np.zeros(len(ex.stories))
-    for b, name in enumerate(ex.buildings):
-        damping = ex.damping[b]
-        if damping.ratio == 0.0 or not np.any(ex.story_building == b):
-            continue  # no storeys: masses carried by links only (a tuned mass) are damped by
-            # their links, not by a Rayleigh fit
-        nodes = np.flatnonzero(ex.node_building == b)
-        keys = [key for key in ex.dofs or () if ex.node_building[key[0]] == b]
-        modes = damping.modes
-        try:
-            with np.errstate(all="ignore"):
-                if ex.dofs is None:
-                    omega = _lowest_frequencies(ex, b, nodes, k0, max(modes))
-                else:
-                    position = {key: i for i, key in enumerate(ex.dofs)}
-                    omega = modes_in_plan.lowest_frequencies(
-                        keys, ex.dof_mass[[position[k] for k in keys]], springs, k0,
-                        np.flatnonzero(ex.story_building == b), max(modes))
-        except (np.linalg.LinAlgError, ArithmeticError, ValueError):
-            omega = np.array([np.nan])
-        if not np.all(np.isfinite(omega)):
-            raise InputError(f"building {name!r}: its natural frequencies (for Rayleigh damping) "
-                             "cannot be computed from its masses and storey stiffnesses; they "
-                             "span more than floating point carries (check the units)")
-        count = len(keys) if ex.dofs is not None else len(nodes)
-        if max(modes) > count:
-            if count == 1 and modes == (1, 2):
-                modes = (1, 1)  # a one-storey building has one mode: fit the ratio there
-            else:
-                raise InputError(f"building {name!r} has {count} modes; damping modes "
-                                 f"{list(damping.modes)} cannot be fitted")
-        wi, wj = omega[modes[0] - 1], omega[modes[1] - 1]
-        if wi + wj == 0.0:
-            raise InputError(f"building {name!r} has no stiffness to fit Rayleigh damping to "
-                             "(add storeys or set damping ratio 0)")
-        a0[building_dofs(b)] = 2.0 * damping.ratio * wi * wj / (wi + wj)
-        a1[ex.story_building == b] = 2.0 * damping.ratio / (wi + wj)
-    return a0, a1
 
 
 def _groups(elements, n_batch_values):
@@ -420,7 +347,7 @@ def batch_key(ex: Expanded) -> tuple:
         ex.steps,
         ex.integrator,
         ex.recorders,
-        tuple(d.stiffness for d in ex.damping),
+        tuple((d.kind, getattr(d, "stiffness", None)) for d in ex.damping),
         (ex.tolerance, ex.absolute_tolerance, ex.max_iterations),
         tuple(f.building for f in ex.foundations),
     )
@@ -456,8 +383,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     key = batch_key(first)
     for i, ex in enumerate(variants[1:], start=1):
         if batch_key(ex) != key:
-            raise InputError(f"variant {i} differs from variant 0 in topology, laws, steps, "
-                             "recorders or Newton settings; a batch may vary numbers only")
+            raise InputError(f"variant {i} differs from variant 0 in topology, laws, kinds of "
+                             "damping, steps, recorders or Newton settings; a batch may vary "
+                             "numbers only")
     nodes = len(first.node_names)
     soil = _Soil(first, nodes)
     # the degrees of freedom: the nodes' (u_x of each in a planar scene), then each
@@ -479,10 +407,17 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                        dtype=np.int64)
         return out.reshape(len(elements), 2)
 
+    packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
+    k0 = np.array([[modes.initial_tangent(e.law, p) for e, p in zip(springs, row)]
+                   for row in packed])
+    k0 = k0.reshape(len(variants), len(springs))
+    fitted = damping.BatchDamping(variants, k0[:, :len(first.stories)])
     rocking = {key_index[(sway + 1, 0)] for sway in soil.sway.values()}
     edges = [(a, c) for a, c in incidence.edges(node_dofs(springs), raw[0])
              + incidence.edges(node_dofs(first.contacts), raw[1])
              if a not in rocking and c not in rocking]
+    for block in fitted.modal_keys:  # a building's modal damping couples all its DOFs
+        edges += [(key_index[a], key_index[c]) for i, a in enumerate(block) for c in block[i + 1:]]
     order = _node_order(keys, edges)
     if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
         order = place_last(order, soil.rocking_groups(first, springs, key_index))
@@ -493,10 +428,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     contact_dofs = _renumbered_dofs(node_dofs(first.contacts), dof_of_key)
     all_edges = incidence.edges(story_dofs, story_sides) + incidence.edges(contact_dofs,
                                                                            contact_sides)
-    packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
-    k0 = np.array([[_initial_tangent(e.law, p) for e, p in zip(springs, row)]
-                   for row in packed])
-    k0 = k0.reshape(len(variants), len(springs))
+    all_edges += [(int(dof_of_key[key_index[a]]), int(dof_of_key[key_index[c]]))
+                  for block in fitted.modal_keys for i, a in enumerate(block)
+                  for c in block[i + 1:]]
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
     known = {key: m for ex in variants for key, m in zip(
         ex.dofs or [(i, 0) for i in range(nodes)],
@@ -504,21 +438,13 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     masses = [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
                                        else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
                               if soil.count else np.zeros(0)]) for ex in variants]
-    mass_damping, story_beta = [], []
-    node_of_dof = np.array([key[0] if key[0] < nodes else -1 for key in keys])[order]
-
-    def building_dofs(b: int) -> np.ndarray:  # the DOFs of building b's floors, new numbers
-        owner = first.node_building[np.clip(node_of_dof, 0, None)]
-        return np.flatnonzero((node_of_dof >= 0) & (owner == b))
-
-    fits: dict = {}  # members with the same masses, stiffnesses and damping share their fit
-    for b, ex in enumerate(variants):
-        key = (ex.masses.tobytes(), k0[b].tobytes(), id(ex.damping))
-        if key not in fits:  # foundations: a0 = 0
-            fits[key] = _rayleigh(ex, k0[b], building_dofs, n, spring_sets[b])
-        a0, a1 = fits[key]
-        mass_damping.append(a0 * masses[b][order])
-        story_beta.append(np.concatenate([a1, np.zeros(len(springs) - len(first.stories))]))
+    node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
+    # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
+    # foundation's (the soil's dashpots damp them)
+    mass_damping = [(np.where(node_of_key >= 0, f.a0[np.clip(node_of_key, 0, None)], 0.0)
+                     * masses[b])[order] for b, f in enumerate(fitted.fits)]
+    story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
+                  for f in fitted.fits]
 
     history: dict[str, int] = {}
     envelope: list[str] = []
@@ -547,7 +473,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
             envelope = [q for q in envelope if not q.startswith(kind)]
 
     damping_codes = np.array(
-        [DAMPING_STIFFNESS[first.damping[b].stiffness] for b in first.story_building]
+        [DAMPING_STIFFNESS[getattr(first.damping[b], "stiffness", "initial")]
+         for b in first.story_building]
         + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
         dtype=np.int64,  # no Rayleigh term (a1 = 0)
     )
@@ -570,6 +497,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         mass_damping=np.array(mass_damping),
         story_dofs=story_dofs,
         story_k0=k0,
+        story_isolated=np.concatenate([fitted.isolated, k0[:, len(first.stories):]], axis=1),
         story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
         story_groups=_groups(springs, packed),
@@ -604,14 +532,16 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                               (0 if node >= nodes and (node - nodes) % 2 == 0
                                and "x" in first.channels else -1)
                               for node, c in keys], dtype=np.int64)[order],
-        dof_node=node_of_dof,
+        dof_node=node_of_key[order],
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
         planar=planar,
         node_extent=first.node_extent,
         **_gauges(variants, key_index, dof_of_key),
+        **fitted.plan_fields(lambda key: int(dof_of_key[key_index[key]])),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
-    warnings = warnings + _p_delta_warnings(plan) + _material_warnings(plan)
+    warnings = (warnings + fitted.warnings + _p_delta_warnings(plan)
+                + _material_warnings(plan))
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
@@ -763,6 +693,47 @@ def _peer_materials(plan: Plan, member: int) -> tuple[list, list]:
     return [m for _, m in sorted(materials, key=lambda t: t[0])], [m for _, m in links]
 
 
+def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
+    """The ratio of each mode of the whole scene (its storeys on their initial stiffness) that
+    OpenSees' global ``modalDamping`` needs to reproduce the plan's modal damping, or None
+    for Rayleigh damping; what it cannot reproduce goes to ``problems``."""
+    if plan.modal_start is None or len(plan.modal_start) < 2:
+        return None
+    ns = len(plan.story_names)
+    damping_matrix = plan.modal_damping(member)
+    if plan.link_names or np.any(plan.mass_damping[member]) or np.any(plan.story_beta[member]):
+        problems.append("OpenSees' modalDamping damps the modes of the whole model: every "
+                        "building needs modal damping, and no links may join them")
+        return None
+    G = incidence.incidence(plan.story_dofs[:ns], _first_sides(plan.story_sides, ns), member,
+                            plan.n_dof).toarray()
+    mass = plan.mass[member]
+    scale = 1.0 / np.sqrt(mass)
+    K = G.T @ (plan.story_k0[member, :ns, None] * G)
+    values, vectors = np.linalg.eigh(K * np.outer(scale, scale))
+    omega = np.sqrt(np.clip(values, 0.0, None))
+    phi = vectors * scale[:, None]
+    ratios = np.array([p @ damping_matrix @ p / (2.0 * w) if w > 0.0 else 0.0
+                       for p, w in zip(phi.T, omega)])
+    mphi = mass[:, None] * phi
+    again = mphi @ np.diag(2.0 * ratios * omega) @ mphi.T
+    if not np.allclose(again, damping_matrix, rtol=1e-9,
+                       atol=1e-9 * np.max(np.abs(damping_matrix))):
+        problems.append("OpenSees' modalDamping takes the modes of the initial stiffness, with "
+                        "one ratio per mode of the whole model: give every building the same "
+                        "ratio for all its modes, fitted on the initial stiffness (fit: "
+                        "initial, or no isolators)")
+        return None
+    return [float(r) for r in ratios]
+
+
+def _first_sides(sides: Sides, count: int) -> Sides:
+    """The sides of the first ``count`` elements (the storeys, without the links)."""
+    end = int(sides.start[2 * count])
+    return dataclasses.replace(sides, start=sides.start[:2 * count + 1], dof=sides.dof[:end],
+                               coef=sides.coef[:, :end])
+
+
 def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
     """The scene of one batch member for peer programs: linear contacts, start at rest,
     Rayleigh on the initial stiffness (what the OpenSees peer models).
@@ -774,6 +745,7 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
     from pframe.peers.scene import PeerScene
 
     problems = _peer_refusals(plan, member)  # every reason at once
+    modal = _peer_modal(plan, member, problems)
     if problems:
         raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
     c = plan.integrator
@@ -805,9 +777,11 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
     for b in range(len(plan.buildings)):
         own = np.flatnonzero(dof_building == b)  # every DOF of a building has one alpha_m
         stories = np.flatnonzero(story_building == b)
+        # the storeys with the stiffness term (not the isolators, by default): one a1 for all
+        damped = stories[plan.story_beta[member, stories] != 0.0]
         alpha = float(plan.mass_damping[member, own[0]] / plan.mass[member, own[0]])
-        beta = float(plan.story_beta[member, stories[0]]) if len(stories) else 0.0
-        rayleigh.append((alpha, beta, np.flatnonzero(building_of_node == b), stories))
+        beta = float(plan.story_beta[member, damped[0]]) if len(damped) else 0.0
+        rayleigh.append((alpha, beta, np.flatnonzero(building_of_node == b), damped))
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
@@ -827,6 +801,7 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
         max_iterations=plan.max_iterations,
         link_nodes=nodes(plan.story_dofs[ns:]),
         link_materials=link_materials,
+        modal=modal,
         integrator=c.opensees,
         channels=tuple(plan.channels),
         floors=floors,

@@ -42,19 +42,6 @@ def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: 
     return exponent * k * depth ** (exponent - 1.0)
 
 
-def spring_matrix(springs, n: int) -> np.ndarray:
-    """The dense n x n stiffness of springs ``(i, j, k)`` between DOFs i and j (i = -1: the
-    ground), for the small scenes where a dense matrix is the simplest form."""
-    K = np.zeros((n, n))
-    for i, j, k in springs:
-        K[j, j] += k
-        if i >= 0:
-            K[i, i] += k
-            K[i, j] -= k
-            K[j, i] -= k
-    return K
-
-
 def _springs(plan, member: int, velocity: float):
     """The stiffness K (scipy.sparse) of every storey, link and closed contact, and each
     contact's period (s): a contact's effective mass is 1 / (1/m_left + 1/m_right) of the

@@ -28,6 +28,8 @@ import math
 
 import numpy as np
 
+from pframe.assemble.modes import scaled_triplets, spring_matrix
+
 #: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
 STEPS_PER_PERIOD = 20
 #: the modes judged are the lowest ones whose effective modal masses reach this share of the
@@ -86,15 +88,10 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     time, until they carry :data:`MASS_SHARE` (at most :data:`LOWEST_MODES`; memory stays
     linear in the floors). The share of mode n is ``(phi_n^T M 1)^2 / sum(m)`` for ``phi_n``
     normalised on the mass: the shares of all modes add up to 1."""
-    from pframe.assemble.stability import spring_matrix
-
     if ex.dofs is not None:  # in plan: the lateral-torsional modes
         from pframe.assemble.modes import modes_and_shares
 
-        position = {key: i for i, key in enumerate(ex.dofs)}
-        keys = [key for key in ex.dofs if ex.node_building[key[0]] == b]
-        return modes_and_shares(keys, ex.dof_mass[[position[k] for k in keys]],
-                                ex.stories, k0, np.flatnonzero(ex.story_building == b))
+        return modes_and_shares(ex, b, k0)
     nodes, springs, width = _building_matrix(ex, b, k0)
     mass = ex.masses[nodes]
     n = len(nodes)
@@ -131,20 +128,6 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         if float(np.sum(np.concatenate(shares))) >= MASS_SHARE:
             break
     return np.concatenate(omegas), np.concatenate(shares)
-
-
-def scaled_triplets(springs, scale):
-    """(values, (rows, cols)) of M^-1/2 K M^-1/2 (``scale`` = M^-1/2) from springs
-    ``(i, j, k)`` between DOFs i and j (i = -1: the ground), for a sparse matrix."""
-    rows, cols, vals = [], [], []
-    for il, iu, k in springs:
-        rows.append(iu), cols.append(iu), vals.append(k * scale[iu] ** 2)
-        if il >= 0:
-            off = -k * scale[il] * scale[iu]
-            rows += [il, il, iu]
-            cols += [il, iu, il]
-            vals += [k * scale[il] ** 2, off, off]
-    return vals, (rows, cols)
 
 
 def carrying_modes(omega: np.ndarray, shares: np.ndarray) -> int:

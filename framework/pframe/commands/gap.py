@@ -53,6 +53,11 @@ def table(ds, statistic: str = "median") -> str:
 def _gap(args) -> int:
     from pframe.gap import audit
 
+    if args.en_coincident:
+        print("pframe: warning: --en-coincident is deprecated: --codes en1998 gives EN 1998-1 "
+              "4.4.2.7 with the aligned floors decided from the storey heights (--aligned yes "
+              "to assert them); --en-coincident still adds SRSS_EN_0.7", file=sys.stderr)
+
     suite = None
     if args.suite:
         suite = args.suite[0] if len(args.suite) == 1 else args.suite
@@ -76,6 +81,7 @@ def _gap(args) -> int:
             ds = audit(args.scene, suite, gap=args.gap,
                        levels=_levels(args.levels) if args.levels else None,
                        measure=args.measure, en_coincident=args.en_coincident, codes=args.codes,
+                       aligned=args.aligned,
                        duration=args.duration, dt=args.dt, records_folder=args.records_folder,
                        output=output, overwrite=args.overwrite, chunk=args.chunk,
                        threads=args.threads, progress=progress, timings=timings)
@@ -108,11 +114,14 @@ def _gap(args) -> int:
 
 
 def register(sub) -> None:
+    from pframe.gap.codes import codes_help
+
     gap = sub.add_parser(
         "gap", help="how far apart two buildings must stand: code rules beside simulation",
         description="For each contact level of the scene and each record of a suite: the ABS, "
                     "SRSS and DDC minimum separations from the buildings' peak displacements "
-                    "run without contact, and the simulated critical gap g_req = max over time "
+                    "run without contact, the building codes' rules chosen with --codes, and "
+                    "the simulated critical gap g_req = max over time "
                     "of (u_left - u_right); their median, 84th percentile and maximum over the "
                     "suite; with --gap, the fraction of records that pound and a lognormal "
                     "fragility over --levels. Writes a labelled file (netCDF4/HDF5) that "
@@ -130,11 +139,17 @@ def register(sub) -> None:
                      help="intensity measure of the levels: pga (default), sa:0.5 (Sa at "
                           "0.5 s, 5 %% damping) or sa:A (at building A's first period)")
     gap.add_argument("--en-coincident", action="store_true",
-                     help="add EN 1998-1 4.4.2.7(3): 0.7 x SRSS where floor levels coincide")
-    gap.add_argument("--codes", metavar="asce7,is1893",
-                     help="add code rules on the elastic peak displacements: asce7 (ASCE 7-22 "
-                          "12.12.2; R 8, Cd 5.5, Ie 1) and/or is1893 (IS 1893-1:2016 7.11.3; "
-                          "R 5, I 1); other factors from the Python API (docs/gap-audit.md)")
+                     help="deprecated: add SRSS_EN_0.7 (0.7 x SRSS); use --codes en1998")
+    gap.add_argument("--codes", metavar="CODE[:K=V...],...|RULES.yaml",
+                     help="add the building codes' rules on the elastic peak displacements, "
+                          "factors after the name (tbdy2018:R=6:I=1.2; R.B=6 for building B "
+                          "alone), 'all' for every one, or a YAML file with rules of your own: "
+                          + codes_help().replace("%", "%%")
+                          + " (docs/gap-audit.md#code-rules)")
+    gap.add_argument("--aligned", choices=("yes", "no"),
+                     help="the two buildings' floors are (not) aligned, instead of the "
+                          "decision from the storey heights (floors within 0.05 m up to the "
+                          "lower roof)")
     gap.add_argument("--duration", type=float, metavar="S",
                      help="analysed time (s); default: the longest record plus three of the "
                           "longest first period")

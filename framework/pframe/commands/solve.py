@@ -180,8 +180,11 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
         if np.any(np.isfinite(heights)):
             ratios = np.where(np.isfinite(heights), peaks["story_drift"] / heights, -np.inf)
             r = int(np.argmax(ratios))
+            missing = [n for n, h in zip(plan.story_names, heights) if not np.isfinite(h)]
+            without = (f"; not defined at {', '.join(missing[:4])}"
+                       f"{' ...' if len(missing) > 4 else ''} (no height)" if missing else "")
             print(f"  peak drift ratio {100 * ratios[r]:.3g} % at {plan.story_names[r]} "
-                  f"(height {heights[r]:.4g} m)")
+                  f"(height {heights[r]:.4g} m){without}")
     shear = result.column_shear(0)
     for c, name in enumerate(plan.contact_names):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""

@@ -56,40 +56,9 @@ def excitation_lines(loaded) -> list[str]:
     return [motion_line(applied_motion(excitation, loaded.expanded.record, duration))]
 
 
-def period_lines(expanded, plan) -> list[str]:
-    """The first fixed-base periods of each building (initial stiffness), as lines."""
-    import numpy as np
-
-    lines = []
-    for b, name in enumerate(expanded.buildings):
-        nodes = np.flatnonzero(expanded.node_building == b)
-        if len(nodes) > 2000:  # a dense eigen-solve of n^2 values: not for a tall building
-            lines.append(f"building {name}: {len(nodes)} floors (periods not computed above "
-                         "2,000 floors)")
-            continue
-        local = {node: i for i, node in enumerate(nodes)}
-        stiffness = np.zeros((len(nodes), len(nodes)))
-        for s in np.flatnonzero(expanded.story_building == b):
-            low, up = expanded.stories[s].nodes
-            k = plan.story_k0[0, s]
-            stiffness[local[up], local[up]] += k
-            if low >= 0:
-                stiffness[local[low], local[low]] += k
-                stiffness[local[low], local[up]] -= k
-                stiffness[local[up], local[low]] -= k
-        scale = 1.0 / np.sqrt(expanded.masses[nodes])
-        omega2 = np.linalg.eigvalsh(stiffness * np.outer(scale, scale))
-        periods = [2.0 * np.pi / np.sqrt(w) for w in omega2[:3] if w > 0.0]
-        if periods:
-            lines.append(f"building {name}: {len(nodes)} floors, periods "
-                         f"{', '.join(f'{T:#.3g}' for T in periods)} s (fixed base, initial "
-                         "stiffness)")
-    return lines
-
-
 def _scene(path: Path, kind: str, text: str, data, lines) -> int:
     from pframe import resources
-    from pframe.assemble import assemble
+    from pframe.assemble import assemble, modes
     from pframe.reader import parse_scene, scene_from_data
 
     # the file as _validate read and composed it: YAML is read once (its parsing is most of
@@ -105,7 +74,10 @@ def _scene(path: Path, kind: str, text: str, data, lines) -> int:
     print(f"{loaded.source}: valid; {what}{len(ex.node_names)} nodes in {len(ex.buildings)} "
           f"buildings, {len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps "
           f"of dt = {ex.dt:g} s")
-    for line in period_lines(ex, plan) + excitation_lines(loaded) + [f"note: {n}" for n in ex.notes]:
+    notes = [f"note: {n}" for n in plan.notes + ex.notes]
+    for line in (modes.period_lines(ex) + [f"damping of {t.removeprefix('building ')}"
+                                           for t in plan.damping_text]
+                 + excitation_lines(loaded) + notes):
         print(f"  {line}")
     _warn(loaded.source, plan.warnings)
     return 0

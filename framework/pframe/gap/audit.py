@@ -187,42 +187,24 @@ class _Spec:
         self.chunks = -(-count // chunk)
 
 
-def code_factors(codes, inputs=None) -> tuple[dict, list[str]]:
-    """``codes`` (names, or a dict of name to factor overrides such as ``{"asce7": {"R": 6}}``)
-    checked, as a dict, and the warnings: with ``inputs``, one when the buildings are not
-    elastic (code rules take elastic peak displacements)."""
-    from pframe.gap.rules import CODE_RULES
+def code_rules(codes, inputs, aligned=None):
+    """The :class:`~pframe.gap.selection.Selection` of ``codes`` (anything
+    :func:`~pframe.gap.selection.selection` takes), the contacts' floor geometry and the
+    warnings: the buildings not elastic (code rules take elastic peaks), floor levels or
+    heights unknown."""
+    from pframe.gap.floors import contact_geometry
+    from pframe.gap.selection import selection, warnings_for
 
-    if not codes:
-        return {}, []
-    if isinstance(codes, str):
-        codes = [c.strip() for c in codes.split(",") if c.strip()]
-    codes = dict(codes) if isinstance(codes, dict) else {c: {} for c in codes}
-    for code, factors in codes.items():
-        if code not in CODE_RULES:
-            raise InputError(f"code rule {code!r}: pframe knows {', '.join(CODE_RULES)}")
-        known = CODE_RULES[code][1]
-        for k, v in (factors or {}).items():
-            if k not in known:
-                raise InputError(f"code rule {code}: factor {k!r} is not one of "
-                                 f"{', '.join(known)}")
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
-                raise InputError(f"code rule {code}: factor {k} = {v!r} must be a number > 0")
-    out = []
-    if inputs is not None:
-        materials = {s.law.name for s in inputs.loaded.expanded.stories}
-        if materials - {"elastic"}:
-            out.append(
-                f"the code rules ({', '.join(codes)}) take the buildings' elastic peak "
-                f"displacements, but their storeys are {', '.join(sorted(materials))}: the "
-                "peaks of these runs are inelastic and the code separations built on them "
-                "are not the codes' (run an elastic copy of the scene for them)")
-    return {c: dict(f or {}) for c, f in codes.items()}, out
+    found = selection(codes, aligned=aligned)
+    geometry = contact_geometry(inputs.loaded.expanded, inputs.pairs.left, inputs.pairs.right,
+                                override=found.aligned, tolerance=found.tolerance)
+    materials = {s.law.name for s in inputs.loaded.expanded.stories}
+    return found, geometry, warnings_for(found, geometry, materials)
 
 
 def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=None,
-          en_coincident: bool = False, codes=None, duration: float | None = None, dt: float | None = None,
-          records_folder=None,
+          en_coincident: bool = False, codes=None, aligned: bool | None = None,
+          duration: float | None = None, dt: float | None = None, records_folder=None,
           output: str | Path | None = None, overwrite: bool = False, chunk: int | None = None,
           threads: int | None = None, progress=None, timings: dict | None = None):
     """Gap audit of a scene: for each contact level and record (x intensity level), the ABS,
@@ -238,7 +220,10 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     saving the batch in chunks of ``chunk`` variants beside it so that a stopped audit
     resumes. ``dt`` (s) replaces the scene's step for the records (the runs have no contact
     to resolve); ``records_folder`` is where a suite file's records are (default: beside
-    it). ``timings``, a dict, receives the wall and kernel seconds. Raises
+    it). ``codes`` adds code rules (``"asce7,tbdy2018:R=6"``, a list, ``{"asce7": {"R": 6}}``,
+    a YAML file; :func:`pframe.gap.selection.selection`); ``aligned`` (True, False) replaces
+    the aligned-floor decision from the storey heights. ``timings``, a dict, receives the
+    wall and kernel seconds. Raises
     :class:`InputError` for bad input.
     """
     from pframe.gap.output import build_dataset, write_dataset
@@ -248,7 +233,7 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
         raise InputError(f"--gap {gap}: the provided gap is a number >= 0 (m)")
     inputs = prepare(scene, suite, levels=levels, measure=measure, duration=duration, dt=dt,
                      records_folder=records_folder)
-    codes, extra = code_factors(codes, inputs)
+    codes, geometry, extra = code_rules(codes, inputs, aligned)
     if extra:
         inputs = dataclasses.replace(inputs, warnings=tuple(inputs.warnings) + tuple(extra))
     for text in inputs.warnings:  # also in the result's `warnings` attribute
@@ -266,8 +251,8 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     if chunk < 1:
         raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
     rows = _run_chunks(inputs, chunk, output, threads, progress, overwrite)
-    ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident,
-                       codes=codes)
+    ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident, codes=codes,
+                       geometry=geometry)
     if output is not None:
         import shutil
 

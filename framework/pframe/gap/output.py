@@ -8,7 +8,6 @@ from pathlib import Path
 import numpy as np
 
 from pframe.gap.fragility import fit_lognormal
-from pframe.gap.rules import CODE_RULES, EN_RULE, RULES, code_separations, cqc_correlation, separations
 
 #: the statistics over the suite
 STATISTICS = ("median", "p84", "max")
@@ -37,12 +36,15 @@ def measure_label(inputs) -> str:
 
 
 def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False,
-                  codes: dict | None = None):
-    """The Dataset of an audit from the batch's rows (variants record-major); ``codes`` maps
-    code names of :data:`pframe.gap.rules.CODE_RULES` to their factors (both buildings)."""
+                  codes=None, geometry=None):
+    """The Dataset of an audit from the batch's rows (variants record-major); ``codes``, the
+    code rules (:class:`pframe.gap.selection.Selection`), ``geometry`` the contacts' floors
+    (:class:`pframe.gap.floors.Geometry`; by default from the scene)."""
     import xarray as xr
 
     import pframe
+    from pframe.gap.floors import contact_geometry
+    from pframe.gap.selection import Selection, contact_correlation, describe, rules_over_runs
     R, L = inputs.factors.shape
     pairs = inputs.pairs
     C = len(pairs.names)
@@ -54,16 +56,13 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
     g_sim = np.where(ok, np.maximum(rows["g_req"].reshape(shape), 0.0), np.nan)
 
     buildings = list(inputs.loaded.expanded.buildings)
-    side = {n: buildings.index(n.split("/")[0]) for n in pairs.left + pairs.right}
-    bl = np.array([side[n] for n in pairs.left])
-    br = np.array([side[n] for n in pairs.right])
-    rho = cqc_correlation(inputs.periods[bl], inputs.periods[br], inputs.damping[bl],
-                          inputs.damping[br])
-    rules = separations(u_left, u_right, rho[None, None, :], en_coincident)
-    names = list(RULES[:3]) + ([EN_RULE] if en_coincident else [])
-    for code, factors in (codes or {}).items():
-        rules.update(code_separations(u_left, u_right, [code], factors, factors))
-        names += list(CODE_RULES[code][0])
+    codes = codes if codes is not None else Selection()
+    if geometry is None:
+        geometry = contact_geometry(inputs.loaded.expanded, pairs.left, pairs.right,
+                                    override=codes.aligned, tolerance=codes.tolerance)
+    rules = rules_over_runs(inputs, codes, geometry, u_left, u_right, en_coincident)
+    rho = contact_correlation(inputs)
+    names = list(rules)
     names.append("simulated")
     rules["simulated"] = g_sim
     table = np.stack([rules[n] for n in names], axis=-1)  # (R, L, C, rule)
@@ -121,6 +120,9 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "correlation": (("contact",), rho, {
             "units": "1", "long_name": "CQC correlation coefficient rho of the two "
             "buildings' first modes (DDC rule)"}),
+        "floors_aligned": (("contact",), geometry.aligned, {
+            "units": "1", "long_name": "1 if the two buildings' floors align, 0 if not, NaN "
+            "unknown (no storey heights): " + geometry.decided}),
         "floor": (("contact",), floor.astype(np.int32),
                   {"units": "1", "long_name": "floor of the left node"}),
         "left_node": (("contact",), np.array(pairs.left, dtype=object),
@@ -146,9 +148,8 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "duration": inputs.steps * inputs.dt,
         "warnings": "\n".join(inputs.warnings),
         "en_coincident_floor_factor": int(en_coincident),
-        "code_factors": "; ".join(f"{code}: " + ", ".join(f"{k} = {v:g}" for k, v in
-                                                         {**CODE_RULES[code][1], **f}.items())
-                                  for code, f in (codes or {}).items()),
+        "code_factors": "; ".join(dict.fromkeys(_factors(c) for c in codes.chosen)),
+        "code_rules": describe(codes, buildings),
         "pframe_version": pframe.__version__,
         "Conventions": "CF-1.8",
     }
@@ -190,6 +191,18 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
     return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
                               coords={k: xr.Variable(*v) for k, v in coords.items()},
                               attrs=with_units(attrs)))
+
+
+def _factors(chosen) -> str:
+    """A chosen rule's factors for both buildings, then each building's own."""
+    from pframe.gap.codes import CODES
+
+    group = next((g for g, rules in CODES.items() if chosen.rule in rules), chosen.rule.name)
+    text = f"{group}: " + ", ".join(f"{k} = {v:g}" if isinstance(v, (int, float)) else
+                                    f"{k} = {v}"
+                                    for k, v in chosen.rule.resolved(chosen.factors).items())
+    return text + "".join(f" ({b}: " + ", ".join(f"{k} = {v}" for k, v in f.items()) + ")"
+                          for b, f in chosen.buildings.items())
 
 
 def write_dataset(ds, output: str | Path, call: str | None = None) -> Path:

@@ -14,26 +14,17 @@ displacements u_A, u_B (relative to the ground, at one level, each building run 
 
   r = T_short / T_long <= 1, building i the short-period one.
 
-Code rules on design displacements (:func:`code_separations`, docs/gap-audit.md#code-rules):
-
-- ASCE 7-22 section 12.12.2: delta_M = C_d delta_max / I_e (eq. 12.12-1) per building;
-  adjacent structures on the same property at least delta_MT = sqrt(delta_M1^2 + delta_M2^2)
-  (eq. 12.12-2, ``ASCE7_same_property``); a structure set back from a property line by its
-  delta_M, so two buildings on either side of one are delta_M1 + delta_M2 apart
-  (``ASCE7_property_line``).
-- IS 1893 (Part 1):2016 clause 7.11.3: R times the sum of the two buildings' storey
-  displacements under the design lateral forces (``IS1893``), R / 2 where the floor levels
-  coincide (``IS1893_same_levels``); each building's own R.
-
-The design displacement of a building (its elastic displacement under the code's reduced
-design forces) is its simulated elastic peak displacement u times I / R
-(:func:`design_displacement`): the design forces are the elastic forces of the motion divided
-by R / I. So the rules are, on the simulated u: ASCE 7 (C_d / R) u per building, IS 1893 I u.
+Code rules (ASCE 7, IS 1893, EN 1998-1, NBC, TBDY 2018, NTC-DS, GB 50011 and rules of the
+user's own) are a table in :mod:`pframe.gap.codes`; :mod:`pframe.gap.selection` chooses them
+for an audit or a study. The functions below ``CODE_RULES`` are the earlier interface to two
+of them, kept: they evaluate the table.
 """
 
 from __future__ import annotations
 
 import numpy as np
+
+from pframe.gap.codes import CODES, separation, separation_from_peaks
 
 #: the rules every audit reports, in order; "simulated" is the no-contact run's g_req
 RULES = ("ABS", "SRSS", "DDC", "simulated")
@@ -57,13 +48,11 @@ def cqc_correlation(period_a, period_b, damping_a, damping_b):
     return rho
 
 
-#: code rules (:func:`code_separations`) and the factors each takes, with their defaults: a
-#: special reinforced concrete moment frame of ordinary importance (ASCE 7-22 Table 12.2-1:
-#: R = 8, C_d = 5.5; I_e = 1.0; IS 1893 Table 9: SMRF R = 5; Table 8: I = 1.0)
-CODE_RULES = {
-    "asce7": (("ASCE7_same_property", "ASCE7_property_line"), {"R": 8.0, "Cd": 5.5, "Ie": 1.0}),
-    "is1893": (("IS1893", "IS1893_same_levels"), {"R": 5.0, "I": 1.0}),
-}
+#: the earlier code-rule names and their factors' defaults, from the table
+#: (:data:`pframe.gap.codes.CODES`)
+CODE_RULES = {code: (tuple(r.name for r in CODES[code]),
+                     {k: f.default for k, f in CODES[code][0].factors})
+              for code in ("asce7", "is1893")}
 
 
 def design_displacement(u, r_factor, importance):
@@ -76,36 +65,32 @@ def asce7_separation(delta_max_a, delta_max_b, cd_a, cd_b, ie_a, ie_b) -> dict[s
     """ASCE 7-22 12.12.2 from the two maximum elastic displacements delta_max (m, under the
     design forces): delta_M = C_d delta_max / I_e; the SRSS of the two on one property, their
     sum across a property line (each building set back by its own delta_M)."""
-    dm_a = cd_a * np.asarray(delta_max_a, float) / ie_a
-    dm_b = cd_b * np.asarray(delta_max_b, float) / ie_b
-    return {"ASCE7_same_property": np.sqrt(dm_a**2 + dm_b**2),
-            "ASCE7_property_line": dm_a + dm_b}
+    fa, fb = {"Cd": cd_a, "Ie": ie_a}, {"Cd": cd_b, "Ie": ie_b}
+    return {name: separation(name, delta_max_a, delta_max_b, factors_a=fa, factors_b=fb)
+            for name in CODE_RULES["asce7"][0]}
 
 
 def is1893_separation(delta_a, delta_b, r_a, r_b) -> dict[str, np.ndarray]:
     """IS 1893 (Part 1):2016 7.11.3 from the two storey displacements under the design lateral
     forces (m, 7.11.1): R times their sum, R / 2 where the floor levels coincide."""
-    full = r_a * np.asarray(delta_a, float) + r_b * np.asarray(delta_b, float)
-    return {"IS1893": full, "IS1893_same_levels": 0.5 * full}
+    fa, fb = {"R": r_a}, {"R": r_b}
+    return {"IS1893": separation("IS1893", delta_a, delta_b, factors_a=fa, factors_b=fb),
+            "IS1893_same_levels": separation("IS1893", delta_a, delta_b, aligned=True,
+                                             factors_a=fa, factors_b=fb)}
 
 
 def code_separations(u_a, u_b, codes, factors_a=None, factors_b=None) -> dict[str, np.ndarray]:
     """The rules of ``codes`` (names of :data:`CODE_RULES`) from the simulated elastic peak
-    displacements u_a, u_b (m) of each building: the design displacements are u I / R
-    (:func:`design_displacement`); ``factors_a``/``factors_b`` update the defaults."""
+    displacements u_a, u_b (m) of each building, floors not aligned (IS 1893 also gives
+    ``IS1893_same_levels``, aligned); ``factors_a``/``factors_b`` update the defaults."""
     out = {}
     for code in codes:
-        defaults = CODE_RULES[code][1]
-        fa = {**defaults, **(factors_a or {})}
-        fb = {**defaults, **(factors_b or {})}
-        if code == "asce7":
-            out.update(asce7_separation(design_displacement(u_a, fa["R"], fa["Ie"]),
-                                        design_displacement(u_b, fb["R"], fb["Ie"]),
-                                        fa["Cd"], fb["Cd"], fa["Ie"], fb["Ie"]))
-        else:
-            out.update(is1893_separation(design_displacement(u_a, fa["R"], fa["I"]),
-                                         design_displacement(u_b, fb["R"], fb["I"]),
-                                         fa["R"], fb["R"]))
+        for rule in CODES[code]:
+            out[rule.name] = separation_from_peaks(rule, u_a, u_b, factors_a=factors_a,
+                                                   factors_b=factors_b)
+        if code == "is1893":
+            out["IS1893_same_levels"] = separation_from_peaks(
+                "IS1893", u_a, u_b, factors_a=factors_a, factors_b=factors_b, aligned=True)
     return out
 
 

@@ -63,11 +63,15 @@ def without_contacts(loaded, keep_excitation: bool):
 
 def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
     """First period (s) and its damping ratio of each building of a plan: the eigen-analysis
-    of the building's initial stiffness and masses, and the Rayleigh damping the plan applies,
-    xi_1 = a0 / (2 w_1) + a1 w_1 / 2. A building on soil (docs/soil.md) is analysed with its
-    foundation's sway and rocking DOFs and springs: its flexible-base period (Veletsos & Meek
-    lengthening), with the Rayleigh ratio of its storeys (the soil's dashpots left out).
-    Springs between buildings (links) are left out of both."""
+    of the building's masses and storeys (each at its stiffness in the isolated modes: an
+    isolator at its post-yield or sliding stiffness, any other storey at its initial one;
+    docs/theory.md#damping), and the ratio the plan's damping gives that mode,
+    xi_1 = phi^T C phi / (2 w_1) with phi normalised on the masses (Rayleigh's
+    a0 / (2 w_1) + a1 w_1 / 2 when every storey takes the stiffness term). A building on soil
+    (docs/soil.md) is analysed with its foundation's sway and rocking DOFs and springs: its
+    flexible-base period (Veletsos & Meek lengthening), with the ratio of its storeys'
+    damping (the soil's dashpots left out); a building in plan with its floors' three DOFs
+    (its first lateral-torsional mode). Springs between buildings (links) are left out."""
     from pframe.assemble.incidence import incidence
 
     owner = np.full(plan.n_dof, -1)
@@ -80,13 +84,13 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
     for building, dofs in zip(plan.foundations, plan.foundation_dofs
                               if plan.foundations else ()):
         owner[dofs] = plan.buildings.index(building)
-    stories = len(plan.story_names)
+    stiffness = plan.story_isolated if plan.story_isolated is not None else plan.story_k0
     G = incidence(plan.story_dofs, plan.story_sides, member, plan.n_dof).tocsr()
+    damping = _damping_matrix(plan, member, G)
     periods, ratios = [], []
     for b in range(len(plan.buildings)):
         dofs = np.flatnonzero(owner == b)
         k = np.zeros((dofs.size, dofs.size))
-        beta = 0.0
         for s in range(plan.n_springs):
             row = G.getrow(s)
             if row.nnz == 0 or np.any(owner[row.indices] != b):
@@ -94,19 +98,29 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
             g = np.zeros(plan.n_dof)
             g[row.indices] = row.data
             g = g[dofs]
-            k += plan.story_k0[member, s] * np.outer(g, g)
-            if s < stories:
-                beta = plan.story_beta[member, s]
-        m = plan.mass[member, dofs]
-        scale = 1.0 / np.sqrt(m)
-        w2 = np.linalg.eigvalsh(k * np.outer(scale, scale))
+            k += stiffness[member, s] * np.outer(g, g)
+        scale = 1.0 / np.sqrt(plan.mass[member, dofs])
+        w2, shapes = np.linalg.eigh(k * np.outer(scale, scale))
         w1 = math.sqrt(max(w2[0], 0.0))
-        floor = int(plan.node_dof[[n.split("/")[0] for n in plan.node_names].index(
-            plan.buildings[b])])
-        alpha = float(plan.mass_damping[member, floor] / plan.mass[member, floor])
+        phi = shapes[:, 0] * scale
+        c = float(phi @ damping[np.ix_(dofs, dofs)] @ phi)
         periods.append(2.0 * math.pi / w1 if w1 > 0 else math.inf)
-        ratios.append(alpha / (2.0 * w1) + beta * w1 / 2.0 if w1 > 0 else math.nan)
+        ratios.append(c / (2.0 * w1) if w1 > 0 else math.nan)
     return np.array(periods), np.array(ratios)
+
+
+def _damping_matrix(plan, member: int, G) -> np.ndarray:
+    """The plan's damping matrix C (n x n, N s/m) of its storeys and masses: a0 m on the
+    diagonal, a1 k_0 g g^T of each storey with the stiffness term (g its row of the
+    deformations G), the modal blocks (the soil's dashpots and the links' left out)."""
+    n, ns = plan.n_dof, len(plan.story_names)
+    out = np.diag(np.asarray(plan.mass_damping[member], dtype=float))
+    for s in np.flatnonzero(plan.story_beta[member, :ns]):
+        row = G.getrow(s)
+        g = np.zeros(n)
+        g[row.indices] = row.data
+        out += plan.story_beta[member, s] * plan.story_k0[member, s] * np.outer(g, g)
+    return out + plan.modal_damping(member)
 
 
 def base_plan(loaded):

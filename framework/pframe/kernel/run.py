@@ -33,6 +33,7 @@ from pframe.kernel.state import (
     Energy,
     Kind,
     Model,
+    Recordable,
     Recording,
     Relation,
     Run,
@@ -233,6 +234,12 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
                      else np.zeros(1, dtype=np.int64)),
         gauge_dof=plan.gauge_dof if plan.gauge_dof is not None else np.zeros(0, dtype=np.int64),
         gauge_coef=plan.gauge_coef if plan.gauge_coef is not None else np.zeros((B, 0)),
+        modal_dofs=(plan.modal_dofs if plan.modal_dofs is not None
+                    else np.zeros(0, dtype=np.int64)),
+        modal_start=(plan.modal_start if plan.modal_start is not None
+                     else np.zeros(1, dtype=np.int64)),
+        modal_matrix=(plan.modal_matrix if plan.modal_matrix is not None
+                      else np.zeros((B, 0))),
     )
     return _normalised(model), story_state, contact_state
 
@@ -330,6 +337,12 @@ class _Recorders:
         self.enveloped = np.array([q in plan.envelope for q in RECORDABLE], dtype=np.int64)
         self.envelope = tuple(np.zeros((B, w if on else 0))
                               for w, on in zip(self.widths, self.enveloped))
+        if self.enveloped[Recordable.STORY_DRIFT_RATIO] and plan.story_height is not None:
+            # a storey without a height has no drift ratio: its peak stays NaN (the kernel's
+            # running maximum keeps a NaN it starts from), never 0, which would pass a limit
+            ns = len(plan.story_names)
+            self.envelope[Recordable.STORY_DRIFT_RATIO][
+                np.isnan(plan.story_height[:, :ns])] = np.nan
         self.whole = None if sink is not None else self._buffers(0, plan.steps + 1)
 
     def _rows(self, q: int, begin: int, end: int) -> tuple[int, int]:
@@ -426,7 +439,8 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
            "contact_order", "contact_law", "stop", "dof_channel",
            "foundation_dofs", "story_side_start", "story_side_dof", "contact_side_start",
-           "contact_side_dof", "gauge_start", "gauge_dof"}
+           "contact_side_dof", "gauge_start", "gauge_dof",
+           "modal_dofs", "modal_start"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -511,7 +525,9 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                      contact_laws=laws.contact_laws, foundations=len(plan.foundations),
                      story_terms=model.story_side_dof.shape[0],
                      contact_terms=model.contact_side_dof.shape[0],
-                     points=len(plan.point_names), gauge_terms=model.gauge_dof.shape[0])
+                     points=len(plan.point_names), gauge_terms=model.gauge_dof.shape[0],
+                     modal_blocks=len(model.modal_start) - 1,
+                     modal_width=model.modal_matrix.shape[1])
         structs.append((ckernel.arrays(ckernel.Model, sliced, **sizes),
                         ckernel.arrays(ckernel.State, _slice(st, lo, hi)),
                         ckernel.arrays(ckernel.Work, work), ckernel.arrays(ckernel.Saved, saved)))

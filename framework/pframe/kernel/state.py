@@ -281,6 +281,10 @@ Model = namedtuple("Model", [
     "gauge_start",         # (4 P + 1,)
     "gauge_dof",           # (Tg,)
     "gauge_coef",          # (B, Tg)
+    # modal damping (docs/theory.md#damping): a dense block over each such building's DOFs
+    "modal_dofs",       # (q,) the DOFs of the blocks, one block after another
+    "modal_start",      # (blocks + 1,) where each block starts in modal_dofs
+    "modal_matrix",     # (B, sum of n_b^2) each block's matrix, row-major (N s/m)
 ])
 
 Settings = namedtuple("Settings", [
@@ -345,8 +349,8 @@ Work = namedtuple("Work", [
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
          "contact_width", "contact_states", "ground_width", "channels", "materials",
-         "contact_laws",
-         "foundations", "story_terms", "contact_terms", "points", "gauge_terms")
+         "contact_laws", "foundations", "story_terms", "contact_terms", "points", "gauge_terms",
+         "modal_blocks", "modal_width")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
@@ -357,6 +361,7 @@ C_TYPES = {
               "story_side_start": "int64_t *", "story_side_dof": "int64_t *",
               "contact_side_start": "int64_t *", "contact_side_dof": "int64_t *",
               "gauge_start": "int64_t *", "gauge_dof": "int64_t *",
+              "modal_dofs": "int64_t *", "modal_start": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

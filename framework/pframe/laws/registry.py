@@ -35,6 +35,7 @@ _BUILTIN_MODULES = {
         "pframe.laws.contact.hertzdamp",
         "pframe.laws.contact.jankowski",
         "pframe.laws.contact.bumper",
+        "pframe.laws.contact.hunt_crossley",
     ),
     "material": (
         "pframe.laws.material.elastic",
@@ -147,10 +148,18 @@ class Law:
     #: :data:`pframe.reference.branches.BRANCHES` (``gap``, ``kelvin``, ``hunt_crossley``,
     #: ``jankowski``, ``smooth``, ``bilinear``); None: a stateless law's only kink is the gap
     branches: ClassVar[str | None] = None
-    #: a storey material's smallest tangent after yielding, from its packed parameters (N/m),
-    #: or None where it has no such bound: the P-delta check compares it with P / h
+    #: a device whose initial stiffness is not a structural stiffness (a sliding bearing's
+    #: stick stiffness): a storey of it is an isolator by default (no stiffness-proportional
+    #: Rayleigh damping; its building's isolated modes take its post-yield stiffness;
+    #: docs/theory.md#damping)
+    isolator: ClassVar[bool] = False
+
     @classmethod
     def post_yield_stiffness(cls, packed) -> float | None:
+        """A storey material's smallest tangent after yielding or sliding, from its packed
+        parameters (N/m), or None where it has no such bound (its initial tangent then
+        stands for it). The P-delta check compares it with P / h; an isolator's is the
+        stiffness its building's isolated modes (and their damping fit) take."""
         return None
 
     @classmethod
@@ -172,6 +181,28 @@ class Law:
         dimension, or one declared ``undimensioned`` that this default would have to list."""
         return {p: (cls.dimensions[p], v) for p, v in zip(cls.param_names, packed)
                 if p in cls.dimensions}
+
+    # What the generic tests check, declared by the law (pframe.laws.facts says what each
+    # is; a built-in law that lacks one fails its tests with one message naming the fact):
+    #: parameter sets as a scene writes them (without ``law:`` / ``material:``), the first
+    #: the one the every-law kernel run uses
+    examples: ClassVar[tuple[dict, ...]] = ()
+    #: contact laws: name -> :class:`pframe.laws.facts.Impact`, the tests' two-body impacts
+    impacts: ClassVar[dict | None] = None
+    #: contact laws: ``reference_force(params, context, v0)`` -> F(delta, delta'), the force
+    #: written from the law's paper (the impact tests' oracle), a classmethod
+    reference_force = None
+
+    @classmethod
+    def tangent_states(cls, packed) -> list | None:
+        """The :class:`pframe.laws.facts.TangentState` rows at which the tests check the
+        tangents of ``force`` with these packed parameters. By default, for a contact law
+        without state, the contact tests' five states; None (not declared) otherwise."""
+        if cls.kind == "contact" and not cls.state_names:
+            from pframe.laws.facts import contact_states
+
+            return contact_states((), ())
+        return None
 
     @staticmethod
     def force(params, committed, trial, deformation, rate):  # pragma: no cover - interface

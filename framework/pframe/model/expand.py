@@ -99,6 +99,10 @@ class Expanded:
     gauges: tuple = ()
     #: each named point's position in its building's axes (m)
     point_positions: tuple = ()
+    #: (s,) what each storey's ``isolator`` and ``stiffness_damping`` say: True, False or
+    #: None (not said: pframe.assemble.modes decides); empty: none said (every None)
+    story_isolator: tuple = ()
+    story_stiffness_damping: tuple = ()
 
 
 def _check_size(scene) -> None:
@@ -136,6 +140,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     stories, story_building, seen = storey_elements(floors, resolver)
     p_delta = p_delta_elements(floors, resolver, seen)
     links = link_elements(scene, resolver, seen)
+    floating = _check_held(scene, floors.nodes, stories, links)
     analysis = scene.analysis
     steps = _steps(analysis)
     motion = ground_motion(scene.excitation, base_dir, steps, analysis.dt)
@@ -189,7 +194,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         excitation=scene.excitation,
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
-        + motion.warnings,
+        + motion.warnings + floating,
         notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
         foundations=_foundations(floors.foundations, scene, resolver.buildings,
                                  resolver.building_of),
@@ -201,7 +206,69 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         point_names=point_names,
         gauges=point_gauges,
         point_positions=point_positions,
+        **_storey_flags(floors.stories, len(p_delta)),
     )
+
+
+def _storey_flags(specs, extra: int) -> dict:
+    """Expanded.story_isolator and story_stiffness_damping: what each storey spring says
+    (the P-delta springs of buildings in plan, ``extra``, say nothing); empty when none
+    says anything."""
+    flags = [(s.isolator, s.stiffness_damping) for s in specs] + [(None, None)] * extra
+    if all(f == (None, None) for f in flags):
+        return {}
+    return dict(story_isolator=tuple(f[0] for f in flags),
+                story_stiffness_damping=tuple(f[1] for f in flags))
+
+
+def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
+    """Refuse a node that nothing holds to the ground in a building that has storeys: no chain
+    of storeys, links with a stiffness or (a shorthand building's) soil joins it to the ground,
+    and it is not declared ``free``. Such a floor floats (a storey left out, a node
+    mistyped): the static stiffness is singular, and a run would complete with the floor
+    drifting as a free body. A contact does not hold it (it acts only once closed), nor does a
+    dashpot (a stiffness-free link). The nodes of a building without storeys are free bodies
+    by design (masses that strike each other or a wall): under a ground motion a warning says
+    what they do (the ground moves under them), unless they are declared ``free``."""
+    parent = list(range(len(nodes) + 1))  # the last entry is the ground
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    ground = len(nodes)
+    for element in list(stories) + [e for e in links
+                                    if not getattr(e.law, "stiffness_free", False)]:
+        a, b = (ground if i < 0 else i for i in element.nodes)
+        parent[root(a)] = root(b)
+    free = {n.name for n in scene.nodes if n.free}
+    with_storeys = {nodes[e.nodes[1]].building for e in stories}
+    loose = [i for i, floor in enumerate(nodes)
+             if root(i) != root(ground) and floor.name not in free]
+    refused = [i for i in loose if nodes[i].building in with_storeys]
+    if refused:
+        first = refused[0]
+        group = [nodes[i].name for i in loose if root(i) == root(first)]
+        what = (f"node {group[0]!r}" if len(group) == 1 else
+                f"nodes {', '.join(repr(g) for g in group)} (joined to each other)")
+        it = "it" if len(group) == 1 else "them"
+        raise ModelError(nodes[first].path, f"{what}: no storey, link with a stiffness or soil "
+                         f"holds {it} to the ground (a contact does not, nor a dashpot), though "
+                         f"the building has storeys; {it} would float, with no stiffness to "
+                         f"return {it}. Give {it} a storey (nodes: [ground or the floor below, "
+                         f"{group[0]}]) or a link with a stiffness, or write free: true on "
+                         f"{'the node' if len(group) == 1 else 'each node'} if {it} is meant "
+                         "to be a free body")
+    if not loose or scene.excitation is None:
+        return ()
+    names = [nodes[i].name for i in loose]
+    return (f"node{'s' if len(names) > 1 else ''} {', '.join(names[:6])}"
+            f"{' ...' if len(names) > 6 else ''}: no storey, link with a stiffness or soil "
+            "holds them to the ground, so they are free bodies: the ground motion moves under "
+            "them (their displacement relative to the ground is -u_g until a contact or a "
+            "dashpot acts); write free: true on them if that is meant, or give them storeys",)
 
 
 def _check_names(scene) -> None:

@@ -79,6 +79,10 @@ class StoreySpec:
     direction: tuple[float, float] = (1.0, 0.0)
     #: the storey (its upper floor's name) the spring belongs to: the lines of one storey
     storey: str = ""
+    #: what the storey or line says of itself: an isolator, Rayleigh's stiffness term on it
+    #: (None: not said)
+    isolator: bool | None = None
+    stiffness_damping: bool | None = None
 
 
 @dataclass(frozen=True)
@@ -224,7 +228,8 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
             lower = "ground" if i == 0 else f"{building.name}/{i}"
             stories.append(StoreySpec(f"{storey}/{line.name}", (lower, storey), law,
                                       _storey_params(law, fields, i, lpath),
-                                      lpath, heights[i], 0.0, position, direction, storey))
+                                      lpath, heights[i], 0.0, position, direction, storey,
+                                      line.isolator, line.stiffness_damping))
     if building.p_delta:
         # the gravity loads P of each storey stand at the centre of mass of the floors above
         # it, spread over their plan (r^2 = J / m): the P-delta elements of the storey
@@ -287,7 +292,8 @@ def floors(scene) -> Floors:
         name = story.name or default_story_name(story.nodes)
         stories.append(StoreySpec(name, story.nodes, law, params, ("stories", s), story.height,
                                   float(story.gravity_load or 0.0), position,
-                                  unit(story.direction), story.nodes[1]))
+                                  unit(story.direction), story.nodes[1], story.isolator,
+                                  story.stiffness_damping))
     return Floors(tuple(nodes), tuple(stories), damping, tuple(foundations), gravity_centres)
 
 

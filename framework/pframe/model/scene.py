@@ -122,9 +122,31 @@ def _scene_lines(scene) -> list[tuple[str, list[str]]]:
     return out
 
 
+#: id(scene) -> (weak reference to it, a function giving the facts its repr ends with: the
+#: periods of its buildings, which only its expanded form knows; pframe.load sets it)
+_FACTS: dict[int, tuple] = {}
+
+
+def attach_facts(scene, facts) -> None:
+    """Make ``facts()`` (lines) the end of ``scene``'s repr, as comments (``# ...``), while
+    the scene lives; computed when the repr is asked for."""
+    import weakref
+
+    key = id(scene)
+    _FACTS[key] = (weakref.ref(scene, lambda _, key=key: _FACTS.pop(key, None)), facts)
+
+
+def _facts(scene) -> list[str]:
+    entry = _FACTS.get(id(scene))
+    if entry is None or entry[0]() is not scene:
+        return []
+    return list(entry[1]())
+
+
 def scene_text(scene) -> str:
     """A scene in a few lines: its title, then one line per building, storey, contact and
-    setting (the repr of a scene)."""
+    setting (the repr of a scene), then what pframe.load found of it as comments (the
+    periods of its buildings)."""
     lines = [f"{type(scene).__name__}("]
     for name, items in _scene_lines(scene):
         if name == "title" or len(items) == 1 and not isinstance(getattr(scene, name), list):
@@ -135,7 +157,7 @@ def scene_text(scene) -> str:
             lines.append(f"  {name}=[")
             lines += [f"    {item}," for item in items]
             lines.append("  ],")
-    return "\n".join(lines) + "\n)"
+    return "\n".join(lines + [")"] + [f"# {fact}" for fact in _facts(scene)])
 
 
 def scene_html(scene) -> str:
@@ -146,7 +168,9 @@ def scene_html(scene) -> str:
         f"<tr><th style='text-align:left;vertical-align:top'>{escape(name)}</th>"
         f"<td style='text-align:left'><code>{'<br>'.join(escape(i) for i in items) or '[]'}"
         f"</code></td></tr>" for name, items in _scene_lines(scene))
-    return f"<div><strong>pframe Scene</strong><table>{rows}</table></div>"
+    facts = "".join(f"<li>{escape(fact)}</li>" for fact in _facts(scene))
+    return (f"<div><strong>pframe Scene</strong><table>{rows}</table>"
+            + (f"<ul>{facts}</ul>" if facts else "") + "</div>")
 
 
 class Node(Base):
@@ -156,6 +180,10 @@ class Node(Base):
 
     name: NodeName
     mass: Positive = Field(description="Lumped floor mass (kg).")
+    free: bool = Field(False, description="A free body: no storey, link with a stiffness or "
+                       "soil holds it to the ground. Such a node is refused in a building that "
+                       "has storeys (a storey left out?) and warned about under a ground "
+                       "motion, unless it says free: true.")
     centre_of_mass: Point = Field((0.0, 0.0), description="[x, y]: where the floor's mass is "
                                   "in the site's plan (m); its motion is that point's.")
     polar_inertia: Positive | None = Field(
@@ -213,6 +241,15 @@ class StoryBase(Base):
     direction: Direction = Field("x", description="The line's direction: x, y or an angle "
                                  "(degrees from the site's x axis); its drift is the relative "
                                  "motion of its point along it.")
+    isolator: bool | None = Field(
+        None, description="An isolation storey (bearings): no stiffness-proportional Rayleigh "
+        "damping on it, and its building's isolated modes take its post-yield or sliding "
+        "stiffness. Default: its material says (friction_pendulum: yes); any other storey is "
+        "one when its post-yield stiffness is at most a tenth of that of every storey above it "
+        "(docs/theory.md#damping).")
+    stiffness_damping: bool | None = Field(
+        None, description="Whether its building's Rayleigh damping adds the stiffness-"
+        "proportional term a1 k to this storey (default: yes, but not on an isolator).")
 
 
 class LinkBase(Base):
@@ -298,6 +335,13 @@ class LineBase(Base):
     storeys: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] | None = Field(
         None, description="[first, last]: the storeys the line stands in (1-based, "
         "inclusive); default: all.")
+    isolator: bool | None = Field(
+        None, description="A line of isolation bearings: no stiffness-proportional Rayleigh "
+        "damping on it, and its building's isolated modes take its post-yield or sliding "
+        "stiffness (as a storey's isolator).")
+    stiffness_damping: bool | None = Field(
+        None, description="Whether its building's Rayleigh damping adds the stiffness-"
+        "proportional term a1 k to this line (default: yes, but not on an isolator).")
 
     @model_validator(mode="after")
     def _storey_range(self):
@@ -306,9 +350,20 @@ class LineBase(Base):
         return self
 
 
-class Rayleigh(Base):
-    """Rayleigh damping of one building, fitted on that building alone (fixed base)."""
+#: the stiffness a building's damping is fitted on (Rayleigh's and modal damping's ``fit``)
+FIT_DESCRIPTION = (
+    "The stiffness of the modes the damping is fitted on: isolated (each isolator storey at its "
+    "post-yield or sliding stiffness, every other storey at its initial stiffness: the modes "
+    "that govern an isolated building; for a building without isolators the same as initial) "
+    "or initial (every storey at its initial stiffness).")
 
+
+class Rayleigh(Base):
+    """Rayleigh damping of one building, C = a0 M + a1 K, fitted on that building alone (a
+    fixed base) so that the two modes named get the ratio asked; the a1 K term acts on its
+    storeys but not on its isolators (docs/theory.md#damping)."""
+
+    kind: Literal["rayleigh"] = "rayleigh"
     ratio: float = Field(0.05, ge=0, lt=1, description="Damping ratio on both fitted modes.")
     modes: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = Field(
         (1, 2), description="The two modes (1-based) the ratio is fitted to."
@@ -316,6 +371,30 @@ class Rayleigh(Base):
     stiffness: Literal["initial", "current", "committed"] = Field(
         "initial", description="Stiffness of the beta K term (as OpenSees betaKinit/K/Kcomm)."
     )
+    fit: Literal["isolated", "initial"] = Field("isolated", description=FIT_DESCRIPTION)
+
+
+class Modal(Base):
+    """Modal damping of one building: each of its modes (fixed base, on the stiffness ``fit``
+    names) gets its own ratio, C = M Phi diag(2 xi_i w_i) Phi^T M with Phi normalised on the
+    masses (docs/theory.md#damping). A dense term over the building's floors."""
+
+    # YAML without a kind is Rayleigh's: the schema asks a modal damping for its kind (Python
+    # objects know their class)
+    model_config = ConfigDict(extra="forbid", frozen=True, json_schema_extra={"required": ["kind"]})
+
+    kind: Literal["modal"] = "modal"
+    ratio: (Annotated[float, Field(ge=0, lt=1, allow_inf_nan=False)]
+            | list[Annotated[float, Field(ge=0, lt=1, allow_inf_nan=False)]]) = Field(
+        0.05, description="The damping ratio of every mode, or one per mode from the first "
+        "(the modes after the list take its last ratio).")
+    fit: Literal["isolated", "initial"] = Field("isolated", description=FIT_DESCRIPTION)
+
+    @model_validator(mode="after")
+    def _some_ratio(self):
+        if isinstance(self.ratio, list) and not self.ratio:
+            raise ValueError("give at least one ratio (one for every mode, or one per mode)")
+        return self
 
 
 class Foundation(Base):
@@ -699,6 +778,12 @@ Integrator = Annotated[
 _INTEGRATOR_TYPES = [cls.type_name() for cls in ALL_INTEGRATORS]
 
 
+Damping = Annotated[
+    Union[Annotated[Rayleigh, Tag("rayleigh")], Annotated[Modal, Tag("modal")]],  # noqa: UP007
+    Discriminator(tag_reader("kind", "rayleigh")),
+]
+
+
 class Newton(Base):
     """Full Newton-Raphson iterations (skipped for a linear scene)."""
 
@@ -885,7 +970,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         points: dict[Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")], Point] = Field(
             default_factory=dict, description="Named plan points [x, y] (building axes, m): "
             "where contacts strike and outputs are taken, besides the plan's corners.")
-        damping: Rayleigh | None = Field(None, description="Defaults to the scene's damping.")
+        damping: Damping | None = Field(None, description="Rayleigh (kind: rayleigh, the "
+                                        "default) or modal damping (kind: modal); defaults to "
+                                        "the scene's damping.")
         height: Positive | list[Positive] | None = Field(
             None, description="Storey heights (m), bottom up, one for all or one per storey: "
             "drift ratios, P-delta, floor levels in the figures.")
@@ -925,7 +1012,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             default_factory=list, description="Links: a material (viscous, kelvin_voigt, "
             "elastic, bilinear, ...) between two nodes or a node and the ground, in tension and "
             "compression (dampers, couplings, tuned masses).")
-        damping: Rayleigh = Field(Rayleigh(), description="Default damping of every building.")
+        damping: Damping = Field(Rayleigh(), description="Default damping of every building: "
+                                 "Rayleigh (kind: rayleigh, the default) or modal (kind: "
+                                 "modal).")
         excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
                                     Components],
                               Field(discriminator="kind")] | None = Field(

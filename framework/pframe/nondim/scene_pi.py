@@ -100,10 +100,15 @@ def _discrete(scene, expanded) -> list[str]:
         left, right = (expanded.node_names[i] for i in element.nodes)
         extra = ", keep_tension" if getattr(contact, "keep_tension", False) else ""
         out.append(f"contact {element.name}: {left} - {right} ({element.law.name}{extra})")
-    modes = {tuple(d.modes) for d in expanded.damping}
-    stiff = {d.stiffness for d in expanded.damping}
-    out.append(f"Rayleigh damping on modes {'; '.join(' and '.join(map(str, m)) for m in sorted(modes))}"
-               f" ({', '.join(sorted(stiff))} stiffness)")
+    rayleigh = [d for d in expanded.damping if d.kind == "rayleigh"]
+    if rayleigh:
+        modes = {tuple(d.modes) for d in rayleigh}
+        stiff = {d.stiffness for d in rayleigh}
+        out.append(f"Rayleigh damping on modes "
+                   f"{'; '.join(' and '.join(map(str, m)) for m in sorted(modes))}"
+                   f" ({', '.join(sorted(stiff))} stiffness)")
+    if len(rayleigh) < len(expanded.damping):
+        out.append("modal damping")
     if scene.excitation is not None and scene.excitation.kind == "sine":
         cycles = scene.excitation.cycles
         out.append("sine excitation" + (f", {cycles:g} cycles" if cycles else ""))

@@ -216,7 +216,14 @@ def scene_variables(scene, expanded) -> tuple[list[Variable], dict]:
     for root, per_building in storeys.items():
         _add_per_building(out, root, per_building, names, scene_wide=root not in _PER_BUILDING)
 
-    ratios = [[("", (QUANTITY["dimensionless"], float(d.ratio)))] for d in expanded.damping]
+    for b, d in enumerate(expanded.damping):
+        if isinstance(d.ratio, list) and len(set(d.ratio)) > 1:
+            raise InputError(f"building {names[b]}: its modal damping gives each mode its own "
+                             "ratio, which is no single damping ratio xi for the Pi groups: "
+                             "give one ratio (ratio: 0.05)")
+    ratios = [[("", (QUANTITY["dimensionless"],
+                     float(d.ratio[0] if isinstance(d.ratio, list) else d.ratio)))]
+              for d in expanded.damping]
     _add_per_building(out, "xi", ratios, names, scene_wide=True)
 
     contacts: dict[str, list] = {}

@@ -28,8 +28,10 @@ named on that line. The components the scene does not move are fixed. Both model
   ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
   compression force;
 * Rayleigh damping: ``alpha_m`` on the building's nodes (in plan their rotational inertia
-  too, as pframe), ``beta_k`` on the initial stiffness of its storeys (``-doRayleigh 1``);
-  contacts are undamped;
+  too, as pframe), ``beta_k`` on the initial stiffness of its storeys that take the stiffness
+  term (``-doRayleigh 1``; not its isolators); contacts are undamped; or modal damping:
+  ``eigen`` of every mode with ``-fullGenLapack`` on the storeys' initial stiffness (before
+  the contacts exist), then ``modalDamping`` with the ratio of each mode;
 * ground motion: a ``Path`` series driving a ``UniformExcitation`` per site axis it loads
   (load ``-m a_g`` in relative coordinates; in plan along x, y or both), its sample times
   accumulated as OpenSees accumulates time, so that step ``n`` sees ``a_g[n]`` exactly;
@@ -131,6 +133,7 @@ def _values(scene: PeerScene, out_npz: str | None) -> dict:
         "CONTACT_GAPS": [float(g) for g in scene.contact_gaps],
         "CONTACT_STIFFNESS": [float(k) for k in scene.contact_stiffness],
         "RAYLEIGH": rayleigh,  # (alpha_m, beta_k on initial stiffness, nodes, storeys)
+        "MODAL": [float(r) for r in scene.modal] if scene.modal else [],  # ratio per mode
         "DT": float(scene.dt),
         "STEPS": int(scene.steps),
         "TOL": float(scene.tolerance),

@@ -118,6 +118,12 @@ def build():
                     "-doRayleigh", 1)
         stories.append(tag)
 
+    if MODAL:
+        # every mode of the buildings on their own: before the contacts (and their tangents)
+        # join the domain; -fullGenLapack is the solver that gives all of them
+        ops.eigen("-fullGenLapack", len(MODAL))
+        ops.modalDamping(*MODAL)
+
     contacts = []
     for j, ((left, right), gap, k) in enumerate(
             zip(CONTACT_NODES, CONTACT_GAPS, CONTACT_STIFFNESS, strict=True)):
@@ -209,6 +215,13 @@ def build():
         story_material(j + 1, mat)
         # without -doRayleigh a storey ignores its region's stiffness damping
         stories.append(element(j + 1, nodes, points, direction, "-doRayleigh", 1))
+
+    if MODAL:
+        # every mode of the buildings on their own: before the contacts (and their tangents)
+        # join the domain; -fullGenLapack is the solver that gives all of them
+        ops.eigen("-fullGenLapack", len(MODAL))
+        ops.modalDamping(*MODAL)
+
     contacts = []
     for j, (nodes, points, direction, gap, k) in enumerate(zip(
             CONTACT_NODES, CONTACT_POINTS, CONTACT_DIRECTIONS, CONTACT_GAPS,

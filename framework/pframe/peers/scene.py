@@ -98,6 +98,10 @@ class PeerScene:
     link_materials : list of tuple
         ``("elastic", k)``, ``("bilinear", k, fy, alpha)``, ``("viscous", c, alpha)`` or
         ``("kelvin_voigt", k, c, alpha)``.
+    modal : list of float, optional
+        Modal damping instead of Rayleigh's: the ratio of each mode of the whole scene's
+        storeys on their initial stiffness, in ascending frequency (OpenSees' ``eigen`` then
+        ``modalDamping``); None: Rayleigh damping.
     integrator : tuple
         ``("newmark", gamma, beta)``, ``("hht", alpha, gamma, beta)`` with alpha the weight of
         the step's start (pframe's convention), ``("wilson_theta", theta)``, or
@@ -128,5 +132,6 @@ class PeerScene:
     integrator: tuple = ("newmark", 0.5, 0.25)
     link_nodes: np.ndarray = None
     link_materials: list = None
+    modal: list = None
     channels: tuple = ("x",)
     floors: FloorsInPlan = None

@@ -13,6 +13,10 @@ from pframe.errors import InputError
 #: marker and colour of each rule
 STYLE = {"ABS": ("s", "tab:red"), "SRSS": ("D", "tab:orange"), "SRSS_EN_0.7": ("v", "tab:olive"),
          "DDC": ("^", "tab:green"), "simulated": ("o", "tab:blue")}
+#: the code rules (and rules of the user's own), in their order in the file
+MORE = [(m, c) for m, c in zip("PX*hp<>d8H", ("tab:purple", "tab:brown", "tab:pink", "tab:gray",
+                                              "tab:cyan", "k", "tab:olive", "darkblue",
+                                              "darkred", "darkgreen"))]
 
 
 #: records below which a fitted fragility dispersion is flagged as rough
@@ -58,8 +62,9 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
     rules = [str(r) for r in ds.rule_name.values]
     offsets = np.linspace(-0.18, 0.18, len(rules))
     stats = ds.gap_statistics.isel(level=index)
+    others = [r for r in rules if r not in STYLE]
     for rule, dy in zip(rules, offsets):
-        marker, colour = STYLE.get(rule, ("x", "k"))
+        marker, colour = STYLE.get(rule) or MORE[others.index(rule) % len(MORE)]
         value = 1000 * stats.sel(statistic_name=statistic, rule_name=rule).values
         low = 1000 * stats.sel(statistic_name="median", rule_name=rule).values
         high = 1000 * stats.sel(statistic_name="max", rule_name=rule).values

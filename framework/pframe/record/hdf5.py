@@ -237,7 +237,7 @@ class ResultWriter:
             for name, units, long_name, shape in self._variables(q):
                 _, units, long_name = self.convert.variable(np.zeros(0), units, long_name)
                 f.variable(name, dims + shape, chunk_rows=True, units=units,
-                           long_name=long_name)
+                           long_name=long_name, comment=self._undefined(name))
 
     def _variables(self, q: str) -> list[tuple[str, str, str, tuple]]:
         """(name, units, long name, trailing dimensions) of the variables quantity ``q``
@@ -253,6 +253,20 @@ class ResultWriter:
         name, rotation_units, rotation_name = ROTATION[q]
         return [(q, units, long_name.replace("floor ", "floor centre of mass "),
                  ("direction",)), (name, rotation_units, rotation_name, ())]
+
+    def _undefined(self, q: str) -> str | None:
+        """Why some values of ``q`` are NaN by definition (the drift ratio of a storey without
+        a height), for the variable's ``comment``; None when none is."""
+        if q != "story_drift_ratio" or self.plan.story_height is None:
+            return None
+        names = self.plan.story_names
+        heights = self.plan.story_height[self.member, :len(names)]
+        missing = [n for n, h in zip(names, heights) if not np.isfinite(h)]
+        if not missing:
+            return None
+        return (f"NaN at {', '.join(missing)}: no height was given, so the drift ratio is not "
+                "defined there (never 0); their drift is in story_drift, and height on the "
+                "storey gives the ratio")
 
     def _connectivity(self):
         """Which nodes each storey and contact joins, and the contact gaps: a file draws its
@@ -419,7 +433,8 @@ class ResultWriter:
                     self._variables(q), self._columns(q, np.asarray(peak[member]))):
                 data, units, long_name = self.convert.variable(values, units, long_name)
                 f.variable(f"peak_{name}", dims + shape, data, units=units,
-                           long_name=f"peak absolute {long_name}")
+                           long_name=f"peak absolute {long_name}",
+                           comment=self._undefined(name))
         if self.plan.contact_names:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")
@@ -487,6 +502,8 @@ class ResultWriter:
         attrs.update(record_attributes(loaded))
         attrs["integrator"] = integrator_text(plan)
         attrs["integrator_scheme"] = plan.integrator.describe_scheme()
+        if plan.damping_text:  # each building's damping as applied (docs/theory.md#damping)
+            attrs["damping"] = "\n".join(plan.damping_text)
         if plan.foundations:  # the soil applied (docs/soil.md)
             attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
                                       zip(plan.foundations, plan.foundation_soil))

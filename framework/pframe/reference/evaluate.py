@@ -23,7 +23,9 @@ def _compiled_loop(force):
     except ImportError:  # numba is the optional 'plugins' extra: the same force, in Python
         return _python_loop(force)
 
-    law_force = numba.njit(force)
+    from pframe.laws.compiled import njit
+
+    law_force = njit(force)  # and the helper functions it calls
 
     @numba.njit
     def loop(params, committed, deformation, rate, out):

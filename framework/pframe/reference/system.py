@@ -99,6 +99,10 @@ class System:
         self.contact_incidence = incidence(plan.contact_dofs, plan.contact_sides, member, n,
                                            contact=True).toarray()
         self.story_damping = np.array(plan.story_beta[member] * plan.story_k0[member])
+        # modal damping (docs/theory.md#damping): the dense blocks over one n x n, scaled by 1/m
+        self.modal = None
+        if plan.modal_start is not None and len(plan.modal_start) > 1:
+            self.modal = plan.modal_damping(member) / self.mass[:, None]
         self.gap = np.array(plan.contact_gap[member], dtype=float)
         self.n_story = plan.n_springs  # the storeys, then the links
         self.n_contact = len(plan.contact_names)
@@ -172,6 +176,8 @@ class System:
         shear = story[0] + self.story_damping * drift_rate
         acc = (-np.asarray(ag)[..., None] * self.influence - self.mass_damping * v
                - shear @ self._story_scatter.T - contact[0] @ self._contact_scatter.T)
+        if self.modal is not None:
+            acc = acc - v @ self.modal.T
         return State(u, v, ag, drift, drift_rate, story[0], story[1], story[2], penetration,
                      penetration_rate, contact[0], contact[1], contact[2], acc)
 
@@ -186,6 +192,8 @@ class System:
             shear[where] += force(drift[where], drift_rate[where])
         push = self._story_scatter.dot(shear)
         push += self.mass_damping * v
+        if self.modal is not None:
+            push += self.modal.dot(v)
         if self.n_contact:
             penetration = self._contact_gather.dot(u)
             penetration -= self.gap
@@ -213,6 +221,8 @@ class System:
         jac[:n, n:] = np.eye(n)
         jac[n:, :n] = -(ks + kc) / self.mass[:, None]
         jac[n:, n:] = -(cs + cc) / self.mass[:, None] - np.diag(self.mass_damping)
+        if self.modal is not None:
+            jac[n:, n:] -= self.modal
         return jac
 
     # ------------------------------------------------------------------------------------

@@ -314,7 +314,7 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) 
     outside = _outside_table(hazard, target)
     if outside:
         out.warnings.append(outside + "; the gap at target is left out")
-        _rules_at_target(out, kind, inputs, rows, im, ok, hunted)
+        _rules_at_target(out, kind, inputs, rows, im, ok, hunted, spec)
         return
     out.gap = curve.gap(target)
     _say_not_monotone(out, curve, target)
@@ -341,7 +341,7 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) 
             "the fragility); the gap at target is left out")
     else:
         _say_what_the_gap_rests_on(out, kind, im, g_req, ok, inputs.levels, R, hazard, used)
-    _rules_at_target(out, kind, inputs, rows, im, ok, hunted)
+    _rules_at_target(out, kind, inputs, rows, im, ok, hunted, spec)
 
 
 def _outside_table(hazard: HazardCurve, target: float) -> str:
@@ -419,18 +419,28 @@ def _interp_loglog(x: float, xs, ys) -> float:
     return float(np.interp(x, xs[i:j + 1], ys[i:j + 1]))
 
 
-def _rules_at_target(out: Analysis, kind: str, inputs, rows, im, ok, hunted: bool) -> None:
-    """The code rules and the simulated critical gap at the intensity of the target's
-    frequency: median over the records, interpolated in log-log between levels (each record's
-    runs in order of IM, then the median, for a hunt)."""
+def _rules_at_target(out: Analysis, kind: str, inputs, rows, im, ok, hunted: bool,
+                     spec) -> None:
+    """The code rules (the study's ``codes``) and the simulated critical gap at the intensity
+    of the target's frequency: median over the records, interpolated in log-log between
+    levels (each record's runs in order of IM, then the median, for a hunt)."""
     if out.im_at_target != out.im_at_target or kind == "cloud":
         return
-    from pframe.gap.rules import cqc_correlation, separations
-
     R, L = inputs.factors.shape
-    rho = cqc_correlation(inputs.periods[0], inputs.periods[-1], inputs.damping[0],
-                          inputs.damping[-1])
-    rules = separations(rows["free_peak_left"], rows["free_peak_right"], rho)
+    if getattr(spec, "codes", None):  # the codes' rules need the scene's floors (aligned?)
+        from pframe.gap.audit import code_rules
+        from pframe.gap.selection import rules_over_runs
+
+        found, geometry, extra = code_rules(spec.codes, inputs)
+        out.warnings.extend(extra)
+        rules = rules_over_runs(inputs, found, geometry, rows["free_peak_left"],
+                                rows["free_peak_right"])
+    else:  # ABS, SRSS and DDC of the pair, its two buildings' first modes correlated
+        from pframe.gap.rules import cqc_correlation, separations
+
+        rho = cqc_correlation(inputs.periods[0], inputs.periods[-1], inputs.damping[0],
+                              inputs.damping[-1])
+        rules = separations(rows["free_peak_left"], rows["free_peak_right"], rho)
     rules["simulated"] = rows["free_g_req"]
     x = out.im_at_target
     for rule, v in rules.items():

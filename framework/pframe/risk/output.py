@@ -181,8 +181,14 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
             data["rule_separation_at_target"] = (("rule",), np.array(
                 list(result.rules_at_target.values())), {
                 "units": "m", "long_name": "median over the records of the rule's separation "
-                "at intensity_at_target (ABS, SRSS, DDC of the peak displacements; simulated: "
-                "the critical gap)"})
+                "at intensity_at_target (ABS, SRSS, DDC of the peak displacements, the code "
+                "rules of the study's codes described in code_rules; simulated: the critical "
+                "gap)"})
+            if spec.codes is not None:
+                from pframe.gap.selection import describe, selection
+
+                attrs["code_rules"] = describe(selection(spec.codes),
+                                               inputs.loaded.expanded.buildings)
     return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
                               coords={k: xr.Variable(*v) for k, v in coords.items()},
                               attrs=attrs))

@@ -16,6 +16,7 @@ A study file (YAML; paths relative to it)::
       acceleration: {A: 1.0}               # peak absolute floor acceleration (g)
     hazard: {file: hazard.csv}     # or {power_law: {k0: 1.0e-4, k: 2.5}}
     target: {return_period: 475}   # or {annual_frequency: 2.1e-3}
+    codes: [asce7, {code: tbdy2018, R: 6}]   # code rules beside the gap at target
 """
 
 from __future__ import annotations
@@ -151,6 +152,11 @@ class StudyFile(_Base):
     hazard: Hazard | None = Field(None, description="The hazard curve.")
     target: Target | None = Field(None, description="The target annual frequency of "
                                   "pounding.")
+    codes: list | dict | str | None = Field(None, description="Building codes' separation "
+                                           "rules shown beside the gap at target: names "
+                                           "(asce7, tbdy2018, ...), {code: NAME, factors}, "
+                                           "rules of your own, or {rules: [...], aligned, "
+                                           "floor_tolerance} (docs/gap-audit.md#code-rules).")
     bootstrap: int = Field(200, ge=0, description="record resamples for the gap's interval")
     seed: int = Field(0, description="Seed of the bootstrap and of the MAF's range.")
     chunk: int | None = Field(None, ge=1, description="Variants per saved batch (a stopped "
@@ -190,6 +196,10 @@ def _read(path):
     study = validated(StudyFile, data, lines, str(path))
     at = _At(path, lines)
     design = study.design
+    if study.codes is not None:
+        from pframe.gap.selection import selection
+
+        selection(study.codes, where=f"{path}, at codes")
     if study.uncertain is not None:
         from pframe.risk.uncertain import parse
 

@@ -66,6 +66,8 @@ def _units_and_name(name: str, convert) -> tuple[str | None, str]:
     quantity = name[len("peak_"):]
     _, units, long_name = QUANTITIES[quantity]
     _, units, long_name = convert.variable(np.zeros(0), units, long_name)
+    if quantity == "story_drift_ratio":  # the kernel's peak of a storey without a height
+        long_name += " (NaN at a storey without a height: not defined there)"
     return units, f"peak absolute {long_name}"
 
 

@@ -47,6 +47,49 @@ static void band_sides(double *band, int64_t bw, const int64_t *start, const int
     }
 }
 
+/* Modal damping (docs/theory.md#damping): each block is a building's dense matrix C over its
+ * DOFs (m->modal_dofs from m->modal_start[k]), row-major in that order. */
+
+/* y += scale C x over every block of member b (x and y indexed by DOF). */
+static void modal_add(const Model *m, int64_t b, const double *x, double scale, double *y)
+{
+    const double *C = m->modal_matrix + b * m->modal_width;
+    int64_t k, i, j;
+    for (k = 0; k < m->modal_blocks; k++) {
+        const int64_t *dofs = m->modal_dofs + m->modal_start[k];
+        const int64_t size = m->modal_start[k + 1] - m->modal_start[k];
+        for (i = 0; i < size; i++) {
+            double sum = 0.0;
+            for (j = 0; j < size; j++)
+                sum += C[i * size + j] * x[dofs[j]];
+            y[dofs[i]] += scale * sum;
+        }
+        C += size * size;
+    }
+}
+
+/* (p + sq q)^T C (u - U) summed over the blocks of member b: the work of the modal damping
+ * forces C p (and C q) over a displacement increment. */
+static double modal_work(const Model *m, int64_t b, const double *p, const double *q,
+                         double sq, const double *u, const double *U)
+{
+    const double *C = m->modal_matrix + b * m->modal_width;
+    double work = 0.0;
+    int64_t k, i, j;
+    for (k = 0; k < m->modal_blocks; k++) {
+        const int64_t *dofs = m->modal_dofs + m->modal_start[k];
+        const int64_t size = m->modal_start[k + 1] - m->modal_start[k];
+        for (i = 0; i < size; i++) {
+            double sum = 0.0;
+            for (j = 0; j < size; j++)
+                sum += C[i * size + j] * (p[dofs[j]] + sq * q[dofs[j]]);
+            work += sum * (u[dofs[i]] - U[dofs[i]]);
+        }
+        C += size * size;
+    }
+    return work;
+}
+
 /* Element forces and the residual at the evaluation point, ground accelerations age (one per
  * channel).
  *
@@ -68,6 +111,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     double out[3];
     for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
         R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+    if (m->modal_blocks)
+        modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
     {
@@ -276,6 +321,19 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
         for (d = 1; d < bw + 1; d++)
             band[i * (bw + 1) + d] = 0.0;
         band[i * (bw + 1)] = mass[i] * c0 * wm + damping[i] * c1 * wf;
+    }
+    { /* modal damping: its blocks' lower triangles (the bandwidth spans every block) */
+        const double *C = m->modal_matrix + b * m->modal_width;
+        int64_t k, x, y;
+        for (k = 0; k < m->modal_blocks; k++) {
+            const int64_t *at = m->modal_dofs + m->modal_start[k];
+            const int64_t size = m->modal_start[k + 1] - m->modal_start[k];
+            for (x = 0; x < size; x++)
+                for (y = 0; y < size; y++)
+                    if (at[y] <= at[x])
+                        band[at[x] * (bw + 1) + (at[x] - at[y])] += C[x * size + y] * c1 * wf;
+            C += size * size;
+        }
     }
     dofs = m->story_dofs;
     kks = w->story_kk;

@@ -92,6 +92,10 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
             v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
             d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
         }
+        if (m->modal_blocks) { /* modal damping: (C (V + v) / 2) du and C [v] du */
+            work_damp += 0.5 * modal_work(m, b, V, v, 1.0, u, U);
+            du_dG += modal_work(m, b, v, V, -1.0, u, U);
+        }
         for (e = 0; e < ns; e++) {
             const double dd = drift_t[e] - drift_c[e];
             const double work = 0.5 * (force_c[e] + force_t[e]) * dd;

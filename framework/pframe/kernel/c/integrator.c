@@ -293,6 +293,8 @@ static double evaluation_work(const Model *m, Work *w, int64_t b, const double *
     int64_t i, e;
     for (i = 0; i < n; i++)
         work += (damping[i] * ve[i] + mass[i] * dof_ground(m, i, age)) * (u[i] - U[i]);
+    if (m->modal_blocks)
+        work += modal_work(m, b, ve, ve, 0.0, u, U);
     for (e = 0; e < ns; e++) {
         const double d = spring_deformation(m, b, e, u);
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);

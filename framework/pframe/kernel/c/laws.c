@@ -110,24 +110,140 @@ static void material_kelvin_voigt(const double *params, const double *committed,
     return;
 }
 
-/* pframe.laws.material.bouc_wen.BoucWen.force */
-static void material_bouc_wen(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+/* pframe.laws.material._bouc_wen.hysteretic */
+static PFRAME_INLINE void bouc_wen_hysteretic(const double *params_, double z_, double strain_,
+                                              double committed_energy_, double *ret0,
+                                              double *ret1, double *ret2, double *ret3,
+                                              double *ret4, double *ret5)
 {
     double alpha_;
     double ko_;
+    double te_;
+    double ta_;
+    double tnu_;
+    double teta_;
+    double psi_;
+    double phi_;
+    (void)params_; (void)z_; (void)strain_; (void)committed_energy_;
+    alpha_ = params_[0];
+    ko_ = params_[1];
+    te_ = (committed_energy_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    ta_ = (params_[5] - (params_[6] * te_));
+    tnu_ = (1.0 + (params_[7] * te_));
+    teta_ = (1.0 + (params_[8] * te_));
+    psi_ = (params_[3] + (params_[4] * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
+    phi_ = (ta_ - ((pow(fabs(z_), params_[2]) * psi_) * tnu_));
+    *ret0 = te_;
+    *ret1 = ta_;
+    *ret2 = tnu_;
+    *ret3 = teta_;
+    *ret4 = psi_;
+    *ret5 = phi_;
+    return;
+}
+
+/* pframe.laws.material._bouc_wen.hysteretic_slope */
+static PFRAME_INLINE void bouc_wen_hysteretic_slope(const double *params_, double z_,
+                                                    double strain_, double psi_, double tnu_,
+                                                    double *ret0, double *ret1)
+{
     double n_;
-    double gamma_;
-    double beta_;
-    double a0_;
-    double delta_a_;
-    double delta_nu_;
-    double delta_eta_;
-    double tolerance_;
-    double most_;
+    double te__;
+    double ta__;
+    double tnu__;
+    double teta__;
+    double sign_;
+    double pow1_;
+    double pow2_;
+    double phi__;
+    (void)params_; (void)z_; (void)strain_; (void)psi_; (void)tnu_;
+    n_ = params_[2];
+    te__ = (((1.0 - params_[0]) * params_[1]) * strain_);
+    ta__ = ((-params_[6]) * te__);
+    tnu__ = (params_[7] * te__);
+    teta__ = (params_[8] * te__);
+    sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
+    pow1_ = 0.0;
+    pow2_ = 0.0;
+    if ((z_ != 0.0)) {
+        pow1_ = pow(fabs(z_), (n_ - 1.0));
+        pow2_ = pow(fabs(z_), n_);
+    }
+    phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
+    *ret0 = phi__;
+    *ret1 = teta__;
+    return;
+}
+
+/* pframe.laws.material._bouc_wen.pinching */
+static PFRAME_INLINE void bouc_wen_pinching(const double *params_, double z_, double strain_,
+                                            double te_, double ta_, double tnu_, double *ret0,
+                                            double *ret1)
+{
+    double zetas_;
+    double n_;
+    double p_;
+    double psi0_;
+    double delta_psi_;
+    double lamda_;
+    double q_;
+    double sd_;
+    double te__;
+    double ta__;
+    double tnu__;
+    double zeta1_;
+    double zeta2_;
+    double zu_;
+    double zu__;
+    double x_;
+    double x__;
+    double g_;
+    double h_;
+    double zeta1__;
+    double zeta2__;
+    double h__;
+    (void)params_; (void)z_; (void)strain_; (void)te_; (void)ta_; (void)tnu_;
+    zetas_ = params_[10];
+    if ((!(zetas_ > 0.0))) {
+        *ret0 = 1.0;
+        *ret1 = 0.0;
+        return;
+    }
+    n_ = params_[2];
+    p_ = params_[11];
+    psi0_ = params_[12];
+    delta_psi_ = params_[13];
+    lamda_ = params_[14];
+    q_ = params_[9];
+    sd_ = ((strain_ > 0.0) ? 1.0 : (-1.0));
+    te__ = (((1.0 - params_[0]) * params_[1]) * strain_);
+    ta__ = ((-params_[6]) * te__);
+    tnu__ = (params_[7] * te__);
+    zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
+    zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
+    zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (params_[4] + params_[3]))), (1.0 / n_));
+    zu__ = 0.0;
+    if ((ta_ > 0.0)) {
+        zu__ = ((zu_ / n_) * ((ta__ / ta_) - (tnu__ / tnu_)));
+    }
+    x_ = ((z_ * sd_) - (q_ * zu_));
+    x__ = (sd_ - (q_ * zu__));
+    g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
+    h_ = (1.0 - (zeta1_ * g_));
+    zeta1__ = (((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0))) * te__);
+    zeta2__ = ((((psi0_ * zeta1__) + ((lamda_ * delta_psi_) * te__)) + ((delta_psi_ * te_) * zeta1__)) + ((delta_psi_ * te__) * zeta1_));
+    h__ = ((-g_) * ((zeta1__ - ((((zeta1_ * 2.0) * x_) * x__) / (zeta2_ * zeta2_))) + ((((zeta2__ * zeta1_) * 2.0) * (x_ * x_)) / ((zeta2_ * zeta2_) * zeta2_))));
+    *ret0 = h_;
+    *ret1 = h__;
+    return;
+}
+
+/* pframe.laws.material._bouc_wen.trial_z */
+static PFRAME_INLINE double bouc_wen_trial_z(const double *params_, const double *committed_,
+                                             double strain_, double tolerance_, double most_,
+                                             double pinched_)
+{
     double cz_;
-    double ce_;
-    double strain_;
     double z_;
     double z_old_;
     double z_new_;
@@ -138,39 +254,15 @@ static void material_bouc_wen(const double *params, const double *committed, dou
     double teta_;
     double psi_;
     double phi_;
-    double f_;
-    double te__;
-    double ta__;
-    double tnu__;
-    double teta__;
-    double sign_;
-    double pow1_;
-    double pow2_;
     double phi__;
+    double teta__;
+    double f_;
     double f__;
-    double stress_;
-    double tangent_;
-    double b1_;
-    double b2_;
-    double b3_;
-    double b4_;
-    double b5_;
+    double h_;
+    double h__;
     int64_t loop0_;
-    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
-    alpha_ = params[0];
-    ko_ = params[1];
-    n_ = params[2];
-    gamma_ = params[3];
-    beta_ = params[4];
-    a0_ = params[5];
-    delta_a_ = params[6];
-    delta_nu_ = params[7];
-    delta_eta_ = params[8];
-    tolerance_ = params[9];
-    most_ = params[10];
-    cz_ = committed[1];
-    ce_ = committed[2];
-    strain_ = (deformation - committed[0]);
+    (void)params_; (void)committed_; (void)strain_; (void)tolerance_; (void)most_; (void)pinched_;
+    cz_ = committed_[1];
     z_ = 0.01;
     z_old_ = 0.01;
     z_new_ = 1.0;
@@ -179,40 +271,62 @@ static void material_bouc_wen(const double *params, const double *committed, dou
         if ((!((fabs((z_old_ - z_new_)) > tolerance_) && (count_ < most_)))) {
             break;
         }
-        te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
-        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
-        f_ = ((z_ - cz_) - ((phi_ / teta_) * strain_));
-        te__ = (((1.0 - alpha_) * ko_) * strain_);
-        ta__ = ((-delta_a_) * te__);
-        tnu__ = (delta_nu_ * te__);
-        teta__ = (delta_eta_ * te__);
-        sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
-        pow1_ = 0.0;
-        pow2_ = 0.0;
-        if ((z_ != 0.0)) {
-            pow1_ = pow(fabs(z_), (n_ - 1.0));
-            pow2_ = pow(fabs(z_), n_);
+        bouc_wen_hysteretic(params_, z_, strain_, committed_[2], &te_, &ta_, &tnu_, &teta_, &psi_, &phi_);
+        bouc_wen_hysteretic_slope(params_, z_, strain_, psi_, tnu_, &phi__, &teta__);
+        if ((pinched_ == 0.0)) {
+            f_ = ((z_ - cz_) - ((phi_ / teta_) * strain_));
+            f__ = (1.0 - ((((phi__ * teta_) - (phi_ * teta__)) / (teta_ * teta_)) * strain_));
+        } else {
+            bouc_wen_pinching(params_, z_, strain_, te_, ta_, tnu_, &h_, &h__);
+            f_ = ((z_ - cz_) - (((phi_ * h_) / teta_) * strain_));
+            f__ = (1.0 - ((((((phi__ * h_) + (phi_ * h__)) * teta_) - ((phi_ * h_) * teta__)) / (teta_ * teta_)) * strain_));
         }
-        phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
-        f__ = (1.0 - ((((phi__ * teta_) - (phi_ * teta__)) / (teta_ * teta_)) * strain_));
         z_new_ = (z_ - (f_ / f__));
         z_old_ = z_;
         z_ = z_new_;
         count_ = (count_ + 1.0);
     }
+    return z_;
+}
+
+/* pframe.laws.material.bouc_wen.BoucWen.force */
+static void material_bouc_wen(const double *params, const double *committed, double *trial,
+                              double deformation, double rate, double *out)
+{
+    double alpha_;
+    double ko_;
+    double n_;
+    double strain_;
+    double z_;
+    double stress_;
+    double te_;
+    double ta_;
+    double tnu_;
+    double teta_;
+    double psi_;
+    double phi_;
+    double tangent_;
+    double delta_a_;
+    double delta_nu_;
+    double delta_eta_;
+    double b1_;
+    double b2_;
+    double b3_;
+    double b4_;
+    double b5_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    alpha_ = params[0];
+    ko_ = params[1];
+    n_ = params[2];
+    strain_ = (deformation - committed[0]);
+    z_ = bouc_wen_trial_z(params, committed, strain_, params[9], params[10], 0.0);
     stress_ = (((alpha_ * ko_) * deformation) + (((1.0 - alpha_) * ko_) * z_));
-    te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    bouc_wen_hysteretic(params, z_, strain_, committed[2], &te_, &ta_, &tnu_, &teta_, &psi_, &phi_);
     tangent_ = ((alpha_ * ko_) + ((1.0 - alpha_) * ko_));
     if ((z_ != 0.0)) {
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
-        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
+        delta_a_ = params[6];
+        delta_nu_ = params[7];
+        delta_eta_ = params[8];
         b1_ = (((1.0 - alpha_) * ko_) * z_);
         b2_ = (((1.0 - alpha_) * ko_) * strain_);
         b3_ = (strain_ / teta_);
@@ -273,608 +387,810 @@ static void material_friction_pendulum(const double *params, const double *commi
     return;
 }
 
-/* pframe.laws.material.imk_peak.ImkPeak.force */
-static void material_imk_peak(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+/* pframe.laws.material.imk_peak._copy_state */
+static PFRAME_INLINE void imk_peak__copy_state(const double *committed_, double *trial_)
+{
+    (void)committed_; (void)trial_;
+    trial_[0] = committed_[0];
+    trial_[1] = committed_[1];
+    trial_[2] = committed_[2];
+    trial_[3] = committed_[3];
+    trial_[4] = committed_[4];
+    trial_[5] = committed_[5];
+    trial_[6] = committed_[6];
+    trial_[7] = committed_[7];
+    trial_[8] = committed_[8];
+    trial_[9] = committed_[9];
+    trial_[10] = committed_[10];
+    trial_[11] = committed_[11];
+    trial_[12] = committed_[12];
+    trial_[13] = committed_[13];
+    trial_[14] = committed_[14];
+    trial_[15] = committed_[15];
+    trial_[16] = committed_[16];
+    trial_[17] = committed_[17];
+    trial_[18] = committed_[18];
+    trial_[19] = committed_[19];
+    trial_[20] = committed_[20];
+    trial_[21] = committed_[21];
+    trial_[22] = committed_[22];
+    trial_[23] = committed_[23];
+    trial_[24] = committed_[24];
+    trial_[25] = committed_[25];
+    trial_[26] = committed_[26];
+    trial_[27] = committed_[27];
+    trial_[28] = committed_[28];
+    trial_[29] = committed_[29];
+}
+
+/* pframe.laws.material.imk_peak._backbone */
+static PFRAME_INLINE void imk_peak__backbone(const double *params_, double *ret0, double *ret1,
+                                             double *ret2, double *ret3)
 {
     double ke_;
-    double my_pos_;
-    double my_neg_;
-    double ls_;
-    double ld_;
-    double la_;
-    double lk_;
-    double cs_;
-    double cd_;
-    double ca_;
-    double ck_;
-    double theta_p_pos_;
-    double theta_p_neg_;
-    double frac_pos_;
-    double frac_neg_;
-    double d_pos_;
-    double d_neg_;
-    double enrgts_;
-    double enrgtk_;
-    double enrgta_;
-    double enrgtd_;
     double ekhard_pos0_;
     double ekhard_neg0_;
     double fpeak_pos_;
     double fpeak_neg_;
+    (void)params_;
+    ke_ = params_[0];
+    ekhard_pos0_ = (ke_ * params_[1]);
+    ekhard_neg0_ = (ke_ * params_[2]);
+    fpeak_pos_ = (params_[3] + (ekhard_pos0_ * params_[13]));
+    fpeak_neg_ = (params_[4] + (ekhard_neg0_ * (-params_[14])));
+    *ret0 = fpeak_pos_;
+    *ret1 = fpeak_neg_;
+    *ret2 = ((-fpeak_pos_) / (params_[15] * ke_));
+    *ret3 = (fpeak_neg_ / (params_[16] * ke_));
+    return;
+}
+
+/* pframe.laws.material.imk_peak._first_loading */
+static PFRAME_INLINE void imk_peak__first_loading(const double *params_, double *s_,
+                                                  double delta_d_)
+{
+    double ke_;
+    double my_pos_;
+    double my_neg_;
+    double theta_p_pos_;
+    double theta_p_neg_;
+    double fpeak_pos_;
+    double fpeak_neg_;
     double cap_slope_pos_;
     double cap_slope_neg_;
-    double dp_;
-    double fp_;
-    double ek_;
-    double unl_;
-    double kon_;
-    double flag_stop_;
-    double dmax_;
-    double dmin_;
-    double fmax_;
-    double fmin_;
-    double fy_pos_;
-    double fy_neg_;
-    double dlst_pos_;
-    double dlst_neg_;
-    double flst_pos_;
-    double flst_neg_;
-    double sn_;
-    double sp_;
-    double enrgc_;
-    double enrgtot_;
-    double fcapref_pos_;
-    double fcapref_neg_;
-    double ekunload_;
-    double cp_pos_;
-    double cp_neg_;
-    double ekhard_pos_;
-    double ekhard_neg_;
-    double alfa_pos_;
-    double alfa_neg_;
-    double prod_beta_;
-    double ekp_;
-    double d_;
-    double delta_d_;
-    double f_;
-    double mode_;
-    double rse_;
-    double a2_;
+    (void)params_; (void)s_; (void)delta_d_;
+    ke_ = params_[0];
+    my_pos_ = params_[3];
+    my_neg_ = params_[4];
+    theta_p_pos_ = params_[13];
+    theta_p_neg_ = params_[14];
+    imk_peak__backbone(params_, &fpeak_pos_, &fpeak_neg_, &cap_slope_pos_, &cap_slope_neg_);
+    s_[28] = params_[2];
+    s_[27] = params_[1];
+    s_[25] = (ke_ * params_[1]);
+    s_[26] = (ke_ * params_[2]);
+    s_[19] = 0.0;
+    s_[18] = 0.0;
+    s_[6] = (my_pos_ / ke_);
+    s_[7] = (my_neg_ / ke_);
+    s_[22] = ke_;
+    s_[10] = my_pos_;
+    s_[11] = my_neg_;
+    s_[23] = ((my_pos_ / ke_) + theta_p_pos_);
+    s_[24] = ((my_neg_ / ke_) + (-theta_p_neg_));
+    s_[20] = ((((-cap_slope_pos_) * ke_) * (theta_p_pos_ + (my_pos_ / ke_))) + fpeak_pos_);
+    s_[21] = ((((-cap_slope_neg_) * ke_) * ((-theta_p_neg_) + (my_neg_ / ke_))) + fpeak_neg_);
+    s_[9] = my_neg_;
+    s_[8] = my_pos_;
+    s_[5] = 0.0;
+    s_[13] = (my_neg_ / ke_);
+    s_[12] = (my_pos_ / ke_);
+    s_[15] = my_neg_;
+    s_[14] = my_pos_;
+    s_[2] = 0.0;
+    s_[17] = 0.0;
+    s_[1] = 0.0;
+    s_[16] = 0.0;
+    s_[3] = 1.0;
+    s_[29] = 1.0;
+    if ((delta_d_ >= 0.0)) {
+        s_[4] = 1.0;
+    } else {
+        s_[4] = 2.0;
+    }
+}
+
+/* pframe.laws.material.imk_peak._power */
+static PFRAME_INLINE double imk_peak__power(double base_, double exponent_)
+{
+    (void)base_; (void)exponent_;
+    if (((base_ < 0.0) && (exponent_ != floor(exponent_)))) {
+        base_ = 0.0;
+    }
+    return pow(base_, exponent_);
+}
+
+/* pframe.laws.material.imk_peak._unloading */
+static PFRAME_INLINE void imk_peak__unloading(const double *params_, double *s_, double rse_,
+                                              double ekhard_)
+{
+    double lk_;
+    double enrgtk_;
     double betak_;
-    double base_;
+    (void)params_; (void)s_; (void)rse_; (void)ekhard_;
+    lk_ = params_[8];
+    if ((lk_ != 0.0)) {
+        enrgtk_ = ((2.0 * lk_) * params_[3]);
+        if (((s_[19] - rse_) >= enrgtk_)) {
+            betak_ = 1.0;
+        } else {
+            betak_ = imk_peak__power(((s_[18] - rse_) / (enrgtk_ - (s_[19] - rse_))), params_[12]);
+        }
+        s_[22] = (params_[0] * (s_[29] * (1.0 - betak_)));
+        s_[29] = (s_[29] * (1.0 - betak_));
+        if ((s_[22] <= ekhard_)) {
+            s_[5] = 1.0;
+        }
+    }
+}
+
+/* pframe.laws.material.imk_peak._direction */
+static PFRAME_INLINE void imk_peak__direction(const double *params_, double *s_, double d_,
+                                              double delta_d_, double *ret0, double *ret1,
+                                              double *ret2)
+{
+    double ke_;
+    double fp_;
+    double rse_;
+    double enrgtk_;
+    double a2_;
     double tst_;
-    double x_;
-    double positive_;
+    (void)params_; (void)s_; (void)d_; (void)delta_d_;
+    ke_ = params_[0];
+    if ((delta_d_ >= 0.0)) {
+        if ((s_[4] == 2.0)) {
+            s_[4] = 1.0;
+            s_[3] = 0.0;
+            fp_ = s_[1];
+            rse_ = (((0.5 * fp_) * fp_) / s_[22]);
+            enrgtk_ = ((2.0 * params_[8]) * params_[3]);
+            a2_ = (enrgtk_ - (s_[19] - rse_));
+            if (((a2_ < 0.0) && (enrgtk_ != 0.0))) {
+                s_[5] = 1.0;
+            }
+            imk_peak__unloading(params_, s_, rse_, s_[26]);
+            if ((fp_ < 0.0)) {
+                tst_ = (s_[0] - (fp_ / s_[22]));
+                if (((fabs((s_[6] - (params_[3] / ke_))) >= 1e-10) && (fabs(tst_) <= 1e-10))) {
+                    s_[16] = 1e-09;
+                } else {
+                    s_[16] = (s_[0] - (fp_ / s_[22]));
+                }
+            }
+            if ((fabs((s_[7] - s_[0])) <= 1e-10)) {
+                s_[17] = (s_[16] + 1e-10);
+            }
+        }
+        if ((d_ >= s_[6])) {
+            *ret0 = 1.0;
+            *ret1 = d_;
+            *ret2 = 1.0;
+            return;
+        }
+        if ((fabs(s_[16]) > 1e-10)) {
+            *ret0 = 2.0;
+            *ret1 = s_[6];
+            *ret2 = 1.0;
+            return;
+        }
+        *ret0 = 3.0;
+        *ret1 = d_;
+        *ret2 = ((d_ > 0.0) ? 1.0 : 0.0);
+        return;
+    }
+    if ((s_[4] == 1.0)) {
+        s_[4] = 2.0;
+        s_[3] = 0.0;
+        fp_ = s_[1];
+        rse_ = (((0.5 * fp_) * fp_) / s_[22]);
+        imk_peak__unloading(params_, s_, rse_, s_[25]);
+        if ((fp_ > 0.0)) {
+            tst_ = (s_[0] - (fp_ / s_[22]));
+            if (((fabs((s_[7] - (params_[4] / ke_))) >= 1e-10) && (fabs(tst_) <= 1e-10))) {
+                s_[17] = 1e-09;
+            } else {
+                s_[17] = (s_[0] - (fp_ / s_[22]));
+            }
+        }
+        if ((fabs((s_[6] - s_[0])) <= 1e-10)) {
+            s_[16] = (s_[17] - 1e-10);
+        }
+    }
+    if ((d_ <= s_[7])) {
+        *ret0 = 4.0;
+        *ret1 = d_;
+        *ret2 = 0.0;
+        return;
+    }
+    if ((fabs(s_[17]) > 1e-10)) {
+        *ret0 = 5.0;
+        *ret1 = s_[7];
+        *ret2 = 0.0;
+        return;
+    }
+    *ret0 = 6.0;
+    *ret1 = d_;
+    *ret2 = ((d_ > 0.0) ? 1.0 : 0.0);
+    return;
+}
+
+/* pframe.laws.material.imk_peak._envelope_pos */
+static PFRAME_INLINE void imk_peak__envelope_pos(const double *params_, double *s_, double x_,
+                                                 double *ret0, double *ret1, double *ret2)
+{
+    double ke_;
+    double fy_;
+    double cp_;
+    double fpeak_pos_;
+    double fpeak_neg_;
+    double cap_slope_;
+    double cap_slope_neg_;
     double dy_;
     double res_;
     double rcap_;
     double dres_;
     double fe_;
     double eke_;
+    (void)params_; (void)s_; (void)x_;
+    ke_ = params_[0];
+    fy_ = s_[10];
+    cp_ = s_[23];
+    imk_peak__backbone(params_, &fpeak_pos_, &fpeak_neg_, &cap_slope_, &cap_slope_neg_);
+    dy_ = (fy_ / ke_);
+    if ((dy_ <= cp_)) {
+        res_ = (params_[17] * params_[3]);
+        rcap_ = (fy_ + ((s_[27] * ke_) * (cp_ - dy_)));
+        dres_ = (cp_ + ((res_ - rcap_) / (cap_slope_ * ke_)));
+        if ((x_ < 0.0)) {
+            fe_ = 0.0;
+            eke_ = 1e-07;
+        } else if ((x_ <= dy_)) {
+            eke_ = ke_;
+            fe_ = (eke_ * x_);
+        } else if ((x_ <= cp_)) {
+            eke_ = (ke_ * s_[27]);
+            fe_ = (fy_ + (eke_ * (x_ - dy_)));
+        } else if ((x_ <= dres_)) {
+            eke_ = (cap_slope_ * ke_);
+            fe_ = (rcap_ + (eke_ * (x_ - cp_)));
+        } else {
+            eke_ = 1e-07;
+            fe_ = (res_ + (x_ * eke_));
+        }
+    } else {
+        rcap_ = (ke_ * cp_);
+        res_ = (params_[17] * rcap_);
+        dres_ = (cp_ + ((res_ - rcap_) / (cap_slope_ * ke_)));
+        if ((x_ < 0.0)) {
+            fe_ = 0.0;
+            eke_ = 1e-07;
+        } else if ((x_ <= cp_)) {
+            eke_ = ke_;
+            fe_ = (eke_ * x_);
+        } else if ((x_ <= dres_)) {
+            eke_ = (cap_slope_ * ke_);
+            fe_ = (rcap_ + (eke_ * (x_ - cp_)));
+        } else {
+            eke_ = 1e-07;
+            fe_ = (res_ + (x_ * eke_));
+        }
+    }
+    if ((x_ >= params_[19])) {
+        eke_ = 1e-07;
+        fe_ = 1e-10;
+        x_ = params_[19];
+        s_[5] = 1.0;
+    }
+    *ret0 = fe_;
+    *ret1 = eke_;
+    *ret2 = x_;
+    return;
+}
+
+/* pframe.laws.material.imk_peak._envelope_neg */
+static PFRAME_INLINE void imk_peak__envelope_neg(const double *params_, double *s_, double x_,
+                                                 double *ret0, double *ret1, double *ret2)
+{
+    double ke_;
+    double fy_;
+    double cp_;
+    double fpeak_pos_;
+    double fpeak_neg_;
+    double cap_slope_pos_;
+    double cap_slope_;
+    double dy_;
+    double res_;
+    double rcap_;
+    double dres_;
+    double fe_;
+    double eke_;
+    (void)params_; (void)s_; (void)x_;
+    ke_ = params_[0];
+    fy_ = s_[11];
+    cp_ = s_[24];
+    imk_peak__backbone(params_, &fpeak_pos_, &fpeak_neg_, &cap_slope_pos_, &cap_slope_);
+    dy_ = (fy_ / ke_);
+    if ((dy_ >= cp_)) {
+        res_ = (params_[18] * params_[4]);
+        rcap_ = (fy_ + ((s_[28] * ke_) * (cp_ - dy_)));
+        dres_ = (cp_ + ((res_ - rcap_) / (cap_slope_ * ke_)));
+        if ((x_ > 0.0)) {
+            fe_ = 0.0;
+            eke_ = 1e-07;
+        } else if ((x_ >= dy_)) {
+            eke_ = ke_;
+            fe_ = (eke_ * x_);
+        } else if ((x_ >= cp_)) {
+            eke_ = (ke_ * s_[28]);
+            fe_ = (fy_ + (eke_ * (x_ - dy_)));
+        } else if ((x_ >= dres_)) {
+            eke_ = (ke_ * cap_slope_);
+            fe_ = (rcap_ + (eke_ * (x_ - cp_)));
+        } else {
+            eke_ = 1e-07;
+            fe_ = (res_ + (eke_ * x_));
+        }
+    } else {
+        rcap_ = (ke_ * cp_);
+        res_ = (params_[18] * rcap_);
+        dres_ = (cp_ + ((res_ - rcap_) / (cap_slope_ * ke_)));
+        if ((x_ > 0.0)) {
+            fe_ = 0.0;
+            eke_ = 1e-07;
+        } else if ((x_ >= cp_)) {
+            eke_ = ke_;
+            fe_ = (eke_ * x_);
+        } else if ((x_ >= dres_)) {
+            eke_ = (ke_ * cap_slope_);
+            fe_ = (rcap_ + (eke_ * (x_ - cp_)));
+        } else {
+            eke_ = 1e-07;
+            fe_ = (res_ + (eke_ * x_));
+        }
+    }
+    if ((x_ <= (-params_[20]))) {
+        eke_ = 1e-07;
+        fe_ = 1e-10;
+        x_ = (-params_[20]);
+        s_[5] = 1.0;
+    }
+    *ret0 = fe_;
+    *ret1 = eke_;
+    *ret2 = x_;
+    return;
+}
+
+/* pframe.laws.material.imk_peak._reload_pos */
+static PFRAME_INLINE double imk_peak__reload_pos(double *s_, double d_, double x_, double fe_,
+                                                 double eke_, double delta_d_, double ekp_)
+{
+    double sn_;
+    double f_;
+    double dmax_;
+    double fmax_;
+    double dlst_;
+    double flst_;
+    double ek_;
     double f2_;
     double ekc_;
     double f1_;
+    (void)s_; (void)d_; (void)x_; (void)fe_; (void)eke_; (void)delta_d_; (void)ekp_;
+    s_[6] = x_;
+    s_[8] = fe_;
+    s_[2] = eke_;
+    sn_ = s_[16];
+    if ((d_ <= sn_)) {
+        s_[2] = s_[22];
+        f_ = (s_[1] + (s_[2] * delta_d_));
+        if (((s_[3] == 0.0) && (fabs((s_[2] - ekp_)) > 1e-10) && (s_[0] != s_[7]))) {
+            s_[13] = s_[0];
+            s_[15] = s_[1];
+        }
+        return f_;
+    }
+    dmax_ = s_[6];
+    fmax_ = s_[8];
+    dlst_ = s_[12];
+    flst_ = s_[14];
+    ek_ = (fmax_ / (dmax_ - sn_));
+    f2_ = (ek_ * (d_ - sn_));
+    if (((dlst_ > sn_) && (dlst_ < dmax_))) {
+        ekc_ = (flst_ / (dlst_ - sn_));
+        if (((ekc_ > ek_) && (flst_ < fmax_))) {
+            if ((d_ < dlst_)) {
+                ek_ = (flst_ / (dlst_ - sn_));
+                f2_ = (ek_ * (d_ - sn_));
+            } else {
+                ek_ = ((fmax_ - flst_) / (dmax_ - dlst_));
+                f2_ = (flst_ + (ek_ * (d_ - dlst_)));
+            }
+        }
+    }
+    f1_ = (s_[1] + (s_[22] * delta_d_));
+    if ((f1_ < f2_)) {
+        f_ = f1_;
+    } else {
+        f_ = f2_;
+    }
+    if ((fabs((f_ - f1_)) < 1e-10)) {
+        ek_ = s_[22];
+    }
+    s_[2] = ek_;
+    return f_;
+}
+
+/* pframe.laws.material.imk_peak._reload_neg */
+static PFRAME_INLINE double imk_peak__reload_neg(double *s_, double d_, double x_, double fe_,
+                                                 double eke_, double delta_d_, double ekp_)
+{
+    double sp_;
+    double f_;
+    double dmin_;
+    double fmin_;
+    double dlst_;
+    double flst_;
+    double ek_;
+    double f2_;
+    double ekc_;
+    double f1_;
+    (void)s_; (void)d_; (void)x_; (void)fe_; (void)eke_; (void)delta_d_; (void)ekp_;
+    s_[7] = x_;
+    s_[9] = fe_;
+    s_[2] = eke_;
+    sp_ = s_[17];
+    if ((d_ >= sp_)) {
+        s_[2] = s_[22];
+        f_ = (s_[1] + (s_[2] * delta_d_));
+        if (((s_[3] == 0.0) && (fabs((s_[2] - ekp_)) > 1e-10) && (s_[0] != s_[6]))) {
+            s_[12] = s_[0];
+            s_[14] = s_[1];
+        }
+        return f_;
+    }
+    dmin_ = s_[7];
+    fmin_ = s_[9];
+    dlst_ = s_[13];
+    flst_ = s_[15];
+    ek_ = (fmin_ / (dmin_ - sp_));
+    f2_ = (ek_ * (d_ - sp_));
+    if (((dlst_ < sp_) && (dlst_ > dmin_))) {
+        ekc_ = (flst_ / (dlst_ - sp_));
+        if (((ekc_ > ek_) && (flst_ > fmin_))) {
+            if ((d_ > dlst_)) {
+                ek_ = (flst_ / (dlst_ - sp_));
+                f2_ = (ek_ * (d_ - sp_));
+            } else {
+                ek_ = ((fmin_ - flst_) / (dmin_ - dlst_));
+                f2_ = (flst_ + (ek_ * (d_ - dlst_)));
+            }
+        }
+    }
+    f1_ = (s_[1] + (s_[22] * delta_d_));
+    if ((f1_ > f2_)) {
+        f_ = f1_;
+    } else {
+        f_ = f2_;
+    }
+    if ((fabs((f_ - f1_)) < 1e-10)) {
+        ek_ = s_[22];
+    }
+    s_[2] = ek_;
+    return f_;
+}
+
+/* pframe.laws.material.imk_peak._betas */
+static PFRAME_INLINE void imk_peak__betas(const double *params_, const double *s_, double *ret0,
+                                          double *ret1, double *ret2)
+{
+    double my_pos_;
+    double ls_;
+    double ld_;
+    double la_;
+    double enrgts_;
+    double enrgta_;
+    double enrgtd_;
+    double enrgtot_;
+    double enrgc_;
+    double betas_;
+    double betaa_;
+    double betac_;
+    (void)params_; (void)s_;
+    my_pos_ = params_[3];
+    ls_ = params_[5];
+    ld_ = params_[6];
+    la_ = params_[7];
+    enrgts_ = (ls_ * my_pos_);
+    enrgta_ = (la_ * my_pos_);
+    enrgtd_ = (ld_ * my_pos_);
+    enrgtot_ = s_[19];
+    enrgc_ = s_[18];
+    betas_ = 0.0;
+    betaa_ = 0.0;
+    betac_ = 0.0;
+    if (((enrgtot_ >= enrgts_) && (enrgts_ != 0.0))) {
+        betas_ = 1.0;
+    } else if (((enrgtot_ >= enrgta_) && (enrgta_ != 0.0))) {
+        betaa_ = 1.0;
+    } else if (((enrgtot_ >= enrgtd_) && (enrgtd_ == 0.0))) {
+        betac_ = 1.0;
+    } else {
+        if ((ls_ != 0.0)) {
+            betas_ = imk_peak__power((enrgc_ / (enrgts_ - enrgtot_)), params_[9]);
+        }
+        if ((la_ != 0.0)) {
+            betaa_ = imk_peak__power((enrgc_ / (enrgta_ - enrgtot_)), params_[11]);
+        }
+        if ((ld_ != 0.0)) {
+            if (((enrgtd_ - enrgtot_) == 0.0)) {
+                betac_ = 1.0;
+            } else {
+                betac_ = imk_peak__power((enrgc_ / (enrgtd_ - enrgtot_)), params_[10]);
+            }
+        }
+        if ((fabs(betas_) >= 1.0)) {
+            betas_ = 1.0;
+        }
+        if ((fabs(betaa_) >= 1.0)) {
+            betaa_ = 1.0;
+        }
+        if ((fabs(betac_) >= 1.0)) {
+            betac_ = 1.0;
+        }
+    }
+    *ret0 = betas_;
+    *ret1 = betaa_;
+    *ret2 = betac_;
+    return;
+}
+
+/* pframe.laws.material.imk_peak._deteriorated */
+static PFRAME_INLINE void imk_peak__deteriorated(double ke_, double cap_slope_, double fy_,
+                                                 double alfa_, double fcapref_, double extreme_,
+                                                 double betas_, double betaa_, double betac_,
+                                                 double rate_, double *ret0, double *ret1,
+                                                 double *ret2, double *ret3, double *ret4,
+                                                 double *ret5, double *ret6)
+{
+    double dy_;
+    double ekhard_;
+    double dcap1_;
+    double dcap2_;
+    (void)ke_; (void)cap_slope_; (void)fy_; (void)alfa_; (void)fcapref_; (void)extreme_; (void)betas_; (void)betaa_; (void)betac_; (void)rate_;
+    fy_ = (fy_ * (1.0 - (betas_ * rate_)));
+    alfa_ = (alfa_ * (1.0 - (betas_ * rate_)));
+    fcapref_ = (fcapref_ * (1.0 - (betac_ * rate_)));
+    extreme_ = (extreme_ * (1.0 + betaa_));
+    dy_ = (fy_ / ke_);
+    ekhard_ = (alfa_ * ke_);
+    dcap1_ = (fcapref_ / (ke_ - (cap_slope_ * ke_)));
+    dcap2_ = (((fcapref_ + (ekhard_ * dy_)) - fy_) / (ekhard_ - (cap_slope_ * ke_)));
+    *ret0 = fy_;
+    *ret1 = alfa_;
+    *ret2 = fcapref_;
+    *ret3 = extreme_;
+    *ret4 = ekhard_;
+    *ret5 = dcap1_;
+    *ret6 = dcap2_;
+    return;
+}
+
+/* pframe.laws.material.imk_peak._deteriorate */
+static PFRAME_INLINE void imk_peak__deteriorate(const double *params_, double *s_, double f_,
+                                                double delta_d_)
+{
+    double ke_;
+    double fp_;
     double enrgi_;
     double flagdeg_;
     double betas_;
     double betaa_;
     double betac_;
-    double dy_neg_;
+    double fpeak_pos_;
+    double fpeak_neg_;
+    double cap_slope_pos_;
+    double cap_slope_neg_;
+    double fy_;
+    double alfa_;
+    double fcapref_;
+    double dmin_;
+    double ekhard_;
     double dcap1_;
     double dcap2_;
-    double dy_pos_;
-    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
-    ke_ = params[0];
-    my_pos_ = params[3];
-    my_neg_ = params[4];
-    ls_ = params[5];
-    ld_ = params[6];
-    la_ = params[7];
-    lk_ = params[8];
-    cs_ = params[9];
-    cd_ = params[10];
-    ca_ = params[11];
-    ck_ = params[12];
-    theta_p_pos_ = params[13];
-    theta_p_neg_ = params[14];
-    frac_pos_ = params[19];
-    frac_neg_ = (-params[20]);
-    d_pos_ = params[21];
-    d_neg_ = params[22];
-    enrgts_ = (ls_ * my_pos_);
-    enrgtk_ = ((2.0 * lk_) * my_pos_);
-    enrgta_ = (la_ * my_pos_);
-    enrgtd_ = (ld_ * my_pos_);
-    ekhard_pos0_ = (ke_ * params[1]);
-    ekhard_neg0_ = (ke_ * params[2]);
-    fpeak_pos_ = (my_pos_ + (ekhard_pos0_ * theta_p_pos_));
-    fpeak_neg_ = (my_neg_ + (ekhard_neg0_ * (-theta_p_neg_)));
-    cap_slope_pos_ = ((-fpeak_pos_) / (params[15] * ke_));
-    cap_slope_neg_ = (fpeak_neg_ / (params[16] * ke_));
-    dp_ = committed[0];
-    fp_ = committed[1];
-    ek_ = committed[2];
-    unl_ = committed[3];
-    kon_ = committed[4];
-    flag_stop_ = committed[5];
-    dmax_ = committed[6];
-    dmin_ = committed[7];
-    fmax_ = committed[8];
-    fmin_ = committed[9];
-    fy_pos_ = committed[10];
-    fy_neg_ = committed[11];
-    dlst_pos_ = committed[12];
-    dlst_neg_ = committed[13];
-    flst_pos_ = committed[14];
-    flst_neg_ = committed[15];
-    sn_ = committed[16];
-    sp_ = committed[17];
-    enrgc_ = committed[18];
-    enrgtot_ = committed[19];
-    fcapref_pos_ = committed[20];
-    fcapref_neg_ = committed[21];
-    ekunload_ = committed[22];
-    cp_pos_ = committed[23];
-    cp_neg_ = committed[24];
-    ekhard_pos_ = committed[25];
-    ekhard_neg_ = committed[26];
-    alfa_pos_ = committed[27];
-    alfa_neg_ = committed[28];
-    prod_beta_ = committed[29];
-    ekp_ = ek_;
-    d_ = deformation;
-    delta_d_ = (d_ - dp_);
-    f_ = fp_;
-    if ((!((fabs(delta_d_) < 1e-18) && (d_ != 0.0) && (kon_ != 0.0)))) {
-        if ((kon_ == 0.0)) {
-            alfa_neg_ = params[2];
-            alfa_pos_ = params[1];
-            ekhard_pos_ = ekhard_pos0_;
-            ekhard_neg_ = ekhard_neg0_;
-            enrgtot_ = 0.0;
-            enrgc_ = 0.0;
-            dmax_ = (my_pos_ / ke_);
-            dmin_ = (my_neg_ / ke_);
-            ekp_ = ke_;
-            ekunload_ = ke_;
-            fy_pos_ = my_pos_;
-            fy_neg_ = my_neg_;
-            cp_pos_ = ((my_pos_ / ke_) + theta_p_pos_);
-            cp_neg_ = ((my_neg_ / ke_) + (-theta_p_neg_));
-            fcapref_pos_ = ((((-cap_slope_pos_) * ke_) * (theta_p_pos_ + (my_pos_ / ke_))) + fpeak_pos_);
-            fcapref_neg_ = ((((-cap_slope_neg_) * ke_) * ((-theta_p_neg_) + (my_neg_ / ke_))) + fpeak_neg_);
-            fmin_ = my_neg_;
-            fmax_ = my_pos_;
-            flag_stop_ = 0.0;
-            dlst_neg_ = (my_neg_ / ke_);
-            dlst_pos_ = (my_pos_ / ke_);
-            flst_neg_ = my_neg_;
-            flst_pos_ = my_pos_;
-            ek_ = 0.0;
-            sp_ = 0.0;
-            fp_ = 0.0;
-            sn_ = 0.0;
-            f_ = 0.0;
-            unl_ = 1.0;
-            prod_beta_ = 1.0;
-            if ((delta_d_ >= 0.0)) {
-                kon_ = 1.0;
-            } else {
-                kon_ = 2.0;
-            }
+    double dmax_;
+    (void)params_; (void)s_; (void)f_; (void)delta_d_;
+    ke_ = params_[0];
+    fp_ = s_[1];
+    enrgi_ = ((0.5 * (f_ + fp_)) * delta_d_);
+    s_[18] = (s_[18] + enrgi_);
+    s_[19] = (s_[19] + enrgi_);
+    flagdeg_ = 0.0;
+    if (((f_ * fp_) < 0.0)) {
+        if ((((fp_ > 0.0) && (s_[6] > (s_[10] / ke_))) || ((fp_ < 0.0) && (s_[7] < (s_[11] / ke_))))) {
+            flagdeg_ = 1.0;
         }
-        if ((flag_stop_ == 0.0)) {
-            mode_ = 0.0;
-            if ((delta_d_ >= 0.0)) {
-                if ((kon_ == 2.0)) {
-                    kon_ = 1.0;
-                    unl_ = 0.0;
-                    rse_ = (((0.5 * fp_) * fp_) / ekunload_);
-                    a2_ = (enrgtk_ - (enrgtot_ - rse_));
-                    if (((a2_ < 0.0) && (enrgtk_ != 0.0))) {
-                        flag_stop_ = 1.0;
-                    }
-                    if ((lk_ != 0.0)) {
-                        if (((enrgtot_ - rse_) >= enrgtk_)) {
-                            betak_ = 1.0;
-                        } else {
-                            base_ = ((enrgc_ - rse_) / (enrgtk_ - (enrgtot_ - rse_)));
-                            if (((base_ < 0.0) && (ck_ != floor(ck_)))) {
-                                base_ = 0.0;
-                            }
-                            betak_ = pow(base_, ck_);
-                        }
-                        ekunload_ = (ke_ * (prod_beta_ * (1.0 - betak_)));
-                        prod_beta_ = (prod_beta_ * (1.0 - betak_));
-                        if ((ekunload_ <= ekhard_neg_)) {
-                            flag_stop_ = 1.0;
-                        }
-                    }
-                    if ((fp_ < 0.0)) {
-                        tst_ = (dp_ - (fp_ / ekunload_));
-                        if (((fabs((dmax_ - (my_pos_ / ke_))) >= 1e-10) && (fabs(tst_) <= 1e-10))) {
-                            sn_ = 1e-09;
-                        } else {
-                            sn_ = (dp_ - (fp_ / ekunload_));
-                        }
-                    }
-                    if ((fabs((dmin_ - dp_)) <= 1e-10)) {
-                        sp_ = (sn_ + 1e-10);
-                    }
-                }
-                if ((d_ >= dmax_)) {
-                    mode_ = 1.0;
-                    x_ = d_;
-                    positive_ = 1.0;
-                } else if ((fabs(sn_) > 1e-10)) {
-                    mode_ = 2.0;
-                    x_ = dmax_;
-                    positive_ = 1.0;
-                } else {
-                    mode_ = 3.0;
-                    x_ = d_;
-                    positive_ = ((d_ > 0.0) ? 1.0 : 0.0);
-                }
+    }
+    if ((flagdeg_ == 1.0)) {
+        imk_peak__betas(params_, s_, &betas_, &betaa_, &betac_);
+        s_[18] = 0.0;
+        imk_peak__backbone(params_, &fpeak_pos_, &fpeak_neg_, &cap_slope_pos_, &cap_slope_neg_);
+        if ((delta_d_ < 0.0)) {
+            imk_peak__deteriorated(ke_, cap_slope_neg_, s_[11], s_[28], s_[21], s_[7], betas_, betaa_, betac_, params_[22], &fy_, &alfa_, &fcapref_, &dmin_, &ekhard_, &dcap1_, &dcap2_);
+            s_[11] = fy_;
+            s_[28] = alfa_;
+            s_[21] = fcapref_;
+            s_[7] = dmin_;
+            s_[26] = ekhard_;
+            if ((dcap1_ < dcap2_)) {
+                s_[24] = dcap1_;
             } else {
-                if ((kon_ == 1.0)) {
-                    kon_ = 2.0;
-                    unl_ = 0.0;
-                    rse_ = (((0.5 * fp_) * fp_) / ekunload_);
-                    if ((lk_ != 0.0)) {
-                        if (((enrgtot_ - rse_) >= enrgtk_)) {
-                            betak_ = 1.0;
-                        } else {
-                            base_ = ((enrgc_ - rse_) / (enrgtk_ - (enrgtot_ - rse_)));
-                            if (((base_ < 0.0) && (ck_ != floor(ck_)))) {
-                                base_ = 0.0;
-                            }
-                            betak_ = pow(base_, ck_);
-                        }
-                        ekunload_ = (ke_ * (prod_beta_ * (1.0 - betak_)));
-                        prod_beta_ = (prod_beta_ * (1.0 - betak_));
-                        if ((ekunload_ <= ekhard_pos_)) {
-                            flag_stop_ = 1.0;
-                        }
-                    }
-                    if ((fp_ > 0.0)) {
-                        tst_ = (dp_ - (fp_ / ekunload_));
-                        if (((fabs((dmin_ - (my_neg_ / ke_))) >= 1e-10) && (fabs(tst_) <= 1e-10))) {
-                            sp_ = 1e-09;
-                        } else {
-                            sp_ = (dp_ - (fp_ / ekunload_));
-                        }
-                    }
-                    if ((fabs((dmax_ - dp_)) <= 1e-10)) {
-                        sn_ = (sp_ - 1e-10);
-                    }
-                }
-                if ((d_ <= dmin_)) {
-                    mode_ = 4.0;
-                    x_ = d_;
-                    positive_ = 0.0;
-                } else if ((fabs(sp_) > 1e-10)) {
-                    mode_ = 5.0;
-                    x_ = dmin_;
-                    positive_ = 0.0;
-                } else {
-                    mode_ = 6.0;
-                    x_ = d_;
-                    positive_ = ((d_ > 0.0) ? 1.0 : 0.0);
-                }
-            }
-            if ((positive_ == 1.0)) {
-                dy_ = (fy_pos_ / ke_);
-                if ((dy_ <= cp_pos_)) {
-                    res_ = (params[17] * my_pos_);
-                    rcap_ = (fy_pos_ + ((alfa_pos_ * ke_) * (cp_pos_ - dy_)));
-                    dres_ = (cp_pos_ + ((res_ - rcap_) / (cap_slope_pos_ * ke_)));
-                    if ((x_ < 0.0)) {
-                        fe_ = 0.0;
-                        eke_ = 1e-07;
-                    } else if ((x_ <= dy_)) {
-                        eke_ = ke_;
-                        fe_ = (eke_ * x_);
-                    } else if ((x_ <= cp_pos_)) {
-                        eke_ = (ke_ * alfa_pos_);
-                        fe_ = (fy_pos_ + (eke_ * (x_ - dy_)));
-                    } else if ((x_ <= dres_)) {
-                        eke_ = (cap_slope_pos_ * ke_);
-                        fe_ = (rcap_ + (eke_ * (x_ - cp_pos_)));
-                    } else {
-                        eke_ = 1e-07;
-                        fe_ = (res_ + (x_ * eke_));
-                    }
-                } else {
-                    rcap_ = (ke_ * cp_pos_);
-                    res_ = (params[17] * rcap_);
-                    dres_ = (cp_pos_ + ((res_ - rcap_) / (cap_slope_pos_ * ke_)));
-                    if ((x_ < 0.0)) {
-                        fe_ = 0.0;
-                        eke_ = 1e-07;
-                    } else if ((x_ <= cp_pos_)) {
-                        eke_ = ke_;
-                        fe_ = (eke_ * x_);
-                    } else if ((x_ <= dres_)) {
-                        eke_ = (cap_slope_pos_ * ke_);
-                        fe_ = (rcap_ + (eke_ * (x_ - cp_pos_)));
-                    } else {
-                        eke_ = 1e-07;
-                        fe_ = (res_ + (x_ * eke_));
-                    }
-                }
-                if ((x_ >= frac_pos_)) {
-                    eke_ = 1e-07;
-                    fe_ = 1e-10;
-                    x_ = frac_pos_;
-                    flag_stop_ = 1.0;
-                }
-            } else {
-                dy_ = (fy_neg_ / ke_);
-                if ((dy_ >= cp_neg_)) {
-                    res_ = (params[18] * my_neg_);
-                    rcap_ = (fy_neg_ + ((alfa_neg_ * ke_) * (cp_neg_ - dy_)));
-                    dres_ = (cp_neg_ + ((res_ - rcap_) / (cap_slope_neg_ * ke_)));
-                    if ((x_ > 0.0)) {
-                        fe_ = 0.0;
-                        eke_ = 1e-07;
-                    } else if ((x_ >= dy_)) {
-                        eke_ = ke_;
-                        fe_ = (eke_ * x_);
-                    } else if ((x_ >= cp_neg_)) {
-                        eke_ = (ke_ * alfa_neg_);
-                        fe_ = (fy_neg_ + (eke_ * (x_ - dy_)));
-                    } else if ((x_ >= dres_)) {
-                        eke_ = (ke_ * cap_slope_neg_);
-                        fe_ = (rcap_ + (eke_ * (x_ - cp_neg_)));
-                    } else {
-                        eke_ = 1e-07;
-                        fe_ = (res_ + (eke_ * x_));
-                    }
-                } else {
-                    rcap_ = (ke_ * cp_neg_);
-                    res_ = (params[18] * rcap_);
-                    dres_ = (cp_neg_ + ((res_ - rcap_) / (cap_slope_neg_ * ke_)));
-                    if ((x_ > 0.0)) {
-                        fe_ = 0.0;
-                        eke_ = 1e-07;
-                    } else if ((x_ >= cp_neg_)) {
-                        eke_ = ke_;
-                        fe_ = (eke_ * x_);
-                    } else if ((x_ >= dres_)) {
-                        eke_ = (ke_ * cap_slope_neg_);
-                        fe_ = (rcap_ + (eke_ * (x_ - cp_neg_)));
-                    } else {
-                        eke_ = 1e-07;
-                        fe_ = (res_ + (eke_ * x_));
-                    }
-                }
-                if ((x_ <= frac_neg_)) {
-                    eke_ = 1e-07;
-                    fe_ = 1e-10;
-                    x_ = frac_neg_;
-                    flag_stop_ = 1.0;
-                }
-            }
-            if ((mode_ == 1.0)) {
-                d_ = x_;
-                f_ = fe_;
-                ek_ = eke_;
-                dmax_ = d_;
-                fmax_ = f_;
-                dlst_pos_ = (dmax_ + 1e-10);
-                flst_pos_ = f_;
-            } else if ((mode_ == 2.0)) {
-                dmax_ = x_;
-                fmax_ = fe_;
-                ek_ = eke_;
-                if ((d_ <= sn_)) {
-                    ek_ = ekunload_;
-                    f_ = (fp_ + (ek_ * delta_d_));
-                    if (((unl_ == 0.0) && (fabs((ek_ - ekp_)) > 1e-10) && (dp_ != dmin_))) {
-                        dlst_neg_ = dp_;
-                        flst_neg_ = fp_;
-                    }
-                } else {
-                    ek_ = (fmax_ / (dmax_ - sn_));
-                    f2_ = (ek_ * (d_ - sn_));
-                    if (((dlst_pos_ > sn_) && (dlst_pos_ < dmax_))) {
-                        ekc_ = (flst_pos_ / (dlst_pos_ - sn_));
-                        if (((ekc_ > ek_) && (flst_pos_ < fmax_))) {
-                            if ((d_ < dlst_pos_)) {
-                                ek_ = (flst_pos_ / (dlst_pos_ - sn_));
-                                f2_ = (ek_ * (d_ - sn_));
-                            } else {
-                                ek_ = ((fmax_ - flst_pos_) / (dmax_ - dlst_pos_));
-                                f2_ = (flst_pos_ + (ek_ * (d_ - dlst_pos_)));
-                            }
-                        }
-                    }
-                    f1_ = (fp_ + (ekunload_ * delta_d_));
-                    if ((f1_ < f2_)) {
-                        f_ = f1_;
-                    } else {
-                        f_ = f2_;
-                    }
-                    if ((fabs((f_ - f1_)) < 1e-10)) {
-                        ek_ = ekunload_;
-                    }
-                }
-            } else if ((mode_ == 4.0)) {
-                d_ = x_;
-                f_ = fe_;
-                ek_ = eke_;
-                dmin_ = d_;
-                fmin_ = f_;
-                dlst_neg_ = (dmin_ - 1e-10);
-                flst_neg_ = f_;
-            } else if ((mode_ == 5.0)) {
-                dmin_ = x_;
-                fmin_ = fe_;
-                ek_ = eke_;
-                if ((d_ >= sp_)) {
-                    ek_ = ekunload_;
-                    f_ = (fp_ + (ek_ * delta_d_));
-                    if (((unl_ == 0.0) && (fabs((ek_ - ekp_)) > 1e-10) && (dp_ != dmax_))) {
-                        dlst_pos_ = dp_;
-                        flst_pos_ = fp_;
-                    }
-                } else {
-                    ek_ = (fmin_ / (dmin_ - sp_));
-                    f2_ = (ek_ * (d_ - sp_));
-                    if (((dlst_neg_ < sp_) && (dlst_neg_ > dmin_))) {
-                        ekc_ = (flst_neg_ / (dlst_neg_ - sp_));
-                        if (((ekc_ > ek_) && (flst_neg_ > fmin_))) {
-                            if ((d_ > dlst_neg_)) {
-                                ek_ = (flst_neg_ / (dlst_neg_ - sp_));
-                                f2_ = (ek_ * (d_ - sp_));
-                            } else {
-                                ek_ = ((fmin_ - flst_neg_) / (dmin_ - dlst_neg_));
-                                f2_ = (flst_neg_ + (ek_ * (d_ - dlst_neg_)));
-                            }
-                        }
-                    }
-                    f1_ = (fp_ + (ekunload_ * delta_d_));
-                    if ((f1_ > f2_)) {
-                        f_ = f1_;
-                    } else {
-                        f_ = f2_;
-                    }
-                    if ((fabs((f_ - f1_)) < 1e-10)) {
-                        ek_ = ekunload_;
-                    }
-                }
-            } else {
-                d_ = x_;
-                f_ = fe_;
-                ek_ = eke_;
-            }
-            enrgi_ = ((0.5 * (f_ + fp_)) * delta_d_);
-            enrgc_ = (enrgc_ + enrgi_);
-            enrgtot_ = (enrgtot_ + enrgi_);
-            flagdeg_ = 0.0;
-            if (((f_ * fp_) < 0.0)) {
-                if ((((fp_ > 0.0) && (dmax_ > (fy_pos_ / ke_))) || ((fp_ < 0.0) && (dmin_ < (fy_neg_ / ke_))))) {
-                    flagdeg_ = 1.0;
-                }
-            }
-            if ((flagdeg_ == 1.0)) {
-                betas_ = 0.0;
-                betaa_ = 0.0;
-                betac_ = 0.0;
-                if (((enrgtot_ >= enrgts_) && (enrgts_ != 0.0))) {
-                    betas_ = 1.0;
-                } else if (((enrgtot_ >= enrgta_) && (enrgta_ != 0.0))) {
-                    betaa_ = 1.0;
-                } else if (((enrgtot_ >= enrgtd_) && (enrgtd_ == 0.0))) {
-                    betac_ = 1.0;
-                } else {
-                    if ((ls_ != 0.0)) {
-                        base_ = (enrgc_ / (enrgts_ - enrgtot_));
-                        if (((base_ < 0.0) && (cs_ != floor(cs_)))) {
-                            base_ = 0.0;
-                        }
-                        betas_ = pow(base_, cs_);
-                    }
-                    if ((la_ != 0.0)) {
-                        base_ = (enrgc_ / (enrgta_ - enrgtot_));
-                        if (((base_ < 0.0) && (ca_ != floor(ca_)))) {
-                            base_ = 0.0;
-                        }
-                        betaa_ = pow(base_, ca_);
-                    }
-                    if ((ld_ != 0.0)) {
-                        if (((enrgtd_ - enrgtot_) == 0.0)) {
-                            betac_ = 1.0;
-                        } else {
-                            base_ = (enrgc_ / (enrgtd_ - enrgtot_));
-                            if (((base_ < 0.0) && (cd_ != floor(cd_)))) {
-                                base_ = 0.0;
-                            }
-                            betac_ = pow(base_, cd_);
-                        }
-                    }
-                    if ((fabs(betas_) >= 1.0)) {
-                        betas_ = 1.0;
-                    }
-                    if ((fabs(betaa_) >= 1.0)) {
-                        betaa_ = 1.0;
-                    }
-                    if ((fabs(betac_) >= 1.0)) {
-                        betac_ = 1.0;
-                    }
-                }
-                enrgc_ = 0.0;
-                if ((delta_d_ < 0.0)) {
-                    fy_neg_ = (fy_neg_ * (1.0 - (betas_ * d_neg_)));
-                    alfa_neg_ = (alfa_neg_ * (1.0 - (betas_ * d_neg_)));
-                    fcapref_neg_ = (fcapref_neg_ * (1.0 - (betac_ * d_neg_)));
-                    dmin_ = (dmin_ * (1.0 + betaa_));
-                    dy_neg_ = (fy_neg_ / ke_);
-                    ekhard_neg_ = (alfa_neg_ * ke_);
-                    dcap1_ = (fcapref_neg_ / (ke_ - (cap_slope_neg_ * ke_)));
-                    dcap2_ = (((fcapref_neg_ + (ekhard_neg_ * dy_neg_)) - fy_neg_) / (ekhard_neg_ - (cap_slope_neg_ * ke_)));
-                    if ((dcap1_ < dcap2_)) {
-                        cp_neg_ = dcap1_;
-                    } else {
-                        cp_neg_ = dcap2_;
-                    }
-                } else {
-                    fy_pos_ = (fy_pos_ * (1.0 - (betas_ * d_pos_)));
-                    alfa_pos_ = (alfa_pos_ * (1.0 - (betas_ * d_pos_)));
-                    fcapref_pos_ = (fcapref_pos_ * (1.0 - (betac_ * d_pos_)));
-                    dmax_ = (dmax_ * (1.0 + betaa_));
-                    dy_pos_ = (fy_pos_ / ke_);
-                    ekhard_pos_ = (alfa_pos_ * ke_);
-                    dcap1_ = (fcapref_pos_ / (ke_ - (cap_slope_pos_ * ke_)));
-                    dcap2_ = (((fcapref_pos_ + (ekhard_pos_ * dy_pos_)) - fy_pos_) / (ekhard_pos_ - (cap_slope_pos_ * ke_)));
-                    if ((dcap1_ > dcap2_)) {
-                        cp_pos_ = dcap1_;
-                    } else {
-                        cp_pos_ = dcap2_;
-                    }
-                }
+                s_[24] = dcap2_;
             }
         } else {
-            f_ = 0.0;
-            ek_ = 0.0;
+            imk_peak__deteriorated(ke_, cap_slope_pos_, s_[10], s_[27], s_[20], s_[6], betas_, betaa_, betac_, params_[21], &fy_, &alfa_, &fcapref_, &dmax_, &ekhard_, &dcap1_, &dcap2_);
+            s_[10] = fy_;
+            s_[27] = alfa_;
+            s_[20] = fcapref_;
+            s_[6] = dmax_;
+            s_[25] = ekhard_;
+            if ((dcap1_ > dcap2_)) {
+                s_[23] = dcap1_;
+            } else {
+                s_[23] = dcap2_;
+            }
         }
-        dp_ = d_;
-        fp_ = f_;
     }
-    trial[0] = dp_;
-    trial[1] = fp_;
-    trial[2] = ek_;
-    trial[3] = unl_;
-    trial[4] = kon_;
-    trial[5] = flag_stop_;
-    trial[6] = dmax_;
-    trial[7] = dmin_;
-    trial[8] = fmax_;
-    trial[9] = fmin_;
-    trial[10] = fy_pos_;
-    trial[11] = fy_neg_;
-    trial[12] = dlst_pos_;
-    trial[13] = dlst_neg_;
-    trial[14] = flst_pos_;
-    trial[15] = flst_neg_;
-    trial[16] = sn_;
-    trial[17] = sp_;
-    trial[18] = enrgc_;
-    trial[19] = enrgtot_;
-    trial[20] = fcapref_pos_;
-    trial[21] = fcapref_neg_;
-    trial[22] = ekunload_;
-    trial[23] = cp_pos_;
-    trial[24] = cp_neg_;
-    trial[25] = ekhard_pos_;
-    trial[26] = ekhard_neg_;
-    trial[27] = alfa_pos_;
-    trial[28] = alfa_neg_;
-    trial[29] = prod_beta_;
-    out[0] = fp_;
-    out[1] = ek_;
+}
+
+/* pframe.laws.material.imk_peak._step */
+static PFRAME_INLINE void imk_peak__step(const double *params_, double *s_, double d_,
+                                         double delta_d_, double ekp_, double *ret0,
+                                         double *ret1)
+{
+    double mode_;
+    double x_;
+    double positive_;
+    double fe_;
+    double eke_;
+    double f_;
+    (void)params_; (void)s_; (void)d_; (void)delta_d_; (void)ekp_;
+    imk_peak__direction(params_, s_, d_, delta_d_, &mode_, &x_, &positive_);
+    if ((positive_ == 1.0)) {
+        imk_peak__envelope_pos(params_, s_, x_, &fe_, &eke_, &x_);
+    } else {
+        imk_peak__envelope_neg(params_, s_, x_, &fe_, &eke_, &x_);
+    }
+    if ((mode_ == 1.0)) {
+        d_ = x_;
+        f_ = fe_;
+        s_[2] = eke_;
+        s_[6] = d_;
+        s_[8] = f_;
+        s_[12] = (s_[6] + 1e-10);
+        s_[14] = f_;
+    } else if ((mode_ == 2.0)) {
+        f_ = imk_peak__reload_pos(s_, d_, x_, fe_, eke_, delta_d_, ekp_);
+    } else if ((mode_ == 4.0)) {
+        d_ = x_;
+        f_ = fe_;
+        s_[2] = eke_;
+        s_[7] = d_;
+        s_[9] = f_;
+        s_[13] = (s_[7] - 1e-10);
+        s_[15] = f_;
+    } else if ((mode_ == 5.0)) {
+        f_ = imk_peak__reload_neg(s_, d_, x_, fe_, eke_, delta_d_, ekp_);
+    } else {
+        d_ = x_;
+        f_ = fe_;
+        s_[2] = eke_;
+    }
+    imk_peak__deteriorate(params_, s_, f_, delta_d_);
+    *ret0 = d_;
+    *ret1 = f_;
+    return;
+}
+
+/* pframe.laws.material.imk_peak.ImkPeak.force */
+static void material_imk_peak(const double *params, const double *committed, double *trial,
+                              double deformation, double rate, double *out)
+{
+    double d_;
+    double delta_d_;
+    double ekp_;
+    double f_;
+    (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
+    imk_peak__copy_state(committed, trial);
+    d_ = deformation;
+    delta_d_ = (d_ - trial[0]);
+    if ((!((fabs(delta_d_) < 1e-18) && (d_ != 0.0) && (trial[4] != 0.0)))) {
+        ekp_ = trial[2];
+        if ((trial[4] == 0.0)) {
+            imk_peak__first_loading(params, trial, delta_d_);
+            ekp_ = params[0];
+        }
+        if ((trial[5] == 0.0)) {
+            imk_peak__step(params, trial, d_, delta_d_, ekp_, &d_, &f_);
+        } else {
+            f_ = 0.0;
+            trial[2] = 0.0;
+        }
+        trial[0] = d_;
+        trial[1] = f_;
+    }
+    out[0] = trial[1];
+    out[1] = trial[2];
     out[2] = 0.0;
+    return;
+}
+
+/* pframe.laws.material.bwbn._pinching_at */
+static PFRAME_INLINE void bwbn__pinching_at(const double *params_, double z_, double sd_,
+                                            double te_, double ta_, double tnu_, double *ret0,
+                                            double *ret1, double *ret2)
+{
+    double zetas_;
+    double n_;
+    double p_;
+    double psi0_;
+    double delta_psi_;
+    double lamda_;
+    double q_;
+    double delta_a_;
+    double delta_nu_;
+    double zeta1_;
+    double zeta2_;
+    double zu_;
+    double zu_e_;
+    double x_;
+    double g_;
+    double h_;
+    double zeta1_e_;
+    double zeta2_e_;
+    double h_x_;
+    double h_e_;
+    (void)params_; (void)z_; (void)sd_; (void)te_; (void)ta_; (void)tnu_;
+    zetas_ = params_[10];
+    if ((!(zetas_ > 0.0))) {
+        *ret0 = 1.0;
+        *ret1 = 0.0;
+        *ret2 = 0.0;
+        return;
+    }
+    n_ = params_[2];
+    p_ = params_[11];
+    psi0_ = params_[12];
+    delta_psi_ = params_[13];
+    lamda_ = params_[14];
+    q_ = params_[9];
+    delta_a_ = params_[6];
+    delta_nu_ = params_[7];
+    zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
+    zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
+    zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (params_[4] + params_[3]))), (1.0 / n_));
+    zu_e_ = 0.0;
+    if ((ta_ > 0.0)) {
+        zu_e_ = ((zu_ / n_) * (((-delta_a_) / ta_) - (delta_nu_ / tnu_)));
+    }
+    x_ = ((z_ * sd_) - (q_ * zu_));
+    g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
+    h_ = (1.0 - (zeta1_ * g_));
+    zeta1_e_ = ((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0)));
+    zeta2_e_ = ((((psi0_ * zeta1_e_) + (lamda_ * delta_psi_)) + ((delta_psi_ * te_) * zeta1_e_)) + (delta_psi_ * zeta1_));
+    h_x_ = ((((zeta1_ * g_) * 2.0) * x_) / (zeta2_ * zeta2_));
+    h_e_ = (((-g_) * (zeta1_e_ + ((((zeta1_ * 2.0) * (x_ * x_)) * zeta2_e_) / ((zeta2_ * zeta2_) * zeta2_)))) - ((h_x_ * q_) * zu_e_));
+    *ret0 = h_;
+    *ret1 = h_e_;
+    *ret2 = h_x_;
     return;
 }
 
@@ -885,177 +1201,46 @@ static void material_bwbn(const double *params, const double *committed, double 
     double alpha_;
     double ko_;
     double n_;
-    double gamma_;
-    double beta_;
-    double a0_;
-    double delta_a_;
-    double delta_nu_;
-    double delta_eta_;
-    double q_;
-    double zetas_;
-    double p_;
-    double psi0_;
-    double delta_psi_;
-    double lamda_;
-    double tolerance_;
-    double most_;
-    double cz_;
-    double ce_;
     double strain_;
     double sd_;
     double z_;
-    double z_old_;
-    double z_new_;
-    double count_;
+    double stress_;
     double te_;
     double ta_;
     double tnu_;
     double teta_;
     double psi_;
     double phi_;
-    double te__;
-    double ta__;
-    double tnu__;
-    double teta__;
-    double h_;
-    double h__;
-    double zeta1_;
-    double zeta2_;
-    double zu_;
-    double zu__;
-    double x_;
-    double x__;
-    double g_;
-    double zeta1__;
-    double zeta2__;
-    double f_;
-    double sign_;
-    double pow1_;
-    double pow2_;
-    double phi__;
-    double f__;
-    double stress_;
     double tangent_;
+    double pow2_;
     double e_du_;
     double e_dz_;
     double phi_e_;
     double phi_z_;
+    double h_;
     double h_e_;
     double h_x_;
-    double zu_e_;
-    double zeta1_e_;
-    double zeta2_e_;
     double w_e_;
     double numerator_;
     double denominator_;
-    int64_t loop0_;
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
     alpha_ = params[0];
     ko_ = params[1];
     n_ = params[2];
-    gamma_ = params[3];
-    beta_ = params[4];
-    a0_ = params[5];
-    delta_a_ = params[6];
-    delta_nu_ = params[7];
-    delta_eta_ = params[8];
-    q_ = params[9];
-    zetas_ = params[10];
-    p_ = params[11];
-    psi0_ = params[12];
-    delta_psi_ = params[13];
-    lamda_ = params[14];
-    tolerance_ = params[15];
-    most_ = params[16];
-    cz_ = committed[1];
-    ce_ = committed[2];
     strain_ = (deformation - committed[0]);
     sd_ = ((strain_ > 0.0) ? 1.0 : (-1.0));
-    z_ = 0.01;
-    z_old_ = 0.01;
-    z_new_ = 1.0;
-    count_ = 0.0;
-    for (loop0_ = 0; loop0_ < 100; loop0_++) {
-        if ((!((fabs((z_old_ - z_new_)) > tolerance_) && (count_ < most_)))) {
-            break;
-        }
-        te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
-        phi_ = (ta_ - ((pow(fabs(z_), n_) * psi_) * tnu_));
-        te__ = (((1.0 - alpha_) * ko_) * strain_);
-        ta__ = ((-delta_a_) * te__);
-        tnu__ = (delta_nu_ * te__);
-        teta__ = (delta_eta_ * te__);
-        h_ = 1.0;
-        h__ = 0.0;
-        if ((zetas_ > 0.0)) {
-            zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
-            zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
-            zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (beta_ + gamma_))), (1.0 / n_));
-            zu__ = 0.0;
-            if ((ta_ > 0.0)) {
-                zu__ = ((zu_ / n_) * ((ta__ / ta_) - (tnu__ / tnu_)));
-            }
-            x_ = ((z_ * sd_) - (q_ * zu_));
-            x__ = (sd_ - (q_ * zu__));
-            g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
-            h_ = (1.0 - (zeta1_ * g_));
-            zeta1__ = (((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0))) * te__);
-            zeta2__ = ((((psi0_ * zeta1__) + ((lamda_ * delta_psi_) * te__)) + ((delta_psi_ * te_) * zeta1__)) + ((delta_psi_ * te__) * zeta1_));
-            h__ = ((-g_) * ((zeta1__ - ((((zeta1_ * 2.0) * x_) * x__) / (zeta2_ * zeta2_))) + ((((zeta2__ * zeta1_) * 2.0) * (x_ * x_)) / ((zeta2_ * zeta2_) * zeta2_))));
-        }
-        f_ = ((z_ - cz_) - (((phi_ * h_) / teta_) * strain_));
-        sign_ = ((z_ > 0.0) ? 1.0 : (-1.0));
-        pow1_ = 0.0;
-        pow2_ = 0.0;
-        if ((z_ != 0.0)) {
-            pow1_ = pow(fabs(z_), (n_ - 1.0));
-            pow2_ = pow(fabs(z_), n_);
-        }
-        phi__ = ((ta__ - ((((n_ * pow1_) * sign_) * psi_) * tnu_)) - ((pow2_ * psi_) * tnu__));
-        f__ = (1.0 - ((((((phi__ * h_) + (phi_ * h__)) * teta_) - ((phi_ * h_) * teta__)) / (teta_ * teta_)) * strain_));
-        z_new_ = (z_ - (f_ / f__));
-        z_old_ = z_;
-        z_ = z_new_;
-        count_ = (count_ + 1.0);
-    }
+    z_ = bouc_wen_trial_z(params, committed, strain_, params[15], params[16], 1.0);
     stress_ = (((alpha_ * ko_) * deformation) + (((1.0 - alpha_) * ko_) * z_));
-    te_ = (ce_ + ((((1.0 - alpha_) * ko_) * strain_) * z_));
+    bouc_wen_hysteretic(params, z_, strain_, committed[2], &te_, &ta_, &tnu_, &teta_, &psi_, &phi_);
     tangent_ = ((alpha_ * ko_) + ((1.0 - alpha_) * ko_));
     if ((z_ != 0.0)) {
-        ta_ = (a0_ - (delta_a_ * te_));
-        tnu_ = (1.0 + (delta_nu_ * te_));
-        teta_ = (1.0 + (delta_eta_ * te_));
-        psi_ = (gamma_ + (beta_ * (((strain_ * z_) > 0.0) ? 1.0 : (-1.0))));
         pow2_ = pow(fabs(z_), n_);
-        phi_ = (ta_ - ((pow2_ * psi_) * tnu_));
         e_du_ = (((1.0 - alpha_) * ko_) * z_);
         e_dz_ = (((1.0 - alpha_) * ko_) * strain_);
-        phi_e_ = ((-delta_a_) - ((pow2_ * psi_) * delta_nu_));
+        phi_e_ = ((-params[6]) - ((pow2_ * psi_) * params[7]));
         phi_z_ = (((((-n_) * pow(fabs(z_), (n_ - 1.0))) * ((z_ > 0.0) ? 1.0 : (-1.0))) * psi_) * tnu_);
-        h_ = 1.0;
-        h_e_ = 0.0;
-        h_x_ = 0.0;
-        if ((zetas_ > 0.0)) {
-            zeta1_ = (zetas_ * (1.0 - exp(py_min(((-p_) * te_), 700.0))));
-            zeta2_ = ((psi0_ + (delta_psi_ * te_)) * (lamda_ + zeta1_));
-            zu_ = pow((py_max(ta_, 0.0) / (tnu_ * (beta_ + gamma_))), (1.0 / n_));
-            zu_e_ = 0.0;
-            if ((ta_ > 0.0)) {
-                zu_e_ = ((zu_ / n_) * (((-delta_a_) / ta_) - (delta_nu_ / tnu_)));
-            }
-            x_ = ((z_ * sd_) - (q_ * zu_));
-            g_ = exp(((-(x_ * x_)) / (zeta2_ * zeta2_)));
-            h_ = (1.0 - (zeta1_ * g_));
-            zeta1_e_ = ((zetas_ * p_) * exp(py_min(((-p_) * te_), 700.0)));
-            zeta2_e_ = ((((psi0_ * zeta1_e_) + (lamda_ * delta_psi_)) + ((delta_psi_ * te_) * zeta1_e_)) + (delta_psi_ * zeta1_));
-            h_x_ = ((((zeta1_ * g_) * 2.0) * x_) / (zeta2_ * zeta2_));
-            h_e_ = (((-g_) * (zeta1_e_ + ((((zeta1_ * 2.0) * (x_ * x_)) * zeta2_e_) / ((zeta2_ * zeta2_) * zeta2_)))) - ((h_x_ * q_) * zu_e_));
-        }
-        w_e_ = ((((phi_e_ * h_) + (phi_ * h_e_)) / teta_) - (((phi_ * h_) * delta_eta_) / (teta_ * teta_)));
+        bwbn__pinching_at(params, z_, sd_, te_, ta_, tnu_, &h_, &h_e_, &h_x_);
+        w_e_ = ((((phi_e_ * h_) + (phi_ * h_e_)) / teta_) - (((phi_ * h_) * params[8]) / (teta_ * teta_)));
         numerator_ = (((phi_ * h_) / teta_) + ((strain_ * w_e_) * e_du_));
         denominator_ = (1.0 - (strain_ * ((w_e_ * e_dz_) + (((phi_z_ * h_) + ((phi_ * h_x_) * sd_)) / teta_))));
         tangent_ = ((alpha_ * ko_) + (((1.0 - alpha_) * ko_) * (numerator_ / denominator_)));
@@ -1148,6 +1333,33 @@ static void contact_kelvin(const double *params, const double *committed, double
     return;
 }
 
+/* pframe.laws.contact._hunt_crossley.impact_damping */
+static PFRAME_INLINE void hunt_crossley_impact_damping(double spring_, double dspring_,
+                                                       double chi_, double rate_, double v0_,
+                                                       double onset_, double *ret0,
+                                                       double *ret1, double *ret2)
+{
+    double factor_;
+    (void)spring_; (void)dspring_; (void)chi_; (void)rate_; (void)v0_; (void)onset_;
+    if (onset_) {
+        *ret0 = (spring_ * (1.0 + chi_));
+        *ret1 = (dspring_ * (1.0 + chi_));
+        *ret2 = 0.0;
+        return;
+    }
+    factor_ = (1.0 + ((chi_ * rate_) / v0_));
+    if ((factor_ <= 0.0)) {
+        *ret0 = 0.0;
+        *ret1 = 0.0;
+        *ret2 = 0.0;
+        return;
+    }
+    *ret0 = (spring_ * factor_);
+    *ret1 = (dspring_ * factor_);
+    *ret2 = ((spring_ * chi_) / v0_);
+    return;
+}
+
 /* pframe.laws.contact.improved_kelvin.ImprovedKelvin.force */
 static void contact_hunt_crossley_force(const double *params, const double *committed, double *trial,
                                         double deformation, double rate, double *out)
@@ -1161,7 +1373,6 @@ static void contact_hunt_crossley_force(const double *params, const double *comm
     double spring_;
     double dspring_;
     double ve2_;
-    double factor_;
     double damping_;
     double f_;
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
@@ -1191,22 +1402,7 @@ static void contact_hunt_crossley_force(const double *params, const double *comm
     }
     ve2_ = ((((2.0 * spring_) * deformation) * params[3]) / (n_ + 1.0));
     if (((v0_ * v0_) >= ve2_)) {
-        if (onset_) {
-            out[0] = (spring_ * (1.0 + chi_));
-            out[1] = (dspring_ * (1.0 + chi_));
-            out[2] = 0.0;
-            return;
-        }
-        factor_ = (1.0 + ((chi_ * rate) / v0_));
-        if ((factor_ <= 0.0)) {
-            out[0] = 0.0;
-            out[1] = 0.0;
-            out[2] = 0.0;
-            return;
-        }
-        out[0] = (spring_ * factor_);
-        out[1] = (dspring_ * factor_);
-        out[2] = ((spring_ * chi_) / v0_);
+        hunt_crossley_impact_damping(spring_, dspring_, chi_, rate, v0_, onset_, &out[0], &out[1], &out[2]);
         return;
     }
     damping_ = ((chi_ * spring_) / sqrt(ve2_));
@@ -1289,7 +1485,6 @@ static void contact_bumper(const double *params, const double *committed, double
     double crushed_;
     double hard_root_;
     double ve2_;
-    double factor_;
     double ve_;
     double damping_;
     double f_;
@@ -1327,22 +1522,7 @@ static void contact_bumper(const double *params, const double *committed, double
     }
     ve2_ = ((2.0 * stored_) * params[3]);
     if (((v0_ * v0_) >= ve2_)) {
-        if (onset_) {
-            out[0] = (spring_ * (1.0 + chi_));
-            out[1] = (dspring_ * (1.0 + chi_));
-            out[2] = 0.0;
-            return;
-        }
-        factor_ = (1.0 + ((chi_ * rate) / v0_));
-        if ((factor_ <= 0.0)) {
-            out[0] = 0.0;
-            out[1] = 0.0;
-            out[2] = 0.0;
-            return;
-        }
-        out[0] = (spring_ * factor_);
-        out[1] = (dspring_ * factor_);
-        out[2] = ((spring_ * chi_) / v0_);
+        hunt_crossley_impact_damping(spring_, dspring_, chi_, rate, v0_, onset_, &out[0], &out[1], &out[2]);
         return;
     }
     ve_ = sqrt(ve2_);
@@ -1361,7 +1541,7 @@ static void contact_bumper(const double *params, const double *committed, double
     return;
 }
 
-#define BUILTIN_CONTACT_LAWS 7
+#define BUILTIN_CONTACT_LAWS 8
 
 /* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins; inlined where the element loops call it, so that a law's result stays in registers */
 static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
@@ -1389,6 +1569,9 @@ static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
         return;
     case 6: /* bumper */
         contact_bumper(params, committed, trial, penetration, rate, out);
+        return;
+    case 7: /* hunt_crossley */
+        contact_hunt_crossley_force(params, committed, trial, penetration, rate, out);
         return;
     default:
         s->contact_plugins[law - BUILTIN_CONTACT_LAWS](params, committed, trial, penetration, rate, out);

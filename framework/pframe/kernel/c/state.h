@@ -159,6 +159,9 @@ typedef struct Model {
     int64_t *gauge_start;
     int64_t *gauge_dof;
     double *gauge_coef;
+    int64_t *modal_dofs;
+    int64_t *modal_start;
+    double *modal_matrix;
     int64_t batch;
     int64_t dofs;
     int64_t stories;
@@ -177,6 +180,8 @@ typedef struct Model {
     int64_t contact_terms;
     int64_t points;
     int64_t gauge_terms;
+    int64_t modal_blocks;
+    int64_t modal_width;
 } Model;
 
 typedef struct Settings {

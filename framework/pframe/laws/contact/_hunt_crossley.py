@@ -31,8 +31,28 @@ from __future__ import annotations
 
 import math
 
+from pframe.laws.facts import V0, contact_states
+
 STATE_NAMES = ("onset_velocity", "in_contact")
 PARAM_NAMES = ("stiffness", "exponent", "chi", "inverse_effective_mass")
+
+
+def hunt_crossley_tangent_states(cls, packed):
+    """The contact tests' states: the onset step (no contact committed), then a running
+    contact that began at V0 (a law's ``tangent_states``)."""
+    return contact_states((0.0, 0.0), (V0, 1.0))
+
+
+def impact_damping(spring, dspring, chi, rate, v0, onset):
+    """(force, d/d delta, d/d delta') of spring (1 + chi delta' / v0) in an impact
+    (v_ref = v0), never pulling; at onset delta' / v0 = 1 and no rate term (the law and
+    ``bumper`` share it)."""
+    if onset:
+        return spring * (1.0 + chi), dspring * (1.0 + chi), 0.0
+    factor = 1.0 + chi * rate / v0
+    if factor <= 0.0:
+        return 0.0, 0.0, 0.0
+    return spring * factor, dspring * factor, spring * chi / v0
 
 
 def hunt_crossley_force(params, committed, trial, deformation, rate):
@@ -56,12 +76,7 @@ def hunt_crossley_force(params, committed, trial, deformation, rate):
     # energy velocity squared: 2 k delta^(n+1) / ((n + 1) m_eff)
     ve2 = 2.0 * spring * deformation * params[3] / (n + 1.0)
     if v0 * v0 >= ve2:  # an impact: v_ref = v0
-        if onset:
-            return spring * (1.0 + chi), dspring * (1.0 + chi), 0.0
-        factor = 1.0 + chi * rate / v0
-        if factor <= 0.0:
-            return 0.0, 0.0, 0.0
-        return spring * factor, dspring * factor, spring * chi / v0
+        return impact_damping(spring, dspring, chi, rate, v0, onset)
     # v_ref = v_e ~ delta^((n+1)/2): damping force (chi spring / v_e) rate ~ delta^((n-1)/2)
     damping = chi * spring / math.sqrt(ve2)
     f = spring + damping * rate

@@ -10,6 +10,7 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.facts import Impact
 from pframe.laws.params import HERTZ_STIFFNESS, LawParams, Positive
 from pframe.laws.registry import HertzContact, contact_law
 
@@ -22,6 +23,19 @@ class Hertz(HertzContact):
 
     param_names = ("stiffness",)
     branches = "gap"
+    examples = ({"stiffness": 1.0e9},)
+    impacts = {"hertz": Impact({"stiffness": 1.0e9}, "`hertz`")}
+
+    @classmethod
+    def reference_force(cls, params, context, v0):
+        """F = k delta^1.5 (Hertz)."""
+        k = params.stiffness
+        return lambda x, r: k * x**1.5
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """Elastic: 1."""
+        return 1.0
 
     @classmethod
     def pack(cls, params, context=None):

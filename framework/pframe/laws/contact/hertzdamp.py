@@ -17,7 +17,13 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
+from pframe.laws.contact._hunt_crossley import (
+    PARAM_NAMES,
+    STATE_NAMES,
+    hunt_crossley_force,
+    hunt_crossley_tangent_states,
+)
+from pframe.laws.facts import Impact
 from pframe.laws.params import (
     HERTZ_STIFFNESS,
     Calibration,
@@ -50,6 +56,33 @@ class Hertzdamp(HertzContact):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
+    tangent_states = classmethod(hunt_crossley_tangent_states)
+    examples = ({"stiffness": 1.0e9, "restitution": 0.6},
+                {"stiffness": 1.0e9, "restitution": 0.5, "formula": "muthukumar"},
+                {"stiffness": 1.0e9, "restitution": 0.5, "formula": "ye"})
+    impacts = {
+        "hertzdamp-muthukumar": Impact({"stiffness": 1.0e9, "formula": "muthukumar"},
+                                       "`hertzdamp`, `formula: muthukumar`",
+                                       calibrations=("published",)),
+        "hertzdamp-ye": Impact({"stiffness": 1.0e9, "formula": "ye"}, "`hertzdamp`, `formula: ye`",
+                               descriptions={"exact": "exact (either formula)"},
+                               exact_label="`hertzdamp`"),
+    }
+
+    @classmethod
+    def reference_force(cls, params, context, v0):
+        """F = k delta^1.5 + xi delta^1.5 delta', never pulling, with Muthukumar & DesRoches'
+        xi = 3 k (1 - e^2) / (4 v0) or Ye, Li & Zhu's xi = 8 k (1 - e) / (5 e v0)
+        (``calibration: exact``: xi = chi k / v0 with the law's chi)."""
+        k = params.stiffness
+        e = params.restitution
+        if params.calibration == "exact":
+            xi = cls.chi(params) * k / v0
+        elif params.formula == "muthukumar":
+            xi = 3.0 * k * (1.0 - e * e) / (4.0 * v0)
+        else:
+            xi = 8.0 * k * (1.0 - e) / (5.0 * e * v0)
+        return lambda x, r: max(k * x**1.5 + xi * x**1.5 * r, 0.0)
 
     @classmethod
     def chi(cls, params) -> float:

@@ -14,7 +14,13 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pframe.laws.contact._hunt_crossley import PARAM_NAMES, STATE_NAMES, hunt_crossley_force
+from pframe.laws.contact._hunt_crossley import (
+    PARAM_NAMES,
+    STATE_NAMES,
+    hunt_crossley_force,
+    hunt_crossley_tangent_states,
+)
+from pframe.laws.facts import Impact
 from pframe.laws.params import Calibration, ContactStiffness, DampedRestitution
 from pframe.laws.registry import SpringContact, contact_law
 from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
@@ -36,6 +42,20 @@ class ImprovedKelvin(SpringContact):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
+    tangent_states = classmethod(hunt_crossley_tangent_states)
+    examples = ({"stiffness": 2.0e7, "restitution": 0.6},
+                {"frequency_ratio": 30.0, "restitution": 0.5})
+    impacts = {"improved_kelvin": Impact({"stiffness": 1.0e7}, "`improved_kelvin`")}
+
+    @classmethod
+    def reference_force(cls, params, context, v0):
+        """Ye, Li & Zhu (2009): F = k delta + xi delta delta', xi = 3 k (1 - e) / (2 e v0),
+        never pulling (``calibration: exact``: xi = chi k / v0 with the law's chi)."""
+        k = params.resolve_stiffness(context)
+        e = params.restitution
+        xi = (3.0 * k * (1.0 - e) / (2.0 * e * v0) if params.calibration == "published"
+              else cls.chi(params) * k / v0)
+        return lambda x, r: max(k * x + xi * x * r, 0.0)
 
     @classmethod
     def chi(cls, params) -> float:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import Literal
 
+from pframe.laws.facts import Impact
 from pframe.laws.params import ContactStiffness
 from pframe.laws.registry import SpringContact, contact_law
 
@@ -20,6 +21,19 @@ class Linear(SpringContact):
     param_names = ("stiffness",)
     branches = "gap"
     opensees = "ElasticPPGap"
+    examples = ({"stiffness": 2.0e7}, {"stiffness": 2.0e6})
+    impacts = {"linear": Impact({"stiffness": 1.0e7}, "`linear`")}
+
+    @classmethod
+    def reference_force(cls, params, context, v0):
+        """F = k delta."""
+        k = params.resolve_stiffness(context)
+        return lambda x, r: k * x
+
+    @classmethod
+    def rebound(cls, params) -> float:
+        """Elastic: 1."""
+        return 1.0
 
     @classmethod
     def pack(cls, params, context=None):

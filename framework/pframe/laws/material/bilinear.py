@@ -12,6 +12,7 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from pframe.laws.facts import TangentState
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -37,6 +38,26 @@ class Bilinear(Law):
                   "alpha": "dimensionless"}
     branches = "bilinear"
     opensees = "Steel01"
+    examples = ({"stiffness": 2.0e6, "yield_drift": 0.005, "alpha": 0.1},
+                {"stiffness": 1.0e5, "yield_drift": 0.01, "alpha": 0.1},
+                {"stiffness": 1.0e5, "yield_force": 1000.0, "alpha": 0.0})
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """Elastic from the origin both ways (k), yielding both ways (alpha k), unloading from
+        the upper bound (k) and reverse yielding after it (alpha k)."""
+        k, fy, alpha = packed
+        uy = fy / k
+
+        def upper(u):
+            return alpha * k * u + (1 - alpha) * fy
+
+        rows = [((0.0, 0.0), 0.5 * uy, k), ((0.0, 0.0), -0.5 * uy, k),
+                ((uy, fy), 2.0 * uy, alpha * k), ((-uy, -fy), -2.0 * uy, alpha * k),
+                ((3.0 * uy, upper(3.0 * uy)), 2.5 * uy, k),
+                ((3.0 * uy, upper(3.0 * uy)), 0.3 * uy, alpha * k)]
+        return [TangentState(c, x, 0.1, (uy, 0.1), tangent=t, rate_tangent=0.0)
+                for c, x, t in rows]
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

@@ -15,7 +15,8 @@ smooth one.
 The algorithm is OpenSees' operation for operation: from the committed (u, z, e), the trial z
 solves z - z_c - Phi(z) / eta(z) (u - u_c) = 0 (backward Euler over the drift increment) by
 Newton from z = 0.01, until two iterates differ by no more than ``tolerance`` (m) or after
-``max_iterations``; the tangent is OpenSees' consistent dF/du. The trial z (so the loop) is
+``max_iterations`` (the solve ``bwbn`` shares: ``_bouc_wen.trial_z``); the tangent is
+OpenSees' consistent dF/du. The trial z (so the loop) is
 first-order accurate in the drift increment of a step: the loop under a record converges to the
 evolution equation's as dt -> 0 (tests/test_isolators.py measures it).
 """
@@ -27,11 +28,9 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, tangent_states, trial_z
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
-
-#: upper bound of the local Newton loop (``max_iterations`` is at most this)
-MAX_ITERATIONS = 100
 
 
 @material("bouc_wen")
@@ -79,6 +78,10 @@ class BoucWen(Law):
                 "on n; scale them by hand (by S_L^-n)"}
     branches = "smooth"
     opensees = "BoucWen"
+    examples = ({"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0},
+                {"alpha": 0.0, "ko": 1.0e5, "n": 1.0, "gamma": 30.0, "beta": 70.0,
+                 "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4})
+    tangent_states = classmethod(tangent_states)
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
@@ -96,6 +99,11 @@ class BoucWen(Law):
                 "deltaEta_e": ("dimensionless", deta * energy)}
 
     @classmethod
+    def post_yield_stiffness(cls, packed):
+        """alpha k0: the elastic part's slope, which the tangent tends to once z saturates."""
+        return packed[0] * packed[1]
+
+    @classmethod
     def pack(cls, params, context=None):
         return (float(params.alpha), float(params.ko), float(params.n), float(params.gamma),
                 float(params.beta), float(params.Ao), float(params.deltaA),
@@ -107,57 +115,15 @@ class BoucWen(Law):
         alpha = params[0]
         ko = params[1]
         n = params[2]
-        gamma = params[3]
-        beta = params[4]
-        a0 = params[5]
-        delta_a = params[6]
-        delta_nu = params[7]
-        delta_eta = params[8]
-        tolerance = params[9]
-        most = params[10]
-        cz = committed[1]
-        ce = committed[2]
         strain = deformation - committed[0]
-        # Newton for z from 0.01, as OpenSees (Tz, Tzold = 0.01, Tznew = 1)
-        z = 0.01
-        z_old = 0.01
-        z_new = 1.0
-        count = 0.0
-        for _ in range(100):
-            if not (abs(z_old - z_new) > tolerance and count < most):
-                break
-            te = ce + (1.0 - alpha) * ko * strain * z
-            ta = a0 - delta_a * te
-            tnu = 1.0 + delta_nu * te
-            teta = 1.0 + delta_eta * te
-            psi = gamma + beta * (1.0 if strain * z > 0.0 else -1.0)
-            phi = ta - abs(z) ** n * psi * tnu
-            f = z - cz - phi / teta * strain
-            te_ = (1.0 - alpha) * ko * strain
-            ta_ = -delta_a * te_
-            tnu_ = delta_nu * te_
-            teta_ = delta_eta * te_
-            sign = 1.0 if z > 0.0 else -1.0
-            pow1 = 0.0
-            pow2 = 0.0
-            if z != 0.0:
-                pow1 = abs(z) ** (n - 1.0)
-                pow2 = abs(z) ** n
-            phi_ = ta_ - n * pow1 * sign * psi * tnu - pow2 * psi * tnu_
-            f_ = 1.0 - (phi_ * teta - phi * teta_) / (teta * teta) * strain
-            z_new = z - f / f_
-            z_old = z
-            z = z_new
-            count = count + 1.0
+        z = trial_z(params, committed, strain, params[9], params[10], 0.0)
         stress = alpha * ko * deformation + (1.0 - alpha) * ko * z
-        te = ce + (1.0 - alpha) * ko * strain * z
+        te, ta, tnu, teta, psi, phi = hysteretic(params, z, strain, committed[2])
         tangent = alpha * ko + (1.0 - alpha) * ko
-        if z != 0.0:
-            ta = a0 - delta_a * te
-            tnu = 1.0 + delta_nu * te
-            teta = 1.0 + delta_eta * te
-            psi = gamma + beta * (1.0 if strain * z > 0.0 else -1.0)
-            phi = ta - abs(z) ** n * psi * tnu
+        if z != 0.0:  # OpenSees' consistent tangent, in its order of operations
+            delta_a = params[6]
+            delta_nu = params[7]
+            delta_eta = params[8]
             b1 = (1.0 - alpha) * ko * z
             b2 = (1.0 - alpha) * ko * strain
             b3 = strain / teta

@@ -22,7 +22,8 @@ force and state bit for bit).
 The algorithm is OpenSees' ``BWBN`` (SRC/material/uniaxial/BWBN.cpp): from the committed
 (u, z, e), the trial z solves z - z_c - h Phi / eta (u - u_c) = 0 by Newton from z = 0.01
 until two iterates differ by no more than ``tolerance`` or after ``max_iterations``, with
-sign(du) = -1 for du = 0 as OpenSees' ``signum``. OpenSees' BWBN has no A, nu or eta
+sign(du) = -1 for du = 0 as OpenSees' ``signum`` (the solve ``bouc_wen`` shares:
+``_bouc_wen.trial_z``). OpenSees' BWBN has no A, nu or eta
 degradation and takes z_u = (1 / (beta + gamma))^(1/n): it is this law with A0 = 1 and
 deltaA = deltaNu = deltaEta = 0, which is what ``pframe opensees`` can write as ``BWBN``;
 the forces then agree to round-off (tests/test_bwbn.py). The Newton derivative and the
@@ -39,11 +40,9 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
+from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, tangent_states, trial_z
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
-
-#: upper bound of the local Newton loop (``max_iterations`` is at most this)
-MAX_ITERATIONS = 100
 
 
 @material("bwbn")
@@ -121,6 +120,11 @@ class Bwbn(Law):
     #: step's backward-Euler update, whose state the reference solver does not integrate
     branches = None
     opensees = "BWBN"
+    examples = ({"alpha": 0.05, "ko": 1.0e5, "n": 1.5, "gamma": 300.0, "beta": 700.0,
+                 "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4, "q": 0.2, "zetas": 0.8,
+                 "p": 1e-2, "psi": 0.004, "deltaPsi": 1e-5, "lamda": 0.5},
+                {"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0})
+    tangent_states = classmethod(tangent_states)
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
@@ -144,6 +148,11 @@ class Bwbn(Law):
                 "lamda": ("dimensionless", lamda)}
 
     @classmethod
+    def post_yield_stiffness(cls, packed):
+        """alpha k0: the elastic part's slope, which the tangent tends to once z saturates."""
+        return packed[0] * packed[1]
+
+    @classmethod
     def pack(cls, params, context=None):
         # without pinching (zetas = 0) psi and lamda are never read: 1 keeps them harmless
         psi = 1.0 if params.psi is None else float(params.psi)
@@ -159,109 +168,22 @@ class Bwbn(Law):
         alpha = params[0]
         ko = params[1]
         n = params[2]
-        gamma = params[3]
-        beta = params[4]
-        a0 = params[5]
-        delta_a = params[6]
-        delta_nu = params[7]
-        delta_eta = params[8]
-        q = params[9]
-        zetas = params[10]
-        p = params[11]
-        psi0 = params[12]
-        delta_psi = params[13]
-        lamda = params[14]
-        tolerance = params[15]
-        most = params[16]
-        cz = committed[1]
-        ce = committed[2]
         strain = deformation - committed[0]
         sd = 1.0 if strain > 0.0 else -1.0
-        # Newton for z from 0.01, as OpenSees (Tz, Tzold = 0.01, Tznew = 1)
-        z = 0.01
-        z_old = 0.01
-        z_new = 1.0
-        count = 0.0
-        for _ in range(100):
-            if not (abs(z_old - z_new) > tolerance and count < most):
-                break
-            te = ce + (1.0 - alpha) * ko * strain * z
-            ta = a0 - delta_a * te
-            tnu = 1.0 + delta_nu * te
-            teta = 1.0 + delta_eta * te
-            psi = gamma + beta * (1.0 if strain * z > 0.0 else -1.0)
-            phi = ta - abs(z) ** n * psi * tnu
-            te_ = (1.0 - alpha) * ko * strain
-            ta_ = -delta_a * te_
-            tnu_ = delta_nu * te_
-            teta_ = delta_eta * te_
-            h = 1.0
-            h_ = 0.0
-            if zetas > 0.0:
-                zeta1 = zetas * (1.0 - math.exp(min(-p * te, 700.0)))
-                zeta2 = (psi0 + delta_psi * te) * (lamda + zeta1)
-                zu = (max(ta, 0.0) / (tnu * (beta + gamma))) ** (1.0 / n)
-                zu_ = 0.0
-                if ta > 0.0:
-                    zu_ = zu / n * (ta_ / ta - tnu_ / tnu)
-                x = z * sd - q * zu
-                x_ = sd - q * zu_
-                g = math.exp(-(x * x) / (zeta2 * zeta2))
-                h = 1.0 - zeta1 * g
-                zeta1_ = zetas * p * math.exp(min(-p * te, 700.0)) * te_
-                zeta2_ = (psi0 * zeta1_ + lamda * delta_psi * te_ + delta_psi * te * zeta1_
-                          + delta_psi * te_ * zeta1)
-                h_ = -g * (zeta1_ - zeta1 * 2.0 * x * x_ / (zeta2 * zeta2)
-                           + zeta2_ * zeta1 * 2.0 * (x * x) / (zeta2 * zeta2 * zeta2))
-            f = z - cz - phi * h / teta * strain
-            sign = 1.0 if z > 0.0 else -1.0
-            pow1 = 0.0
-            pow2 = 0.0
-            if z != 0.0:
-                pow1 = abs(z) ** (n - 1.0)
-                pow2 = abs(z) ** n
-            phi_ = ta_ - n * pow1 * sign * psi * tnu - pow2 * psi * tnu_
-            f_ = 1.0 - ((phi_ * h + phi * h_) * teta - phi * h * teta_) / (teta * teta) * strain
-            z_new = z - f / f_
-            z_old = z
-            z = z_new
-            count = count + 1.0
+        z = trial_z(params, committed, strain, params[15], params[16], 1.0)
         stress = alpha * ko * deformation + (1.0 - alpha) * ko * z
-        te = ce + (1.0 - alpha) * ko * strain * z
+        te, ta, tnu, teta, psi, phi = hysteretic(params, z, strain, committed[2])
         tangent = alpha * ko + (1.0 - alpha) * ko
         if z != 0.0:
             # F(z, du) = z - z_c - Phi h / eta du = 0: dz/du = -F_du / F_z, each through e too
-            ta = a0 - delta_a * te
-            tnu = 1.0 + delta_nu * te
-            teta = 1.0 + delta_eta * te
-            psi = gamma + beta * (1.0 if strain * z > 0.0 else -1.0)
             pow2 = abs(z) ** n
-            phi = ta - pow2 * psi * tnu
             e_du = (1.0 - alpha) * ko * z
             e_dz = (1.0 - alpha) * ko * strain
-            phi_e = -delta_a - pow2 * psi * delta_nu
+            phi_e = -params[6] - pow2 * psi * params[7]
             phi_z = -n * abs(z) ** (n - 1.0) * (1.0 if z > 0.0 else -1.0) * psi * tnu
-            h = 1.0
-            h_e = 0.0
-            h_x = 0.0
-            if zetas > 0.0:
-                zeta1 = zetas * (1.0 - math.exp(min(-p * te, 700.0)))
-                zeta2 = (psi0 + delta_psi * te) * (lamda + zeta1)
-                zu = (max(ta, 0.0) / (tnu * (beta + gamma))) ** (1.0 / n)
-                zu_e = 0.0
-                if ta > 0.0:
-                    zu_e = zu / n * (-delta_a / ta - delta_nu / tnu)
-                x = z * sd - q * zu
-                g = math.exp(-(x * x) / (zeta2 * zeta2))
-                h = 1.0 - zeta1 * g
-                zeta1_e = zetas * p * math.exp(min(-p * te, 700.0))
-                zeta2_e = (psi0 * zeta1_e + lamda * delta_psi + delta_psi * te * zeta1_e
-                           + delta_psi * zeta1)
-                h_x = zeta1 * g * 2.0 * x / (zeta2 * zeta2)
-                h_e = (-g * (zeta1_e + zeta1 * 2.0 * (x * x) * zeta2_e
-                             / (zeta2 * zeta2 * zeta2)) - h_x * q * zu_e)
+            h, h_e, h_x = _pinching_at(params, z, sd, te, ta, tnu)
             # d(Phi h / eta)/de at fixed z
-            w_e = (phi_e * h + phi * h_e) / teta - phi * h * delta_eta / (teta * teta)
+            w_e = (phi_e * h + phi * h_e) / teta - phi * h * params[8] / (teta * teta)
             numerator = phi * h / teta + strain * w_e * e_du
             denominator = 1.0 - strain * (w_e * e_dz + (phi_z * h + phi * h_x * sd) / teta)
             tangent = alpha * ko + (1.0 - alpha) * ko * (numerator / denominator)
@@ -269,3 +191,35 @@ class Bwbn(Law):
         trial[1] = z
         trial[2] = te
         return stress, tangent, 0.0
+
+
+def _pinching_at(params, z, sd, te, ta, tnu):
+    """The pinching h at the trial (z, e) and its partial derivatives dh/de (at fixed z) and
+    dh/dx (x = z sign(du) - q z_u), for the tangent; (1, 0, 0) without pinching."""
+    zetas = params[10]
+    if not zetas > 0.0:
+        return 1.0, 0.0, 0.0
+    n = params[2]
+    p = params[11]
+    psi0 = params[12]
+    delta_psi = params[13]
+    lamda = params[14]
+    q = params[9]
+    delta_a = params[6]
+    delta_nu = params[7]
+    zeta1 = zetas * (1.0 - math.exp(min(-p * te, 700.0)))
+    zeta2 = (psi0 + delta_psi * te) * (lamda + zeta1)
+    zu = (max(ta, 0.0) / (tnu * (params[4] + params[3]))) ** (1.0 / n)
+    zu_e = 0.0
+    if ta > 0.0:
+        zu_e = zu / n * (-delta_a / ta - delta_nu / tnu)
+    x = z * sd - q * zu
+    g = math.exp(-(x * x) / (zeta2 * zeta2))
+    h = 1.0 - zeta1 * g
+    zeta1_e = zetas * p * math.exp(min(-p * te, 700.0))
+    zeta2_e = (psi0 * zeta1_e + lamda * delta_psi + delta_psi * te * zeta1_e
+               + delta_psi * zeta1)
+    h_x = zeta1 * g * 2.0 * x / (zeta2 * zeta2)
+    h_e = (-g * (zeta1_e + zeta1 * 2.0 * (x * x) * zeta2_e
+                 / (zeta2 * zeta2 * zeta2)) - h_x * q * zu_e)
+    return h, h_e, h_x

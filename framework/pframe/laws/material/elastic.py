@@ -6,6 +6,7 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.facts import TangentState
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -20,6 +21,13 @@ class Elastic(Law):
     dimensions = {"stiffness": "stiffness"}
     branches = "smooth"
     opensees = "Elastic"
+    examples = ({"stiffness": 2.0e6}, {"stiffness": 1.0e5})
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """Drifts both ways: the tangent is k, rate independent."""
+        return [TangentState((), x, 0.1, tangent=packed[0], rate_tangent=0.0)
+                for x in (-0.02, 0.003, 0.05)]
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

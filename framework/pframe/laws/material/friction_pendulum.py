@@ -30,6 +30,7 @@ from typing import Literal
 from pydantic import Field, model_validator
 
 from pframe.errors import InputError
+from pframe.laws.facts import TangentState
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -74,6 +75,29 @@ class FrictionPendulum(Law):
                   "k_init": "stiffness"}
     branches = "smooth"
     opensees = None  # an element (flatSliderBearing / singleFPBearing), not a uniaxialMaterial
+    #: the first without ``weight``: g times the masses above the storey (StoreyContext)
+    examples = ({"radius": 1.0, "mu_slow": 0.05, "mu_fast": 0.1, "rate_parameter": 30.0,
+                 "k_init": 2.0e6},
+                {"radius": 2.0, "mu": 0.08, "weight": 5e4, "k_init": 1e6},
+                {"mu_slow": 0.05, "mu_fast": 0.12, "rate_parameter": 20.0, "weight": 5e4,
+                 "k_init": 1e6})
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """Sticking from rest, sliding both ways from rest and from a plastic drift, at two
+        drift rates, away from the stick-slip limit."""
+        rows = [((0.0,), 1e-4), ((0.0,), 0.02), ((0.0,), -0.02), ((0.015,), 0.0152),
+                ((0.015,), 0.005)]
+        return [TangentState(c, x, rate, (0.01, 0.3)) for rate in (0.3, -0.2) for c, x in rows]
+
+    #: a sliding bearing: k_init only keeps the stick phase finite, it is no structural
+    #: stiffness (a Rayleigh term on it damps the pendulum far above the ratio asked)
+    isolator = True
+
+    @classmethod
+    def post_yield_stiffness(cls, packed):
+        """W / R: the pendulum's restoring stiffness while it slides (0: a flat slider)."""
+        return packed[0] * packed[1]
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

@@ -17,8 +17,12 @@ direction.
 
 ``force`` is OpenSees' ``setTrialStrain`` (SRC/material/uniaxial/ModIMKPeakOriented.cpp, with
 nFactor = 0: the 23-argument form) statement by statement; each call starts from the committed
-state, as OpenSees' ``revertToLastCommit``. Its two envelope routines are evaluated at one
-place (every path of ``setTrialStrain`` calls exactly one of them once). Two guards where
+state, as OpenSees' ``revertToLastCommit``, and works on ``trial`` (a copy of it) in named
+pieces, each a helper function translated to C with ``force``: the first loading, the
+step's direction and reversal (``_direction``, the unloading stiffness's deterioration), the
+two envelope routines (evaluated at one place: every path of ``setTrialStrain`` calls
+exactly one of them once), reloading inside the loop each way, and the cyclic deterioration
+at the end of a half cycle (``_deteriorate``). Two guards where
 OpenSees' C gives NaN: a negative energy ratio raised to a non-integer exponent (round-off at
 an elastic reversal; C's pow is NaN there, Python's ``**`` complex) counts as 0, and a cap
 capacity used up exactly (sum E = E_t,C, a division by zero) gives beta_C = 1. Elsewhere,
@@ -33,6 +37,7 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.facts import TangentState
 from pframe.laws.params import LawParams, Positive
 from pframe.laws.registry import Law, material
 
@@ -109,6 +114,36 @@ class ImkPeak(Law):
     #: rather than integrate across unlocated kinks
     branches = None
     opensees = "ModIMKPeakOriented"
+    examples = (dict(k0=2.0e6, as_plus=0.03, as_neg=0.03, my_plus=1.0e4, my_neg=1.0e4,
+                     lamda_s=0.05, lamda_c=0.05, lamda_a=0.05, lamda_k=0.05, c_s=1.0, c_c=1.0,
+                     c_a=1.0, c_k=1.0, theta_p_plus=0.01, theta_p_neg=0.01, theta_pc_plus=0.05,
+                     theta_pc_neg=0.05, res_plus=0.3, res_neg=0.3, theta_u_plus=0.2,
+                     theta_u_neg=0.2, d_plus=1.0, d_neg=1.0),
+                dict(k0=4.0e7, as_plus=0.03, as_neg=0.04, my_plus=1.0e5, my_neg=1.2e5,
+                     lamda_s=0.6, lamda_c=0.6, lamda_a=0.6, lamda_k=0.6, c_s=1.0, c_c=1.0,
+                     c_a=1.0, c_k=1.0, theta_p_plus=0.02, theta_p_neg=0.025,
+                     theta_pc_plus=0.06, theta_pc_neg=0.08, res_plus=0.3, res_neg=0.25,
+                     theta_u_plus=0.15, theta_u_neg=0.17, d_plus=1.0, d_neg=0.9))
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """From rest onto each branch of the backbone both ways (elastic, hardening, capping,
+        residual: their slopes), and unloading after a first excursion past yield (its
+        unloading stiffness, deteriorated at the reversal, is in the state)."""
+        k, as_pos, as_neg = packed[0], packed[1], packed[2]
+        rest = (0.0,) * len(cls.state_names)
+        cap_pos = -(packed[3] + as_pos * k * packed[13]) / packed[15]
+        cap_neg = (packed[4] - as_neg * k * packed[14]) / packed[16]
+        loaded = list(rest)
+        for d in (0.004, 0.008, 0.01):
+            trial = list(rest)
+            cls.force(packed, loaded, trial, d, 0.0)
+            loaded = trial
+        rows = [(rest, 0.001, k), (rest, -0.001, k), (rest, 0.01, as_pos * k),
+                (rest, -0.01, as_neg * k), (rest, 0.04, cap_pos), (rest, -0.05, cap_neg),
+                (rest, 0.1, 1e-7), (rest, -0.15, 1e-7), (tuple(loaded), 0.009, None)]
+        return [TangentState(c, x, 0.1, (1e-3, 0.1), tangent=t, rate_tangent=0.0)
+                for c, x, t in rows]
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
@@ -152,457 +187,503 @@ class ImkPeak(Law):
 
     @staticmethod
     def force(params, committed, trial, deformation, rate):
-        ke = params[0]
-        my_pos = params[3]
-        my_neg = params[4]
-        ls = params[5]
-        ld = params[6]
-        la = params[7]
-        lk = params[8]
-        cs = params[9]
-        cd = params[10]
-        ca = params[11]
-        ck = params[12]
-        theta_p_pos = params[13]
-        theta_p_neg = params[14]
-        frac_pos = params[19]
-        frac_neg = -params[20]
-        d_pos = params[21]
-        d_neg = params[22]
-        enrgts = ls * my_pos
-        enrgtk = 2.0 * lk * my_pos
-        enrgta = la * my_pos
-        enrgtd = ld * my_pos
-        ekhard_pos0 = ke * params[1]
-        ekhard_neg0 = ke * params[2]
-        fpeak_pos = my_pos + ekhard_pos0 * theta_p_pos
-        fpeak_neg = my_neg + ekhard_neg0 * (-theta_p_neg)
-        cap_slope_pos = -fpeak_pos / (params[15] * ke)
-        cap_slope_neg = fpeak_neg / (params[16] * ke)
-
-        dp = committed[0]
-        fp = committed[1]
-        ek = committed[2]
-        unl = committed[3]
-        kon = committed[4]
-        flag_stop = committed[5]
-        dmax = committed[6]
-        dmin = committed[7]
-        fmax = committed[8]
-        fmin = committed[9]
-        fy_pos = committed[10]
-        fy_neg = committed[11]
-        dlst_pos = committed[12]
-        dlst_neg = committed[13]
-        flst_pos = committed[14]
-        flst_neg = committed[15]
-        sn = committed[16]
-        sp = committed[17]
-        enrgc = committed[18]
-        enrgtot = committed[19]
-        fcapref_pos = committed[20]
-        fcapref_neg = committed[21]
-        ekunload = committed[22]
-        cp_pos = committed[23]
-        cp_neg = committed[24]
-        ekhard_pos = committed[25]
-        ekhard_neg = committed[26]
-        alfa_pos = committed[27]
-        alfa_neg = committed[28]
-        prod_beta = committed[29]
-        ekp = ek
-
+        # trial holds the state as it changes; committed is read once, here
+        _copy_state(committed, trial)
         d = deformation
-        delta_d = d - dp
-        f = fp
-        if not (abs(delta_d) < 1.0e-18 and d != 0.0 and kon != 0.0):
-            if kon == 0.0:
-                alfa_neg = params[2]
-                alfa_pos = params[1]
-                ekhard_pos = ekhard_pos0
-                ekhard_neg = ekhard_neg0
-                enrgtot = 0.0
-                enrgc = 0.0
-                dmax = my_pos / ke
-                dmin = my_neg / ke
-                ekp = ke
-                ekunload = ke
-                fy_pos = my_pos
-                fy_neg = my_neg
-                cp_pos = my_pos / ke + theta_p_pos
-                cp_neg = my_neg / ke + (-theta_p_neg)
-                fcapref_pos = -cap_slope_pos * ke * (theta_p_pos + my_pos / ke) + fpeak_pos
-                fcapref_neg = -cap_slope_neg * ke * (-theta_p_neg + my_neg / ke) + fpeak_neg
-                fmin = my_neg
-                fmax = my_pos
-                flag_stop = 0.0
-                dlst_neg = my_neg / ke
-                dlst_pos = my_pos / ke
-                flst_neg = my_neg
-                flst_pos = my_pos
-                ek = 0.0
-                sp = 0.0
-                fp = 0.0
-                sn = 0.0
-                f = 0.0
-                unl = 1.0
-                prod_beta = 1.0
-                if delta_d >= 0.0:
-                    kon = 1.0
-                else:
-                    kon = 2.0
-            if flag_stop == 0.0:
-                # which branch, and where its one envelope evaluation is
-                mode = 0.0
-                if delta_d >= 0.0:
-                    if kon == 2.0:
-                        kon = 1.0
-                        unl = 0.0
-                        rse = 0.5 * fp * fp / ekunload
-                        a2 = enrgtk - (enrgtot - rse)
-                        if a2 < 0.0 and enrgtk != 0.0:
-                            flag_stop = 1.0
-                        if lk != 0.0:
-                            if (enrgtot - rse) >= enrgtk:
-                                betak = 1.0
-                            else:
-                                base = (enrgc - rse) / (enrgtk - (enrgtot - rse))
-                                if base < 0.0 and ck != math.floor(ck):
-                                    base = 0.0
-                                betak = base ** ck
-                            ekunload = ke * (prod_beta * (1.0 - betak))
-                            prod_beta = prod_beta * (1.0 - betak)
-                            if ekunload <= ekhard_neg:
-                                flag_stop = 1.0
-                        if fp < 0.0:
-                            tst = dp - fp / ekunload
-                            if abs(dmax - my_pos / ke) >= 1.0e-10 and abs(tst) <= 1.0e-10:
-                                sn = 1.0e-9
-                            else:
-                                sn = dp - fp / ekunload
-                        if abs(dmin - dp) <= 1.0e-10:
-                            sp = sn + 1.0e-10
-                    if d >= dmax:
-                        mode = 1.0
-                        x = d
-                        positive = 1.0
-                    elif abs(sn) > 1.0e-10:
-                        mode = 2.0
-                        x = dmax
-                        positive = 1.0
-                    else:
-                        mode = 3.0
-                        x = d
-                        positive = 1.0 if d > 0.0 else 0.0
-                else:
-                    if kon == 1.0:
-                        kon = 2.0
-                        unl = 0.0
-                        rse = 0.5 * fp * fp / ekunload
-                        if lk != 0.0:
-                            if (enrgtot - rse) >= enrgtk:
-                                betak = 1.0
-                            else:
-                                base = (enrgc - rse) / (enrgtk - (enrgtot - rse))
-                                if base < 0.0 and ck != math.floor(ck):
-                                    base = 0.0
-                                betak = base ** ck
-                            ekunload = ke * (prod_beta * (1.0 - betak))
-                            prod_beta = prod_beta * (1.0 - betak)
-                            if ekunload <= ekhard_pos:
-                                flag_stop = 1.0
-                        if fp > 0.0:
-                            tst = dp - fp / ekunload
-                            if abs(dmin - my_neg / ke) >= 1.0e-10 and abs(tst) <= 1.0e-10:
-                                sp = 1.0e-9
-                            else:
-                                sp = dp - fp / ekunload
-                        if abs(dmax - dp) <= 1.0e-10:
-                            sn = sp - 1.0e-10
-                    if d <= dmin:
-                        mode = 4.0
-                        x = d
-                        positive = 0.0
-                    elif abs(sp) > 1.0e-10:
-                        mode = 5.0
-                        x = dmin
-                        positive = 0.0
-                    else:
-                        mode = 6.0
-                        x = d
-                        positive = 1.0 if d > 0.0 else 0.0
-
-                # OpenSees' envelPosCap2 / envelNegCap2 at x: fe, eke (x moves to the
-                # fracture drift, and flagStop is set, past theta_u)
-                if positive == 1.0:
-                    dy = fy_pos / ke
-                    if dy <= cp_pos:
-                        res = params[17] * my_pos
-                        rcap = fy_pos + alfa_pos * ke * (cp_pos - dy)
-                        dres = cp_pos + (res - rcap) / (cap_slope_pos * ke)
-                        if x < 0.0:
-                            fe = 0.0
-                            eke = 1.0e-7
-                        elif x <= dy:
-                            eke = ke
-                            fe = eke * x
-                        elif x <= cp_pos:
-                            eke = ke * alfa_pos
-                            fe = fy_pos + eke * (x - dy)
-                        elif x <= dres:
-                            eke = cap_slope_pos * ke
-                            fe = rcap + eke * (x - cp_pos)
-                        else:
-                            eke = 1.0e-7
-                            fe = res + x * eke
-                    else:
-                        rcap = ke * cp_pos
-                        res = params[17] * rcap
-                        dres = cp_pos + (res - rcap) / (cap_slope_pos * ke)
-                        if x < 0.0:
-                            fe = 0.0
-                            eke = 1.0e-7
-                        elif x <= cp_pos:
-                            eke = ke
-                            fe = eke * x
-                        elif x <= dres:
-                            eke = cap_slope_pos * ke
-                            fe = rcap + eke * (x - cp_pos)
-                        else:
-                            eke = 1.0e-7
-                            fe = res + x * eke
-                    if x >= frac_pos:
-                        eke = 1.0e-7
-                        fe = 1.0e-10
-                        x = frac_pos
-                        flag_stop = 1.0
-                else:
-                    dy = fy_neg / ke
-                    if dy >= cp_neg:
-                        res = params[18] * my_neg
-                        rcap = fy_neg + alfa_neg * ke * (cp_neg - dy)
-                        dres = cp_neg + (res - rcap) / (cap_slope_neg * ke)
-                        if x > 0.0:
-                            fe = 0.0
-                            eke = 1.0e-7
-                        elif x >= dy:
-                            eke = ke
-                            fe = eke * x
-                        elif x >= cp_neg:
-                            eke = ke * alfa_neg
-                            fe = fy_neg + eke * (x - dy)
-                        elif x >= dres:
-                            eke = ke * cap_slope_neg
-                            fe = rcap + eke * (x - cp_neg)
-                        else:
-                            eke = 1.0e-7
-                            fe = res + eke * x
-                    else:
-                        rcap = ke * cp_neg
-                        res = params[18] * rcap
-                        dres = cp_neg + (res - rcap) / (cap_slope_neg * ke)
-                        if x > 0.0:
-                            fe = 0.0
-                            eke = 1.0e-7
-                        elif x >= cp_neg:
-                            eke = ke
-                            fe = eke * x
-                        elif x >= dres:
-                            eke = ke * cap_slope_neg
-                            fe = rcap + eke * (x - cp_neg)
-                        else:
-                            eke = 1.0e-7
-                            fe = res + eke * x
-                    if x <= frac_neg:
-                        eke = 1.0e-7
-                        fe = 1.0e-10
-                        x = frac_neg
-                        flag_stop = 1.0
-
-                if mode == 1.0:
-                    d = x
-                    f = fe
-                    ek = eke
-                    dmax = d
-                    fmax = f
-                    dlst_pos = dmax + 1.0e-10
-                    flst_pos = f
-                elif mode == 2.0:
-                    dmax = x
-                    fmax = fe
-                    ek = eke
-                    if d <= sn:
-                        ek = ekunload
-                        f = fp + ek * delta_d
-                        if unl == 0.0 and abs(ek - ekp) > 1.0e-10 and dp != dmin:
-                            dlst_neg = dp
-                            flst_neg = fp
-                    else:
-                        ek = fmax / (dmax - sn)
-                        f2 = ek * (d - sn)
-                        if dlst_pos > sn and dlst_pos < dmax:
-                            ekc = flst_pos / (dlst_pos - sn)
-                            if ekc > ek and flst_pos < fmax:
-                                if d < dlst_pos:
-                                    ek = flst_pos / (dlst_pos - sn)
-                                    f2 = ek * (d - sn)
-                                else:
-                                    ek = (fmax - flst_pos) / (dmax - dlst_pos)
-                                    f2 = flst_pos + ek * (d - dlst_pos)
-                        f1 = fp + ekunload * delta_d
-                        if f1 < f2:
-                            f = f1
-                        else:
-                            f = f2
-                        if abs(f - f1) < 1.0e-10:
-                            ek = ekunload
-                elif mode == 4.0:
-                    d = x
-                    f = fe
-                    ek = eke
-                    dmin = d
-                    fmin = f
-                    dlst_neg = dmin - 1.0e-10
-                    flst_neg = f
-                elif mode == 5.0:
-                    dmin = x
-                    fmin = fe
-                    ek = eke
-                    if d >= sp:
-                        ek = ekunload
-                        f = fp + ek * delta_d
-                        if unl == 0.0 and abs(ek - ekp) > 1.0e-10 and dp != dmax:
-                            dlst_pos = dp
-                            flst_pos = fp
-                    else:
-                        ek = fmin / (dmin - sp)
-                        f2 = ek * (d - sp)
-                        if dlst_neg < sp and dlst_neg > dmin:
-                            ekc = flst_neg / (dlst_neg - sp)
-                            if ekc > ek and flst_neg > fmin:
-                                if d > dlst_neg:
-                                    ek = flst_neg / (dlst_neg - sp)
-                                    f2 = ek * (d - sp)
-                                else:
-                                    ek = (fmin - flst_neg) / (dmin - dlst_neg)
-                                    f2 = flst_neg + ek * (d - dlst_neg)
-                        f1 = fp + ekunload * delta_d
-                        if f1 > f2:
-                            f = f1
-                        else:
-                            f = f2
-                        if abs(f - f1) < 1.0e-10:
-                            ek = ekunload
-                else:
-                    d = x
-                    f = fe
-                    ek = eke
-
-                enrgi = 0.5 * (f + fp) * delta_d
-                enrgc = enrgc + enrgi
-                enrgtot = enrgtot + enrgi
-                flagdeg = 0.0
-                if f * fp < 0.0:
-                    if (fp > 0.0 and dmax > fy_pos / ke) or (fp < 0.0 and dmin < fy_neg / ke):
-                        flagdeg = 1.0
-                if flagdeg == 1.0:
-                    betas = 0.0
-                    betaa = 0.0
-                    betac = 0.0
-                    if enrgtot >= enrgts and enrgts != 0.0:
-                        betas = 1.0
-                    elif enrgtot >= enrgta and enrgta != 0.0:
-                        betaa = 1.0
-                    elif enrgtot >= enrgtd and enrgtd == 0.0:
-                        betac = 1.0
-                    else:
-                        if ls != 0.0:
-                            base = enrgc / (enrgts - enrgtot)
-                            if base < 0.0 and cs != math.floor(cs):
-                                base = 0.0
-                            betas = base ** cs
-                        if la != 0.0:
-                            base = enrgc / (enrgta - enrgtot)
-                            if base < 0.0 and ca != math.floor(ca):
-                                base = 0.0
-                            betaa = base ** ca
-                        if ld != 0.0:
-                            if enrgtd - enrgtot == 0.0:
-                                betac = 1.0
-                            else:
-                                base = enrgc / (enrgtd - enrgtot)
-                                if base < 0.0 and cd != math.floor(cd):
-                                    base = 0.0
-                                betac = base ** cd
-                        if abs(betas) >= 1.0:
-                            betas = 1.0
-                        if abs(betaa) >= 1.0:
-                            betaa = 1.0
-                        if abs(betac) >= 1.0:
-                            betac = 1.0
-                    enrgc = 0.0
-                    if delta_d < 0.0:
-                        fy_neg = fy_neg * (1.0 - betas * d_neg)
-                        alfa_neg = alfa_neg * (1.0 - betas * d_neg)
-                        fcapref_neg = fcapref_neg * (1.0 - betac * d_neg)
-                        dmin = dmin * (1.0 + betaa)
-                        dy_neg = fy_neg / ke
-                        ekhard_neg = alfa_neg * ke
-                        dcap1 = fcapref_neg / (ke - cap_slope_neg * ke)
-                        dcap2 = (fcapref_neg + ekhard_neg * dy_neg - fy_neg) / (
-                            ekhard_neg - cap_slope_neg * ke)
-                        if dcap1 < dcap2:
-                            cp_neg = dcap1
-                        else:
-                            cp_neg = dcap2
-                    else:
-                        fy_pos = fy_pos * (1.0 - betas * d_pos)
-                        alfa_pos = alfa_pos * (1.0 - betas * d_pos)
-                        fcapref_pos = fcapref_pos * (1.0 - betac * d_pos)
-                        dmax = dmax * (1.0 + betaa)
-                        dy_pos = fy_pos / ke
-                        ekhard_pos = alfa_pos * ke
-                        dcap1 = fcapref_pos / (ke - cap_slope_pos * ke)
-                        dcap2 = (fcapref_pos + ekhard_pos * dy_pos - fy_pos) / (
-                            ekhard_pos - cap_slope_pos * ke)
-                        if dcap1 > dcap2:
-                            cp_pos = dcap1
-                        else:
-                            cp_pos = dcap2
+        delta_d = d - trial[DP]
+        if not (abs(delta_d) < 1.0e-18 and d != 0.0 and trial[KON] != 0.0):
+            ekp = trial[EK]
+            if trial[KON] == 0.0:
+                _first_loading(params, trial, delta_d)
+                ekp = params[0]
+            if trial[STOP] == 0.0:
+                d, f = _step(params, trial, d, delta_d, ekp)
             else:
                 f = 0.0
-                ek = 0.0
-            dp = d
-            fp = f
+                trial[EK] = 0.0
+            trial[DP] = d
+            trial[FP] = f
+        return trial[FP], trial[EK], 0.0
 
-        trial[0] = dp
-        trial[1] = fp
-        trial[2] = ek
-        trial[3] = unl
-        trial[4] = kon
-        trial[5] = flag_stop
-        trial[6] = dmax
-        trial[7] = dmin
-        trial[8] = fmax
-        trial[9] = fmin
-        trial[10] = fy_pos
-        trial[11] = fy_neg
-        trial[12] = dlst_pos
-        trial[13] = dlst_neg
-        trial[14] = flst_pos
-        trial[15] = flst_neg
-        trial[16] = sn
-        trial[17] = sp
-        trial[18] = enrgc
-        trial[19] = enrgtot
-        trial[20] = fcapref_pos
-        trial[21] = fcapref_neg
-        trial[22] = ekunload
-        trial[23] = cp_pos
-        trial[24] = cp_neg
-        trial[25] = ekhard_pos
-        trial[26] = ekhard_neg
-        trial[27] = alfa_pos
-        trial[28] = alfa_neg
-        trial[29] = prod_beta
-        return fp, ek, 0.0
+
+# the state's slots, in the order of ImkPeak.state_names
+(DP, FP, EK, UNL, KON, STOP, DMAX, DMIN, FMAX, FMIN, FY_POS, FY_NEG, DLST_POS, DLST_NEG,
+ FLST_POS, FLST_NEG, SN, SP, ENRGC, ENRGTOT, FCAP_POS, FCAP_NEG, EKUNLOAD, CP_POS, CP_NEG,
+ EKHARD_POS, EKHARD_NEG, ALFA_POS, ALFA_NEG, PROD_BETA) = range(30)
+
+
+def _copy_state(committed, trial):
+    """trial = committed, slot by slot."""
+    trial[0] = committed[0]
+    trial[1] = committed[1]
+    trial[2] = committed[2]
+    trial[3] = committed[3]
+    trial[4] = committed[4]
+    trial[5] = committed[5]
+    trial[6] = committed[6]
+    trial[7] = committed[7]
+    trial[8] = committed[8]
+    trial[9] = committed[9]
+    trial[10] = committed[10]
+    trial[11] = committed[11]
+    trial[12] = committed[12]
+    trial[13] = committed[13]
+    trial[14] = committed[14]
+    trial[15] = committed[15]
+    trial[16] = committed[16]
+    trial[17] = committed[17]
+    trial[18] = committed[18]
+    trial[19] = committed[19]
+    trial[20] = committed[20]
+    trial[21] = committed[21]
+    trial[22] = committed[22]
+    trial[23] = committed[23]
+    trial[24] = committed[24]
+    trial[25] = committed[25]
+    trial[26] = committed[26]
+    trial[27] = committed[27]
+    trial[28] = committed[28]
+    trial[29] = committed[29]
+
+
+def _backbone(params):
+    """The peak forces and the cap slopes (per K0) of the two directions, as (fpeak_pos,
+    fpeak_neg, cap_slope_pos, cap_slope_neg)."""
+    ke = params[0]
+    ekhard_pos0 = ke * params[1]
+    ekhard_neg0 = ke * params[2]
+    fpeak_pos = params[3] + ekhard_pos0 * params[13]
+    fpeak_neg = params[4] + ekhard_neg0 * (-params[14])
+    return (fpeak_pos, fpeak_neg, -fpeak_pos / (params[15] * ke),
+            fpeak_neg / (params[16] * ke))
+
+
+def _first_loading(params, s, delta_d):
+    """The state OpenSees sets up at the first call (kon = 0)."""
+    ke = params[0]
+    my_pos = params[3]
+    my_neg = params[4]
+    theta_p_pos = params[13]
+    theta_p_neg = params[14]
+    fpeak_pos, fpeak_neg, cap_slope_pos, cap_slope_neg = _backbone(params)
+    s[ALFA_NEG] = params[2]
+    s[ALFA_POS] = params[1]
+    s[EKHARD_POS] = ke * params[1]
+    s[EKHARD_NEG] = ke * params[2]
+    s[ENRGTOT] = 0.0
+    s[ENRGC] = 0.0
+    s[DMAX] = my_pos / ke
+    s[DMIN] = my_neg / ke
+    s[EKUNLOAD] = ke
+    s[FY_POS] = my_pos
+    s[FY_NEG] = my_neg
+    s[CP_POS] = my_pos / ke + theta_p_pos
+    s[CP_NEG] = my_neg / ke + (-theta_p_neg)
+    s[FCAP_POS] = -cap_slope_pos * ke * (theta_p_pos + my_pos / ke) + fpeak_pos
+    s[FCAP_NEG] = -cap_slope_neg * ke * (-theta_p_neg + my_neg / ke) + fpeak_neg
+    s[FMIN] = my_neg
+    s[FMAX] = my_pos
+    s[STOP] = 0.0
+    s[DLST_NEG] = my_neg / ke
+    s[DLST_POS] = my_pos / ke
+    s[FLST_NEG] = my_neg
+    s[FLST_POS] = my_pos
+    s[EK] = 0.0
+    s[SP] = 0.0
+    s[FP] = 0.0
+    s[SN] = 0.0
+    s[UNL] = 1.0
+    s[PROD_BETA] = 1.0
+    if delta_d >= 0.0:
+        s[KON] = 1.0
+    else:
+        s[KON] = 2.0
+
+
+def _step(params, s, d, delta_d, ekp):
+    """setTrialStrain past the first call, while the storey stands (flagStop = 0): the
+    (drift, force) of the step, the state in ``s``."""
+    mode, x, positive = _direction(params, s, d, delta_d)
+    # OpenSees' envelPosCap2 / envelNegCap2 at x, evaluated once on every path
+    if positive == 1.0:
+        fe, eke, x = _envelope_pos(params, s, x)
+    else:
+        fe, eke, x = _envelope_neg(params, s, x)
+    if mode == 1.0:  # beyond the largest positive drift: on the envelope
+        d = x
+        f = fe
+        s[EK] = eke
+        s[DMAX] = d
+        s[FMAX] = f
+        s[DLST_POS] = s[DMAX] + 1.0e-10
+        s[FLST_POS] = f
+    elif mode == 2.0:
+        f = _reload_pos(s, d, x, fe, eke, delta_d, ekp)
+    elif mode == 4.0:  # beyond the largest negative drift
+        d = x
+        f = fe
+        s[EK] = eke
+        s[DMIN] = d
+        s[FMIN] = f
+        s[DLST_NEG] = s[DMIN] - 1.0e-10
+        s[FLST_NEG] = f
+    elif mode == 5.0:
+        f = _reload_neg(s, d, x, fe, eke, delta_d, ekp)
+    else:
+        d = x
+        f = fe
+        s[EK] = eke
+    _deteriorate(params, s, f, delta_d)
+    return d, f
+
+
+def _power(base, exponent):
+    """base ** exponent, 0 for a negative base and a non-integer exponent (round-off at an
+    elastic reversal, where C's pow is NaN)."""
+    if base < 0.0 and exponent != math.floor(exponent):
+        base = 0.0
+    return base ** exponent
+
+
+def _unloading(params, s, rse, ekhard):
+    """At a reversal: the unloading stiffness deteriorates (Lamda_K, c_K); the storey stops
+    where it falls to the hardening slope ``ekhard``."""
+    lk = params[8]
+    if lk != 0.0:
+        enrgtk = 2.0 * lk * params[3]
+        if (s[ENRGTOT] - rse) >= enrgtk:
+            betak = 1.0
+        else:
+            betak = _power((s[ENRGC] - rse) / (enrgtk - (s[ENRGTOT] - rse)), params[12])
+        s[EKUNLOAD] = params[0] * (s[PROD_BETA] * (1.0 - betak))
+        s[PROD_BETA] = s[PROD_BETA] * (1.0 - betak)
+        if s[EKUNLOAD] <= ekhard:
+            s[STOP] = 1.0
+
+
+def _direction(params, s, d, delta_d):
+    """The reversal bookkeeping of the step's direction, and which branch the step is on:
+    (mode, where the envelope is evaluated, 1 for the positive envelope else 0)."""
+    ke = params[0]
+    if delta_d >= 0.0:
+        if s[KON] == 2.0:
+            s[KON] = 1.0
+            s[UNL] = 0.0
+            fp = s[FP]
+            rse = 0.5 * fp * fp / s[EKUNLOAD]
+            enrgtk = 2.0 * params[8] * params[3]
+            a2 = enrgtk - (s[ENRGTOT] - rse)
+            if a2 < 0.0 and enrgtk != 0.0:
+                s[STOP] = 1.0
+            _unloading(params, s, rse, s[EKHARD_NEG])
+            if fp < 0.0:
+                tst = s[DP] - fp / s[EKUNLOAD]
+                if abs(s[DMAX] - params[3] / ke) >= 1.0e-10 and abs(tst) <= 1.0e-10:
+                    s[SN] = 1.0e-9
+                else:
+                    s[SN] = s[DP] - fp / s[EKUNLOAD]
+            if abs(s[DMIN] - s[DP]) <= 1.0e-10:
+                s[SP] = s[SN] + 1.0e-10
+        if d >= s[DMAX]:
+            return 1.0, d, 1.0
+        if abs(s[SN]) > 1.0e-10:
+            return 2.0, s[DMAX], 1.0
+        return 3.0, d, 1.0 if d > 0.0 else 0.0
+    if s[KON] == 1.0:
+        s[KON] = 2.0
+        s[UNL] = 0.0
+        fp = s[FP]
+        rse = 0.5 * fp * fp / s[EKUNLOAD]
+        _unloading(params, s, rse, s[EKHARD_POS])
+        if fp > 0.0:
+            tst = s[DP] - fp / s[EKUNLOAD]
+            if abs(s[DMIN] - params[4] / ke) >= 1.0e-10 and abs(tst) <= 1.0e-10:
+                s[SP] = 1.0e-9
+            else:
+                s[SP] = s[DP] - fp / s[EKUNLOAD]
+        if abs(s[DMAX] - s[DP]) <= 1.0e-10:
+            s[SN] = s[SP] - 1.0e-10
+    if d <= s[DMIN]:
+        return 4.0, d, 0.0
+    if abs(s[SP]) > 1.0e-10:
+        return 5.0, s[DMIN], 0.0
+    return 6.0, d, 1.0 if d > 0.0 else 0.0
+
+
+def _envelope_pos(params, s, x):
+    """OpenSees' envelPosCap2 at x: (force, tangent, x); past theta_u x moves to the fracture
+    drift and flagStop is set."""
+    ke = params[0]
+    fy = s[FY_POS]
+    cp = s[CP_POS]
+    fpeak_pos, fpeak_neg, cap_slope, cap_slope_neg = _backbone(params)
+    dy = fy / ke
+    if dy <= cp:
+        res = params[17] * params[3]
+        rcap = fy + s[ALFA_POS] * ke * (cp - dy)
+        dres = cp + (res - rcap) / (cap_slope * ke)
+        if x < 0.0:
+            fe = 0.0
+            eke = 1.0e-7
+        elif x <= dy:
+            eke = ke
+            fe = eke * x
+        elif x <= cp:
+            eke = ke * s[ALFA_POS]
+            fe = fy + eke * (x - dy)
+        elif x <= dres:
+            eke = cap_slope * ke
+            fe = rcap + eke * (x - cp)
+        else:
+            eke = 1.0e-7
+            fe = res + x * eke
+    else:
+        rcap = ke * cp
+        res = params[17] * rcap
+        dres = cp + (res - rcap) / (cap_slope * ke)
+        if x < 0.0:
+            fe = 0.0
+            eke = 1.0e-7
+        elif x <= cp:
+            eke = ke
+            fe = eke * x
+        elif x <= dres:
+            eke = cap_slope * ke
+            fe = rcap + eke * (x - cp)
+        else:
+            eke = 1.0e-7
+            fe = res + x * eke
+    if x >= params[19]:
+        eke = 1.0e-7
+        fe = 1.0e-10
+        x = params[19]
+        s[STOP] = 1.0
+    return fe, eke, x
+
+
+def _envelope_neg(params, s, x):
+    """OpenSees' envelNegCap2 at x (the mirror of :func:`_envelope_pos`, in its own order of
+    operations)."""
+    ke = params[0]
+    fy = s[FY_NEG]
+    cp = s[CP_NEG]
+    fpeak_pos, fpeak_neg, cap_slope_pos, cap_slope = _backbone(params)
+    dy = fy / ke
+    if dy >= cp:
+        res = params[18] * params[4]
+        rcap = fy + s[ALFA_NEG] * ke * (cp - dy)
+        dres = cp + (res - rcap) / (cap_slope * ke)
+        if x > 0.0:
+            fe = 0.0
+            eke = 1.0e-7
+        elif x >= dy:
+            eke = ke
+            fe = eke * x
+        elif x >= cp:
+            eke = ke * s[ALFA_NEG]
+            fe = fy + eke * (x - dy)
+        elif x >= dres:
+            eke = ke * cap_slope
+            fe = rcap + eke * (x - cp)
+        else:
+            eke = 1.0e-7
+            fe = res + eke * x
+    else:
+        rcap = ke * cp
+        res = params[18] * rcap
+        dres = cp + (res - rcap) / (cap_slope * ke)
+        if x > 0.0:
+            fe = 0.0
+            eke = 1.0e-7
+        elif x >= cp:
+            eke = ke
+            fe = eke * x
+        elif x >= dres:
+            eke = ke * cap_slope
+            fe = rcap + eke * (x - cp)
+        else:
+            eke = 1.0e-7
+            fe = res + eke * x
+    if x <= -params[20]:
+        eke = 1.0e-7
+        fe = 1.0e-10
+        x = -params[20]
+        s[STOP] = 1.0
+    return fe, eke, x
+
+
+def _reload_pos(s, d, x, fe, eke, delta_d, ekp):
+    """Moving positive inside the loop: unloading, then reloading toward the largest
+    positive drift (peak-oriented, Ibarra-Krawinkler's last unloading point); the force."""
+    s[DMAX] = x
+    s[FMAX] = fe
+    s[EK] = eke
+    sn = s[SN]
+    if d <= sn:
+        s[EK] = s[EKUNLOAD]
+        f = s[FP] + s[EK] * delta_d
+        if s[UNL] == 0.0 and abs(s[EK] - ekp) > 1.0e-10 and s[DP] != s[DMIN]:
+            s[DLST_NEG] = s[DP]
+            s[FLST_NEG] = s[FP]
+        return f
+    dmax = s[DMAX]
+    fmax = s[FMAX]
+    dlst = s[DLST_POS]
+    flst = s[FLST_POS]
+    ek = fmax / (dmax - sn)
+    f2 = ek * (d - sn)
+    if dlst > sn and dlst < dmax:
+        ekc = flst / (dlst - sn)
+        if ekc > ek and flst < fmax:
+            if d < dlst:
+                ek = flst / (dlst - sn)
+                f2 = ek * (d - sn)
+            else:
+                ek = (fmax - flst) / (dmax - dlst)
+                f2 = flst + ek * (d - dlst)
+    f1 = s[FP] + s[EKUNLOAD] * delta_d
+    if f1 < f2:
+        f = f1
+    else:
+        f = f2
+    if abs(f - f1) < 1.0e-10:
+        ek = s[EKUNLOAD]
+    s[EK] = ek
+    return f
+
+
+def _reload_neg(s, d, x, fe, eke, delta_d, ekp):
+    """Moving negative inside the loop (the mirror of :func:`_reload_pos`); the force."""
+    s[DMIN] = x
+    s[FMIN] = fe
+    s[EK] = eke
+    sp = s[SP]
+    if d >= sp:
+        s[EK] = s[EKUNLOAD]
+        f = s[FP] + s[EK] * delta_d
+        if s[UNL] == 0.0 and abs(s[EK] - ekp) > 1.0e-10 and s[DP] != s[DMAX]:
+            s[DLST_POS] = s[DP]
+            s[FLST_POS] = s[FP]
+        return f
+    dmin = s[DMIN]
+    fmin = s[FMIN]
+    dlst = s[DLST_NEG]
+    flst = s[FLST_NEG]
+    ek = fmin / (dmin - sp)
+    f2 = ek * (d - sp)
+    if dlst < sp and dlst > dmin:
+        ekc = flst / (dlst - sp)
+        if ekc > ek and flst > fmin:
+            if d > dlst:
+                ek = flst / (dlst - sp)
+                f2 = ek * (d - sp)
+            else:
+                ek = (fmin - flst) / (dmin - dlst)
+                f2 = flst + ek * (d - dlst)
+    f1 = s[FP] + s[EKUNLOAD] * delta_d
+    if f1 > f2:
+        f = f1
+    else:
+        f = f2
+    if abs(f - f1) < 1.0e-10:
+        ek = s[EKUNLOAD]
+    s[EK] = ek
+    return f
+
+
+def _betas(params, s):
+    """Rahnama & Krawinkler's beta of basic strength, accelerated reloading and the cap, as
+    (beta_S, beta_A, beta_C), from the energies of the half cycle and in all."""
+    my_pos = params[3]
+    ls = params[5]
+    ld = params[6]
+    la = params[7]
+    enrgts = ls * my_pos
+    enrgta = la * my_pos
+    enrgtd = ld * my_pos
+    enrgtot = s[ENRGTOT]
+    enrgc = s[ENRGC]
+    betas = 0.0
+    betaa = 0.0
+    betac = 0.0
+    if enrgtot >= enrgts and enrgts != 0.0:
+        betas = 1.0
+    elif enrgtot >= enrgta and enrgta != 0.0:
+        betaa = 1.0
+    elif enrgtot >= enrgtd and enrgtd == 0.0:
+        betac = 1.0
+    else:
+        if ls != 0.0:
+            betas = _power(enrgc / (enrgts - enrgtot), params[9])
+        if la != 0.0:
+            betaa = _power(enrgc / (enrgta - enrgtot), params[11])
+        if ld != 0.0:
+            if enrgtd - enrgtot == 0.0:
+                betac = 1.0
+            else:
+                betac = _power(enrgc / (enrgtd - enrgtot), params[10])
+        if abs(betas) >= 1.0:
+            betas = 1.0
+        if abs(betaa) >= 1.0:
+            betaa = 1.0
+        if abs(betac) >= 1.0:
+            betac = 1.0
+    return betas, betaa, betac
+
+
+def _deteriorated(ke, cap_slope, fy, alfa, fcapref, extreme, betas, betaa, betac, rate):
+    """One direction's backbone after a half cycle past yield: (yield force, hardening ratio,
+    cap reference force, target drift, hardening slope, the two candidate capping drifts)."""
+    fy = fy * (1.0 - betas * rate)
+    alfa = alfa * (1.0 - betas * rate)
+    fcapref = fcapref * (1.0 - betac * rate)
+    extreme = extreme * (1.0 + betaa)
+    dy = fy / ke
+    ekhard = alfa * ke
+    dcap1 = fcapref / (ke - cap_slope * ke)
+    dcap2 = (fcapref + ekhard * dy - fy) / (ekhard - cap_slope * ke)
+    return fy, alfa, fcapref, extreme, ekhard, dcap1, dcap2
+
+
+def _deteriorate(params, s, f, delta_d):
+    """The energy of the step; at a reversal of force past yield, the cyclic deterioration
+    of the direction the step moves in."""
+    ke = params[0]
+    fp = s[FP]
+    enrgi = 0.5 * (f + fp) * delta_d
+    s[ENRGC] = s[ENRGC] + enrgi
+    s[ENRGTOT] = s[ENRGTOT] + enrgi
+    flagdeg = 0.0
+    if f * fp < 0.0:
+        if (fp > 0.0 and s[DMAX] > s[FY_POS] / ke) or (fp < 0.0 and s[DMIN] < s[FY_NEG] / ke):
+            flagdeg = 1.0
+    if flagdeg == 1.0:
+        betas, betaa, betac = _betas(params, s)
+        s[ENRGC] = 0.0
+        fpeak_pos, fpeak_neg, cap_slope_pos, cap_slope_neg = _backbone(params)
+        if delta_d < 0.0:
+            fy, alfa, fcapref, dmin, ekhard, dcap1, dcap2 = _deteriorated(
+                ke, cap_slope_neg, s[FY_NEG], s[ALFA_NEG], s[FCAP_NEG], s[DMIN], betas, betaa,
+                betac, params[22])
+            s[FY_NEG] = fy
+            s[ALFA_NEG] = alfa
+            s[FCAP_NEG] = fcapref
+            s[DMIN] = dmin
+            s[EKHARD_NEG] = ekhard
+            if dcap1 < dcap2:
+                s[CP_NEG] = dcap1
+            else:
+                s[CP_NEG] = dcap2
+        else:
+            fy, alfa, fcapref, dmax, ekhard, dcap1, dcap2 = _deteriorated(
+                ke, cap_slope_pos, s[FY_POS], s[ALFA_POS], s[FCAP_POS], s[DMAX], betas, betaa,
+                betac, params[21])
+            s[FY_POS] = fy
+            s[ALFA_POS] = alfa
+            s[FCAP_POS] = fcapref
+            s[DMAX] = dmax
+            s[EKHARD_POS] = ekhard
+            if dcap1 > dcap2:
+                s[CP_POS] = dcap1
+            else:
+                s[CP_POS] = dcap2

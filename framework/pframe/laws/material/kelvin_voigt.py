@@ -13,6 +13,7 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.material.viscous import dashpot_states
 from pframe.laws.params import DASHPOT_UNDIMENSIONED, LawParams, Positive, dashpot_units
 from pframe.laws.registry import Law, material
 
@@ -37,6 +38,13 @@ class KelvinVoigt(Law):
                   "linear_below": "velocity"}
     undimensioned = {"damping": DASHPOT_UNDIMENSIONED}
     branches = "smooth"
+    examples = ({"stiffness": 1.0e5, "damping": 1.0e3},
+                {"stiffness": 1.0e5, "damping": 2.0e3, "exponent": 0.5})
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """Both branches of the dashpot, both ways; the spring's k."""
+        return dashpot_states(*packed)
 
     @classmethod
     def governing(cls, packed, effective_mass=None):

@@ -16,8 +16,22 @@ from typing import Literal
 
 from pydantic import Field
 
+from pframe.laws.facts import TangentState
 from pframe.laws.params import DASHPOT_UNDIMENSIONED, LawParams, Positive, dashpot_units
 from pframe.laws.registry import Law, material
+
+
+def dashpot_states(k, c, alpha, v0):
+    """The tangent states of a spring k in parallel with the dashpot c |v|^alpha (linear
+    below v0): above v0 both ways (d f / dv = alpha c |v|^(alpha - 1)) and below it
+    (c v0^(alpha - 1)); d f / du = k, to the bit."""
+    rows = []
+    for rate in (0.3, -0.2, 0.3 * v0, -0.5 * v0):
+        slope = alpha * c * abs(rate) ** (alpha - 1) if abs(rate) >= v0 else \
+            c * v0 ** (alpha - 1)
+        rows.append(TangentState((), 0.004, rate, (0.01, abs(rate)), tangent=k,
+                                 rate_tangent=slope, tolerance=(0.0, 1e-12)))
+    return rows
 
 
 @material("viscous")
@@ -39,6 +53,13 @@ class Viscous(Law):
     branches = "smooth"
     opensees = "Viscous"
     stiffness_free = True  # no initial stiffness: a link, not a storey
+    examples = ({"damping": 2.0e3, "exponent": 0.5}, {"damping": 2.0e3},
+                {"damping": 2.0e3, "exponent": 0.4})
+
+    @classmethod
+    def tangent_states(cls, packed):
+        """Both branches of the dashpot, both ways."""
+        return dashpot_states(0.0, *packed)
 
     @classmethod
     def governing(cls, packed, effective_mass=None):
