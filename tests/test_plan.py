@@ -351,3 +351,31 @@ def test_the_pi_form_refuses_a_scene_in_plan(tmp_path, capsys):
     captured = capsys.readouterr()
     assert captured.out == "" and str(path) in captured.err
     assert "no buildings in plan yet" in captured.err
+
+
+def test_rayleigh_damping_on_modes_named_by_direction():
+    """damping modes [x1, torsion1] on the eccentric floor: the x mode (w^2 = 2 KX / M,
+    uncoupled) and the torsional one of the coupled pair (the higher of Chopra's two, its
+    twist dominant for W^2 = 3.5) get the ratio asked, (a0 / w + a1 w) / 2 = 5 %, and the
+    lateral one of the pair does not; a direction with too few modes is refused by name."""
+    from pframe.assemble import assemble
+
+    e = 3.0
+    data = json.loads(eccentric(e, 1e-3, 0.01))
+    data["damping"] = {"ratio": 0.05, "modes": ["x1", "torsion1"]}
+    plan = assemble(parse_scene(json.dumps(data)).expanded)
+    a0 = plan.mass_damping[0] / plan.mass[0]
+    assert np.allclose(a0, a0[0], rtol=1e-12)
+    a1 = plan.story_beta[0]
+    assert np.allclose(a1, a1[0], rtol=1e-12)
+
+    def ratio(w):
+        return (a0[0] / w + a1[0] * w) / 2.0
+
+    lateral, torsional = chopra_frequencies(e)
+    assert ratio(math.sqrt(2 * KX / MASS)) == pytest.approx(0.05, rel=1e-10)
+    assert ratio(torsional) == pytest.approx(0.05, rel=1e-10)
+    assert abs(ratio(lateral) - 0.05) > 0.002  # 5.47 %: not one of the two fitted
+    data["damping"]["modes"] = ["x2", "y1"]
+    with pytest.raises(InputError, match="1 mode\\(s\\) moving mostly in x.*'x2'"):
+        assemble(parse_scene(json.dumps(data)).expanded)

@@ -88,19 +88,50 @@ def _frequencies(ex, b, k, count, vectors=False):
     return out
 
 
+def wanted_modes(ex, b: int, damping, k_fit) -> tuple[int, int]:
+    """The two modes (1-based, in building b's order of frequency on ``k_fit``) Rayleigh
+    damping is fitted to: numbers as given, a direction's (``x1``, ``y2``, ``torsion1``) found
+    among the building's modes by :func:`pframe.assemble.modes.directions`; a one-storey
+    building's single mode twice for the default (1, 2)."""
+    name = ex.buildings[b]
+    count = len(modes.building_keys(ex, b)[0])  # its modes (in plan: lateral-torsional)
+    asked = damping.modes
+    if all(isinstance(m, int) for m in asked):
+        if max(asked) <= count:
+            return tuple(asked)
+        if count == 1 and tuple(asked) == (1, 2):
+            return (1, 1)  # a one-storey building has one mode: fit the ratio there
+        raise InputError(f"building {name!r} has {count} modes; damping modes "
+                         f"{list(asked)} cannot be fitted")
+    phi = _frequencies(ex, b, k_fit, None, vectors=True)[1]
+    seen = modes.directions(ex, b, phi)
+    out = []
+    for m in asked:
+        if isinstance(m, int):
+            if m > count:
+                raise InputError(f"building {name!r} has {count} modes; damping mode {m} "
+                                 "cannot be fitted")
+            out.append(m)
+            continue
+        direction = m.rstrip("0123456789")
+        number = int(m[len(direction):])
+        found = [i + 1 for i, d in enumerate(seen) if d == direction]
+        if number > len(found):
+            have = ", ".join(f"{d} {seen.count(d)}" for d in ("x", "y", "torsion")
+                             if d in seen)
+            raise InputError(f"building {name!r} has {len(found)} mode(s) moving mostly in "
+                             f"{direction}, so damping mode {m!r} cannot be fitted (its "
+                             f"modes by direction: {have}; pframe validate lists them)")
+        out.append(found[number - 1])
+    return tuple(out)
+
+
 def _rayleigh(ex, b: int, damping, k_fit, k_d, damped, warnings: list) -> tuple[float, float]:
     """(a0, a1) of building b: its modes of ``k_fit``, the stiffness term on the storeys
     ``damped`` with stiffness ``k_d``; what the fit cannot give goes to ``warnings``."""
     name = ex.buildings[b]
-    count = len(modes.building_keys(ex, b)[0])  # its modes (in plan: lateral-torsional)
     mine = np.flatnonzero(ex.story_building == b)
-    wanted = damping.modes
-    if max(wanted) > count:
-        if count == 1 and wanted == (1, 2):
-            wanted = (1, 1)  # a one-storey building has one mode: fit the ratio there
-        else:
-            raise InputError(f"building {name!r} has {count} modes; damping modes "
-                             f"{list(damping.modes)} cannot be fitted")
+    wanted = wanted_modes(ex, b, damping, k_fit)
     textbook = bool(np.all(damped[mine])) and np.array_equal(k_d[mine], k_fit[mine])
     out = _frequencies(ex, b, k_fit, max(wanted), vectors=not textbook)
     omega = out if textbook else out[0]
@@ -285,11 +316,12 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
         if damping.ratio == 0.0:
             out.append(f"building {name}: none (ratio 0)")
             continue
-        wanted = damping.modes if max(damping.modes) <= len(modes.building_keys(ex, b)[0]) \
-            else (1, 1)
-        omega = modes.lowest_modes(ex, b, _fit_stiffness(damping, k0, k_post, isolator),
-                                   max(wanted))
-        periods = [f"{m} ({2 * math.pi / omega[m - 1]:#.3g} s)" for m in dict.fromkeys(wanted)]
+        k_fit = _fit_stiffness(damping, k0, k_post, isolator)
+        wanted = wanted_modes(ex, b, damping, k_fit)
+        omega = modes.lowest_modes(ex, b, k_fit, max(wanted))
+        named = dict(zip(wanted, damping.modes))
+        periods = [f"{m} ({named[m] + ', ' if isinstance(named.get(m), str) else ''}"
+                   f"{2 * math.pi / omega[m - 1]:#.3g} s)" for m in dict.fromkeys(wanted)]
         a0 = float(result.a0[ex.node_building == b][0])
         a1 = float(np.max(result.a1[mine]))
         skipped = [ex.stories[s].name for s in mine if not damped[s]]

@@ -358,6 +358,10 @@ FIT_DESCRIPTION = (
     "or initial (every storey at its initial stiffness).")
 
 
+RayleighMode = Union[Annotated[int, Field(ge=1)],  # noqa: UP007
+                     Annotated[str, Field(pattern=r"^(x|y|torsion)[1-9][0-9]*$")]]
+
+
 class Rayleigh(Base):
     """Rayleigh damping of one building, C = a0 M + a1 K, fitted on that building alone (a
     fixed base) so that the two modes named get the ratio asked; the a1 K term acts on its
@@ -365,8 +369,10 @@ class Rayleigh(Base):
 
     kind: Literal["rayleigh"] = "rayleigh"
     ratio: float = Field(0.05, ge=0, lt=1, description="Damping ratio on both fitted modes.")
-    modes: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = Field(
-        (1, 2), description="The two modes (1-based) the ratio is fitted to."
+    modes: tuple[RayleighMode, RayleighMode] = Field(
+        (1, 2), description="The two modes the ratio is fitted to: 1-based numbers in the "
+        "building's order of frequency, or in plan a direction and its number (x1, y2, "
+        "torsion1: the first mode moving mostly in twist, as validate lists them)."
     )
     stiffness: Literal["initial", "current", "committed"] = Field(
         "initial", description="Stiffness of the beta K term (as OpenSees betaKinit/K/Kcomm)."
