@@ -137,10 +137,12 @@ def _sweep(args) -> int:
         if progress is not None:
             progress.close()
         signum = getattr(exc, "signum", None)
+        finished = kept(out)
         print(f"pframe: {'interrupted' if signum is None else f'stopped by signal {signum}'}; "
-              f"{_plural(kept(out), 'finished chunk')} of {spec.chunks} kept in "
-              f"{parts_folder(out)}, no sweep file written: run the same command to resume "
-              "from them", file=sys.stderr)
+              + (f"{_plural(finished, 'finished chunk')} of {spec.chunks} kept in "
+                 f"{parts_folder(out)}, no sweep file written: run the same command to resume "
+                 "from them" if finished else "no chunk had finished: nothing kept, no sweep "
+                 "file written"), file=sys.stderr)
         return 130 if signum is None else 128 + signum
     finally:
         if progress is not None:

@@ -179,7 +179,15 @@ class Parts:
                              "delete it and run the same command again") from None
 
     def close(self):
-        if self._lock is not None:
+        """Release the lock; a folder that holds no finished chunk (a run stopped or refused
+        before its first chunk, a wrong scheduler address) is removed with it: it has
+        nothing to resume from, and its lock and manifest would only be left behind."""
+        if self._lock is None:
+            return
+        try:
+            if not kept(self.output):
+                shutil.rmtree(self.folder, ignore_errors=True)
+        finally:
             self._lock.close()
             self._lock = None
 
