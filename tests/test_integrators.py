@@ -271,7 +271,7 @@ def test_wilson_theta_stability_bound():
     assert max(stable.spectral_radius(x) for x in w_dt) <= 1.0 + 1e-12
     below = WilsonTheta.model_construct(theta=1.35, events=False).coefficients()
     assert below.spectral_radius(1e4) > 1.0
-    with pytest.raises(ValueError):
+    with pytest.raises(InputError, match=r"theta: Input should be greater than or equal to 1.37"):
         WilsonTheta(theta=1.3)
 
 

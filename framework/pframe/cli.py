@@ -14,7 +14,7 @@ import importlib
 import sys
 
 from pframe.commands import COMMANDS
-from pframe.errors import EnvironmentFailure, InputError, PframeError
+from pframe.errors import EnvironmentFailure, InputError, PframeError, command_line
 
 
 def parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -48,7 +48,8 @@ def main(argv: list[str] | None = None) -> int:
     sys.unraisablehook = _quiet_h5py(hook)
     sys.excepthook = _quiet_h5py_print(excepthook)
     try:
-        return args.run(args)
+        with command_line():
+            return args.run(args)
     except InputError as exc:
         print(f"pframe: {exc}", file=sys.stderr)
         return 2

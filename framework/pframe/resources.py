@@ -255,7 +255,7 @@ def check(est: Estimate, where: str, *, free_disk: int | None = None) -> list[st
     """Raise :class:`InputError` when the run cannot fit (memory, steps, variants) and
     :class:`EnvironmentFailure` when its file cannot fit on the disk (``free_disk``); return
     warnings for a run that fits but is very large."""
-    from pframe.errors import EnvironmentFailure, InputError
+    from pframe.errors import EnvironmentFailure, InputError, option
 
     limit = memory_limit()
     how = _REDUCE + (", fewer variants or a smaller chunk" if est.variants > 1 else "")
@@ -273,7 +273,8 @@ def check(est: Estimate, where: str, *, free_disk: int | None = None) -> list[st
     if free_disk is not None and est.file > free_disk:
         raise EnvironmentFailure(
             f"{where}: {est.describe()}; the result file would not fit in the "
-            f"{human(free_disk)} free on its disk. Free space or write elsewhere (-o), or use "
+            f"{human(free_disk)} free on its disk. Free space or write elsewhere "
+            f"({option('output')}), or use "
             f"{how}")
     warnings = []
     if est.seconds > WARN_SECONDS or est.file > WARN_FILE_BYTES:

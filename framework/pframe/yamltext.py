@@ -58,14 +58,15 @@ def read_bounded(path, what: str, limit: int = MAX_YAML_BYTES, errors: str = "st
     except OSError as exc:
         raise InputError(f"{path}: cannot read the {what} file: "
                          f"{exc.strerror or exc}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):  # before fdopen, which refuses a folder with its own error
+        os.close(fd)
+        kind = ("a folder" if stat.S_ISDIR(mode) else "a named pipe (FIFO)"
+                if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or
+                stat.S_ISBLK(mode) else "not a regular file")
+        raise InputError(f"{path}: is {kind}; pframe reads a {what} only from a regular "
+                         "file")
     with os.fdopen(fd, "rb") as handle:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            kind = ("a folder" if stat.S_ISDIR(mode) else "a named pipe (FIFO)"
-                    if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or
-                    stat.S_ISBLK(mode) else "not a regular file")
-            raise InputError(f"{path}: is {kind}; pframe reads a {what} only from a regular "
-                             "file")
         size = os.fstat(fd).st_size
         data = handle.read(limit + 1) if size <= limit else b""
         if size > limit or len(data) > limit:

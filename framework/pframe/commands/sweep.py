@@ -98,9 +98,10 @@ def _sweep(args) -> int:
     out = Path(args.output if args.output is not None else Path(args.sweep).stem + ".nc")
     if args.output == "":
         raise InputError("-o '': the sweep file needs a name")
-    inputs = [args.sweep, definition.base_source or None,
-              *(path for _, _, _, path in definition.records)]
-    outputs.check_output(out, inputs=inputs, overwrite=True, what="sweep file")
+    from pframe.api import sweep_inputs
+
+    outputs.check_output(out, inputs=sweep_inputs(definition), overwrite=True,
+                         what="sweep file")
     _check_resources(spec, out, args.quiet)
     from pframe.sweep.store import parts_folder
 

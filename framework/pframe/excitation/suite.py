@@ -202,7 +202,7 @@ def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
     out = []
     for seed in seeds:
         try:
-            excitation = Stochastic(**item, seed=seed)
+            excitation = Stochastic.model_validate({**item, "seed": seed})
         except ValidationError as exc:
             problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'entry'}: {e['msg']}"
                                  for e in exc.errors())

@@ -1,10 +1,12 @@
 """Shared pydantic base of the integrators' parameters."""
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import Field
+
+from pframe.objects import Frozen
 
 
-class IntegratorParams(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class IntegratorParams(Frozen):
+    """An integrator's parameters: frozen, unknown fields refused, misuse an InputError."""
 
 
 class Implicit(IntegratorParams):

@@ -12,7 +12,6 @@ from typing import Annotated, Literal, Union, get_args
 
 from pydantic import (
     BaseModel,
-    ConfigDict,
     Discriminator,
     Field,
     PrivateAttr,
@@ -24,6 +23,7 @@ from pydantic import (
 from pframe.integrators import HHT, CentralDifference, GeneralizedAlpha, Newmark, WilsonTheta
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
+from pframe.objects import Frozen
 from pframe.quantities import QUANTITIES as _QUANTITIES
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -39,8 +39,13 @@ QUANTITIES = tuple(_QUANTITIES)
 Quantity = Literal[QUANTITIES]
 
 
-class Base(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class Base(Frozen):
+    """A part of a scene: frozen, unknown fields refused, misuse an InputError
+    (:mod:`pframe.objects`)."""
+
+    @classmethod
+    def public_name(cls) -> str:
+        return _public_name(cls)
 
     def __repr__(self) -> str:
         return brief(self)
@@ -704,7 +709,7 @@ def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseMo
     tag = get_args(params_model.model_fields[discriminator].annotation)[0]
     return create_model(
         f"{params_model.__qualname__.split('.')[0]}Storeys",
-        __config__=ConfigDict(extra="forbid", frozen=True),
+        __base__=Base,
         __doc__=f"Storey properties ({discriminator}: {tag}); a list gives one value per storey, "
         "bottom up.",
         **fields,

@@ -6,7 +6,7 @@ import hashlib
 import os
 from pathlib import Path
 
-from pframe.errors import InputError
+from pframe.errors import InputError, given
 from pframe.model.load import read_input
 from pframe.sweep.definition import validated_sweep
 from pframe.sweep.spec import SweepDefinition, code_fingerprint
@@ -43,7 +43,7 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
     folder = Path(folder)
     model, lines = validated_sweep(text, source)
     if chunk is not None and chunk < 1:
-        raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
+        raise InputError(f"{given('chunk', chunk)}: a chunk holds at least one variant")
     base_source, base_text, base_dir = "", "", folder
     if model.base is not None:
         base_path = Path(os.path.normpath(folder / model.base))

@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from pframe import outputs
-from pframe.errors import InputError
+from pframe.errors import InputError, option
 
 MANIFEST = "sweep.json"
 #: what reading a damaged chunk file raises
@@ -104,8 +104,8 @@ class Parts:
                     raise InputError(
                         f"{self.folder}: holds {what}; the sweep, its base scene, its record "
                         "files, the chunk size or pframe's code have changed since those "
-                        "chunks were computed. Pass --overwrite to discard them and start "
-                        "again, or choose another output name with -o")
+                        f"chunks were computed. Pass {option('overwrite')} to discard them and "
+                        f"start again, or choose another output name with {option('output')}")
                 self._take_lock()
                 self._clear()
         self.folder.mkdir(parents=True, exist_ok=True)
@@ -135,7 +135,8 @@ class Parts:
         except OSError:
             handle.close()
             raise InputError(f"{self.folder}: another pframe sweep is writing this output "
-                             "now; wait for it, or choose another name with -o") from None
+                             f"now; wait for it, or choose another name with {option('output')}"
+                             ) from None
         self._lock = handle
 
     def _clear(self):
@@ -188,8 +189,8 @@ class Parts:
             if "holds" not in str(exc):
                 raise
             raise InputError(f"{self.folder}: holds batches of another study (another "
-                             f"{whose} or pframe code); pass --overwrite to discard them, or "
-                             "choose another -o") from None
+                             f"{whose} or pframe code); pass {option('overwrite')} to discard "
+                             f"them, or choose another {option('output')}") from None
 
     def load(self, chunk: int) -> dict:
         """The arrays of a finished chunk (as saved, without its index and digest)."""
