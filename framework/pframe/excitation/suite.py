@@ -116,7 +116,7 @@ class Suite:
 def _entry_motion(entry: RecordEntry, folder: Path, where: str) -> GroundMotion:
     path = folder / entry.file
     try:
-        t, a = read_record(path, entry.format, entry.units)
+        t, a = read_record(path, entry.format, entry.units, within=folder)
     except FileNotFoundError:
         raise InputError(f"{where}: record file {str(path)!r} not found") from None
     except (ValueError, OSError) as exc:
