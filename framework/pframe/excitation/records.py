@@ -99,9 +99,10 @@ def _quoted(text: str, shown: bool) -> str:
 
 
 def _inside(path: Path, folder) -> bool:
-    """Whether ``path`` resolves to a file inside ``folder`` (links followed)."""
+    """Whether ``path`` resolves to a file inside ``folder`` (links followed); True without
+    a folder (the caller named the file itself)."""
     if folder is None:
-        return False
+        return True
     try:
         return Path(path).resolve().is_relative_to(Path(folder).resolve())
     except (OSError, RuntimeError):
@@ -192,8 +193,9 @@ def read_record(path: str | Path, format: str = "auto", units: str | None = None
     g for AT2 files and m/s^2 otherwise (:func:`read_record_file` says which).
     Raises ``ValueError`` with the file and line on malformed input (:class:`RecordUnitsError`
     when the header and ``units`` disagree), ``FileNotFoundError``. A message quotes the
-    file's text only when it lies inside the folder ``within`` (the scene's, the suite's):
-    a record path that leaves it (``../../etc/passwd``) must not print another file.
+    file's text only when it lies inside the folder ``within`` (the scene's, the suite's),
+    when one is given: a record path that leaves it (``../../etc/passwd``) must not print
+    another file.
     """
     record = read_record_file(path, format, units, within)
     return record.times, record.acceleration
