@@ -353,12 +353,32 @@ def motion_line(facts: dict) -> str:
     return line
 
 
+#: the largest peak ground acceleration a motion may have without a warning (m/s^2): above
+#: any recorded (about 4.4 g, the 2008 Iwate-Miyagi earthquake at IWTH25, Aoi et al. 2008), so
+#: beyond it the usual cause is a unit or a scale typed wrong (cm/s^2 read as m/s^2, a record
+#: in g scaled by 9.81 twice)
+PLAUSIBLE_PGA = 5.0 * G
+
+
 def motion_warnings(facts: dict | None) -> list[str]:
-    """Warnings about the motion a run applies: the analysis stops before the peak of a
-    record or a pulse (it applies less than 0.999 of the PGA the scene asks for). A sine is
-    not warned of: it reaches its amplitude every cycle, and a run shorter than a quarter
-    of one is a choice."""
-    if not facts or not facts.get("cut_before_peak") or facts["kind"] == "sine":
+    """Warnings about the motion a run applies: a peak ground acceleration beyond any
+    recorded (:data:`PLAUSIBLE_PGA`), and the analysis stopping before the peak of a record
+    or a pulse (it applies less than 0.999 of the PGA the scene asks for). A sine is not
+    warned of stopping early: it reaches its amplitude every cycle, and a run shorter than a
+    quarter of one is a choice."""
+    if not facts:
+        return []
+    out = []
+    if facts.get("pga", 0.0) > PLAUSIBLE_PGA:
+        out.append(f"the ground motion's peak acceleration is {_g(facts['pga'])}, beyond any "
+                   f"recorded earthquake's (about 4.4 g at most): check the units of the "
+                   f"{_what(facts['kind'])} (m/s^2, or g for a PEER record) and its scale or "
+                   "pga; the results are those of this motion")
+    return out + _cut_warnings(facts)
+
+
+def _cut_warnings(facts: dict) -> list[str]:
+    if not facts.get("cut_before_peak") or facts["kind"] == "sine":
         return []
     what = _what(facts["kind"])
     needed = facts["pga_time"]
