@@ -247,11 +247,7 @@ def _from_result(path: Path):
     finds it."""
     import h5py
 
-    from pframe.outputs import not_regular
-
-    kind = not_regular(path)
-    if kind is not None:  # a FIFO would block the reader
-        raise InputError(f"{path}: is {kind}, not a result file")
+    result_file(path, "pframe.load")
     try:
         with h5py.File(path, "r") as f:
             attrs = {k: f.attrs[k] for k in ("input_yaml", "record_file", "record_text",
@@ -509,17 +505,28 @@ def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_data
     ``ds.peak_displacement.to_series()`` take and show names."""
     from pframe.record.check import check_file
 
-    path = path_argument(path, "path", "pframe.open", "a result file's path")
-    if not path.exists():
-        raise InputError(f"{path}: no such result file")
-    if path.is_dir():
-        raise InputError(f"{path}: a folder, not a result file; give the file pframe solve, "
-                         "sweep or gap wrote")
+    path = result_file(path, "pframe.open")
     check_file(path)  # a damaged file: what is wrong, not h5py's KeyError
     try:
         return _opened(path)
     except (OSError, ValueError) as exc:
         raise InputError(f"{path}: not a pframe result file (netCDF-4/HDF5): {exc}") from None
+
+
+def result_file(path, call: str) -> Path:
+    """A result file's path, checked before anything opens it: it exists and is a regular
+    file (a folder is named as such, a FIFO would block the reader, a device be read
+    without end)."""
+    from pframe.outputs import not_regular
+
+    path = path_argument(path, "path", call, "a result file's path")
+    if not path.exists():
+        raise InputError(f"{path}: no such result file")
+    kind = not_regular(path)
+    if kind is not None:
+        raise InputError(f"{path}: is {kind}, not a result file; give the file pframe solve, "
+                         "sweep, gap or risk wrote")
+    return path
 
 
 def _opened(source, load_now: bool = False):

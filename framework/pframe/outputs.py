@@ -299,6 +299,28 @@ def replacing(path, overwrite: bool | None = None, clean: bool = True):
     commit(tmp, path, overwrite)
 
 
+def check_folder(path, what: str, inputs=()) -> Path:
+    """An output folder (its files written into it), checked before any work: a name, not
+    an existing file, device or FIFO, not one of the run's ``inputs``, in a folder that
+    exists; it may exist already. Raises :class:`InputError`."""
+    if path is None or str(path).strip() == "":
+        raise InputError(f"{option('output').removesuffix('...')}'': the {what} needs a name")
+    path = Path(path)
+    for source in inputs:
+        if source is not None and Path(source).exists() and _same_file(path, Path(source)):
+            raise InputError(f"{path}: is one of this run's inputs ({source}); choose another "
+                             f"folder for the {what}")
+    kind = not_regular(path)
+    if path.exists() and kind != "a folder":
+        raise InputError(f"{path}: is {kind or 'a file'}, not a folder; give a folder for the "
+                         f"{what}")
+    parent = path.parent
+    if not path.exists() and not parent.is_dir():
+        raise InputError(f"{path}: the folder {str(parent)!r} "
+                         + ("is not a folder" if parent.exists() else "does not exist"))
+    return path
+
+
 def make_folder(path) -> Path:
     """Create an output folder (and its parents); OSError becomes EnvironmentFailure."""
     path = Path(path)

@@ -301,13 +301,10 @@ def export_csv(result, folder: str | Path) -> list[Path]:
 
     from pframe import outputs
 
-    ds = result_dataset(result)
-    folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        raise InputError(f"{folder}: not a folder; give a folder for the CSV files")
-    if not folder.parent.exists():
-        raise InputError(f"{folder}: the folder {str(folder.parent)!r} does not exist")
-    folder.mkdir(exist_ok=True)
+    folder = outputs.check_folder(folder, "CSV files", inputs=[
+        result] if isinstance(result, (str, os.PathLike)) else [])
+    ds = result_dataset(result, "pframe export")
+    outputs.make_folder(folder)
     written = []
     for name, var in ds.data_vars.items():
         if var.ndim not in (1, 2) or not var.dims[0].startswith("t") or var.dtype.kind not in "fi":

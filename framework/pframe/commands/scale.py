@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pframe.commands import write_text_output
+from pframe.commands import checked_output, write_text_output
 
 #: the quantities a ratio may be chosen for (pframe.nondim.similitude.QUANTITIES)
 CHOICES = ("length", "displacement", "time", "frequency", "velocity", "acceleration", "mass",
@@ -51,6 +51,7 @@ def _scale(args) -> int:
         else:
             print("\n".join(_table(sim)))
         return 0
+    checked_output(args.output, args.overwrite, [args.model])  # before any work
     text = _scaled_scene(Path(args.model), sim, args.to)
     write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
