@@ -162,7 +162,11 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
     model = validated(SuiteFile, data, lines, str(path))
     base = Path(records_folder) if records_folder is not None else path.parent
     if not base.is_dir():
-        raise InputError(f"{base}: the records folder does not exist")
+        from pframe.outputs import not_regular
+
+        raise InputError(f"{base}: the records folder " + (
+            f"is {not_regular(base) or 'a file'}, not a folder" if base.exists()
+            else "does not exist"))
     motions = []
     for i, item in enumerate(model.records):
         entry = RecordEntry(file=item) if isinstance(item, str) else item
