@@ -277,3 +277,12 @@ def test_loading_a_result_leaves_one_folder_and_keeps_no_scene(tmp_path):
     gc.collect()
     assert all(ref() is None for ref in refs)
     assert len(set(Path(tempfile.gettempdir()).glob("pframe-record-*")) - before) <= 1
+
+
+def test_an_unchecked_object_is_checked_on_use():
+    """model_construct skips validation (pydantic's): a scene built with it is checked when
+    used, a value no scene holds named by its key, not YAML's representer error."""
+    with pytest.raises(pframe.InputError, match=r"pframe\.Scene: analysis is an object"):
+        pframe.load(pframe.Scene.model_construct(analysis=object()))
+    with pytest.raises(pframe.InputError, match=r"title: Input should be a valid string"):
+        pframe.load(pframe.Scene.model_construct(**{**pframe.load(TINY).__dict__, "title": 5}))

@@ -194,6 +194,12 @@ def _loaded(source, base_dir=None):
     if loaded is not None:
         return loaded
     if hasattr(source, "to_yaml"):
+        from pydantic import BaseModel
+
+        from pframe.model.scene import given_fields
+
+        if isinstance(source, BaseModel):  # a value model_construct let in, named by its key
+            plain_data(given_fields(source), f"pframe.{type(source).__name__}")
         # a copy of a loaded scene (model_copy) finds its record where the original did
         excitation = getattr(source, "excitation", None)
         base = base_dir or getattr(excitation, "_folder", None) or "."
