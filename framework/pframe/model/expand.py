@@ -452,7 +452,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     if scene.excitation is not None and scene.excitation.kind == "record":
         file = Path(base_dir) / scene.excitation.file
         try:
-            record = read_record(file, scene.excitation.format, scene.excitation.units)
+            record = read_record(file, scene.excitation.format, scene.excitation.units,
+                                 within=base_dir)
         except FileNotFoundError:
             raise ModelError(("excitation", "file"), f"record file {str(file)!r} not found") from None
         except RecordUnitsError as exc:  # the header and the scene disagree on the units

@@ -103,8 +103,17 @@ SCENE_FIELDS = {
     ("buildings", "*", "floors"): "dimensionless",
     ("damping", "modes"): "dimensionless",
     ("buildings", "*", "damping", "modes"): "dimensionless",
+    ("buildings", "*", "height"): "length",  # one for all storeys, or each (a list)
+    ("buildings", "*", "park_ang", "ultimate_drift"): "length",
+    ("buildings", "*", "park_ang", "beta"): "dimensionless",
     ("nodes", "*", "mass"): "mass",
+    ("stories", "*", "height"): "length",
+    ("stories", "*", "gravity_load"): "force",
+    ("stories", "*", "park_ang", "ultimate_drift"): "length",
+    ("stories", "*", "park_ang", "beta"): "dimensionless",
     ("contacts", "*", "gap"): "length",
+    ("contacts", "*", "at"): "dimensionless",  # a fraction of the struck storey's height
+    ("contacts", "*", "shear_capacity"): "force",
     ("damping", "ratio"): "dimensionless",
     ("buildings", "*", "damping", "ratio"): "dimensionless",
     ("excitation", "amplitude"): "acceleration",
@@ -114,6 +123,8 @@ SCENE_FIELDS = {
     ("excitation", "scale"): "acceleration",  # a factor on the record's accelerations
     ("excitation", "pga"): "acceleration",
     ("excitation", "period"): "time",  # a record's is of its file's time axis: kept there
+    ("excitation", "n"): "dimensionless",  # a cycloidal pulse's cycles
+    ("excitation", "center"): "time",  # a Ricker wavelet's peak
     ("initial_conditions", "displacement", "*"): "length",
     ("initial_conditions", "velocity", "*"): "velocity",
     ("analysis", "dt"): "time",

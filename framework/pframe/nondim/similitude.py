@@ -45,7 +45,13 @@ QUANTITIES: dict[str, tuple[str, Dimension]] = {
 
 
 class SimilitudeError(InputError):
-    """Scale factors that do not fix exactly one similitude."""
+    """Scale factors that do not fix exactly one similitude, or a scene value that cannot be
+    scaled (``path``: where in the scene's data, ``reason``: why, without the path)."""
+
+    def __init__(self, message: str, path: tuple | None = None, reason: str | None = None):
+        super().__init__(message)
+        self.path = path
+        self.reason = reason or message
 
 
 def _prime_factors(n: int) -> dict[int, int]:
@@ -259,10 +265,18 @@ def _scale_leaf(value, path: tuple, law, factor_of):
         return [_scale_leaf(v, path, law, factor_of) for v in value]
     dimension = scene_field_dimension(path)
     if dimension is None and law is not None and law[1] is not None:
-        dimension = law_field_dimension(law[0], law[1], path[-1])
+        try:
+            dimension = law_field_dimension(law[0], law[1], path[-1])
+        except InputError as exc:
+            raise _unscalable(path, str(exc)) from None
     if dimension is None:
-        raise SimilitudeError(f"cannot scale {'.'.join(map(str, path))}: its dimension is unknown")
+        raise _unscalable(path, "its dimension is unknown")
     return value if dimension.dimensionless else value * factor_of(dimension)
+
+
+def _unscalable(path: tuple, reason: str) -> SimilitudeError:
+    return SimilitudeError(f"cannot scale {'.'.join(map(str, path))}: {reason}", path,
+                           f"cannot scale this value: {reason}")
 
 
 def _walk(node, path: tuple, law, factor_of):
@@ -309,6 +323,16 @@ def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
         return {**data, "scales": scales}
     excitation = data.get("excitation") or {}
     record = excitation.get("kind") == "record"
+    if excitation.get("kind") == "stochastic":
+        if sim.ratio("time").exact != 1 or sim.ratio("acceleration").exact != 1:
+            raise SimilitudeError(
+                f"the scene's excitation is a stochastic motion and S_T = {sim.ratio('time')}, "
+                f"S_a = {sim.ratio('acceleration')}: its model describes prototype earthquakes "
+                "(a magnitude and distance, or filter frequencies and an intensity), which "
+                "similitude does not scale; write the motion as a record file (time x S_T, "
+                "acceleration x S_a) and point the excitation at it")
+        out = scale_scene({k: v for k, v in data.items() if k != "excitation"}, sim, to)
+        return {k: excitation if k == "excitation" else out[k] for k in data}  # kept as it is
     if record and sim.ratio("time").exact != 1 and "frequency" not in excitation:
         raise SimilitudeError(
             f"the scene's excitation is a record and S_T = {sim.ratio('time')}: give "
