@@ -254,8 +254,9 @@ def test_absurd_step_counts_are_refused_before_allocation(tmp_path, capsys, monk
     out.write_bytes(SENTINEL)
     err, peak = bounded(refused, capsys, ["solve", str(model), "-o", str(out), "--overwrite"])
     assert expected in err and f"analysis.{field}" in err and ", line " in err
-    if expected == "steps":
-        assert "every: k" in err and "larger analysis.dt" in err
+    if expected == "steps":  # the step count is the cause: not what is recorded
+        assert "check the units of analysis.duration and analysis.dt" in err
+        assert "larger dt" in err and "every: k" not in err
     assert peak < BOUNDED_BYTES
     assert out.read_bytes() == SENTINEL
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.h5", "scene.yaml"]
@@ -328,7 +329,8 @@ def test_a_sweep_too_large_for_memory_is_refused(tmp_path, capsys, monkeypatch):
                      encoding="utf-8")
     err = refused(capsys, ["sweep", str(sweep), "-o", str(tmp_path / "o.h5")])
     assert "64 variants" in err and "memory" in err
-    assert "every: k" in err and "fewer variants or a smaller chunk" in err
+    assert "the histories recorded need" in err  # the cause: a chunk's histories
+    assert "every: k" in err and "or a smaller chunk" in err
     assert sorted(p.name for p in tmp_path.iterdir()) == ["sweep.yaml"]
 
 

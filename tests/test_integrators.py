@@ -336,7 +336,7 @@ def test_wilson_theta_stability_bound():
     assert max(stable.spectral_radius(x) for x in w_dt) <= 1.0 + 1e-12
     below = WilsonTheta.model_construct(theta=1.35, events=False).coefficients()
     assert below.spectral_radius(1e4) > 1.0
-    with pytest.raises(ValueError):
+    with pytest.raises(InputError, match=r"theta: Input should be greater than or equal to 1.37"):
         WilsonTheta(theta=1.3)
 
 
@@ -545,7 +545,7 @@ def test_undeclared_paths_refuse():
     from pframe.integrators import Facts
 
     closed = type("Closed", (Bathe,), {"facts": Facts(paths=frozenset())})
-    with pytest.raises(ValueError, match="bathe integrator does not locate contact events"):
+    with pytest.raises(InputError, match="bathe integrator does not locate contact events"):
         closed(events=True)
     assert not closed().coefficients().retry
     # the paper's scene with Kelvin contacts at 32 times its step has steps without a Newton

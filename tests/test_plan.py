@@ -379,3 +379,45 @@ def test_rayleigh_damping_on_modes_named_by_direction():
     data["damping"]["modes"] = ["x2", "y1"]
     with pytest.raises(InputError, match="1 mode\\(s\\) moving mostly in x.*'x2'"):
         assemble(parse_scene(json.dumps(data)).expanded)
+
+
+def test_a_scene_in_plan_scales_to_the_similar_scene(tmp_path, capsys):
+    """pframe scale with S_L = 1/16, S_E = 1, S_a = 1 (S_T = 1/4, S_M = S_F / S_a = 1/256): the model of
+    a turned eccentric building under two sine components, started from [u_x, u_y, theta],
+    moves as the prototype does, lengths x 1/16 at times x 1/4 and its rotation the same
+    (similitude: every Pi group kept); its polar inertia is x S_M S_L^2."""
+    import pframe
+    from pframe.cli import main
+
+    data = json.loads(eccentric(1.5, 1e-3, 0.4))
+    building = data["buildings"][0]
+    building |= {"origin": [4.0, -2.0], "angle": 15.0, "polar_inertia": 1.8e6}
+    building["points"] = {"tip": [10.0, 10.0]}
+    data["damping"] = {"ratio": 0.03, "modes": ["y1", "torsion1"]}
+    data["excitation"] = {"kind": "components", "angle": 20.0,
+                          "x": {"kind": "sine", "amplitude": 2.0, "frequency": 9.0},
+                          "y": {"kind": "sine", "amplitude": 1.5, "frequency": 13.0}}
+    data["initial_conditions"] = {"displacement": {"A/1": [0.01, -0.005, 0.001]},
+                                  "velocity": {"A/1": [0.0, 0.1, 0.02]}}
+    data["recorders"] = [{"kind": "history", "quantities": ["displacement", "point_drift"]}]
+    (tmp_path / "scene.yaml").write_text(yaml.safe_dump(data), encoding="utf-8")
+    assert main(["scale", str(tmp_path / "scene.yaml"), "--length", "1/16", "--modulus", "1",
+                 "--acceleration", "1", "-o", str(tmp_path / "model.yaml")]) == 0
+    capsys.readouterr()
+    scaled = yaml.safe_load((tmp_path / "model.yaml").read_text(encoding="utf-8"))
+    model_building = scaled["buildings"][0]
+    assert model_building["origin"] == [0.25, -0.125] and model_building["angle"] == 15.0
+    assert model_building["polar_inertia"] == pytest.approx(1.8e6 / 256 / 256, rel=1e-14)
+    assert scaled["initial_conditions"]["displacement"]["A/1"] == pytest.approx(
+        [0.01 / 16, -0.005 / 16, 0.001], rel=1e-14)
+    assert scaled["initial_conditions"]["velocity"]["A/1"] == pytest.approx(
+        [0.0, 0.1 / 4, 0.02 * 4], rel=1e-14)
+    assert scaled["excitation"]["x"]["frequency"] == 36.0
+    prototype = pframe.solve(pframe.load(tmp_path / "scene.yaml"), progress=False)
+    model = pframe.solve(pframe.load(tmp_path / "model.yaml"), progress=False)
+    for name in ("displacement", "point_drift"):
+        p, m = prototype[name].values, model[name].values
+        assert np.max(np.abs(m * 16 - p)) <= 1e-9 * np.max(np.abs(p))
+    p, m = prototype["displacement_rz"].values, model["displacement_rz"].values
+    assert np.max(np.abs(m - p)) <= 1e-9 * np.max(np.abs(p))
+    np.testing.assert_allclose(model["t"].values * 4, prototype["t"].values, rtol=1e-12)

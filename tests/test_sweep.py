@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import math
+import re
 import sys
 from pathlib import Path
 
@@ -508,3 +509,17 @@ def test_analytic_excitation_facts_are_shared_between_variants_not_aliased():
     assert again == _applied_motion(ex, None, 3.0) and again["pga"] == pytest.approx(9.81)
     early = applied_motion(ex, None, 0.1)  # before the sine's first peak (t = 0.25 s)
     assert early["applied_peak"] == pytest.approx(9.81 * math.sin(2 * math.pi * 0.1), rel=1e-9)
+
+
+@pytest.mark.parametrize("written, meant", [("contacts[0].gap", "contacts.0"),
+                                            ("contacts['floor-1'].gap", "contacts.floor-1"),
+                                            ("buildings[ 1 ].mass", "buildings.1")])
+def test_a_bracketed_path_is_told_the_dotted_form(tmp_path, written, meant):
+    """A path written as Python or JSONPath would index a list is told how pframe's paths
+    name an item, not only that the key is missing."""
+    from pframe.errors import InputError
+    from pframe.sweep.paths import resolve
+
+    data = yaml.safe_load(BASE)
+    with pytest.raises(InputError, match=re.escape(f"after a dot: {meant},")):
+        resolve(data, tuple(written.split(".")))

@@ -56,9 +56,9 @@ def test_unreachable_scheduler_is_an_input_error(tmp_path, monkeypatch):
     import socket
 
     from pframe.errors import InputError
-    from pframe.sweep import runner
+    from pframe.sweep import cluster
 
-    monkeypatch.setattr(runner, "CONNECT_TIMEOUT", "2s")
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT", "2s")
 
     (tmp_path / "base.yaml").write_text(BASE, encoding="utf-8")
     (tmp_path / "sweep.yaml").write_text(
@@ -67,6 +67,6 @@ def test_unreachable_scheduler_is_an_input_error(tmp_path, monkeypatch):
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         port = s.getsockname()[1]  # free: nothing listens there once closed
-    with pytest.raises(InputError, match="cannot reach the Dask scheduler"):
+    with pytest.raises(InputError, match="nothing listens at"):
         run_sweep(load_sweep(tmp_path / "sweep.yaml"), tmp_path / "x.h5",
                   scheduler=f"tcp://127.0.0.1:{port}")

@@ -25,6 +25,87 @@ class IncompleteRun(UserWarning):
     ``status`` attribute says why, when and where)."""
 
 
+# -- arguments: a wrong type is an InputError naming the call and the argument --------------
+
+def path_argument(value, name: str, call: str, what: str) -> Path:
+    """``value`` as a path (a ``str`` or ``os.PathLike``: ``pathlib.Path``); an InputError
+    naming ``call``'s argument ``name`` for anything else, an empty name or a NUL byte."""
+    text = os.fspath(value) if isinstance(value, os.PathLike) else value
+    if not isinstance(text, str):
+        raise InputError(f"{call}: {name} is {describe(value)}; give {what} as a str or a "
+                         "pathlib.Path")
+    if not text.strip():
+        raise InputError(f"{call}: {name}={text!r} is an empty name; give {what}")
+    if "\0" in text:
+        raise InputError(f"{call}: {name}={text!r} holds a NUL character, which no file name "
+                         f"has; give {what}")
+    return Path(text)
+
+
+def flag_argument(value, name: str, call: str, none: bool = False) -> bool | None:
+    """``value`` as True or False (None too when ``none``); an InputError for anything else
+    (a string "no" is true to Python: it is refused rather than read)."""
+    import numpy as np
+
+    if isinstance(value, (bool, np.bool_)) or (none and value is None):
+        return None if value is None else bool(value)
+    allowed = "True, False or None" if none else "True or False"
+    raise InputError(f"{call}: {name} is {describe(value)}; give {allowed}")
+
+
+def count_argument(value, name: str, call: str) -> int | None:
+    """``value`` as a whole number of at least 1, or None; an InputError otherwise."""
+    import numpy as np
+
+    if value is None:
+        return None
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"{call}: {name} is {describe(value)}; give a whole number of at least 1")
+    if value < 1:
+        raise InputError(f"{call}: {name}={int(value)}: give at least 1")
+    return int(value)
+
+
+def result_argument(result, call: str):
+    """The result a function of results reads: an xarray Dataset as it is, a path as a
+    :class:`~pathlib.Path`; an InputError naming ``call`` for anything else."""
+    if isinstance(result, (str, os.PathLike)):
+        return path_argument(result, "result", call, "a result file's path")
+    import xarray as xr
+
+    if isinstance(result, xr.Dataset):
+        return result
+    raise InputError(f"{call}: the result is {describe(result)}; give the Dataset of pframe.solve or "
+                     "pframe.open, or a result file's path (str or pathlib.Path)")
+
+
+def result_dataset(result, call: str):
+    """The Dataset of ``result`` (a Dataset, or a result file's path, read whole) with the
+    names as coordinates (:func:`indexed`); anything else is an InputError naming ``call``."""
+    result = result_argument(result, call)
+    if isinstance(result, Path):
+        ds = open(result)
+        ds.load()
+        ds.close()
+        return ds
+    return indexed(result)
+
+
+def describe(value) -> str:
+    """``None``, ``a int (5)``, ``a list``: what a wrong argument is, for messages."""
+    import numpy as np
+
+    if value is None:
+        return "None"
+    if isinstance(value, np.ndarray):
+        return f"a numpy array of shape {value.shape}"
+    kind = type(value).__name__
+    article = "an" if kind[:1].lower() in "aeiou" else "a"
+    shown = repr(value)
+    return (f"{article} {kind} ({shown})" if len(shown) <= 40 and "\n" not in shown
+            and not isinstance(value, dict) else f"{article} {kind}")
+
+
 # -- scenes ---------------------------------------------------------------------------------
 
 def load(source, *, base_dir: str | Path | None = None):
@@ -42,21 +123,23 @@ def load(source, *, base_dir: str | Path | None = None):
     return _scene_of(loaded)
 
 
-#: id(scene object) -> (weak reference to it, where it was read from): the file a loaded
-#: scene came from (record paths, the result's input_yaml), kept off the scene's data
+#: id(scene object) -> (weak reference to it, where it was read from, without the scene):
+#: the file a loaded scene came from (record paths, the result's input_yaml), kept off the
+#: scene's data; the entry holds no reference to the scene, so it goes when the scene does
 _ORIGIN: dict[int, tuple] = {}
 
 
 def _scene_of(loaded):
-    import weakref
+    import dataclasses
 
     from pframe.model.scene import attach_facts
 
     scene = loaded.scene
     key = id(scene)
+    stripped = dataclasses.replace(loaded, scene=None)  # no cycle back to the scene
     _ORIGIN[key] = (weakref.ref(scene, lambda _, key=key, origin=_ORIGIN: origin.pop(key, None)),
-                    loaded)
-    attach_facts(scene, lambda: _periods(loaded.expanded))
+                    stripped)
+    attach_facts(scene, lambda: _periods(stripped.expanded))
     return scene
 
 
@@ -68,8 +151,12 @@ def _periods(expanded) -> list[str]:
 
 
 def _origin(scene):
+    import dataclasses
+
     entry = _ORIGIN.get(id(scene))
-    return entry[1] if entry is not None and entry[0]() is scene else None
+    if entry is None or entry[0]() is not scene:
+        return None
+    return dataclasses.replace(entry[1], scene=scene)
 
 
 def to_opensees(scene, *, base_dir: str | Path | None = None) -> str:
@@ -93,33 +180,84 @@ def loaded_scene(source, base_dir=None):
 
 def _loaded(source, base_dir=None):
     """The :class:`pframe.reader.LoadedScene` of any ``source`` that :func:`load` takes."""
-    from pframe.reader import LoadedScene, load_scene, parse_scene
+    from pframe.reader import LoadedScene, load_scene, parse_scene, scene_from_data
 
     if isinstance(source, LoadedScene):
         return source
+    if base_dir is not None:
+        base_dir = path_argument(base_dir, "base_dir", "pframe.load",
+                                 "the folder record files are found in")
     if isinstance(source, (str, os.PathLike)):
-        path = Path(source)
+        path = path_argument(source, "source", "pframe.load", "a scene file's path")
         if path.suffix.lower() in RESULT_SUFFIXES:
             return _from_result(path)
         return load_scene(path)
     if isinstance(source, dict):
+        import copy
+
         import yaml
 
-        text = yaml.safe_dump(source, sort_keys=False, allow_unicode=True)
-        return parse_scene(text, "<dict>", Path(base_dir or "."))
+        data = plain_data(source, "pframe.load(dict)")
+        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
+        # no lines: messages name the dict's keys (a line of text the user never saw would
+        # not help); the text is what the result file keeps as the scene it ran
+        return scene_from_data(copy.deepcopy(data), {}, "pframe.load(dict)",
+                               Path(base_dir or "."), text)
     loaded = _origin(source)
     if loaded is not None:
         return loaded
     if hasattr(source, "to_yaml"):
+        from pydantic import BaseModel
+
+        from pframe.model.scene import given_fields
+
+        if isinstance(source, BaseModel):  # a value model_construct let in, named by its key
+            plain_data(given_fields(source), f"pframe.{type(source).__name__}")
         # a copy of a loaded scene (model_copy) finds its record where the original did
         excitation = getattr(source, "excitation", None)
         base = base_dir or getattr(excitation, "_folder", None) or "."
-        return parse_scene(source.to_yaml(), "<python>", Path(base))
-    if isinstance(source, (bytes, bytearray)):
-        raise InputError("pframe.load: give a path, a dict or a scene object, not bytes")
-    raise InputError(f"pframe.load: cannot read a scene from a {type(source).__name__}; give "
-                     "a scene file's path, a dict with the fields of the YAML, or a "
-                     "pframe.Scene")
+        # the line of a problem is a line of the text scene.to_yaml() returns
+        return parse_scene(source.to_yaml(), f"pframe.{type(source).__name__} (as "
+                           "scene.to_yaml() writes it)", Path(base))
+    raise InputError(f"pframe.load: cannot read a scene from {describe(source)}; give a scene "
+                     "file's path (str or pathlib.Path), a dict with the fields of the YAML, "
+                     "or a pframe.Scene")
+
+
+def plain_data(value, where: str, path: tuple = ()):
+    """A scene given as Python data, as the YAML would hold it: numpy numbers and arrays as
+    Python numbers and lists, tuples as lists, paths as text, scene objects as their fields.
+    Anything else (a set, a function, an object of another library) is an InputError naming
+    its key."""
+    import numpy as np
+    from pydantic import BaseModel
+
+    from pframe.model.scene import given_fields
+    from pframe.objects import dotted
+
+    if isinstance(value, np.generic) and isinstance(value.item(), (bool, int, float, str)):
+        return value.item()  # before float: numpy's float64 is one, and YAML cannot write it
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
+    if isinstance(value, np.ndarray) and value.dtype.kind in "biuf":
+        return value.tolist()
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    if isinstance(value, BaseModel):
+        return given_fields(value)
+    if isinstance(value, dict):
+        out = {}
+        for key, item in value.items():
+            if not isinstance(key, str):
+                raise InputError(f"{where}: {dotted(path) or 'the dict'}: the key {key!r} is "
+                                 f"{describe(key)}; a scene's keys are the field names, as text")
+            out[key] = plain_data(item, where, path + (key,))
+        return out
+    if isinstance(value, (list, tuple)):
+        return [plain_data(item, where, path + (i,)) for i, item in enumerate(value)]
+    raise InputError(f"{where}: {dotted(path) or 'the value'} is {describe(value)}; a scene holds "
+                     "numbers, text, True/False, None, and lists and dicts of them (numpy "
+                     "numbers and arrays are taken as numbers and lists)")
 
 
 def _from_result(path: Path):
@@ -128,6 +266,7 @@ def _from_result(path: Path):
     finds it."""
     import h5py
 
+    result_file(path, "pframe.load")
     try:
         with h5py.File(path, "r") as f:
             attrs = {k: f.attrs[k] for k in ("input_yaml", "record_file", "record_text",
@@ -157,24 +296,45 @@ def scene_of_attributes(attrs: dict, path, base: Path):
         if relative.is_absolute():
             raise InputError(f"{path}: the scene names its record by the absolute path "
                              f"{relative}; run it from its scene file")
-        depth = sum(1 for part in relative.parts if part == "..")
-        root = Path(tempfile.mkdtemp(prefix="pframe-record-"))
-        try:
-            base = root.joinpath(*(["d"] * depth))
-            base.mkdir(parents=True, exist_ok=True)  # base/../x needs base itself
-            target = (base / relative).resolve()
-            if root.resolve() not in target.parents:
-                raise InputError(f"{path}: the record name {str(relative)!r} leaves its folder")
-            target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_text(attrs["record_text"], encoding="utf-8")
-            loaded = parse_scene(text, f"{path} (input_yaml)", base)
-        except BaseException:
-            shutil.rmtree(root, ignore_errors=True)
-            raise
-        # the folder lives as long as the scene (a variant re-reads the record), then goes
-        weakref.finalize(loaded, shutil.rmtree, str(root), ignore_errors=True)
-        return loaded
+        base = _restored_record(relative, attrs["record_text"], path)
+        return parse_scene(text, f"{path} (input_yaml)", base)
     return parse_scene(text, f"{path} (input_yaml)", base)
+
+
+#: the folder this process restores the records of result files into (one, removed at exit)
+_RECORDS: list[Path] = []
+
+
+def _restored_record(relative: Path, text: str, path) -> Path:
+    """The folder from which ``relative`` names the record ``text`` of the result ``path``:
+    one sub-folder per record (by its name and content) of one private folder per process,
+    removed at exit. Loading a result again (or a hundred results of one record) reuses it,
+    and the copies and variants of a loaded scene, which read the record again, find it for
+    as long as the process runs."""
+    import atexit
+    import hashlib
+
+    depth = sum(1 for part in relative.parts if part == "..")
+    if not _RECORDS:
+        _RECORDS.append(Path(tempfile.mkdtemp(prefix="pframe-record-")))
+        atexit.register(shutil.rmtree, str(_RECORDS[0]), ignore_errors=True)
+    key = hashlib.sha256(f"{relative}\0{text}".encode()).hexdigest()[:24]
+    root = _RECORDS[0] / key
+    base = root.joinpath(*(["d"] * depth))
+    target = (base / relative).resolve()
+    if root.resolve() not in target.parents:
+        raise InputError(f"{path}: the record name {str(relative)!r} leaves its folder")
+    if not target.is_file():
+        from pframe import outputs
+
+        try:
+            base.mkdir(parents=True, exist_ok=True)  # base/../x needs base itself
+            target.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise outputs.failure(target, exc) from None
+        with outputs.replacing(target, overwrite=True) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+    return base
 
 
 # -- runs -----------------------------------------------------------------------------------
@@ -200,6 +360,12 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
     from pframe.progress import bar
     from pframe.record import ResultWriter
 
+    call = "pframe.solve"
+    overwrite = flag_argument(overwrite, "overwrite", call)
+    compress = flag_argument(compress, "compress", call)
+    progress = flag_argument(progress, "progress", call, none=True)
+    if output is not None:
+        output = path_argument(output, "output", call, "the result file's path")
     loaded = _loaded(scene)
     if output is not None:
         output = check_output(output, overwrite, loaded)
@@ -290,20 +456,26 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
     is complete, and a second call continues) and the Dataset is opened from it; without, it
     runs in a private folder and the Dataset is in memory.
     """
+    from pframe import outputs
     from pframe.progress import bar
     from pframe.sweep import load_sweep, run_sweep
 
+    call = "pframe.sweep"
+    definition = path_argument(definition, "definition", call, "a sweep file's path")
+    overwrite = flag_argument(overwrite, "overwrite", call)
+    progress = flag_argument(progress, "progress", call, none=True)
+    threads = count_argument(threads, "threads", call)
+    chunk = count_argument(chunk, "chunk", call)
+    if output is not None:
+        output = path_argument(output, "output", call, "the sweep file's path")
     loaded = load_sweep(definition, chunk=chunk)
-    if threads is not None and threads < 1:
-        raise InputError(f"threads={threads}: give at least 1")
     folder = None
     if output is None:
         folder = tempfile.TemporaryDirectory(prefix="pframe-sweep-")
         out = Path(folder.name) / "sweep.nc"
     else:
-        out = Path(output)
-        if not out.parent.exists():
-            raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+        out = outputs.check_output(output, inputs=sweep_inputs(loaded), overwrite=True,
+                                   what="sweep file")
         from pframe.sweep.store import parts_folder
 
         if out.exists() and not parts_folder(out).exists() and not overwrite:
@@ -337,6 +509,12 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
             folder.cleanup()
 
 
+def sweep_inputs(definition) -> list:
+    """The files a sweep reads (its file, its base scene, its records): never its output."""
+    return [definition.source, definition.base_source or None,
+            *(path for _, _, _, path in definition.records)]
+
+
 # -- results --------------------------------------------------------------------------------
 
 def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_dataset
@@ -346,14 +524,28 @@ def open(path: str | Path):  # noqa: A001 - the public name, as xarray.open_data
     ``ds.peak_displacement.to_series()`` take and show names."""
     from pframe.record.check import check_file
 
-    path = Path(path)
-    if not path.exists():
-        raise InputError(f"{path}: no such result file")
+    path = result_file(path, "pframe.open")
     check_file(path)  # a damaged file: what is wrong, not h5py's KeyError
     try:
         return _opened(path)
     except (OSError, ValueError) as exc:
         raise InputError(f"{path}: not a pframe result file (netCDF-4/HDF5): {exc}") from None
+
+
+def result_file(path, call: str) -> Path:
+    """A result file's path, checked before anything opens it: it exists and is a regular
+    file (a folder is named as such, a FIFO would block the reader, a device be read
+    without end)."""
+    from pframe.outputs import not_regular
+
+    path = path_argument(path, "path", call, "a result file's path")
+    if not path.exists():
+        raise InputError(f"{path}: no such result file")
+    kind = not_regular(path)
+    if kind is not None:
+        raise InputError(f"{path}: is {kind}, not a result file; give the file pframe solve, "
+                         "sweep, gap or risk wrote")
+    return path
 
 
 def _opened(source, load_now: bool = False):
@@ -413,42 +605,46 @@ def _item_type(field: str):
     return get_args(scene_class().model_fields[field].annotation)[0]
 
 
-def _validated(field: str, what: str, fields: dict):
+def _validated(annotation, what: str, args: tuple, fields: dict):
+    """An object of ``annotation`` (a union of laws' models) built from keywords, as
+    :class:`pframe.objects.Frozen` builds one: InputError for positional values, a problem
+    pydantic finds, or a boolean given for a number."""
     from pydantic import TypeAdapter, ValidationError
 
+    from pframe.objects import dotted, number_given_as_boolean, problems, value_at
+
+    call = f"pframe.{what}({', '.join(f'{k}=...' for k in fields)})"
+    if args:
+        raise InputError(f"pframe.{what}: give its fields by name, as the YAML writes them, "
+                         f"not {len(args)} value{'s' if len(args) > 1 else ''} by position")
     try:
-        return TypeAdapter(_item_type(field)).validate_python(fields)
+        out = TypeAdapter(annotation).validate_python(fields)
     except ValidationError as exc:
-        problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or what}: {e['msg']}"
-                             for e in exc.errors(include_url=False)[:3])
-        raise InputError(f"pframe.{what}({', '.join(f'{k}=...' for k in fields)}): "
-                         f"{problems}") from None
+        raise InputError(f"{call}: {problems(exc)}") from None
+    path = number_given_as_boolean(fields, out)
+    if path is not None:
+        raise InputError(f"{call}: {dotted(path)}: expected a number, got the boolean "
+                         f"{value_at(fields, path)}")
+    return out
 
 
-def Contact(**fields):  # noqa: N802 - builds an object, as a class would
+def Contact(*args, **fields):  # noqa: N802 - builds an object, as a class would
     """A contact element (YAML ``contacts:`` item): ``law`` (linear, kelvin, improved_kelvin,
     hertz, hertzdamp, jankowski), ``nodes`` [left, right], ``gap`` and the law's parameters."""
-    return _validated("contacts", "Contact", fields)
+    return _validated(_item_type("contacts"), "Contact", args, fields)
 
 
-def Story(**fields):  # noqa: N802
+def Story(*args, **fields):  # noqa: N802
     """A storey between two nodes (YAML ``stories:`` item): ``material`` (elastic, bilinear),
     ``nodes`` [lower or 'ground', upper] and the material's parameters."""
-    return _validated("stories", "Story", fields)
+    return _validated(_item_type("stories"), "Story", args, fields)
 
 
-def StoryProperties(**fields):  # noqa: N802
+def StoryProperties(*args, **fields):  # noqa: N802
     """The storeys of a building (YAML ``buildings[].story``): ``material`` and its parameters,
     each a number or one value per storey, bottom up."""
-    from pydantic import TypeAdapter, ValidationError
-
     annotation = _item_type("buildings").model_fields["story"].annotation
-    try:
-        return TypeAdapter(annotation).validate_python(fields)
-    except ValidationError as exc:
-        problems = "; ".join(f"{'.'.join(map(str, e['loc']))}: {e['msg']}"
-                             for e in exc.errors(include_url=False)[:3])
-        raise InputError(f"pframe.StoryProperties: {problems}") from None
+    return _validated(annotation, "StoryProperties", args, fields)
 
 
 def __getattr__(name: str):

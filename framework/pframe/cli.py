@@ -14,7 +14,7 @@ import importlib
 import sys
 
 from pframe.commands import COMMANDS
-from pframe.errors import EnvironmentFailure, InputError, PframeError
+from pframe.errors import EnvironmentFailure, InputError, PframeError, command_line
 
 
 def parser(command: str | None = None) -> argparse.ArgumentParser:
@@ -48,7 +48,8 @@ def main(argv: list[str] | None = None) -> int:
     sys.unraisablehook = _quiet_h5py(hook)
     sys.excepthook = _quiet_h5py_print(excepthook)
     try:
-        return args.run(args)
+        with command_line():
+            return args.run(args)
     except InputError as exc:
         print(f"pframe: {exc}", file=sys.stderr)
         return 2
@@ -65,9 +66,10 @@ def main(argv: list[str] | None = None) -> int:
         _interrupted()
         return 130
     except MemoryError:
-        print("pframe: the machine ran out of memory; nothing was written. Reduce what the "
-              "run keeps (record every k-th step, envelopes only, a shorter duration or a "
-              "larger dt)", file=sys.stderr)
+        print("pframe: the machine ran out of memory; nothing was written. Check the step "
+              "count first (analysis.duration / analysis.dt, both in seconds), then the size "
+              "of the scene, then what the run records (every k-th step, envelopes only)",
+              file=sys.stderr)
         return 3
     except OSError as exc:  # an operating-system failure no command turned into a message
         if isinstance(exc, BrokenPipeError):

@@ -59,13 +59,9 @@ def _need(ds, names, what: str, where: str):
 def _dataset(result):
     """The Dataset of ``result`` (a Dataset, or a result file's path, read whole) with the
     names as coordinates."""
-    from pframe.api import indexed
-    from pframe.api import open as open_result
+    from pframe.api import result_dataset
 
-    if isinstance(result, (str, Path)):
-        with open_result(result) as ds:
-            return ds.load()
-    return indexed(result)
+    return result_dataset(result, "pframe.impacts")
 
 
 def scene_of(ds, where: str = "the result"):

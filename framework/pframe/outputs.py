@@ -33,7 +33,7 @@ import sys
 import threading
 from pathlib import Path
 
-from pframe.errors import EnvironmentFailure, InputError
+from pframe.errors import EnvironmentFailure, InputError, option
 
 _TEMP = re.compile(r"^\.(?P<name>.+)\.(?P<pid>\d+)(?:-\d+)?\.tmp$")
 _counter = itertools.count()
@@ -83,8 +83,8 @@ def failure(path: Path | str, exc: BaseException, doing: str = "write") -> Envir
     """:class:`EnvironmentFailure` for an ``OSError`` met while ``doing`` ``path``."""
     return EnvironmentFailure(
         f"{path}: cannot {doing} the file: {cause(exc)}. Nothing was written there, and a file "
-        "already there is unchanged; free space or choose a writable folder (-o), then run "
-        "again")
+        f"already there is unchanged; free space or choose a writable folder "
+        f"({option('output')}), then run again")
 
 
 def _alive(pid: int) -> bool:
@@ -167,7 +167,7 @@ def _refuse_special(path: Path, what: str) -> None:
     if kind is not None and kind != "a folder":
         raise InputError(f"{path}: is {kind}, not a regular file; pframe writes its {what} "
                          "only to regular files, and never replaces anything else (even with "
-                         "--overwrite); choose a file name with -o")
+                         f"{option('overwrite')}); choose a file name with {option('output')}")
 
 
 def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "output file") -> Path:
@@ -180,18 +180,20 @@ def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "outpu
     pframe process writing the same output. Stale temporary files of killed runs are removed.
     """
     if path is None or str(path).strip() == "":
-        raise InputError(f"-o '': the {what} needs a name")
+        raise InputError(f"{option('output').removesuffix('...')}'': the {what} needs a name")
     path = Path(path)
     if path.is_dir():
-        raise InputError(f"{path}: is a folder; give a file name for the {what} (-o)")
+        raise InputError(f"{path}: is a folder; give a file name for the {what} "
+                         f"({option('output')})")
     _refuse_special(path, what)
     for source in inputs:
         if source is not None and Path(source).exists() and _same_file(path, Path(source)):
             raise InputError(f"{path}: is one of this run's inputs ({source}); writing the "
-                             f"{what} there would destroy it; choose another name with -o")
+                             f"{what} there would destroy it; choose another name with "
+                             f"{option('output')}")
     if path.exists() and not overwrite:
-        raise InputError(f"{path}: the {what} exists; pass --overwrite to replace it, or "
-                         "choose another name with -o")
+        raise InputError(f"{path}: the {what} exists; pass {option('overwrite')} to replace "
+                         f"it, or choose another name with {option('output')}")
     folder = path.parent
     if not folder.exists():
         raise InputError(f"{path}: the folder {str(folder)!r} does not exist")
@@ -201,7 +203,7 @@ def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "outpu
     if busy:
         raise EnvironmentFailure(
             f"{path}: another pframe run (process {busy[0][1]}) is writing this output now; "
-            "wait for it to finish, or choose another name with -o")
+            f"wait for it to finish, or choose another name with {option('output')}")
     discard(temporary(path, clean=False))  # the folder can be written (else: why not)
     _claims[str(path.resolve())] = overwrite
     return path
@@ -260,8 +262,8 @@ def commit(tmp, path, overwrite: bool | None = None) -> Path:
             except FileExistsError:
                 raise EnvironmentFailure(
                     f"{path}: appeared while this run was writing (another program wrote it); "
-                    "this run's result was not put there; pass --overwrite to replace it, or "
-                    "choose another name with -o") from None
+                    f"this run's result was not put there; pass {option('overwrite')} to replace "
+                    f"it, or choose another name with {option('output')}") from None
             except OSError as exc:
                 if exc.errno not in (errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EXDEV,
                                      errno.EMLINK):
@@ -269,7 +271,7 @@ def commit(tmp, path, overwrite: bool | None = None) -> Path:
                 if path.exists():  # a file system without hard links: check, then rename
                     raise EnvironmentFailure(
                         f"{path}: appeared while this run was writing; this run's result was "
-                        "not put there; pass --overwrite to replace it") from None
+                        f"not put there; pass {option('overwrite')} to replace it") from None
                 os.replace(tmp, path)
     except OSError as exc:
         discard(tmp)
@@ -295,6 +297,28 @@ def replacing(path, overwrite: bool | None = None, clean: bool = True):
         discard(tmp)
         raise
     commit(tmp, path, overwrite)
+
+
+def check_folder(path, what: str, inputs=()) -> Path:
+    """An output folder (its files written into it), checked before any work: a name, not
+    an existing file, device or FIFO, not one of the run's ``inputs``, in a folder that
+    exists; it may exist already. Raises :class:`InputError`."""
+    if path is None or str(path).strip() == "":
+        raise InputError(f"{option('output').removesuffix('...')}'': the {what} needs a name")
+    path = Path(path)
+    for source in inputs:
+        if source is not None and Path(source).exists() and _same_file(path, Path(source)):
+            raise InputError(f"{path}: is one of this run's inputs ({source}); choose another "
+                             f"folder for the {what}")
+    kind = not_regular(path)
+    if path.exists() and kind != "a folder":
+        raise InputError(f"{path}: is {kind or 'a file'}, not a folder; give a folder for the "
+                         f"{what}")
+    parent = path.parent
+    if not path.exists() and not parent.is_dir():
+        raise InputError(f"{path}: the folder {str(parent)!r} "
+                         + ("is not a folder" if parent.exists() else "does not exist"))
+    return path
 
 
 def make_folder(path) -> Path:

@@ -120,8 +120,11 @@ def duration(seconds: float) -> str:
     return f"{seconds / (365 * 86400):.3g} years"
 
 
-_REDUCE = ("a shorter analysis.duration, a larger analysis.dt, recording histories every k-th "
-           "step (every: k) or envelopes only (kind: envelope)")
+#: what reduces each part of a run's memory (and its file, and its time)
+_FEWER_STEPS = ("check the units of analysis.duration and analysis.dt (seconds), or use a "
+                "shorter duration or a larger dt")
+_LESS_RECORDED = ("record histories every k-th step (every: k), fewer quantities, or envelopes "
+                  "only (kind: envelope)")
 
 
 def check_steps(steps: float, dt: float, duration_: float) -> str | None:
@@ -135,8 +138,8 @@ def check_steps(steps: float, dt: float, duration_: float) -> str | None:
             + (f"more than the {MAX_STEPS:.0e} steps pframe runs" if steps > MAX_STEPS else
                f"their ground-motion arrays alone need {human(ground)}, more than the "
                f"{human(limit)} this machine allows")
-            + f" (at about {duration(steps * _STEP_SECONDS)} of computing); check the units "
-            f"(seconds) and use {_REDUCE}")
+            + f" (at about {duration(steps * _STEP_SECONDS)} of computing); "
+            f"{_FEWER_STEPS}")
 
 
 def max_floors() -> int:
@@ -196,12 +199,50 @@ class Estimate:
     file: int
     seconds: float
     streaming: bool
+    #: bytes of memory by part: the histories held, the ground motion (its step count), the
+    #: scene's arrays and objects, the per-variant responses of a sweep
+    parts: tuple = ()
 
     def describe(self) -> str:
         what = (f"{self.steps:,} steps of {self.dofs:,} floors and {self.elements:,} storeys "
                 "and contacts" + (f", {self.variants:,} variants" if self.variants > 1 else ""))
         return (f"{what}: about {human(self.memory)} of memory, a {human(self.file)} result "
                 f"file and {duration(self.seconds)} of computing")
+
+    def cause(self, limit: int) -> str:
+        """What to reduce so that the memory fits ``limit``: the histories recorded if the
+        run fits without them, else the largest of the other parts. In words, with how."""
+        parts = dict(self.parts)
+        held = parts.pop("histories", 0)
+        sweep = self.variants > 1
+        if self.memory - held <= limit and held:
+            return (f"the histories recorded need {human(held)} of it"
+                    + (f" ({self.batch:,} variants of a chunk at once)" if sweep else "")
+                    + f": {_LESS_RECORDED}" + (", or a smaller chunk" if sweep else ""))
+        largest = max(parts, key=parts.get) if parts else "ground"
+        if largest == "ground":
+            return (f"its {self.steps:,} time steps need {human(parts[largest])} for the ground "
+                    f"motion alone" + (f" ({self.batch:,} variants at once)" if sweep else "")
+                    + f": {_FEWER_STEPS}" + (", or a smaller chunk" if sweep else ""))
+        if largest == "scene":
+            return (f"its {self.dofs:,} floors and {self.elements:,} storeys and contacts need "
+                    f"{human(parts[largest])}" + (" per chunk" if sweep else "")
+                    + ": use fewer floors or contacts" + (", or a smaller chunk" if sweep else ""))
+        return (f"the responses of its {self.variants:,} variants need "
+                f"{human(parts[largest])}: use fewer values per axis, or split the study")
+
+    def file_cause(self) -> str:
+        """What makes the result file large, and how to make it smaller."""
+        if dict(self.parts).get("histories", 0):
+            return (f"the histories of its {self.steps:,} steps"
+                    + (f" and {self.variants:,} variants" if self.variants > 1 else "")
+                    + f": {_LESS_RECORDED}, or fewer steps ({_FEWER_STEPS})")
+        return f"the responses of its {self.variants:,} variants: fewer variants"
+
+    def time_cause(self) -> str:
+        return (f"{self.steps:,} steps of {self.dofs + self.elements:,} floors, storeys and "
+                "contacts" + (f" for {self.variants:,} variants" if self.variants > 1 else "")
+                + f": {_FEWER_STEPS}" + (", or fewer variants" if self.variants > 1 else ""))
 
 
 def _widths(dofs: int, stories: int, contacts: int, links: int = 0, points: int = 0) -> dict:
@@ -250,21 +291,22 @@ def estimate(steps: int, dofs: int, stories: int, contacts: int, recorders, *,
     memory = _BASE_BYTES + held + kernel + ground + objects + small
     file = (histories * variants + small + 64 * (dofs + elements) + 2**16)
     seconds = variants * steps * (_STEP_SECONDS + _ELEMENT_SECONDS * (dofs + elements)) / threads
+    parts = (("histories", int(held)), ("ground", int(ground)),
+             ("scene", int(kernel + objects)), ("responses", int(small)))
     return Estimate(int(steps), int(dofs), int(elements), int(variants), int(batch),
-                    int(memory), int(file), float(seconds), streaming)
+                    int(memory), int(file), float(seconds), streaming, parts)
 
 
 def check(est: Estimate, where: str, *, free_disk: int | None = None) -> list[str]:
     """Raise :class:`InputError` when the run cannot fit (memory, steps, variants) and
     :class:`EnvironmentFailure` when its file cannot fit on the disk (``free_disk``); return
     warnings for a run that fits but is very large."""
-    from pframe.errors import EnvironmentFailure, InputError
+    from pframe.errors import EnvironmentFailure, InputError, option
 
     limit = memory_limit()
-    how = _REDUCE + (", fewer variants or a smaller chunk" if est.variants > 1 else "")
     if est.steps > MAX_STEPS:
-        raise InputError(f"{where}: {est.describe()}; pframe runs at most {MAX_STEPS:.0e} steps. "
-                         f"Check the units (seconds) and use {how}")
+        raise InputError(f"{where}: {est.describe()}; pframe runs at most {MAX_STEPS:.0e} steps: "
+                         f"{_FEWER_STEPS}")
     if est.variants > MAX_VARIANTS:
         raise InputError(f"{where}: {est.describe()}; a sweep has at most {MAX_VARIANTS:,} "
                          "variants: use fewer values per axis, or split the study")
@@ -272,16 +314,18 @@ def check(est: Estimate, where: str, *, free_disk: int | None = None) -> list[st
         source = ("PFRAME_MEMORY_LIMIT" if os.environ.get("PFRAME_MEMORY_LIMIT")
                   else "80 % of this machine's memory")
         raise InputError(f"{where}: {est.describe()}; that is more memory than the "
-                         f"{human(limit)} allowed ({source}). Use {how}")
+                         f"{human(limit)} allowed ({source}); {est.cause(limit)}")
     if free_disk is not None and est.file > free_disk:
         raise EnvironmentFailure(
             f"{where}: {est.describe()}; the result file would not fit in the "
-            f"{human(free_disk)} free on its disk. Free space or write elsewhere (-o), or use "
-            f"{how}")
+            f"{human(free_disk)} free on its disk. Free space or write elsewhere "
+            f"({option('output')}); the file holds {est.file_cause()}")
     warnings = []
     if est.seconds > WARN_SECONDS or est.file > WARN_FILE_BYTES:
+        why = (f"its file holds {est.file_cause()}" if est.file > WARN_FILE_BYTES
+               and est.seconds <= WARN_SECONDS else f"its time is {est.time_cause()}")
         warnings.append(f"a large run: {est.describe()}; Ctrl-C stops it (nothing is "
-                        f"written); to make it smaller use {how}")
+                        f"written); {why}")
     return warnings
 
 

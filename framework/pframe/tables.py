@@ -14,6 +14,7 @@ Park-Ang damage index, the storey shear of the contact forces, and a row per imp
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 from pframe.errors import InputError
@@ -32,23 +33,17 @@ def _text(value) -> str:
     return value.decode("utf-8") if isinstance(value, bytes) else str(value)
 
 
-def result_dataset(result):
+def result_dataset(result, call: str = "pframe.summary"):
     """The Dataset of ``result`` (a Dataset, or a result file's path, read whole) with the
-    names as coordinates (:func:`pframe.api.indexed`)."""
-    if isinstance(result, (str, Path)):
-        from pframe.api import open as open_result
+    names as coordinates (:func:`pframe.api.indexed`); anything else is an InputError naming
+    ``call``."""
+    from pframe.api import result_dataset as dataset
 
-        ds = open_result(result)
-        ds.load()
-        ds.close()
-        return ds
-    from pframe.api import indexed
-
-    return indexed(result)
+    return dataset(result, call)
 
 
 def _where(result) -> str:
-    return str(result) if isinstance(result, (str, Path)) else "the Dataset"
+    return str(result) if isinstance(result, (str, os.PathLike)) else "the Dataset"
 
 
 def _peaks(ds, entity: str) -> dict[str, tuple]:
@@ -119,7 +114,7 @@ def _yield_drifts(ds) -> tuple[dict[str, float], str]:
     return out, ""
 
 
-def summary(result, output: str | Path | None = None):
+def summary(result, output: str | Path | None = None, *, overwrite: bool = False):
     """The summary of a run (a Dataset of :func:`pframe.solve` or :func:`pframe.open`, or a
     result file's path) as a pandas DataFrame with columns part, name, quantity, value,
     units: the run's status and energy verdict, its energy balance, the peaks per node and
@@ -127,10 +122,17 @@ def summary(result, output: str | Path | None = None):
     quantities of :mod:`pframe.demands` (residual drift, hysteretic energy, Park-Ang index,
     impact storey shear, a row per impact), impacts and peak force per contact, and its
     warnings. ``output``: also write it, as CSV (``.csv``) or
-    Markdown (``.md``)."""
+    Markdown (``.md``); an existing file is replaced only with ``overwrite``."""
     import numpy as np
     import pandas as pd
 
+    from pframe.api import flag_argument, path_argument
+
+    overwrite = flag_argument(overwrite, "overwrite", "pframe.summary")
+    if output is not None:  # checked before the work
+        output = check_summary_path(
+            path_argument(output, "output", "pframe.summary", "the summary file's path"),
+            overwrite, inputs=[result] if isinstance(result, (str, os.PathLike)) else [])
     ds = result_dataset(result)
     if "sweep_axes" in ds.attrs or _text(ds.attrs.get("pframe_kind", "")) == "gap_audit":
         what = "a sweep" if "sweep_axes" in ds.attrs else "a gap audit"
@@ -188,7 +190,7 @@ def summary(result, output: str | Path | None = None):
             rows.append(("warning", "", "warning", line, ""))
     table = pd.DataFrame(rows, columns=["part", "name", "quantity", "value", "units"])
     if output is not None:
-        write(table, output)
+        write(table, output, overwrite)
     return table
 
 
@@ -354,13 +356,10 @@ def export_csv(result, folder: str | Path) -> list[Path]:
 
     from pframe import outputs
 
-    ds = result_dataset(result)
-    folder = Path(folder)
-    if folder.exists() and not folder.is_dir():
-        raise InputError(f"{folder}: not a folder; give a folder for the CSV files")
-    if not folder.parent.exists():
-        raise InputError(f"{folder}: the folder {str(folder.parent)!r} does not exist")
-    folder.mkdir(exist_ok=True)
+    folder = outputs.check_folder(folder, "CSV files", inputs=[
+        result] if isinstance(result, (str, os.PathLike)) else [])
+    ds = result_dataset(result, "pframe export")
+    outputs.make_folder(folder)
     written = []
     for name, var in ds.data_vars.items():
         if var.ndim not in (1, 2, 3) or not var.dims[0].startswith("t") \

@@ -48,6 +48,16 @@ def read_bounded(path, what: str, limit: int = MAX_YAML_BYTES, errors: str = "st
     :class:`InputError` naming the file and the limit; ``FileNotFoundError`` when it does
     not exist (the callers say which file is missing).
     """
+    data = read_bounded_bytes(path, what, limit)
+    try:
+        return data.decode("utf-8", errors=errors)
+    except UnicodeDecodeError as exc:
+        raise InputError(f"{path}: the {what} file is not UTF-8 text (byte {exc.start + 1}); "
+                         "save it as UTF-8") from None
+
+
+def read_bounded_bytes(path, what: str, limit: int = MAX_YAML_BYTES) -> bytes:
+    """The bytes of an input file, under the guard of :func:`read_bounded`."""
     path = os.fspath(path)
     try:  # O_NONBLOCK: opening a FIFO must not wait for a writer
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
@@ -58,14 +68,15 @@ def read_bounded(path, what: str, limit: int = MAX_YAML_BYTES, errors: str = "st
     except OSError as exc:
         raise InputError(f"{path}: cannot read the {what} file: "
                          f"{exc.strerror or exc}") from None
+    mode = os.fstat(fd).st_mode
+    if not stat.S_ISREG(mode):  # before fdopen, which refuses a folder with its own error
+        os.close(fd)
+        kind = ("a folder" if stat.S_ISDIR(mode) else "a named pipe (FIFO)"
+                if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or
+                stat.S_ISBLK(mode) else "not a regular file")
+        raise InputError(f"{path}: is {kind}; pframe reads a {what} only from a regular "
+                         "file")
     with os.fdopen(fd, "rb") as handle:
-        mode = os.fstat(fd).st_mode
-        if not stat.S_ISREG(mode):
-            kind = ("a folder" if stat.S_ISDIR(mode) else "a named pipe (FIFO)"
-                    if stat.S_ISFIFO(mode) else "a device" if stat.S_ISCHR(mode) or
-                    stat.S_ISBLK(mode) else "not a regular file")
-            raise InputError(f"{path}: is {kind}; pframe reads a {what} only from a regular "
-                             "file")
         size = os.fstat(fd).st_size
         data = handle.read(limit + 1) if size <= limit else b""
         if size > limit or len(data) > limit:
@@ -74,11 +85,7 @@ def read_bounded(path, what: str, limit: int = MAX_YAML_BYTES, errors: str = "st
                 f"{path}: the {what} file is {size / 2**20:.1f} MiB; pframe reads {what} files "
                 f"of up to {limit / 2**20:g} MiB (docs/getting-started.md#limits): is it "
                 f"the right file?")
-    try:
-        return data.decode("utf-8", errors=errors)
-    except UnicodeDecodeError as exc:
-        raise InputError(f"{path}: the {what} file is not UTF-8 text (byte {exc.start + 1}); "
-                         "save it as UTF-8") from None
+    return data
 
 
 _INT = re.compile(r"^[-+]?[0-9]+$|^0o[0-7]+$|^0x[0-9a-fA-F]+$")

@@ -11,6 +11,15 @@ COMMANDS = ("solve", "validate", "schema", "pi", "expand", "scale", "plot", "acc
             "gap", "risk", "compile", "opensees", "summary", "export", "animate")
 
 
+def checked_output(output, overwrite: bool, inputs=(), what: str = "output file"):
+    """The output path, checked before any work is done (None: standard output)."""
+    if output is None:
+        return None
+    from pframe import outputs
+
+    return outputs.check_output(output, inputs=inputs, overwrite=overwrite, what=what)
+
+
 def write_text_output(text: str, output, overwrite: bool, inputs=()) -> None:
     """Write generated YAML to ``output`` (refusing to replace a file without ``overwrite``,
     or one of the ``inputs``), or, without one, to standard output."""

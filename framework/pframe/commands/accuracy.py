@@ -25,14 +25,9 @@ def _accuracy(args) -> int:
 
     factors = _factors(args.factors)
     accuracy.check_factors(factors, loaded)
-    out = Path(args.output if args.output is not None else Path(args.model).stem + "-accuracy")
-    if args.output == "":
-        raise InputError("-o '': the accuracy study needs a folder name")
-    if out.exists() and not out.is_dir():
-        raise InputError(f"{out}: exists and is not a folder; -o names the folder for "
-                         "accuracy.csv and work-precision.png")
-    if not out.parent.exists():
-        raise InputError(f"{out}: the folder {str(out.parent)!r} does not exist")
+    out = outputs.check_folder(
+        args.output if args.output is not None else Path(args.model).stem + "-accuracy",
+        "accuracy study (accuracy.csv and work-precision.png)", inputs=[args.model])
     if out.is_dir():  # its two files: never replaced without --overwrite, nor a device
         for name in ("accuracy.csv", "work-precision.png"):
             outputs.check_output(out / name, inputs=[args.model], overwrite=args.overwrite,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from pframe.commands import write_text_output
+from pframe.commands import checked_output, write_text_output
 
 
 def expanded_text(path: Path) -> str | None:
@@ -49,10 +49,11 @@ def _group_lines(groups, width: int = 96) -> list[str]:
 
 def _expand(args) -> int:
     path = Path(args.model)
+    checked_output(args.output, args.overwrite, [args.model])  # before any work
     text = expanded_text(path)
     if text is None:
-        print(f"pframe: {path} is a dimensional scene already; printed unchanged",
-              file=sys.stderr)
+        print(f"pframe: {path} is a dimensional scene already; "
+              f"{'printed' if args.output is None else 'written'} unchanged", file=sys.stderr)
         from pframe.yamltext import read_bounded
 
         text = read_bounded(path, "model")

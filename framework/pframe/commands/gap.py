@@ -61,6 +61,10 @@ def _gap(args) -> int:
     suite = None
     if args.suite:
         suite = args.suite[0] if len(args.suite) == 1 else args.suite
+    if args.output == "":
+        from pframe.errors import InputError
+
+        raise InputError("-o '': the audit file needs a name")
     output = Path(args.output) if args.output else Path(args.scene).with_suffix(".gap.nc")
     timings: dict = {}
     progress = None

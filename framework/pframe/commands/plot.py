@@ -25,6 +25,9 @@ def _plot(args) -> int:
         from pframe.errors import InputError
 
         raise InputError("-o '': the figure needs a name ending in .png, .svg or .pdf")
+    from pframe.api import result_file
+
+    result_file(args.result, "pframe plot")  # before any reader opens it (a FIFO blocks)
     output = Path(args.output) if args.output else Path(args.result).with_suffix(".pdf")
     output_paths(output, ["check"])  # a bad name or folder fails before the drawing
     from pframe import outputs

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pframe.commands import write_text_output
+from pframe.commands import checked_output, write_text_output
 
 #: the quantities a ratio may be chosen for (pframe.nondim.similitude.QUANTITIES)
 CHOICES = ("length", "displacement", "time", "frequency", "velocity", "acceleration", "mass",
@@ -51,26 +51,31 @@ def _scale(args) -> int:
         else:
             print("\n".join(_table(sim)))
         return 0
+    checked_output(args.output, args.overwrite, [args.model])  # before any work
     text = _scaled_scene(Path(args.model), sim, args.to)
     write_text_output(text, args.output, args.overwrite, inputs=[args.model])
     return 0
 
 
 def _scaled_scene(path: Path, sim, to: str) -> str:
+    from pframe.errors import InputError
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form
-    from pframe.nondim.similitude import scale_scene
+    from pframe.nondim.similitude import SimilitudeError, scale_scene
     from pframe.reader import load_scene, parse_scene
-    from pframe.yamltext import compose
+    from pframe.yamltext import compose, where
 
     loaded = load_scene(path)
     if loaded.expanded.foundations:
-        from pframe.errors import InputError
-
         raise InputError(f"{path}: pframe scale does not scale soil yet (docs/soil.md: its "
                          "springs, dashpots and foundation inertias); remove soil")
-    data, _ = compose(loaded.text, str(path))
-    scaled = scale_scene(data, sim, to)
+    data, lines = compose(loaded.text, str(path))
+    try:
+        scaled = scale_scene(data, sim, to)
+    except SimilitudeError as exc:  # the file, line and field of a value it cannot scale
+        if exc.path is None:
+            raise InputError(f"{path}: {exc}") from None
+        raise InputError(f"{where(str(path), lines, exc.path)}: {exc.reason}") from None
     header = [f"{path} scaled to {to} size by 'pframe scale' (S = model / prototype):"]
     header += [line.strip() for line in _table(sim)[2:]]
     schema = "pi-scene" if is_pi_form(data) else "model"

@@ -36,6 +36,10 @@ def _source_checkout() -> bool:
 def _schema(args) -> int:
     from pframe.schema import packaged, texts
 
+    if not args.output.strip():
+        from pframe.errors import InputError
+
+        raise InputError("-o '': the schema file needs a name")
     path = Path(args.output)
     generated = texts()
     files = [(path if name == "model.schema.json" else path.with_name(name), text)

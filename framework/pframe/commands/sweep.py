@@ -98,9 +98,10 @@ def _sweep(args) -> int:
     out = Path(args.output if args.output is not None else Path(args.sweep).stem + ".nc")
     if args.output == "":
         raise InputError("-o '': the sweep file needs a name")
-    inputs = [args.sweep, definition.base_source or None,
-              *(path for _, _, _, path in definition.records)]
-    outputs.check_output(out, inputs=inputs, overwrite=True, what="sweep file")
+    from pframe.api import sweep_inputs
+
+    outputs.check_output(out, inputs=sweep_inputs(definition), overwrite=True,
+                         what="sweep file")
     _check_resources(spec, out, args.quiet)
     from pframe.sweep.store import parts_folder
 
@@ -137,10 +138,12 @@ def _sweep(args) -> int:
         if progress is not None:
             progress.close()
         signum = getattr(exc, "signum", None)
+        finished = kept(out)
         print(f"pframe: {'interrupted' if signum is None else f'stopped by signal {signum}'}; "
-              f"{_plural(kept(out), 'finished chunk')} of {spec.chunks} kept in "
-              f"{parts_folder(out)}, no sweep file written: run the same command to resume "
-              "from them", file=sys.stderr)
+              + (f"{_plural(finished, 'finished chunk')} of {spec.chunks} kept in "
+                 f"{parts_folder(out)}, no sweep file written: run the same command to resume "
+                 "from them" if finished else "no chunk had finished: nothing kept, no sweep "
+                 "file written"), file=sys.stderr)
         return 130 if signum is None else 128 + signum
     finally:
         if progress is not None:

@@ -22,7 +22,8 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from pframe.excitation.records import UNIT_NAMES, G, read_record_file
+from pframe.excitation.records import MAX_RECORD_BYTES, UNIT_NAMES, G, read_record_file
+from pframe.yamltext import read_bounded_bytes
 
 #: how the two formats are named in messages
 FORMAT_NAMES = {"at2": "PEER NGA .AT2", "columns": "two columns (time, acceleration)"}
@@ -51,12 +52,12 @@ def describe_scene_record(excitation, base_dir: str | Path = ".", file=None) -> 
     return describe_record(path, _get(excitation, "format", "auto"),
                            _get(excitation, "units"), _get(excitation, "scale", 1.0),
                            pga=_get(excitation, "pga"), frequency=_get(excitation, "frequency"),
-                           period=_get(excitation, "period", "mean"))
+                           period=_get(excitation, "period", "mean"), within=base_dir)
 
 
 def describe_record(path: str | Path, format: str = "auto", units: str | None = None,
                     scale: float = 1.0, *, pga: float | None = None,
-                    frequency: float | None = None, period="mean") -> dict:
+                    frequency: float | None = None, period="mean", within=None) -> dict:
     """The facts of one record file as pframe reads and applies it.
 
     Parameters
@@ -71,6 +72,9 @@ def describe_record(path: str | Path, format: str = "auto", units: str | None = 
     scale, pga, frequency, period :
         The scene's ``excitation.scale``, ``pga`` (target PGA, m/s^2), ``frequency`` (target
         characteristic circular frequency, rad/s) and ``period`` (how that is found).
+    within : str or Path, optional
+        The folder of the file that names the record: a message quotes the record's text
+        only when it lies inside (as :func:`pframe.excitation.records.read_record`).
 
     Returns
     -------
@@ -96,9 +100,9 @@ def describe_record(path: str | Path, format: str = "auto", units: str | None = 
         As :func:`pframe.excitation.records.read_record`.
     """
     path = Path(path)
-    content = path.read_bytes()
+    content = read_bounded_bytes(path, "record", MAX_RECORD_BYTES)  # a FIFO is never read
     kind = record_format(path, format)
-    read = read_record_file(path, kind, units)
+    read = read_record_file(path, kind, units, within)
     times, acceleration = read.times, np.asarray(read.acceleration, dtype=float)
     steps = np.diff(times)
     step = float(np.mean(steps)) if steps.size else 0.0
@@ -349,12 +353,32 @@ def motion_line(facts: dict) -> str:
     return line
 
 
+#: the largest peak ground acceleration a motion may have without a warning (m/s^2): above
+#: any recorded (about 4.4 g, the 2008 Iwate-Miyagi earthquake at IWTH25, Aoi et al. 2008), so
+#: beyond it the usual cause is a unit or a scale typed wrong (cm/s^2 read as m/s^2, a record
+#: in g scaled by 9.81 twice)
+PLAUSIBLE_PGA = 5.0 * G
+
+
 def motion_warnings(facts: dict | None) -> list[str]:
-    """Warnings about the motion a run applies: the analysis stops before the peak of a
-    record or a pulse (it applies less than 0.999 of the PGA the scene asks for). A sine is
-    not warned of: it reaches its amplitude every cycle, and a run shorter than a quarter
-    of one is a choice."""
-    if not facts or not facts.get("cut_before_peak") or facts["kind"] == "sine":
+    """Warnings about the motion a run applies: a peak ground acceleration beyond any
+    recorded (:data:`PLAUSIBLE_PGA`), and the analysis stopping before the peak of a record
+    or a pulse (it applies less than 0.999 of the PGA the scene asks for). A sine is not
+    warned of stopping early: it reaches its amplitude every cycle, and a run shorter than a
+    quarter of one is a choice."""
+    if not facts:
+        return []
+    out = []
+    if facts.get("pga", 0.0) > PLAUSIBLE_PGA:
+        out.append(f"the ground motion's peak acceleration is {_g(facts['pga'])}, beyond any "
+                   f"recorded earthquake's (about 4.4 g at most): check the units of the "
+                   f"{_what(facts['kind'])} (m/s^2, or g for a PEER record) and its scale or "
+                   "pga; the results are those of this motion")
+    return out + _cut_warnings(facts)
+
+
+def _cut_warnings(facts: dict) -> list[str]:
+    if not facts.get("cut_before_peak") or facts["kind"] == "sine":
         return []
     what = _what(facts["kind"])
     needed = facts["pga_time"]

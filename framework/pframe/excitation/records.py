@@ -88,7 +88,29 @@ class RecordFile:
     header: str | None = None
 
 
-def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
+#: what a message says instead of a line of a record outside the folder it was named from
+HIDDEN = "(its text is not shown: the file is outside the folder of the file that names it)"
+
+
+def _quoted(text: str, shown: bool) -> str:
+    """``text`` as a message quotes it, or :data:`HIDDEN` when the file it comes from is not
+    to be shown (a record path that leaves its scene's folder: ``../../etc/passwd``)."""
+    return repr(text.strip()[:80]) if shown else HIDDEN
+
+
+def _inside(path: Path, folder) -> bool:
+    """Whether ``path`` resolves to a file inside ``folder`` (links followed); True without
+    a folder (the caller named the file itself)."""
+    if folder is None:
+        return True
+    try:
+        return Path(path).resolve().is_relative_to(Path(folder).resolve())
+    except (OSError, RuntimeError):
+        return False
+
+
+def _read_at2(text: str, name: str, shown: bool = True
+              ) -> tuple[np.ndarray, np.ndarray, list[str]]:
     lines = text.splitlines()
     if len(lines) < 5:
         raise ValueError(f"{name}: a PEER .AT2 file has 4 header lines then values; "
@@ -100,13 +122,14 @@ def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
         numbers = re.findall(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?", header)
         if len(numbers) < 2:
             raise ValueError(f"{name}, line 4: expected 'NPTS= n, DT= dt' (PEER NGA header), "
-                             f"got {header.strip()!r}")
+                             f"got {_quoted(header, shown)}")
         n, step = int(float(numbers[0])), float(numbers[1])
     else:
         try:
             n, step = int(npts.group(1)), float(dt.group(1))
         except ValueError:
-            raise ValueError(f"{name}, line 4: DT is not a number in {header.strip()!r}") from None
+            raise ValueError(f"{name}, line 4: DT is not a number in "
+                             f"{_quoted(header, shown)}") from None
     if not (math.isfinite(step) and n <= MAX_RECORD_BYTES):
         raise ValueError(f"{name}, line 4: NPTS={n} and DT={step} cannot describe this file")
     if step <= 0 or n < 2:
@@ -119,8 +142,8 @@ def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
                 try:
                     float(token)
                 except ValueError:
-                    raise ValueError(f"{name}, line {number}: {token!r} is not a number (an "
-                                     "acceleration value after the header)") from None
+                    raise ValueError(f"{name}, line {number}: {_quoted(token, shown)} is not a "
+                                     "number (an acceleration value after the header)") from None
         raise
     if values.size != n:
         raise ValueError(f"{name}, line 4: the header says NPTS={n} but {values.size} values "
@@ -128,7 +151,8 @@ def _read_at2(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
     return np.arange(n) * step, values, lines[:3]
 
 
-def _read_columns(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[str]]:
+def _read_columns(text: str, name: str, shown: bool = True
+                  ) -> tuple[np.ndarray, np.ndarray, list[str]]:
     rows = []
     header = []  # comments anywhere and text lines before the data: where units are stated
     for number, line in enumerate(text.splitlines(), start=1):
@@ -147,7 +171,7 @@ def _read_columns(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[st
                 header[-1] = line
                 continue
             raise ValueError(f"{name}, line {number}: expected two numbers (time, "
-                             f"acceleration), got {line.strip()!r}") from None
+                             f"acceleration), got {_quoted(line, shown)}") from None
         if len(values) != 2:
             raise ValueError(f"{name}, line {number}: expected two columns (time, "
                              f"acceleration), got {len(values)}")
@@ -160,21 +184,25 @@ def _read_columns(text: str, name: str) -> tuple[np.ndarray, np.ndarray, list[st
     return data[:, 0], data[:, 1], header
 
 
-def read_record(path: str | Path, format: str = "auto", units: str | None = None):
+def read_record(path: str | Path, format: str = "auto", units: str | None = None,
+                within=None):
     """Times (s) and ground accelerations (m/s^2) of a record file.
 
     ``format`` is ``columns`` (time, acceleration per line), ``at2`` (PEER NGA) or ``auto``
     (by the file suffix). The units are those the file's header states, else ``units``, else
     g for AT2 files and m/s^2 otherwise (:func:`read_record_file` says which).
     Raises ``ValueError`` with the file and line on malformed input (:class:`RecordUnitsError`
-    when the header and ``units`` disagree), ``FileNotFoundError``.
+    when the header and ``units`` disagree), ``FileNotFoundError``. A message quotes the
+    file's text only when it lies inside the folder ``within`` (the scene's, the suite's),
+    when one is given: a record path that leaves it (``../../etc/passwd``) must not print
+    another file.
     """
-    record = read_record_file(path, format, units)
+    record = read_record_file(path, format, units, within)
     return record.times, record.acceleration
 
 
 def read_record_file(path: str | Path, format: str = "auto",
-                     units: str | None = None) -> RecordFile:
+                     units: str | None = None, within=None) -> RecordFile:
     """A record file read as :func:`read_record` reads it, with the units it was read in and
     where they came from (:class:`RecordFile`)."""
     path = Path(path)
@@ -182,7 +210,8 @@ def read_record_file(path: str | Path, format: str = "auto",
     # once: a device or a FIFO is refused, never read
     text = read_bounded(path, "record", MAX_RECORD_BYTES, errors="replace")
     is_at2 = format == "at2" or (format == "auto" and path.suffix.lower() == ".at2")
-    times, acc, header = (_read_at2 if is_at2 else _read_columns)(text, str(path))
+    shown = _inside(path, within)
+    times, acc, header = (_read_at2 if is_at2 else _read_columns)(text, str(path), shown)
     if not (np.all(np.isfinite(times)) and np.all(np.isfinite(acc))):
         bad = int(np.flatnonzero(~(np.isfinite(times) & np.isfinite(acc)))[0])
         raise ValueError(f"{path}: value {bad + 1} of the record (time {times[bad]!r}) is not "
@@ -190,13 +219,14 @@ def read_record_file(path: str | Path, format: str = "auto",
     if np.max(np.abs(acc), initial=0.0) > LARGEST or np.max(np.abs(times), initial=0.0) > LARGEST:
         raise ValueError(f"{path}: the record holds values larger than {LARGEST:g}: not a "
                          "ground acceleration in m/s^2 or g")
-    chosen, where, written = _units(path, header, units, is_at2)
+    chosen, where, written = _units(path, header, units, is_at2, shown)
     if UNITS[chosen] != 1.0:
         acc = acc * UNITS[chosen]
     return RecordFile(times, acc, chosen, where, written)
 
 
-def _units(path: Path, header: list[str], units: str | None, is_at2: bool):
+def _units(path: Path, header: list[str], units: str | None, is_at2: bool,
+           shown: bool = True):
     """(units, where from, the header's text) of a record, or RecordUnitsError."""
     if units is not None and units not in UNITS:
         raise RecordUnitsError(f"{path}: units {units!r} are not one of "
@@ -211,13 +241,15 @@ def _units(path: Path, header: list[str], units: str | None, is_at2: bool):
         if units is not None:
             return units, "scene", written
         raise RecordUnitsError(
-            f"{path}, line {line}: the header states the units {written!r}, which are not an "
+            f"{path}, line {line}: the header states the units {_quoted(written, shown)}, "
+            "which are not an "
             f"acceleration unit pframe reads ({', '.join(UNITS)}): give the record's units in "
             "the scene (excitation.units) if the values are accelerations")
     if units is not None and not same_units(found, units):
         raise RecordUnitsError(
             f"{path}, line {line}: the header states the accelerations in "
-            f"{UNIT_NAMES[found]} ({written!r}) but the scene gives units {units!r}: a factor "
+            f"{UNIT_NAMES[found]} ({_quoted(written, shown)}) but the scene gives units "
+            f"{units!r}: a factor "
             f"of {UNITS[found] / UNITS[units]:.6g} between them. Remove excitation.units to "
             "read the file as its header says, or correct the one that is wrong")
     return found, f"header, line {line}", written

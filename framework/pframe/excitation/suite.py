@@ -116,7 +116,7 @@ class Suite:
 def _entry_motion(entry: RecordEntry, folder: Path, where: str) -> GroundMotion:
     path = folder / entry.file
     try:
-        t, a = read_record(path, entry.format, entry.units)
+        t, a = read_record(path, entry.format, entry.units, within=folder)
     except FileNotFoundError:
         raise InputError(f"{where}: record file {str(path)!r} not found") from None
     except (ValueError, OSError) as exc:
@@ -162,7 +162,11 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
     model = validated(SuiteFile, data, lines, str(path))
     base = Path(records_folder) if records_folder is not None else path.parent
     if not base.is_dir():
-        raise InputError(f"{base}: the records folder does not exist")
+        from pframe.outputs import not_regular
+
+        raise InputError(f"{base}: the records folder " + (
+            f"is {not_regular(base) or 'a file'}, not a folder" if base.exists()
+            else "does not exist"))
     motions = []
     for i, item in enumerate(model.records):
         entry = RecordEntry(file=item) if isinstance(item, str) else item
@@ -202,7 +206,7 @@ def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
     out = []
     for seed in seeds:
         try:
-            excitation = Stochastic(**item, seed=seed)
+            excitation = Stochastic.model_validate({**item, "seed": seed})
         except ValidationError as exc:
             problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'entry'}: {e['msg']}"
                                  for e in exc.errors())

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pframe.errors import InputError
+from pframe.errors import InputError, given, option
 from pframe.excitation.suite import GroundMotion, Measure, Suite, load_suite, scale_factors, suite_from_files
 from pframe.gap import runs
 
@@ -249,7 +249,7 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
     count = inputs.count
     chunk = count if chunk is None else int(chunk)
     if chunk < 1:
-        raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
+        raise InputError(f"{given('chunk', chunk)}: a chunk holds at least one variant")
     rows = _run_chunks(inputs, chunk, output, threads, progress, overwrite)
     ds = build_dataset(inputs, rows, gap=gap, en_coincident=en_coincident, codes=codes,
                        geometry=geometry)
@@ -290,8 +290,9 @@ def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress,
                     raise
                 raise InputError(
                     f"{parts.folder}: holds batches of another audit (another scene, suite, "
-                    "levels, step, chunk size or pframe code); pass --overwrite to discard "
-                    "them and start again, or choose another output name with -o") from None
+                    f"levels, step, chunk size or pframe code); pass {option('overwrite')} to "
+                    "discard them and start again, or choose another output name with "
+                    f"{option('output')}") from None
             for c in finished:
                 done[c] = parts.load(c)
         finished = sum(min(chunk, count - c * chunk) for c in done)

@@ -5,7 +5,9 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 from typing import ClassVar
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
+
+from pframe.objects import Frozen
 
 #: the stepping paths beyond the whole step that an implicit integrator may support: contact
 #: events located inside steps (``events: true``), and a failed step retried in 2, 4, ...
@@ -55,8 +57,8 @@ class Facts:
         return [f.name for f in fields(self) if getattr(self, f.name) is None]
 
 
-class IntegratorParams(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class IntegratorParams(Frozen):
+    """An integrator's parameters: frozen, unknown fields refused, misuse an InputError."""
 
     #: the kernel's scheme that runs it (pframe.integrators.SCHEMES); None: explicit
     scheme: ClassVar[str | None] = None

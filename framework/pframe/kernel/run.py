@@ -179,6 +179,9 @@ class Result:
                Status.NOT_DEFINITE: "the effective stiffness is not positive definite",
                Status.NOT_STABLE: "the run diverged (the numerics created more energy than the "
                            "excitation put in)"}[code]
+        if code == Status.NOT_DEFINITE and kind != Kind.NODE:  # the element the kernel found
+            why = ("the effective stiffness is not positive definite, from a negative tangent "
+                   "stiffness")
         if (code == Status.NOT_STABLE and plan.story_kg is not None
                 and np.any(plan.story_kg[b])):
             why = ("the run diverged: the kinetic energy outgrew what the excitation put in. "

@@ -9,6 +9,7 @@ from pydantic import BaseModel, ValidationError
 
 from pframe.errors import InputError
 from pframe.laws.registry import available_names
+from pframe.objects import number_given_as_boolean, value_at
 from pframe.yamltext import compose, dotted, where
 
 Path_ = tuple  # a path into the YAML data: keys and list indices
@@ -120,37 +121,6 @@ def _not_this_laws(data, path: Path_) -> str | None:
     return None
 
 
-_MISSING = object()
-
-
-def _booleans(node, path: Path_ = ()):
-    """(path, value) of every boolean in composed YAML data."""
-    if isinstance(node, bool):
-        yield path, node
-    elif isinstance(node, dict):
-        for key, value in node.items():
-            yield from _booleans(value, path + (key,))
-    elif isinstance(node, list):
-        for i, value in enumerate(node):
-            yield from _booleans(value, path + (i,))
-
-
-def _value_at(obj, path: Path_):
-    """What a validated model holds at a path of its YAML data (_MISSING if it moved)."""
-    for part in path:
-        if isinstance(obj, BaseModel) and isinstance(part, str):
-            obj = getattr(obj, part, _MISSING)
-        elif isinstance(obj, dict):
-            obj = obj.get(part, _MISSING)
-        elif isinstance(obj, (list, tuple)) and isinstance(part, int) and part < len(obj):
-            obj = obj[part]
-        else:
-            return _MISSING
-        if obj is _MISSING:
-            return obj
-    return obj
-
-
 #: the largest magnitude of a number in a scene: SI values of real buildings and motions are
 #: far below (a mass of 1e308 kg overflows the first product). Tiny values (subnormals) are
 #: numbers; where they break the arithmetic (a floor mass of 1e-320 kg), the step that fails
@@ -201,12 +171,12 @@ def validated(model: type[BaseModel], data, lines: dict, source: str):
         out = model.model_validate(data)
     except ValidationError as exc:
         raise InputError(_format_validation(exc, data, lines, source)) from None
-    for path, flag in _booleans(data):
-        value = _value_at(out, path)
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            raise InputError(
-                f"{_where(source, lines, path)}: expected a number, got the boolean "
-                f"{str(flag).lower()} (YAML reads true/false, yes/no and on/off as booleans)")
+    path = number_given_as_boolean(data, out)
+    if path is not None:
+        raise InputError(
+            f"{_where(source, lines, path)}: expected a number, got the boolean "
+            f"{str(value_at(data, path)).lower()} (YAML reads true/false, yes/no and on/off as "
+            "booleans)")
     return out
 
 

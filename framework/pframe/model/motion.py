@@ -67,7 +67,7 @@ def _record(excitation, base_dir, path):
     if excitation.kind == "record":
         file = Path(base_dir) / excitation.file
         try:
-            record = read_record(file, excitation.format, excitation.units)
+            record = read_record(file, excitation.format, excitation.units, within=base_dir)
         except FileNotFoundError:
             raise ModelError(path + ("file",), f"record file {str(file)!r} not found") from None
         except RecordUnitsError as exc:  # the header and the scene disagree on the units

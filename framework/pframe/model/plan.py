@@ -18,7 +18,9 @@ from __future__ import annotations
 import math
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import Field, model_validator
+
+from pframe.objects import Frozen
 
 Finite = Annotated[float, Field(allow_inf_nan=False)]
 #: a point or vector of the plan, [x, y] (m)
@@ -28,11 +30,7 @@ Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 COMPONENTS = ("x", "y", "rz")
 
 
-class _Frozen(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
-
-
-class FloorPlan(_Frozen):
+class FloorPlan(Frozen):
     """The plan of a building's floors, in the building's own axes (m): a rectangle from the
     building's origin (``size``) or a polygon (``outline``). It gives the floors' centre of
     mass and polar moment of inertia when they are not given (a uniform slab), the corners

@@ -25,6 +25,7 @@ from pframe.integrators import ALL_INTEGRATORS, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.model.plan import Direction, FloorPlan, Point
+from pframe.objects import Frozen
 from pframe.quantities import QUANTITIES as _QUANTITIES
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -40,8 +41,13 @@ QUANTITIES = tuple(_QUANTITIES)
 Quantity = Literal[QUANTITIES]
 
 
-class Base(BaseModel):
-    model_config = ConfigDict(extra="forbid", frozen=True)
+class Base(Frozen):
+    """A part of a scene: frozen, unknown fields refused, misuse an InputError
+    (:mod:`pframe.objects`)."""
+
+    @classmethod
+    def public_name(cls) -> str:
+        return _public_name(cls)
 
     def __repr__(self) -> str:
         return brief(self)
@@ -387,7 +393,7 @@ class Modal(Base):
 
     # YAML without a kind is Rayleigh's: the schema asks a modal damping for its kind (Python
     # objects know their class)
-    model_config = ConfigDict(extra="forbid", frozen=True, json_schema_extra={"required": ["kind"]})
+    model_config = Frozen.model_config | ConfigDict(json_schema_extra={"required": ["kind"]})
 
     kind: Literal["modal"] = "modal"
     ratio: (Annotated[float, Field(ge=0, lt=1, allow_inf_nan=False)]
@@ -900,7 +906,7 @@ def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseMo
     tag = get_args(params_model.model_fields[discriminator].annotation)[0]
     return create_model(
         f"{params_model.__qualname__.split('.')[0]}Storeys",
-        __config__=ConfigDict(extra="forbid", frozen=True),
+        __base__=Base,
         __doc__=f"Storey properties ({discriminator}: {tag}); a list gives one value per storey, "
         "bottom up.",
         **fields,

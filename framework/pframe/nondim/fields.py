@@ -103,8 +103,17 @@ SCENE_FIELDS = {
     ("buildings", "*", "floors"): "dimensionless",
     ("damping", "modes"): "dimensionless",
     ("buildings", "*", "damping", "modes"): "dimensionless",
+    ("buildings", "*", "height"): "length",  # one for all storeys, or each (a list)
+    ("buildings", "*", "park_ang", "ultimate_drift"): "length",
+    ("buildings", "*", "park_ang", "beta"): "dimensionless",
     ("nodes", "*", "mass"): "mass",
+    ("stories", "*", "height"): "length",
+    ("stories", "*", "gravity_load"): "force",
+    ("stories", "*", "park_ang", "ultimate_drift"): "length",
+    ("stories", "*", "park_ang", "beta"): "dimensionless",
     ("contacts", "*", "gap"): "length",
+    ("contacts", "*", "at"): "dimensionless",  # a fraction of the struck storey's height
+    ("contacts", "*", "shear_capacity"): "force",
     ("damping", "ratio"): "dimensionless",
     ("buildings", "*", "damping", "ratio"): "dimensionless",
     ("excitation", "amplitude"): "acceleration",
@@ -114,6 +123,8 @@ SCENE_FIELDS = {
     ("excitation", "scale"): "acceleration",  # a factor on the record's accelerations
     ("excitation", "pga"): "acceleration",
     ("excitation", "period"): "time",  # a record's is of its file's time axis: kept there
+    ("excitation", "n"): "dimensionless",  # a cycloidal pulse's cycles
+    ("excitation", "center"): "time",  # a Ricker wavelet's peak
     ("initial_conditions", "displacement", "*"): "length",
     ("initial_conditions", "velocity", "*"): "velocity",
     ("analysis", "dt"): "time",
@@ -125,7 +136,32 @@ SCENE_FIELDS = {
     ("output", "scales", "m_b"): "mass",
     ("output", "scales", "a_p"): "acceleration",
     ("output", "scales", "w_p"): "frequency",
+    # buildings in plan (docs/plan.md): coordinates and sizes are lengths, directions and
+    # angles are numbers, a polar inertia is kg m^2
+    ("buildings", "*", "origin"): "length",
+    ("buildings", "*", "angle"): "dimensionless",
+    ("buildings", "*", "plan", "size"): "length",
+    ("buildings", "*", "plan", "outline"): "length",
+    ("buildings", "*", "centre_of_mass"): "length",
+    ("buildings", "*", "polar_inertia"): "inertia",
+    ("buildings", "*", "points", "*"): "length",
+    ("buildings", "*", "lines", "*", "position"): "length",
+    ("buildings", "*", "lines", "*", "direction"): "dimensionless",
+    ("buildings", "*", "lines", "*", "storeys"): "dimensionless",
+    ("nodes", "*", "centre_of_mass"): "length",
+    ("nodes", "*", "polar_inertia"): "inertia",
+    ("stories", "*", "position"): "length",
+    ("stories", "*", "direction"): "dimensionless",
+    ("contacts", "*", "points"): "length",
+    ("contacts", "*", "normal"): "dimensionless",
+    ("links", "*", "points"): "length",
+    ("links", "*", "direction"): "dimensionless",
+    ("excitation", "angle"): "dimensionless",
 }
+# each of two components is a motion of its own, with a motion's fields
+SCENE_FIELDS.update({("excitation", axis) + pattern[1:]: quantity
+                     for axis in ("x", "y") for pattern, quantity in list(SCENE_FIELDS.items())
+                     if pattern[0] == "excitation" and pattern != ("excitation", "angle")})
 
 
 def scene_field_dimension(path: tuple) -> Dimension | None:

@@ -10,6 +10,55 @@ from __future__ import annotations
 from pframe.errors import InputError
 
 
+def _names(names):
+    """``names`` as None or a list of text; an InputError otherwise."""
+    from pframe.api import describe
+
+    if names is None or isinstance(names, str):
+        return names
+    try:
+        out = list(names)
+    except TypeError:
+        out = None
+    if out is None or not all(isinstance(n, str) for n in out):
+        raise InputError(f"pframe.plot: names is {describe(names)}; give a name or a list of names "
+                         "(of nodes, storeys or contacts), as text")
+    return out
+
+
+def _drawing_area(ax, fig) -> None:
+    """Refuse an ``ax`` that is not matplotlib's Axes, a ``fig`` that is not its Figure."""
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure, SubFigure
+
+    from pframe.api import describe
+
+    if ax is not None and not isinstance(ax, Axes):
+        raise InputError(f"pframe.plot: ax is {describe(ax)}; give matplotlib Axes (fig, ax = "
+                         "plt.subplots()), or leave it out")
+    if fig is not None and not isinstance(fig, (Figure, SubFigure)):
+        raise InputError(f"pframe.plot: fig is {describe(fig)}; give a matplotlib Figure, or leave "
+                         "it out")
+
+
+def _time_range(value):
+    """``(start, stop)`` as two finite numbers, or None; an InputError for anything else."""
+    import math
+
+    from pframe.api import describe
+
+    if value is None:
+        return None
+    try:
+        start, stop = (float(v) for v in value)
+    except (TypeError, ValueError):
+        raise InputError(f"pframe.plot: time_range is {describe(value)}; give (start, stop), "
+                         "two numbers in the units of the time axis drawn") from None
+    if not (math.isfinite(start) and math.isfinite(stop)):
+        raise InputError(f"pframe.plot: time_range={value!r}: give two finite numbers")
+    return start, stop
+
+
 def plot(result, quantity: str | None = None, *, names=None, level=None, kind: str = "all",
          units=None, dimensionless: bool = False, time_range=None, ax=None, fig=None):
     """Draw a result of ``pframe.solve``/``pframe.open`` (or a result file's path).
@@ -26,10 +75,18 @@ def plot(result, quantity: str | None = None, *, names=None, level=None, kind: s
     ``{"m": "mm", "N": "kN"}``; ``dimensionless``: the paper's variables (tau, X / l_e, ...);
     ``time_range``: ``(start, stop)`` in the units of the time axis drawn.
     """
+    from pframe.api import describe, flag_argument
     from pframe.plot.figure import draw_level, matplotlib_figure, prepare
     from pframe.plot.scales import axis_label
 
     matplotlib_figure()  # a clear message when matplotlib is missing
+    dimensionless = flag_argument(dimensionless, "dimensionless", "pframe.plot")
+    time_range = _time_range(time_range)
+    for name, value in (("quantity", quantity), ("kind", kind)):
+        if value is not None and not isinstance(value, str):
+            raise InputError(f"pframe.plot: {name} is {describe(value)}: give its name, as text")
+    names = _names(names)
+    _drawing_area(ax, fig)
     data = prepare(result, time_range=time_range, dimensionless=dimensionless)
     if units is not None:
         if dimensionless:

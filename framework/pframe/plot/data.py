@@ -186,7 +186,7 @@ def engineering_units(units) -> dict:
     """The mapping stored units -> display units that ``units`` asks for (None: none)."""
     if units is None:
         return {}
-    if units == "engineering":
+    if isinstance(units, str) and units == "engineering":
         return dict(ENGINEERING)
     if isinstance(units, str):  # "mm,kN": each display unit finds its SI unit
         wanted = {}
@@ -198,6 +198,14 @@ def engineering_units(units) -> dict:
                                  f"{known}, or 'engineering' (mm, mm/s, kN)")
             wanted[base] = unit
         return wanted
+    from collections.abc import Mapping
+
+    if not isinstance(units, Mapping) or not all(
+            isinstance(k, str) and isinstance(v, str) for k, v in units.items()):
+        shown = " ".join(repr(units).split())[:60]
+        raise InputError(f"units={shown}: give 'engineering', a string such as 'mm,kN', or a "
+                         "mapping of stored units to the units shown, such as "
+                         "{'m': 'mm', 'N': 'kN'}")
     return dict(units)
 
 
@@ -261,9 +269,12 @@ def _connectivity(ds) -> tuple[dict, dict] | None:
 
 def open_result(source):
     """``(dataset, name)`` of a result: a path (opened with xarray) or a Dataset."""
-    if not isinstance(source, (str, Path)):
+    from pframe.api import result_argument
+
+    source = result_argument(source, "pframe.plot")
+    if not isinstance(source, Path):
         return source, str(source.attrs.get("source", "the Dataset"))
-    path = Path(source)
+    path = source
     if not path.exists():
         raise InputError(f"{path}: no such result file")
     if path.is_dir():

@@ -72,7 +72,13 @@ def check_file(path: str | Path) -> None:
     docstring); return quietly when it is."""
     import h5py
 
+    from pframe.outputs import not_regular
+
     path = Path(path)
+    kind = not_regular(path)
+    if kind is not None:  # a FIFO would block the reader, a device be read without end
+        raise InputError(f"{path}: is {kind}, not a result file; pframe reads the result files "
+                         "that pframe solve, sweep and gap write")
     try:
         f = h5py.File(path, "r")
     except OSError as exc:

@@ -45,6 +45,18 @@ def _shown(path) -> str:
     return ".".join(str(p) for p in path) or "(top level)"
 
 
+def _dotted_hint(segment) -> str:
+    """For ``contacts[0]`` or ``stories['A/1']``: how a path names a list item (a dot, then
+    the index, the item's name or ``*``)."""
+    import re
+
+    found = re.fullmatch(r"(\w+)\[\s*['\"]?([^\]'\"]*)['\"]?\s*\]", str(segment))
+    if not found:
+        return ""
+    return (f" (a path names a list item after a dot: {found.group(1)}.{found.group(2).strip()}, "
+            f"by index or name, or {found.group(1)}.* for every item)")
+
+
 def resolve(data, segments: tuple) -> list[tuple]:
     """Every concrete path (keys and list indices) that ``segments`` names in ``data``.
 
@@ -65,7 +77,8 @@ def resolve(data, segments: tuple) -> list[tuple]:
                 keys = [segment]
             else:
                 raise InputError(f"{_shown(prefix)} has no {segment!r}; it has "
-                                 f"{', '.join(map(str, node)) or 'nothing'}")
+                                 f"{', '.join(map(str, node)) or 'nothing'}"
+                                 + _dotted_hint(segment))
             for key in keys:
                 walk(node[key], rest, prefix + (key,), key)
         elif isinstance(node, list):

@@ -6,21 +6,38 @@ import hashlib
 import os
 from pathlib import Path
 
-from pframe.errors import InputError
+from pframe.errors import InputError, given
+from pframe.excitation.records import MAX_RECORD_BYTES, read_record
 from pframe.model.load import read_input
 from pframe.sweep.definition import validated_sweep
 from pframe.sweep.spec import SweepDefinition, code_fingerprint
+from pframe.yamltext import MAX_YAML_BYTES, read_bounded_bytes
 from pframe.yamltext import compose as _compose
 from pframe.yamltext import where as _where
 
 
-def _read_bytes(path: Path, where: str, what: str) -> bytes:
+def _read_bytes(path: Path, where: str, what: str, limit: int = MAX_YAML_BYTES) -> bytes:
+    """A file the sweep names, read under the guard of every input (a regular file of
+    bounded size: a FIFO or a device is refused, never read)."""
     try:
-        return path.read_bytes()
+        return read_bounded_bytes(path, what, limit)
     except FileNotFoundError:
         raise InputError(f"{where}: {what} {str(path)!r} not found") from None
-    except OSError as exc:
-        raise InputError(f"{where}: cannot read {what} {str(path)!r}: {exc}") from None
+    except InputError as exc:
+        raise InputError(f"{where}: {exc}") from None
+
+
+def _record(path: Path, folder: Path, where: str) -> bytes:
+    """A record file's bytes. One outside ``folder`` (the file that names it is in
+    ``folder``) is read as a record here, so that a problem in it is told without its text
+    (the copy every variant reads lies in a private folder, where it would be quoted)."""
+    content = _read_bytes(path, where, "record file", MAX_RECORD_BYTES)
+    if not path.resolve().is_relative_to(folder.resolve()):
+        try:
+            read_record(path, within=folder)
+        except (ValueError, OSError) as exc:
+            raise InputError(f"{where}: malformed record: {exc}") from None
+    return content
 
 
 def _record_key(content: bytes, name: str) -> str:
@@ -43,7 +60,7 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
     folder = Path(folder)
     model, lines = validated_sweep(text, source)
     if chunk is not None and chunk < 1:
-        raise InputError(f"--chunk {chunk}: a chunk holds at least one variant")
+        raise InputError(f"{given('chunk', chunk)}: a chunk holds at least one variant")
     base_source, base_text, base_dir = "", "", folder
     if model.base is not None:
         base_path = Path(os.path.normpath(folder / model.base))
@@ -59,7 +76,7 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
     excitation = base_data.get("excitation") if isinstance(base_data, dict) else None
     if isinstance(excitation, dict) and isinstance(excitation.get("file"), str):
         file = base_dir / excitation["file"]
-        content = _read_bytes(file, base_source or source, "record file")
+        content = _record(file, base_dir, base_source or source)
         key = _record_key(content, file.name)
         files[key] = content
         records.append(("base", excitation["file"], key, str(file.resolve())))
@@ -71,8 +88,7 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
                 raise InputError(f"{_where(source, lines, ('axes', i, 'values', j))}: a records "
                                  f"axis (path excitation.file) takes file names, not {value!r}")
             file = folder / value
-            content = _read_bytes(file, _where(source, lines, ("axes", i, "values", j)),
-                                  "record file")
+            content = _record(file, folder, _where(source, lines, ("axes", i, "values", j)))
             key = _record_key(content, file.name)
             files[key] = content
             records.append(("axis", value, key, str(file.resolve())))

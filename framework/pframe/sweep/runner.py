@@ -17,15 +17,13 @@ from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pframe.errors import InputError
 from pframe.sweep.chunk import run_chunk, warm_up
+from pframe.sweep.cluster import check as check_scheduler
+from pframe.sweep.cluster import dask_client
 from pframe.sweep.grid import parse
 from pframe.sweep.output import write_sweep
 from pframe.sweep.spec import SweepDefinition
 from pframe.sweep.store import Parts
-
-#: how long to try reaching a Dask scheduler before giving up
-CONNECT_TIMEOUT = "20s"
 
 
 @dataclass
@@ -74,6 +72,8 @@ def run_sweep(definition: SweepDefinition, output: str | Path, *, restart: bool 
     start = time.perf_counter()
     spec = parse(definition)
     output = Path(output)
+    if scheduler is not None:  # a wrong address is said before anything is written
+        scheduler = check_scheduler(scheduler, "chunks")
     parts = Parts(output, definition, spec)
     try:
         finished = parts.open(restart=restart)
@@ -143,32 +143,6 @@ def _on_threads(definition, todo, threads, started, finish, run: SweepRun):
         raise
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
-
-
-def dask_client(address: str, sending: str):
-    """A dask.distributed client of the scheduler at ``address`` with at least one worker
-    (sweeps and risk studies); a missing extra or an unreachable scheduler is an InputError
-    saying what to do."""
-    try:
-        from distributed import Client
-    except ImportError:
-        raise InputError(f"--scheduler {address}: sending {sending} to a Dask cluster needs "
-                         "dask.distributed, which is not installed here; install pframe's "
-                         'cluster extra (pip install "pframe[cluster]") or run without '
-                         "--scheduler") from None
-    try:
-        client = Client(address, timeout=CONNECT_TIMEOUT)
-    except (OSError, TimeoutError) as exc:
-        raise InputError(f"--scheduler {address}: cannot reach the Dask scheduler ({exc}); "
-                         "start one with 'dask scheduler' and give its address as "
-                         "tcp://HOST:PORT") from None
-    try:
-        if not client.scheduler_info().get("workers"):
-            client.wait_for_workers(1, timeout=60)
-    except BaseException:
-        client.close()
-        raise
-    return client
 
 
 def _on_cluster(definition, todo, address: str, started, finish, run: SweepRun):

@@ -3,8 +3,10 @@
 Each chunk is written under a temporary name and renamed when complete (an ``os.replace``), so
 a chunk file either holds a whole chunk or does not exist, whenever the process is killed. A
 manifest names the sweep (its definition's digest); a second run of the same sweep takes up the
-chunks it finds, and a different sweep is refused rather than mixed in. A lock keeps two
-processes from writing one folder.
+chunks it finds, and a different sweep is refused rather than mixed in. Each chunk file also
+holds its own index and the sweep's digest: a file moved or copied under another chunk's name
+(another index's valid chunk, another sweep's) is not taken for that chunk, but removed with a
+note and run again. A lock keeps two processes from writing one folder.
 """
 
 from __future__ import annotations
@@ -20,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from pframe import outputs
-from pframe.errors import InputError
+from pframe.errors import InputError, option
 
 MANIFEST = "sweep.json"
 #: what reading a damaged chunk file raises
@@ -28,15 +30,29 @@ _DAMAGED = (OSError, ValueError, EOFError, KeyError, TypeError, AttributeError,
             zipfile.BadZipFile)
 
 
-def _whole(path: Path) -> bool:
-    """Whether a chunk file reads back whole (every array; a zip checks its CRCs)."""
-    try:
-        with np.load(path, allow_pickle=False) as data:
-            for key in data.files:
-                data[key]
-            return bool(data.files)
-    except _DAMAGED:
-        return False
+#: the arrays every chunk file holds besides its data: which chunk of which sweep it is
+_INDEX, _DIGEST = "__chunk_index__", "__sweep_digest__"
+
+
+def _read(path: Path) -> dict:
+    """Every array of a chunk file (a zip checks its CRCs); raises one of :data:`_DAMAGED`."""
+    with np.load(path, allow_pickle=False) as data:
+        arrays = {key: data[key] for key in data.files}
+    if not arrays:
+        raise ValueError("no arrays")
+    return arrays
+
+
+def _misplaced(arrays: dict, chunk: int, digest: str) -> str | None:
+    """Why a whole chunk file is not chunk ``chunk`` of the sweep ``digest`` (None if it is)."""
+    index, own = arrays.get(_INDEX), arrays.get(_DIGEST)
+    if index is None or own is None:
+        return "it does not say which chunk of which sweep it holds"
+    if str(own) != digest:
+        return "it holds a chunk of another sweep"
+    if int(index) != chunk:
+        return f"it holds chunk {int(index)}, not chunk {chunk} (moved or copied there)"
+    return None
 _CHUNK = re.compile(r"^chunk-(\d{5,})\.npz$")
 
 
@@ -88,8 +104,8 @@ class Parts:
                     raise InputError(
                         f"{self.folder}: holds {what}; the sweep, its base scene, its record "
                         "files, the chunk size or pframe's code have changed since those "
-                        "chunks were computed. Pass --overwrite to discard them and start "
-                        "again, or choose another output name with -o")
+                        f"chunks were computed. Pass {option('overwrite')} to discard them and "
+                        f"start again, or choose another output name with {option('output')}")
                 self._take_lock()
                 self._clear()
         self.folder.mkdir(parents=True, exist_ok=True)
@@ -119,7 +135,8 @@ class Parts:
         except OSError:
             handle.close()
             raise InputError(f"{self.folder}: another pframe sweep is writing this output "
-                             "now; wait for it, or choose another name with -o") from None
+                             f"now; wait for it, or choose another name with {option('output')}"
+                             ) from None
         self._lock = handle
 
     def _clear(self):
@@ -134,12 +151,16 @@ class Parts:
         for path in sorted(self.folder.iterdir()):
             match = _CHUNK.match(path.name)
             if match and int(match.group(1)) < self.spec.chunks:
-                if not _whole(path):
+                chunk = int(match.group(1))
+                try:
+                    why = _misplaced(_read(path), chunk, self.definition.digest)
+                except _DAMAGED:
+                    why = "damaged (not a whole chunk)"
+                if why is not None:
                     path.unlink(missing_ok=True)
-                    print(f"pframe: {path}: damaged (not a whole chunk); removed, it runs again",
-                          file=sys.stderr)
+                    print(f"pframe: {path}: {why}; removed, it runs again", file=sys.stderr)
                     continue
-                done.add(int(match.group(1)))
+                done.add(chunk)
         return done
 
     def path(self, chunk: int) -> Path:
@@ -156,7 +177,8 @@ class Parts:
             os.fsync(handle.fileno())
 
     def save(self, chunk: int, arrays: dict) -> None:
-        self._write_atomic(self.path(chunk), arrays=arrays)
+        self._write_atomic(self.path(chunk), arrays={
+            **arrays, _INDEX: np.int64(chunk), _DIGEST: np.str_(self.definition.digest)})
 
     def load_finished(self, restart: bool, whose: str) -> dict[int, dict]:
         """Open the folder (as :meth:`open`) and load its finished chunks; a folder of another
@@ -167,19 +189,32 @@ class Parts:
             if "holds" not in str(exc):
                 raise
             raise InputError(f"{self.folder}: holds batches of another study (another "
-                             f"{whose} or pframe code); pass --overwrite to discard them, or "
-                             "choose another -o") from None
+                             f"{whose} or pframe code); pass {option('overwrite')} to discard "
+                             f"them, or choose another {option('output')}") from None
 
     def load(self, chunk: int) -> dict:
+        """The arrays of a finished chunk (as saved, without its index and digest)."""
         try:
-            with np.load(self.path(chunk), allow_pickle=False) as data:
-                return {key: data[key] for key in data.files}
+            arrays = _read(self.path(chunk))
         except _DAMAGED as exc:
             raise InputError(f"{self.path(chunk)}: a finished chunk is damaged ({exc}); "
                              "delete it and run the same command again") from None
+        why = _misplaced(arrays, chunk, self.definition.digest)
+        if why is not None:  # replaced since the folder was opened
+            raise InputError(f"{self.path(chunk)}: not this sweep's chunk {chunk}: {why}; "
+                             "delete it and run the same command again")
+        return {k: v for k, v in arrays.items() if k not in (_INDEX, _DIGEST)}
 
     def close(self):
-        if self._lock is not None:
+        """Release the lock; a folder that holds no finished chunk (a run stopped or refused
+        before its first chunk, a wrong scheduler address) is removed with it: it has
+        nothing to resume from, and its lock and manifest would only be left behind."""
+        if self._lock is None:
+            return
+        try:
+            if not kept(self.output):
+                shutil.rmtree(self.folder, ignore_errors=True)
+        finally:
             self._lock.close()
             self._lock = None
 

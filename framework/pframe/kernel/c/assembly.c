@@ -306,6 +306,31 @@ static int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k
     return fail(st, b, NOT_FINITE, k, kind, where);
 }
 
+/* Why the effective stiffness is not definite: the element (storey, link or contact) whose
+ * effective tangent is the most negative, which a positive mass term could not outweigh;
+ * without one (every tangent non-negative), the DOF of the first pivot that is not positive. */
+static int not_definite(const Model *m, State *st, const Work *w, int64_t b, int64_t k,
+                        int64_t pivot)
+{
+    int64_t e, kind = NODE, index = pivot;
+    double worst = 0.0;
+    for (e = 0; e < m->stories; e++) {
+        if (w->story_kk[e] < worst) {
+            worst = w->story_kk[e];
+            kind = STORY;
+            index = e;
+        }
+    }
+    for (e = 0; e < m->contacts; e++) {
+        if (w->contact_kk[e] < worst) {
+            worst = w->contact_kk[e];
+            kind = CONTACT;
+            index = e;
+        }
+    }
+    return fail(st, b, NOT_DEFINITE, k, kind, index);
+}
+
 /* Assemble the effective stiffness band from the element tangents in w->story_kk and
  * w->contact_kk and factor it; 0 (after recording why) if it is not definite. */
 static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t b, int64_t k,
@@ -316,7 +341,7 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
     const double *kks;
     const int64_t *dofs;
-    int64_t i, d, e;
+    int64_t i, d, e, pivot;
     for (i = 0; i < n; i++) {
         for (d = 1; d < bw + 1; d++)
             band[i * (bw + 1) + d] = 0.0;
@@ -369,9 +394,10 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
             band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
     }
     st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
-    if (ldl_factor(band, n, bw))
+    pivot = ldl_factor(band, n, bw);
+    if (pivot < 0)
         return 1;
-    return fail(st, b, NOT_DEFINITE, k, NODE, 0);
+    return not_definite(m, st, w, b, k, pivot);
 }
 
 /* Ground accelerations of each channel at fractions start and stop of step k (linear between

@@ -11,9 +11,9 @@
 
 #define BAND(i, d) band[(i) * (bw + 1) + (d)]
 
-/* Overwrite band with L (unit lower, off-diagonals) and D (diagonal); 0 if a pivot is not
- * positive (the effective stiffness lost definiteness). */
-static int ldl_factor(double *band, int64_t n, int64_t bw)
+/* Overwrite band with L (unit lower, off-diagonals) and D (diagonal); -1 when every pivot is
+ * positive, else the row whose pivot is not (the effective stiffness lost definiteness). */
+static int64_t ldl_factor(double *band, int64_t n, int64_t bw)
 {
     int64_t i, j, k;
     for (j = 0; j < n; j++) {
@@ -23,7 +23,7 @@ static int ldl_factor(double *band, int64_t n, int64_t bw)
             d -= ljk * ljk * BAND(k, 0);
         }
         if (!(d > 0.0))
-            return 0;
+            return j;
         BAND(j, 0) = d;
         for (i = j + 1; i < imin(n, j + bw + 1); i++) {
             double s = BAND(i, i - j);
@@ -32,7 +32,7 @@ static int ldl_factor(double *band, int64_t n, int64_t bw)
             BAND(i, i - j) = s / d;
         }
     }
-    return 1;
+    return -1;
 }
 
 /* Solve in place with a factor from ldl_factor. */
