@@ -150,6 +150,16 @@ def gap_closing(result: Result, contact: str):
     return history.time, relative, gap, history.time[onsets]
 
 
+def _mark_impacts(ax, onsets):
+    """The impacts as triangles on the time axis: x in data, y at the axis (they never hide
+    the curve). Unclipped, they may sit on the axis line; a contact without impacts keeps an
+    empty, clipped line (for the legend), since an empty unclipped one would claim the whole
+    figure's corner and collapse the layout."""
+    ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
+            color="C3", clip_on=onsets.size == 0, transform=ax.get_xaxis_transform(),
+            label="impacts")
+
+
 def draw_pounding(result: Result, level: str, fig=None):
     """The gap-closing figure of one level (None when no contact of it can be drawn): per
     contact, (a) the relative displacement of its nodes against its gap, closing shaded and
@@ -181,10 +191,7 @@ def draw_pounding(result: Result, level: str, fig=None):
         # the closed stretches are short and shallow next to the swing: drawn over in red
         ax.plot(time, np.where(relative > gap, relative, np.nan), linewidth=2.2, color="C3",
                 solid_capstyle="butt", label="_closed")
-        # impacts on the time axis: x in data, y at the axis (they never hide the curve)
-        ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
-                color="C3", clip_on=False, transform=ax.get_xaxis_transform(),
-                label="impacts")
+        _mark_impacts(ax, onsets)
         ax.set_label(f"gap {contact}")
         count = len(onsets)
         title = f"({chr(letter)}) gap closing, {contact}: {count} impact{'s' if count != 1 else ''}"
@@ -212,9 +219,7 @@ def draw_pounding(result: Result, level: str, fig=None):
             ax = fig.add_subplot(grid[row, 0], sharex=first)
             row += 1
             ax.plot(force.time, force.column(contact), linewidth=0.8, color="k", label=contact)
-            ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
-                    color="C3", clip_on=False, transform=ax.get_xaxis_transform(),
-                    label="impacts")
+            _mark_impacts(ax, onsets)
             ax.set_label(f"force {contact}")
             ax.set_title(f"({chr(letter)}) pounding force, contact {contact}", loc="left",
                          fontsize="medium")
