@@ -30,7 +30,7 @@ from pframe.errors import InputError
 from pframe.plot.data import Result, read_result
 from pframe.plot.scales import DIMENSIONLESS, axis_label, reference_scales, stored_scales
 
-KINDS = ("all", "histories", "hysteresis", "pounding", "links")
+KINDS = ("all", "histories", "hysteresis", "pounding", "links", "torsion")
 #: (letter, quantity, title) of the history panels, top to bottom
 HISTORY_PANELS = (("a", "displacement", "displacement histories"),
                   ("b", "contact_force", "pounding force histories"),
@@ -63,6 +63,10 @@ def _uses(kind: str, quantity: str) -> bool:
 def notes(result: Result, kind: str = "all") -> list[str]:
     """Why panels of ``kind`` are left out, and other things a reader of the figures should
     know (an incomplete run, storeys or contacts without a level)."""
+    if result.plan:
+        from pframe.plot.plan import plan_notes
+
+        return plan_notes(result, kind) + _shared_notes(result, kind)
     out = []
     missing = [q for q in ("displacement", "contact_force", "velocity")
                if _uses(kind, q) and q not in result.histories]
@@ -88,8 +92,17 @@ def notes(result: Result, kind: str = "all") -> list[str]:
         elif lacking:
             out.append(f"the file has no {' and no '.join(lacking)} history: hysteresis "
                        "panels (d), (e) left out")
+    return out + _shared_notes(result, kind)
+
+
+def _shared_notes(result: Result, kind: str) -> list[str]:
+    """The notes of planar figures and figures in plan alike."""
+    out = []
     if kind == "pounding" and result.has_contacts and not result.gaps:
         out.append("the file has no contact_gap: no gap-closing panels")
+    if kind == "pounding" and result.plan and result.has_contacts and \
+            "displacement_x" not in result.histories:
+        out.append("the file has no displacement history: no gap-closing panels")
     out.extend(result.dropped)
     for name in result.levels.unplaced:
         out.append(f"{name!r}: its floor level is not known (see docs/plotting.md), not drawn")
@@ -132,6 +145,10 @@ def gap_closing(result: Result, contact: str):
     displacements of the nodes or the gap."""
     history = result.histories.get("displacement")
     pair = result.contacts.get(contact)
+    if result.plan:  # a contact in plan closes along its normal at its points
+        from pframe.plot.plan_data import gap_closing_in_plan
+
+        return gap_closing_in_plan(result, contact)
     if history is None or pair is None or contact not in result.gaps:
         return None
     column = result.columns.get(contact)
@@ -177,7 +194,8 @@ def draw_pounding(result: Result, level: str, fig=None):
     if fig is None:
         fig = Figure(figsize=(8.0, 2.3 * rows + 0.9), layout="constrained")
     grid = fig.add_gridspec(rows, 1)
-    units = result.histories["displacement"].units
+    closing = result.histories.get("contact_closing") or result.histories["displacement"]
+    units = closing.units
     row, first, letter = 0, None, ord("a")
     for contact, (time, relative, gap, onsets) in drawn:
         left, right = result.contacts[contact]
@@ -228,8 +246,7 @@ def draw_pounding(result: Result, level: str, fig=None):
             _tidy(ax)
             ax.tick_params(labelbottom=False)
     ax.tick_params(labelbottom=True)
-    ax.set_xlabel(axis_label("time", result.histories["displacement"].time_units),
-                  fontsize="small")
+    ax.set_xlabel(axis_label("time", closing.time_units), fontsize="small")
     return _headed(fig, result, f"{result.title}: pounding at level {level}")
 
 
@@ -266,6 +283,10 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
     """
     if kind == "pounding":
         return draw_pounding(result, level, fig)
+    if result.plan:
+        from pframe.plot.plan import draw_plan_level
+
+        return draw_plan_level(result, level, kind, fig)
     Figure = matplotlib_figure()
     histories, loops = _level_content(result, level, kind)
     if not histories and not loops:
@@ -404,10 +425,13 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     ----------
     source : str, Path or Result
         A result file of ``pframe solve`` (or one already read with :func:`prepare`).
-    kind : {"all", "histories", "hysteresis", "pounding", "links"}
+    kind : {"all", "histories", "hysteresis", "pounding", "links", "torsion"}
         All panels, the histories (a)-(c) only, the hysteresis loops only, the gap
         closing of each contact (:func:`draw_pounding`; levels with contacts only), or every
-        link's force history and force-deformation loop (one figure, ``"links"``).
+        link's force history and force-deformation loop (one figure, ``"links"``). A scene in
+        plan is drawn by :mod:`pframe.plot.plan`: its levels along x and y, and with ``"all"``
+        (every level) or ``"torsion"`` the torsional irregularity of its storeys (one figure,
+        ``"torsion"``).
     levels : sequence of str or int, optional
         The floor levels to draw (default: every level with something to draw).
     time_range : (float, float), optional
@@ -424,7 +448,7 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     Returns
     -------
     dict
-        ``level -> matplotlib.figure.Figure``, in level order.
+        ``level -> matplotlib.figure.Figure``, in level order (then ``"torsion"``).
 
     Raises
     ------
@@ -445,6 +469,13 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
         if dimensionless:
             raise InputError("give units or dimensionless, not both")
         result = result.in_units(units)
+    if kind == "torsion" and not result.plan:
+        raise InputError(f"{result.path}: --kind torsion draws the storeys of buildings in "
+                         "plan, and this result's scene is planar (its floors move along x "
+                         "only): it has no torsion")
+    if kind == "torsion" and levels is not None:
+        raise InputError("--kind torsion draws every storey of every building in one figure: "
+                         "leave out --story")
     found = notes(result, kind)
     order = result.levels.order
     if levels is not None:
@@ -454,17 +485,23 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
             raise InputError(f"{result.path}: no floor level {', '.join(unknown)}; "
                              f"the levels are {', '.join(order)}")
     figs = {}
-    for level in levels if levels is not None else order:
+    for level in (levels if levels is not None else order) if kind != "torsion" else ():
         fig = draw_level(result, level, kind)
         if fig is not None:
             figs[level] = fig
+    if result.plan and (kind == "torsion" or (kind == "all" and levels is None)):
+        from pframe.plot.plan import torsion_figures
+
+        figs.update(torsion_figures(result, kind))
     if not figs:
         where = f" at level {', '.join(levels)}" if levels is not None else ""
         why = "; ".join(found) or "no history of a node, storey or contact"
         raise InputError(
             f"{result.path}: nothing to plot for --kind {kind}{where}: {why}. The figures draw "
             "the histories of displacement, velocity, contact_force, story_drift and "
-            "story_force: list them in a recorder of kind history and solve again.")
+            "story_force" + (" (and of a scene in plan point_displacement and point_drift)"
+                             if result.plan else "")
+            + ": list them in a recorder of kind history and solve again.")
     if report is not None:
         for note in found:
             report(note)
