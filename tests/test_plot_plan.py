@@ -405,3 +405,18 @@ def test_from_python_on_a_dataset(result_file):
         torsion = pframe.plot(ds, kind="torsion")
         assert set(axes_by_label(torsion)) == {"torsion A", "torsion B"}
     plt.close("all")
+
+
+def test_the_heading_names_both_components_of_the_motion():
+    """A motion in components (docs/plan.md) is said as the scene gives it; before, the
+    heading said nothing of it."""
+    from types import SimpleNamespace
+
+    from pframe.plot.style import what_ran
+
+    scene = ("excitation: {kind: components, angle: 30, x: {kind: record, file: "
+             "records/RSN6_IMPVALL.I_I-ELC180.AT2, scale: 1.5}, y: {kind: sine, amplitude: 1, "
+             "frequency: 2}}")
+    assert what_ran(SimpleNamespace(input_yaml=scene, attributes={})) == (
+        "x: record RSN6_IMPVALL.I_I-ELC180.AT2 x 1.5; y: sine, amplitude 1 m/s^2, frequency "
+        "2 rad/s (turned 30 deg)")

@@ -332,11 +332,13 @@ def read_result(source) -> Result:
     names = {e: _names(ds, e) for e in ENTITIES}
     dropped, torsion = (), {}
     if plan:
-        from pframe.plot.plan_data import contact_closing, torsion_ratios
+        from pframe.plot.plan_data import CLOSING, contact_closing, torsion_ratios
 
-        closing, why = contact_closing(ds, name, histories)
-        if closing is not None:
-            histories[closing.quantity] = closing
+        closing, why = contact_closing(ds, name, histories, names["contact"])
+        if closing is not None:  # at the floors' times, in their units (m)
+            floors = histories["displacement_x"]
+            histories[CLOSING] = replace(floors, quantity=CLOSING, values=closing,
+                                         names=names["contact"])
         dropped = (why,) if why else ()
         torsion = torsion_ratios(ds, names["node"])
     input_yaml = _text(ds.attrs["input_yaml"]) if "input_yaml" in ds.attrs else None

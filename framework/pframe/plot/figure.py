@@ -20,7 +20,6 @@ display and hold no global state.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -29,28 +28,17 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.plot.data import Result, read_result
 from pframe.plot.scales import DIMENSIONLESS, axis_label, reference_scales, stored_scales
+from pframe.plot.style import CONTACT_COLOURS, matplotlib_figure
+from pframe.plot.style import building_colour as _building_colour
+from pframe.plot.style import headed as _headed
+from pframe.plot.style import on_common_time as _on_common_time
+from pframe.plot.style import tidy as _tidy
 
 KINDS = ("all", "histories", "hysteresis", "pounding", "links", "torsion")
 #: (letter, quantity, title) of the history panels, top to bottom
 HISTORY_PANELS = (("a", "displacement", "displacement histories"),
                   ("b", "contact_force", "pounding force histories"),
                   ("c", "velocity", "velocity histories"))
-BUILDING_COLOURS = ("C0", "C3", "C2", "C1", "C4", "C5")
-CONTACT_COLOURS = ("k", "C7", "C8", "C9")
-
-
-def matplotlib_figure():
-    """The :class:`~matplotlib.figure.Figure` class, or a clear error when matplotlib is absent."""
-    try:
-        from matplotlib.figure import Figure
-    except ImportError:
-        raise InputError(
-            f"plot draws with matplotlib, which is not installed in this Python "
-            f"({sys.executable}). Install pframe's plot extra into the same environment with "
-            'pip install "pframe[plot]" (pip keeps the pframe you have and adds matplotlib; '
-            'from a clone of the repository, pip install -e ".[plot]" does the same) and run '
-            "the command again.") from None
-    return Figure
 
 
 def _uses(kind: str, quantity: str) -> bool:
@@ -250,28 +238,6 @@ def draw_pounding(result: Result, level: str, fig=None):
     return _headed(fig, result, f"{result.title}: pounding at level {level}")
 
 
-def _building_colour(result: Result, building: str) -> str:
-    """A building keeps its colour in every panel and figure, so left and right read alike."""
-    return BUILDING_COLOURS[result.levels.buildings.index(building) % len(BUILDING_COLOURS)]
-
-
-def _on_common_time(drift, force, story: str):
-    """Drift and force of one storey at the same times: the coarser of the two strides."""
-    x, y = drift.column(story), force.column(story)
-    if drift.time.shape == force.time.shape and np.array_equal(drift.time, force.time):
-        return x, y
-    if drift.time.size < force.time.size:
-        return x, np.interp(drift.time, force.time, y)
-    return np.interp(force.time, drift.time, x), y
-
-
-def _tidy(ax):
-    ax.grid(True, alpha=0.3, linewidth=0.6)
-    # keep tick labels short: forces in N reach 1e5 in the paper's example
-    ax.ticklabel_format(axis="both", style="sci", scilimits=(-3, 4))
-    ax.tick_params(labelsize=8)
-
-
 def draw_level(result: Result, level: str, kind: str = "all", fig=None):
     """The figure of one floor level, or None when it has nothing of ``kind`` to show;
     drawn into ``fig`` (a matplotlib Figure, e.g. ``plt.figure()``) when given. Font sizes
@@ -345,61 +311,6 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
         ax.locator_params(axis="x", nbins=5)
 
     return _headed(fig, result, f"{result.title}: level {level}")
-
-
-def _headed(fig, result: Result, heading: str):
-    """The figure with its title (the run stopped early, what ran) and, for a dimensionless
-    run, its scales below."""
-    if not result.complete:
-        heading += " (run stopped early)"
-    ran = what_ran(result)
-    if ran:
-        heading += f"\n{ran}"
-    fig.suptitle(heading, fontsize="large")
-    if result.reference is not None:
-        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
-    return fig
-
-
-def _number(value) -> str:
-    return f"{value:.4g}" if isinstance(value, (int, float)) else str(value)
-
-
-def what_ran(result: Result) -> str:
-    """One line saying what the run was, from the scene it holds: the excitation as given
-    (a record's file name and scale, a sine's amplitude and frequency, a pulse), and the
-    verdict on its accuracy when it is not 'trusted'."""
-    import yaml
-
-    parts = []
-    try:
-        scene = yaml.safe_load(result.input_yaml) if result.input_yaml else None
-    except yaml.YAMLError:
-        scene = None
-    excitation = scene.get("excitation") if isinstance(scene, dict) else None
-    if isinstance(excitation, dict):
-        kind = excitation.get("kind")
-        if kind == "record":
-            text = f"record {Path(str(excitation.get('file', ''))).name}"
-            if excitation.get("pga") is not None:
-                text += f" scaled to PGA {_number(excitation['pga'])}"
-            elif excitation.get("scale", 1) != 1:
-                text += f" x {_number(excitation['scale'])}"
-            parts.append(text)
-        elif kind == "sine":
-            parts.append(f"sine, amplitude {_number(excitation.get('amplitude'))} m/s^2, "
-                         f"frequency {_number(excitation.get('frequency'))} rad/s")
-        elif kind in ("cycloidal", "ricker"):
-            parts.append(f"{kind} pulse, amplitude {_number(excitation.get('amplitude'))} m/s^2, "
-                         f"period {_number(excitation.get('period'))} s")
-    elif isinstance(scene, dict) and "pi" not in scene and "buildings" in scene:
-        parts.append("free vibration")
-    accuracy = result.attributes.get("accuracy")
-    if accuracy is not None:
-        accuracy = accuracy.decode() if isinstance(accuracy, bytes) else str(accuracy)
-        if accuracy != "trusted":
-            parts.append(f"accuracy: {accuracy}")
-    return "; ".join(parts)
 
 
 def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | None = None,

@@ -24,14 +24,14 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.irregularity import TORSIONAL_IRREGULARITY
 from pframe.plot.data import Result
-from pframe.plot.figure import (
-    CONTACT_COLOURS,
-    _building_colour,
-    _headed,
-    _on_common_time,
-    matplotlib_figure,
-)
 from pframe.plot.scales import DIMENSIONLESS, LABELS, axis_label
+from pframe.plot.style import (
+    CONTACT_COLOURS,
+    building_colour,
+    headed,
+    matplotlib_figure,
+    on_common_time,
+)
 
 #: rows of x and y panels: (quantity, title) along x, then along y
 PAIRS = ((("displacement_x", "floor displacement along the site's x"),
@@ -95,12 +95,8 @@ def plan_panels(result: Result, level: str, kind: str):
         rows += [singles[i:i + 2] for i in range(0, len(singles), 2)]
     loops = []
     if kind in ("all", "hysteresis") and {"story_drift", "story_force"} <= result.histories.keys():
-        loops = [lines for lines in result.levels.lines.get(level, {}).values()]
+        loops = list(result.levels.lines.get(level, {}).values())
     return rows, loops
-
-
-def _short(name: str, level_prefix: str) -> str:
-    return name[len(level_prefix):] if name.startswith(level_prefix) else name
 
 
 def _ylabel(quantity: str, units: str, power: int = 0) -> str:
@@ -157,8 +153,7 @@ def _entries(panel) -> int:
     return len(names)
 
 
-def _history_panel(ax, result: Result, level: str, panel, letter: str, legend: bool,
-                   band: int):
+def _history_panel(ax, result: Result, panel, letter: str, legend: bool, band: int):
     """One history panel; ``band``: rows of legend under the title (0: the legend beside
     it)."""
     quantity, title, names = panel
@@ -173,7 +168,7 @@ def _history_panel(ax, result: Result, level: str, panel, letter: str, legend: b
             style, label = "-", name.rsplit("/", 1)[-1]
         else:
             building = name.split("/", 1)[0]
-            colour = _building_colour(result, building)
+            colour = building_colour(result, building)
             if quantity.startswith("point_"):
                 point = name.rsplit(":", 1)[-1]
                 style = styles.setdefault(point, POINT_STYLES[len(styles) % len(POINT_STYLES)])
@@ -238,8 +233,7 @@ def draw_plan_level(result: Result, level: str, kind: str = "all", fig=None):
                 # the points' titles are long: their legend never fits beside them
                 beside = longest <= BESIDE_TITLE and not row[0][0].startswith("point_")
                 band = 0 if beside else -(-longest // LEGEND_ROW)
-                _history_panel(ax, result, level, panel, chr(letter), not paired or c == 1,
-                               band)
+                _history_panel(ax, result, panel, chr(letter), not paired or c == 1, band)
                 letter += 1
                 if r < len(rows) - 1:
                     ax.tick_params(labelbottom=False)
@@ -248,7 +242,7 @@ def draw_plan_level(result: Result, level: str, kind: str = "all", fig=None):
                                   fontsize="small")
     if loops:
         _draw_loops(bottom, result, loops, letter)
-    return _headed(fig, result, _wrapped(f"{result.title}: level {level}", fig.get_figwidth()))
+    return headed(fig, result, _wrapped(f"{result.title}: level {level}", fig.get_figwidth()))
 
 
 def _draw_loops(fig, result: Result, loops, letter: int):
@@ -260,8 +254,8 @@ def _draw_loops(fig, result: Result, loops, letter: int):
         building = lines[0].split("/", 1)[0]
         for c, line in enumerate(lines):
             ax = fig.add_subplot(grid[r, c])
-            x, y = _on_common_time(drift, force, line)
-            ax.plot(x, y, linewidth=0.7, label=line, color=_building_colour(result, building))
+            x, y = on_common_time(drift, force, line)
+            ax.plot(x, y, linewidth=0.7, label=line, color=building_colour(result, building))
             ax.set_label(f"hysteresis {line}")
             ax.set_title(f"({chr(letter)}) line {line}", loc="left", fontsize="medium")
             letter += 1
@@ -299,7 +293,7 @@ def draw_torsion(result: Result, fig=None):
     for k, (ax, (building, storeys)) in enumerate(zip(axes, buildings.items())):
         level = np.arange(1, len(storeys) + 1)
         ratios = np.array([r for _, r in storeys], dtype=float)
-        colour = _building_colour(result, building)
+        colour = building_colour(result, building)
         ax.axvspan(TORSIONAL_IRREGULARITY[0], TORSIONAL_IRREGULARITY[1], color="C1", alpha=0.12,
                    linewidth=0, label="_1a")
         ax.axvspan(TORSIONAL_IRREGULARITY[1], high, color="C3", alpha=0.12, linewidth=0,
@@ -334,7 +328,7 @@ def draw_torsion(result: Result, fig=None):
     handles += [Line2D([], [], color="0.3", linewidth=1.0, **style) for style in AXIS_STYLES]
     fig.legend(handles, [h.get_label() for h in handles], loc="outside lower center", ncols=2,
                fontsize="x-small", frameon=False)
-    return _headed(fig, result, _wrapped(
+    return headed(fig, result, _wrapped(
         f"{result.title}: torsional irregularity per storey (ASCE 7-22 Table 12.3-1)",
         fig.get_figwidth()))
 

@@ -23,14 +23,13 @@ CLOSING = "contact_closing"
 COMPONENT_HISTORY = ("displacement_x", "displacement_y", "displacement_rz")
 
 
-def contact_closing(ds, source: str, histories: dict):
-    """``(History or None, note)``: the closing ``side(left) - side(right)`` of every contact
-    along its normal (m), from the floors' displacement and rotation histories and the
-    scene's contact sides; None with the reason when the scene cannot say (no note when the
-    scene has no contact or the file no displacement history: the figures say that)."""
-    from pframe.plot.data import History, _names
-
-    contacts = _names(ds, "contact")
+def contact_closing(ds, source: str, histories: dict, contacts) -> tuple:
+    """``(values or None, note)``: the closing ``side(left) - side(right)`` of each of
+    ``contacts`` along its normal (m), ``values[k, j]`` at the time of the floors'
+    displacement histories (``histories``, as :func:`pframe.plot.data.read_result` reads
+    them), from the scene's contact sides; None with the reason when the scene cannot say (no
+    note when the scene has no contact or the file no displacement history: the figures say
+    that)."""
     parts = [histories.get(q) for q in COMPONENT_HISTORY]
     if not contacts or any(h is None for h in parts):
         return None, ""
@@ -45,8 +44,7 @@ def contact_closing(ds, source: str, histories: dict):
     except InputError as exc:
         return None, (f"the contacts' points and normals come from the scene the result holds, "
                       f"and it cannot be read ({exc}): no gap-closing panels")
-    nodes = parts[0].names
-    if tuple(expanded.node_names) != tuple(nodes) or \
+    if tuple(expanded.node_names) != tuple(parts[0].names) or \
             [c.name for c in expanded.contacts] != list(contacts):
         return None, ("the scene the result holds does not name the file's floors and "
                       "contacts: no gap-closing panels")
@@ -55,9 +53,7 @@ def contact_closing(ds, source: str, histories: dict):
         for sign, terms in zip((1.0, -1.0), element.side_terms()):
             for node, component, coefficient in terms:
                 values[:, j] += sign * coefficient * parts[component].values[:, node]
-    first = parts[0]
-    return History(CLOSING, first.time, values, tuple(contacts), first.units,
-                   first.time_units), ""
+    return values, ""
 
 
 def torsion_ratios(ds, nodes) -> dict:

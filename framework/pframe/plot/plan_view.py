@@ -268,7 +268,7 @@ def plan_animation_html(ds, max_frames: int) -> str:
     """The page of a result of a scene in plan (see the module)."""
     import html
 
-    from pframe.plot.animate import page
+    from pframe.plot.player import page
 
     data = plan_animation_data(ds, max_frames)
     title = data["title"] or data["source"] or "pframe run"
