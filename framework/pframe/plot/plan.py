@@ -242,7 +242,7 @@ def draw_plan_level(result: Result, level: str, kind: str = "all", fig=None):
                                   fontsize="small")
     if loops:
         _draw_loops(bottom, result, loops, letter)
-    return headed(fig, result, _wrapped(f"{result.title}: level {level}", fig.get_figwidth()))
+    return headed(fig, result, f"{result.title}: level {level}")
 
 
 def _draw_loops(fig, result: Result, loops, letter: int):
@@ -328,16 +328,9 @@ def draw_torsion(result: Result, fig=None):
     handles += [Line2D([], [], color="0.3", linewidth=1.0, **style) for style in AXIS_STYLES]
     fig.legend(handles, [h.get_label() for h in handles], loc="outside lower center", ncols=2,
                fontsize="x-small", frameon=False)
-    return headed(fig, result, _wrapped(
-        f"{result.title}: torsional irregularity per storey (ASCE 7-22 Table 12.3-1)",
-        fig.get_figwidth()))
-
-
-def _wrapped(heading: str, width: float) -> str:
-    """The heading in lines that fit a figure ``width`` inches wide (in the large font)."""
-    import textwrap
-
-    return "\n".join(textwrap.wrap(heading, max(30, int(width * 72 / 7.5))))
+    # (non-breaking spaces: a wrapped heading keeps the code's name on one line)
+    return headed(fig, result, f"{result.title}: torsional irregularity per storey "
+                  "(ASCE\u00a07-22\u00a0Table\u00a012.3-1)")
 
 
 def plan_notes(result: Result, kind: str) -> list[str]:

@@ -58,10 +58,36 @@ def headed(fig, result, heading: str):
     ran = what_ran(result)
     if ran:
         heading += f"\n{ran}"
-    fig.suptitle(heading, fontsize="large")
+    fig.suptitle(fitted(heading, fig.get_figwidth(), "large"), fontsize="large")
     if result.reference is not None:
         fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
     return fig
+
+
+def fitted(text: str, width: float, size) -> str:
+    """``text`` with each of its lines broken between words where it would be wider than a
+    figure ``width`` inches wide in a font of ``size`` (its width measured as matplotlib
+    draws it): a long scene title is wrapped, not cut off at the figure's edges."""
+    from matplotlib.font_manager import FontProperties
+    from matplotlib.textpath import TextToPath
+
+    measure, font = TextToPath(), FontProperties(size=size)
+    room = 0.95 * width * 72.0  # points
+
+    def fits(line: str) -> bool:
+        return measure.get_text_width_height_descent(line, font, ismath=False)[0] <= room
+
+    out = []
+    for line in text.split("\n"):
+        current = ""
+        for word in line.split(" "):
+            trial = f"{current} {word}" if current else word
+            if current and not fits(trial):
+                out.append(current)
+                trial = word
+            current = trial
+        out.append(current)
+    return "\n".join(out)
 
 
 def _number(value) -> str:
