@@ -321,7 +321,8 @@ def test_p_delta_softens_sway_and_twist():
 
 def test_a_rotation_too_large_for_the_small_rotation_model_is_said():
     """The floor's edge (14.1 m across) moves r theta^2 / 2 off the linearised path: 0.05 rad
-    puts it 1.8 cm off, more than 1 % of the 0.5 m gap to the wall; 0.002 rad does not."""
+    puts it 1.8 cm off, more than 1 % of the 0.5 m gap to the wall; 0.002 rad does not.
+    Without a contact the edge's own motion is the scale: r theta^2 / 2 over r theta."""
     from pframe.verdict import IN_DOUBT, TRUSTED, of_result
 
     for theta, doubted in ((0.05, True), (0.002, False)):
@@ -336,6 +337,14 @@ def test_a_rotation_too_large_for_the_small_rotation_model_is_said():
         assert verdict.level == (IN_DOUBT if doubted else TRUSTED)
         if doubted:
             assert "floor A/1 turns by up to 0.05 rad" in rotation[0]
+    # without contacts, a floor that only twists is off by theta / 2 of its edge's motion
+    for theta, doubted in ((0.05, True), (0.01, False)):
+        _, result = run_text(eccentric(0.0, 1e-3, 0.3, initial_conditions={
+            "displacement": {"A/1": [0.0, 0.0, theta]}}))
+        rotation = [w for w in of_result(result).warnings if "small-rotation" in w]
+        assert bool(rotation) == doubted
+        if doubted:
+            assert "2.5% of its peak motion at its edge" in rotation[0]
 
 
 def test_the_pi_form_refuses_a_scene_in_plan(tmp_path, capsys):
@@ -421,3 +430,47 @@ def test_a_scene_in_plan_scales_to_the_similar_scene(tmp_path, capsys):
     p, m = prototype["displacement_rz"].values, model["displacement_rz"].values
     assert np.max(np.abs(m - p)) <= 1e-9 * np.max(np.abs(p))
     np.testing.assert_allclose(model["t"].values * 4, prototype["t"].values, rtol=1e-12)
+
+
+def _irregularity(initial: list, eccentricity: float):
+    """The torsional irregularity ratios (x, y) of the eccentric storey's free vibration from
+    ``initial`` = [u_x, u_y, theta] of its floor, undamped."""
+    import pframe
+
+    data = json.loads(eccentric(eccentricity, 1e-3, 0.3, initial_conditions={
+        "displacement": {"A/1": initial}}))
+    data["recorders"] = []
+    ds = pframe.solve(pframe.load(data), progress=False)
+    assert [str(p) for p in ds.point.values] == ["A/1:SW", "A/1:SE", "A/1:NE", "A/1:NW",
+                                                  "A/1:centre"]
+    return ds.torsional_irregularity.values[0]
+
+
+def test_torsional_irregularity_of_one_mode_and_of_a_twist():
+    """Free vibration in one lateral-torsional mode of the eccentric storey (the mode shape of
+    the closed form's K and M as the initial displacement: every point's drift is that shape's
+    times cos w t, so its peak is the start's): the ratio along y is the larger drift at the
+    ends x = 0 and 10 over the drift at the middle x = 5, |u_y + theta (x - x_cm)| each, and
+    along x, where the storey only twists (u_x = 0, the ends at y = 0 and 10 drift equal and
+    opposite), inf; a square storey twisted from rest, inf along both."""
+    e = 1.5
+    _, w = exact_free_vibration(e, np.array([0.01, 0.0]), np.zeros(1))
+    r2 = (SIDE**2 + SIDE**2) / 12.0
+    K = np.array([[2 * KY, -2 * KY * e],
+                  [-2 * KY * e, 2 * KX * 25 + 2 * KY * 25 + 2 * KY * e * e]])
+    _, shapes = np.linalg.eigh(np.diag([1, 1 / math.sqrt(r2)]) @ K
+                               @ np.diag([1, 1 / math.sqrt(r2)]) / MASS)
+    for mode in range(2):
+        uy, theta = shapes[0, mode], shapes[1, mode] / math.sqrt(r2)
+        scale = 0.01 / max(abs(uy), abs(theta) * SIDE)
+        uy, theta = uy * scale, theta * scale
+        x_cm = SIDE / 2 + e
+        ends = [abs(uy + theta * (x - x_cm)) for x in (0.0, SIDE)]
+        expected = max(ends) / abs(uy + theta * (SIDE / 2 - x_cm))
+        ratio = _irregularity([0.0, float(uy), float(theta)], e)
+        assert ratio[1] == pytest.approx(expected, rel=1e-9)
+        assert ratio[0] == np.inf
+    twist = _irregularity([0.0, 0.0, 0.001], 0.0)
+    assert np.all(twist == np.inf)
+    translation = _irregularity([0.0, 0.01, 0.0], 0.0)
+    assert translation[1] == pytest.approx(1.0, rel=1e-12)

@@ -144,7 +144,8 @@ def small_rotations(result, member: int = 0) -> list[str]:
     floor in plan: a point at r from the centre of mass moves by theta r where it moves by
     2 r sin(theta / 2) along a chord, off it by about r theta^2 / 2; past
     :data:`ROTATION_ERROR` of the smallest contact gap (or, without contacts, of the floor's
-    peak displacement) at the edge of its plan (docs/plan.md)."""
+    peak motion at its edge: its centre's peak translation or r theta, the larger) at the edge
+    of its plan (docs/plan.md)."""
     plan = result.plan
     if getattr(plan, "planar", True) or "displacement" not in result.envelope:
         return []
@@ -160,10 +161,13 @@ def small_rotations(result, member: int = 0) -> list[str]:
         theta = float(peak[turn[0]])
         error = extent[node] * theta * theta / 2.0
         moves = [d for d in dofs if plan.dof_component[d] < 2]
-        scale = float(np.min(gaps[gaps > 0])) if np.any(gaps > 0) else (
-            float(np.max(peak[moves])) if moves else 0.0)
+        # without contacts: the floor's largest motion at its edge, at least its centre's
+        # peak and the twist's r theta (a floor that only twists is off by theta / 2 of it)
+        scale = float(np.min(gaps[gaps > 0])) if np.any(gaps > 0) else max(
+            float(np.max(peak[moves])) if moves else 0.0, extent[node] * theta)
         if scale > 0.0 and error > ROTATION_ERROR * scale:
-            which = "the smallest contact gap" if np.any(gaps > 0) else "its peak displacement"
+            which = ("the smallest contact gap" if np.any(gaps > 0)
+                     else "its peak motion at its edge")
             out.append(f"floor {name} turns by up to {theta:.3g} rad: the small-rotation model "
                        f"of a floor in plan moves its edge {error:.3g} m off its true path "
                        f"(r theta^2 / 2 over its plan's extent {extent[node]:.3g} m), "

@@ -158,6 +158,29 @@ def _storey_count(building, path) -> int:
     return n
 
 
+#: the automatic named point in the middle of a floor's named points' extent: its drift along
+#: x (along y) is the mean of the drifts at the extent's two ends across y (across x), which
+#: the torsional irregularity divides by (pframe.irregularity)
+CENTRE = "centre"
+
+
+def _add_centre(points: dict, building, path) -> None:
+    """Add :data:`CENTRE` to a building's named points (two or more), the middle of their
+    extent in its axes; a point of the user's of that name elsewhere is refused."""
+    if len(points) < 2:
+        return
+    xs, ys = [p[0] for p in points.values()], [p[1] for p in points.values()]
+    centre = (0.5 * (min(xs) + max(xs)), 0.5 * (min(ys) + max(ys)))
+    given = points.get(CENTRE)
+    if given is not None and not all(abs(a - b) <= 1e-9 * (1.0 + abs(b))
+                                     for a, b in zip(given, centre)):
+        raise ModelError(path + ("points", CENTRE),
+                         f"the point name {CENTRE!r} is pframe's own: the middle of the floor's "
+                         f"named points, here at [{centre[0]:.6g}, {centre[1]:.6g}] m (the "
+                         "torsional irregularity reads its drift); name this point otherwise")
+    points[CENTRE] = centre
+
+
 def _building_geometry(building, n: int, path):
     """Placement, plan, named points, centres of mass (building axes) and polar inertias (or
     None) of a building's n floors."""
@@ -165,6 +188,7 @@ def _building_geometry(building, n: int, path):
     plan = building.plan
     points = dict(plan.corner_names()) if plan is not None else {}
     points.update({k: (float(x), float(y)) for k, (x, y) in building.points.items()})
+    _add_centre(points, building, path)
     default = plan.centroid() if plan is not None else (0.0, 0.0)
     centres = building.centre_of_mass
     if centres is None:

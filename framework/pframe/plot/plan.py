@@ -305,11 +305,14 @@ def draw_torsion(result: Result, fig=None):
         for axis, style in zip((0, 1), AXIS_STYLES):
             ax.plot(ratios[:, axis], level, color=colour, linewidth=1.0, **style)
         for i, (_, ratio) in enumerate(storeys):
-            missing = [axis for axis, v in zip("xy", ratio) if not np.isfinite(v)]
-            if missing:
-                ax.annotate(f"{' and '.join(missing)}: no drift", (1.0, i + 1),
-                            xytext=(4, 0), textcoords="offset points", va="center",
-                            fontsize="x-small", color="0.35")
+            missing = [axis for axis, v in zip("xy", ratio) if np.isnan(v)]
+            twist = [axis for axis, v in zip("xy", ratio) if np.isinf(v)]
+            notes = ([f"{' and '.join(missing)}: no drift"] if missing else []) + (
+                [f"{' and '.join(twist)}: twists only (ratio inf)"] if twist else [])
+            if notes:
+                ax.annotate("; ".join(notes), (1.0, i + 1), xytext=(4, 0),
+                            textcoords="offset points", va="center", fontsize="x-small",
+                            color="C3" if twist else "0.35")
         ax.set_label(f"torsion {building}")
         ax.set_title(f"({chr(ord('a') + k)}) building {building}", loc="left",
                      fontsize="medium")

@@ -448,7 +448,9 @@ class ResultWriter:
             f.variable("torsional_irregularity", ("node", "axis"), ratio, units="1",
                        long_name="torsional irregularity ratio of the storey below the floor "
                        "(ASCE 7-22 Table 12.3-1): the larger peak drift at the plan's two ends "
-                       "across the axis over their mean; type 1a above 1.2, 1b above 1.4")
+                       "across the axis over the peak of their mean (the drift at the plan's "
+                       "centre point); inf for a storey that twists without translating; "
+                       "type 1a above 1.2, 1b above 1.4")
         if any(e.column_side is not None for e in self.loaded.expanded.contacts):
             self._column_shears(result)
 
