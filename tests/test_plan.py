@@ -10,6 +10,7 @@ from __future__ import annotations
 import copy
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -474,3 +475,49 @@ def test_torsional_irregularity_of_one_mode_and_of_a_twist():
     assert np.all(twist == np.inf)
     translation = _irregularity([0.0, 0.01, 0.0], 0.0)
     assert translation[1] == pytest.approx(1.0, rel=1e-12)
+
+
+def test_two_record_components_are_said_and_reproduce_from_the_file_alone(tmp_path, capsys):
+    """Two PEER records as the components of a scene in plan: validate says how each is read
+    and how they are turned onto the site; the result holds each record's text and checksum
+    under its axis (record_x_..., record_y_...) and each component's peak; loading the result
+    file (the scene folder and records gone) rebuilds the scene and its run, bit for bit."""
+    import hashlib
+    import shutil
+
+    import pframe
+    from conftest import record_file
+    from pframe.cli import main
+
+    sources = {"x": record_file("elCentro.AT2"), "y": record_file("A-ELC180.AT2")}
+    folder = tmp_path / "project"
+    (folder / "records").mkdir(parents=True)
+    for source in sources.values():
+        shutil.copy(source, folder / "records" / source.name)
+    data = json.loads(eccentric(1.5, 0.005, 4.0))
+    data["excitation"] = {"kind": "components", "angle": 30.0,
+                          "x": {"kind": "record", "file": "records/elCentro.AT2"},
+                          "y": {"kind": "record", "file": "records/A-ELC180.AT2"}}
+    scene = folder / "scene.yaml"
+    scene.write_text(yaml.safe_dump(data), encoding="utf-8")
+    assert main(["validate", str(scene)]) == 0
+    out, err = capsys.readouterr()
+    assert "excitation: two components turned 30 degrees: x along (0.866, 0.5)" in out
+    assert re.search(r"component x: record \S*records/elCentro.AT2: PEER NGA .AT2 in g, "
+                     r"1559 points", out)
+    assert re.search(r"component y: record \S*records/A-ELC180.AT2: PEER NGA .AT2 in g, "
+                     r"4000 points", out)
+    assert "not the two components of one recording" in err  # two events: said, not refused
+    with pytest.warns(UserWarning, match="not the two components of one recording"):
+        first = pframe.solve(scene, output=tmp_path / "run.nc", progress=False).load()
+    for axis, source in sources.items():
+        assert first.attrs[f"record_{axis}_sha256"] == hashlib.sha256(
+            source.read_bytes()).hexdigest()
+        assert first.attrs[f"record_{axis}_file"] == f"records/{source.name}"
+    assert first.attrs["excitation_x_pga_g"] == pytest.approx(0.3188, abs=5e-5)
+    assert first.attrs["excitation_applied"].startswith("two components, x at 30 degrees")
+    shutil.rmtree(folder)
+    with pytest.warns(UserWarning):
+        again = pframe.solve(pframe.load(tmp_path / "run.nc"), progress=False)
+    np.testing.assert_array_equal(again.displacement.values, first.displacement.values)
+    np.testing.assert_array_equal(again.displacement_rz.values, first.displacement_rz.values)

@@ -192,7 +192,8 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             capacity = plan.contact_capacity[c]
             force += (f"; floor-to-column: local column shear {shear[c]:.4g} N"
                       + (f" (capacity {capacity:.4g} N)" if np.isfinite(capacity) else ""))
-        print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
+        count = int(result.impacts[0, c])
+        print(f"  contact {name}: {count} impact{'' if count == 1 else 's'}{force}")
     if plan.link_names:
         work = result.energy_terms(0)["links"]
         forces = peaks.get("link_force")

@@ -38,10 +38,40 @@ def record_lines(loaded) -> list[str]:
     from pframe.excitation.describe import describe_line, describe_scene_record
 
     excitation = loaded.scene.excitation
+    if excitation is not None and excitation.kind == "components":
+        return component_lines(loaded)
     if excitation is None or excitation.kind != "record":
         return []
     facts = describe_scene_record(excitation, loaded.base_dir)
     return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+
+
+def component_lines(loaded) -> list[str]:
+    """The two components of a loaded scene's motion (``kind: components``), a line each as
+    one motion's (:func:`record_lines` for a record), after a line saying how they are turned
+    onto the site's axes."""
+    from pframe.excitation.describe import (
+        applied_motion,
+        describe_line,
+        describe_scene_record,
+        motion_line,
+    )
+    from pframe.model.motion import turn
+
+    excitation = loaded.scene.excitation
+    duration = loaded.expanded.dt * loaded.expanded.steps
+    records = dict(loaded.expanded.component_records)
+    cos, sin = turn(excitation.angle)
+    out = [f"excitation: two components turned {excitation.angle:g} degrees: x along "
+           f"({cos:.4g}, {sin:.4g}) of the site's axes, y along ({-sin:.4g}, {cos:.4g})"]
+    for axis, motion in excitation.motions():
+        if motion.kind == "record":
+            line = describe_line(describe_scene_record(motion, loaded.base_dir),
+                                 duration=duration)
+        else:
+            line = motion_line(applied_motion(motion, records.get(axis), duration))
+        out.append(f"component {axis}: {line.removeprefix('excitation: ')}")
+    return out
 
 
 def excitation_lines(loaded) -> list[str]:
@@ -50,7 +80,7 @@ def excitation_lines(loaded) -> list[str]:
     from pframe.excitation.describe import applied_motion, motion_line
 
     excitation = loaded.scene.excitation
-    if excitation is None or excitation.kind == "record":
+    if excitation is None or excitation.kind in ("record", "components"):
         return record_lines(loaded)
     duration = loaded.expanded.dt * loaded.expanded.steps
     return [motion_line(applied_motion(excitation, loaded.expanded.record, duration))]

@@ -94,7 +94,7 @@ def _samples(excitation, record, steps: int, dt: float) -> np.ndarray:
                                (record.times, record.acceleration))
 
 
-def _turn(angle: float) -> tuple[float, float]:
+def turn(angle: float) -> tuple[float, float]:
     """cos and sin of an angle in degrees, exact at multiples of 90 degrees."""
     quarter = angle / 90.0
     if quarter == round(quarter):
@@ -111,7 +111,7 @@ def ground_motion(excitation, base_dir, steps: int, dt: float) -> GroundMotion:
                     + tuple(stochastic_warnings(excitation)))
         return GroundMotion({"x": _samples(excitation, record, steps, dt)}, record,
                             (("x", record),) if record is not None else (), warnings)
-    cos, sin = _turn(excitation.angle)
+    cos, sin = turn(excitation.angle)
     samples: dict = {}
     records, warnings = [], []
     for axis, motion in excitation.motions():

@@ -561,13 +561,35 @@ def record_attributes(loaded) -> dict:
     ``excitation_applied_peak`` (m/s^2, the peak within the analysis). For a record besides:
     ``record_file`` (as the scene names it), ``record_sha256``, ``record_text`` (the file's
     whole text) and ``record_read_as`` (format, units and where they were read, points, step,
-    duration, PGA applied and when, what part the analysis covers)."""
+    duration, PGA applied and when, what part the analysis covers). Two components
+    (``kind: components``): ``excitation_applied`` says both and the angle, and each
+    component's facts carry its axis, ``excitation_x_pga``, ``record_x_file``, ...,
+    ``excitation_y_pga``, ``record_y_file``, ... (a component has its own peak, the
+    site's axes each a mix of the two)."""
     excitation = getattr(loaded.scene, "excitation", None)
     if excitation is None:
         return {}
-    out = {}
     expanded = getattr(loaded, "expanded", None)
     duration = None if expanded is None else float(expanded.dt * expanded.steps)
+    if excitation.kind != "components":
+        return _motion_attributes(excitation, getattr(expanded, "record", None), loaded,
+                                  duration, "excitation_", "record_")
+    records = dict(getattr(expanded, "component_records", ()) or ())
+    out, said = {}, []
+    for axis, motion in excitation.motions():
+        part = _motion_attributes(motion, records.get(axis), loaded, duration,
+                                  f"excitation_{axis}_", f"record_{axis}_")
+        said.append(f"{axis}: {part.pop(f'excitation_{axis}_applied', motion.kind)}")
+        out.update(part)
+    out["excitation_applied"] = (f"two components, x at {excitation.angle:g} degrees from the "
+                                 "site's x axis and y at 90 degrees to it: " + "; ".join(said))
+    return out
+
+
+def _motion_attributes(excitation, record, loaded, duration, facts_prefix: str,
+                       record_prefix: str) -> dict:
+    """:func:`record_attributes` of one motion, its names with the prefixes given."""
+    out = {}
     try:  # what the ground did: a fact we cannot state is left out, never a failed write
         from pframe.excitation.describe import (
             applied_motion,
@@ -576,15 +598,15 @@ def record_attributes(loaded) -> dict:
             motion_line,
         )
 
-        facts = applied_motion(excitation, getattr(expanded, "record", None), duration)
-        out.update({"excitation_pga": facts["pga"], "excitation_pga_g": facts["pga_g"],
-                    "excitation_pga_time": facts["pga_time"]})
+        facts = applied_motion(excitation, record, duration)
+        out.update({f"{facts_prefix}pga": facts["pga"], f"{facts_prefix}pga_g": facts["pga_g"],
+                    f"{facts_prefix}pga_time": facts["pga_time"]})
         if np.isfinite(facts["end"]):  # a sine without end has none
-            out["excitation_end"] = facts["end"]
+            out[f"{facts_prefix}end"] = facts["end"]
         if duration is not None:
-            out["excitation_applied_peak"] = facts["applied_peak"]
+            out[f"{facts_prefix}applied_peak"] = facts["applied_peak"]
         if excitation.kind != "record":
-            out["excitation_applied"] = motion_line(facts).removeprefix("excitation: ")
+            out[f"{facts_prefix}applied"] = motion_line(facts).removeprefix("excitation: ")
     except Exception:
         pass
     if excitation.kind != "record":
@@ -595,15 +617,15 @@ def record_attributes(loaded) -> dict:
     try:
         content = path.read_bytes()
     except OSError:
-        return out | {"record_file": excitation.file}
-    out.update({"record_file": excitation.file,
-                "record_sha256": hashlib.sha256(content).hexdigest(),
-                "record_text": content.decode("utf-8", errors="replace")})
+        return out | {f"{record_prefix}file": excitation.file}
+    out.update({f"{record_prefix}file": excitation.file,
+                f"{record_prefix}sha256": hashlib.sha256(content).hexdigest(),
+                f"{record_prefix}text": content.decode("utf-8", errors="replace")})
     try:  # how the record was read and applied (pframe validate prints it)
         read = describe_scene_record(excitation, loaded.base_dir)
         line = describe_line(read, duration).removeprefix(f"record {read['file']}: ")
-        out["record_read_as"] = line
-        out["excitation_applied"] = f"record {excitation.file}: {line}"
+        out[f"{record_prefix}read_as"] = line
+        out[f"{facts_prefix}applied"] = f"record {excitation.file}: {line}"
     except Exception:
         pass
     return out
