@@ -485,8 +485,9 @@ def test_two_record_components_are_said_and_reproduce_from_the_file_alone(tmp_pa
     import hashlib
     import shutil
 
-    import pframe
     from conftest import record_file
+
+    import pframe
     from pframe.cli import main
 
     sources = {"x": record_file("elCentro.AT2"), "y": record_file("A-ELC180.AT2")}
