@@ -128,9 +128,7 @@ def base_plan(loaded):
     from pframe.assemble import assemble
 
     ex = without_contacts(loaded, keep_excitation=False)
-    ex = dataclasses.replace(ex, steps=1, ground_acceleration=np.zeros(2), recorders=(),
-                             ground_acceleration_y=None if ex.ground_acceleration_y is None
-                             else np.zeros(2))
+    ex = ex.with_ground(np.zeros(2), steps=1, recorders=())
     return assemble(ex)
 
 

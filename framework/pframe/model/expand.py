@@ -3,6 +3,8 @@ indices, law parameters packed into numbers. Every problem is reported at its YA
 
 from __future__ import annotations
 
+import dataclasses
+
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -103,6 +105,26 @@ class Expanded:
     #: None (not said: pframe.assemble.modes decides); empty: none said (every None)
     story_isolator: tuple = ()
     story_stiffness_damping: tuple = ()
+
+    def with_ground(self, x, y=None, steps: int | None = None, **changes) -> Expanded:
+        """This scene under another ground motion: ``x`` along the site's x axis and ``y``
+        along its y axis (m/s^2 at t_n = n dt, n = 0..steps; ``steps`` default: this scene's),
+        with any other field ``changes``. A scene whose motion loads the y axis (two
+        components) keeps that channel, zero when ``y`` is None; one whose motion does not
+        cannot take a ``y`` (its degrees of freedom were chosen without it: expand the scene
+        with a motion in two components instead)."""
+        steps = self.steps if steps is None else int(steps)
+        x = np.asarray(x, dtype=float)
+        if x.shape != (steps + 1,) or (y is not None and np.shape(y) != (steps + 1,)):
+            raise ValueError(f"a ground motion of {steps} steps has {steps + 1} samples per "
+                             f"axis, not {x.shape} and {np.shape(y) if y is not None else ''}")
+        if "y" in self.channels:
+            y = np.zeros(steps + 1) if y is None else np.asarray(y, dtype=float)
+        elif y is not None:
+            raise ValueError("the scene's motion does not load its y axis: expand it with a "
+                             "motion in two components (kind: components) to apply one")
+        return dataclasses.replace(self, steps=steps, ground_acceleration=x,
+                                   ground_acceleration_y=y, **changes)
 
 
 def _check_size(scene) -> None:

@@ -285,7 +285,7 @@ def warm_up(definition) -> float:
     spec = parse(definition)
     start = time.perf_counter()
     base = spec.base_scene()
-    expanded = dataclasses.replace(base.expanded, recorders=spec.recorders, steps=1,
-                                   ground_acceleration=base.expanded.ground_acceleration[:2])
+    ex = base.expanded
+    expanded = ex.with_ground(ex.ground_acceleration[:2], steps=1, recorders=spec.recorders)
     simulate(assemble(expanded), threads=1)
     return time.perf_counter() - start
