@@ -140,8 +140,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             const int sided = general(start, e);
             double d, r, f, kt, kr, kd, fd;
             if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
-                d = sides_sum(start, side_dof, side_coef, e, 1, ue);
-                r = sides_sum(start, side_dof, side_coef, e, 1, ve);
+                sides_sum2(start, side_dof, side_coef, e, 1, ue, ve, &d, &r);
             } else {
                 d = ue[up];
                 r = ve[up];
@@ -175,8 +174,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             force[e] = f;
             damping_force[e] = fd;
             if (sided) {
-                side_add(R, start, side_dof, side_coef, e, 1, -(f + fd));
-                side_add(R, start, side_dof, side_coef, e, 0, f + fd);
+                sides_add(R, start, side_dof, side_coef, e, 1, -(f + fd), f + fd);
             } else {
                 R[up] -= f + fd;
                 if (lo >= 0)
@@ -223,8 +221,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                 d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
                 r = dof_value(ve, left) - dof_value(ve, right);
             } else { /* points off the centre of mass, a struck column: its sides */
-                d = sides_sum(start, side_dof, side_coef, e, 0, ue) - gap[e];
-                r = sides_sum(start, side_dof, side_coef, e, 0, ve);
+                sides_sum2(start, side_dof, side_coef, e, 0, ue, ve, &d, &r);
+                d -= gap[e];
             }
             at = d;
             if (e == held) {
@@ -254,8 +252,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                 if (right >= 0)
                     R[right] += f;
             } else { /* the force on each side's DOFs, as its point moves with them */
-                side_add(R, start, side_dof, side_coef, e, 0, -f);
-                side_add(R, start, side_dof, side_coef, e, 1, f);
+                sides_add(R, start, side_dof, side_coef, e, 0, -f, f);
             }
             if (tangent) {
                 double kk = (kd + c1 * kr) * wf;

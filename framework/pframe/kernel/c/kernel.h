@@ -58,8 +58,8 @@ static int general(const int64_t *start, int64_t e) { return start[2 * e + 2] > 
 
 /* first side's terms times sign_first plus the second side's times sign_second, summed term
  * by term in that order (a storey on soil: (u_upper - u_lower) - h theta, as written) */
-static double sides_sum(const int64_t *start, const int64_t *dof, const double *coef, int64_t e,
-                        int first, const double *x)
+static PFRAME_INLINE double sides_sum(const int64_t *start, const int64_t *dof,
+                                      const double *coef, int64_t e, int first, const double *x)
 {
     double sum = 0.0;
     int64_t t;
@@ -68,6 +68,47 @@ static double sides_sum(const int64_t *start, const int64_t *dof, const double *
     for (t = start[2 * e + 1 - first]; t < start[2 * e + 2 - first]; t++)
         sum -= coef[t] * x[dof[t]];
     return sum;
+}
+
+/* sides_sum of x and of y in one pass over the terms (an element's deformation and its rate:
+ * each sum in the same order as sides_sum's, so the same bits) */
+static PFRAME_INLINE void sides_sum2(const int64_t *start, const int64_t *dof,
+                                     const double *coef, int64_t e, int first, const double *x,
+                                     const double *y, double *sx, double *sy)
+{
+    const int64_t add_from = start[2 * e + first], add_to = start[2 * e + first + 1];
+    const int64_t sub_from = start[2 * e + 1 - first], sub_to = start[2 * e + 2 - first];
+    double a = 0.0, c = 0.0;
+    int64_t t;
+    for (t = add_from; t < add_to; t++) {
+        const double k = coef[t];
+        const int64_t i = dof[t];
+        a += k * x[i];
+        c += k * y[i];
+    }
+    for (t = sub_from; t < sub_to; t++) {
+        const double k = coef[t];
+        const int64_t i = dof[t];
+        a -= k * x[i];
+        c -= k * y[i];
+    }
+    *sx = a;
+    *sy = c;
+}
+
+/* R[dof] += w_s coef over both sides of element e, side s_first first (an element's force on
+ * its sides' DOFs; the bounds read once, as the stores into R cannot change them) */
+static PFRAME_INLINE void sides_add(double *R, const int64_t *start, const int64_t *dof,
+                                    const double *coef, int64_t e, int s_first, double w_first,
+                                    double w_second)
+{
+    const int64_t a_from = start[2 * e + s_first], a_to = start[2 * e + s_first + 1];
+    const int64_t b_from = start[2 * e + 1 - s_first], b_to = start[2 * e + 2 - s_first];
+    int64_t t;
+    for (t = a_from; t < a_to; t++)
+        R[dof[t]] += coef[t] * w_first;
+    for (t = b_from; t < b_to; t++)
+        R[dof[t]] += coef[t] * w_second;
 }
 
 /* The deformation of spring e at x: upper (second) side less lower (first). */
@@ -86,15 +127,6 @@ static double contact_closing(const Model *m, int64_t b, int64_t e, const double
         return sides_sum(m->contact_side_start, m->contact_side_dof,
                          m->contact_side_coef + b * m->contact_terms, e, 0, x);
     return dof_value(x, m->contact_dofs[2 * e]) - dof_value(x, m->contact_dofs[2 * e + 1]);
-}
-
-/* R[dof] += w coef over side s of element e (an element's force on its side's DOFs). */
-static void side_add(double *R, const int64_t *start, const int64_t *dof, const double *coef,
-                     int64_t e, int s, double w)
-{
-    int64_t t;
-    for (t = start[2 * e + s]; t < start[2 * e + s + 1]; t++)
-        R[dof[t]] += coef[t] * w;
 }
 
 /* The ground acceleration that loads DOF i, from the channels' values g: that of its channel

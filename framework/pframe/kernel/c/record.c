@@ -66,6 +66,23 @@ static double gauge(const Model *m, int64_t b, int64_t g, const double *U)
     return sum;
 }
 
+/* The running peaks of gauges first .. first + count - 1 at the displacements U: gauge()
+ * in one loop over their terms (the point drifts' envelope, kept for every scene in plan,
+ * is most of the recording's work there). */
+static void gauge_peaks(const Model *m, int64_t b, int64_t first, int64_t count,
+                        const double *U, double *peak)
+{
+    const double *coef = m->gauge_coef + b * m->gauge_terms;
+    const int64_t *start = m->gauge_start + first, *dof = m->gauge_dof;
+    int64_t g, t = start[0];
+    for (g = 0; g < count; g++) {
+        double sum = 0.0;
+        for (; t < start[g + 1]; t++)
+            sum += coef[t] * U[dof[t]];
+        peak[g] = py_max(peak[g], fabs(sum));
+    }
+}
+
 /* Committed value i of quantity q (its values from source); ag holds the ground accelerations
  * at the committed state (a sub-step's end; NULL: the samples of step k). */
 static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
@@ -147,6 +164,8 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
             if (as_stored(q)) /* most quantities: their committed values */
                 for (i = 0; i < columns; i++)
                     peak[i] = py_max(peak[i], fabs(values[i]));
+            else if (q == POINT_DISPLACEMENT || q == POINT_DRIFT) /* kept for every plan */
+                gauge_peaks(m, b, q == POINT_DRIFT ? 2 * m->points : 0, columns, values, peak);
             else
                 for (i = 0; i < columns; i++)
                     peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
