@@ -4,7 +4,6 @@ indices, law parameters packed into numbers. Every problem is reported at its YA
 from __future__ import annotations
 
 import dataclasses
-
 import math
 from dataclasses import dataclass
 from pathlib import Path
