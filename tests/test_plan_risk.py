@@ -113,3 +113,29 @@ def test_a_stationary_motion_of_a_subset_design_stands_at_its_angle():
     assert a.shape == (2, 2, 201) and along.shape == (2, 1, 201)
     np.testing.assert_allclose(a[:, 0], np.cos(np.radians(30)) * along[:, 0], rtol=1e-14)
     np.testing.assert_allclose(a[:, 1], np.sin(np.radians(30)) * along[:, 0], rtol=1e-14)
+
+
+def test_members_of_their_own_geometry_close_at_their_own_points():
+    """Uncertain values that move a building's centre of mass (a risk study's members) move
+    its contacts' arms: each member of a batch closes at its own points, as it does run
+    alone."""
+    from pframe.gap.runs import contact_pairs
+    from pframe.reader import parse_scene
+    from pframe.risk.runs import run_batch
+
+    members = []
+    for x in (5.0, 7.5):
+        scene = copy.deepcopy(SCENE)
+        scene["buildings"][0]["centre_of_mass"] = [x, 3.0]
+        scene["analysis"]["duration"] = 0.6
+        members.append(parse_scene(json.dumps(scene)))
+    steps, dt = 120, 0.005
+    t = np.arange(steps + 1) * dt
+    ground = np.array([[3.0 * np.sin(6.0 * t), 2.0 * np.sin(9.0 * t)]] * 2)
+    both = run_batch(members, contact_pairs(members[0]), ground, steps, dt, contacts=False)
+    for b, member in enumerate(members):
+        alone = run_batch([member], contact_pairs(member), ground[b:b + 1], steps, dt,
+                          contacts=False)
+        for key in ("g_req", "peak_left", "peak_right"):
+            np.testing.assert_array_equal(both[key][b], alone[key][0], err_msg=key)
+    assert not np.array_equal(both["g_req"][0], both["g_req"][1])

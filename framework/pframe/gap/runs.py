@@ -201,27 +201,40 @@ class GapSink:
     kernel's envelope of the displacement).
 
     A side's term on a degree of freedom the runs do not move (a rotation only the contact
-    would cause) is left out: that DOF stays at rest."""
+    would cause) is left out: that DOF stays at rest. ``pairs``: the contacts of the scene,
+    or of each batch member (a list, one per member: members whose geometry differs, the
+    uncertain values of a risk study), their terms' union taken with a coefficient 0 where a
+    member has none."""
 
-    def __init__(self, plan, pairs: Pairs, start: int = 0):
+    def __init__(self, plan, pairs, start: int = 0):
+        from pframe.assemble.incidence import merged
+
+        members = list(pairs) if isinstance(pairs, (list, tuple)) else [pairs] * plan.batch
         where = {(int(n), int(c)): d for d, (n, c) in enumerate(zip(plan.dof_node,
                                                                     plan.dof_component))}
-        self.terms = [[[(where[(n, c)], float(a)) for n, c, a in side if (n, c) in where]
-                       for side in sides] for sides in pairs.sides]
+        self.terms = []  # per contact, per side: [(DOF, coefficients (B,)), ...]
+        for c in range(len(members[0].names)):
+            sides = []
+            for s in range(2):
+                own = [{(n, k): a for n, k, a in m.sides[c][s] if (n, k) in where}
+                       for m in members]
+                sides.append([(where[key], np.array([mine.get(key, 0.0) for mine in own]))
+                              for key in merged(list(mine) for mine in own)])
+            self.terms.append(sides)
         self.start = int(start)
-        self.gap = np.full((plan.batch, len(pairs.names)), -np.inf)
-        self.peak_side = np.zeros((plan.batch, len(pairs.names), 2))
+        self.gap = np.full((plan.batch, len(members[0].names)), -np.inf)
+        self.peak_side = np.zeros((plan.batch, len(members[0].names), 2))
 
     def plain(self, c: int, s: int) -> int | None:
         """The DOF of side ``s`` of contact ``c`` when that side is its node's u_x alone."""
         terms = self.terms[c][s]
-        return terms[0][0] if len(terms) == 1 and terms[0][1] == 1.0 else None
+        return (terms[0][0] if len(terms) == 1 and np.all(terms[0][1] == 1.0) else None)
 
     @staticmethod
     def _side(rows, terms):
         out = None
         for dof, a in terms:
-            part = rows[:, :, dof] if a == 1.0 else a * rows[:, :, dof]
+            part = rows[:, :, dof] if np.all(a == 1.0) else a[:, None] * rows[:, :, dof]
             out = part if out is None else out + part
         return np.zeros(rows.shape[:2]) if out is None else out
 

@@ -15,7 +15,7 @@ import dataclasses
 
 import numpy as np
 
-from pframe.gap.runs import GapSink, Pairs, for_runs, on_channels, under
+from pframe.gap.runs import GapSink, Pairs, contact_pairs, for_runs, on_channels, under
 from pframe.model.scene import Envelope, History
 
 
@@ -61,7 +61,8 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     plan = assemble_batch([under(bases[k if len(bases) > 1 else 0], a[None])[0]
                            for k, a in enumerate(accelerations)])
     gaps = np.array([min(c.gap for c in m.expanded.contacts) for m in members])
-    sink = GapSink(plan, pairs)
+    # members of their own geometry (uncertain values): each its own contacts' sides
+    sink = GapSink(plan, [contact_pairs(m) for m in members] if len(members) > 1 else pairs)
     result = simulate(plan, threads=threads, sink=sink)
     of_dof, of_story = _owners(plan)
     nb = len(plan.buildings)
