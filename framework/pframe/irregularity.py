@@ -9,6 +9,11 @@ import numpy as np
 #: at one end exceeds this many times the mean of the drifts at its two ends, extremely so
 #: (type 1b) above the second
 TORSIONAL_IRREGULARITY = (1.2, 1.4)
+#: what a file's ``torsional_irregularity`` (node, axis) holds
+LONG_NAME = ("torsional irregularity ratio of the storey below the floor (ASCE 7-22 Table "
+             "12.3-1): the larger peak drift at the plan's two ends across the axis over the "
+             "peak of their mean (the drift at the plan's centre point); inf for a storey that "
+             "twists without translating; type 1a above 1.2, 1b above 1.4")
 
 
 def torsional_irregularity(point_names, positions, peak_drift, floors) -> np.ndarray:

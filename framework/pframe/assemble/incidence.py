@@ -59,13 +59,31 @@ def build(elements_of_members, dof_of) -> Sides:
             if sided:
                 members = [dict(((node, c), a) for node, c, a in elements[e].side_terms()[s])
                            for elements in elements_of_members]
-                keys = list(dict.fromkeys(key for terms in members for key in terms))
+                keys = merged(list(terms) for terms in members)
                 dofs += [dof_of(*key) for key in keys]
                 for b, terms in enumerate(members):
                     coefs[b] += [terms.get(key, 0.0) for key in keys]
             start.append(len(dofs))
     return Sides(np.array(start, dtype=np.int64), np.array(dofs, dtype=np.int64),
                  np.array(coefs, dtype=float).reshape(len(elements_of_members), len(dofs)))
+
+
+def merged(orders) -> list:
+    """The union of the keys of several sequences, each sequence's order kept: a key one
+    member has and another lacks goes where it stands among its neighbours (the terms of a
+    line along x, (u_x, theta), and of the same line turned, (u_x, u_y, theta), give
+    (u_x, u_y, theta)). A member's side then sums its terms in its own run's order, with
+    zeros between them, and a batch gives each member's bits (adding 0 changes none)."""
+    keys: list = []
+    for order in orders:
+        at = 0
+        for key in order:
+            if key in keys:
+                at = keys.index(key) + 1
+            else:
+                keys.insert(at, key)
+                at += 1
+    return keys
 
 
 def incidence(dofs: np.ndarray, sides: Sides, member: int, n: int, contact: bool = False):

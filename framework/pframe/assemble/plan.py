@@ -589,7 +589,7 @@ def _gauges(variants, key_index, dof_of_key) -> dict:
     start, dof, coefs = [0], [], [[] for _ in variants]
     for g in range(len(variants[0].gauges)):  # each gauge's terms: those of any member
         members = [{(node, c): a for node, c, a in ex.gauges[g]} for ex in variants]
-        terms = list(dict.fromkeys(key for mine in members for key in mine))
+        terms = incidence.merged(list(mine) for mine in members)
         dof += [int(dof_of_key[key_index[key]]) for key in terms]
         for b, mine in enumerate(members):
             coefs[b] += [mine.get(key, 0.0) for key in terms]

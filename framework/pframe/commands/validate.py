@@ -152,7 +152,6 @@ def _suite(path: Path) -> int:
     """A ground-motion suite of ``pframe gap``: its structure, and each record it names read
     as the audit would read it (records not beside the suite are named, not refused: the
     audit takes their folder with --records-folder)."""
-    from pframe.excitation.describe import describe_line, describe_record
     from pframe.excitation.suite import RecordEntry, SuiteFile
     from pframe.model.load import read_input, validated
     from pframe.yamltext import compose as _compose
@@ -165,23 +164,30 @@ def _suite(path: Path) -> int:
                                                     if model.folder else "")
           + f", levels in {model.measure.kind}")
     for entry in entries:
-        file = path.parent / entry.file
-        try:
-            present = file.is_file()
-        except OSError as exc:  # a name no file system takes (too long, NUL bytes)
-            from pframe.errors import InputError
-            from pframe.outputs import cause
-
-            raise InputError(f"{path}: the record name {entry.file[:60]!r}"
-                             f"{'...' if len(entry.file) > 60 else ''} is not a file name: "
-                             f"{cause(exc)}") from None
-        if present:
-            facts = describe_record(file, entry.format, entry.units, entry.scale)
-            print(f"  {describe_line(facts)}")
-        else:
-            print(f"  {entry.file}: not beside the suite (pframe gap --records-folder DIR "
-                  "finds it)")
+        for name in entry.files:
+            _suite_record(path, entry, name)
     return 0
+
+
+def _suite_record(path: Path, entry, name: str) -> None:
+    """One record file of a suite's entry: how it reads, or that it is not beside the suite."""
+    from pframe.excitation.describe import describe_line, describe_record
+
+    file = path.parent / name
+    try:
+        present = file.is_file()
+    except OSError as exc:  # a name no file system takes (too long, NUL bytes)
+        from pframe.errors import InputError
+        from pframe.outputs import cause
+
+        raise InputError(f"{path}: the record name {name[:60]!r}"
+                         f"{'...' if len(name) > 60 else ''} is not a file name: "
+                         f"{cause(exc)}") from None
+    if present:
+        facts = describe_record(file, entry.format, entry.units, entry.scale)
+        print(f"  {describe_line(facts)}")
+    else:
+        print(f"  {name}: not beside the suite (pframe gap --records-folder DIR finds it)")
 
 
 def _risk(path: Path, records_folder) -> int:
