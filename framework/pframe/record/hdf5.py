@@ -439,18 +439,14 @@ class ResultWriter:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")
         if "point_drift" in result.envelope and not self.plan.planar:
-            from pframe.irregularity import torsional_irregularity
+            from pframe.irregularity import LONG_NAME, torsional_irregularity
 
             ex = self.loaded.expanded
             peak = np.asarray(result.envelope["point_drift"][member]).reshape(-1, 2)
             ratio = torsional_irregularity(ex.point_names, ex.point_positions, peak,
                                            self.plan.node_names)
             f.variable("torsional_irregularity", ("node", "axis"), ratio, units="1",
-                       long_name="torsional irregularity ratio of the storey below the floor "
-                       "(ASCE 7-22 Table 12.3-1): the larger peak drift at the plan's two ends "
-                       "across the axis over the peak of their mean (the drift at the plan's "
-                       "centre point); inf for a storey that twists without translating; "
-                       "type 1a above 1.2, 1b above 1.4")
+                       long_name=LONG_NAME)
         if any(e.column_side is not None for e in self.loaded.expanded.contacts):
             self._column_shears(result)
 
