@@ -378,8 +378,17 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
         sides = e.side_terms()
         # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
         # a point of a floor or a column has the mass its displacement's weights give it
-        context = ContactContext(side_mass(sides[0], dof_mass), side_mass(sides[1], dof_mass),
-                                 excitation_frequency)
+        masses = (side_mass(sides[0], dof_mass), side_mass(sides[1], dof_mass))
+        context = ContactContext(masses[0], masses[1], excitation_frequency)
+        try:
+            effective = context.effective_mass
+        except ArithmeticError:  # both sides of no mass (underflowed)
+            effective = 0.0
+        if not (effective > 0.0 and math.isfinite(effective)):
+            raise ModelError(path, f"contact {e.name!r}: the masses its sides present to an "
+                             f"impact ({masses[0]:.4g} and {masses[1]:.4g} kg) give an impact "
+                             f"mass of {effective:.4g} kg: the masses span more than floating "
+                             "point carries (check the units of the masses)")
         try:
             with np.errstate(all="ignore"):
                 packed = finite(law.pack(params, context), path)
