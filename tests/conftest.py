@@ -87,10 +87,15 @@ def runnable_model(model: Path, folder: Path) -> Path:
     import yaml
 
     excitation = (yaml.safe_load(model.read_text(encoding="utf-8")) or {}).get("excitation") or {}
-    if excitation.get("kind") != "record" or (model.parent / excitation["file"]).is_file():
+    motions = ([excitation.get(axis) or {} for axis in ("x", "y")]
+               if excitation.get("kind") == "components" else [excitation])
+    files = [m["file"] for m in motions if m.get("kind") == "record"]
+    if all((model.parent / file).is_file() for file in files):
         return model
-    record = record_file(Path(excitation["file"]).name)
-    (folder / record.name).symlink_to(record)
+    for file in files:
+        record = record_file(Path(file).name)
+        if not (folder / record.name).exists():  # another model of the folder reads it too
+            (folder / record.name).symlink_to(record)
     copy = folder / model.name
     copy.write_text(model.read_text(encoding="utf-8"), encoding="utf-8")
     return copy

@@ -446,7 +446,7 @@ def test_a_scene_without_isolators_pays_nothing_for_them(monkeypatch):
 
     import importlib
 
-    monkeypatch.setattr(importlib.import_module("pframe.model.expand"), "_masses_above", never)
+    monkeypatch.setattr(importlib.import_module("pframe.model.floors"), "masses_above", never)
     plan, result = run_text(scene_text(
         buildings=[{"name": "A", "floors": 3, "mass": 1000.0,
                     "story": {"material": "bilinear", "stiffness": 2.0e6, "yield_drift": 0.01,

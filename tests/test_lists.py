@@ -93,8 +93,9 @@ def test_every_quantity_records_what_it_means():
     peak of the absolute history."""
     plan, result = _pounding_every_quantity()
     assert result.completed(0)
-    # a foundation's sway and rocking need soil: tests/test_soil.py checks them
-    on_soil = {q for q, (dim, _, _) in QUANTITIES.items() if dim == "foundation"}
+    # a foundation's sway and rocking need soil (tests/test_soil.py checks them), a named
+    # plan point a floor plan (tests/test_plan.py)
+    on_soil = {q for q, (dim, _, _) in QUANTITIES.items() if dim in ("foundation", "point")}
     assert set(result.history) == set(result.envelope) == set(QUANTITIES) - on_soil
     widths = {"node": plan.n_dof, "story": len(plan.story_names),
               "contact": len(plan.contact_names), "link": len(plan.link_names)}

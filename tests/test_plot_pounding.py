@@ -159,3 +159,20 @@ def test_a_coarse_history_that_misses_impacts_says_so(tmp_path):
     # a time window counts its own impacts: no comparison with the whole run's
     window = figures(out, kind="pounding", levels=["3"], time_range=(0.0, 4.0))["3"]
     assert "the run counted" not in _axes(window)["gap floor-3"].get_title(loc="left")
+
+
+@pytest.mark.slow
+def test_a_window_without_impacts_keeps_its_panels(eq14):
+    """A contact without impacts in the window drawn: before, its empty row of impact markers
+    (unclipped) claimed the figure's corner and the layout collapsed ('constrained_layout not
+    applied'), the panels squeezed to slivers."""
+    import warnings
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    fig = figures(eq14, kind="pounding", levels=["3"], time_range=(0.0, 0.5))["3"]
+    assert len(_impact_times(_axes(fig)["gap floor-3"])) == 0
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        FigureCanvasAgg(fig).draw()
+    assert min(ax.get_position().height for ax in fig.axes) > 0.25

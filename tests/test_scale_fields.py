@@ -60,8 +60,9 @@ def _is_law_parameter(path) -> bool:
     params = {f for kind in ("contact", "material") for law in builtin_laws(kind)
               for f in law.Params.model_fields}
     scene_fields = {"nodes", "name", "height", "gravity_load", "park_ang", "gap", "column",
-                    "at", "shear_capacity"}
-    inside = path[0] in ("stories", "contacts", "links") or path[2:3] == ("story",)
+                    "at", "shear_capacity", "position", "direction", "storeys", "points",
+                    "normal"}
+    inside = path[0] in ("stories", "contacts", "links") or path[2:3] in (("story",), ("lines",))
     return inside and path[-1] in params and path[-1] not in scene_fields \
         and "park_ang" not in path
 

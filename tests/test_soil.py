@@ -281,7 +281,7 @@ def test_a_scene_without_soil_pays_nothing():
                       analysis=analysis(0.01, 0.1))
     plan = assemble(parse_scene(text).expanded)
     assert plan.n_dof == 3 and plan.n_springs == 3 and plan.foundations == ()
-    assert plan.story_theta is None and plan.ground_influence is None
+    assert not plan.story_sides.general().any() and np.all(plan.dof_channel == 0)
 
 
 @pytest.mark.slow
@@ -324,13 +324,18 @@ def _first_periods(plan) -> np.ndarray:
     """Each building's first period (s) from its DOFs' undamped K and M (contacts open)."""
     n = plan.n_dof
     K = np.zeros((n, n))
+    sided = plan.story_sides.general()
     for e, (lo, up) in enumerate(plan.story_dofs):
         g = np.zeros(n)
-        g[up] = 1.0
-        if lo >= 0:
-            g[lo] = -1.0
-        if plan.story_theta is not None and plan.story_theta[e] >= 0:
-            g[plan.story_theta[e]] = -plan.story_height[0, e]
+        if sided[e]:  # a storey on soil: u_upper - (u_lower + h theta), its sides' terms
+            for side, sign in ((0, -1.0), (1, 1.0)):
+                for dof, c in plan.story_sides.side(e, side):
+                    g[dof] += sign * c
+            assert g[plan.foundation_dofs[:, 1]].min() < 0  # the lever -h on the rocking
+        else:
+            g[up] = 1.0
+            if lo >= 0:
+                g[lo] = -1.0
         K += plan.story_k0[0, e] * np.outer(g, g)
     M = plan.mass[0]
     building = np.empty(n, dtype=np.int64)

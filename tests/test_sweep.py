@@ -523,3 +523,27 @@ def test_a_bracketed_path_is_told_the_dotted_form(tmp_path, written, meant):
     data = yaml.safe_load(BASE)
     with pytest.raises(InputError, match=re.escape(f"after a dot: {meant},")):
         resolve(data, tuple(written.split(".")))
+
+
+@pytest.mark.slow
+def test_peaks_of_foundations_are_kept_along_them(tmp_path):
+    """A response along the foundations of a scene on soil (``peak_foundation_sway``) is
+    written along ``foundation``, labelled by its buildings, each variant its own run's."""
+    data = yaml.safe_load((Path(__file__).parent.parent / "models" / "ssi-pair.yaml")
+                          .read_text(encoding="utf-8"))
+    data["analysis"]["duration"] = 400 * data["analysis"]["dt"]
+    (tmp_path / "base.yaml").write_text(yaml.safe_dump(data), encoding="utf-8")
+    (tmp_path / "sweep.yaml").write_text(
+        "base: base.yaml\naxes:\n  - {name: gap, path: contacts.*.gap, values: [0.0, 0.1]}\n"
+        "keep: {envelopes: [peak_foundation_sway, peak_foundation_rocking]}\n",
+        encoding="utf-8")
+    out = tmp_path / "sweep.h5"
+    assert main(["sweep", str(tmp_path / "sweep.yaml"), "-o", str(out), "-q"]) == 0
+    definition = load_sweep(tmp_path / "sweep.yaml")
+    with pframe.open(out) as ds:
+        assert ds.peak_foundation_sway.dims == ("gap", "foundation")
+        assert list(ds.foundation_name.values) == ["A", "B"]
+        for index in range(2):
+            _, single = _single(definition, index, recorders=parse(definition).recorders)
+            np.testing.assert_array_equal(ds.peak_foundation_sway.values[index],
+                                          single.envelope["foundation_sway"][0])

@@ -160,14 +160,16 @@ def _origin(scene):
 
 
 def to_opensees(scene, *, base_dir: str | Path | None = None) -> str:
-    """A standalone OpenSeesPy script of a scene (anything :func:`load` takes): linear
-    contacts, elastic or bilinear storeys, starting at rest; it runs without pframe, to
-    cross-check it. Laws OpenSees cannot model are refused with every reason at once."""
+    """A standalone OpenSeesPy script of a scene (anything :func:`load` takes), planar or in
+    plan: linear contacts, elastic or bilinear storeys, starting at rest; it runs without
+    pframe, to cross-check it. Laws OpenSees cannot model are refused with every reason at
+    once."""
     from pframe.assemble import assemble
     from pframe.assemble.plan import peer_scene
     from pframe.peers.opensees import script_text
 
-    return script_text(peer_scene(assemble(_loaded(scene, base_dir).expanded)))
+    expanded = _loaded(scene, base_dir).expanded
+    return script_text(peer_scene(assemble(expanded), centres=expanded.node_centre))
 
 
 def loaded_scene(source, base_dir=None):
@@ -267,8 +269,8 @@ def _from_result(path: Path):
     result_file(path, "pframe.load")
     try:
         with h5py.File(path, "r") as f:
-            attrs = {k: f.attrs[k] for k in ("input_yaml", "record_file", "record_text",
-                                             "sweep_yaml") if k in f.attrs}
+            attrs = {k: f.attrs[k] for k in ("input_yaml", "sweep_yaml") + RECORD_ATTRIBUTES
+                     if k in f.attrs}
     except FileNotFoundError:
         raise InputError(f"{path}: no such result file") from None
     except OSError as exc:
@@ -282,47 +284,57 @@ def scene_of_attributes(attrs: dict, path, base: Path):
     from pframe.reader import parse_scene
 
     attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()
-             if k in ("input_yaml", "record_file", "record_text", "sweep_yaml")}
+             if k in ("input_yaml", "sweep_yaml") + RECORD_ATTRIBUTES}
     if "sweep_yaml" in attrs:
         raise InputError(f"{path}: a sweep's result file holds many scenes; load its base "
                          "scene from the sweep file, or a variant with pframe sweep --variant")
     text = attrs.get("input_yaml")
     if not text:
         raise InputError(f"{path}: the file holds no scene (no input_yaml attribute)")
-    if "record_text" in attrs:
-        relative = Path(attrs["record_file"])
+    records = [(Path(attrs[f"{p}file"]), attrs[f"{p}text"]) for p in _RECORD_PREFIXES
+               if f"{p}text" in attrs and f"{p}file" in attrs]
+    for relative, _ in records:
         if relative.is_absolute():
             raise InputError(f"{path}: the scene names its record by the absolute path "
                              f"{relative}; run it from its scene file")
-        base = _restored_record(relative, attrs["record_text"], path)
-        return parse_scene(text, f"{path} (input_yaml)", base)
+    if records:
+        base = _restored_records(records, path)
     return parse_scene(text, f"{path} (input_yaml)", base)
+
+
+#: the record a result holds (``record_``), or each of its two components' (``record_x_``,
+#: ``record_y_``): the file's name as the scene gives it and its text
+_RECORD_PREFIXES = ("record_", "record_x_", "record_y_")
+RECORD_ATTRIBUTES = tuple(f"{p}{k}" for p in _RECORD_PREFIXES for k in ("file", "text"))
 
 
 #: the folder this process restores the records of result files into (one, removed at exit)
 _RECORDS: list[Path] = []
 
 
-def _restored_record(relative: Path, text: str, path) -> Path:
-    """The folder from which ``relative`` names the record ``text`` of the result ``path``:
-    one sub-folder per record (by its name and content) of one private folder per process,
-    removed at exit. Loading a result again (or a hundred results of one record) reuses it,
-    and the copies and variants of a loaded scene, which read the record again, find it for
-    as long as the process runs."""
+def _restored_records(records, path) -> Path:
+    """The folder from which each ``relative`` of ``records`` [(relative, text), ...] names
+    its record ``text`` of the result ``path``: one sub-folder per set of records (by their
+    names and contents) of one private folder per process, removed at exit. Loading a result
+    again (or a hundred results of one record) reuses it, and the copies and variants of a
+    loaded scene, which read the record again, find it for as long as the process runs."""
     import atexit
     import hashlib
 
-    depth = sum(1 for part in relative.parts if part == "..")
+    depth = max(sum(1 for part in relative.parts if part == "..") for relative, _ in records)
     if not _RECORDS:
         _RECORDS.append(Path(tempfile.mkdtemp(prefix="pframe-record-")))
         atexit.register(shutil.rmtree, str(_RECORDS[0]), ignore_errors=True)
-    key = hashlib.sha256(f"{relative}\0{text}".encode()).hexdigest()[:24]
+    key = hashlib.sha256("\0".join(f"{relative}\0{text}" for relative, text in records)
+                         .encode()).hexdigest()[:24]
     root = _RECORDS[0] / key
     base = root.joinpath(*(["d"] * depth))
-    target = (base / relative).resolve()
-    if root.resolve() not in target.parents:
-        raise InputError(f"{path}: the record name {str(relative)!r} leaves its folder")
-    if not target.is_file():
+    for relative, text in records:
+        target = (base / relative).resolve()
+        if root.resolve() not in target.parents:
+            raise InputError(f"{path}: the record name {str(relative)!r} leaves its folder")
+        if target.is_file():
+            continue
         from pframe import outputs
 
         try:

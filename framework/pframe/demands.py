@@ -367,3 +367,4 @@ def _episodes(name, t, f, rate, pen, weight=None) -> list[tuple]:
                      float("nan") if weight is None else weight * peak,
                      bool(closed_start), bool(closed_end)))
     return rows
+

@@ -149,7 +149,10 @@ class Frozen(BaseModel):
                     f"{name} has no field {', '.join(map(repr, unknown))}; its fields are "
                     f"{', '.join(fields)}")
             data = {k: getattr(self, k) for k in fields if k in self.model_fields_set}
-            data.update(update)
+            # a field not given and set to its default stays not given: the object is the
+            # same, and a check of which fields were given (a model's own) sees no change
+            data.update({k: v for k, v in update.items() if k in self.model_fields_set
+                         or fields[k].is_required() or v is not fields[k].default})
             try:
                 checked = type(self).model_validate(data)
             except ValidationError as exc:

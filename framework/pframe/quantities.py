@@ -21,4 +21,10 @@ QUANTITIES = {
                            "(positive: the top moves the positive way)"),
     "absolute_acceleration": ("node", "m/s^2", "floor absolute acceleration (relative "
                               "acceleration plus ground acceleration)"),
+    "point_displacement": ("point", "m", "displacement of a named plan point of a floor (a "
+                           "corner) relative to the ground, along its building's x and y "
+                           "axes"),
+    "point_drift": ("point", "m", "storey drift at a named plan point: the floor's point less "
+                    "the same plan point of the floor below, along its building's x and y "
+                    "axes"),
 }

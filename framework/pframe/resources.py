@@ -245,17 +245,19 @@ class Estimate:
                 + f": {_FEWER_STEPS}" + (", or fewer variants" if self.variants > 1 else ""))
 
 
-def _widths(dofs: int, stories: int, contacts: int, links: int = 0) -> dict:
+def _widths(dofs: int, stories: int, contacts: int, links: int = 0, points: int = 0) -> dict:
     return {"node": dofs, "story": stories, "contact": contacts, None: 1, "link": links,
-            "foundation": 2}  # at most a pair's (docs/soil.md): small either way
+            "foundation": 2,  # at most a pair's (docs/soil.md): small either way
+            "point": 2 * points}
 
 
 def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int,
-                  links: int = 0) -> int:
-    """Bytes of the histories of one run, at their full length."""
+                  links: int = 0, points: int = 0) -> int:
+    """Bytes of the histories of one run, at their full length (``dofs``: the values of a
+    node quantity per step: a node's 1, or 3 in plan; ``points``: named plan points)."""
     from pframe.quantities import QUANTITIES
 
-    widths = _widths(dofs, stories, contacts, links)
+    widths = _widths(dofs, stories, contacts, links, points)
     total = 0
     for rec in recorders:
         if rec.kind != "history":
@@ -263,7 +265,8 @@ def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int,
         rows = steps // rec.every + 1
         for q in dict.fromkeys(rec.quantities):
             kind = QUANTITIES[q][0]
-            if (kind == "contact" and not contacts) or (kind == "link" and not links):
+            if (kind == "contact" and not contacts) or (kind == "link" and not links) or (
+                    kind == "point" and not points):
                 continue
             total += 8 * rows * (widths[kind] + 1)  # the values and their time coordinate
     return total
@@ -271,11 +274,11 @@ def history_bytes(recorders, steps: int, dofs: int, stories: int, contacts: int,
 
 def estimate(steps: int, dofs: int, stories: int, contacts: int, recorders, *,
              streaming: bool = True, variants: int = 1, batch: int = 1,
-             threads: int | None = None, links: int = 0) -> Estimate:
+             threads: int | None = None, links: int = 0, points: int = 0) -> Estimate:
     """The resources of ``variants`` runs of one scene, ``batch`` of them at once."""
     threads = max(1, min(batch, threads or os.cpu_count() or 1))
     elements = stories + contacts + links
-    histories = history_bytes(recorders, steps, dofs, stories, contacts, links)
+    histories = history_bytes(recorders, steps, dofs, stories, contacts, links, points)
     if streaming:
         held = min(histories, _STREAM_COPIES * STREAM_BYTES)
     else:
@@ -329,11 +332,14 @@ def check(est: Estimate, where: str, *, free_disk: int | None = None) -> list[st
 def of_expanded(expanded, *, streaming: bool = True, variants: int = 1, batch: int = 1,
                 recorders=None) -> Estimate:
     """:func:`estimate` for a resolved scene (``pframe.model.expand.Expanded``)."""
-    return estimate(expanded.steps, len(expanded.node_names), len(expanded.stories),
+    nodes = len(expanded.node_names)
+    planar = getattr(expanded, "dofs", None) is None
+    return estimate(expanded.steps, nodes if planar else 3 * nodes, len(expanded.stories),
                     len(expanded.contacts),
                     expanded.recorders if recorders is None else recorders,
                     streaming=streaming, variants=variants, batch=batch,
-                    links=len(getattr(expanded, "links", ())))
+                    links=len(getattr(expanded, "links", ())),
+                    points=len(getattr(expanded, "point_names", ())))
 
 
 def product(counts) -> int:

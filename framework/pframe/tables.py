@@ -20,7 +20,7 @@ from pathlib import Path
 from pframe.errors import InputError
 
 #: the entities of a result, in the order the summary shows them
-ENTITIES = ("node", "story", "contact", "building")
+ENTITIES = ("node", "story", "contact", "building", "point")
 #: run attributes shown (attribute, quantity, units)
 RUN = (("status", "status", ""), ("accuracy", "accuracy (energy verdict)", ""),
        ("trusted", "trusted (1: yes)", "1"), ("complete", "complete (1: yes)", "1"),
@@ -55,11 +55,36 @@ def _peaks(ds, entity: str) -> dict[str, tuple]:
     for name, var in ds.data_vars.items():
         if var.dims == (entity,) and name.startswith("peak_"):
             out[name[len("peak_"):]] = (np.asarray(var.values, float), var.attrs.get("units", ""))
+        elif (len(var.dims) == 2 and var.dims[0] == entity and name.startswith("peak_")
+              and var.dims[1] in ("direction", "axis")):
+            # along the site's x, y (direction) or a building's (axis): a column each
+            for j, label in enumerate(ds[var.dims[1]].values):
+                out[f"{name[len('peak_'):]} {label}"] = (np.asarray(var.values[:, j], float),
+                                                         var.attrs.get("units", ""))
     for name, var in ds.data_vars.items():
         if len(var.dims) == 2 and var.dims[1] == entity and var.dims[0].startswith("t") \
                 and name not in out and var.dtype.kind == "f":
             values = np.nanmax(np.abs(np.asarray(var.values)), axis=0)
             out[name] = (values, var.attrs.get("units", ""))
+    return out
+
+
+def _torsion(ds, i: int, name: str) -> list[tuple]:
+    """The summary's rows of the torsional irregularity of the storey below floor ``i``
+    (ASCE 7-22 Table 12.3-1), where its plan gives one."""
+    import numpy as np
+
+    from pframe.irregularity import TORSIONAL_IRREGULARITY
+
+    out = []
+    for j, axis in enumerate(ds.axis.values):
+        ratio = float(ds.torsional_irregularity.values[i, j])
+        if np.isnan(ratio):
+            continue
+        kind = ("extreme (1b)" if ratio > TORSIONAL_IRREGULARITY[1] else "irregular (1a)"
+                if ratio > TORSIONAL_IRREGULARITY[0] else "regular")
+        out += [("node", name, f"torsional irregularity ratio {axis}", ratio, "1"),
+                ("node", name, f"torsion {axis} (ASCE 7-22 Table 12.3-1)", kind, "")]
     return out
 
 
@@ -146,6 +171,8 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
                 rows.append((entity, name, "yield drift", float(ductility[name]), units))
                 rows.append((entity, name, "ductility (peak drift / yield drift)",
                              float(drift[i] / ductility[name]), "1"))
+            if entity == "node" and "torsional_irregularity" in ds:
+                rows += _torsion(ds, i, name)
             if entity == "contact" and "impact_count" in ds:
                 rows.append((entity, name, "impacts", int(ds.impact_count.values[i]), "1"))
             if entity == "story":
@@ -267,7 +294,8 @@ def markdown(table) -> str:
             lines += [f"| {r.quantity} | {_cell(r.value)} | {r.units} |"
                       for r in rows.itertuples()]
     for part, heading in (("node", "Nodes"), ("story", "Storeys"), ("contact", "Contacts"),
-                          ("building", "Buildings"), ("impact", "Impacts")):
+                          ("building", "Buildings"), ("point", "Plan points"),
+                          ("impact", "Impacts")):
         rows = table[table.part == part]
         if not len(rows):
             continue
@@ -334,12 +362,16 @@ def export_csv(result, folder: str | Path) -> list[Path]:
     outputs.make_folder(folder)
     written = []
     for name, var in ds.data_vars.items():
-        if var.ndim not in (1, 2) or not var.dims[0].startswith("t") or var.dtype.kind not in "fi":
+        if var.ndim not in (1, 2, 3) or not var.dims[0].startswith("t") \
+                or var.dtype.kind not in "fi":
             continue
         time = ds[var.dims[0]]
         columns = [f"{var.dims[0]} [{_text(time.attrs.get('units', ''))}]"]
         units = _text(var.attrs.get("units", ""))
-        if var.ndim == 2:
+        if var.ndim == 3:  # in plan: a column per node (or point) and direction
+            columns += [f"{n} {d} [{units}]" for n in ds[var.dims[1]].values
+                        for d in ds[var.dims[2]].values]
+        elif var.ndim == 2:
             columns += [f"{n} [{units}]" for n in ds[var.dims[1]].values]
         else:
             columns += [f"{name} [{units}]"]

@@ -117,6 +117,11 @@ def of_result(result, member: int = 0) -> Verdict:
                     float(result.algorithmic_dissipation(member)),
                     bool(result.completed(member)))
     plan = result.plan
+    notes = small_rotations(result, member)
+    if notes:
+        worse = IN_DOUBT if verdict.level == TRUSTED else verdict.level
+        verdict = Verdict(verdict.balance_error, verdict.algorithmic, worse,
+                          verdict.warnings + tuple(notes))
     capacity = getattr(plan, "contact_capacity", None)
     if capacity is None or not np.any(np.isfinite(capacity)):
         return verdict
@@ -127,3 +132,44 @@ def of_result(result, member: int = 0) -> Verdict:
              if np.isfinite(c) and np.isfinite(v) and v > c]
     return Verdict(verdict.balance_error, verdict.algorithmic, verdict.level,
                    verdict.warnings + tuple(notes)) if notes else verdict
+
+
+#: the share of the smallest gap (or of the floor's own peak displacement) that the
+#: small-rotation model's error at the edge of a floor may reach before a run is in doubt
+ROTATION_ERROR = 0.01
+
+
+def small_rotations(result, member: int = 0) -> list[str]:
+    """The floors whose peak rotation theta is too large for the small-rotation model of a
+    floor in plan: a point at r from the centre of mass moves by theta r where it moves by
+    2 r sin(theta / 2) along a chord, off it by about r theta^2 / 2; past
+    :data:`ROTATION_ERROR` of the smallest contact gap (or, without contacts, of the floor's
+    peak motion at its edge: its centre's peak translation or r theta, the larger) at the edge
+    of its plan (docs/plan.md)."""
+    plan = result.plan
+    if getattr(plan, "planar", True) or "displacement" not in result.envelope:
+        return []
+    peak = result.envelope["displacement"][member]
+    extent = getattr(plan, "node_extent", None)
+    gaps = plan.contact_gap[member] if len(plan.contact_names) else np.zeros(0)
+    out = []
+    for node, name in enumerate(plan.node_names):
+        dofs = np.flatnonzero(plan.dof_node == node)
+        turn = [d for d in dofs if plan.dof_component[d] == 2]
+        if not turn or extent is None or not np.isfinite(extent[node]):
+            continue
+        theta = float(peak[turn[0]])
+        error = extent[node] * theta * theta / 2.0
+        moves = [d for d in dofs if plan.dof_component[d] < 2]
+        # without contacts: the floor's largest motion at its edge, at least its centre's
+        # peak and the twist's r theta (a floor that only twists is off by theta / 2 of it)
+        scale = float(np.min(gaps[gaps > 0])) if np.any(gaps > 0) else max(
+            float(np.max(peak[moves])) if moves else 0.0, extent[node] * theta)
+        if scale > 0.0 and error > ROTATION_ERROR * scale:
+            which = ("the smallest contact gap" if np.any(gaps > 0)
+                     else "its peak motion at its edge")
+            out.append(f"floor {name} turns by up to {theta:.3g} rad: the small-rotation model "
+                       f"of a floor in plan moves its edge {error:.3g} m off its true path "
+                       f"(r theta^2 / 2 over its plan's extent {extent[node]:.3g} m), "
+                       f"{error / scale:.1%} of {which}; the result is in doubt")
+    return out

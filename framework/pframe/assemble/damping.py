@@ -45,8 +45,9 @@ OVERDAMPED = 1.5
 
 @dataclass(frozen=True)
 class Fit:
-    """The damping of a scene: a0 per node (1/s), a1 per storey (s), and the modal blocks
-    (the nodes of a building and its dense matrix, N s/m)."""
+    """The damping of a scene: a0 per node (1/s: on every DOF of the node's floor), a1 per
+    storey (s), and the modal blocks (the DOFs of a building, (node, component), and its
+    dense matrix, N s/m)."""
 
     a0: np.ndarray  # (nodes,) in declaration order
     a1: np.ndarray  # (s,)
@@ -87,19 +88,50 @@ def _frequencies(ex, b, k, count, vectors=False):
     return out
 
 
+def wanted_modes(ex, b: int, damping, k_fit) -> tuple[int, int]:
+    """The two modes (1-based, in building b's order of frequency on ``k_fit``) Rayleigh
+    damping is fitted to: numbers as given, a direction's (``x1``, ``y2``, ``torsion1``) found
+    among the building's modes by :func:`pframe.assemble.modes.directions`; a one-storey
+    building's single mode twice for the default (1, 2)."""
+    name = ex.buildings[b]
+    count = len(modes.building_keys(ex, b)[0])  # its modes (in plan: lateral-torsional)
+    asked = damping.modes
+    if all(isinstance(m, int) for m in asked):
+        if max(asked) <= count:
+            return tuple(asked)
+        if count == 1 and tuple(asked) == (1, 2):
+            return (1, 1)  # a one-storey building has one mode: fit the ratio there
+        raise InputError(f"building {name!r} has {count} modes; damping modes "
+                         f"{list(asked)} cannot be fitted")
+    phi = _frequencies(ex, b, k_fit, None, vectors=True)[1]
+    seen = modes.directions(ex, b, phi)
+    out = []
+    for m in asked:
+        if isinstance(m, int):
+            if m > count:
+                raise InputError(f"building {name!r} has {count} modes; damping mode {m} "
+                                 "cannot be fitted")
+            out.append(m)
+            continue
+        direction = m.rstrip("0123456789")
+        number = int(m[len(direction):])
+        found = [i + 1 for i, d in enumerate(seen) if d == direction]
+        if number > len(found):
+            have = ", ".join(f"{d} {seen.count(d)}" for d in ("x", "y", "torsion")
+                             if d in seen)
+            raise InputError(f"building {name!r} has {len(found)} mode(s) moving mostly in "
+                             f"{direction}, so damping mode {m!r} cannot be fitted (its "
+                             f"modes by direction: {have}; pframe validate lists them)")
+        out.append(found[number - 1])
+    return tuple(out)
+
+
 def _rayleigh(ex, b: int, damping, k_fit, k_d, damped, warnings: list) -> tuple[float, float]:
     """(a0, a1) of building b: its modes of ``k_fit``, the stiffness term on the storeys
     ``damped`` with stiffness ``k_d``; what the fit cannot give goes to ``warnings``."""
     name = ex.buildings[b]
-    nodes = np.flatnonzero(ex.node_building == b)
     mine = np.flatnonzero(ex.story_building == b)
-    wanted = damping.modes
-    if max(wanted) > len(nodes):
-        if len(nodes) == 1 and wanted == (1, 2):
-            wanted = (1, 1)  # a one-storey building has one mode: fit the ratio there
-        else:
-            raise InputError(f"building {name!r} has {len(nodes)} modes; damping modes "
-                             f"{list(damping.modes)} cannot be fitted")
+    wanted = wanted_modes(ex, b, damping, k_fit)
     textbook = bool(np.all(damped[mine])) and np.array_equal(k_d[mine], k_fit[mine])
     out = _frequencies(ex, b, k_fit, max(wanted), vectors=not textbook)
     omega = out if textbook else out[0]
@@ -145,14 +177,16 @@ def _rayleigh(ex, b: int, damping, k_fit, k_d, damped, warnings: list) -> tuple[
 
 
 def _modal(ex, b: int, damping, k_fit) -> np.ndarray:
-    """C = M Phi diag(2 xi_n w_n) Phi^T M of building b (its floors in declaration order)."""
-    nodes = np.flatnonzero(ex.node_building == b)
-    if len(nodes) > MODAL_FLOORS:
+    """C = M Phi diag(2 xi_n w_n) Phi^T M of building b (over its DOFs,
+    :func:`pframe.assemble.modes.building_keys`)."""
+    keys, masses = modes.building_keys(ex, b)
+    floors = len({node for node, _ in keys})
+    if floors > MODAL_FLOORS:
         raise InputError(f"building {ex.buildings[b]!r}: modal damping is a dense matrix over "
-                         f"its {len(nodes)} floors (n^2 operations a step); it is offered up "
+                         f"its {floors} floors (n^2 operations a step); it is offered up "
                          f"to {MODAL_FLOORS} floors: use kind: rayleigh")
     omega, phi = _frequencies(ex, b, k_fit, None, vectors=True)
-    mphi = ex.masses[nodes][:, None] * phi
+    mphi = masses[:, None] * phi
     matrix = mphi @ np.diag(2.0 * _ratios(damping, len(omega)) * omega) @ mphi.T
     return 0.5 * (matrix + matrix.T)
 
@@ -180,7 +214,7 @@ def fit(ex, k0: np.ndarray, k_post: np.ndarray, isolator: np.ndarray) -> Fit:
                                  "not modelled (its modes include the foundation's sway and "
                                  "rocking, which the soil's dashpots damp): use kind: rayleigh")
             matrix = _modal(ex, b, damping, _fit_stiffness(damping, k0, k_post, isolator))
-            blocks.append((np.flatnonzero(ex.node_building == b), matrix))
+            blocks.append((modes.building_keys(ex, b)[0], matrix))
             continue
         if damping.ratio == 0.0 or not mine.size:
             continue  # no storeys: masses carried by links only (a tuned mass) are damped by
@@ -198,8 +232,8 @@ def isolated_ratio(ex, b: int, result: Fit, k0, k_post, isolator, damped) -> tup
     ``result`` (the stiffness term on each storey's initial stiffness where the building's
     damping says initial, else on its isolated stiffness); None when the mode has no
     period (a flat slider) or the building is too tall for a dense check."""
-    nodes = np.flatnonzero(ex.node_building == b)
-    if len(nodes) > modes.DENSE_FLOORS:
+    keys, masses = modes.building_keys(ex, b)
+    if len(keys) > modes.DENSE_FLOORS:
         return None
     k_iso = modes.isolated_stiffness(k0, k_post, isolator)
     omega, phi = modes.lowest_modes(ex, b, k_iso, vectors=True)
@@ -208,10 +242,11 @@ def isolated_ratio(ex, b: int, result: Fit, k0, k_post, isolator, damped) -> tup
     p = phi[:, 0]
     damping = ex.damping[b]
     k_d = k0 if getattr(damping, "stiffness", "initial") == "initial" else k_iso
-    c = float(np.sum(result.a0[nodes] * ex.masses[nodes] * p * p)
+    a0 = result.a0[[node for node, _ in keys]]
+    c = float(np.sum(a0 * masses * p * p)
               + modes.stiffness_form(ex, b, np.where(damped, result.a1 * k_d, 0.0), p)[0])
-    for block_nodes, matrix in result.modal:
-        if np.array_equal(block_nodes, nodes):
+    for block_keys, matrix in result.modal:
+        if list(block_keys) == list(keys):
             c += float(p @ matrix @ p)
     return 2.0 * math.pi / omega[0], c / (2.0 * omega[0])
 
@@ -281,11 +316,12 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
         if damping.ratio == 0.0:
             out.append(f"building {name}: none (ratio 0)")
             continue
-        wanted = damping.modes if max(damping.modes) <= len(ex.node_building[
-            ex.node_building == b]) else (1, 1)
-        omega = modes.lowest_modes(ex, b, _fit_stiffness(damping, k0, k_post, isolator),
-                                   max(wanted))
-        periods = [f"{m} ({2 * math.pi / omega[m - 1]:#.3g} s)" for m in dict.fromkeys(wanted)]
+        k_fit = _fit_stiffness(damping, k0, k_post, isolator)
+        wanted = wanted_modes(ex, b, damping, k_fit)
+        omega = modes.lowest_modes(ex, b, k_fit, max(wanted))
+        named = dict(zip(wanted, damping.modes))
+        periods = [f"{m} ({named[m] + ', ' if isinstance(named.get(m), str) else ''}"
+                   f"{2 * math.pi / omega[m - 1]:#.3g} s)" for m in dict.fromkeys(wanted)]
         a0 = float(result.a0[ex.node_building == b][0])
         a1 = float(np.max(result.a1[mine]))
         skipped = [ex.stories[s].name for s in mine if not damped[s]]
@@ -315,7 +351,8 @@ class BatchDamping:
             if b and not np.array_equal(modes.isolation(ex, k0[b], k_post[b]).isolator,
                                         iso.isolator):
                 differ.append(b)
-            key = (ex.masses.tobytes(), k0[b].tobytes(), k_post[b].tobytes(), id(ex.damping))
+            key = (ex.masses.tobytes(), getattr(ex.dof_mass, "tobytes", lambda: b"")(),
+                   k0[b].tobytes(), k_post[b].tobytes(), id(ex.damping))
             if key not in cache:
                 cache[key] = fit(ex, k0[b], k_post[b], iso.isolator)
             self.fits.append(cache[key])
@@ -331,15 +368,16 @@ class BatchDamping:
         self.warnings = tuple(warnings)
         self.notes = iso.notes
         self.text = describe(first, self.fits[0], k0[0], k_post[0], iso.isolator)
-        self.modal_nodes = [nodes for nodes, _ in self.fits[0].modal]
+        self.modal_keys = [list(keys) for keys, _ in self.fits[0].modal]
         self.isolated = np.array([modes.isolated_stiffness(k0[b], k_post[b], iso.isolator)
                                   for b in range(len(variants))]).reshape(k0.shape)
 
-    def plan_fields(self, dof_of_node: np.ndarray) -> dict:
-        blocks = self.modal_nodes
-        sizes = [len(nodes) for nodes in blocks]
+    def plan_fields(self, dof_of) -> dict:
+        """The plan's modal arrays, ``dof_of((node, component))`` numbering a DOF."""
+        blocks = self.modal_keys
+        sizes = [len(keys) for keys in blocks]
         return dict(
-            modal_dofs=np.array([dof_of_node[i] for nodes in blocks for i in nodes],
+            modal_dofs=np.array([dof_of(key) for keys in blocks for key in keys],
                                 dtype=np.int64),
             modal_start=np.concatenate([[0], np.cumsum(sizes)]).astype(np.int64),
             modal_matrix=np.array([np.concatenate([m.ravel() for _, m in f.modal] or

@@ -86,6 +86,81 @@ def scaled_triplets(springs, scale):
     return vals, (rows, cols)
 
 
+def building_keys(ex, b: int) -> tuple[list, np.ndarray]:
+    """The degrees of freedom of building b's floors, (node, component) in the scene's order,
+    and their masses (kg; kg m^2 for a rotation): u_x of each floor in a planar scene, every
+    DOF the scene moves in plan."""
+    if ex.dofs is None:
+        nodes = np.flatnonzero(ex.node_building == b)
+        return [(int(i), 0) for i in nodes], np.asarray(ex.masses, dtype=float)[nodes]
+    mine = [p for p, (node, _) in enumerate(ex.dofs) if ex.node_building[node] == b]
+    return [ex.dofs[p] for p in mine], np.asarray(ex.dof_mass, dtype=float)[mine]
+
+
+def _plan_rows(ex, b: int, local: dict) -> list[tuple[int, dict]]:
+    """(storey, {local DOF: weight}) of each storey spring of building b in plan: its
+    deformation's weights on the building's DOFs (upper side less lower side)."""
+    out = []
+    for s in np.flatnonzero(ex.story_building == b):
+        lower, upper = ex.stories[s].side_terms()
+        g: dict[int, float] = {}
+        for sign, side in ((-1.0, lower), (1.0, upper)):
+            for node, c, a in side:
+                if (node, c) in local:
+                    g[local[(node, c)]] = g.get(local[(node, c)], 0.0) + sign * a
+        out.append((int(s), g))
+    return out
+
+
+def _plan_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
+    """:func:`lowest_modes` of a building in plan: its lateral-torsional modes over its
+    floors' DOFs (K = sum k g g^T of its storey springs, M diagonal)."""
+    keys, masses = building_keys(ex, b)
+    local = {key: i for i, key in enumerate(keys)}
+    n = len(keys)
+    rows, cols, values = [], [], []
+    for s, g in _plan_rows(ex, b, local):
+        for i, a in g.items():
+            for j, c in g.items():
+                rows.append(i)
+                cols.append(j)
+                values.append(float(k[s]) * a * c)
+    scale = 1.0 / np.sqrt(masses)
+    if count is None or n <= 3 * DENSE_FLOORS:
+        K = np.zeros((n, n))
+        np.add.at(K, (rows, cols), values)
+        K *= np.outer(scale, scale)
+        if not vectors:
+            return np.sqrt(np.clip(np.linalg.eigvalsh(K), 0, None))
+        w2, shapes = np.linalg.eigh(K)
+        return np.sqrt(np.clip(w2, 0, None)), shapes * scale[:, None]
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.linalg import eigsh
+
+    values = np.array(values) * scale[rows] * scale[cols]
+    matrix = coo_matrix((values, (rows, cols)), shape=(n, n)).tocsc()
+    w2, shapes = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM")
+    order = np.argsort(w2)
+    omega = np.sqrt(np.clip(w2[order], 0, None))
+    return (omega, shapes[:, order] * scale[:, None]) if vectors else omega
+
+
+def directions(ex, b: int, phi: np.ndarray) -> list[str]:
+    """The direction each mode of building b in plan mostly moves in (x, y or torsion): the
+    largest of its participation along the site's x and y and in twist, each over its total
+    (p_d^2 / sum m_d with p_d = phi^T M iota_d, phi normalised on the masses)."""
+    keys, masses = building_keys(ex, b)
+    out = []
+    for mode in np.asarray(phi).T:
+        shares = []
+        for c in range(3):
+            on = np.array([k[1] == c for k in keys])
+            total = float(np.sum(masses[on]))
+            shares.append((float(mode[on] @ masses[on]) ** 2 / total) if total > 0 else 0.0)
+        out.append(("x", "y", "torsion")[int(np.argmax(shares))])
+    return out
+
+
 def building_springs(ex, b: int, k: np.ndarray):
     """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
     storey's stiffness taken from ``k`` (one per storey of the scene)."""
@@ -101,7 +176,17 @@ def building_springs(ex, b: int, k: np.ndarray):
 def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """phi^T K phi of building b's storeys with stiffnesses ``k`` (one per storey of the
     scene; 0 leaves a storey out) for each column of ``phi`` (its floors, in declaration
-    order): sum over the storeys of k (phi_upper - phi_lower)^2, without an n x n matrix."""
+    order; in plan its DOFs, :func:`building_keys`): sum over the storeys of k d^2, d the
+    storey's deformation (phi_upper - phi_lower), without an n x n matrix."""
+    if ex.dofs is not None:
+        keys, _ = building_keys(ex, b)
+        local = {key: i for i, key in enumerate(keys)}
+        phi = np.asarray(phi, dtype=float).reshape(len(keys), -1)
+        total = np.zeros(phi.shape[1])
+        for s, g in _plan_rows(ex, b, local):
+            d = sum(a * phi[i] for i, a in g.items()) if g else np.zeros(phi.shape[1])
+            total += float(k[s]) * d * d
+        return total
     nodes = np.flatnonzero(ex.node_building == b)
     local = np.full(len(ex.node_names), -1)
     local[nodes] = np.arange(len(nodes))
@@ -119,7 +204,10 @@ def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
     """The circular frequencies (rad/s, ascending) of building ``b`` with storey stiffnesses
     ``k``, and with ``vectors`` its mode shapes (columns, normalised on the masses:
     phi^T M phi = 1): all its modes up to :data:`DENSE_FLOORS` floors (or ``count`` None),
-    else (at least) the lowest ``count``."""
+    else (at least) the lowest ``count``. In plan: its lateral-torsional modes over its
+    floors' DOFs (:func:`building_keys`)."""
+    if ex.dofs is not None:
+        return _plan_modes(ex, b, k, count, vectors)
     nodes, springs = building_springs(ex, b, k)
     n = len(nodes)
     scale = 1.0 / np.sqrt(ex.masses[nodes])
@@ -203,10 +291,13 @@ def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     """The isolators of a scene (see the module's docstring), with a note for each storey
     taken as one without the scene saying so."""
     said = ex.story_isolator or (None,) * len(ex.stories)
-    above = _min_above(ex, k_post)
-    looks = np.array([bool(e.law.isolator)
-                      or (np.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m)
-                      for e, kp, m in zip(ex.stories, k_post, above)], dtype=bool)
+    # a spring of no stiffness of its own (P-delta's in plan) is neither an isolator nor the
+    # storey above one
+    stiff = k0 > 0.0
+    above = _min_above(ex, np.where(stiff, k_post, math.inf))
+    looks = np.array([s_ and (bool(e.law.isolator)
+                              or (np.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
+                      for e, kp, m, s_ in zip(ex.stories, k_post, above, stiff)], dtype=bool)
     isolator = np.array([looks[s] if said[s] is None else bool(said[s])
                          for s in range(len(ex.stories))], dtype=bool)
     notes = []
@@ -284,11 +375,31 @@ def period_lines(ex) -> list[str]:
             which = ", ".join(f"{ex.stories[s].name} at {k_post[s]:.4g} N/m"
                               for s in isolators[:3]) + (" ..." if isolators.size > 3 else "")
             parts.append(f"periods {_periods(omega)} s (isolated: {which})")
-        fixed = lowest_modes(ex, b, k0, SHOWN_MODES)
-        parts.append(f"periods {_periods(fixed)} s (fixed base, initial stiffness)")
+        if ex.dofs is not None:  # in plan: each period with the direction it mostly moves in
+            fixed, shapes = lowest_modes(ex, b, k0, SHOWN_MODES, vectors=True)
+            shown = [f"{2.0 * math.pi / w:#.3g} s ({d})" if w > 0 else f"inf ({d})"
+                     for w, d in zip(fixed[:SHOWN_MODES], directions(ex, b, shapes))]
+            parts.append(f"periods {', '.join(shown)} (fixed base, initial stiffness, "
+                         "lateral-torsional)")
+        else:
+            fixed = lowest_modes(ex, b, k0, SHOWN_MODES)
+            parts.append(f"periods {_periods(fixed)} s (fixed base, initial stiffness)")
         soil = _soil_frequencies(ex, b, k0)
         if soil is not None:
             parts.append(f"periods {_periods(soil)} s (on its soil, initial stiffness)")
         lines.append(f"building {name}: {len(nodes)} floor{'s' if len(nodes) > 1 else ''}, "
                      + "; ".join(parts))
     return lines
+
+
+def modes_and_shares(ex, b: int, k0: np.ndarray, count: int = 60):
+    """Circular frequencies (rad/s, ascending) of building b in plan and the share of its mass
+    each mode carries, both horizontal directions together: (p_x^2 + p_y^2) / (M_x + M_y)
+    with p_d = phi^T M iota_d (the shares of all modes add up to 1); all modes up to
+    3 x :data:`DENSE_FLOORS` degrees of freedom, else the lowest ``count``."""
+    keys, masses = building_keys(ex, b)
+    omega, phi = _plan_modes(ex, b, k0, count, vectors=True)
+    translation = np.array([[1.0 if c == d else 0.0 for _, c in keys] for d in (0, 1)])
+    participation = ((phi.T * masses) @ translation.T) ** 2
+    total = float(np.sum(masses * translation))
+    return omega, participation.sum(axis=1) / max(total, 1e-300)

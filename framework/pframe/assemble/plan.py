@@ -12,11 +12,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pframe.assemble import damping, modes, stability, timescales
+from pframe.assemble import damping, incidence, modes, stability, timescales
+from pframe.assemble.incidence import Sides
 from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
+from pframe.model.plan import COMPONENTS
 
 if TYPE_CHECKING:
     from pframe.peers.scene import PeerScene
@@ -64,7 +66,7 @@ class Plan:
     contact_dofs: np.ndarray  # (c, 2) [left, right]
     contact_gap: np.ndarray  # (B, c) m
     contact_groups: tuple[LawGroup, ...]
-    ground_acceleration: np.ndarray  # (B, steps + 1) m/s^2
+    ground_acceleration: np.ndarray  # (B, steps + 1) m/s^2 along the first channel (x)
     initial_displacement: np.ndarray  # (B, n)
     initial_velocity: np.ndarray  # (B, n)
     history: tuple[tuple[str, int], ...]  # (quantity, every)
@@ -75,23 +77,40 @@ class Plan:
     link_names: tuple[str, ...] = ()  # the last len(link_names) spring elements
     story_height: np.ndarray = None  # (B, s) storey heights (m), NaN: not given (and links)
     story_kg: np.ndarray = None  # (B, s) P-delta's geometric stiffness P / h (N/m), 0: none
-    #: floor-to-column contacts: (c, 2) the struck storey's lower floor DOF on each side (-1:
-    #: none or the ground) and (B, c, 2) the weight psi of each side's node (1: a floor)
-    contact_lower: np.ndarray = None
-    contact_share: np.ndarray = None
     contact_capacity: np.ndarray = None  # (c,) a struck column's shear capacity (N), NaN: none
+    #: (B, c, 2) floor-to-column contacts: the weight psi of each side's named node (1: a
+    #: floor; a column point is psi u_upper + (1 - psi) u_lower, held in contact_sides)
+    contact_share: np.ndarray = None
     #: soil (docs/soil.md): the buildings whose foundations sway and rock, their (F, 2) sway
-    #: and rocking DOFs, each spring's rocking DOF (s,) (-1: none; the lever is its height),
-    #: and the ground load's influence (n,): 1 on a translational DOF, 0 on a rocking one
-    #: (the ground load is -m influence a_g; an absolute acceleration is a + influence a_g).
-    #: The soil's springs are the last 2 F spring elements (after the links), sway then
-    #: rocking per foundation; their work is booked with the links'.
+    #: and rocking DOFs; the soil's springs are the last 2 F spring elements (after the
+    #: links), sway then rocking per foundation; their work is booked with the links'. A
+    #: storey on soil deforms by u_upper - u_lower - h theta (its sides hold the lever h).
     foundations: tuple[str, ...] = ()
     foundation_dofs: np.ndarray = None
-    story_theta: np.ndarray = None
-    ground_influence: np.ndarray = None
     #: what each foundation's soil is (FoundationSoil.describe), for the summary and the file
     foundation_soil: tuple[str, ...] = ()
+    #: the elements that are not plain (pframe.assemble.incidence): lines of resistance in
+    #: plan, contacts at points, floor-to-column contacts, storeys on soil
+    story_sides: Sides = None
+    contact_sides: Sides = None
+    #: the ground motion's channels (the site's axes 'x', 'y' it loads), their motions (B, C,
+    #: steps + 1) m/s^2 (None: the first channel alone, ground_acceleration) and each DOF's
+    #: channel (-1: none, a rotation)
+    channels: tuple[str, ...] = ("x",)
+    more_channels: np.ndarray = None
+    dof_channel: np.ndarray = None
+    #: each DOF's node (declaration order; foundations' DOFs: -1) and component (0 u_x, 1 u_y,
+    #: 2 theta): the file's layout of a scene in plan
+    dof_node: np.ndarray = None
+    dof_component: np.ndarray = None
+    #: the scene moves its floors along x only (one DOF per node, today's layout)
+    planar: bool = True
+    #: the named plan points of the floors ('<node>:<point>') and their gauges (the kernel's
+    #: Model.gauge_*): point g's displacement along its building's x, y (gauges 2g, 2g + 1),
+    #: then its drifts (2P + 2g, 2P + 2g + 1)
+    point_names: tuple[str, ...] = ()
+    #: (n,) the extent of each node's floor plan (m; NaN: no plan): the small-rotation check
+    node_extent: np.ndarray = None
     #: modal damping (docs/theory.md#damping): the DOFs of each building damped so, one block
     #: after another (q,), where each block starts (blocks + 1,), and the blocks' dense
     #: matrices (B, sum of n_b^2), row-major in the order of their DOFs (N s/m)
@@ -105,11 +124,21 @@ class Plan:
     #: (B, s) each spring's stiffness in its building's isolated modes (N/m): an isolator's
     #: post-yield or sliding stiffness, every other spring's initial stiffness
     story_isolated: np.ndarray = None
+    gauge_start: np.ndarray = None  # (4 P + 1,)
+    gauge_dof: np.ndarray = None  # (T,)
+    gauge_coef: np.ndarray = None  # (B, T)
 
     @property
     def n_springs(self) -> int:
         """Spring elements in the kernel: the storeys, then the links, then the soil's."""
         return len(self.story_names) + len(self.link_names) + 2 * len(self.foundations)
+
+    @property
+    def ground_channels(self) -> np.ndarray:
+        """(B, C, steps + 1): the ground motion along each channel (m/s^2)."""
+        if self.more_channels is not None:
+            return self.more_channels
+        return self.ground_acceleration[:, None, :]
 
     @property
     def batch(self) -> int:
@@ -146,6 +175,7 @@ class Plan:
                 size, size)
             at += size * size
         return out
+
 
 
 def _groups(elements, n_batch_values):
@@ -228,21 +258,31 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
 
 class _Soil:
     """The foundations on soil of a scene (docs/soil.md): foundation f's sway DOF is the
-    extra node ``nodes + 2 f``, its rocking DOF ``nodes + 2 f + 1``."""
+    extra node ``nodes + 2 f``, its rocking DOF ``nodes + 2 f + 1`` (each one component)."""
 
     def __init__(self, ex: Expanded, nodes: int):
         self.nodes = nodes
         self.sway = {f.building: nodes + 2 * i for i, f in enumerate(ex.foundations)}
         self.count = len(ex.foundations)
 
+    def keys(self) -> list[tuple[int, int]]:
+        return [(self.nodes + i, 0) for i in range(2 * self.count)]
+
     def stories(self, ex: Expanded) -> tuple:
-        """The storeys, a first storey on soil standing on its foundation's sway DOF."""
+        """The storeys; a storey on soil deforms by u_upper - u_lower - h theta (its lower
+        side holds the rocking's lever h) and a first storey stands on the sway DOF."""
         if not self.count:
             return ex.stories
         out = []
-        for e, b in zip(ex.stories, ex.story_building):
-            if e.nodes[0] < 0 and int(b) in self.sway:
-                e = dataclasses.replace(e, nodes=(self.sway[int(b)], e.nodes[1]))
+        for e, b, h in zip(ex.stories, ex.story_building, ex.story_height):
+            if int(b) in self.sway:
+                sway = self.sway[int(b)]
+                lower, upper = e.side_terms()
+                nodes = e.nodes
+                if e.nodes[0] < 0:
+                    lower, nodes = ((sway, 0, 1.0),), (sway, e.nodes[1])
+                e = dataclasses.replace(e, nodes=nodes,
+                                        sides=(lower + ((sway + 1, 0, float(h)),), upper))
             out.append(e)
         return tuple(out)
 
@@ -263,60 +303,47 @@ class _Soil:
         return tuple(out)
 
     def masses(self, ex: Expanded) -> np.ndarray:
-        """Every DOF's mass: the nodes', then m_f and I_f of each foundation."""
+        """Every DOF's mass: the nodes' degrees of freedom, then m_f and I_f of each
+        foundation."""
         extra = [x for f in ex.foundations for x in (f.mass, f.rotational_inertia)]
-        return np.concatenate([np.asarray(ex.masses, dtype=float), np.array(extra, dtype=float)])
+        own = ex.dof_mass if ex.dof_mass is not None else ex.masses
+        return np.concatenate([np.asarray(own, dtype=float), np.array(extra, dtype=float)])
 
     def pad(self, values: np.ndarray, fill: float) -> np.ndarray:
         return np.concatenate([values, np.full(2 * self.count, fill)])
 
-    def rocking_groups(self, ex: Expanded, springs) -> dict:
+    def rocking_groups(self, ex: Expanded, springs, key_index) -> dict:
         """rocking DOF -> the DOFs its storeys join (its building's floors and sway DOF)."""
-        groups = {sway + 1: {sway} for sway in self.sway.values()}
+        groups = {key_index[(sway + 1, 0)]: {key_index[(sway, 0)]}
+                  for sway in self.sway.values()}
         for e, b in zip(springs, ex.story_building):  # the storeys come first in springs
             if int(b) in self.sway:
-                groups[self.sway[int(b)] + 1].update(i for i in e.nodes if i >= 0)
+                rock = key_index[(self.sway[int(b)] + 1, 0)]
+                groups[rock].update(key_index[(i, 0)] for i in e.nodes if i >= 0)
         return groups
 
-    def rocking_edges(self, ex: Expanded, springs) -> list:
-        return [(th, i) for th, group in self.rocking_groups(ex, springs).items()
-                for i in group]
-
-    def story_theta(self, ex: Expanded, springs, dof_of_node) -> np.ndarray:
-        out = np.full(len(springs), -1, dtype=np.int64)
-        for s, b in enumerate(ex.story_building):
-            if int(b) in self.sway:
-                if not np.isfinite(ex.story_height[s]):
-                    raise InputError(f"storey {ex.stories[s].name!r} of a building on soil has "
-                                     "no height (the rocking's lever): give height")
-                out[s] = dof_of_node[self.sway[int(b)] + 1]
-        return out
-
-    def plan_fields(self, ex: Expanded, springs, dof_of_node) -> dict:
+    def plan_fields(self, ex: Expanded, dof_of) -> dict:
         if not self.count:
             return {}
-        influence = np.ones(len(dof_of_node))
-        dofs = np.array([[dof_of_node[s], dof_of_node[s + 1]] for s in self.sway.values()],
+        dofs = np.array([[dof_of(s, 0), dof_of(s + 1, 0)] for s in self.sway.values()],
                         dtype=np.int64)
-        influence[dofs[:, 1]] = 0.0  # the ground load acts on translations only
         return dict(foundations=tuple(ex.buildings[f.building] for f in ex.foundations),
                     foundation_dofs=dofs,
-                    story_theta=self.story_theta(ex, springs, dof_of_node),
-                    ground_influence=influence,
                     foundation_soil=tuple(f.describe() for f in ex.foundations))
 
 
 def batch_key(ex: Expanded) -> tuple:
     """What the variants of one batch must share (:func:`assemble_batch`): topology, laws,
-    steps, integrator, recorders, each building's kind of damping and Rayleigh's stiffness
-    choice, and the Newton settings (one plan holds one tolerance and one iteration limit).
-    Variants with equal keys differ in numbers only (masses, stiffnesses, gaps, law
-    parameters, excitation, dt)."""
+    steps, integrator, recorders, the Rayleigh stiffness choice and the Newton settings (one
+    plan holds one tolerance and one iteration limit). Variants with equal keys differ in
+    numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
     return (
         ex.node_names,
         tuple((e.name, e.nodes, e.law) for e in ex.stories),
         tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
         tuple((e.name, e.nodes, e.law) for e in ex.links),
+        ex.channels,
+        ex.point_names,
         ex.steps,
         ex.integrator,
         ex.recorders,
@@ -324,6 +351,24 @@ def batch_key(ex: Expanded) -> tuple:
         (ex.tolerance, ex.absolute_tolerance, ex.max_iterations),
         tuple(f.building for f in ex.foundations),
     )
+
+
+def _dof_keys(variants) -> list[tuple[int, int]]:
+    """The degrees of freedom of a batch: those any member moves ((node, component), in node
+    then component order); a member that leaves one at rest keeps it at rest (no element of
+    it acts on it, nothing loads it)."""
+    nodes = len(variants[0].node_names)
+    if all(ex.dofs is None for ex in variants):
+        return [(i, 0) for i in range(nodes)]
+    return sorted({key for ex in variants for key in ex.dofs or [(i, 0) for i in range(nodes)]})
+
+
+def _per_key(ex: Expanded, keys, values: np.ndarray, fallback: dict) -> np.ndarray:
+    """A member's per-DOF values on the batch's DOFs: its own where it has them, else
+    ``fallback`` (a mass: another member's) or 0."""
+    own = ex.dofs or [(i, 0) for i in range(len(ex.node_names))]
+    mine = dict(zip(own, np.asarray(values, dtype=float)))
+    return np.array([mine.get(key, fallback.get(key, 0.0)) for key in keys])
 
 
 def assemble(expanded: Expanded) -> Plan:
@@ -343,18 +388,22 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                              "numbers only")
     nodes = len(first.node_names)
     soil = _Soil(first, nodes)
-    n = nodes + 2 * len(first.foundations)  # a foundation's sway and rocking DOFs after the nodes
+    # the degrees of freedom: the nodes' (u_x of each in a planar scene), then each
+    # foundation's sway and rocking
+    keys = _dof_keys(variants) + soil.keys()
+    key_index = {key: i for i, key in enumerate(keys)}
+    n = len(keys)
     # the kernel's spring elements: storeys (a first storey on soil stands on its foundation's
     # sway DOF), then links, then the soil's springs
-    springs = soil.stories(first) + first.links + soil.springs(first)
-    edges = [e.nodes for e in springs] + [e.nodes for e in first.contacts]
-    for e in first.contacts:  # a floor-to-column contact couples up to four nodes
-        if max(e.lower) >= 0:
-            ends = [i for i in (e.nodes[0], e.lower[0], e.nodes[1], e.lower[1]) if i >= 0]
-            edges += [(a, c) for a in ends for c in ends if a < c]
+    spring_sets = [soil.stories(ex) + ex.links + soil.springs(ex) for ex in variants]
+    springs = spring_sets[0]
+    raw = (incidence.build(spring_sets, lambda node, c: key_index[(node, c)]),
+           incidence.build([ex.contacts for ex in variants],
+                           lambda node, c: key_index[(node, c)]))
+    principal = _principal(keys, nodes + 2 * len(first.foundations))
 
-    def dofs(elements):
-        out = np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
+    def node_dofs(elements):  # each side's node's first DOF (the plain element's DOFs)
+        out = np.array([[principal[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
                        dtype=np.int64)
         return out.reshape(len(elements), 2)
 
@@ -362,20 +411,38 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     k0 = np.array([[modes.initial_tangent(e.law, p) for e, p in zip(springs, row)]
                    for row in packed])
     k0 = k0.reshape(len(variants), len(springs))
-    masses = [soil.masses(ex) for ex in variants]
     fitted = damping.BatchDamping(variants, k0[:, :len(first.stories)])
-    if fitted.modal_nodes:  # a building's modal damping couples all its floors
-        edges += [(a, c) for block in fitted.modal_nodes for a in block for c in block if a < c]
-    order = reverse_cuthill_mckee(n, edges)
+    rocking = {key_index[(sway + 1, 0)] for sway in soil.sway.values()}
+    edges = [(a, c) for a, c in incidence.edges(node_dofs(springs), raw[0])
+             + incidence.edges(node_dofs(first.contacts), raw[1])
+             if a not in rocking and c not in rocking]
+    for block in fitted.modal_keys:  # a building's modal damping couples all its DOFs
+        edges += [(key_index[a], key_index[c]) for i, a in enumerate(block) for c in block[i + 1:]]
+    order = _node_order(keys, edges)
     if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
-        order = place_last(order, soil.rocking_groups(first, springs))
-        edges += soil.rocking_edges(first, springs)
-    dof_of_node = np.empty(n, dtype=np.int64)
-    dof_of_node[order] = np.arange(n)
-    pad_dofs = np.zeros(n - nodes)
-    mass_damping = [np.concatenate([f.a0, pad_dofs]) * masses[b]  # foundations: a0 = 0
-                    for b, f in enumerate(fitted.fits)]
-    mass_damping = [m[order] for m in mass_damping]
+        order = place_last(order, soil.rocking_groups(first, springs, key_index))
+    dof_of_key = np.empty(n, dtype=np.int64)
+    dof_of_key[order] = np.arange(n)
+    story_sides, contact_sides = (_renumbered(x, dof_of_key) for x in raw)
+    story_dofs = _renumbered_dofs(node_dofs(springs), dof_of_key)
+    contact_dofs = _renumbered_dofs(node_dofs(first.contacts), dof_of_key)
+    all_edges = incidence.edges(story_dofs, story_sides) + incidence.edges(contact_dofs,
+                                                                           contact_sides)
+    all_edges += [(int(dof_of_key[key_index[a]]), int(dof_of_key[key_index[c]]))
+                  for block in fitted.modal_keys for i, a in enumerate(block)
+                  for c in block[i + 1:]]
+    node_keys = keys[:len(keys) - 2 * len(first.foundations)]
+    known = {key: m for ex in variants for key, m in zip(
+        ex.dofs or [(i, 0) for i in range(nodes)],
+        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+    masses = [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
+                                       else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
+                              if soil.count else np.zeros(0)]) for ex in variants]
+    node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
+    # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
+    # foundation's (the soil's dashpots damp them)
+    mass_damping = [(np.where(node_of_key >= 0, f.a0[np.clip(node_of_key, 0, None)], 0.0)
+                     * masses[b])[order] for b, f in enumerate(fitted.fits)]
     story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
                   for f in fitted.fits]
 
@@ -394,27 +461,32 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
             "contact_force" not in envelope:
         # the struck columns' shear: written (peak_column_shear) and checked on its peak
         envelope.append("contact_force")
+    planar = all(ex.dofs is None for ex in variants)
+    if first.point_names and not planar and "point_drift" not in envelope:
+        envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
+    if not planar and "displacement" not in envelope:
+        envelope.append("displacement")  # the floors' rotations: the small-rotation check
     for kind, elements in (("contact_", first.contacts), ("link_", first.links),
-                           ("foundation_", first.foundations)):
+                           ("foundation_", first.foundations), ("point_", first.point_names)):
         if not elements:
             history = {q: k for q, k in history.items() if not q.startswith(kind)}
             envelope = [q for q in envelope if not q.startswith(kind)]
 
     damping_codes = np.array(
-        [DAMPING_STIFFNESS[getattr(first.damping[b], 'stiffness', 'initial')]
+        [DAMPING_STIFFNESS[getattr(first.damping[b], "stiffness", "initial")]
          for b in first.story_building]
         + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
         dtype=np.int64,  # no Rayleigh term (a1 = 0)
     )
-    pad = np.zeros(n - nodes)
+    pad = np.zeros(2 * len(first.foundations))
     plan = Plan(
         node_names=first.node_names,
-        node_dof=dof_of_node[:nodes],
+        node_dof=dof_of_key[principal[:nodes]],
         story_names=tuple(e.name for e in first.stories),
         contact_names=tuple(e.name for e in first.contacts),
         buildings=first.buildings,
         steps=first.steps,
-        bandwidth=int(bandwidth(edges, dof_of_node)),
+        bandwidth=int(bandwidth(all_edges, np.arange(n))),
         integrator=first.integrator.coefficients(),
         integrator_name=first.integrator.describe(),
         tolerance=first.tolerance,
@@ -423,36 +495,49 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         dt=np.array([ex.dt for ex in variants]),
         mass=np.array([m[order] for m in masses]),
         mass_damping=np.array(mass_damping),
-        story_dofs=dofs(springs),
+        story_dofs=story_dofs,
         story_k0=k0,
         story_isolated=np.concatenate([fitted.isolated, k0[:, len(first.stories):]], axis=1),
         story_beta=np.array(story_beta).reshape(len(variants), len(springs)),
         story_damping_stiffness=damping_codes,
         story_groups=_groups(springs, packed),
-        contact_dofs=dofs(first.contacts),
+        contact_dofs=contact_dofs,
         contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
             len(variants), len(first.contacts)),
         contact_groups=_groups(first.contacts,
                                [[e.packed for e in ex.contacts] for ex in variants]),
-        ground_acceleration=np.array([ex.ground_acceleration for ex in variants]),
-        initial_displacement=np.array([np.concatenate([ex.initial_displacement, pad])[order]
-                                       for ex in variants]),
-        initial_velocity=np.array([np.concatenate([ex.initial_velocity, pad])[order]
-                                   for ex in variants]),
+        ground_acceleration=np.array([_channels(ex)[0] for ex in variants]),
+        more_channels=(np.array([_channels(ex) for ex in variants])
+                       if len(first.channels) > 1 else None),
+        initial_displacement=np.array([np.concatenate([_per_key(
+            ex, node_keys, ex.initial_displacement, {}), pad])[order] for ex in variants]),
+        initial_velocity=np.array([np.concatenate([_per_key(
+            ex, node_keys, ex.initial_velocity, {}), pad])[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
         link_names=tuple(e.name for e in first.links),
         story_height=np.array([soil.pad(_spring_values(ex, "story_height", np.nan), np.nan)
                                for ex in variants]),
         story_kg=np.array([soil.pad(_geometric_stiffness(ex), 0.0) for ex in variants]),
-        contact_lower=np.array([[dof_of_node[i] if i >= 0 else -1 for i in e.lower]
-                                for e in first.contacts], dtype=np.int64).reshape(-1, 2),
         contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
                                dtype=float).reshape(len(variants), len(first.contacts), 2),
         contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
                                    for e in first.contacts], dtype=float),
-        **soil.plan_fields(first, springs, dof_of_node),
-        **fitted.plan_fields(dof_of_node),
+        **soil.plan_fields(first, lambda node, c: int(dof_of_key[key_index[(node, c)]])),
+        story_sides=story_sides,
+        contact_sides=contact_sides,
+        channels=first.channels,
+        dof_channel=np.array([first.channels.index(COMPONENTS[c]) if node < nodes and c < 2
+                              and COMPONENTS[c] in first.channels else
+                              (0 if node >= nodes and (node - nodes) % 2 == 0
+                               and "x" in first.channels else -1)
+                              for node, c in keys], dtype=np.int64)[order],
+        dof_node=node_of_key[order],
+        dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
+        planar=planar,
+        node_extent=first.node_extent,
+        **_gauges(variants, key_index, dof_of_key),
+        **fitted.plan_fields(lambda key: int(dof_of_key[key_index[key]])),
     )
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     warnings = (warnings + fitted.warnings + _p_delta_warnings(plan)
@@ -462,49 +547,72 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                                + timescales.check(plan, variants))
 
 
-def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
-    """The ratio of each mode of the whole scene (its storeys on their initial stiffness) that
-    OpenSees' global ``modalDamping`` needs to reproduce the plan's modal damping, or None
-    for Rayleigh damping; what it cannot reproduce goes to ``problems``."""
-    if plan.modal_start is None or len(plan.modal_start) < 2:
-        return None
-    n, ns = plan.n_dof, len(plan.story_names)
-    damping = plan.modal_damping(member)
-    if plan.link_names or np.any(plan.mass_damping[member]) or np.any(plan.story_beta[member]):
-        problems.append("OpenSees' modalDamping damps the modes of the whole model: every "
-                        "building needs modal damping, and no links may join them")
-        return None
-    springs = [(int(lo), int(up), float(plan.story_k0[member, e]))
-               for e, (lo, up) in enumerate(plan.story_dofs[:ns])]
-    mass = plan.mass[member]
-    scale = 1.0 / np.sqrt(mass)
-    values, vectors = np.linalg.eigh(modes.spring_matrix(springs, n) * np.outer(scale, scale))
-    omega = np.sqrt(np.clip(values, 0.0, None))
-    phi = vectors * scale[:, None]
-    ratios = np.array([p @ damping @ p / (2.0 * w) if w > 0.0 else 0.0
-                       for p, w in zip(phi.T, omega)])
-    mphi = mass[:, None] * phi
-    again = mphi @ np.diag(2.0 * ratios * omega) @ mphi.T
-    if not np.allclose(again, damping, rtol=1e-9, atol=1e-9 * np.max(np.abs(damping))):
-        problems.append("OpenSees' modalDamping takes the modes of the initial stiffness, with "
-                        "one ratio per mode of the whole model: give every building the same "
-                        "ratio for all its modes, fitted on the initial stiffness (fit: "
-                        "initial, or no isolators)")
-        return None
-    return [float(r) for r in ratios]
+def _node_order(keys, edges) -> np.ndarray:
+    """The DOFs' order (new -> old key index): the nodes in reverse Cuthill-McKee order of the
+    graph of nodes the elements join, each node's DOFs together (u_x, u_y, theta). A floor in
+    plan then widens the band by its three DOFs, not by how far apart a DOF-level numbering
+    may scatter them (the DOF graph's own RCM gave half-bandwidth 12 where this gives 8 on a
+    pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was."""
+    node_of = np.array([node for node, _ in keys], dtype=np.int64)
+    nodes = np.unique(node_of)
+    local = {int(node): i for i, node in enumerate(nodes)}
+    node_edges = {(local[int(node_of[a])], local[int(node_of[c])]) for a, c in edges
+                  if a >= 0 and c >= 0}
+    node_order = reverse_cuthill_mckee(len(nodes), sorted(node_edges))
+    by_node: dict[int, list[int]] = {}
+    for i, node in enumerate(node_of):
+        by_node.setdefault(local[int(node)], []).append(i)
+    return np.array([i for v in node_order for i in by_node[int(v)]], dtype=np.int64)
 
 
-def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
-    """The scene of one batch member for peer programs: linear contacts, start at rest,
-    Rayleigh on the initial stiffness (what the OpenSees peer models)."""
-    from pframe.peers.scene import PeerScene
+def _principal(keys, nodes: int) -> np.ndarray:
+    """(nodes,) each node's first DOF (its u_x in a planar scene) by key index."""
+    out = np.full(nodes, -1, dtype=np.int64)
+    for i, (node, _) in reversed(list(enumerate(keys))):
+        out[node] = i
+    return out
 
-    problems = []  # every reason at once
+
+def _renumbered(sides: Sides, dof_of_key: np.ndarray) -> Sides:
+    return dataclasses.replace(sides, dof=dof_of_key[sides.dof] if sides.dof.size
+                               else sides.dof)
+
+
+def _renumbered_dofs(dofs: np.ndarray, dof_of_key: np.ndarray) -> np.ndarray:
+    out = dofs.copy()
+    out[dofs >= 0] = dof_of_key[dofs[dofs >= 0]]
+    return out
+
+
+def _gauges(variants, key_index, dof_of_key) -> dict:
+    """The plan's gauge arrays (Plan.gauge_*) of the named plan points."""
+    start, dof, coefs = [0], [], [[] for _ in variants]
+    for g in range(len(variants[0].gauges)):  # each gauge's terms: those of any member
+        members = [{(node, c): a for node, c, a in ex.gauges[g]} for ex in variants]
+        terms = incidence.merged(list(mine) for mine in members)
+        dof += [int(dof_of_key[key_index[key]]) for key in terms]
+        for b, mine in enumerate(members):
+            coefs[b] += [mine.get(key, 0.0) for key in terms]
+        start.append(len(dof))
+    return dict(point_names=variants[0].point_names,
+                gauge_start=np.array(start, dtype=np.int64),
+                gauge_dof=np.array(dof, dtype=np.int64),
+                gauge_coef=np.array(coefs, dtype=float).reshape(len(variants), len(dof)))
+
+
+def _channels(ex: Expanded) -> np.ndarray:
+    """(C, steps + 1): the ground motion along each of the scene's channels."""
+    rows = {"x": ex.ground_acceleration, "y": ex.ground_acceleration_y}
+    return np.array([rows[c] for c in ex.channels], dtype=float)
+
+
+def _peer_refusals(plan: Plan, member: int) -> list[str]:
+    """Every reason the OpenSees peer cannot model a plan's member (none: it can)."""
+    problems = []
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
     c = plan.integrator
-    if plan.contact_lower is not None and np.any(plan.contact_lower >= 0) or (
-            plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0)):
+    if plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0):
         problems.append("its contacts join floors (floor-to-column contacts need a "
                         "multi-point constraint the script does not write)")
     if plan.story_kg is not None and np.any(plan.story_kg[member]):
@@ -517,7 +625,6 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                         "integrator")
     if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
         problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
-    modal = _peer_modal(plan, member, problems)
     ns = len(plan.story_names)
     for group in plan.story_groups:
         if np.any(group.index >= ns) and group.law.name not in (
@@ -555,8 +662,12 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
     if plan.foundations:
         problems.append("its bases are fixed: the script has no soil (a foundation's rocking "
                         "needs a rigid-link constraint it does not write); remove soil")
-    if problems:
-        raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
+    return problems
+
+
+def _peer_materials(plan: Plan, member: int) -> tuple[list, list]:
+    """The storeys' and the links' materials of a :class:`PeerScene`, in element order."""
+    ns = len(plan.story_names)
     materials = []
     for group in plan.story_groups:
         for j, i in enumerate(group.index):
@@ -573,50 +684,187 @@ def peer_scene(plan: Plan, member: int = 0) -> PeerScene:
                 materials.append((i, ("bwbn", *p[:6], *p[9:17])))
             else:
                 materials.append((i, ("bilinear", p[0], p[1], p[2])))
-    materials = [m for _, m in sorted(materials, key=lambda t: t[0])]
-    ns = len(plan.story_names)
     links = sorted((i, ("elastic", p[0]) if group.law.name == "elastic"
                     else ("bilinear", p[0], p[1], p[2]) if group.law.name == "bilinear"
                     else ("viscous", p[0], p[1]) if group.law.name == "viscous"
                     else ("kelvin_voigt", p[0], p[1], p[2]))
                    for group in plan.story_groups
                    for i, p in zip(group.index, group.params[member]) if i >= ns)
-    link_materials = [m for _, m in links]
+    return [m for _, m in sorted(materials, key=lambda t: t[0])], [m for _, m in links]
+
+
+def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
+    """The ratio of each mode of the whole scene (its storeys on their initial stiffness) that
+    OpenSees' global ``modalDamping`` needs to reproduce the plan's modal damping, or None
+    for Rayleigh damping; what it cannot reproduce goes to ``problems``."""
+    if plan.modal_start is None or len(plan.modal_start) < 2:
+        return None
+    ns = len(plan.story_names)
+    damping_matrix = plan.modal_damping(member)
+    if plan.link_names or np.any(plan.mass_damping[member]) or np.any(plan.story_beta[member]):
+        problems.append("OpenSees' modalDamping damps the modes of the whole model: every "
+                        "building needs modal damping, and no links may join them")
+        return None
+    G = incidence.incidence(plan.story_dofs[:ns], _first_sides(plan.story_sides, ns), member,
+                            plan.n_dof).toarray()
+    mass = plan.mass[member]
+    scale = 1.0 / np.sqrt(mass)
+    K = G.T @ (plan.story_k0[member, :ns, None] * G)
+    values, vectors = np.linalg.eigh(K * np.outer(scale, scale))
+    omega = np.sqrt(np.clip(values, 0.0, None))
+    phi = vectors * scale[:, None]
+    ratios = np.array([p @ damping_matrix @ p / (2.0 * w) if w > 0.0 else 0.0
+                       for p, w in zip(phi.T, omega)])
+    mphi = mass[:, None] * phi
+    again = mphi @ np.diag(2.0 * ratios * omega) @ mphi.T
+    if not np.allclose(again, damping_matrix, rtol=1e-9,
+                       atol=1e-9 * np.max(np.abs(damping_matrix))):
+        problems.append("OpenSees' modalDamping takes the modes of the initial stiffness, with "
+                        "one ratio per mode of the whole model: give every building the same "
+                        "ratio for all its modes, fitted on the initial stiffness (fit: "
+                        "initial, or no isolators)")
+        return None
+    return [float(r) for r in ratios]
+
+
+def _first_sides(sides: Sides, count: int) -> Sides:
+    """The sides of the first ``count`` elements (the storeys, without the links)."""
+    end = int(sides.start[2 * count])
+    return dataclasses.replace(sides, start=sides.start[:2 * count + 1], dof=sides.dof[:end],
+                               coef=sides.coef[:, :end])
+
+
+def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
+    """The scene of one batch member for peer programs: linear contacts, start at rest,
+    Rayleigh on the initial stiffness (what the OpenSees peer models).
+
+    A scene in plan draws its floors at ``centres`` ((nodes, 2), the site coordinates of
+    their centres of mass in m: ``Expanded.node_centre``); without them every floor's centre
+    is at the origin, the same model drawn elsewhere (an element acts through the arms of its
+    ends about its floor's centre, which its sides hold)."""
+    from pframe.peers.scene import PeerScene
+
+    problems = _peer_refusals(plan, member)  # every reason at once
+    modal = _peer_modal(plan, member, problems)
+    if problems:
+        raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
+    c = plan.integrator
+    ns = len(plan.story_names)
+    materials, link_materials = _peer_materials(plan, member)
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         stiffness[group.index] = group.params[member, :, 0]
+    floors = None if plan.planar else _floors_in_plan(plan, member, centres)
+    if floors is None:  # a planar scene: its nodes are its DOFs
+        names = [""] * plan.n_dof
+        for name, dof in zip(plan.node_names, plan.node_dof):
+            names[dof] = name
+        node_names, node_of_dof = names, np.arange(plan.n_dof)
+
+        def nodes(dofs):
+            return dofs.copy()
+    else:  # its nodes are its floors
+        node_names, node_of_dof = list(plan.node_names), plan.dof_node
+        names = [f"{plan.node_names[f]}:{COMPONENTS[k]}" for f, k in floors.dofs]
+
+        def nodes(dofs):
+            return np.where(dofs >= 0, plan.dof_node[np.clip(dofs, 0, None)], -1)
     rayleigh = []
-    names = [""] * plan.n_dof
-    for name, dof in zip(plan.node_names, plan.node_dof):
-        names[dof] = name
-    building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in names])
-    story_building = building_of_node[plan.story_dofs[:ns, 1]]
+    building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in node_names])
+    story_nodes = nodes(plan.story_dofs[:ns])
+    story_building = building_of_node[story_nodes[:, 1]]
+    dof_building = building_of_node[node_of_dof]
     for b in range(len(plan.buildings)):
-        nodes = np.flatnonzero(building_of_node == b)
+        own = np.flatnonzero(dof_building == b)  # every DOF of a building has one alpha_m
         stories = np.flatnonzero(story_building == b)
         # the storeys with the stiffness term (not the isolators, by default): one a1 for all
         damped = stories[plan.story_beta[member, stories] != 0.0]
-        alpha = float(plan.mass_damping[member, nodes[0]] / plan.mass[member, nodes[0]])
+        alpha = float(plan.mass_damping[member, own[0]] / plan.mass[member, own[0]])
         beta = float(plan.story_beta[member, damped[0]]) if len(damped) else 0.0
-        rayleigh.append((alpha, beta, nodes, damped))
+        rayleigh.append((alpha, beta, np.flatnonzero(building_of_node == b), damped))
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
-        story_nodes=plan.story_dofs[:ns].copy(),
+        story_nodes=story_nodes,
         story_names=list(plan.story_names),
         story_materials=materials,
-        contact_nodes=plan.contact_dofs.copy(),
+        contact_nodes=nodes(plan.contact_dofs),
         contact_names=list(plan.contact_names),
         contact_gaps=plan.contact_gap[member].copy(),
         contact_stiffness=stiffness,
         rayleigh=rayleigh,
-        ground_acceleration=plan.ground_acceleration[member].copy(),
+        ground_acceleration=(plan.ground_acceleration[member].copy() if floors is None
+                             else plan.ground_channels[member].copy()),
         dt=float(plan.dt[member]),
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
-        link_nodes=plan.story_dofs[ns:].copy(),
+        link_nodes=nodes(plan.story_dofs[ns:]),
         link_materials=link_materials,
         modal=modal,
         integrator=c.opensees,
+        channels=tuple(plan.channels),
+        floors=floors,
     )
+
+
+def _floors_in_plan(plan: Plan, member: int, centres):
+    """The :class:`pframe.peers.scene.FloorsInPlan` of a scene in plan (see peer_scene)."""
+    from pframe.peers.scene import FloorsInPlan
+
+    count = len(plan.node_names)
+    centres = (np.zeros((count, 2)) if centres is None
+               else np.array(centres, dtype=float).reshape(count, 2))
+    masses, moves = np.zeros((count, 3)), np.zeros((count, 3), dtype=bool)
+    masses[plan.dof_node, plan.dof_component] = plan.mass[member]
+    moves[plan.dof_node, plan.dof_component] = True
+    ns, nl = len(plan.story_names), len(plan.link_names)
+    ends = {kind: _element_ends(plan, dofs, sides, elements, member, centres)
+            for kind, dofs, sides, elements in (
+                ("story", plan.story_dofs, plan.story_sides, range(ns)),
+                ("link", plan.story_dofs, plan.story_sides, range(ns, ns + nl)),
+                ("contact", plan.contact_dofs, plan.contact_sides,
+                 range(len(plan.contact_names))))}
+    return FloorsInPlan(
+        names=list(plan.node_names), centres=centres, masses=masses, moves=moves,
+        dofs=np.stack([plan.dof_node, plan.dof_component], axis=1),
+        story_points=ends["story"][0], story_directions=ends["story"][1],
+        contact_points=ends["contact"][0], contact_directions=ends["contact"][1],
+        link_points=ends["link"][0], link_directions=ends["link"][1])
+
+
+def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres):
+    """(e, 2, 2) a point of each end of each element and (e, 2) its direction, from its sides.
+
+    A floor's side along the unit n at P is a = (n_x, n_y, (P - c) x n) (pframe.model.plan;
+    a zero coefficient left out), so n = (a_x, a_y), and P = c + a_theta (n_y, -n_x) is the
+    point of the line of action nearest the centre c ((P - c) x n = a_theta |n|^2). Both ends
+    are then slid along n to one station, so that ends on one line coincide (a storey's
+    floors, a contact along its normal); an end on the ground stands at the other end."""
+    general = (sides.general() if sides is not None and len(sides.start) > 1
+               else np.zeros(len(dofs), dtype=bool))
+    points, directions = np.zeros((len(elements), 2, 2)), np.zeros((len(elements), 2))
+    for k, e in enumerate(elements):
+        coefficient = np.zeros((2, 3))
+        floor = [-1, -1]
+        for s in range(2):
+            terms = (sides.side(e, s, member) if general[e] else
+                     [(int(dofs[e, s]), 1.0)] if dofs[e, s] >= 0 else [])
+            for d, a in terms:
+                floor[s] = int(plan.dof_node[d])
+                coefficient[s, plan.dof_component[d]] += a
+        on = [s for s in range(2) if floor[s] >= 0]
+        n = coefficient[on[0], :2]
+        if any(not np.array_equal(coefficient[s, :2], n) for s in on):
+            raise ValueError(f"element {e}: its sides act along two directions")
+        across = np.array([n[1], -n[0]])
+        for s in on:
+            points[k, s] = centres[floor[s]] + coefficient[s, 2] * across
+        station = np.mean([points[k, s] @ n for s in on])
+        for s in on:
+            points[k, s] += (station - points[k, s] @ n) * n
+        for s in range(2):
+            if floor[s] < 0:
+                points[k, s] = points[k, on[0]]
+        directions[k] = n
+    return points, directions

@@ -11,7 +11,6 @@ import math
 
 import numpy as np
 
-from pframe.assemble.modes import spring_matrix
 from pframe.errors import InputError
 
 #: steps per contact period below which an implicit run is warned about
@@ -20,8 +19,10 @@ STEPS_PER_CONTACT = 20
 
 def reference_velocity(ground_acceleration: np.ndarray, dt: float, initial_velocity) -> float:
     """A generous closing velocity for sizing power-law contacts: ten times the peak ground
-    velocity (structures amplify it) or the largest initial velocity difference."""
-    ground_velocity = np.cumsum(ground_acceleration) * dt
+    velocity (structures amplify it; of the vector of a motion in two components) or the
+    largest initial velocity difference."""
+    ground = np.atleast_2d(ground_acceleration)
+    ground_velocity = np.sqrt(np.sum((np.cumsum(ground, axis=-1) * dt) ** 2, axis=0))
     peak = 10.0 * float(np.max(np.abs(ground_velocity))) if ground_velocity.size else 0.0
     spread = float(np.ptp(initial_velocity)) if np.size(initial_velocity) else 0.0
     return max(peak, spread, 1e-12)
@@ -41,31 +42,34 @@ def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: 
     return exponent * k * depth ** (exponent - 1.0)
 
 
-def wall_effective_mass(mass: np.ndarray, left: int, right: int) -> float:
-    """m_l m_r / (m_l + m_r) of a contact's two DOFs; the floor's mass where one side is a
-    wall (-1, the ground)."""
-    if left < 0 or right < 0:
-        return float(mass[max(left, right)])
-    return float(mass[left] * mass[right] / (mass[left] + mass[right]))
+def _springs(plan, member: int, velocity: float):
+    """The stiffness K (scipy.sparse) of every storey, link and closed contact, and each
+    contact's period (s): a contact's effective mass is 1 / (1/m_left + 1/m_right) of the
+    masses its sides present along it (a wall: the floor's)."""
+    from scipy.sparse import diags
 
+    from pframe.assemble.incidence import incidence, side_mobility
 
-def _springs(plan, member: int, velocity: float) -> tuple[list, np.ndarray]:
-    """(i, j, k) of every storey and closed contact (i = -1: the ground), and each contact's
-    period (s)."""
-    springs = [(int(lo), int(up), float(plan.story_k0[member, s]))
-               for s, (lo, up) in enumerate(plan.story_dofs)]
-    periods = np.full(len(plan.contact_names), np.inf)
+    n = plan.n_dof
     mass = plan.mass[member]
+    stories = incidence(plan.story_dofs, plan.story_sides, member, n)
+    K = stories.T @ diags(plan.story_k0[member]) @ stories
+    periods = np.full(len(plan.contact_names), np.inf)
+    stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
         for j, c in enumerate(group.index):
-            left, right = plan.contact_dofs[c]
-            m_eff = wall_effective_mass(mass, left, right)
+            mobility = sum(side_mobility(plan.contact_dofs, plan.contact_sides, member, mass,
+                                         int(c), s) for s in range(2))
+            m_eff = 1.0 / mobility
             k = contact_stiffness(group.law, group.params[member, j], m_eff, velocity)
-            springs.append((int(left), int(right), k))
+            stiffness[c] = k
             # a stiffness that vanishes (an impact too slow to compress a power law) has no
             # finite period: it limits nothing
             periods[c] = 2.0 * math.pi * math.sqrt(float(m_eff) / k) if k > 0.0 else math.inf
-    return springs, periods
+    if len(plan.contact_names):
+        contacts = incidence(plan.contact_dofs, plan.contact_sides, member, n, contact=True)
+        K = K + contacts.T @ diags(stiffness) @ contacts
+    return K, periods
 
 
 #: above this many degrees of freedom w_max is bounded (Gershgorin), not computed
@@ -76,41 +80,20 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     """w_max (rad/s) of the scene with every contact closed, and each contact's period (s).
 
     Up to :data:`DENSE_LIMIT` degrees of freedom the eigenvalue is computed; above, the
-    Gershgorin bound of M^-1/2 K M^-1/2 is taken from the springs themselves (no n x n
-    matrix), which is safe (never below w_max) and cheap for any number of floors."""
-    velocity = reference_velocity(plan.ground_acceleration[member], float(plan.dt[member]),
+    Gershgorin bound of M^-1/2 K M^-1/2 (its largest absolute row sum) is taken from the
+    sparse stiffness, which is safe (never below w_max) and cheap for any number of floors."""
+    velocity = reference_velocity(plan.ground_channels[member], float(plan.dt[member]),
                                   plan.initial_velocity[member])
     with np.errstate(all="ignore"):  # masses or stiffnesses beyond arithmetic: see _parts
-        springs, periods = _springs(plan, member, velocity)
-    mass = plan.mass[member]
-    n = plan.n_dof
-    if n <= DENSE_LIMIT:
-        K = spring_matrix(springs, n)
-        if plan.story_theta is not None:  # soil: a storey's stiffness is k g g^T with
-            for e in np.flatnonzero(plan.story_theta >= 0):  # g = (1, -1, -h): add the lever
-                lo, up = plan.story_dofs[e]
-                g, two = np.zeros(n), np.zeros(n)
-                g[up] = two[up] = 1.0
-                if lo >= 0:
-                    g[lo] = two[lo] = -1.0
-                g[plan.story_theta[e]] = -plan.story_height[member, e]
-                K += plan.story_k0[member, e] * (np.outer(g, g) - np.outer(two, two))
-        scale = 1.0 / np.sqrt(mass)
-        top = float(np.linalg.eigvalsh(K * np.outer(scale, scale))[-1])
-    else:
-        if plan.story_theta is not None and np.any(plan.story_theta >= 0):
-            raise InputError(f"a scene on soil of more than {DENSE_LIMIT} DOFs: its highest "
-                             "frequency is not bounded here; use an implicit integrator")
-        rows = np.zeros(n)
-        if springs:
-            i, j, k = (np.array(x) for x in zip(*springs))
-            np.add.at(rows, j, k / mass[j])
-            grounded = i >= 0
-            i, j, k = i[grounded], j[grounded], k[grounded]
-            off = k / np.sqrt(mass[i] * mass[j])
-            np.add.at(rows, i, k / mass[i] + off)
-            np.add.at(rows, j, off)
-        top = float(np.max(rows))
+        K, periods = _springs(plan, member, velocity)
+        scale = 1.0 / np.sqrt(plan.mass[member])
+        from scipy.sparse import diags
+
+        scaled = diags(scale) @ K @ diags(scale)
+        if plan.n_dof <= DENSE_LIMIT:
+            top = float(np.linalg.eigvalsh(scaled.toarray())[-1])
+        else:
+            top = float(np.max(np.abs(scaled).sum(axis=1)))
     return math.sqrt(max(top, 0.0)), periods
 
 

@@ -88,7 +88,10 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     time, until they carry :data:`MASS_SHARE` (at most :data:`LOWEST_MODES`; memory stays
     linear in the floors). The share of mode n is ``(phi_n^T M 1)^2 / sum(m)`` for ``phi_n``
     normalised on the mass: the shares of all modes add up to 1."""
+    if ex.dofs is not None:  # in plan: the lateral-torsional modes
+        from pframe.assemble.modes import modes_and_shares
 
+        return modes_and_shares(ex, b, k0)
     nodes, springs, width = _building_matrix(ex, b, k0)
     mass = ex.masses[nodes]
     n = len(nodes)
@@ -243,6 +246,14 @@ def _plausibility(ex, b, name, first, elastic, k0, member, findings, unit_hint: 
 
 def _excitation(plan, ex, member: int, dt: float, coefficients, findings):
     excitation = ex.excitation
+    if excitation is not None and excitation.kind == "components":
+        for _, motion in excitation.motions():
+            _motion(motion, member, dt, coefficients, findings)
+        return
+    _motion(excitation, member, dt, coefficients, findings)
+
+
+def _motion(excitation, member: int, dt: float, coefficients, findings):
     if excitation is None or excitation.kind in ("record", "stochastic"):  # _record's
         return
     if excitation.kind == "sine":
@@ -287,16 +298,25 @@ def aliased_share(times: np.ndarray, acceleration: np.ndarray, dt: float) -> flo
 
 
 def _record(plan, ex, member: int, dt: float, findings):
-    record = ex.record
-    if record is None or len(record.times) < 2:
+    if ex.component_records:
+        motions = dict(ex.excitation.motions())
+        for axis, record in ex.component_records:
+            _one_record(plan, record, motions[axis].scale, member, dt, findings)
+        return
+    if ex.record is not None:
+        _one_record(plan, ex.record, ex.excitation.scale, member, dt, findings)
+
+
+def _one_record(plan, record, scale: float, member: int, dt: float, findings):
+    if len(record.times) < 2:
         return
     step = float(record.times[-1] - record.times[0]) / (len(record.times) - 1)
     if not dt > step * (1.0 + 1e-6):
         return
     ratio = dt / step
     share = aliased_share(record.times, record.acceleration, dt)
-    sampled = float(np.max(np.abs(plan.ground_acceleration[member]))) if plan.steps else 0.0
-    full = float(np.max(np.abs(record.acceleration))) * abs(float(ex.excitation.scale))
+    sampled = float(np.max(np.abs(plan.ground_channels[member]))) if plan.steps else 0.0
+    full = float(np.max(np.abs(record.acceleration))) * abs(float(scale))
     verdict = "the result is not valid" if share > ALIASED_SHARE else "results may be inaccurate"
     times = f"{ratio:.0f}" if abs(ratio - round(ratio)) < 1e-6 else f"{ratio:.3g}"
     findings.add(("record",), ratio, member,

@@ -1,5 +1,6 @@
 """``pframe animate RUN.nc [-o RUN.html]``: the buildings of a run swaying, as one
-self-contained HTML page with play, pause and a time slider (``pframe.plot.animate``)."""
+self-contained HTML page with play, pause and a time slider (``pframe.plot.animate``); a
+scene in plan is seen from above, one floor level at a time (``pframe.plot.plan_view``)."""
 
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ def _animate(args) -> int:
 
 def register(sub) -> None:
     p = sub.add_parser("animate", help="an HTML page of the buildings swaying, contacts lighting "
-                       "up when closed")
+                       "up when closed (buildings in plan: seen from above, level by level)")
     p.add_argument("result", help="result file of pframe solve with a displacement history (.nc)")
     p.add_argument("-o", "--output", metavar="PAGE.html",
                    help="the page (default: RESULT's name with .html)")

@@ -23,8 +23,10 @@ def register(sub) -> None:
         description="Write a Python script that builds and runs the scene with stock OpenSees "
                     "components (zeroLength elements, Elastic/Steel01 storeys, ElasticPPGap "
                     "contacts, Rayleigh damping, Newmark with Newton), without pframe: to "
-                    "cross-check pframe with the program you know. Linear contacts, elastic "
-                    "or bilinear storeys, starting at rest. See docs/python.md.")
+                    "cross-check pframe with the program you know. A scene in plan: a node "
+                    "per floor at its centre of mass, each line of resistance and contact "
+                    "point tied to it by rigidLink beam. Linear contacts, elastic or bilinear "
+                    "storeys, starting at rest. See docs/python.md.")
     opensees.add_argument("model", help="scene file (YAML)")
     opensees.add_argument("-o", "--output", help="script file (default: standard output)")
     opensees.add_argument("--overwrite", action="store_true", help="replace an existing output")

@@ -45,7 +45,14 @@ def _pi(args) -> int:
     repeating = None
     if args.repeating:
         repeating = [r.strip() for r in args.repeating.split(",") if r.strip()]
-    report = scene_pi(loaded.scene, loaded.expanded, repeating)
+    from pframe.errors import InputError
+
+    try:
+        report = scene_pi(loaded.scene, loaded.expanded, repeating)
+    except InputError as exc:  # what the scene as a whole cannot give: name its file
+        message = str(exc)
+        raise InputError(message if message.startswith(str(loaded.source))
+                         else f"{loaded.source}: {message}") from None
     if args.json:
         print(json.dumps({"source": str(loaded.source)} | report.as_dict(), indent=2))
     else:

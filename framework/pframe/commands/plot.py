@@ -63,9 +63,9 @@ def _plot(args) -> int:
     written = save(figs, output, title=f"pframe plot {args.result}",
                    overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
-        levels = ", ".join(figs)
-        what = "links" if list(figs) == ["links"] else \
-            f"level{'s' if len(figs) > 1 else ''} {levels}"
+        levels = [k for k in figs if k not in ("links", "torsion")]
+        what = " and ".join(([f"level{'s' if len(levels) > 1 else ''} {', '.join(levels)}"]
+                             if levels else []) + [k for k in figs if k not in levels])
         print(f"{args.result}: {len(figs)} figure{'s' if len(figs) > 1 else ''} "
               f"({what}); wrote "
               + ", ".join(str(p) for p in written))
@@ -146,12 +146,14 @@ def register(sub) -> None:
                       help="FIGURE.pdf (one page per level), FIGURE.png or FIGURE.svg "
                            "(FIGURE-<level>.png for several levels); default: RESULT's name "
                            "with .pdf")
-    plot.add_argument("--kind", choices=("all", "histories", "hysteresis", "pounding", "links"),
+    plot.add_argument("--kind", choices=("all", "histories", "hysteresis", "pounding", "links",
+                                         "torsion"),
                       default=None,
                       help="panels to draw (default: all); pounding: per contact, the relative "
                            "displacement of its nodes against the gap, closing shaded, "
                            "impacts marked; links: every link's force history and its force "
-                           "against its deformation")
+                           "against its deformation; torsion (buildings in plan): each "
+                           "storey's torsional irregularity ratio against 1.2 and 1.4")
     plot.add_argument("--story", action="append", metavar="N",
                       help="draw floor level N only (repeat for several; default: every level)")
     plot.add_argument("--time-range", nargs=2, type=float, metavar=("START", "END"),

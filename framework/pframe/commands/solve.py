@@ -129,7 +129,8 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
 
 
 #: the quantities whose peaks the summary prints
-_PEAKS = ("displacement", "story_drift", "contact_force", "link_force", "absolute_acceleration")
+_PEAKS = ("displacement", "story_drift", "contact_force", "link_force", "absolute_acceleration",
+          "point_displacement")
 
 
 def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verdict=None):
@@ -156,13 +157,15 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             peaks[q] = streamed[q]
         elif q in result.history:
             peaks[q] = np.nanmax(np.abs(result.history[q][0]), axis=0)
-    if "displacement" in peaks:
+    if not plan.planar:
+        _plan_peaks(plan, peaks, result)
+    elif "displacement" in peaks:
         values = peaks["displacement"][plan.node_dof]
         for b in plan.buildings:
             idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
             top = max(idx, key=lambda i: values[i])
             print(f"  building {b}: peak displacement {values[top]:.4g} m at {plan.node_names[top]}")
-    if "absolute_acceleration" in peaks:
+    if "absolute_acceleration" in peaks and plan.planar:
         values = peaks["absolute_acceleration"][plan.node_dof]
         for b in plan.buildings:
             idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
@@ -189,7 +192,8 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             capacity = plan.contact_capacity[c]
             force += (f"; floor-to-column: local column shear {shear[c]:.4g} N"
                       + (f" (capacity {capacity:.4g} N)" if np.isfinite(capacity) else ""))
-        print(f"  contact {name}: {int(result.impacts[0, c])} impacts{force}")
+        count = int(result.impacts[0, c])
+        print(f"  contact {name}: {count} impact{'' if count == 1 else 's'}{force}")
     if plan.link_names:
         work = result.energy_terms(0)["links"]
         forces = peaks.get("link_force")
@@ -203,6 +207,35 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
           f"{_verdict_words(verdict, plan)}")
     print(f"  solve {result.solve_seconds:.3f} s ({result.iterations[0]} Newton solves), "
           f"kernel compile/load {result.compile_seconds:.2f} s; wrote {out}")
+
+
+def _plan_peaks(plan, peaks: dict, result) -> None:
+    """Each building in plan's peak displacement of its centres of mass and of its named
+    points (the critical locations), its peak rotation, and its storeys' torsion."""
+    import numpy as np
+
+    buildings = {b: [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
+                 for b in plan.buildings}
+    words = ("along x", "along y", "rotation")
+    for b, nodes in buildings.items():
+        parts = []
+        if "displacement" in peaks:
+            best = {}  # component -> (value, node)
+            for d in range(plan.n_dof):
+                node, c = int(plan.dof_node[d]), int(plan.dof_component[d])
+                if node in nodes and peaks["displacement"][d] > best.get(c, (-1.0, 0))[0]:
+                    best[c] = (float(peaks["displacement"][d]), node)
+            parts += [f"{value:.4g} {'rad' if c == 2 else 'm'} {words[c]} at "
+                      f"{plan.node_names[node]}" for c, (value, node) in sorted(best.items())]
+        if "point_displacement" in peaks and plan.point_names:
+            values = np.asarray(peaks["point_displacement"]).reshape(-1, 2)
+            mine = [p for p, name in enumerate(plan.point_names) if name.split("/")[0] == b]
+            if mine:
+                p, axis = np.unravel_index(int(np.argmax(values[mine])), (len(mine), 2))
+                parts.append(f"{values[mine][p, axis]:.4g} m along its {'xy'[axis]} axis at "
+                             f"{plan.point_names[mine[p]]}")
+        if parts:
+            print(f"  building {b}: peak displacement " + "; ".join(parts))
 
 
 def _verdict_words(verdict, plan) -> str:

@@ -38,10 +38,40 @@ def record_lines(loaded) -> list[str]:
     from pframe.excitation.describe import describe_line, describe_scene_record
 
     excitation = loaded.scene.excitation
+    if excitation is not None and excitation.kind == "components":
+        return component_lines(loaded)
     if excitation is None or excitation.kind != "record":
         return []
     facts = describe_scene_record(excitation, loaded.base_dir)
     return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+
+
+def component_lines(loaded) -> list[str]:
+    """The two components of a loaded scene's motion (``kind: components``), a line each as
+    one motion's (:func:`record_lines` for a record), after a line saying how they are turned
+    onto the site's axes."""
+    from pframe.excitation.describe import (
+        applied_motion,
+        describe_line,
+        describe_scene_record,
+        motion_line,
+    )
+    from pframe.model.motion import turn
+
+    excitation = loaded.scene.excitation
+    duration = loaded.expanded.dt * loaded.expanded.steps
+    records = dict(loaded.expanded.component_records)
+    cos, sin = turn(excitation.angle)
+    out = [f"excitation: two components turned {excitation.angle:g} degrees: x along "
+           f"({cos:.4g}, {sin:.4g}) of the site's axes, y along ({-sin:.4g}, {cos:.4g})"]
+    for axis, motion in excitation.motions():
+        if motion.kind == "record":
+            line = describe_line(describe_scene_record(motion, loaded.base_dir),
+                                 duration=duration)
+        else:
+            line = motion_line(applied_motion(motion, records.get(axis), duration))
+        out.append(f"component {axis}: {line.removeprefix('excitation: ')}")
+    return out
 
 
 def excitation_lines(loaded) -> list[str]:
@@ -50,7 +80,7 @@ def excitation_lines(loaded) -> list[str]:
     from pframe.excitation.describe import applied_motion, motion_line
 
     excitation = loaded.scene.excitation
-    if excitation is None or excitation.kind == "record":
+    if excitation is None or excitation.kind in ("record", "components"):
         return record_lines(loaded)
     duration = loaded.expanded.dt * loaded.expanded.steps
     return [motion_line(applied_motion(excitation, loaded.expanded.record, duration))]
@@ -122,7 +152,6 @@ def _suite(path: Path) -> int:
     """A ground-motion suite of ``pframe gap``: its structure, and each record it names read
     as the audit would read it (records not beside the suite are named, not refused: the
     audit takes their folder with --records-folder)."""
-    from pframe.excitation.describe import describe_line, describe_record
     from pframe.excitation.suite import RecordEntry, SuiteFile
     from pframe.model.load import read_input, validated
     from pframe.yamltext import compose as _compose
@@ -135,23 +164,30 @@ def _suite(path: Path) -> int:
                                                     if model.folder else "")
           + f", levels in {model.measure.kind}")
     for entry in entries:
-        file = path.parent / entry.file
-        try:
-            present = file.is_file()
-        except OSError as exc:  # a name no file system takes (too long, NUL bytes)
-            from pframe.errors import InputError
-            from pframe.outputs import cause
-
-            raise InputError(f"{path}: the record name {entry.file[:60]!r}"
-                             f"{'...' if len(entry.file) > 60 else ''} is not a file name: "
-                             f"{cause(exc)}") from None
-        if present:
-            facts = describe_record(file, entry.format, entry.units, entry.scale)
-            print(f"  {describe_line(facts)}")
-        else:
-            print(f"  {entry.file}: not beside the suite (pframe gap --records-folder DIR "
-                  "finds it)")
+        for name in entry.files:
+            _suite_record(path, entry, name)
     return 0
+
+
+def _suite_record(path: Path, entry, name: str) -> None:
+    """One record file of a suite's entry: how it reads, or that it is not beside the suite."""
+    from pframe.excitation.describe import describe_line, describe_record
+
+    file = path.parent / name
+    try:
+        present = file.is_file()
+    except OSError as exc:  # a name no file system takes (too long, NUL bytes)
+        from pframe.errors import InputError
+        from pframe.outputs import cause
+
+        raise InputError(f"{path}: the record name {name[:60]!r}"
+                         f"{'...' if len(name) > 60 else ''} is not a file name: "
+                         f"{cause(exc)}") from None
+    if present:
+        facts = describe_record(file, entry.format, entry.units, entry.scale)
+        print(f"  {describe_line(facts)}")
+    else:
+        print(f"  {name}: not beside the suite (pframe gap --records-folder DIR finds it)")
 
 
 def _risk(path: Path, records_folder) -> int:

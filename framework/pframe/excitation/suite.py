@@ -12,19 +12,37 @@ A suite file is YAML (docs/gap-audit.md#suites)::
       - {model: rezaeian2010, magnitude: 7, distance: 20, vs30: 400, seeds: [1, 2, 3]}
     measure: {kind: sa, period: A, damping: 0.05}   # or {kind: pga}; period in s or a building
     levels: [0.1, 0.2, 0.3]                   # target intensities (g); omit: scales as given
+
+For a scene in plan (docs/plan.md) an entry may say how it stands on the site: a pair of
+records, the two horizontal components of one recording, turned by an angle (or several, one
+motion each) as a scene's ``kind: components`` is, or one record along a direction::
+
+    records:
+      - {x: RSN6_IMPVALL.I_I-ELC180.AT2, y: RSN6_IMPVALL.I_I-ELC270.AT2, angles: [0, 90]}
+      - {file: RSN1063_NORTHR_RRS228.AT2, angle: 30}
+    stochastic:
+      - {x: {model: rezaeian2010, ...}, y: {model: rezaeian2010, ...}, angle: 30,
+         seeds: [[11, 12], [13, 14]]}
+
+The intensity of a pair is its maximum-direction value (RotD100: the peak of the horizontal
+vector of the two, of the ground accelerations for the PGA and of the oscillators'
+displacements for Sa), which ASCE 7-22 (11.4, 16.2) defines its spectra in; both
+components take one scale factor.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Literal
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from pframe.errors import InputError
 from pframe.excitation.records import G, read_record
+from pframe.model.motion import turn
 
 RECORD_SUFFIXES = (".at2",)
 
@@ -34,9 +52,39 @@ class _Base(BaseModel):
 
 
 class RecordEntry(_Base):
-    """One record of a suite."""
+    """One record of a suite, or a pair of records (x, y) of one recording."""
 
-    file: str = Field(description="A PEER NGA .AT2 file or two columns (time s, acceleration).")
+    file: str | None = Field(None, description="A PEER NGA .AT2 file or two columns (time s, "
+                             "acceleration).")
+    x: str | None = Field(None, description="A pair's component along its x axis (a file, "
+                          "as file); give y with it, and no file.")
+    y: str | None = Field(None, description="A pair's component along its y axis (at its "
+                          "angle + 90 degrees).")
+    angle: float | None = Field(None, allow_inf_nan=False, description="Where the motion "
+                                "stands on the site of a scene in plan: the direction of the "
+                                "record, or of a pair's x axis (degrees from the site's x, "
+                                "counter-clockwise; docs/gap-audit.md#suites-in-plan).")
+    angles: list[Annotated[float, Field(allow_inf_nan=False)]] | None = Field(
+        None, min_length=1, description="Several angles instead of angle: one motion each.")
+
+    @model_validator(mode="after")
+    def _one_form(self):
+        pair = self.x is not None or self.y is not None
+        if pair and self.file is not None:
+            raise ValueError("give file (one record) or x and y (a pair), not both")
+        if pair and (self.x is None or self.y is None):
+            raise ValueError("a pair gives both x and y (the two components of one "
+                             "recording); one record along a direction is {file, angle}")
+        if not pair and self.file is None:
+            raise ValueError("give file (one record), or x and y (a pair)")
+        if self.angle is not None and self.angles is not None:
+            raise ValueError("give angle or angles, not both")
+        return self
+
+    @property
+    def files(self) -> tuple[str, ...]:
+        """The record files the entry reads (one, or a pair's two)."""
+        return (self.file,) if self.file is not None else (self.x, self.y)
     scale: float = Field(1.0, gt=0, allow_inf_nan=False, description="Factor on the record "
                          "(used when the suite is not scaled to levels).")
     format: Literal["auto", "columns", "at2"] = Field("auto", description="File format.")
@@ -70,12 +118,23 @@ class SuiteFile(_Base):
 
 @dataclass(frozen=True)
 class GroundMotion:
-    """A record of a suite: its name, samples (m/s^2, scale applied) and step."""
+    """A record of a suite: its name, samples (m/s^2, scale applied) and step; for a scene in
+    plan, where it stands on the site (the module's docstring)."""
 
     name: str
     time: np.ndarray
     acceleration: np.ndarray
     source: str
+    #: a pair's second component on ``time`` (m/s^2), along ``angle`` + 90 degrees; None:
+    #: one component
+    second: np.ndarray | None = None
+    #: the direction of the (first) component on the site, degrees from its x axis
+    angle: float = 0.0
+    #: the suite said where the motion stands (a pair, or an angle): a scene whose own motion
+    #: has two components takes no other
+    directed: bool = False
+    #: the second component's file
+    second_source: str = ""
 
     @property
     def dt(self) -> float:
@@ -85,9 +144,47 @@ class GroundMotion:
     def duration(self) -> float:
         return float(self.time[-1])
 
+    @property
+    def loads_y(self) -> bool:
+        """Whether the motion moves the ground along the site's y axis."""
+        return self.second is not None or turn(self.angle)[1] != 0.0
+
+    @property
+    def magnitude(self) -> np.ndarray:
+        """|a_g| on ``time``: of the horizontal vector of a pair."""
+        if self.second is None:
+            return np.abs(self.acceleration)
+        return np.hypot(self.acceleration, self.second)
+
     def on_grid(self, times: np.ndarray) -> np.ndarray:
-        """Linearly interpolated on ``times`` (s), zero after the record ends."""
+        """Linearly interpolated on ``times`` (s), zero after the record ends: the first
+        component, along its own direction."""
         return np.interp(times, self.time, self.acceleration, left=0.0, right=0.0)
+
+    def on_site(self, times: np.ndarray, channels=("x",)) -> np.ndarray:
+        """(len(channels), len(times)): the motion along the site's axes ``channels`` ('x',
+        'y') at ``times``, each component turned onto them as a scene's ``kind:
+        components`` is (docs/plan.md): a_x = cos(a) a_1 - sin(a) a_2, a_y = sin(a) a_1 +
+        cos(a) a_2. A motion along x alone gives ``on_grid`` itself along x."""
+        cos, sin = turn(self.angle)
+        parts = [((cos, sin), self.on_grid(times))]
+        if self.second is not None:
+            parts.append(((-sin, cos), np.interp(times, self.time, self.second, left=0.0,
+                                                 right=0.0)))
+        if self.loads_y and "y" not in channels:
+            raise ValueError(f"motion {self.name} loads the site's y axis, which the runs "
+                             "do not take")
+        out = np.zeros((len(channels), len(times)))
+        for row, axis in enumerate(channels):
+            total = None
+            for along, values in parts:
+                weight = along["xy".index(axis)]
+                if weight != 0.0:
+                    part = values if weight == 1.0 else weight * values
+                    total = part if total is None else total + part
+            if total is not None:
+                out[row] = total
+        return out
 
     def evenly_spaced(self) -> tuple[np.ndarray, float]:
         """Samples on an even step (the smallest step of the file) for the spectrum."""
@@ -97,6 +194,14 @@ class GroundMotion:
         dt = float(np.min(steps))
         grid = np.arange(0.0, self.time[-1] + 0.5 * dt, dt)
         return self.on_grid(grid), dt
+
+    def components_evenly_spaced(self) -> tuple[list[np.ndarray], float]:
+        """Each component's samples on one even step (a pair's two, on the first's)."""
+        first, dt = self.evenly_spaced()
+        if self.second is None:
+            return [first], dt
+        grid = np.arange(len(first)) * dt
+        return [first, np.interp(grid, self.time, self.second, left=0.0, right=0.0)], dt
 
 
 @dataclass(frozen=True)
@@ -113,15 +218,65 @@ class Suite:
         return [m.name for m in self.motions]
 
 
-def _entry_motion(entry: RecordEntry, folder: Path, where: str) -> GroundMotion:
-    path = folder / entry.file
+def _read(file: str, entry: RecordEntry, folder: Path, where: str):
+    path = folder / file
     try:
         t, a = read_record(path, entry.format, entry.units, within=folder)
     except FileNotFoundError:
         raise InputError(f"{where}: record file {str(path)!r} not found") from None
     except (ValueError, OSError) as exc:
         raise InputError(f"{where}: malformed record: {exc}") from None
-    return GroundMotion(Path(entry.file).name, t, a * entry.scale, str(path))
+    return t, a * entry.scale, str(path)
+
+
+def _entry_motion(entry: RecordEntry, folder: Path, where: str) -> GroundMotion:
+    t, a, path = _read(entry.file, entry, folder, where)
+    return GroundMotion(Path(entry.file).name, t, a, path)
+
+
+def _on_one_grid(t1, a1, t2, a2):
+    """Two components on one time grid: the first's when they share it, else the finer
+    step over the longer of the two (each zero after its end)."""
+    if len(t1) == len(t2) and np.allclose(t1, t2, rtol=0, atol=1e-9 * max(t1[-1], 1.0)):
+        return t1, a1, a2
+    dt = min(float(np.min(np.diff(t1))), float(np.min(np.diff(t2))))
+    grid = np.arange(0.0, max(t1[-1], t2[-1]) + 0.5 * dt, dt)
+    return (grid, np.interp(grid, t1, a1, left=0.0, right=0.0),
+            np.interp(grid, t2, a2, left=0.0, right=0.0))
+
+
+def _angles(item, where: str) -> tuple[list[float], bool]:
+    """The angles an entry (a RecordEntry or a stochastic entry's dict) gives, one motion
+    each ([0] when it gives none), and whether it gave any."""
+    angle, angles = (getattr(item, "angle", None), getattr(item, "angles", None)) \
+        if not isinstance(item, dict) else (item.get("angle"), item.get("angles"))
+    if angle is not None and angles is not None:
+        raise InputError(f"{where}: give angle or angles, not both")
+    values = angles if angles is not None else [angle] if angle is not None else [0.0]
+    for v in values:
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v):
+            raise InputError(f"{where}: an angle is a number of degrees, not {v!r}")
+    return [float(v) for v in values], angle is not None or angles is not None
+
+
+def _turned(motion: GroundMotion, angles: list[float], given: bool) -> list[GroundMotion]:
+    """The motion at each angle; named ``<name>@<angle>`` where the entry gave angles."""
+    return [dataclasses.replace(motion, angle=a, directed=motion.directed or given,
+                                name=f"{motion.name}@{a:g}" if given else motion.name)
+            for a in angles]
+
+
+def _entry_motions(entry: RecordEntry, folder: Path, where: str) -> list[GroundMotion]:
+    """The motions of a suite's record entry: one record, or a pair, at each of its angles."""
+    angles, given = _angles(entry, where)
+    if entry.file is not None:
+        return _turned(_entry_motion(entry, folder, where), angles, given)
+    t1, a1, path1 = _read(entry.x, entry, folder, f"{where}.x")
+    t2, a2, path2 = _read(entry.y, entry, folder, f"{where}.y")
+    time, first, second = _on_one_grid(t1, a1, t2, a2)
+    motion = GroundMotion(f"{Path(entry.x).name}+{Path(entry.y).name}", time, first, path1,
+                          second=second, directed=True, second_source=path2)
+    return _turned(motion, angles, given)
 
 
 def _unique(motions: list[GroundMotion]) -> tuple[GroundMotion, ...]:
@@ -130,8 +285,7 @@ def _unique(motions: list[GroundMotion]) -> tuple[GroundMotion, ...]:
     for m in motions:
         count = seen.get(m.name, 0)
         seen[m.name] = count + 1
-        out.append(m if not count else GroundMotion(f"{m.name}#{count + 1}", m.time,
-                                                    m.acceleration, m.source))
+        out.append(m if not count else dataclasses.replace(m, name=f"{m.name}#{count + 1}"))
     return tuple(out)
 
 
@@ -170,7 +324,7 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
     motions = []
     for i, item in enumerate(model.records):
         entry = RecordEntry(file=item) if isinstance(item, str) else item
-        motions.append(_entry_motion(entry, base, _where(str(path), lines, ("records", i))))
+        motions += _entry_motions(entry, base, _where(str(path), lines, ("records", i)))
     if model.folder is not None:
         folder = base / model.folder
         if not folder.is_dir():
@@ -188,33 +342,65 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
     return Suite(_unique(motions), model.measure, levels, str(path))
 
 
-def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
-    """The motions of a suite's stochastic entry: one per seed of ``seeds``."""
+def _simulated(item: dict, seed: int, where: str) -> tuple[str, np.ndarray, np.ndarray]:
+    """One stochastic motion: its name, times and samples (m/s^2, scale applied)."""
     from pydantic import ValidationError
 
     from pframe.excitation.stochastic import generate
     from pframe.model.scene import Stochastic
 
+    try:
+        excitation = Stochastic.model_validate({**item, "seed": seed})
+    except ValidationError as exc:
+        problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'entry'}: {e['msg']}"
+                             for e in exc.errors())
+        raise InputError(f"{where}: {problems}") from None
+    m = generate(excitation)
+    return (f"{excitation.model}-seed{seed}", np.asarray(m.times),
+            np.asarray(m.acceleration) * excitation.scale)
+
+
+def _seed(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
+def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
+    """The motions of a suite's stochastic entry: one per seed of ``seeds`` (at each of its
+    angles); a pair ``{x: {...}, y: {...}}`` takes a pair of seeds for each motion."""
     item = dict(item)
     seeds = item.pop("seeds", None)
     item.pop("kind", None)
-    if not (isinstance(seeds, list) and seeds and all(isinstance(s, int) and
-                                                      not isinstance(s, bool) and s >= 0
-                                                      for s in seeds)):
+    angles, given = _angles(item, where)
+    item.pop("angle", None)
+    item.pop("angles", None)
+    pair = "x" in item or "y" in item
+    if pair:
+        unknown = sorted(set(item) - {"x", "y"})
+        if unknown or not all(isinstance(item.get(k), dict) for k in ("x", "y")):
+            raise InputError(f"{where}: a stochastic pair gives x and y, each the fields of a "
+                             "stochastic motion (model, ...), then angle or angles and seeds"
+                             + (f"; {', '.join(unknown)} belong in x and y" if unknown
+                                else ""))
+        if not (isinstance(seeds, list) and seeds and all(
+                isinstance(s, list) and len(s) == 2 and all(_seed(v) for v in s)
+                for s in seeds)):
+            raise InputError(f"{where}: a stochastic pair needs seeds, a list of pairs of "
+                             "integers >= 0 (the two components' seeds, one motion each), "
+                             "e.g. seeds: [[1, 2], [3, 4]]")
+    elif not (isinstance(seeds, list) and seeds and all(_seed(s) for s in seeds)):
         raise InputError(f"{where}: a stochastic entry needs seeds, a list of integers >= 0 "
                          "(one motion each), e.g. seeds: [1, 2, 3]")
     out = []
     for seed in seeds:
-        try:
-            excitation = Stochastic.model_validate({**item, "seed": seed})
-        except ValidationError as exc:
-            problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'entry'}: {e['msg']}"
-                                 for e in exc.errors())
-            raise InputError(f"{where}: {problems}") from None
-        m = generate(excitation)
-        acc = np.asarray(m.acceleration) * excitation.scale
-        out.append(GroundMotion(f"{excitation.model}-seed{seed}", np.asarray(m.times), acc,
-                                ""))  # no file: nothing an output could overwrite
+        if not pair:  # no file: nothing an output could overwrite
+            name, t, a = _simulated(item, seed, where)
+            out += _turned(GroundMotion(name, t, a, ""), angles, given)
+            continue
+        (n1, t1, a1), (n2, t2, a2) = (_simulated(item[k], s, f"{where}.{k}")
+                                      for k, s in zip(("x", "y"), seed))
+        time, first, second = _on_one_grid(t1, a1, t2, a2)
+        out += _turned(GroundMotion(f"{n1}+{n2}", time, first, "", second=second,
+                                    directed=True), angles, given)
     return out
 
 
@@ -229,13 +415,21 @@ def suite_from_files(files, source: str = "", scale: float = 1.0) -> Suite:
 
 
 def intensity(motion: GroundMotion, measure: Measure, period: float | None = None) -> float:
-    """The motion's intensity in g: PGA, or Sa(period, damping) by the exact recurrence."""
+    """The motion's intensity in g: PGA, or Sa(period, damping) by the exact recurrence; of
+    a pair, its maximum-direction value (RotD100): the peak of the horizontal vector of the
+    two accelerations, or w^2 times the peak of the vector of the two oscillators'
+    displacements (the oscillator's response to a motion along any direction is the same
+    combination of its responses to the two)."""
     if measure.kind == "pga":
-        return float(np.max(np.abs(motion.acceleration))) / G
-    from pframe.excitation.spectrum import spectral_acceleration
+        return float(np.max(motion.magnitude)) / G
+    from pframe.excitation.spectrum import sdof_response, spectral_acceleration
 
-    acc, dt = motion.evenly_spaced()
-    return spectral_acceleration(acc, dt, period, measure.damping) / G
+    if motion.second is None:
+        acc, dt = motion.evenly_spaced()
+        return spectral_acceleration(acc, dt, period, measure.damping) / G
+    components, dt = motion.components_evenly_spaced()
+    u = [sdof_response(a, dt, period, measure.damping)[0] for a in components]
+    return float((2.0 * np.pi / period) ** 2 * np.max(np.hypot(*u))) / G
 
 
 def scale_factors(suite: Suite, periods_by_building: dict[str, float] | None = None,

@@ -33,21 +33,27 @@ class AuditInputs:
     damping: np.ndarray
     scaled: bool
     warnings: tuple = ()  # what the runs leave out (records cut by the duration)
+    #: the site's axes the runs' ground motions load ('x', and 'y' for a scene in plan
+    #: under two components or a motion at an angle)
+    channels: tuple[str, ...] = ("x",)
 
     @property
     def count(self) -> int:
         return self.factors.size
 
-    def accelerations(self, variants) -> np.ndarray:
-        """Ground accelerations (len(variants), steps + 1) of variants (record-major)."""
-        times = np.arange(self.steps + 1) * self.dt
+    def accelerations(self, variants, steps: int | None = None,
+                      dt: float | None = None) -> np.ndarray:
+        """Ground accelerations (len(variants), C, steps + 1) of variants (record-major)
+        along the runs' ``channels``, on this audit's step (or ``steps`` of ``dt``)."""
+        steps = self.steps if steps is None else int(steps)
+        times = np.arange(steps + 1) * (self.dt if dt is None else dt)
         levels = self.factors.shape[1]
-        out = np.empty((len(variants), self.steps + 1))
+        out = np.empty((len(variants), len(self.channels), steps + 1))
         cache: dict[int, np.ndarray] = {}
         for k, v in enumerate(variants):
             r, j = divmod(int(v), levels)
             if r not in cache:
-                cache = {r: self.suite.motions[r].on_grid(times)}
+                cache = {r: self.suite.motions[r].on_site(times, self.channels)}
             out[k] = self.factors[r, j] * cache[r]
         return out
 
@@ -60,6 +66,10 @@ class AuditInputs:
             h.update(m.name.encode())
             h.update(np.ascontiguousarray(m.time).tobytes())
             h.update(np.ascontiguousarray(m.acceleration).tobytes())
+            if m.second is not None or m.angle:  # a pair, or a direction: its own runs
+                h.update(f"{m.angle!r}".encode())
+                h.update(np.ascontiguousarray(m.second if m.second is not None else
+                                              np.zeros(0)).tobytes())
         h.update(self.factors.tobytes())
         h.update(f"{self.steps} {self.dt!r} {options} {code_fingerprint()}".encode())
         return h.hexdigest()[:32]
@@ -91,7 +101,37 @@ def _scene_motion(loaded) -> GroundMotion:
     if kind == "stochastic":
         name = f"{loaded.scene.excitation.model}-seed{loaded.scene.excitation.seed}"
     times = np.arange(ex.steps + 1) * ex.dt
-    return GroundMotion(name, times, ex.ground_acceleration.copy(), loaded.source)
+    # two components: the scene's samples along the site's x and y (already turned)
+    second = None if ex.ground_acceleration_y is None else ex.ground_acceleration_y.copy()
+    return GroundMotion(name, times, ex.ground_acceleration.copy(), loaded.source,
+                        second=second, directed=True)
+
+
+#: what a suite entry for a scene whose motion has two components writes
+DIRECTED = ("write each record as a pair, the two components of one recording, {x: FILE, y: "
+            "FILE, angle: DEGREES} (or angles: [...], one run each), or as one record along "
+            "a direction, {file: FILE, angle: DEGREES} (angle 0: along the site's x); and "
+            "each stochastic motion as a pair, {x: {model: ...}, y: {model: ...}, angle: "
+            "DEGREES}, or with the angle it acts along; docs/gap-audit.md#suites-in-plan")
+
+
+def run_channels(loaded, suite: Suite, own: bool) -> tuple[str, ...]:
+    """The site's axes the runs load: x, and y when the scene's motion has two components or
+    a motion of the suite moves the ground along y. Under a scene whose motion has two
+    components, a motion the suite does not place on the site (a plain record, a folder's
+    files, a stochastic entry without an angle) is refused: it could mean either axis, or
+    the pair it came from."""
+    if not own and "y" in loaded.expanded.channels:
+        loose = [m.name for m in suite.motions if not m.directed]
+        if loose:
+            raise InputError(
+                f"{suite.source or 'the suite'}: {', '.join(loose[:4])}"
+                f"{' ...' if len(loose) > 4 else ''}: the scene {loaded.source} is shaken in "
+                "two components, and these motions do not say how they stand on the site (they "
+                f"could mean either axis, or half of a pair); {DIRECTED}")
+    if "y" in loaded.expanded.channels or any(m.loads_y for m in suite.motions):
+        return ("x", "y")
+    return ("x",)
 
 
 def _record_extent(loaded, suite: Suite, own: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -102,7 +142,7 @@ def _record_extent(loaded, suite: Suite, own: bool) -> tuple[np.ndarray, np.ndar
         return (np.array([record.times[-1]]),
                 np.array([record.times[int(np.abs(record.acceleration).argmax())]]))
     ends = np.array([m.duration for m in suite.motions])
-    peaks = np.array([m.time[int(np.abs(m.acceleration).argmax())] for m in suite.motions])
+    peaks = np.array([m.time[int(m.magnitude.argmax())] for m in suite.motions])
     return ends, peaks
 
 
@@ -128,8 +168,6 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
 
     loaded = load_scene(scene) if isinstance(scene, (str, Path)) else scene
     pairs = runs.contact_pairs(loaded)
-    plan = runs.base_plan(loaded)
-    periods, damping = runs.first_modes(plan)
     own = suite is None
     if own:
         suite = Suite((_scene_motion(loaded),), source=loaded.source)
@@ -139,6 +177,9 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
         files = [Path(f) for f in suite]
         suite = (load_suite(files[0], records_folder) if len(files) == 1
                  else suite_from_files(files, source=", ".join(map(str, files))))
+    channels = run_channels(loaded, suite, own)
+    plan = runs.base_plan(loaded, channels)
+    periods, damping = runs.first_modes(plan)
     chosen = parse_measure(measure)
     if chosen is not None:
         suite = dataclasses.replace(suite, measure=chosen)
@@ -171,7 +212,7 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
     warnings = cut_warnings(suite.names, ends, peaks, steps * dt, dt, remedy)
     return AuditInputs(loaded, pairs, suite, np.asarray(level_values, float), factors, ims,
                        steps, dt, periods, damping, levels is not None or suite.levels is not None,
-                       tuple(warnings))
+                       tuple(warnings), channels)
 
 
 class _Definition:
@@ -243,7 +284,7 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
         from pframe.api import run_inputs
 
         reads = [*run_inputs(inputs.loaded), inputs.suite.source,
-                 *(m.source for m in inputs.suite.motions)]
+                 *(f for m in inputs.suite.motions for f in (m.source, m.second_source))]
         output = outputs.check_output(output, inputs=[r for r in reads if r],
                                       overwrite=overwrite, what="audit file")
     count = inputs.count

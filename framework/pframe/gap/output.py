@@ -95,15 +95,17 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
     data = {
         "gap_required": (("record", "level", "contact", "rule"), table, {
             "units": "m", "long_name": "minimum separation by each rule; 'simulated' is "
-            "g_req = max over time of (u_left - u_right) without contact (0 if never "
-            "approaching)"}),
+            "g_req = max over time of (u_left - u_right) without contact, in plan of the "
+            "contact's two points along its normal (0 if never approaching)"}),
         "gap_statistics": (("statistic", "level", "contact", "rule"), _statistics(table), {
             "units": "m", "long_name": "median, 84th percentile and maximum of gap_required "
             "over the records (failed runs left out)"}),
         "peak_displacement_left": (("record", "level", "contact"), u_left, {
-            "units": "m", "long_name": "peak |u| of the contact's left floor, no contact"}),
+            "units": "m", "long_name": "peak |u| of the contact's left floor (in plan: of its "
+            "point along the contact's normal), no contact"}),
         "peak_displacement_right": (("record", "level", "contact"), u_right, {
-            "units": "m", "long_name": "peak |u| of the contact's right floor, no contact"}),
+            "units": "m", "long_name": "peak |u| of the contact's right floor (in plan: of "
+            "its point along the contact's normal), no contact"}),
         "scale_factor": (("record", "level"), inputs.factors, {
             "units": "1", "long_name": "factor applied to the record"}),
         "intensity": (("record", "level"), intensity, {

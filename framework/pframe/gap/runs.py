@@ -22,12 +22,18 @@ TAIL_PERIODS = 3.0
 
 @dataclasses.dataclass(frozen=True)
 class Pairs:
-    """The contact levels of a scene: names, node names, DOF-order independent node indices."""
+    """The contact levels of a scene: names, node names, DOF-order independent node indices.
+
+    ``sides``: each contact's two sides as terms ((node, component, coefficient), ...) of the
+    scene's degrees of freedom (pframe.model.elements): the displacement of the point of each
+    side along the contact's normal, a = (n_x, n_y, (P - c) x n) (docs/plan.md); a planar
+    contact's side is its node's u_x. The contact closes by side 0 less side 1."""
 
     names: tuple[str, ...]
     left: tuple[str, ...]
     right: tuple[str, ...]
     gaps: np.ndarray  # the scene's gaps (m)
+    sides: tuple = ()
 
 
 def contact_pairs(loaded) -> Pairs:
@@ -45,20 +51,34 @@ def contact_pairs(loaded) -> Pairs:
     return Pairs(tuple(c.name for c in ex.contacts),
                  tuple(ex.node_names[c.nodes[0]] for c in ex.contacts),
                  tuple(ex.node_names[c.nodes[1]] for c in ex.contacts),
-                 np.array([c.gap for c in ex.contacts]))
+                 np.array([c.gap for c in ex.contacts]),
+                 tuple(c.side_terms() for c in ex.contacts))
 
 
-def without_contacts(loaded, keep_excitation: bool):
-    """The scene's Expanded form without contacts (and, unless kept, without excitation)."""
+def for_runs(loaded, channels: tuple[str, ...] = ("x",), contacts: bool = False):
+    """The scene's Expanded form to run under other ground motions (``Expanded.with_ground``)
+    along the site's axes ``channels``: without its contacts (or with them, ``contacts``),
+    and without its own excitation. With 'y' among the channels, a scene is expanded under a
+    motion in two components (zero until replaced), so that it moves the degrees of freedom
+    the y axis loads; a scene whose storeys cannot resist motion along y is refused."""
     from pframe.model.expand import expand
     from pframe.model.load import ModelError
+    from pframe.model.scene import Components, Sine
 
-    scene = loaded.scene.model_copy(update={
-        "contacts": [], "excitation": loaded.scene.excitation if keep_excitation else None})
+    if contacts and ("y" not in channels or "y" in loaded.expanded.channels):
+        return loaded.expanded
+    update = {"excitation": Components(x=Sine(amplitude=0.0, frequency=1.0))
+              if "y" in channels else None}
+    if not contacts:
+        update["contacts"] = []
     try:
-        return expand(scene, loaded.base_dir)
+        return expand(loaded.scene.model_copy(update=update), loaded.base_dir)
     except ModelError as exc:
-        raise InputError(f"{loaded.where(exc.path)}: {exc.message}") from None
+        why = ""
+        if "y" in channels and "y" not in loaded.expanded.channels:
+            why = (" (the runs' ground motions move the site's y axis: pairs of records or "
+                   "records at an angle, which a scene along x alone cannot take)")
+        raise InputError(f"{loaded.where(exc.path)}: {exc.message}{why}") from None
 
 
 def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -70,32 +90,34 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
     a0 / (2 w_1) + a1 w_1 / 2 when every storey takes the stiffness term). A building on soil
     (docs/soil.md) is analysed with its foundation's sway and rocking DOFs and springs: its
     flexible-base period (Veletsos & Meek lengthening), with the ratio of its storeys'
-    damping (the soil's dashpots left out). Springs between buildings (links) are left out."""
+    damping (the soil's dashpots left out); a building in plan with its floors' three DOFs
+    (its first lateral-torsional mode). Springs between buildings (links) are left out."""
+    from pframe.assemble.incidence import incidence
+
     owner = np.full(plan.n_dof, -1)
-    for name, dof in zip(plan.node_names, plan.node_dof):
-        owner[dof] = plan.buildings.index(name.split("/")[0])
+    nodes = plan.dof_node if plan.dof_node is not None else np.full(plan.n_dof, -1)
+    if plan.dof_node is None:
+        nodes[plan.node_dof] = np.arange(len(plan.node_names))
+    building_of_node = [plan.buildings.index(n.split("/")[0]) for n in plan.node_names]
+    owner[nodes >= 0] = np.array(building_of_node, dtype=int)[nodes[nodes >= 0]] \
+        if len(building_of_node) else []
     for building, dofs in zip(plan.foundations, plan.foundation_dofs
                               if plan.foundations else ()):
         owner[dofs] = plan.buildings.index(building)
-    theta = plan.story_theta if plan.story_theta is not None else \
-        np.full(plan.n_springs, -1)
     stiffness = plan.story_isolated if plan.story_isolated is not None else plan.story_k0
-    damping = _damping_matrix(plan, member)
+    G = incidence(plan.story_dofs, plan.story_sides, member, plan.n_dof).tocsr()
+    damping = _damping_matrix(plan, member, G)
     periods, ratios = [], []
     for b in range(len(plan.buildings)):
         dofs = np.flatnonzero(owner == b)
-        local = {int(d): i for i, d in enumerate(dofs)}
         k = np.zeros((dofs.size, dofs.size))
-        for s, (low, up) in enumerate(plan.story_dofs):
-            ends = [(int(up), 1.0), (int(low), -1.0)]
-            if theta[s] >= 0:
-                ends.append((int(theta[s]), -float(plan.story_height[member, s])))
-            if any(d >= 0 and d not in local for d, _ in ends) or int(up) not in local:
-                continue
-            g = np.zeros(dofs.size)
-            for d, c in ends:
-                if d >= 0:
-                    g[local[d]] += c
+        for s in range(plan.n_springs):
+            row = G.getrow(s)
+            if row.nnz == 0 or np.any(owner[row.indices] != b):
+                continue  # a link to another building, or a spring of another building
+            g = np.zeros(plan.n_dof)
+            g[row.indices] = row.data
+            g = g[dofs]
             k += stiffness[member, s] * np.outer(g, g)
         scale = 1.0 / np.sqrt(plan.mass[member, dofs])
         w2, shapes = np.linalg.eigh(k * np.outer(scale, scale))
@@ -107,77 +129,141 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
     return np.array(periods), np.array(ratios)
 
 
-def _damping_matrix(plan, member: int) -> np.ndarray:
+def _damping_matrix(plan, member: int, G) -> np.ndarray:
     """The plan's damping matrix C (n x n, N s/m) of its storeys and masses: a0 m on the
-    diagonal, a1 k_0 g g^T of each storey with the stiffness term, the modal blocks (the
-    soil's dashpots and the links' left out)."""
+    diagonal, a1 k_0 g g^T of each storey with the stiffness term (g its row of the
+    deformations G), the modal blocks (the soil's dashpots and the links' left out)."""
     n, ns = plan.n_dof, len(plan.story_names)
     out = np.diag(np.asarray(plan.mass_damping[member], dtype=float))
-    theta = plan.story_theta if plan.story_theta is not None else np.full(plan.n_springs, -1)
     for s in np.flatnonzero(plan.story_beta[member, :ns]):
-        low, up = plan.story_dofs[s]
+        row = G.getrow(s)
         g = np.zeros(n)
-        g[up] += 1.0
-        if low >= 0:
-            g[low] -= 1.0
-        if theta[s] >= 0:
-            g[theta[s]] -= plan.story_height[member, s]
+        g[row.indices] = row.data
         out += plan.story_beta[member, s] * plan.story_k0[member, s] * np.outer(g, g)
     return out + plan.modal_damping(member)
 
 
-def base_plan(loaded):
+def base_plan(loaded, channels: tuple[str, ...] = ("x",)):
     """A one-member plan of the scene without contacts (for its periods and damping)."""
     from pframe.assemble import assemble
 
-    ex = without_contacts(loaded, keep_excitation=False)
-    ex = dataclasses.replace(ex, steps=1, ground_acceleration=np.zeros(2), recorders=())
+    ex = for_runs(loaded, channels)
+    ex = ex.with_ground(np.zeros(2), steps=1, recorders=())
     return assemble(ex)
+
+
+def on_channels(accelerations: np.ndarray) -> np.ndarray:
+    """(B, C, steps + 1) from ground motions given along x alone (B, steps + 1) or along
+    the channels already."""
+    accelerations = np.asarray(accelerations, dtype=float)
+    return accelerations[:, None, :] if accelerations.ndim == 2 else accelerations
+
+
+def under(base, accelerations) -> list:
+    """``base`` (an Expanded scene) under each ground motion of ``accelerations`` (B, C,
+    steps + 1) or (B, steps + 1): along its x axis, and its y axis when C is 2."""
+    return [base.with_ground(a[0], a[1] if len(a) > 1 else None)
+            for a in on_channels(accelerations)]
 
 
 def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None,
                dt: float | None = None):
-    """The batch plan: one member per row of ``accelerations`` (B, steps + 1) on the scene's
-    time step; without contacts, or (for checks) with the scene's contacts at
-    ``contacts_gaps`` (B, c); ``dt`` (s) replaces the scene's step."""
+    """The batch plan: one member per motion of ``accelerations`` ((B, steps + 1) along x, or
+    (B, C, steps + 1) along the site's x and y) on the scene's time step; without contacts,
+    or (for checks) with the scene's contacts at ``contacts_gaps`` (B, c); ``dt`` (s)
+    replaces the scene's step."""
     from pframe.assemble import assemble_batch
 
+    channels = ("x", "y")[:on_channels(accelerations).shape[1]]
     if contacts_gaps is None:
-        ex = without_contacts(loaded, keep_excitation=False)
+        ex = for_runs(loaded, channels)
         recorders = (Envelope(kind="envelope", quantities=["displacement"]),
                      History(kind="history", quantities=["displacement"]))
     else:
-        ex = loaded.expanded
+        ex = for_runs(loaded, channels, contacts=True)
         recorders = (Envelope(kind="envelope", quantities=["displacement"]),)
     base = dataclasses.replace(ex, steps=int(steps), recorders=recorders,
                                dt=float(dt if dt is not None else ex.dt))
-    variants = []
-    for b, acc in enumerate(accelerations):
-        member = dataclasses.replace(base, ground_acceleration=np.asarray(acc, float))
-        if contacts_gaps is not None:
-            member = dataclasses.replace(member, contacts=tuple(
-                dataclasses.replace(c, gap=float(g)) for c, g in zip(ex.contacts, contacts_gaps[b])))
-        variants.append(member)
+    variants = under(base, accelerations)
+    if contacts_gaps is not None:
+        variants = [dataclasses.replace(member, contacts=tuple(
+            dataclasses.replace(c, gap=float(g)) for c, g in zip(ex.contacts, contacts_gaps[b])))
+            for b, member in enumerate(variants)]
     return assemble_batch(variants)
 
 
 class GapSink:
-    """Running max over the steps of u_left - u_right at each contact level."""
+    """Running max over the steps (from row ``start`` on) of the closing of each contact:
+    its first side less its second (:class:`Pairs`), u_left - u_right of a planar contact,
+    the closing of its two points along its normal in plan; and the running peak of each
+    side's displacement, |a . u| (the displacement of the contact's point along its normal,
+    ``peak_side``), where a side is not its node's u_x (a planar contact's peaks are the
+    kernel's envelope of the displacement).
 
-    def __init__(self, plan, pairs: Pairs):
-        dof = dict(zip(plan.node_names, plan.node_dof))
-        self.left = np.array([dof[n] for n in pairs.left])
-        self.right = np.array([dof[n] for n in pairs.right])
-        self.gap = np.full((plan.batch, len(pairs.names)), -np.inf)
+    A side's term on a degree of freedom the runs do not move (a rotation only the contact
+    would cause) is left out: that DOF stays at rest. ``pairs``: the contacts of the scene,
+    or of each batch member (a list, one per member: members whose geometry differs, the
+    uncertain values of a risk study), their terms' union taken with a coefficient 0 where a
+    member has none."""
+
+    def __init__(self, plan, pairs, start: int = 0):
+        from pframe.assemble.incidence import merged
+
+        members = list(pairs) if isinstance(pairs, (list, tuple)) else [pairs] * plan.batch
+        where = {(int(n), int(c)): d for d, (n, c) in enumerate(zip(plan.dof_node,
+                                                                    plan.dof_component))}
+        self.terms = []  # per contact, per side: [(DOF, coefficients (B,)), ...]
+        for c in range(len(members[0].names)):
+            sides = []
+            for s in range(2):
+                own = [{(n, k): a for n, k, a in m.sides[c][s] if (n, k) in where}
+                       for m in members]
+                sides.append([(where[key], np.array([mine.get(key, 0.0) for mine in own]))
+                              for key in merged(list(mine) for mine in own)])
+            self.terms.append(sides)
+        self.start = int(start)
+        self.gap = np.full((plan.batch, len(members[0].names)), -np.inf)
+        self.peak_side = np.zeros((plan.batch, len(members[0].names), 2))
+
+    def plain(self, c: int, s: int) -> int | None:
+        """The DOF of side ``s`` of contact ``c`` when that side is its node's u_x alone."""
+        terms = self.terms[c][s]
+        return (terms[0][0] if len(terms) == 1 and np.all(terms[0][1] == 1.0) else None)
+
+    @staticmethod
+    def _side(rows, terms):
+        out = None
+        for dof, a in terms:
+            part = rows[:, :, dof] if np.all(a == 1.0) else a[:, None] * rows[:, :, dof]
+            out = part if out is None else out + part
+        return np.zeros(rows.shape[:2]) if out is None else out
 
     def __call__(self, quantity, first_row, rows):
-        if quantity != "displacement" or rows.shape[1] == 0:
+        skip = max(0, self.start - first_row)
+        if quantity != "displacement" or rows.shape[1] <= skip:
             return
-        for c, (left, right) in enumerate(zip(self.left, self.right)):
+        rows = rows[:, skip:]
+        for c, (left, right) in enumerate(self.terms):
+            sides = self._side(rows, left), self._side(rows, right)
             # a member that failed inside these rows has NaN after the failure: fmax keeps
             # what came before (its results are discarded anyway)
-            block = np.max(rows[:, :, left] - rows[:, :, right], axis=1)
+            block = np.max(sides[0] - sides[1], axis=1)
             np.fmax(self.gap[:, c], block, out=self.gap[:, c])
+            for s in range(2):
+                np.fmax(self.peak_side[:, c, s], np.max(np.abs(sides[s]), axis=1),
+                        out=self.peak_side[:, c, s])
+
+    def peaks(self, envelope: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(B, C) each contact's peak |u| of its left and of its right side: the kernel's
+        ``envelope`` of the displacement (B, n_dof) where a side is its node's u_x, the
+        running peak along the normal otherwise."""
+        out = self.peak_side.copy()
+        for c in range(len(self.terms)):
+            for s in range(2):
+                dof = self.plain(c, s)
+                if dof is not None:
+                    out[:, c, s] = envelope[:, dof]
+        return out[:, :, 0], out[:, :, 1]
 
 
 def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
@@ -190,9 +276,9 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     sink = GapSink(plan, pairs)
     result = simulate(plan, threads=threads, sink=sink,
                       progress=(lambda done, total: progress(done, total)) if progress else None)
-    peak = result.envelope["displacement"]  # (B, n_dof)
+    left, right = sink.peaks(result.envelope["displacement"])
     complete = np.array([result.completed(b) for b in range(plan.batch)], dtype=np.int8)
     status = np.array([result.describe_failure(b) for b in range(plan.batch)], dtype=str)
-    return {"peak_left": peak[:, sink.left], "peak_right": peak[:, sink.right],
+    return {"peak_left": left, "peak_right": right,
             "g_req": sink.gap, "complete": complete, "status": status,
             "solve_seconds": np.float64(result.solve_seconds)}

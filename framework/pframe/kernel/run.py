@@ -63,7 +63,8 @@ FORCE_SPLIT = False
 #: the history rows one call of the kernel may fill when streaming, in bytes
 STREAM_BYTES = 32 * 2**20
 
-_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5}
+_SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5,
+         "point": 6}
 
 
 @dataclass
@@ -136,7 +137,7 @@ class Result:
         at the point: its lower floor takes (1 - psi) F, its upper psi F)."""
         plan = self.plan
         out = np.full(len(plan.contact_names), np.nan)
-        if plan.contact_share is None:
+        if plan.contact_share is None or not len(plan.contact_names):
             return out
         if "contact_force" in self.envelope:
             peak = self.envelope["contact_force"][b]
@@ -221,21 +222,21 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
         story_kg=(plan.story_kg if plan.story_kg is not None
                   else np.zeros((B, plan.n_springs))),
         contact_dofs=plan.contact_dofs,
-        contact_lower=(plan.contact_lower if plan.contact_lower is not None
-                       else np.full((len(plan.contact_names), 2), -1, dtype=np.int64)),
-        contact_share=(plan.contact_share if plan.contact_share is not None
-                       else np.ones((B, len(plan.contact_names), 2))),
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
-        gap=plan.contact_gap, ground=plan.ground_acceleration, dt=plan.dt,
+        gap=plan.contact_gap, ground=plan.ground_channels, dt=plan.dt,
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
         event_parts=plan.event_parts if plan.event_parts is not None else ones,
         stop=np.zeros(1, dtype=np.int64),
-        story_theta=(plan.story_theta if plan.story_theta is not None
-                     else np.full(plan.n_springs, -1, dtype=np.int64)),
-        ground_influence=(plan.ground_influence if plan.ground_influence is not None
-                          else np.ones(plan.n_dof)),
+        dof_channel=(plan.dof_channel if plan.dof_channel is not None
+                     else np.zeros(plan.n_dof, dtype=np.int64)),
         foundation_dofs=(plan.foundation_dofs if plan.foundation_dofs is not None
                          else np.zeros((0, 2), dtype=np.int64)),
+        **_sides("story", plan.story_sides, plan.n_springs, B),
+        **_sides("contact", plan.contact_sides, len(plan.contact_names), B),
+        gauge_start=(plan.gauge_start if plan.gauge_start is not None
+                     else np.zeros(1, dtype=np.int64)),
+        gauge_dof=plan.gauge_dof if plan.gauge_dof is not None else np.zeros(0, dtype=np.int64),
+        gauge_coef=plan.gauge_coef if plan.gauge_coef is not None else np.zeros((B, 0)),
         modal_dofs=(plan.modal_dofs if plan.modal_dofs is not None
                     else np.zeros(0, dtype=np.int64)),
         modal_start=(plan.modal_start if plan.modal_start is not None
@@ -244,6 +245,16 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
                       else np.zeros((B, 0))),
     )
     return _normalised(model), story_state, contact_state
+
+
+def _sides(kind: str, sides, count: int, batch: int) -> dict:
+    """The Model's arrays of the sides of a kind of element (none: every element plain)."""
+    if sides is None:
+        return {f"{kind}_side_start": np.zeros(2 * count + 1, dtype=np.int64),
+                f"{kind}_side_dof": np.zeros(0, dtype=np.int64),
+                f"{kind}_side_coef": np.zeros((batch, 0))}
+    return {f"{kind}_side_start": sides.start, f"{kind}_side_dof": sides.dof,
+            f"{kind}_side_coef": sides.coef}
 
 
 def _normalised(group):
@@ -320,8 +331,8 @@ class _Recorders:
     def __init__(self, plan, sink):
         B = plan.batch
         self.plan, self.sink = plan, sink
-        sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), 1,
-                 len(plan.link_names), len(plan.foundations))
+        sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), len(plan.channels),
+                 len(plan.link_names), len(plan.foundations), 2 * len(plan.point_names))
         self.widths = [sizes[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
         self.every = np.zeros(len(RECORDABLE), dtype=np.int64)
         for q, every in plan.history:
@@ -380,7 +391,8 @@ class _Recorders:
                     self.sink(name, first, self._shaped(name, rec.history[q][:, :stop - first]))
 
     def _shaped(self, name, array):
-        return array[..., 0] if QUANTITIES[name][0] is None else array
+        # one value a step: a column per channel of the ground motion, one column for one
+        return array[..., 0] if QUANTITIES[name][0] is None and array.shape[-1] == 1 else array
 
     def histories(self) -> dict:
         if self.whole is None:
@@ -408,7 +420,8 @@ def work_arrays(plan, st: State) -> Work:
                 *(np.zeros(s) for _ in range(4)), np.zeros(c), np.zeros(c), np.zeros(s),
                 np.zeros(c), np.zeros(len(Scalar)),
                 np.zeros((stages - 1, len(Value), n)), np.zeros(s), np.zeros(c),
-                np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size))
+                np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size),
+                *(np.zeros(len(plan.channels)) for _ in range(3)))
     return work
 
 
@@ -427,9 +440,10 @@ def _pieces(batch: int, threads: int | None) -> list[tuple[int, int]]:
 
 #: Model fields shared by the batch (topology), which threads do not slice
 _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_dofs",
-           "contact_lower",
-           "contact_order", "contact_law", "stop", "story_theta", "ground_influence",
-           "foundation_dofs", "modal_dofs", "modal_start"}
+           "contact_order", "contact_law", "stop", "dof_channel",
+           "foundation_dofs", "story_side_start", "story_side_dof", "contact_side_start",
+           "contact_side_dof", "gauge_start", "gauge_dof",
+           "modal_dofs", "modal_start"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -509,8 +523,12 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                      story_states=st.story_committed.shape[2],
                      contact_width=model.contact_params.shape[2],
                      contact_states=st.contact_committed.shape[2],
-                     ground_width=model.ground.shape[1], materials=laws.materials,
+                     ground_width=model.ground.shape[2], channels=model.ground.shape[1],
+                     materials=laws.materials,
                      contact_laws=laws.contact_laws, foundations=len(plan.foundations),
+                     story_terms=model.story_side_dof.shape[0],
+                     contact_terms=model.contact_side_dof.shape[0],
+                     points=len(plan.point_names), gauge_terms=model.gauge_dof.shape[0],
                      modal_blocks=len(model.modal_start) - 1,
                      modal_width=model.modal_matrix.shape[1])
         structs.append((ckernel.arrays(ckernel.Model, sliced, **sizes),

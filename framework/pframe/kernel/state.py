@@ -252,25 +252,35 @@ Model = namedtuple("Model", [
     "story_height",     # (B, s) storey height (m; NaN: not given), for drift ratios
     "story_kg",         # (B, s) P-delta's geometric stiffness P / h (N/m; 0: none)
     "contact_dofs",     # (c, 2) left and right DOF (-1: the ground, a wall)
-    "contact_lower",    # (c, 2) a floor-to-column contact: the lower floor's DOF of the struck
-                        # storey on the left and right side (negative: none, or the ground)
-    "contact_share",    # (B, c, 2) the weight psi of the named node on each side (1: a floor;
-                        # a column point is psi u_upper + (1 - psi) u_lower)
     "contact_order",    # (c,) contacts in evaluation order (grouped by law)
     "contact_law",      # (c,) contact law id
     "contact_params",   # (B, c, Q) the law's packed parameters
     "gap",              # (B, c) m
-    "ground",           # (B, steps + 1) ground acceleration (m/s^2)
+    "ground",           # (B, C, steps + 1) ground acceleration along each channel (m/s^2):
+                        # the site's axes the motion loads (pframe.assemble.Plan.channels)
     "dt",               # (B,) s
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
     "stop",             # (1,) set to 1 by the driver (Ctrl-C): seen at every evaluation
-    # soil under a building (docs/soil.md): its storeys deform as u_upper - u_lower - h theta
-    "story_theta",      # (s,) the rocking DOF of the storey's building (-1: a fixed base);
-                        # its lever is the storey's height (story_height)
-    "ground_influence", # (n,) the ground load is -m a_g times this: 1 on a translational DOF,
-                        # 0 on a rocking one (an absolute acceleration is a + influence a_g)
+    "dof_channel",      # (n,) the channel whose ground motion loads a DOF (-m a_g): -1 for a
+                        # rotation or a foundation's rocking (an absolute acceleration is
+                        # a + a_g of its channel)
     "foundation_dofs",  # (F, 2) sway and rocking DOF of each foundation on soil
+    # the sides of the elements that are not plain (pframe.assemble.incidence): side s of
+    # element e is sum coef[b, t] x[dof[t]] over t in start[2 e + s] .. start[2 e + s + 1];
+    # a plain element (no terms) joins its two DOFs of *_dofs with coefficient 1
+    "story_side_start",    # (2 s + 1,)
+    "story_side_dof",      # (Ts,)
+    "story_side_coef",     # (B, Ts)
+    "contact_side_start",  # (2 c + 1,)
+    "contact_side_dof",    # (Tc,)
+    "contact_side_coef",   # (B, Tc)
+    # the named plan points of the floors (point_displacement, point_drift): gauge g is
+    # sum gauge_coef[b, t] U[gauge_dof[t]], t in gauge_start[g] .. gauge_start[g + 1]; the
+    # displacements along the building's x and y of each point, then its drifts
+    "gauge_start",         # (4 P + 1,)
+    "gauge_dof",           # (Tg,)
+    "gauge_coef",          # (B, Tg)
     # modal damping (docs/theory.md#damping): a dense block over each such building's DOFs
     "modal_dofs",       # (q,) the DOFs of the blocks, one block after another
     "modal_start",      # (blocks + 1,) where each block starts in modal_dofs
@@ -332,21 +342,26 @@ Work = namedtuple("Work", [
     # the generic stage loop: the ends of the stages before the last, (stages - 1, 3, n) u, v
     # and a, the deformations and law states at the previous stage's end, the laws start from
     "stage_values", "stage_drift", "stage_penetration", "story_stage", "contact_stage",
+    # (C,) the ground accelerations at a (sub-)step's start and end and at its evaluation point
+    "ag_old", "ag_new", "age",
 ])
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
-         "contact_width", "contact_states", "ground_width", "materials", "contact_laws",
-         "foundations", "modal_blocks", "modal_width")
+         "contact_width", "contact_states", "ground_width", "channels", "materials",
+         "contact_laws", "foundations", "story_terms", "contact_terms", "points", "gauge_terms",
+         "modal_blocks", "modal_width")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
 C_TYPES = {
     "Model": {"story_dofs": "int64_t *", "story_order": "int64_t *", "story_law": "int64_t *",
               "story_damping": "int64_t *", "contact_dofs": "int64_t *",
-              "contact_lower": "int64_t *", "story_theta": "int64_t *",
-              "foundation_dofs": "int64_t *", "modal_dofs": "int64_t *",
-              "modal_start": "int64_t *",
+              "foundation_dofs": "int64_t *", "dof_channel": "int64_t *",
+              "story_side_start": "int64_t *", "story_side_dof": "int64_t *",
+              "contact_side_start": "int64_t *", "contact_side_dof": "int64_t *",
+              "gauge_start": "int64_t *", "gauge_dof": "int64_t *",
+              "modal_dofs": "int64_t *", "modal_start": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",
               **{name: "int64_t" for name in SIZES}},

@@ -24,6 +24,7 @@ from pydantic import (
 from pframe.integrators import ALL_INTEGRATORS, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
+from pframe.model.plan import Direction, FloorPlan, Point
 from pframe.objects import Frozen
 from pframe.quantities import QUANTITIES as _QUANTITIES
 
@@ -179,7 +180,9 @@ def scene_html(scene) -> str:
 
 
 class Node(Base):
-    """A floor: one lateral degree of freedom with a lumped mass."""
+    """A floor: a rigid diaphragm with a lumped mass at its centre of mass, which moves along
+    the site's x and y and turns about the vertical (docs/plan.md); a scene whose elements
+    all act along x through the centres of mass moves it along x only."""
 
     name: NodeName
     mass: Positive = Field(description="Lumped floor mass (kg).")
@@ -187,6 +190,19 @@ class Node(Base):
                        "soil holds it to the ground. Such a node is refused in a building that "
                        "has storeys (a storey left out?) and warned about under a ground "
                        "motion, unless it says free: true.")
+    centre_of_mass: Point = Field((0.0, 0.0), description="[x, y]: where the floor's mass is "
+                                  "in the site's plan (m); its motion is that point's.")
+    polar_inertia: Positive | None = Field(
+        None, description="J: the floor's mass moment of inertia about the vertical through "
+        "its centre of mass (kg m^2); needed once the floor turns (an element off its centre "
+        "of mass).")
+
+
+#: a point of a floor: a named point of its building (a corner: SW, SE, NE, NW of a
+#: rectangular plan) or [x, y] in its building's plan axes (m)
+PointRef = Annotated[str | Point, Field(description="A named point of the floor's building "
+                                        "(its plan's corners SW, SE, NE, NW, or one of its "
+                                        "points) or [x, y] in the building's plan axes (m).")]
 
 
 #: a node's name, or the ground (a storey's base, a wall's side of a contact, a link's anchor)
@@ -225,6 +241,12 @@ class StoryBase(Base):
     park_ang: ParkAng | None = Field(
         None, description="Ultimate drift (one value) and beta of the storey's Park-Ang "
         "damage index (pframe summary); none: no damage index.")
+    position: Point | None = Field(
+        None, description="[x, y]: a point of the storey's line of resistance in the site's "
+        "plan (m); default: the upper floor's centre of mass.")
+    direction: Direction = Field("x", description="The line's direction: x, y or an angle "
+                                 "(degrees from the site's x axis); its drift is the relative "
+                                 "motion of its point along it.")
     isolator: bool | None = Field(
         None, description="An isolation storey (bearings): no stiffness-proportional Rayleigh "
         "damping on it, and its building's isolated modes take its post-yield or sliding "
@@ -246,6 +268,11 @@ class LinkBase(Base):
         description="[first, second]: deformation = u_second - u_first (a storey's drift when "
         "first is below second); 'ground' on one side anchors the link to the ground."
     )
+    points: tuple[PointRef | None, PointRef | None] | None = Field(
+        None, description="[first, second]: where the link is attached on each floor (null: "
+        "its centre of mass, the default).")
+    direction: Point = Field((1.0, 0.0), description="[x, y]: the direction the link acts "
+                             "along, in the site's axes (default [1, 0]: the row's axis).")
 
 
 def default_link_name(nodes) -> str:
@@ -291,6 +318,42 @@ class ContactBase(Base):
         None, gt=0, allow_inf_nan=False, description="The struck column's shear capacity (N) "
         "of a floor-to-column contact: the local shear the impact puts into it is checked "
         "against it.")
+    points: tuple[PointRef | None, PointRef | None] | None = Field(
+        None, description="[left, right]: the point of each floor that strikes (a corner, a "
+        "point of an edge; null: its centre of mass, the default). A wall's side takes null.")
+    normal: Point = Field((1.0, 0.0), description="[x, y]: the direction from the left point "
+                          "to the right one along which they close, in the site's axes "
+                          "(default [1, 0]: the row's axis); penetration = normal . (u_left - "
+                          "u_right) - gap.")
+
+
+class LineBase(Base):
+    """A line of resistance of a building in plan (a frame, a wall, an isolator): a storey
+    spring at a plan point along a direction, in every storey of the building (or those of
+    ``storeys``); its material's values are one for all storeys or one per storey, bottom up."""
+
+    name: Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")] = Field(
+        description="The line's name; its storey elements are '<building>/<storey>/<name>'.")
+    position: Point = Field(description="[x, y]: a point of the line in the building's plan "
+                            "axes (m).")
+    direction: Direction = Field("x", description="x, y, or an angle (degrees from the "
+                                 "building's x axis): the direction the line resists along.")
+    storeys: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] | None = Field(
+        None, description="[first, last]: the storeys the line stands in (1-based, "
+        "inclusive); default: all.")
+    isolator: bool | None = Field(
+        None, description="A line of isolation bearings: no stiffness-proportional Rayleigh "
+        "damping on it, and its building's isolated modes take its post-yield or sliding "
+        "stiffness (as a storey's isolator).")
+    stiffness_damping: bool | None = Field(
+        None, description="Whether its building's Rayleigh damping adds the stiffness-"
+        "proportional term a1 k to this line (default: yes, but not on an isolator).")
+
+    @model_validator(mode="after")
+    def _storey_range(self):
+        if self.storeys is not None and self.storeys[1] < self.storeys[0]:
+            raise ValueError("storeys: [first, last] with first <= last")
+        return self
 
 
 #: the stiffness a building's damping is fitted on (Rayleigh's and modal damping's ``fit``)
@@ -301,6 +364,10 @@ FIT_DESCRIPTION = (
     "or initial (every storey at its initial stiffness).")
 
 
+RayleighMode = Union[Annotated[int, Field(ge=1)],  # noqa: UP007
+                     Annotated[str, Field(pattern=r"^(x|y|torsion)[1-9][0-9]*$")]]
+
+
 class Rayleigh(Base):
     """Rayleigh damping of one building, C = a0 M + a1 K, fitted on that building alone (a
     fixed base) so that the two modes named get the ratio asked; the a1 K term acts on its
@@ -308,8 +375,10 @@ class Rayleigh(Base):
 
     kind: Literal["rayleigh"] = "rayleigh"
     ratio: float = Field(0.05, ge=0, lt=1, description="Damping ratio on both fitted modes.")
-    modes: tuple[Annotated[int, Field(ge=1)], Annotated[int, Field(ge=1)]] = Field(
-        (1, 2), description="The two modes (1-based) the ratio is fitted to."
+    modes: tuple[RayleighMode, RayleighMode] = Field(
+        (1, 2), description="The two modes the ratio is fitted to: 1-based numbers in the "
+        "building's order of frequency, or in plan a direction and its number (x1, y2, "
+        "torsion1: the first mode moving mostly in twist, as validate lists them)."
     )
     stiffness: Literal["initial", "current", "committed"] = Field(
         "initial", description="Stiffness of the beta K term (as OpenSees betaKinit/K/Kcomm)."
@@ -657,6 +726,48 @@ class Stochastic(Base):
         return self
 
 
+#: one ground motion along one direction
+Motion = Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic],  # noqa: UP007
+                   Field(discriminator="kind")]
+
+
+class Components(Base):
+    """A ground motion in two horizontal components (docs/plan.md): any motion along x and
+    any along y, the pair turned by ``angle`` on the site (the incidence). A pair of PEER
+    records of one station is read as a pair: the same event and station, time step and
+    length are checked."""
+
+    kind: Literal["components"] = "components"
+    x: Motion | None = Field(None, description="The motion along the pair's x axis.")
+    y: Motion | None = Field(None, description="The motion along the pair's y axis (at "
+                             "angle + 90 degrees).")
+    angle: float = Field(0.0, allow_inf_nan=False, description="The angle of the pair's x "
+                         "axis from the site's x axis (degrees, counter-clockwise): the "
+                         "angle of incidence.")
+
+    @model_validator(mode="after")
+    def _one_at_least(self):
+        if self.x is None and self.y is None:
+            raise ValueError("give the motion along x, along y, or both")
+        return self
+
+    def motions(self) -> tuple:
+        """(axis, motion) of the components given: 'x', then 'y'."""
+        return tuple((axis, m) for axis, m in (("x", self.x), ("y", self.y)) if m is not None)
+
+
+def records_of(excitation) -> tuple:
+    """The record definitions an excitation reads (a record, or the records among the
+    components of a pair)."""
+    if excitation is None:
+        return ()
+    if excitation.kind == "record":
+        return (excitation,)
+    if excitation.kind == "components":
+        return tuple(m for _, m in excitation.motions() if m.kind == "record")
+    return ()
+
+
 def tag_reader(key: str, default: str):
     """The discriminator of a union whose tag ``key`` may be left out (``default``): reads it
     from YAML data (a dict) or from an object built in Python."""
@@ -724,8 +835,12 @@ class Envelope(Base):
 class InitialConditions(Base):
     """Displacements and velocities relative to the ground at t = 0 (default: at rest)."""
 
-    displacement: dict[NodeName, float] = Field(default_factory=dict, description="(m)")
-    velocity: dict[NodeName, float] = Field(default_factory=dict, description="(m/s)")
+    displacement: dict[NodeName, float | tuple[float, float, float]] = Field(
+        default_factory=dict, description="(m) along x, or [u_x (m), u_y (m), theta (rad)] of "
+        "a floor in plan.")
+    velocity: dict[NodeName, float | tuple[float, float, float]] = Field(
+        default_factory=dict, description="(m/s) along x, or [v_x (m/s), v_y (m/s), "
+        "theta' (rad/s)] of a floor in plan.")
 
 
 class OutputScales(Base):
@@ -830,6 +945,8 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         for n, p in zip(material_names, material_params)
     ]
     storey_models = [_broadcast(p, "material") for p in material_params]
+    line_models = [create_model(f"Line_{n}", __base__=(LineBase, m))
+                   for n, m in zip(material_names, storey_models)]
 
     class Building(Base):
         """Shorthand for one shear building: floors 1..n above ground, storey i below floor i."""
@@ -838,7 +955,33 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
                                                 "'<name>/1' .. '<name>/<floors>'.")
         floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
-        story: _union(storey_models, "material") = Field(description="Storey properties.")
+        story: _union(storey_models, "material") | None = Field(
+            None, description="Storey properties: one storey spring along x through the "
+            "floors' centres of mass (a planar building); or give lines.")
+        lines: list[_union(line_models, "material")] | None = Field(
+            None, min_length=1, description="Lines of resistance (frames, walls, isolators) "
+            "of every storey, each at a plan point along a direction with its material "
+            "(docs/plan.md); instead of story.")
+        origin: Point = Field((0.0, 0.0), description="[x, y]: where the building's plan "
+                              "origin stands on the site (m).")
+        angle: float = Field(0.0, allow_inf_nan=False, description="The angle of the "
+                             "building's x axis from the site's x axis (degrees, "
+                             "counter-clockwise).")
+        plan: FloorPlan | None = Field(None, description="The floors' plan (size or outline, "
+                                       "building axes): the default centre of mass and polar "
+                                       "inertia, the named corners, where contact points may "
+                                       "be.")
+        centre_of_mass: Point | list[Point] | None = Field(
+            None, description="[x, y] of the floors' centre of mass in the building's axes "
+            "(m), one for all floors or one per floor; default: the plan's centroid, else the "
+            "origin.")
+        polar_inertia: Positive | list[Positive] | None = Field(
+            None, description="J: each floor's mass moment of inertia about the vertical "
+            "through its centre of mass (kg m^2), one for all or one per floor; default: a "
+            "uniform slab of the plan, m (L_x^2 + L_y^2) / 12 for a rectangle.")
+        points: dict[Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")], Point] = Field(
+            default_factory=dict, description="Named plan points [x, y] (building axes, m): "
+            "where contacts strike and outputs are taken, besides the plan's corners.")
         damping: Damping | None = Field(None, description="Rayleigh (kind: rayleigh, the "
                                         "default) or modal damping (kind: modal); defaults to "
                                         "the scene's damping.")
@@ -855,6 +998,14 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         park_ang: ParkAng | None = Field(
             None, description="Ultimate drift and beta of the Park-Ang damage index of its "
             "storeys (pframe summary); none: no damage index.")
+
+        @model_validator(mode="after")
+        def _story_or_lines(self):
+            if (self.story is None) == (self.lines is None):
+                raise ValueError("give story (one storey spring per storey, a planar "
+                                 "building) or lines (lines of resistance in plan), not both "
+                                 "and not neither")
+            return self
 
     class Scene(Base):
         """A scene of adjacent buildings that may pound into each other."""
@@ -876,9 +1027,11 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         damping: Damping = Field(Rayleigh(), description="Default damping of every building: "
                                  "Rayleigh (kind: rayleigh, the default) or modal (kind: "
                                  "modal).")
-        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic],  # noqa: UP007
+        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
+                                    Components],
                               Field(discriminator="kind")] | None = Field(
-            None, description="Ground motion (none: free vibration from initial conditions).")
+            None, description="Ground motion along the site's x axis, or in two components "
+            "(kind: components); none: free vibration from initial conditions.")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")
         analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "

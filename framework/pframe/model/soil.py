@@ -62,3 +62,51 @@ def cone(shear_wave_velocity: float, poisson: float, density: float, sway_radius
         rocking_radius=rocking_radius,
         p_wave_velocity=vp,
     )
+
+
+@dataclass(frozen=True)
+class FoundationSoil:
+    """A building's foundation on soil (docs/soil.md): its two DOFs' masses, the springs and
+    dashpots to the ground, and where they came from."""
+
+    building: int  # index into Expanded.buildings
+    sway_stiffness: float  # K_h (N/m)
+    sway_damping: float  # C_h (N s/m)
+    rocking_stiffness: float  # K_r (N m/rad)
+    rocking_damping: float  # C_r (N m s/rad)
+    mass: float  # m_f (kg)
+    rotational_inertia: float  # I_f (kg m^2), with the cone's trapped soil
+    trapped_inertia: float = 0.0  # the cone's trapped soil (kg m^2), included above
+    source: str = "given"  # "cone" (Wolf's cone model) or "given"
+
+    def describe(self) -> str:
+        """What was applied, in one line (the run summary, the result's attributes)."""
+        trapped = (f" (with {self.trapped_inertia:.4g} kg m^2 of trapped soil)"
+                   if self.trapped_inertia else "")
+        how = "Wolf's cone model" if self.source == "cone" else "given"
+        return (f"K_h = {self.sway_stiffness:.4g} N/m, C_h = {self.sway_damping:.4g} N s/m, "
+                f"K_r = {self.rocking_stiffness:.4g} N m/rad, C_r = "
+                f"{self.rocking_damping:.4g} N m s/rad ({how}); m_f = {self.mass:.4g} kg, "
+                f"I_f = {self.rotational_inertia:.4g} kg m^2{trapped}")
+
+
+def foundation_soil(soil, building: int) -> FoundationSoil:
+    """The springs, dashpots and inertias of a scene's ``soil`` (pframe.model.scene.Soil)."""
+    f = soil.foundation
+    if f.radius is not None:
+        r_h = r_r = f.radius
+        slab = f.mass * f.radius**2 / 4.0
+    elif f.width is not None:
+        length = f.length if f.length is not None else f.width
+        r_h, r_r = equivalent_radii(f.width, length)
+        slab = f.mass * f.width**2 / 12.0
+    else:
+        slab = None
+    inertia = f.rotational_inertia if f.rotational_inertia is not None else slab
+    if soil.shear_wave_velocity is None:
+        return FoundationSoil(building, soil.sway_stiffness, soil.sway_damping,
+                              soil.rocking_stiffness, soil.rocking_damping, f.mass, inertia)
+    c = cone(soil.shear_wave_velocity, soil.poisson, soil.density, r_h, r_r)
+    return FoundationSoil(building, c.sway_stiffness, c.sway_damping, c.rocking_stiffness,
+                          c.rocking_damping, f.mass, inertia + c.trapped_inertia,
+                          c.trapped_inertia, "cone")

@@ -92,6 +92,7 @@ QUANTITY: dict[str, Dimension] = {
     "modulus": MASS / LENGTH / TIME**2,  # Pa: elastic modulus, stress
     "density": MASS / LENGTH**3,
     "energy": MASS * LENGTH**2 / TIME**2,
+    "inertia": MASS * LENGTH**2,  # kg m^2: a floor's polar moment of inertia
 }
 
 #: unit symbols pframe's YAML uses, as dimensions (SI, so no conversion factors arise)

@@ -136,7 +136,32 @@ SCENE_FIELDS = {
     ("output", "scales", "m_b"): "mass",
     ("output", "scales", "a_p"): "acceleration",
     ("output", "scales", "w_p"): "frequency",
+    # buildings in plan (docs/plan.md): coordinates and sizes are lengths, directions and
+    # angles are numbers, a polar inertia is kg m^2
+    ("buildings", "*", "origin"): "length",
+    ("buildings", "*", "angle"): "dimensionless",
+    ("buildings", "*", "plan", "size"): "length",
+    ("buildings", "*", "plan", "outline"): "length",
+    ("buildings", "*", "centre_of_mass"): "length",
+    ("buildings", "*", "polar_inertia"): "inertia",
+    ("buildings", "*", "points", "*"): "length",
+    ("buildings", "*", "lines", "*", "position"): "length",
+    ("buildings", "*", "lines", "*", "direction"): "dimensionless",
+    ("buildings", "*", "lines", "*", "storeys"): "dimensionless",
+    ("nodes", "*", "centre_of_mass"): "length",
+    ("nodes", "*", "polar_inertia"): "inertia",
+    ("stories", "*", "position"): "length",
+    ("stories", "*", "direction"): "dimensionless",
+    ("contacts", "*", "points"): "length",
+    ("contacts", "*", "normal"): "dimensionless",
+    ("links", "*", "points"): "length",
+    ("links", "*", "direction"): "dimensionless",
+    ("excitation", "angle"): "dimensionless",
 }
+# each of two components is a motion of its own, with a motion's fields
+SCENE_FIELDS.update({("excitation", axis) + pattern[1:]: quantity
+                     for axis in ("x", "y") for pattern, quantity in list(SCENE_FIELDS.items())
+                     if pattern[0] == "excitation" and pattern != ("excitation", "angle")})
 
 
 def scene_field_dimension(path: tuple) -> Dimension | None:

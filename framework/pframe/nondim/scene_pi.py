@@ -132,6 +132,17 @@ def default_repeating(variables: list[Variable], roles: dict, expanded) -> list[
     return [mass, "a_p", "w_p"]
 
 
+def _in_plan(scene) -> bool:
+    """Whether a scene says anything of plan: lines of resistance, points, normals, a motion
+    in components (even when its elements happen to act along x through the centres)."""
+    if any(b.lines is not None for b in scene.buildings):
+        return True
+    if scene.excitation is not None and scene.excitation.kind == "components":
+        return True
+    return any("points" in c.model_fields_set or "normal" in c.model_fields_set
+               for c in scene.contacts)
+
+
 def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
     """Variables, Pi groups (names, formulas, values) and discrete parameters of a scene.
 
@@ -149,6 +160,12 @@ def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
         raise InputError("the Pi form has no soil yet (docs/soil.md): the sway and rocking "
                          "springs' groups are not derived; remove soil to see the fixed "
                          "pair's groups")
+    if getattr(expanded, "dofs", None) is not None or _in_plan(scene):
+        raise InputError("the Pi form has no buildings in plan yet (docs/plan.md): the groups "
+                         "of their eccentricities, plan sizes, polar inertias, angles and a "
+                         "motion's incidence are not derived, and the paper's groups alone "
+                         "would describe another scene; write the scene's storeys along x "
+                         "through the centres of mass (a planar scene) to see its groups")
     variables, roles = scene_variables(scene, expanded)
     by_name = {v.name: v for v in variables}
     default = repeating is None

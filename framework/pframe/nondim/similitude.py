@@ -253,15 +253,24 @@ def _law_context(path: tuple, node: dict):
     if len(path) == 2 and path[0] == "contacts":
         return ("contact", node.get("law"))
     if (len(path) == 2 and path[0] in ("stories", "links")) or (
-            len(path) == 3 and path[0] == "buildings" and path[2] == "story"):
+            len(path) == 3 and path[0] == "buildings" and path[2] == "story") or (
+            len(path) == 4 and path[0] == "buildings" and path[2] == "lines"):
         return ("material", node.get("material"))
     return None
+
+
+#: a floor in plan's initial [u_x, u_y, theta] and [v_x, v_y, theta']: the rotation's
+#: dimension is not its translations'
+_PLAN_TRIPLE = {"displacement": ("length", "length", "dimensionless"),
+                "velocity": ("velocity", "velocity", "frequency")}
 
 
 def _scale_leaf(value, path: tuple, law, factor_of):
     if isinstance(value, bool) or not isinstance(value, (int, float, list)):
         return value
     if isinstance(value, list):
+        if path[:1] == ("initial_conditions",) and len(path) == 3 and len(value) == 3:
+            return [v * factor_of(QUANTITY[q]) for v, q in zip(value, _PLAN_TRIPLE[path[1]])]
         return [_scale_leaf(v, path, law, factor_of) for v in value]
     dimension = scene_field_dimension(path)
     if dimension is None and law is not None and law[1] is not None:
@@ -322,25 +331,51 @@ def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
             scales[key] = float(scales.get(key, 1.0)) * factor_of(QUANTITY[quantity])
         return {**data, "scales": scales}
     excitation = data.get("excitation") or {}
-    record = excitation.get("kind") == "record"
-    if excitation.get("kind") == "stochastic":
+    motions = _motions(excitation)
+    for where, motion in motions.items():
+        _check_motion(motion, where, sim)
+    kept = {k: data[k] for k in ("title", "recorders") if k in data}
+    walked = {k: v for k, v in data.items() if k not in kept}
+    stochastic = [w for w, m in motions.items() if m.get("kind") == "stochastic"]
+    if "excitation" in stochastic:
+        walked.pop("excitation")
+    elif stochastic:  # components: each stochastic one is kept as it is (S_T = S_a = 1)
+        walked["excitation"] = {k: v for k, v in excitation.items()
+                                if f"excitation.{k}" not in stochastic}
+    out = _walk(walked, (), None, factor_of)
+    if stochastic:
+        out["excitation"] = {**excitation, **out.get("excitation", {})} \
+            if "excitation" not in stochastic else excitation
+    for where, motion in motions.items():
+        if motion.get("kind") == "record" and "period" in motion:  # of the file's time axis
+            (out["excitation"] if where == "excitation"
+             else out["excitation"][where[-1]])["period"] = motion["period"]
+    return {k: (kept[k] if k in kept else out[k]) for k in data}
+
+
+def _motions(excitation: dict) -> dict:
+    """The scene's motions by where they stand: the excitation, or each of two components."""
+    if excitation.get("kind") == "components":
+        return {f"excitation.{axis}": excitation[axis] for axis in ("x", "y")
+                if isinstance(excitation.get(axis), dict)}
+    return {"excitation": excitation} if excitation else {}
+
+
+def _check_motion(motion: dict, where: str, sim: Similitude) -> None:
+    """Refuse a motion similitude cannot scale: a stochastic one unless S_T = S_a = 1, a
+    record at another time scale without its characteristic frequency."""
+    if motion.get("kind") == "stochastic":
         if sim.ratio("time").exact != 1 or sim.ratio("acceleration").exact != 1:
             raise SimilitudeError(
-                f"the scene's excitation is a stochastic motion and S_T = {sim.ratio('time')}, "
+                f"the scene's {where} is a stochastic motion and S_T = {sim.ratio('time')}, "
                 f"S_a = {sim.ratio('acceleration')}: its model describes prototype earthquakes "
                 "(a magnitude and distance, or filter frequencies and an intensity), which "
                 "similitude does not scale; write the motion as a record file (time x S_T, "
                 "acceleration x S_a) and point the excitation at it")
-        out = scale_scene({k: v for k, v in data.items() if k != "excitation"}, sim, to)
-        return {k: excitation if k == "excitation" else out[k] for k in data}  # kept as it is
-    if record and sim.ratio("time").exact != 1 and "frequency" not in excitation:
+    elif motion.get("kind") == "record" and sim.ratio("time").exact != 1 \
+            and "frequency" not in motion:
         raise SimilitudeError(
-            f"the scene's excitation is a record and S_T = {sim.ratio('time')}: give "
-            "excitation.frequency (the record's characteristic frequency 2 pi / T, which "
+            f"the scene's {where} is a record and S_T = {sim.ratio('time')}: give "
+            f"{where}.frequency (the record's characteristic frequency 2 pi / T, which "
             "pframe pi prints as w_p) so that its time axis is scaled with it, or write the "
-            "scaled record (time x S_T, acceleration x S_a) and point excitation.file at it")
-    kept = {k: data[k] for k in ("title", "recorders") if k in data}
-    out = _walk({k: v for k, v in data.items() if k not in kept}, (), None, factor_of)
-    if record and "period" in excitation:  # a period of the file's own time axis: kept
-        out["excitation"]["period"] = excitation["period"]
-    return {k: (kept[k] if k in kept else out[k]) for k in data}
+            f"scaled record (time x S_T, acceleration x S_a) and point {where}.file at it")

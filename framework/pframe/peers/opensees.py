@@ -5,10 +5,21 @@ The peer serves two purposes: an independent check of pframe's kernel and a spee
 the model can be rerun, inspected or timed without pframe installed; :func:`run` executes that
 same text in this process and returns its histories.
 
-Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node):
+A planar scene (one DOF per floor) is a 1-D model: node ``i + 1`` is DOF ``i``, with one
+fixed ground node. A scene in plan is a 2-D model (``-ndm 2 -ndf 3``): node ``f + 1`` is floor
+``f`` at its centre of mass with its mass (m, m, J), and each element end is a node at its
+point on the element's line of action, tied to its floor by ``rigidLink beam``, with the
+element a ``zeroLength`` oriented (``-orient``) along the element's direction. In 2-D that
+constraint is exactly pframe's small-rotation map of a rigid diaphragm, u_P = (u_x - theta
+(P_y - c_y), u_y + theta (P_x - c_x)), a constant matrix that the ``Transformation`` handler
+eliminates exactly; ``rigidDiaphragm`` is the same map but needs a 3-D model (``-ndm 3 -ndf 6``,
+the out-of-plane DOFs all fixed) for nothing more. An end's point is where the element's line
+of action passes nearest its floor's centre of mass: a force along n has the same moment about
+the centre from any point of its line, so it is the model pframe runs whatever point the scene
+named on that line. The components the scene does not move are fixed. Both models have:
 
-* storeys: ``zeroLength`` with ``Elastic``, ``Steel01`` (``b = alpha``, no isotropic
-  hardening), ``BoucWen`` (the law ``bouc_wen``, its parameters, tolerance and iterations),
+* storeys (lines of resistance): ``zeroLength`` with ``Elastic``, ``Steel01`` (``b = alpha``,
+  no isotropic hardening), ``BoucWen`` (the law ``bouc_wen``, its parameters, tolerance and iterations),
   ``ModIMKPeakOriented`` (imk_peak's 23 numbers) or ``BWBN`` (the law ``bwbn`` without
   degradation: its 12 numbers, tolerance and iterations) from the lower to the upper node,
   so the element deformation is the drift;
@@ -16,15 +27,16 @@ Model (1-D, one DOF per node, node ``i + 1`` is DOF ``i``, one fixed ground node
   its deformation ``u_right - u_left`` falls below ``-gap`` exactly when
   ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
   compression force;
-* Rayleigh damping: ``alpha_m`` on the building's nodes, ``beta_k`` on the initial stiffness of
-  its storeys that take the stiffness term (``-doRayleigh 1``; not its isolators); contacts
-  are undamped; or modal damping: ``eigen`` of every mode with ``-fullGenLapack`` on the
-  storeys' initial stiffness (before the contacts exist), then ``modalDamping`` with the
-  ratio of each mode;
-* ground motion: ``Path`` series driving a ``UniformExcitation`` (load ``-m a_g`` in relative
-  coordinates), its sample times accumulated as OpenSees accumulates time, so that step ``n``
-  sees ``a_g[n]`` exactly; Newton iterations with a ``NormDispIncr`` test, one
-  ``analyze(steps, dt)`` call and binary recorders;
+* Rayleigh damping: ``alpha_m`` on the building's nodes (in plan their rotational inertia
+  too, as pframe), ``beta_k`` on the initial stiffness of its storeys that take the stiffness
+  term (``-doRayleigh 1``; not its isolators); contacts are undamped; or modal damping:
+  ``eigen`` of every mode with ``-fullGenLapack`` on the storeys' initial stiffness (before
+  the contacts exist), then ``modalDamping`` with the ratio of each mode;
+* ground motion: a ``Path`` series driving a ``UniformExcitation`` per site axis it loads
+  (load ``-m a_g`` in relative coordinates; in plan along x, y or both), its sample times
+  accumulated as OpenSees accumulates time, so that step ``n`` sees ``a_g[n]`` exactly;
+  Newton iterations with a ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and
+  binary recorders;
 * the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's), ``WilsonTheta`` or
   ``TRBDF2`` (Bathe's method with gamma = 1/2: OpenSees takes its trapezoidal and backward
   sub-steps as alternate analysis steps of dt / 2, so the script analyses twice the steps at
@@ -54,6 +66,7 @@ import tempfile
 
 import numpy as np
 
+from pframe.peers import opensees_script
 from pframe.peers.scene import PeerScene
 
 _IMPORT_HINT = (
@@ -61,185 +74,6 @@ _IMPORT_HINT = (
     "and the system BLAS/LAPACK (apt-get install libblas3 liblapack3)"
 )
 _WIDTH = 100  # line length of the generated script
-
-# Code of the generated script after its data block. It is a plain string so that the
-# script stays runnable on its own; ``run`` executes exactly this text.
-_BODY = '''
-HUGE_FY = 1.0e30  # ElasticPPGap yield force: contacts must never yield
-
-
-def build():
-    """Create the model in the OpenSees domain; return storey, contact and link element tags."""
-    n = len(MASSES)
-    ground = n + 1
-    ops.wipe()
-    ops.model("basic", "-ndm", 1, "-ndf", 1)
-    for i, m in enumerate(MASSES):
-        ops.node(i + 1, 0.0)
-        ops.mass(i + 1, m)
-    ops.node(ground, 0.0)
-    ops.fix(ground, 1)
-
-    stories = []
-    for j, ((lower, upper), mat) in enumerate(zip(STORY_NODES, STORY_MATERIALS, strict=True)):
-        tag = j + 1
-        if mat[0] == "elastic":
-            ops.uniaxialMaterial("Elastic", tag, mat[1])
-        elif mat[0] == "bouc_wen":
-            # alpha, ko, n, gamma, beta, Ao, deltaA, deltaNu, deltaEta, tolerance, maxNumIter
-            ops.uniaxialMaterial("BoucWen", tag, *mat[1:])
-        elif mat[0] == "imk_peak":  # pframe's packed numbers are OpenSees' 23 arguments
-            ops.uniaxialMaterial("ModIMKPeakOriented", tag, *mat[1:])
-        elif mat[0] == "bwbn":
-            # alpha, ko, n, gamma, beta, Ao, q, zetas, p, Shi, deltaShi, lamda, tol, maxNumIter
-            ops.uniaxialMaterial("BWBN", tag, *mat[1:])
-        else:
-            _, k, fy, alpha = mat
-            ops.uniaxialMaterial("Steel01", tag, fy, k, alpha)
-        # zeroLength deformation is u_j - u_i: lower -> upper makes it the drift.
-        # Without -doRayleigh the element ignores the region's damping factors.
-        i_node = ground if lower < 0 else lower + 1
-        ops.element("zeroLength", tag, i_node, upper + 1, "-mat", tag, "-dir", 1,
-                    "-doRayleigh", 1)
-        stories.append(tag)
-
-    if MODAL:
-        # every mode of the buildings on their own: before the contacts (and their tangents)
-        # join the domain; -fullGenLapack is the solver that gives all n modes
-        ops.eigen("-fullGenLapack", n)
-        ops.modalDamping(*MODAL)
-
-    contacts = []
-    for j, ((left, right), gap, k) in enumerate(
-            zip(CONTACT_NODES, CONTACT_GAPS, CONTACT_STIFFNESS, strict=True)):
-        tag = len(stories) + j + 1
-        # left -> right: deformation u_right - u_left drops below -gap when the floors
-        # overlap, where ElasticPPGap (negative Fy and gap) gives stress k (defo + gap) < 0.
-        ops.uniaxialMaterial("ElasticPPGap", tag, k, -HUGE_FY, -gap, 0.0)
-        # a wall: the ground's node on its side (-1)
-        ops.element("zeroLength", tag, ground if left < 0 else left + 1,
-                    ground if right < 0 else right + 1, "-mat", tag, "-dir", 1)
-        contacts.append(tag)
-
-    links = []
-    for j, ((first, second), mat) in enumerate(zip(LINK_NODES, LINK_MATERIALS, strict=True)):
-        tag = len(stories) + len(contacts) + j + 1
-        if mat[0] == "elastic":
-            ops.uniaxialMaterial("Elastic", tag, mat[1])
-        elif mat[0] == "bilinear":
-            ops.uniaxialMaterial("Steel01", tag, mat[2], mat[1], mat[3])
-        elif mat[0] == "viscous":
-            ops.uniaxialMaterial("Viscous", tag, mat[1], mat[2])
-        else:  # kelvin_voigt: a spring and a dashpot in parallel
-            ops.uniaxialMaterial("Elastic", 100000 + tag, mat[1])
-            ops.uniaxialMaterial("Viscous", 200000 + tag, mat[2], mat[3])
-            ops.uniaxialMaterial("Parallel", tag, 100000 + tag, 200000 + tag)
-        # zeroLength deformation is u_j - u_i: first -> second (no Rayleigh on links)
-        ops.element("zeroLength", tag, ground if first < 0 else first + 1,
-                    ground if second < 0 else second + 1, "-mat", tag, "-dir", 1)
-        links.append(tag)
-
-    for b, (alpha_m, beta_k, nodes, story_ids) in enumerate(RAYLEIGH):
-        # The "Only" flags matter: a -node region also takes every element whose nodes
-        # are all listed, an -ele region takes the elements' nodes, and each region
-        # overwrites all four factors of everything it holds.
-        if alpha_m != 0.0 and len(nodes) > 0:
-            ops.region(2 * b + 1, "-nodeOnly", *[i + 1 for i in nodes],
-                       "-rayleigh", alpha_m, 0.0, 0.0, 0.0)
-        if beta_k != 0.0 and len(story_ids) > 0:
-            ops.region(2 * b + 2, "-eleOnly", *[stories[j] for j in story_ids],
-                       "-rayleigh", 0.0, 0.0, beta_k, 0.0)
-
-    # Step n is analysed at OpenSees' accumulated time t_n = t_(n-1) + DT, which drifts from
-    # n DT by rounding (about 1e-12 s after 50,000 steps); a "Path -dt" series, interpolating
-    # at t_n / DT, would then feed a_g a hair off AG[n] (~1e-11 relative late in a run). Sample
-    # times accumulated the same way make step n see AG[n] itself. A Path returns 0 past its
-    # last sample: one more sample repeats the last value. With SUBSTEPS analysis steps a step
-    # (TRBDF2) the samples between pframe's are its linear interpolation, as pframe has them.
-    ag = [float(AG[0])] + [(1.0 - j / SUBSTEPS) * float(a0) + j / SUBSTEPS * float(a1)
-                           for a0, a1 in zip(AG[:-1], AG[1:]) for j in range(1, SUBSTEPS + 1)]
-    times, t = [], 0.0
-    for _ in ag:
-        times.append(t)
-        t += DT / SUBSTEPS
-    ops.timeSeries("Path", 1, "-time", *times, t, "-values", *ag, ag[-1])
-    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
-    # OpenSees starts from zero acceleration; equilibrium at rest asks for -a_g(0).
-    if ag[0] != 0.0:
-        for i in range(n):
-            ops.setNodeAccel(i + 1, 1, -ag[0], "-commit")
-    return stories, contacts, links
-
-
-def _read_binary(path, columns):
-    """Rows of a ``-binary`` recorder: ``columns`` native doubles then a newline byte."""
-    row = np.dtype([("values", "f8", (columns,)), ("eol", "u1")])
-    size = os.path.getsize(path)
-    if size % row.itemsize:
-        raise RuntimeError(f"unexpected recorder layout in {path}")
-    data = np.fromfile(path, dtype=row)
-    if not np.all(data["eol"] == 10):
-        raise RuntimeError(f"unexpected recorder layout in {path}")
-    return data["values"]
-
-
-def simulate(workdir):
-    """Build, run one ``analyze(STEPS * SUBSTEPS, DT / SUBSTEPS)`` and return the histories of
-    pframe's steps (row 0 is t = 0)."""
-    stories, contacts, links = build()
-    nodes = list(range(1, len(MASSES) + 1))
-    recorders = {
-        "displacement": ("Node", nodes, ("-node", *nodes, "-dof", 1, "disp")),
-        "velocity": ("Node", nodes, ("-node", *nodes, "-dof", 1, "vel")),
-        "story_force": ("Element", stories, ("-ele", *stories, "basicForce")),
-        "contact_force": ("Element", contacts, ("-ele", *contacts, "basicForce")),
-        "link_force": ("Element", links, ("-ele", *links, "basicForce")),
-    }
-    for name, (kind, tags, args) in recorders.items():
-        if tags:
-            path = os.path.join(workdir, name + ".bin")
-            ops.recorder(kind, "-binary", path, "-time", *args)
-
-    ops.constraints("Plain")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", TOL, MAX_ITER)
-    ops.algorithm("Newton")
-    ops.integrator(*INTEGRATOR)
-    ops.analysis("Transient")
-
-    start = time.perf_counter()
-    status = ops.analyze(STEPS * SUBSTEPS, DT / SUBSTEPS)
-    seconds = time.perf_counter() - start
-    reached = ops.getTime()
-    ops.wipe()  # closes (flushes) the recorders
-    if status != 0:
-        raise RuntimeError(f"OpenSees analyze failed (status {status}) at t = {reached}")
-
-    result = {"time": np.arange(STEPS + 1) * DT, "analyze_seconds": seconds}
-    for name, (_, tags, _) in recorders.items():
-        history = np.zeros((STEPS + 1, len(tags)))
-        if tags:
-            rows = _read_binary(os.path.join(workdir, name + ".bin"), len(tags) + 1)
-            if rows.shape[0] != STEPS * SUBSTEPS:
-                raise RuntimeError(f"{name}: {rows.shape[0]} recorded steps, not "
-                                   f"{STEPS * SUBSTEPS}")
-            rows = rows[SUBSTEPS - 1::SUBSTEPS]  # pframe's steps
-            result["time"][1:] = rows[:, 0]
-            history[1:] = rows[:, 1:]
-        result[name] = history
-    # the gap material is negative in compression; 0.0 - x also avoids -0.0
-    result["contact_force"] = 0.0 - result["contact_force"]
-    return result
-
-
-if __name__ == "__main__":
-    with tempfile.TemporaryDirectory() as tmp:
-        result = simulate(tmp)
-    print(f"analyze({STEPS}, {DT!r}): {result['analyze_seconds']:.4f} s")
-    if OUT_NPZ is not None:
-        np.savez(OUT_NPZ, **result)
-'''
 
 
 def opensees_integrator(integrator: tuple) -> tuple:
@@ -261,13 +95,8 @@ def analysis_steps(integrator: tuple) -> int:
     return 2 if integrator[0] == "trbdf2" else 1
 
 
-def _data_block(scene: PeerScene, out_npz: str | None) -> str:
-    """Python assignments holding the scene; ``repr`` of floats round-trips exactly."""
-    if len(scene.masses) != len(scene.node_names):
-        raise ValueError("masses and node_names differ in length")
-    ag = np.ascontiguousarray(scene.ground_acceleration, dtype="<f8")
-    if ag.shape != (scene.steps + 1,):
-        raise ValueError(f"ground_acceleration must have steps + 1 = {scene.steps + 1} samples")
+def _materials(scene: PeerScene) -> list:
+    """The storeys' materials as the script's STORY_MATERIALS."""
     materials = []
     for mat in scene.story_materials:
         if mat[0] == "elastic":
@@ -282,18 +111,28 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
             materials.append(("bwbn", *(float(v) for v in mat[1:14]), int(mat[14])))
         else:
             raise ValueError(f"unknown storey material {mat[0]!r}")
+    return materials
+
+
+def _pairs(nodes) -> list:
+    """An (e, 2) array of nodes as the script's nested lists (none: [])."""
+    return np.asarray(nodes if nodes is not None else [], dtype=int).reshape(-1, 2).tolist()
+
+
+def _values(scene: PeerScene, out_npz: str | None) -> dict:
+    """The script's constants, in the order it lists them."""
     rayleigh = [
         (float(am), float(bk), [int(i) for i in nodes], [int(j) for j in stories])
         for am, bk, nodes, stories in scene.rayleigh
     ]
-    values = {
+    return {
         "MASSES": [float(m) for m in scene.masses],
-        "STORY_NODES": np.asarray(scene.story_nodes, dtype=int).reshape(-1, 2).tolist(),
-        "STORY_MATERIALS": materials,
-        "CONTACT_NODES": np.asarray(scene.contact_nodes, dtype=int).reshape(-1, 2).tolist(),
+        "STORY_NODES": _pairs(scene.story_nodes),
+        "STORY_MATERIALS": _materials(scene),
+        "CONTACT_NODES": _pairs(scene.contact_nodes),
         "CONTACT_GAPS": [float(g) for g in scene.contact_gaps],
         "CONTACT_STIFFNESS": [float(k) for k in scene.contact_stiffness],
-        "RAYLEIGH": rayleigh,  # (alpha_m, beta_k on initial stiffness, DOFs, storeys)
+        "RAYLEIGH": rayleigh,  # (alpha_m, beta_k on initial stiffness, nodes, storeys)
         "MODAL": [float(r) for r in scene.modal] if scene.modal else [],  # ratio per mode
         "DT": float(scene.dt),
         "STEPS": int(scene.steps),
@@ -301,12 +140,50 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         "MAX_ITER": int(scene.max_iterations),
         "INTEGRATOR": opensees_integrator(scene.integrator),
         "SUBSTEPS": analysis_steps(scene.integrator),
-        "LINK_NODES": np.asarray(scene.link_nodes if scene.link_nodes is not None else [],
-                                 dtype=int).reshape(-1, 2).tolist(),
+        "LINK_NODES": _pairs(scene.link_nodes),
         "LINK_MATERIALS": [tuple(m[:1]) + tuple(float(v) for v in m[1:])
                            for m in (scene.link_materials or [])],
         "OUT_NPZ": out_npz,
     }
+
+
+def _plan_values(scene: PeerScene) -> dict:
+    """The constants of a scene in plan's script: its floors, and where its elements act."""
+    floors = scene.floors
+
+    def points(values) -> list:  # (e, 2, 2) -> [[[x, y], [x, y]], ...]
+        return [[[float(v) for v in end] for end in ends] for ends in values]
+
+    def directions(values) -> list:
+        return [[float(v) for v in n] for n in values]
+
+    return {
+        "FLOOR_NAMES": list(floors.names),
+        "CENTRES": [[float(v) for v in c] for c in floors.centres],  # (m)
+        "FLOOR_MASSES": [[float(v) for v in m] for m in floors.masses],  # m, m, J
+        "MOVES": [[int(v) for v in m] for m in floors.moves],  # u_x, u_y, theta: 0 held
+        "DOFS": np.asarray(floors.dofs, dtype=int).reshape(-1, 2).tolist(),  # (floor, c)
+        "STORY_POINTS": points(floors.story_points),
+        "STORY_DIRECTIONS": directions(floors.story_directions),
+        "CONTACT_POINTS": points(floors.contact_points),
+        "CONTACT_DIRECTIONS": directions(floors.contact_directions),
+        "LINK_POINTS": points(floors.link_points),
+        "LINK_DIRECTIONS": directions(floors.link_directions),
+        "CHANNEL_DOFS": [{"x": 1, "y": 2}[c] for c in scene.channels],
+    }
+
+
+def _data_block(scene: PeerScene, out_npz: str | None) -> str:
+    """Python assignments holding the scene; ``repr`` of floats round-trips exactly."""
+    if len(scene.masses) != len(scene.node_names):
+        raise ValueError("masses and node_names differ in length")
+    ag = np.ascontiguousarray(scene.ground_acceleration, dtype="<f8")
+    shape = (scene.steps + 1,) if scene.floors is None else (len(scene.channels), scene.steps + 1)
+    if ag.shape != shape:
+        raise ValueError(f"ground_acceleration must have the shape {shape}")
+    values = _values(scene, out_npz)
+    if scene.floors is not None:
+        values = {k: v for k, v in values.items() if k != "MASSES"} | _plan_values(scene)
     lines = [
         f"{name} = {pprint.pformat(value, width=_WIDTH - len(name) - 3, compact=True)}"
         for name, value in values.items()
@@ -314,8 +191,10 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
     # base64 keeps a long record compact and bit-exact
     text = base64.b64encode(ag.tobytes()).decode("ascii")
     chunks = "\n".join(f'        "{text[i : i + 88]}"' for i in range(0, len(text), 88))
+    reshape = "" if scene.floors is None else f".reshape({shape[0]}, -1)"
     lines.append(
         f'AG = np.frombuffer(\n    base64.b64decode(\n{chunks}\n    ),\n    dtype="<f8",\n)'
+        f"{reshape}"
     )
     return "\n".join(lines) + "\n"
 
@@ -326,12 +205,14 @@ def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
     Parameters
     ----------
     scene : PeerScene
-        The scene to model.
+        The scene to model (planar, or in plan: ``scene.floors``).
     out_npz : str, optional
         Where the script, run as ``__main__``, saves ``time``, ``displacement (steps+1, n)``,
         ``velocity (steps+1, n)``, ``story_force (steps+1, s)`` (material force, without the
-        Rayleigh part), ``contact_force (steps+1, c)`` (compression positive) and
-        ``analyze_seconds``. Nothing is saved when omitted.
+        Rayleigh part), ``contact_force (steps+1, c)`` (compression positive), ``link_force``
+        and ``analyze_seconds``; a scene in plan also ``story_drift``,
+        ``contact_penetration`` and ``link_deformation``, and its DOFs are
+        ``scene.floors.dofs``. Nothing is saved when omitted.
 
     Returns
     -------
@@ -345,7 +226,10 @@ def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
         "import base64\nimport os\nimport tempfile\nimport time\n\n"
         "import numpy as np\nimport openseespy.opensees as ops\n\n"
     )
-    return header + _data_block(scene, out_npz) + _BODY
+    build = (opensees_script.PLANAR_BUILD if scene.floors is None
+             else opensees_script.PLAN_BUILD)
+    return (header + _data_block(scene, out_npz) + opensees_script.MATERIALS + build
+            + opensees_script.RUN)
 
 
 def _require_openseespy() -> None:
@@ -372,8 +256,10 @@ def run(scene: PeerScene, workdir: str | None = None) -> dict:
     dict
         ``time`` (as accumulated by OpenSees), ``displacement`` and ``velocity`` (relative to
         the ground, ``(steps + 1, n)``), ``story_force`` (material force, without the Rayleigh
-        part, ``(steps + 1, s)``), ``contact_force`` (compression positive, ``(steps + 1, c)``);
-        row 0 is the state at rest. ``analyze_seconds`` times the single ``analyze`` call.
+        part, ``(steps + 1, s)``), ``contact_force`` (compression positive, ``(steps + 1, c)``),
+        ``link_force``; a scene in plan also ``story_drift``, ``contact_penetration`` (0
+        while open) and ``link_deformation``, its DOFs ``scene.floors.dofs``. Row 0 is the
+        state at rest. ``analyze_seconds`` times the single ``analyze`` call.
 
     Raises
     ------

@@ -1,7 +1,9 @@
 """A plain description of one scene for peer programs, free of pframe's own data structures.
 
 ``pframe.assemble.peer_scene(plan)`` fills it from an assembled plan (batch member 0); the
-peer modules turn it into their own input.
+peer modules turn it into their own input. A planar scene has one degree of freedom per
+floor (DOF ``i`` is node ``i``); a scene in plan adds :class:`FloorsInPlan`: its floors are
+rigid diaphragms and its elements act along a direction at points of them.
 """
 
 from __future__ import annotations
@@ -12,8 +14,55 @@ import numpy as np
 
 
 @dataclass(frozen=True)
+class FloorsInPlan:
+    """The floors of a scene in plan and where its elements act on them (site axes, m).
+
+    A floor moves by (u_x, u_y, theta) of its centre of mass; its point P moves by
+    (u_x - theta (P_y - c_y), u_y + theta (P_x - c_x)) (small rotations, docs/plan.md), so an
+    element along the unit direction n at P sees a . (u_x, u_y, theta) with
+    a = (n_x, n_y, (P - c) x n). Each element end is a point on the element's line of action;
+    an end on the ground stands where the element's other end is.
+
+    Attributes
+    ----------
+    names : list of str
+        The floors (node ``f`` of the element arrays of :class:`PeerScene`).
+    centres : (f, 2) float
+        Each floor's centre of mass (m).
+    masses : (f, 3) float
+        m, m and the polar inertia J of each floor (kg, kg, kg m^2); 0 for a component
+        the scene does not move.
+    moves : (f, 3) bool
+        The components (u_x, u_y, theta) the scene moves; the others stay at 0.
+    dofs : (n, 2) int
+        ``[floor, component]`` of each degree of freedom of the scene (the order of
+        ``PeerScene.masses`` and of the histories).
+    story_points, contact_points, link_points : (e, 2, 2) float
+        The point ``[x, y]`` of each end of each storey (lower, upper), contact (left,
+        right) and link (first, second).
+    story_directions, contact_directions, link_directions : (e, 2) float
+        The unit direction each element acts along (a contact's normal, from its left side
+        to its right).
+    """
+
+    names: list
+    centres: np.ndarray
+    masses: np.ndarray
+    moves: np.ndarray
+    dofs: np.ndarray
+    story_points: np.ndarray
+    story_directions: np.ndarray
+    contact_points: np.ndarray
+    contact_directions: np.ndarray
+    link_points: np.ndarray
+    link_directions: np.ndarray
+
+
+@dataclass(frozen=True)
 class PeerScene:
-    """One scene in SI units, DOF ``i`` being node ``i``.
+    """One scene in SI units, DOF ``i`` being node ``i`` (a planar scene) or the degree of
+    freedom ``floors.dofs[i]`` of a floor (a scene in plan: ``floors`` given, and the nodes
+    of the element arrays and of ``rayleigh`` are floors).
 
     Attributes
     ----------
@@ -37,7 +86,8 @@ class PeerScene:
         coefficient on the building's nodes, stiffness-proportional coefficient on the
         *initial* stiffness of its storeys.
     ground_acceleration : (steps + 1,) float, m/s^2 at t_n = n dt (relative formulation:
-        load on DOF i is -m_i a_g(t)).
+        load on DOF i is -m_i a_g(t)); a scene in plan: (len(channels), steps + 1), one row
+        per site axis the motion loads.
     dt : float, s
     steps : int
     tolerance : float
@@ -58,6 +108,10 @@ class PeerScene:
         ``("trbdf2",)``: Bathe's composite method with gamma = 1/2, whose two sub-steps are two
         analysis steps of OpenSees' TRBDF2. Each integrator says which it is (its
         coefficients' ``opensees``).
+    channels : tuple of str
+        The site's axes ('x', 'y') the rows of a scene in plan's ground motion load.
+    floors : FloorsInPlan, optional
+        The floors of a scene in plan (None: a planar scene).
     """
 
     node_names: list
@@ -79,3 +133,5 @@ class PeerScene:
     link_nodes: np.ndarray = None
     link_materials: list = None
     modal: list = None
+    channels: tuple = ("x",)
+    floors: FloorsInPlan = None

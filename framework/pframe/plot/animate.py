@@ -11,18 +11,18 @@ storey's floors weighted as the contact weighs them). Play, pause, a time slider
 choice; no file, script or font is loaded from elsewhere.
 
 The page's geometry is one pure function (``layout(data, frame)`` in the page's script), so
-a test can evaluate it outside a browser and compare it with the file.
+a test can evaluate it outside a browser and compare it with the file. A scene in plan is
+drawn from above instead (:mod:`pframe.plot.plan_view`), in the same player (:func:`page`).
 """
 
 from __future__ import annotations
 
-import html
-import json
 from pathlib import Path
 
 import numpy as np
 
 from pframe.errors import InputError
+from pframe.plot.player import page
 
 #: frames kept in the page at most (the histories are sampled evenly down to this)
 MAX_FRAMES = 2000
@@ -170,114 +170,57 @@ function layout(data, frame) {
 }
 """
 
-PAGE = """<!DOCTYPE html>
-<html lang="en"><head><meta charset="utf-8">
-<title>{title}</title>
-<style>
-body {{ font-family: sans-serif; margin: 1em; }}
-#controls {{ display: flex; gap: 0.8em; align-items: center; margin: 0.5em 0; }}
-#slider {{ flex: 1; }}
-canvas {{ border: 1px solid #ccc; max-width: 100%; }}
-.note {{ color: #555; font-size: small; }}
-</style></head>
-<body>
-<h2>{heading}</h2>
-<div class="note">{note}</div>
-<div id="controls">
-<button id="play" type="button">Play</button>
-<input id="slider" type="range" min="0" max="{last}" value="0" step="1" aria-label="time">
-<span id="clock"></span>
-<label>speed <select id="speed">
-<option value="0.1">0.1 x</option><option value="0.25">0.25 x</option>
-<option value="0.5">0.5 x</option><option value="1" selected>1 x</option>
-<option value="2">2 x</option><option value="5">5 x</option></select></label>
-</div>
-<canvas id="view" width="900" height="560"></canvas>
-<script id="pframe-data" type="application/json">{data}</script>
-<script id="pframe-geometry">{geometry}</script>
-<script>
-const data = JSON.parse(document.getElementById("pframe-data").textContent);
-const canvas = document.getElementById("view"), ctx = canvas.getContext("2d");
-const slider = document.getElementById("slider"), clock = document.getElementById("clock");
-const button = document.getElementById("play"), speed = document.getElementById("speed");
+#: the elevation view of a planar scene: ``draw(k)`` of the page's player
+ELEVATION = """
+const colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf"];
 const highest = Math.max(1, ...data.floors.map(f => f.height));
 const xs = data.buildings.map(b => b.base);
 const xmin = Math.min(...xs) - 1.0, xmax = Math.max(...xs) + data.width + 1.0;
 const sx = canvas.width / (xmax - xmin), sy = (canvas.height - 60) / (highest + 0.6 * data.storey);
 const px = x => (x - xmin) * sx, py = y => canvas.height - 30 - y * sy;
-const colours = ["#1f77b4", "#ff7f0e", "#2ca02c", "#9467bd", "#8c564b", "#17becf"];
-let frame = 0, playing = false, last = null;
-function draw(k) {{
+function draw(k) {
   frame = k; slider.value = k;
   const g = layout(data, k);
   ctx.clearRect(0, 0, canvas.width, canvas.height);
   ctx.strokeStyle = "#444"; ctx.lineWidth = 2;
   ctx.beginPath(); ctx.moveTo(0, py(0)); ctx.lineTo(canvas.width, py(0)); ctx.stroke();
-  data.buildings.forEach((b, n) => {{
+  data.buildings.forEach((b, n) => {
     const mine = g.floors.filter(f => f.building === b.name).sort((p, q) => p.y - q.y);
     ctx.strokeStyle = colours[n % colours.length]; ctx.lineWidth = 3;
-    for (const side of ["left", "right"]) {{
+    for (const side of ["left", "right"]) {
       ctx.beginPath(); ctx.moveTo(px(side === "left" ? b.base : b.base + data.width), py(0));
       mine.forEach(f => ctx.lineTo(px(f[side]), py(f.y))); ctx.stroke();
-    }}
+    }
     ctx.lineWidth = 5;
-    mine.forEach(f => {{ ctx.beginPath(); ctx.moveTo(px(f.left), py(f.y));
-      ctx.lineTo(px(f.right), py(f.y)); ctx.stroke(); }});
+    mine.forEach(f => { ctx.beginPath(); ctx.moveTo(px(f.left), py(f.y));
+      ctx.lineTo(px(f.right), py(f.y)); ctx.stroke(); });
     ctx.fillStyle = "#222"; ctx.font = "14px sans-serif";
     ctx.fillText(b.name, px(b.base + data.width / 2) - 4, py(0) + 20);
-  }});
-  g.contacts.forEach(c => {{
+  });
+  g.contacts.forEach(c => {
     ctx.strokeStyle = c.closed ? "#d62728" : "#bbbbbb"; ctx.lineWidth = c.closed ? 6 : 1.5;
     const a = c.from.right <= c.to.left ? [c.from.right, c.to.left] : [c.from.left, c.to.right];
     ctx.beginPath(); ctx.arc(px(a[0]), py(c.from.y), c.closed ? 7 : 3, 0, 2 * Math.PI);
     ctx.moveTo(px(a[0]), py(c.from.y)); ctx.lineTo(px(a[1]), py(c.to.y)); ctx.stroke();
-  }});
+  });
   clock.textContent = "t = " + data.time[k].toFixed(3) + " " + data.time_units;
-}}
-function tick(now) {{
-  if (!playing) return;
-  if (last !== null) {{
-    const target = data.time[frame] + (now - last) / 1000 * parseFloat(speed.value);
-    let k = frame;
-    while (k < data.time.length - 1 && data.time[k + 1] <= target) k++;
-    if (k === data.time.length - 1) {{ playing = false; button.textContent = "Play"; }}
-    if (k !== frame) {{ draw(k); last = now; }}
-  }} else {{ last = now; }}
-  requestAnimationFrame(tick);
-}}
-button.onclick = () => {{
-  playing = !playing; button.textContent = playing ? "Pause" : "Play"; last = null;
-  if (playing && frame === data.time.length - 1) draw(0);
-  if (playing) requestAnimationFrame(tick);
-}};
-slider.oninput = () => draw(parseInt(slider.value));
-// a page opened with #t=<time> shows that time (tests and links)
-const asked = /t=([0-9.eE+-]+)/.exec(location.hash);
-let start = 0;
-if (asked) {{ const t = parseFloat(asked[1]);
-  while (start < data.time.length - 1 && data.time[start + 1] <= t) start++; }}
-draw(start);
-// #t=<time>&frame: the drawn frame as a PNG in the page (headless browsers dump the DOM)
-if (/frame/.test(location.hash)) {{
-  const img = document.createElement("img"); img.id = "pframe-frame";
-  img.src = canvas.toDataURL("image/png"); document.body.appendChild(img);
-}}
-</script>
-</body></html>
+}
 """
 
 
 def animation_html(ds, max_frames: int = MAX_FRAMES) -> str:
-    """The page (see the module docstring) of a result Dataset."""
+    """The page (see the module docstring) of a result Dataset; the plan view
+    (:mod:`pframe.plot.plan_view`) for a scene in plan (a ``direction`` dimension)."""
+    if "direction" in ds.dims:
+        from pframe.plot.plan_view import plan_animation_html
+
+        return plan_animation_html(ds, max_frames)
     data = animation_data(ds, max_frames)
     title = data["title"] or data["source"] or "pframe run"
     note = (f"{len(data['time'])} frames; displacements and gaps drawn "
             f"{data['scale']:.3g} times their size ({data['units']}); {data['placement']}; "
             "a contact is red while it is closed.")
-    text = json.dumps(data, separators=(",", ":")).replace("</", "<\\/")
-    return PAGE.format(title=html.escape(f"pframe animate: {title}"),
-                       heading=html.escape(title), note=html.escape(note),
-                       last=len(data["time"]) - 1, data=text, geometry=GEOMETRY)
+    return page(data, title, note, GEOMETRY, ELEVATION)
 
 
 def write_animation(result, output: str | Path, overwrite: bool = True) -> Path:
@@ -290,7 +233,11 @@ def write_animation(result, output: str | Path, overwrite: bool = True) -> Path:
         raise InputError(f"{path}: the animation is an HTML page; give a name ending in .html")
     path = outputs.check_output(path, overwrite=overwrite, what="animation")
     ds = result_dataset(result)
-    text = animation_html(ds)
+    try:
+        text = animation_html(ds)
+    except InputError as exc:  # the message names the file drawn
+        name = result if isinstance(result, (str, Path)) else ds.attrs.get("source", "")
+        raise InputError(f"{name}: {exc}" if name else str(exc)) from None
     with outputs.replacing(path) as tmp:
         tmp.write_text(text, encoding="utf-8")
     return path

@@ -69,7 +69,12 @@ def plot(result, quantity: str | None = None, *, names=None, level=None, kind: s
       ``story_force``): its histories against time on ``ax`` (default: new axes), one line
       per name in ``names`` (default: every node, storey or contact); returns the axes;
     - otherwise the paper's figure of one floor ``level`` (default: the top level with a
-      contact, else the top level) drawn into ``fig``; returns the figure.
+      contact, else the top level) drawn into ``fig``; returns the figure. A scene in plan
+      draws its floors along x and y, their rotations and the lines' drifts
+      (:mod:`pframe.plot.plan`); ``kind="torsion"`` its storeys' torsional irregularity.
+
+    A scene in plan's histories are named per component: ``displacement_x``,
+    ``displacement_y``, ``displacement_rz``, ``point_drift_x``, ...
 
     ``units``: ``"engineering"`` (mm, mm/s, kN), a string such as ``"mm,kN"``, or a mapping
     ``{"m": "mm", "N": "kN"}``; ``dimensionless``: the paper's variables (tau, X / l_e, ...);
@@ -115,6 +120,17 @@ def plot(result, quantity: str | None = None, *, names=None, level=None, kind: s
         ax.ticklabel_format(axis="y", useOffset=False)
         ax.legend()
         return ax
+    if kind == "torsion":  # one figure of every storey (a scene in plan)
+        from pframe.plot.plan import torsion_figures
+
+        if not data.plan:
+            raise InputError("plot: kind 'torsion' draws buildings in plan; this result's "
+                             "scene is planar")
+        if fig is None:
+            import matplotlib.pyplot as plt
+
+            fig = plt.figure(layout="constrained", figsize=(8.0, 5.0))
+        return torsion_figures(data, kind, fig=fig)["torsion"]
     order = data.levels.order
     if not order:
         raise InputError("plot: the result has no floor levels to draw")

@@ -1,8 +1,13 @@
 """Read the histories a figure needs from a result (docs/netcdf.md), without matplotlib.
 
 A result is a file or the xarray Dataset of ``pframe.solve``/``pframe.open``. A history is
-``quantity(t, entity)`` with ``entity`` one of ``node``, ``story``,
-``contact``. A file that is not a pframe result, or holds a sweep (extra leading dimensions
+``quantity(t, entity)`` with ``entity`` one of ``node``, ``story``, ``contact``, ``point``.
+A scene in plan (its file has a ``direction`` dimension) writes a floor quantity along the
+site's x and y, ``displacement(t, node, direction)``, and a named point's along its
+building's axes, ``point_drift(t, point, axis)``: each component is read as a history of its
+own, ``displacement_x``, ``displacement_y``, ``point_drift_x``, ... (with the rotations
+``displacement_rz``, ...), so that every figure and conversion works on two-dimensional
+histories. A file that is not a pframe result, or holds a sweep (extra leading dimensions
 before ``t``), is refused with an :class:`~pframe.errors.InputError` naming the file: the
 reader is the one place that knows the layout, so a later sweep layout changes this module
 only (select one member here, and the figures stay as they are).
@@ -21,7 +26,12 @@ from pframe.plot.scales import DIMENSIONLESS, Reference
 
 #: the histories the figures draw, in the order of the paper's panels
 PLOTTED = ("displacement", "contact_force", "velocity", "story_drift", "story_force")
-ENTITIES = ("node", "story", "contact")
+#: and those of a scene in plan: the floors' rotations, the named plan points
+PLOTTED_PLAN = ("displacement_rz", "velocity_rz", "point_displacement", "point_drift")
+ENTITIES = ("node", "story", "contact", "point")
+#: the trailing dimension of a quantity of a scene in plan: its components, each read as the
+#: history ``<quantity>_<component>`` (the site's x and y, or its building's axes)
+COMPONENTS = ("direction", "axis")
 
 
 @dataclass(frozen=True)
@@ -94,6 +104,11 @@ class Result:
     input_yaml: str | None = None
     reference: Reference | None = None
     dropped: tuple[str, ...] = field(default=())
+    #: the scene is in plan: floors move along x and y and turn (pframe.plot.plan draws it)
+    plan: bool = False
+    #: floor -> the torsional irregularity ratio of the storey below it along its building's
+    #: x and y (``torsional_irregularity``; NaN where not defined)
+    torsion: dict = field(default_factory=dict)
     attributes: dict = field(default_factory=dict, repr=False)
     #: contact -> (left node, right node), from the file's connectivity
     contacts: dict = field(default_factory=dict)
@@ -234,20 +249,26 @@ def _time_dimension(dim: str) -> bool:
     return dim in ("t", "time") or dim.startswith(("t_every_", "time_every_"))
 
 
-def _read_history(ds, source: str, quantity: str) -> History | None:
+def _read_histories(ds, source: str, quantity: str) -> list[History]:
+    """The histories of one variable: itself, or each of its components (:data:`COMPONENTS`)."""
     var = ds[quantity]
     dims = var.dims
-    if var.ndim > 2:
+    components = var.ndim == 3 and dims[2] in COMPONENTS and dims[1] in ENTITIES
+    if var.ndim > 2 and not components:
         shape = ", ".join(f"{d}={n}" for d, n in zip(dims, var.shape))
         raise InputError(
             f"{source}: the file holds a sweep ({quantity} has the dimensions {shape}); "
             "pframe plot draws single runs, whose histories are (t, node|story|contact)")
-    if var.ndim != 2 or dims[1] not in ENTITIES or not _time_dimension(dims[0]):
-        return None
+    if var.ndim not in (2, 3) or dims[1] not in ENTITIES or not _time_dimension(dims[0]):
+        return []
     time = ds[dims[0]]
-    return History(quantity, np.asarray(time.values, dtype=float),
-                   np.asarray(var.values, dtype=float), _names(ds, dims[1]),
-                   _text(var.attrs.get("units", "")), _text(time.attrs.get("units", "")))
+    values = np.asarray(var.values, dtype=float)
+    read = [(quantity, values)] if not components else [
+        (f"{quantity}_{label}", values[:, :, k])
+        for k, label in enumerate(_names(ds, dims[2]) or ("x", "y")[:values.shape[2]])]
+    return [History(name, np.asarray(time.values, dtype=float), columns, _names(ds, dims[1]),
+                    _text(var.attrs.get("units", "")), _text(time.attrs.get("units", "")))
+            for name, columns in read]
 
 
 def _connectivity(ds) -> tuple[dict, dict] | None:
@@ -310,16 +331,27 @@ def read_result(source) -> Result:
                          "the result files that pframe solve writes")
     from pframe.record.check import check_fits
 
+    plan = "direction" in ds.dims
+    plotted = PLOTTED + PLOTTED_PLAN if plan else PLOTTED
     check_fits(name, "its histories", sum(
-        ds[q].size * 8 + ds[q][ds[q].dims[0]].size * 8 for q in PLOTTED
+        ds[q].size * 8 + ds[q][ds[q].dims[0]].size * 8 for q in plotted
         if q in ds.variables and ds[q].ndim >= 1))
     histories = {}
-    for quantity in PLOTTED:
+    for quantity in plotted:
         if quantity in ds.variables:
-            history = _read_history(ds, name, quantity)
-            if history is not None:
-                histories[quantity] = history
+            histories.update((h.quantity, h) for h in _read_histories(ds, name, quantity))
     names = {e: _names(ds, e) for e in ENTITIES}
+    dropped, torsion = (), {}
+    if plan:
+        from pframe.plot.plan_data import CLOSING, contact_closing, torsion_ratios
+
+        closing, why = contact_closing(ds, name, histories, names["contact"])
+        if closing is not None:  # at the floors' times, in their units (m)
+            floors = histories["displacement_x"]
+            histories[CLOSING] = replace(floors, quantity=CLOSING, values=closing,
+                                         names=names["contact"])
+        dropped = (why,) if why else ()
+        torsion = torsion_ratios(ds, names["node"])
     input_yaml = _text(ds.attrs["input_yaml"]) if "input_yaml" in ds.attrs else None
     known = _connectivity(ds)
     levels: Levels = group_by_level(names["node"], names["story"], names["contact"],
@@ -357,6 +389,9 @@ def read_result(source) -> Result:
         status=_text(ds.attrs.get("status", "")),
         input_yaml=input_yaml,
         reference=None,
+        dropped=dropped,
+        plan=plan,
+        torsion=torsion,
         attributes=dict(ds.attrs),
         contacts=dict(known[1]) if known is not None else {},
         gaps=gaps,

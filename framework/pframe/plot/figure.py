@@ -20,7 +20,6 @@ display and hold no global state.
 
 from __future__ import annotations
 
-import sys
 from collections.abc import Callable
 from pathlib import Path
 
@@ -29,28 +28,17 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.plot.data import Result, read_result
 from pframe.plot.scales import DIMENSIONLESS, axis_label, reference_scales, stored_scales
+from pframe.plot.style import CONTACT_COLOURS, matplotlib_figure
+from pframe.plot.style import building_colour as _building_colour
+from pframe.plot.style import headed as _headed
+from pframe.plot.style import on_common_time as _on_common_time
+from pframe.plot.style import tidy as _tidy
 
-KINDS = ("all", "histories", "hysteresis", "pounding", "links")
+KINDS = ("all", "histories", "hysteresis", "pounding", "links", "torsion")
 #: (letter, quantity, title) of the history panels, top to bottom
 HISTORY_PANELS = (("a", "displacement", "displacement histories"),
                   ("b", "contact_force", "pounding force histories"),
                   ("c", "velocity", "velocity histories"))
-BUILDING_COLOURS = ("C0", "C3", "C2", "C1", "C4", "C5")
-CONTACT_COLOURS = ("k", "C7", "C8", "C9")
-
-
-def matplotlib_figure():
-    """The :class:`~matplotlib.figure.Figure` class, or a clear error when matplotlib is absent."""
-    try:
-        from matplotlib.figure import Figure
-    except ImportError:
-        raise InputError(
-            f"plot draws with matplotlib, which is not installed in this Python "
-            f"({sys.executable}). Install pframe's plot extra into the same environment with "
-            'pip install "pframe[plot]" (pip keeps the pframe you have and adds matplotlib; '
-            'from a clone of the repository, pip install -e ".[plot]" does the same) and run '
-            "the command again.") from None
-    return Figure
 
 
 def _uses(kind: str, quantity: str) -> bool:
@@ -63,6 +51,10 @@ def _uses(kind: str, quantity: str) -> bool:
 def notes(result: Result, kind: str = "all") -> list[str]:
     """Why panels of ``kind`` are left out, and other things a reader of the figures should
     know (an incomplete run, storeys or contacts without a level)."""
+    if result.plan:
+        from pframe.plot.plan import plan_notes
+
+        return plan_notes(result, kind) + _shared_notes(result, kind)
     out = []
     missing = [q for q in ("displacement", "contact_force", "velocity")
                if _uses(kind, q) and q not in result.histories]
@@ -88,8 +80,17 @@ def notes(result: Result, kind: str = "all") -> list[str]:
         elif lacking:
             out.append(f"the file has no {' and no '.join(lacking)} history: hysteresis "
                        "panels (d), (e) left out")
+    return out + _shared_notes(result, kind)
+
+
+def _shared_notes(result: Result, kind: str) -> list[str]:
+    """The notes of planar figures and figures in plan alike."""
+    out = []
     if kind == "pounding" and result.has_contacts and not result.gaps:
         out.append("the file has no contact_gap: no gap-closing panels")
+    if kind == "pounding" and result.plan and result.has_contacts and \
+            "displacement_x" not in result.histories:
+        out.append("the file has no displacement history: no gap-closing panels")
     out.extend(result.dropped)
     for name in result.levels.unplaced:
         out.append(f"{name!r}: its floor level is not known (see docs/plotting.md), not drawn")
@@ -132,6 +133,10 @@ def gap_closing(result: Result, contact: str):
     displacements of the nodes or the gap."""
     history = result.histories.get("displacement")
     pair = result.contacts.get(contact)
+    if result.plan:  # a contact in plan closes along its normal at its points
+        from pframe.plot.plan_data import gap_closing_in_plan
+
+        return gap_closing_in_plan(result, contact)
     if history is None or pair is None or contact not in result.gaps:
         return None
     column = result.columns.get(contact)
@@ -148,6 +153,16 @@ def gap_closing(result: Result, contact: str):
     closed = relative > gap
     onsets = np.flatnonzero(closed & ~np.concatenate(([False], closed[:-1])))
     return history.time, relative, gap, history.time[onsets]
+
+
+def _mark_impacts(ax, onsets):
+    """The impacts as triangles on the time axis: x in data, y at the axis (they never hide
+    the curve). Unclipped, they may sit on the axis line; a contact without impacts keeps an
+    empty, clipped line (for the legend), since an empty unclipped one would claim the whole
+    figure's corner and collapse the layout."""
+    ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
+            color="C3", clip_on=onsets.size == 0, transform=ax.get_xaxis_transform(),
+            label="impacts")
 
 
 def draw_pounding(result: Result, level: str, fig=None):
@@ -167,7 +182,8 @@ def draw_pounding(result: Result, level: str, fig=None):
     if fig is None:
         fig = Figure(figsize=(8.0, 2.3 * rows + 0.9), layout="constrained")
     grid = fig.add_gridspec(rows, 1)
-    units = result.histories["displacement"].units
+    closing = result.histories.get("contact_closing") or result.histories["displacement"]
+    units = closing.units
     row, first, letter = 0, None, ord("a")
     for contact, (time, relative, gap, onsets) in drawn:
         left, right = result.contacts[contact]
@@ -181,10 +197,7 @@ def draw_pounding(result: Result, level: str, fig=None):
         # the closed stretches are short and shallow next to the swing: drawn over in red
         ax.plot(time, np.where(relative > gap, relative, np.nan), linewidth=2.2, color="C3",
                 solid_capstyle="butt", label="_closed")
-        # impacts on the time axis: x in data, y at the axis (they never hide the curve)
-        ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
-                color="C3", clip_on=False, transform=ax.get_xaxis_transform(),
-                label="impacts")
+        _mark_impacts(ax, onsets)
         ax.set_label(f"gap {contact}")
         count = len(onsets)
         title = f"({chr(letter)}) gap closing, {contact}: {count} impact{'s' if count != 1 else ''}"
@@ -212,9 +225,7 @@ def draw_pounding(result: Result, level: str, fig=None):
             ax = fig.add_subplot(grid[row, 0], sharex=first)
             row += 1
             ax.plot(force.time, force.column(contact), linewidth=0.8, color="k", label=contact)
-            ax.plot(onsets, np.zeros_like(onsets), linestyle="none", marker="^", markersize=6,
-                    color="C3", clip_on=False, transform=ax.get_xaxis_transform(),
-                    label="impacts")
+            _mark_impacts(ax, onsets)
             ax.set_label(f"force {contact}")
             ax.set_title(f"({chr(letter)}) pounding force, contact {contact}", loc="left",
                          fontsize="medium")
@@ -223,31 +234,8 @@ def draw_pounding(result: Result, level: str, fig=None):
             _tidy(ax)
             ax.tick_params(labelbottom=False)
     ax.tick_params(labelbottom=True)
-    ax.set_xlabel(axis_label("time", result.histories["displacement"].time_units),
-                  fontsize="small")
+    ax.set_xlabel(axis_label("time", closing.time_units), fontsize="small")
     return _headed(fig, result, f"{result.title}: pounding at level {level}")
-
-
-def _building_colour(result: Result, building: str) -> str:
-    """A building keeps its colour in every panel and figure, so left and right read alike."""
-    return BUILDING_COLOURS[result.levels.buildings.index(building) % len(BUILDING_COLOURS)]
-
-
-def _on_common_time(drift, force, story: str):
-    """Drift and force of one storey at the same times: the coarser of the two strides."""
-    x, y = drift.column(story), force.column(story)
-    if drift.time.shape == force.time.shape and np.array_equal(drift.time, force.time):
-        return x, y
-    if drift.time.size < force.time.size:
-        return x, np.interp(drift.time, force.time, y)
-    return np.interp(force.time, drift.time, x), y
-
-
-def _tidy(ax):
-    ax.grid(True, alpha=0.3, linewidth=0.6)
-    # keep tick labels short: forces in N reach 1e5 in the paper's example
-    ax.ticklabel_format(axis="both", style="sci", scilimits=(-3, 4))
-    ax.tick_params(labelsize=8)
 
 
 def draw_level(result: Result, level: str, kind: str = "all", fig=None):
@@ -261,6 +249,10 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
     """
     if kind == "pounding":
         return draw_pounding(result, level, fig)
+    if result.plan:
+        from pframe.plot.plan import draw_plan_level
+
+        return draw_plan_level(result, level, kind, fig)
     Figure = matplotlib_figure()
     histories, loops = _level_content(result, level, kind)
     if not histories and not loops:
@@ -321,61 +313,6 @@ def draw_level(result: Result, level: str, kind: str = "all", fig=None):
     return _headed(fig, result, f"{result.title}: level {level}")
 
 
-def _headed(fig, result: Result, heading: str):
-    """The figure with its title (the run stopped early, what ran) and, for a dimensionless
-    run, its scales below."""
-    if not result.complete:
-        heading += " (run stopped early)"
-    ran = what_ran(result)
-    if ran:
-        heading += f"\n{ran}"
-    fig.suptitle(heading, fontsize="large")
-    if result.reference is not None:
-        fig.supxlabel(f"dimensionless with {result.reference.describe()}", fontsize="x-small")
-    return fig
-
-
-def _number(value) -> str:
-    return f"{value:.4g}" if isinstance(value, (int, float)) else str(value)
-
-
-def what_ran(result: Result) -> str:
-    """One line saying what the run was, from the scene it holds: the excitation as given
-    (a record's file name and scale, a sine's amplitude and frequency, a pulse), and the
-    verdict on its accuracy when it is not 'trusted'."""
-    import yaml
-
-    parts = []
-    try:
-        scene = yaml.safe_load(result.input_yaml) if result.input_yaml else None
-    except yaml.YAMLError:
-        scene = None
-    excitation = scene.get("excitation") if isinstance(scene, dict) else None
-    if isinstance(excitation, dict):
-        kind = excitation.get("kind")
-        if kind == "record":
-            text = f"record {Path(str(excitation.get('file', ''))).name}"
-            if excitation.get("pga") is not None:
-                text += f" scaled to PGA {_number(excitation['pga'])}"
-            elif excitation.get("scale", 1) != 1:
-                text += f" x {_number(excitation['scale'])}"
-            parts.append(text)
-        elif kind == "sine":
-            parts.append(f"sine, amplitude {_number(excitation.get('amplitude'))} m/s^2, "
-                         f"frequency {_number(excitation.get('frequency'))} rad/s")
-        elif kind in ("cycloidal", "ricker"):
-            parts.append(f"{kind} pulse, amplitude {_number(excitation.get('amplitude'))} m/s^2, "
-                         f"period {_number(excitation.get('period'))} s")
-    elif isinstance(scene, dict) and "pi" not in scene and "buildings" in scene:
-        parts.append("free vibration")
-    accuracy = result.attributes.get("accuracy")
-    if accuracy is not None:
-        accuracy = accuracy.decode() if isinstance(accuracy, bytes) else str(accuracy)
-        if accuracy != "trusted":
-            parts.append(f"accuracy: {accuracy}")
-    return "; ".join(parts)
-
-
 def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | None = None,
             dimensionless: bool = False) -> Result:
     """Read a result file and apply ``dimensionless`` then ``time_range`` (in the units of the
@@ -399,10 +336,13 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     ----------
     source : str, Path or Result
         A result file of ``pframe solve`` (or one already read with :func:`prepare`).
-    kind : {"all", "histories", "hysteresis", "pounding", "links"}
+    kind : {"all", "histories", "hysteresis", "pounding", "links", "torsion"}
         All panels, the histories (a)-(c) only, the hysteresis loops only, the gap
         closing of each contact (:func:`draw_pounding`; levels with contacts only), or every
-        link's force history and force-deformation loop (one figure, ``"links"``).
+        link's force history and force-deformation loop (one figure, ``"links"``). A scene in
+        plan is drawn by :mod:`pframe.plot.plan`: its levels along x and y, and with ``"all"``
+        (every level) or ``"torsion"`` the torsional irregularity of its storeys (one figure,
+        ``"torsion"``).
     levels : sequence of str or int, optional
         The floor levels to draw (default: every level with something to draw).
     time_range : (float, float), optional
@@ -419,7 +359,7 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     Returns
     -------
     dict
-        ``level -> matplotlib.figure.Figure``, in level order.
+        ``level -> matplotlib.figure.Figure``, in level order (then ``"torsion"``).
 
     Raises
     ------
@@ -440,6 +380,13 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
         if dimensionless:
             raise InputError("give units or dimensionless, not both")
         result = result.in_units(units)
+    if kind == "torsion" and not result.plan:
+        raise InputError(f"{result.path}: --kind torsion draws the storeys of buildings in "
+                         "plan, and this result's scene is planar (its floors move along x "
+                         "only): it has no torsion")
+    if kind == "torsion" and levels is not None:
+        raise InputError("--kind torsion draws every storey of every building in one figure: "
+                         "leave out --story")
     found = notes(result, kind)
     order = result.levels.order
     if levels is not None:
@@ -449,17 +396,23 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
             raise InputError(f"{result.path}: no floor level {', '.join(unknown)}; "
                              f"the levels are {', '.join(order)}")
     figs = {}
-    for level in levels if levels is not None else order:
+    for level in (levels if levels is not None else order) if kind != "torsion" else ():
         fig = draw_level(result, level, kind)
         if fig is not None:
             figs[level] = fig
+    if result.plan and (kind == "torsion" or (kind == "all" and levels is None)):
+        from pframe.plot.plan import torsion_figures
+
+        figs.update(torsion_figures(result, kind))
     if not figs:
         where = f" at level {', '.join(levels)}" if levels is not None else ""
         why = "; ".join(found) or "no history of a node, storey or contact"
         raise InputError(
             f"{result.path}: nothing to plot for --kind {kind}{where}: {why}. The figures draw "
             "the histories of displacement, velocity, contact_force, story_drift and "
-            "story_force: list them in a recorder of kind history and solve again.")
+            "story_force" + (" (and of a scene in plan point_displacement and point_drift)"
+                             if result.plan else "")
+            + ": list them in a recorder of kind history and solve again.")
     if report is not None:
         for note in found:
             report(note)

@@ -17,7 +17,7 @@ Everything here is plain Python on names: no HDF5, no matplotlib.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 
 @dataclass(frozen=True)
@@ -36,6 +36,11 @@ class Levels:
         ``level -> [contact name, ...]`` in the file's order.
     unplaced : tuple of str
         Storeys and contacts whose level could not be found (they are not drawn).
+    lines : dict
+        ``level -> {building: [storey name, ...]}``: every storey element below each
+        building's floor at that level, in the file's order (a building in plan has one per
+        line of resistance, ``A/3/X1``, ``A/3/Y1``, ...; a planar building one, as in
+        ``stories``).
     """
 
     order: tuple[str, ...]
@@ -44,6 +49,7 @@ class Levels:
     stories: dict[str, dict[str, str]]
     contacts: dict[str, list[str]]
     unplaced: tuple[str, ...]
+    lines: dict[str, dict[str, list[str]]] = field(default_factory=dict)
 
 
 def _split(node: str) -> tuple[str, str] | None:
@@ -118,6 +124,7 @@ def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str
 
     unplaced = []
     stories: dict[str, dict[str, str]] = {}
+    lines: dict[str, dict[str, list[str]]] = {}
     for name in story_names:
         upper = named_stories.get(name, name)
         parts = _split(upper) if upper in known else None
@@ -125,6 +132,7 @@ def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str
             unplaced.append(name)
             continue
         stories.setdefault(parts[1], {})[parts[0]] = name
+        lines.setdefault(parts[1], {}).setdefault(parts[0], []).append(name)
 
     contacts: dict[str, list[str]] = {}
     for name in contact_names:
@@ -143,4 +151,4 @@ def group_by_level(node_names, story_names=(), contact_names=(), input_yaml: str
             contacts.setdefault(level, []).append(name)
 
     order = tuple(sorted(first_seen, key=lambda level: _level_key(level, first_seen)))
-    return Levels(order, tuple(buildings), nodes, stories, contacts, tuple(unplaced))
+    return Levels(order, tuple(buildings), nodes, stories, contacts, tuple(unplaced), lines)

@@ -7,8 +7,9 @@ files, see :func:`reference_scales`):
     tau = w_p t,   x = X / l_e  with  l_e = a_p / w_p^2,   x' = dx/dtau = V w_p / a_p,
     x'' = A / a_p,   forces F / (m_b a_p).
 
-A value is converted by its ``units`` attribute (s, m, m/s, m/s^2, N), so every variable of a
-result file has its scale without a table of variables.
+A value is converted by its ``units`` attribute (s, m, m/s, m/s^2, N; a rotation in rad is
+already dimensionless, an angular velocity in rad/s becomes d theta / d tau), so every variable
+of a result file has its scale without a table of variables.
 """
 
 from __future__ import annotations
@@ -29,6 +30,8 @@ LABELS = {
     "contact_penetration": ("penetration", r"$\delta / l_e$"),
     "story_drift": ("storey drift", r"$\Delta x = \Delta X / l_e$"),
     "story_force": ("storey shear", r"$F_s / (m_b a_p)$"),
+    "displacement_rz": ("floor rotation", r"$\theta$"),
+    "velocity_rz": ("floor angular velocity", r"$\mathrm{d}\theta / \mathrm{d}\tau$"),
 }
 
 #: the ``units`` attribute of a dimensionless variable
@@ -73,7 +76,7 @@ class Reference:
         """Multiplier from ``units`` to the dimensionless value; None for units without one."""
         a_p, w_p = self.amplitude, self.frequency
         return {"s": w_p, "m": 1.0 / self.length, "m/s": w_p / a_p, "m/s^2": 1.0 / a_p,
-                "N": 1.0 / (self.mass * a_p)}.get(units)
+                "N": 1.0 / (self.mass * a_p), "rad": 1.0, "rad/s": 1.0 / w_p}.get(units)
 
     def describe(self) -> str:
         return (f"m_b = {self.mass:g} kg, a_p = {self.amplitude:g} m/s^2, "

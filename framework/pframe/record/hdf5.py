@@ -48,13 +48,25 @@ COUNTER_ATTRIBUTES = (("solves", "newton_solves"), ("split_steps", "split_steps"
 _FAILED: list = []
 #: rows of a time coordinate computed at once (bounded memory for long runs)
 _TIME_BLOCK = 2**16
+#: a floor's rotation in a scene in plan: the variable each node quantity's theta goes to
+ROTATION = {"displacement": ("displacement_rz", "rad", "floor rotation about the vertical "
+                             "(counter-clockwise)"),
+            "velocity": ("velocity_rz", "rad/s", "floor angular velocity about the vertical"),
+            "acceleration": ("acceleration_rz", "rad/s^2", "floor angular acceleration about "
+                             "the vertical"),
+            "absolute_acceleration": ("absolute_acceleration_rz", "rad/s^2", "floor angular "
+                                      "acceleration about the vertical (the ground does not "
+                                      "turn)")}
 #: the label variable and long name of each named dimension
 LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "story": ("story_name", "storey (named by the floor above it)"),
           "contact": ("contact_name", "contact element"),
           "link": ("link_name", "link element (damper, coupling, tuned mass spring)"),
           "building": ("building_name", "building"),
-          "foundation": ("foundation_name", "foundation on soil (named by its building)")}
+          "foundation": ("foundation_name", "foundation on soil (named by its building)"),
+          "direction": ("direction_name", "horizontal direction of the site (x, y)"),
+          "point": ("point_name", "named plan point of a floor (<floor>:<point>)"),
+          "axis": ("axis_name", "axis of the point's building (x, y)")}
 
 
 def _free_bytes(folder: Path) -> int | None:
@@ -168,7 +180,8 @@ class ResultWriter:
     def _bytes(self, states: int) -> int:
         """The histories and their time coordinates at full length, uncompressed (bytes)."""
         plan = self.plan
-        widths = {"node": plan.n_dof, "story": len(plan.story_names),
+        widths = {"node": plan.n_dof if plan.planar else 3 * len(plan.node_names),
+                  "story": len(plan.story_names), "point": 2 * len(plan.point_names),
                   "contact": len(plan.contact_names), "link": len(plan.link_names), None: 1,
                   "foundation": len(plan.foundations)}
         total = 0
@@ -208,6 +221,12 @@ class ResultWriter:
         names = {"node": plan.node_names, "story": plan.story_names,
                  "contact": plan.contact_names, "link": plan.link_names,
                  "foundation": plan.foundations}
+        if not plan.planar:
+            names["direction"] = ("x", "y")
+        if plan.point_names and any(DIMENSION[q] == "point" for q in
+                                    [*(q for q, _ in plan.history), *plan.envelope]):
+            names["point"] = plan.point_names
+            names["axis"] = ("x", "y")
         for dim, values in names.items():
             if values or dim == "node":
                 f.labels(dim, LABELS[dim][0], list(values), long_name=LABELS[dim][1])
@@ -215,9 +234,25 @@ class ResultWriter:
         for q, every in plan.history:
             dim = self.time_dims[every]
             dims = (dim,) if DIMENSION[q] is None else (dim, DIMENSION[q])
-            _, units, long_name = self.convert.variable(np.zeros(0), *UNITS[q])
-            f.variable(q, dims, chunk_rows=True, units=units, long_name=long_name,
-                       comment=self._undefined(q))
+            for name, units, long_name, shape in self._variables(q):
+                _, units, long_name = self.convert.variable(np.zeros(0), units, long_name)
+                f.variable(name, dims + shape, chunk_rows=True, units=units,
+                           long_name=long_name, comment=self._undefined(name))
+
+    def _variables(self, q: str) -> list[tuple[str, str, str, tuple]]:
+        """(name, units, long name, trailing dimensions) of the variables quantity ``q``
+        writes: itself, and in a scene in plan a node quantity along the site's x and y
+        (dimension ``direction``) and its rotation (:data:`ROTATION`)."""
+        units, long_name = UNITS[q]
+        if DIMENSION[q] == "point":
+            return [(q, units, long_name, ("axis",))]
+        if DIMENSION[q] is None and len(self.plan.channels) > 1:  # along the site's x and y
+            return [(q, units, long_name + " along the site's x and y", ("direction",))]
+        if self.plan.planar or DIMENSION[q] != "node":
+            return [(q, units, long_name, ())]
+        name, rotation_units, rotation_name = ROTATION[q]
+        return [(q, units, long_name.replace("floor ", "floor centre of mass "),
+                 ("direction",)), (name, rotation_units, rotation_name, ())]
 
     def _undefined(self, q: str) -> str | None:
         """Why some values of ``q`` are NaN by definition (the drift ratio of a storey without
@@ -245,6 +280,11 @@ class ResultWriter:
         def labels(name, dim, values, long_name):
             f.strings(name, (dim,), values, auxiliary=True, long_name=long_name)
 
+        if not self.plan.planar and ex.node_centre is not None:
+            for axis, column in (("x", 0), ("y", 1)):
+                f.variable(f"node_{axis}", ("node",), ex.node_centre[:, column], auxiliary=True,
+                           units="m", long_name=f"{axis} of the floor's centre of mass on the "
+                           "site")
         if ex.stories:
             labels("story_lower", "story", [node(e.nodes[0]) for e in ex.stories],
                    "node below the storey ('ground' at the base)")
@@ -280,8 +320,23 @@ class ResultWriter:
                            fill=np.nan, units="1", long_name="where the column is struck: "
                            "fraction of the struck storey's height above its lower floor")
 
-    def _columns(self, q: str, data):
-        return data[..., self.plan.node_dof] if DIMENSION[q] == "node" else data
+    def _columns(self, q: str, data) -> list:
+        """The values of each of :meth:`_variables`' variables from the kernel's columns (a
+        node quantity in DOF order; in plan, a DOF the scene does not move is 0)."""
+        if DIMENSION[q] == "point":
+            data = np.asarray(data)
+            return [data.reshape(data.shape[:-1] + (data.shape[-1] // 2, 2))]
+        if DIMENSION[q] != "node":
+            return [data]
+        plan = self.plan
+        if plan.planar:
+            return [data[..., plan.node_dof]]
+        data = np.asarray(data)
+        nodes = len(plan.node_names)
+        out = np.zeros(data.shape[:-1] + (nodes, 3))
+        own = plan.dof_node >= 0
+        out[..., plan.dof_node[own], plan.dof_component[own]] = data[..., own]
+        return [out[..., :2], out[..., 2]]
 
     def append(self, quantity: str, first_row: int, rows) -> None:
         """History rows ``first_row ..`` of ``quantity`` for the whole batch, as the kernel's
@@ -303,13 +358,15 @@ class ResultWriter:
                            np.abs(np.fmin.reduce(rows, axis=0)))
             seen = self.peaks.get(quantity)
             self.peaks[quantity] = peak if seen is None else np.fmax(seen, peak)
-        data, _, _ = self.convert.variable(self._columns(quantity, rows), *UNITS[quantity])
-        self.room(data.nbytes)
-        try:
-            var[first_row:stop] = data
-        except OSError:
-            self.failed = True  # HDF5 met a failing disk: never flushed again (see abort)
-            raise
+        for (name, units, long_name, _), values in zip(self._variables(quantity),
+                                                       self._columns(quantity, rows)):
+            data, _, _ = self.convert.variable(values, units, long_name)
+            self.room(data.nbytes)
+            try:
+                self.file.rows(name)[first_row:stop] = data
+            except OSError:
+                self.failed = True  # HDF5 met a failing disk: never flushed again (see abort)
+                raise
 
     def room(self, nbytes: int) -> None:
         """Raise ENOSPC *before* a block of ``nbytes`` is handed to HDF5 if the disk cannot
@@ -371,14 +428,25 @@ class ResultWriter:
     def _summaries(self, result):
         f, member = self.file, self.member
         for q, peak in result.envelope.items():
-            data, units, long_name = self.convert.variable(
-                np.asarray(self._columns(q, peak[member])), *UNITS[q])
             dims = () if DIMENSION[q] is None else (DIMENSION[q],)
-            f.variable(f"peak_{q}", dims, data, units=units,
-                       long_name=f"peak absolute {long_name}", comment=self._undefined(q))
+            for (name, units, long_name, shape), values in zip(
+                    self._variables(q), self._columns(q, np.asarray(peak[member]))):
+                data, units, long_name = self.convert.variable(values, units, long_name)
+                f.variable(f"peak_{name}", dims + shape, data, units=units,
+                           long_name=f"peak absolute {long_name}",
+                           comment=self._undefined(name))
         if self.plan.contact_names:
             f.variable("impact_count", ("contact",), result.impacts[member].astype(np.int32),
                        long_name="number of impacts (contact onsets)")
+        if "point_drift" in result.envelope and not self.plan.planar:
+            from pframe.irregularity import LONG_NAME, torsional_irregularity
+
+            ex = self.loaded.expanded
+            peak = np.asarray(result.envelope["point_drift"][member]).reshape(-1, 2)
+            ratio = torsional_irregularity(ex.point_names, ex.point_positions, peak,
+                                           self.plan.node_names)
+            f.variable("torsional_irregularity", ("node", "axis"), ratio, units="1",
+                       long_name=LONG_NAME)
         if any(e.column_side is not None for e in self.loaded.expanded.contacts):
             self._column_shears(result)
 
@@ -489,13 +557,35 @@ def record_attributes(loaded) -> dict:
     ``excitation_applied_peak`` (m/s^2, the peak within the analysis). For a record besides:
     ``record_file`` (as the scene names it), ``record_sha256``, ``record_text`` (the file's
     whole text) and ``record_read_as`` (format, units and where they were read, points, step,
-    duration, PGA applied and when, what part the analysis covers)."""
+    duration, PGA applied and when, what part the analysis covers). Two components
+    (``kind: components``): ``excitation_applied`` says both and the angle, and each
+    component's facts carry its axis, ``excitation_x_pga``, ``record_x_file``, ...,
+    ``excitation_y_pga``, ``record_y_file``, ... (a component has its own peak, the
+    site's axes each a mix of the two)."""
     excitation = getattr(loaded.scene, "excitation", None)
     if excitation is None:
         return {}
-    out = {}
     expanded = getattr(loaded, "expanded", None)
     duration = None if expanded is None else float(expanded.dt * expanded.steps)
+    if excitation.kind != "components":
+        return _motion_attributes(excitation, getattr(expanded, "record", None), loaded,
+                                  duration, "excitation_", "record_")
+    records = dict(getattr(expanded, "component_records", ()) or ())
+    out, said = {}, []
+    for axis, motion in excitation.motions():
+        part = _motion_attributes(motion, records.get(axis), loaded, duration,
+                                  f"excitation_{axis}_", f"record_{axis}_")
+        said.append(f"{axis}: {part.pop(f'excitation_{axis}_applied', motion.kind)}")
+        out.update(part)
+    out["excitation_applied"] = (f"two components, x at {excitation.angle:g} degrees from the "
+                                 "site's x axis and y at 90 degrees to it: " + "; ".join(said))
+    return out
+
+
+def _motion_attributes(excitation, record, loaded, duration, facts_prefix: str,
+                       record_prefix: str) -> dict:
+    """:func:`record_attributes` of one motion, its names with the prefixes given."""
+    out = {}
     try:  # what the ground did: a fact we cannot state is left out, never a failed write
         from pframe.excitation.describe import (
             applied_motion,
@@ -504,15 +594,15 @@ def record_attributes(loaded) -> dict:
             motion_line,
         )
 
-        facts = applied_motion(excitation, getattr(expanded, "record", None), duration)
-        out.update({"excitation_pga": facts["pga"], "excitation_pga_g": facts["pga_g"],
-                    "excitation_pga_time": facts["pga_time"]})
+        facts = applied_motion(excitation, record, duration)
+        out.update({f"{facts_prefix}pga": facts["pga"], f"{facts_prefix}pga_g": facts["pga_g"],
+                    f"{facts_prefix}pga_time": facts["pga_time"]})
         if np.isfinite(facts["end"]):  # a sine without end has none
-            out["excitation_end"] = facts["end"]
+            out[f"{facts_prefix}end"] = facts["end"]
         if duration is not None:
-            out["excitation_applied_peak"] = facts["applied_peak"]
+            out[f"{facts_prefix}applied_peak"] = facts["applied_peak"]
         if excitation.kind != "record":
-            out["excitation_applied"] = motion_line(facts).removeprefix("excitation: ")
+            out[f"{facts_prefix}applied"] = motion_line(facts).removeprefix("excitation: ")
     except Exception:
         pass
     if excitation.kind != "record":
@@ -523,15 +613,15 @@ def record_attributes(loaded) -> dict:
     try:
         content = path.read_bytes()
     except OSError:
-        return out | {"record_file": excitation.file}
-    out.update({"record_file": excitation.file,
-                "record_sha256": hashlib.sha256(content).hexdigest(),
-                "record_text": content.decode("utf-8", errors="replace")})
+        return out | {f"{record_prefix}file": excitation.file}
+    out.update({f"{record_prefix}file": excitation.file,
+                f"{record_prefix}sha256": hashlib.sha256(content).hexdigest(),
+                f"{record_prefix}text": content.decode("utf-8", errors="replace")})
     try:  # how the record was read and applied (pframe validate prints it)
         read = describe_scene_record(excitation, loaded.base_dir)
         line = describe_line(read, duration).removeprefix(f"record {read['file']}: ")
-        out["record_read_as"] = line
-        out["excitation_applied"] = f"record {excitation.file}: {line}"
+        out[f"{record_prefix}read_as"] = line
+        out[f"{facts_prefix}applied"] = f"record {excitation.file}: {line}"
     except Exception:
         pass
     return out

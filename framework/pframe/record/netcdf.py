@@ -226,6 +226,10 @@ ATTRIBUTE_UNITS = {
     "reference_l_e": "m",
     "scale_m_b": "kg", "scale_a_p": "m/s^2", "scale_w_p": "rad/s", "scale_l_e": "m",
 }
+# each of two components' facts (kind: components) as the one motion's
+ATTRIBUTE_UNITS.update({f"excitation_{axis}_{name[len('excitation_'):]}": units
+                        for axis in ("x", "y") for name, units in list(ATTRIBUTE_UNITS.items())
+                        if name.startswith("excitation_")})
 #: one standard gravity (an acceleration "in g") in UDUNITS: ``"g"`` there is the gram
 STANDARD_GRAVITY = "9.80665 m/s^2"
 

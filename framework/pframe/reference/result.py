@@ -81,6 +81,8 @@ class ReferenceResult:
     foundation_sway: np.ndarray = None  # (K, F) a foundation's sway (m)
     foundation_rocking: np.ndarray = None  # (K, F) its rocking (rad)
     absolute_acceleration: np.ndarray = None  # (K, n) acceleration + ground acceleration
+    point_displacement: np.ndarray = None  # (K, 2 P) named plan points along x, y of each
+    point_drift: np.ndarray = None  # (K, 2 P) their drifts
 
     def history(self, quantity: str) -> np.ndarray:
         """A history by its recorder name (``displacement``, ``story_force``, ...)."""

@@ -55,8 +55,15 @@ class Integration:
         self.links = len(plan.link_names)
         self.foundations = (plan.foundation_dofs if plan.foundation_dofs is not None
                             else np.zeros((0, 2), dtype=np.int64))
+        points = len(plan.point_names)
         width = {"node": (n,), "story": (s,), "contact": (c,), None: (),
-                 "link": (self.links,), "foundation": (len(self.foundations),)}
+                 "link": (self.links,), "foundation": (len(self.foundations),),
+                 "point": (2 * points,)}
+        # the named plan points' gauges (Plan.gauge_*) as a matrix on the DOFs
+        self.gauges = np.zeros((4 * points, n))
+        for g in range(4 * points):
+            for t in range(plan.gauge_start[g], plan.gauge_start[g + 1]):
+                self.gauges[g, plan.gauge_dof[t]] += plan.gauge_coef[system.member, t]
         self.out = {q: np.full((k, *width[dim]), np.nan) for q, (dim, _, _) in QUANTITIES.items()}
         self.next_sample = 0
         self.episodes = Episodes(system)
@@ -88,6 +95,10 @@ class Integration:
         out["foundation_rocking"][rows] = s.u[..., self.foundations[:, 1]]
         out["contact_force"][rows] = s.contact_force
         out["contact_penetration"][rows] = np.maximum(s.penetration, 0.0)
+        gauged = s.u @ self.gauges.T
+        half = self.gauges.shape[0] // 2
+        out["point_displacement"][rows] = gauged[..., :half]
+        out["point_drift"][rows] = gauged[..., half:]
 
     def _samples(self, t_stop, step):
         """Store the samples in (previous stop, t_stop] from the step (its dense output,

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pframe.assemble.incidence import incidence
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.reference.branches import branches_for
@@ -23,17 +24,6 @@ from pframe.reference.evaluate import LawElements
 
 #: rounding error of an event function, relative to the magnitudes it is computed from
 ROUNDOFF = 1e3 * np.finfo(float).eps
-
-
-def _incidence(dofs: np.ndarray, n: int) -> np.ndarray:
-    """(e, n): row e is +1 at DOF dofs[e, 0] and -1 at DOF dofs[e, 1] (-1 = ground: none)."""
-    matrix = np.zeros((len(dofs), n))
-    for e, (a, b) in enumerate(dofs):
-        if a >= 0:
-            matrix[e, a] += 1.0
-        if b >= 0:
-            matrix[e, b] -= 1.0
-    return matrix
 
 
 def _selector(index: np.ndarray):
@@ -89,6 +79,9 @@ class System:
         if plan.contact_share is not None and np.any(plan.contact_share != 1.0):
             raise InputError("the reference solution does not model floor-to-column contacts "
                              "yet (their force is shared between two floors)")
+        if len(plan.channels) > 1:
+            raise InputError("the reference solution takes a ground motion along one axis; "
+                             "this scene's has two components")
         self.plan = plan
         self.member = member
         self.ground = ground
@@ -96,15 +89,15 @@ class System:
         self.n = n
         self.mass = np.array(plan.mass[member], dtype=float)
         self.mass_damping = np.array(plan.mass_damping[member], dtype=float) / self.mass
-        self.story_incidence = _incidence(plan.story_dofs[:, ::-1], n)  # +1 up, -1 low
-        # soil (docs/soil.md): a storey of a building on soil deforms less h theta, and the
-        # ground load acts on the translational DOFs only
-        self.influence = np.ones(n)
-        if plan.story_theta is not None:
-            for e in np.flatnonzero(plan.story_theta >= 0):
-                self.story_incidence[e, plan.story_theta[e]] -= plan.story_height[member, e]
-            self.influence = np.array(plan.ground_influence, dtype=float)
-        self.contact_incidence = _incidence(plan.contact_dofs, n)  # +1 left, -1 right
+        # d = G u of every element (pframe.assemble.incidence): a storey on soil deforms less
+        # h theta, a line in plan by its sides' weights; the ground load acts on the DOFs of
+        # its channel only (not a rotation, nor a foundation's rocking)
+        self.story_incidence = incidence(plan.story_dofs, plan.story_sides, member,
+                                         n).toarray()
+        self.influence = (np.ones(n) if plan.dof_channel is None
+                          else (plan.dof_channel >= 0).astype(float))
+        self.contact_incidence = incidence(plan.contact_dofs, plan.contact_sides, member, n,
+                                           contact=True).toarray()
         self.story_damping = np.array(plan.story_beta[member] * plan.story_k0[member])
         # modal damping (docs/theory.md#damping): the dense blocks over one n x n, scaled by 1/m
         self.modal = None

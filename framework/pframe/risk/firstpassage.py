@@ -115,29 +115,19 @@ def rice(barrier, moments: Moments, duration: float) -> np.ndarray:
 
 def simulate_maxima(loaded, accelerations: np.ndarray, dt: float, start: float,
                     threads: int | None = None) -> np.ndarray:
-    """max over t >= ``start`` of u_left - u_right at the scene's first contact, for every
-    row of ``accelerations`` (B, steps + 1) m/s^2 on step ``dt``, without contacts."""
-    from pframe.gap.runs import batch_plan, contact_pairs
+    """max over t >= ``start`` of the closing of the scene's first contact (u_left - u_right;
+    in plan, of its points along its normal), for every row of ``accelerations`` (B, steps +
+    1) m/s^2 on step ``dt``, without contacts."""
+    from pframe.gap.runs import GapSink, batch_plan, contact_pairs
     from pframe.kernel import simulate
 
     pairs = contact_pairs(loaded)
-    steps = accelerations.shape[1] - 1
+    steps = accelerations.shape[-1] - 1
     plan = batch_plan(loaded, accelerations, steps, dt=dt)
-    dof = dict(zip(plan.node_names, plan.node_dof))
-    left, right = dof[pairs.left[0]], dof[pairs.right[0]]
-    first = int(round(start / dt))
-    peak = np.full(plan.batch, -np.inf)
-
-    def sink(quantity, first_row, rows):
-        if quantity != "displacement" or rows.shape[1] == 0:
-            return
-        skip = max(0, first - first_row)
-        if skip < rows.shape[1]:
-            block = rows[:, skip:, left] - rows[:, skip:, right]
-            np.fmax(peak, np.max(block, axis=1), out=peak)
-
+    sink = GapSink(plan, pairs, start=int(round(start / dt)))
     result = simulate(plan, threads=threads, sink=sink)
     failed = [b for b in range(plan.batch) if not result.completed(b)]
+    peak = sink.gap[:, 0].copy()
     peak[failed] = np.nan
     return peak
 

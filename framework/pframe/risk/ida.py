@@ -168,7 +168,8 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
 
     def ground(which, ims, steps, dt):
         times = np.arange(steps + 1) * dt
-        return np.stack([im / inputs.intensities[r] * inputs.suite.motions[r].on_grid(times)
+        return np.stack([im / inputs.intensities[r]
+                         * inputs.suite.motions[r].on_site(times, inputs.channels)
                          for r, im in zip(which, ims)])
 
     parts = None

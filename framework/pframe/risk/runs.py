@@ -15,16 +15,20 @@ import dataclasses
 
 import numpy as np
 
-from pframe.gap.runs import GapSink, Pairs, without_contacts
+from pframe.gap.runs import GapSink, Pairs, contact_pairs, for_runs, on_channels, under
 from pframe.model.scene import Envelope, History
 
 
 def _owners(plan) -> tuple[np.ndarray, np.ndarray]:
-    """Building index of each DOF and of each storey (-1: a foundation's DOF, not a floor)."""
+    """Building index of each floor's translation along the site's x or y (-1: a rotation,
+    a foundation's DOF) and of each storey (its upper floor's)."""
+    node_building = np.array([plan.buildings.index(name.split("/")[0])
+                              for name in plan.node_names], dtype=np.int64)
     of_dof = np.full(plan.n_dof, -1, dtype=np.int64)
-    for name, dof in zip(plan.node_names, plan.node_dof):
-        of_dof[dof] = plan.buildings.index(name.split("/")[0])
-    return of_dof, of_dof[plan.story_dofs[:len(plan.story_names), 1]]  # storeys, not links
+    moves = (plan.dof_node >= 0) & (plan.dof_component < 2)
+    of_dof[moves] = node_building[plan.dof_node[moves]]
+    upper = plan.dof_node[plan.story_dofs[:len(plan.story_names), 1]]  # storeys, not links
+    return of_dof, node_building[upper]
 
 
 def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarray:
@@ -37,7 +41,8 @@ def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarr
 
 def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
               contacts: bool, threads: int | None = None) -> dict[str, np.ndarray]:
-    """One batch: a member per row of ``accelerations`` (B, steps + 1) in m/s^2."""
+    """One batch: a member per ground motion of ``accelerations`` (m/s^2; (B, steps + 1)
+    along x, or (B, C, steps + 1) along the site's x and y)."""
     from pframe.assemble import assemble_batch
     from pframe.kernel import simulate
 
@@ -49,22 +54,23 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
                                                        "story_drift_ratio",
                                                        "absolute_acceleration"]),
                  History(kind="history", quantities=["displacement"]))
-    bases = [dataclasses.replace(
-        m.expanded if contacts else without_contacts(m, keep_excitation=False),
-        steps=int(steps), recorders=recorders, dt=float(dt)) for m in members]
-    plan = assemble_batch([dataclasses.replace(bases[k if len(bases) > 1 else 0],
-                                               ground_acceleration=np.asarray(a, float))
+    accelerations = on_channels(accelerations)
+    channels = ("x", "y")[:accelerations.shape[1]]
+    bases = [dataclasses.replace(for_runs(m, channels, contacts), steps=int(steps),
+                                 recorders=recorders, dt=float(dt)) for m in members]
+    plan = assemble_batch([under(bases[k if len(bases) > 1 else 0], a[None])[0]
                            for k, a in enumerate(accelerations)])
     gaps = np.array([min(c.gap for c in m.expanded.contacts) for m in members])
-    sink = GapSink(plan, pairs)
+    # members of their own geometry (uncertain values): each its own contacts' sides
+    sink = GapSink(plan, [contact_pairs(m) for m in members] if len(members) > 1 else pairs)
     result = simulate(plan, threads=threads, sink=sink)
     of_dof, of_story = _owners(plan)
     nb = len(plan.buildings)
     drift = np.abs(result.envelope["story_drift"])
-    peak = result.envelope["displacement"]
+    left, right = sink.peaks(result.envelope["displacement"])
     out = {
         "g_req": sink.gap,
-        "peak_left": peak[:, sink.left], "peak_right": peak[:, sink.right],
+        "peak_left": left, "peak_right": right,
         "drift": _per_building(drift, of_story, nb),
         # NaN for a building without storey heights (a drift-ratio limit needs them)
         "drift_ratio": _per_building(np.abs(result.envelope["story_drift_ratio"]), of_story, nb),

@@ -103,10 +103,12 @@ class SubsetProblem:
     """g(u) of a subset study: runs without contacts of the scenes and motions ``u`` names."""
 
     def __init__(self, loaded, params: list[Uncertain], motion: dict, steps: int, dt: float,
-                 threads=None):
+                 threads=None, channels: tuple[str, ...] = ("x",)):
         from pframe.gap.runs import contact_pairs
 
         self.loaded, self.params, self.threads = loaded, params, threads
+        # the motion's direction on the site (its angle, degrees from the site's x)
+        self.channels, self.angle = channels, float(motion.get("angle", 0.0))
         self.pairs = contact_pairs(loaded)
         self.steps, self.dt = steps, dt
         self.step = float(motion.get("step", 0.01))
@@ -123,12 +125,16 @@ class SubsetProblem:
         return len(self.params) + self.noise
 
     def accelerations(self, u: np.ndarray) -> np.ndarray:
+        """(B, C, steps + 1) the motions of the standard normals ``u`` along the channels."""
         from scipy import signal
+
+        from pframe.excitation.suite import GroundMotion
 
         a = signal.lfilter(*self.filter, u[:, len(self.params):] * self.scale, axis=1)
         times = np.arange(self.steps + 1) * self.dt
         grid = np.arange(self.noise) * self.step
-        return np.stack([np.interp(times, grid, row, right=0.0) for row in a])
+        return np.stack([GroundMotion("", grid, row, "", angle=self.angle).on_site(
+            times, self.channels) for row in a])
 
     def __call__(self, u: np.ndarray) -> np.ndarray:
         from pframe.risk.runs import run_batch
@@ -164,7 +170,8 @@ class RecordSubsetProblem:
         u = np.atleast_2d(u)
         i = self.inputs
         out = run_batch(scenes(i.loaded, self.params, u), i.pairs,
-                        np.tile(self.ground, (len(u), 1)), i.steps, i.dt, contacts=False,
+                        np.repeat(self.ground[None], len(u), axis=0), i.steps, i.dt,
+                        contacts=False,
                         threads=self.threads)
         self.runs += len(u)
         g = out["gap"] - np.max(out["g_req"], axis=1)
@@ -382,7 +389,7 @@ def run_subset(spec, text: str, study, inputs, params, output, overwrite: bool, 
         problem = _Runs()
     else:
         problem = SubsetProblem(inputs.loaded, params, spec.stochastic, inputs.steps, inputs.dt,
-                                threads)
+                                threads, inputs.channels)
     parts, saved = None, {}
     if output is not None:
         from pframe.risk.ida import _Store

@@ -13,10 +13,11 @@ import time
 import numpy as np
 
 from pframe.errors import InputError, PframeError
+from pframe.model.scene import Envelope
 from pframe.quantities import QUANTITIES
 from pframe.sweep.definition import RESPONSES
 from pframe.sweep.grid import Spec, parse
-from pframe.sweep.probing import TOPOLOGY_CHANGED, topology
+from pframe.sweep.probing import PLANAR_LAYOUT, TOPOLOGY_CHANGED, in_plan, topology
 from pframe.sweep.spec import code_fingerprint
 from pframe.verdict import of_result
 
@@ -62,13 +63,115 @@ def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarr
     return out
 
 
-def responses_of(spec: Spec, plan, result, member: int, convert) -> dict[str, np.ndarray]:
-    """The kept responses of one batch member, in the units of the result file."""
+@dataclasses.dataclass(frozen=True)
+class Layout:
+    """What each variant contributes to the sweep's file (besides the sweep's axes): each
+    array's trailing dimensions and their sizes, from the base scene. ``in_plan``: the nodes
+    are written along the site's x and y with their rotation (``<q>_rz``), as ``pframe
+    solve`` writes a scene in plan; a base scene is in plan when it moves its floors in plan,
+    names plan points (a floor plan) or has a motion in two components, and every variant is
+    then written so (a DOF a variant does not move is 0)."""
+
+    in_plan: bool
+    dims: dict  # name -> trailing dimension names
+    sizes: dict  # dimension name -> length
+
+    @property
+    def shapes(self) -> dict[str, tuple]:
+        return {name: tuple(self.sizes[d] for d in dims) for name, dims in self.dims.items()}
+
+
+def _entity_dims(entity, plan: bool, channels: int) -> tuple[tuple[str, ...], ...]:
+    """The trailing dimensions of the arrays of a quantity of ``entity``: one array, or in
+    plan a node quantity along the site's x and y and its rotation (as ``pframe solve``)."""
+    if entity is None:
+        return (("direction",),) if channels > 1 else ((),)
+    if entity == "node" and plan:
+        return ("node", "direction"), ("node",)
+    if entity == "point":
+        return (("point", "axis"),)
+    return ((entity,),)
+
+
+def layout(spec: Spec, expanded) -> Layout:
+    """The :class:`Layout` of a sweep from its base scene: responses along their entity,
+    histories along time and entity."""
+    plan = in_plan(expanded)
+    sizes = {"node": len(expanded.node_names), "story": len(expanded.stories),
+             "contact": len(expanded.contacts), "building": len(expanded.buildings),
+             "link": len(expanded.links), "foundation": len(expanded.foundations),
+             "point": len(expanded.point_names), "axis": 2, "direction": 2,
+             "t": expanded.steps // spec.model.keep.every + 1}
+    channels = len(expanded.channels)
+    dims = {}
+    for name in spec.responses:
+        entity = RESPONSES[name]
+        if entity is not None and not sizes[entity]:
+            continue
+        if name.startswith("peak_") and name[len("peak_"):] in QUANTITIES:
+            q = name[len("peak_"):]
+            dims.update(zip(_names(q, entity, plan, "peak_"),
+                            _entity_dims(entity, plan, channels)))
+        else:
+            dims[name] = (entity,) if entity else ()
+    if plan and expanded.point_names:
+        dims["torsional_irregularity"] = ("node", "axis")
+    for q in spec.model.keep.histories:
+        entity = QUANTITIES[q][0]
+        if entity is not None and not sizes[entity]:
+            continue
+        dims.update((each, ("t",) + trailing) for each, trailing in zip(
+            _names(q, entity, plan, ""), _entity_dims(entity, plan, channels)))
+    return Layout(plan, dims, sizes)
+
+
+def _names(q: str, entity, plan: bool, prefix: str) -> tuple[str, ...]:
+    """The arrays of quantity ``q``: itself, and in plan a node quantity's rotation."""
+    from pframe.record.hdf5 import ROTATION
+
+    if plan and entity == "node":
+        return prefix + q, prefix + ROTATION[q][0]
+    return (prefix + q,)
+
+
+def _site(plan, data: np.ndarray) -> np.ndarray:
+    """(..., nodes, 3) a node quantity in the kernel's DOF order as each node's u_x, u_y,
+    theta (0 where the plan does not move it)."""
+    out = np.zeros(data.shape[:-1] + (len(plan.node_names), 3))
+    own = plan.dof_node >= 0  # not a foundation's DOF
+    out[..., plan.dof_node[own], plan.dof_component[own]] = data[..., own]
+    return out
+
+
+def _quantity(plan, q: str, data, convert, in_plan_layout: bool) -> list[np.ndarray]:
+    """The arrays of quantity ``q`` (:func:`_names`) from the kernel's columns ``data`` (an
+    envelope (width,) or a history (rows, width)), in the result file's units."""
+    from pframe.record.hdf5 import ROTATION
+
+    data = np.asarray(data, dtype=float)
+    entity, units = QUANTITIES[q][0], QUANTITIES[q][1]
+    if entity == "point":
+        data = data.reshape(data.shape[:-1] + (data.shape[-1] // 2, 2))
+    if entity != "node":
+        return [convert.variable(data, units, "")[0]]
+    if not in_plan_layout:
+        return [convert.variable(data[..., plan.node_dof], units, "")[0]]
+    site = _site(plan, data)
+    return [convert.variable(site[..., :2], units, "")[0],
+            convert.variable(site[..., 2], ROTATION[q][1], "")[0]]
+
+
+def responses_of(spec: Spec, plan, result, member: int, convert,
+                 layout: Layout | None = None, expanded=None) -> dict[str, np.ndarray]:
+    """The kept responses of one batch member, in the units of the result file, in the
+    sweep's ``layout`` (default: the planar layout); ``expanded``, the member's scene (its
+    named points' positions: the torsional irregularity)."""
+    from pframe.irregularity import torsional_irregularity
+
+    flat = layout is None or not layout.in_plan
+
     def peak(q):
-        data = result.envelope[q][member]
-        if QUANTITIES[q][0] == "node":
-            data = data[plan.node_dof]
-        return convert.variable(np.asarray(data, dtype=float), QUANTITIES[q][1], "")[0]
+        return _quantity(plan, q, result.envelope[q][member], convert, not flat)
 
     node_building, story_building = _buildings(plan)
     nb = len(plan.buildings)
@@ -84,46 +187,38 @@ def responses_of(spec: Spec, plan, result, member: int, convert) -> dict[str, np
         elif name == "ductility":
             out[name] = result.envelope["story_drift"][member] / _yield_drift(plan, member)
         elif name == "building_peak_displacement":
-            out[name] = _per_building(peak("displacement"), node_building, nb)
+            # in plan: the largest of the centres of mass along the site's x and y
+            moved = peak("displacement")[0]
+            per_node = moved if flat else np.max(moved, axis=-1)
+            out[name] = _per_building(per_node, node_building, nb)
         elif name == "building_peak_story_drift":
-            out[name] = _per_building(peak("story_drift"), story_building, nb)
+            out[name] = _per_building(peak("story_drift")[0], story_building, nb)
         elif name == "building_peak_ductility":
             ductility = result.envelope["story_drift"][member] / _yield_drift(plan, member)
             out[name] = _per_building(ductility, story_building, nb)
         else:
-            out[name] = peak(name[len("peak_"):])
+            q = name[len("peak_"):]
+            if QUANTITIES[q][0] is not None and layout is not None \
+                    and not layout.sizes[QUANTITIES[q][0]]:
+                continue
+            out.update(zip(_names(q, QUANTITIES[q][0], not flat, "peak_"), peak(q)))
+    if not flat and "torsional_irregularity" in layout.dims:
+        points = np.asarray(result.envelope["point_drift"][member]).reshape(-1, 2)
+        out["torsional_irregularity"] = torsional_irregularity(
+            plan.point_names, expanded.point_positions, points, plan.node_names)
     return out
 
 
-def _histories_of(plan, result, member: int, convert) -> dict[str, np.ndarray]:
+def _histories_of(plan, result, member: int, convert,
+                  layout: Layout | None = None) -> dict[str, np.ndarray]:
+    flat = layout is None or not layout.in_plan
     out = {}
     for q, _ in plan.history:
-        data = result.history[q][member]
-        if QUANTITIES[q][0] == "node":
-            data = data[:, plan.node_dof]
-        out[q] = convert.variable(np.asarray(data, dtype=float), QUANTITIES[q][1], "")[0]
-    return out
-
-
-def layout(spec: Spec, expanded) -> dict[str, tuple]:
-    """The shape of each array one variant contributes (besides the sweep dimensions), from
-    the base scene: responses along their entity, histories along time and entity."""
-    sizes = {"node": len(expanded.node_names), "story": len(expanded.stories),
-             "contact": len(expanded.contacts), "building": len(expanded.buildings),
-             "link": len(expanded.links)}
-    out = {}
-    for name in spec.responses:
-        entity = RESPONSES[name]
-        if entity is None:
-            out[name] = ()
-        elif sizes[entity]:
-            out[name] = (sizes[entity],)
-    for q in spec.model.keep.histories:
         entity = QUANTITIES[q][0]
-        if entity in ("contact", "link") and not sizes[entity]:
+        if entity is not None and layout is not None and not layout.sizes[entity]:
             continue
-        rows = expanded.steps // spec.model.keep.every + 1
-        out[q] = (rows,) if entity is None else (rows, sizes[entity])
+        out.update(zip(_names(q, entity, not flat, ""),
+                       _quantity(plan, q, result.history[q][member], convert, not flat)))
     return out
 
 
@@ -143,14 +238,23 @@ def _not_run(shapes: dict, reason: str) -> dict:
     return row
 
 
-def _assemble(spec: Spec, loaded: dict, rows: dict, shapes: dict):
+def recorders(spec: Spec, layout: Layout) -> tuple:
+    """The recorders of the sweep's runs: the sweep's own, and in plan the envelope of the
+    points' drift that the torsional irregularity is read off (which assembly adds to a
+    scene that moves in plan, but not to a variant that happens not to)."""
+    if "torsional_irregularity" not in layout.dims:
+        return spec.recorders
+    return spec.recorders + (Envelope(kind="envelope", quantities=["point_drift"]),)
+
+
+def _assemble(spec: Spec, loaded: dict, rows: dict, layout: Layout):
     """The batch of the valid variants. A variant that assembly refuses (an explicit step
     above its stability limit) is found alone and recorded as not run; the others go on."""
     from pframe.assemble import assemble, assemble_batch
 
     members = sorted(loaded)
-    expanded = {i: dataclasses.replace(loaded[i].expanded, recorders=spec.recorders)
-                for i in members}
+    kept = recorders(spec, layout)
+    expanded = {i: dataclasses.replace(loaded[i].expanded, recorders=kept) for i in members}
     if not members:
         return [], None
     try:
@@ -163,7 +267,7 @@ def _assemble(spec: Spec, loaded: dict, rows: dict, shapes: dict):
             assemble(expanded[i])
             good.append(i)
         except InputError as exc:
-            rows[i] = _not_run(shapes, str(exc))
+            rows[i] = _not_run(layout.shapes, str(exc))
     return good, (assemble_batch([expanded[i] for i in good]) if good else None)
 
 
@@ -192,7 +296,7 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
             "chunks of a sweep needs the same pframe (install it alike on every worker)")
     spec = parse(definition)
     folder = materialise(definition)
-    reference, shapes = _reference(definition)
+    reference, layout = _reference(definition)
     loaded, rows = {}, {}
     warnings: list[str] = []
     for index in spec.chunk_range(chunk):
@@ -201,9 +305,11 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
             scene = load_fitted(spec, index, folder)
             if topology(scene.expanded, spec.recorders, spec) != reference:
                 raise InputError(TOPOLOGY_CHANGED)
+            if not layout.in_plan and in_plan(scene.expanded):
+                raise InputError(PLANAR_LAYOUT)
             loaded[index] = scene
         except InputError as exc:
-            rows[index] = _not_run(shapes, str(exc).replace(str(folder) + "/", ""))
+            rows[index] = _not_run(layout.shapes, str(exc).replace(str(folder) + "/", ""))
             continue
         cut = cut_warning(spec, index, scene.expanded)
         if cut is not None:
@@ -214,7 +320,7 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     for index in sorted(loaded):
         by_steps.setdefault(loaded[index].expanded.steps, {})[index] = loaded[index]
     for _, group in sorted(by_steps.items()):
-        members, plan = _assemble(spec, group, rows, shapes)
+        members, plan = _assemble(spec, group, rows, layout)
         if not members:
             continue
         warnings += [w for w in plan.warnings if w not in warnings]
@@ -224,8 +330,8 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
         for member, index in enumerate(members):
             expanded = loaded[index].expanded
             convert = output_units(loaded[index].scene, expanded)
-            values = responses_of(spec, plan, result, member, convert)
-            values.update(_histories_of(plan, result, member, convert))
+            values = responses_of(spec, plan, result, member, convert, layout, expanded)
+            values.update(_histories_of(plan, result, member, convert, layout))
             end = record_end(expanded)
             verdict = of_result(result, member)
             values.update(
@@ -246,8 +352,8 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
             rows[index] = values
 
     ordered = [rows[i] for i in spec.chunk_range(chunk)]
-    for q in spec.model.keep.histories:  # pad shorter runs with NaN to the chunk's longest
-        if q in ordered[0]:
+    for q in (name for name, dims in layout.dims.items() if dims[:1] == ("t",)):
+        if q in ordered[0]:  # pad shorter runs with NaN to the chunk's longest
             longest = max(len(row[q]) for row in ordered)
             for row in ordered:
                 if len(row[q]) < longest:
@@ -261,9 +367,9 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     return arrays
 
 
-def _reference(definition) -> tuple[tuple, dict]:
-    """The topology every variant must share and the shapes of a variant's arrays, both from
-    the base scene (cached per definition)."""
+def _reference(definition) -> tuple[tuple, Layout]:
+    """The topology every variant must share and the :class:`Layout` of a variant's arrays,
+    both from the base scene (cached per definition)."""
     cached = _references.get(definition.digest)
     if cached is None:
         spec = parse(definition)
@@ -285,7 +391,7 @@ def warm_up(definition) -> float:
     spec = parse(definition)
     start = time.perf_counter()
     base = spec.base_scene()
-    expanded = dataclasses.replace(base.expanded, recorders=spec.recorders, steps=1,
-                                   ground_acceleration=base.expanded.ground_acceleration[:2])
+    ex = base.expanded
+    expanded = ex.with_ground(ex.ground_acceleration[:2], steps=1, recorders=spec.recorders)
     simulate(assemble(expanded), threads=1)
     return time.perf_counter() - start

@@ -27,7 +27,8 @@ from pframe.resources import MAX_AXIS_VALUES, MAX_VARIANTS, product
 from pframe.yamltext import compose
 
 #: dimension names a sweep file may not take for an axis (they are the file's own)
-RESERVED = ("node", "story", "contact", "building", "time", "variant")
+RESERVED = ("node", "story", "contact", "building", "time", "variant", "t", "link",
+            "foundation", "direction", "point", "axis")
 
 #: what a sweep keeps per variant -> the entity it runs along (besides the sweep axes)
 RESPONSES = {

@@ -18,9 +18,8 @@ import numpy as np
 
 from pframe import outputs
 from pframe.quantities import QUANTITIES
-from pframe.record.hdf5 import LABELS, integrator_text
+from pframe.record.hdf5 import LABELS, ROTATION, integrator_text
 from pframe.record.netcdf import Writer, provenance, with_units
-from pframe.sweep.definition import RESPONSES
 from pframe.sweep.grid import Spec
 
 #: long names of the responses that are not peaks of a recorded quantity
@@ -53,19 +52,42 @@ _STATUS = {
 }
 
 
-def _units_and_name(name: str, convert) -> tuple[str | None, str]:
-    if name in QUANTITIES:
-        _, units, long_name = QUANTITIES[name]
-        _, units, long_name = convert.variable(np.zeros(0), units, long_name)
-        return units, long_name
+#: a floor's rotation in a scene in plan (``displacement_rz``) -> its quantity, units and name
+_ROTATIONS = {name: (q, units, long_name) for q, (name, units, long_name) in ROTATION.items()}
+
+
+def _quantity_name(name: str, convert, in_plan: bool, channels: int) -> tuple[str, str]:
+    """Units and long name of a recorded quantity's variable (``displacement``, or in plan
+    its rotation ``displacement_rz``), as ``pframe solve`` names it."""
+    if name in _ROTATIONS:
+        return _ROTATIONS[name][1:]
+    entity, units, long_name = QUANTITIES[name]
+    if in_plan and entity == "node":
+        long_name = long_name.replace("floor ", "floor centre of mass ")
+    elif entity is None and channels > 1:
+        long_name += " along the site's x and y"
+    _, units, long_name = convert.variable(np.zeros(0), units, long_name)
+    return units, long_name
+
+
+def _units_and_name(name: str, convert, in_plan: bool = False,
+                    channels: int = 1) -> tuple[str | None, str]:
+    if name in QUANTITIES or name in _ROTATIONS:
+        return _quantity_name(name, convert, in_plan, channels)
+    if name == "torsional_irregularity":
+        from pframe.irregularity import LONG_NAME
+
+        return "1", LONG_NAME
     if name in _LONG_NAMES:
         units, long_name = _LONG_NAMES[name]
+        if in_plan and name == "building_peak_displacement":
+            long_name = ("peak absolute displacement of a floor's centre of mass relative to "
+                         "the ground along the site's x or y, largest of the building")
         if units == "m":
             _, units, long_name = convert.variable(np.zeros(0), units, long_name)
         return units, long_name
     quantity = name[len("peak_"):]
-    _, units, long_name = QUANTITIES[quantity]
-    _, units, long_name = convert.variable(np.zeros(0), units, long_name)
+    units, long_name = _quantity_name(quantity, convert, in_plan, channels)
     if quantity == "story_drift_ratio":  # the kernel's peak of a storey without a height
         long_name += " (NaN at a storey without a height: not defined there)"
     return units, f"peak absolute {long_name}"
@@ -85,10 +107,17 @@ class BaseRun:
     dt: float
     convert: object
     link_names: tuple = ()
+    #: the variants' arrays (pframe.sweep.chunk.Layout), the base's named plan points, its
+    #: foundations on soil and the ground motion's channels
+    layout: object = None
+    point_names: tuple = ()
+    foundations: tuple = ()
+    channels: int = 1
 
 
 def base_run(spec: Spec) -> BaseRun:
     from pframe.assemble import assemble
+    from pframe.sweep.chunk import layout
 
     base = spec.base_scene()
     plan = assemble(dataclasses.replace(base.expanded, recorders=spec.recorders))
@@ -96,7 +125,8 @@ def base_run(spec: Spec) -> BaseRun:
     title = spec.model.title or getattr(base.scene, "title", "") or Path(spec.definition.source).stem
     return BaseRun(title, plan.node_names, plan.story_names, plan.contact_names,
                    plan.buildings, integrator, plan.steps, float(plan.dt[0]),
-                   base.units, plan.link_names)
+                   base.units, plan.link_names, layout(spec, base.expanded),
+                   base.expanded.point_names, plan.foundations, len(plan.channels))
 
 
 def write_sweep(path: Path, spec: Spec, load_chunk, call: str | None = None) -> dict:
@@ -121,8 +151,7 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
     # small per-variant arrays of every chunk, in variant order
     small: dict[str, list] = {}
     warnings: list[str] = []
-    histories = [q for q in spec.model.keep.histories
-                 if not (QUANTITIES[q][0] == "contact" and not run.contact_names)]
+    histories = [q for q, trailing in run.layout.dims.items() if trailing[:1] == ("t",)]
     rows = run.steps // spec.model.keep.every + 1  # the longest variant's, for histories
     for chunk in range(spec.chunks):
         arrays = load_chunk(chunk)
@@ -184,6 +213,11 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
     entities = {"node": run.node_names, "story": run.story_names,
                 "contact": run.contact_names, "building": run.buildings,
                 "link": run.link_names}
+    used = {d for trailing in run.layout.dims.values() for d in trailing}
+    # the dimensions of scenes in plan and on soil, labelled where a variable runs along them
+    entities.update((d, names) for d, names in (
+        ("direction", ("x", "y")), ("point", run.point_names), ("axis", ("x", "y")),
+        ("foundation", run.foundations)) if d in used)
     every = spec.model.keep.every
     if histories:
         values, units, long_name = run.convert.time(np.arange(rows) * every * run.dt)
@@ -192,16 +226,16 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         if names:
             f.labels(entity, LABELS[entity][0], list(names), long_name=LABELS[entity][1])
 
-    for name in spec.responses:
-        if name not in small:
+    for name, trailing in run.layout.dims.items():
+        if name not in small or trailing[:1] == ("t",):
             continue
-        entity = RESPONSES[name]
         data = small[name].reshape(shape + small[name].shape[1:])
         if data.dtype == np.int64:
             data = data.astype(np.int32)
-        units, long_name = _units_and_name(name, run.convert)
+        units, long_name = _units_and_name(name, run.convert, run.layout.in_plan,
+                                           run.channels)
         fill = np.int32(-1) if name == "impact_count" else None
-        f.variable(name, dims + ((entity,) if entity else ()), data, fill=fill, units=units,
+        f.variable(name, dims + trailing, data, fill=fill, units=units,
                    long_name=long_name)
     for name, (dtype, units, long_name) in _STATUS.items():
         if name == "record_duration" and spec.base_record is None:
@@ -219,11 +253,9 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
 
     datasets = {}
     for q in histories:
-        entity = QUANTITIES[q][0]
-        _, units, long_name = QUANTITIES[q]
-        _, units, long_name = run.convert.variable(np.zeros(0), units, long_name)
-        datasets[q] = f.variable(q, dims + ("t",) + ((entity,) if entity else ()),
-                                 units=units, long_name=long_name)
+        units, long_name = _quantity_name(q, run.convert, run.layout.in_plan, run.channels)
+        datasets[q] = f.variable(q, dims + run.layout.dims[q], units=units,
+                                 long_name=long_name)
     if datasets:  # one chunk in memory at a time: histories are large
         for chunk in range(spec.chunks):
             arrays = load_chunk(chunk)

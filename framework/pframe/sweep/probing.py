@@ -16,6 +16,21 @@ TOPOLOGY_CHANGED = ("the variant differs from the base scene in topology (nodes,
                     "contacts, laws, integrator, number of steps) or in a setting its batch "
                     "shares (Newton tolerances and iterations); a sweep varies numbers that "
                     "each variant may have on its own")
+#: why a variant that moves its floors in plan cannot join a sweep of the planar layout
+PLANAR_LAYOUT = ("the variant moves its floors in plan (along y or turning), but the sweep "
+                 "writes the planar layout of its base scene (one value per node, along x): "
+                 "write the base scene in plan (give its buildings a plan: {size: [...]}, or "
+                 "take as the base a value at which its floors already move in plan) so that "
+                 "every variant is written with its nodes' x, y and rotation "
+                 "(docs/sweeps.md#scenes-in-plan)")
+
+
+def in_plan(expanded) -> bool:
+    """Whether a sweep of this base scene writes the layout of a scene in plan
+    (:class:`pframe.sweep.chunk.Layout`): it moves its floors in plan, names plan points (a
+    floor plan) or has a motion in two components."""
+    return (expanded.dofs is not None or bool(expanded.point_names)
+            or "y" in expanded.channels)
 
 
 def topology(expanded, recorders, spec=None) -> tuple:
@@ -56,6 +71,8 @@ def check(definition: SweepDefinition) -> None:
                 loaded = load_fitted(spec, index, folder)
                 if topology(loaded.expanded, spec.recorders, spec) != reference:
                     raise InputError(TOPOLOGY_CHANGED)
+                if in_plan(loaded.expanded) and not in_plan(base.expanded):
+                    raise InputError(PLANAR_LAYOUT)
             else:
                 _validate_model(data, spec, folder)
         except InputError as exc:

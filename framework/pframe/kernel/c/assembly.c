@@ -23,14 +23,28 @@ static int fail(State *st, int64_t b, int64_t code, int64_t k, int64_t kind, int
     return 0;
 }
 
-/* Add f to R at a side of a floor-to-column contact: share psi to its node, 1 - psi to the
- * struck storey's lower floor (none: negative). */
-static void scatter(double *R, int64_t node, int64_t lower, double psi, double f)
+/* kk g g^T into the band over element e's terms, g its first side's coefficients times
+ * sign_first and its second side's times -sign_first (a spring: -1, its lower side first; a
+ * contact: +1, left first); two terms on one DOF (cannot happen: sides of distinct nodes)
+ * add twice their product to its diagonal. */
+static void band_sides(double *band, int64_t bw, const int64_t *start, const int64_t *dof,
+                       const double *coef, int64_t e, double sign_first, double kk)
 {
-    if (node >= 0)
-        R[node] += psi * f;
-    if (lower >= 0)
-        R[lower] += (1.0 - psi) * f;
+    const int64_t lo = start[2 * e], mid = start[2 * e + 1], hi = start[2 * e + 2];
+    int64_t x, y;
+    for (x = lo; x < hi; x++) {
+        const double gx = (x < mid ? sign_first : -sign_first) * coef[x];
+        for (y = lo; y <= x; y++) {
+            const double gy = (y < mid ? sign_first : -sign_first) * coef[y];
+            const int64_t high = imax(dof[x], dof[y]), low = imin(dof[x], dof[y]);
+            if (x == y)
+                band[dof[x] * (bw + 1)] += kk * gx * gx;
+            else if (high != low)
+                band[high * (bw + 1) + (high - low)] += kk * gx * gy;
+            else
+                band[high * (bw + 1)] += 2.0 * kk * gx * gy;
+        }
+    }
 }
 
 /* Modal damping (docs/theory.md#damping): each block is a building's dense matrix C over its
@@ -76,17 +90,18 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
     return work;
 }
 
-/* Element forces and the residual at the evaluation point, ground acceleration age.
+/* Element forces and the residual at the evaluation point, ground accelerations age (one per
+ * channel).
  *
  * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
  * with the one in the current factorisation; returns 1 when one changed (the factorisation is
  * then stale). */
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                    double age, double c1, double wf, int tangent)
+                    const double *age, double c1, double wf, int tangent)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
-    const double *ue = w->ue, *ve = w->ve, *ae = w->ae, *influence = m->ground_influence;
+    const double *ue = w->ue, *ve = w->ve, *ae = w->ae;
     /* the laws' committed state: the step start's, or in a stage after the first the end of
      * the stage before (newton.c, keep_stage) */
     const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
@@ -95,7 +110,7 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     int64_t i, j;
     double out[3];
     for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
-        R[i] = -mass[i] * (influence[i] * age + ae[i]) - damping[i] * ve[i];
+        R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
@@ -109,8 +124,9 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                                              : st->story_committed + b * ns * S;
         double *trial = st->story_trial + b * ns * S;
         const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
-        const double *kg = m->story_kg + b * ns, *height = m->story_height + b * ns;
-        const int64_t *rocking = m->story_theta;
+        const double *kg = m->story_kg + b * ns;
+        const int64_t *start = m->story_side_start, *side_dof = m->story_side_dof;
+        const double *side_coef = m->story_side_coef + b * m->story_terms;
         const double *tangent_c = st->story_tangent + b * ns;
         int64_t *calls = st->material_calls + b * m->materials;
         double *drift = w->drift, *force = w->story_force;
@@ -121,14 +137,17 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
             const int64_t law = laws[e];
             const int64_t mode = modes[e];
-            double d = ue[up], r = ve[up], f, kt, kr, kd, fd;
-            if (lo >= 0) {
-                d -= ue[lo];
-                r -= ve[lo];
-            }
-            if (rocking[e] >= 0) { /* on soil: less the rigid rotation's share, h theta */
-                d -= height[e] * ue[rocking[e]];
-                r -= height[e] * ve[rocking[e]];
+            const int sided = general(start, e);
+            double d, r, f, kt, kr, kd, fd;
+            if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
+                sides_sum2(start, side_dof, side_coef, e, 1, ue, ve, &d, &r);
+            } else {
+                d = ue[up];
+                r = ve[up];
+                if (lo >= 0) {
+                    d -= ue[lo];
+                    r -= ve[lo];
+                }
             }
             material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
                            out);
@@ -154,11 +173,13 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
             }
             force[e] = f;
             damping_force[e] = fd;
-            R[up] -= f + fd;
-            if (lo >= 0)
-                R[lo] += f + fd;
-            if (rocking[e] >= 0) /* the storey's moment on the rocking DOF: lever -h */
-                R[rocking[e]] += height[e] * (f + fd);
+            if (sided) {
+                sides_add(R, start, side_dof, side_coef, e, 1, -(f + fd), f + fd);
+            } else {
+                R[up] -= f + fd;
+                if (lo >= 0)
+                    R[lo] += f + fd;
+            }
             if (tangent) {
                 double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
                 if (kk != kks[e]) {
@@ -188,19 +209,20 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
          * (tangent off: the commit's evaluation) sees the real law. */
         const int hold_start = tangent && s->events && s->beyond;
         const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
-        const double *share = m->contact_share + b * nc * 2;
+        const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
+        const double *side_coef = m->contact_side_coef + b * m->contact_terms;
         for (j = 0; j < nc; j++) {
             const int64_t e = order[j];
             const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
             const int64_t law = laws[e];
-            const int plain = plain_contact(m, b, e);
+            const int plain = !general(start, e);
             double d, r, f, kd, kr, at;
             if (plain) { /* floor to floor or to a wall: its nodes' values */
                 d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
                 r = dof_value(ve, left) - dof_value(ve, right);
-            } else {
-                d = contact_side(m, ue, b, e, 0) - contact_side(m, ue, b, e, 1) - gap[e];
-                r = contact_side(m, ve, b, e, 0) - contact_side(m, ve, b, e, 1);
+            } else { /* points off the centre of mass, a struck column: its sides */
+                sides_sum2(start, side_dof, side_coef, e, 0, ue, ve, &d, &r);
+                d -= gap[e];
             }
             at = d;
             if (e == held) {
@@ -229,9 +251,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
                     R[left] -= f;
                 if (right >= 0)
                     R[right] += f;
-            } else { /* floor-to-column: the force shared as the point's displacement is */
-                scatter(R, left, m->contact_lower[2 * e], share[2 * e], -f);
-                scatter(R, right, m->contact_lower[2 * e + 1], share[2 * e + 1], f);
+            } else { /* the force on each side's DOFs, as its point moves with them */
+                sides_add(R, start, side_dof, side_coef, e, 0, -f, f);
             }
             if (tangent) {
                 double kk = (kd + c1 * kr) * wf;
@@ -341,18 +362,15 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->stories; e++) {
         const double kk = kks[e];
         const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
+        if (general(m->story_side_start, e)) { /* kk g g^T, g = upper side - lower side */
+            band_sides(band, bw, m->story_side_start, m->story_side_dof,
+                       m->story_side_coef + b * m->story_terms, e, -1.0, kk);
+            continue;
+        }
         band[up * (bw + 1)] += kk;
         if (lo >= 0) {
             band[lo * (bw + 1)] += kk;
             band[imax(lo, up) * (bw + 1) + iabs(lo - up)] -= kk;
-        }
-        if (m->story_theta[e] >= 0) { /* kk g g^T, g = (1, -1, -h) on (up, lo, theta) */
-            const int64_t th = m->story_theta[e];
-            const double h = m->story_height[b * m->stories + e];
-            band[th * (bw + 1)] += kk * h * h;
-            band[imax(th, up) * (bw + 1) + iabs(th - up)] -= kk * h;
-            if (lo >= 0)
-                band[imax(th, lo) * (bw + 1) + iabs(th - lo)] += kk * h;
         }
     }
     dofs = m->contact_dofs;
@@ -360,37 +378,17 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     for (e = 0; e < m->contacts; e++) {
         const double kk = kks[e];
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-        const int64_t *lower = m->contact_lower + 2 * e;
-        const double *share = m->contact_share + (b * m->contacts + e) * 2;
-        if (plain_contact(m, b, e)) {
-            if (left >= 0)
-                band[left * (bw + 1)] += kk;
-            if (right >= 0)
-                band[right * (bw + 1)] += kk;
-            if (left >= 0 && right >= 0)
-                band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
-        } else { /* floor-to-column: kk g g^T over up to four DOFs */
-            const int64_t at[4] = {left, lower[0], right, lower[1]};
-            const double g[4] = {share[0], 1.0 - share[0], -share[1], -(1.0 - share[1])};
-            int64_t x, y;
-            for (x = 0; x < 4; x++) {
-                if (at[x] < 0 || g[x] == 0.0)
-                    continue;
-                for (y = 0; y <= x; y++) {
-                    int64_t hi, lo_;
-                    if (at[y] < 0 || g[y] == 0.0)
-                        continue;
-                    hi = imax(at[x], at[y]);
-                    lo_ = imin(at[x], at[y]);
-                    if (x == y)
-                        band[at[x] * (bw + 1)] += kk * g[x] * g[x];
-                    else if (hi != lo_)
-                        band[hi * (bw + 1) + (hi - lo_)] += kk * g[x] * g[y];
-                    else /* two entries on one DOF (cannot happen: distinct nodes) */
-                        band[hi * (bw + 1)] += 2.0 * kk * g[x] * g[y];
-                }
-            }
+        if (general(m->contact_side_start, e)) { /* kk g g^T, g = left side - right side */
+            band_sides(band, bw, m->contact_side_start, m->contact_side_dof,
+                       m->contact_side_coef + b * m->contact_terms, e, 1.0, kk);
+            continue;
         }
+        if (left >= 0)
+            band[left * (bw + 1)] += kk;
+        if (right >= 0)
+            band[right * (bw + 1)] += kk;
+        if (left >= 0 && right >= 0)
+            band[imax(left, right) * (bw + 1) + iabs(left - right)] -= kk;
     }
     st->counters[b * COUNTER_SLOTS + FACTORISATIONS] += 1;
     pivot = ldl_factor(band, n, bw);
@@ -399,13 +397,24 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     return not_definite(m, st, w, b, k, pivot);
 }
 
-/* Ground accelerations at fractions start and stop of step k (linear between the samples
- * k - 1 and k). */
+/* Ground accelerations of each channel at fractions start and stop of step k (linear between
+ * the samples k - 1 and k). */
 static void ground_between(const Model *m, int64_t b, int64_t k, double start, double stop,
                            double *ag_old, double *ag_new)
 {
-    const double *ag = m->ground + b * m->ground_width;
-    const double slope = ag[k] - ag[k - 1];
-    *ag_old = ag[k - 1] + slope * start;
-    *ag_new = ag[k - 1] + slope * stop;
+    int64_t c;
+    for (c = 0; c < m->channels; c++) {
+        const double *ag = m->ground + (b * m->channels + c) * m->ground_width;
+        const double slope = ag[k] - ag[k - 1];
+        ag_old[c] = ag[k - 1] + slope * start;
+        ag_new[c] = ag[k - 1] + slope * stop;
+    }
+}
+
+/* The ground accelerations of each channel at sample k. */
+static void ground_at(const Model *m, int64_t b, int64_t k, double *ag)
+{
+    int64_t c;
+    for (c = 0; c < m->channels; c++)
+        ag[c] = m->ground[(b * m->channels + c) * m->ground_width + k];
 }

@@ -40,10 +40,11 @@
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
  * kinetic energy ran away from what the ground motion put in. */
 static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                  int64_t k, double h, double ag_old, double ag_new)
+                  int64_t k, double h, const double *ag_old, const double *ag_new)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
-    const double *mass = m->mass + b * n, *influence = m->ground_influence;
+    const double *mass = m->mass + b * n;
+    const int64_t *channel = m->dof_channel;
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     const double *u = w->u, *v = w->v, *a = w->a;
     double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
@@ -79,10 +80,14 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         for (i = 0; i < n; i++) {
             const double du = u[i] - U[i];
             const double da = a[i] - A[i];
-            work_in -= 0.5 * (ag_old + ag_new) * influence[i] * mass[i] * du;
+            const int64_t c = channel[i]; /* -1: a rotation, which the ground does not load */
             work_damp += 0.5 * damping[i] * (V[i] + v[i]) * du;
-            du_dG += (damping[i] * (v[i] - V[i])
-                      + influence[i] * mass[i] * (ag_new - ag_old)) * du;
+            if (c >= 0) {
+                work_in -= 0.5 * (ag_old[c] + ag_new[c]) * mass[i] * du;
+                du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * (ag_new[c] - ag_old[c])) * du;
+            } else {
+                du_dG += damping[i] * (v[i] - V[i]) * du;
+            }
             du_Mda += mass[i] * da * du;
             v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
             d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
@@ -175,7 +180,9 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         return 1;
     }
     energy[INPUT_ABS] += fabs(work_in);
-    t = h * (fabs(ag_old) + fabs(ag_new));
+    t = 0.0; /* how much velocity the ground's steps may give: h |a_g| summed over channels */
+    for (i = 0; i < m->channels; i++)
+        t += h * (fabs(ag_old[i]) + fabs(ag_new[i]));
     budget = energy[INPUT_ABS] + energy[START] + t * t * w->scalars[MASS_MIN];
     if (raw <= 10.0 * budget)
         return 1;

@@ -37,7 +37,7 @@ static int crossed(double d0, double d1)
 }
 
 /* Shorten the converged sub-step from pos to *f_try (fractions of step k) to end just past the
- * first contact crossing in it; *f_try, *hs, *ag_old, *ag_new become the sub-step to commit and
+ * first contact crossing in it; *f_try, *hs, ag_old[], ag_new[] become the sub-step to commit and
  * *located says whether it ends at an event. 0 if a sub-step of the search failed. */
 static int locate_event(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                         int64_t k, double h, double pos, double *f_try, double *hs,
@@ -66,7 +66,7 @@ static int locate_event(const Model *m, const Settings *s, State *st, Work *w, i
     w->scalars[HELD] = (double)first;
     w->scalars[HELD_CLOSED] = d0 > 0.0 ? 1.0 : 0.0;
     /* the sub-step again with the contact on its branch: does it cross there? */
-    if (!solve_step(m, s, st, w, b, k, *hs, *ag_old, *ag_new)) {
+    if (!solve_step(m, s, st, w, b, k, *hs, ag_old, ag_new)) {
         w->scalars[HELD] = -1.0;
         return 0;
     }
@@ -90,7 +90,7 @@ static int locate_event(const Model *m, const Settings *s, State *st, Work *w, i
         *f_try = pos + fraction * span;
         *hs = (*f_try - pos) * h;
         ground_between(m, b, k, pos, *f_try, ag_old, ag_new);
-        if (!solve_step(m, s, st, w, b, k, *hs, *ag_old, *ag_new)) {
+        if (!solve_step(m, s, st, w, b, k, *hs, ag_old, ag_new)) {
             w->scalars[HELD] = -1.0;
             return 0;
         }
@@ -123,7 +123,7 @@ static int locate_event(const Model *m, const Settings *s, State *st, Work *w, i
         *f_try = pos + hi_s * span;
         *hs = (*f_try - pos) * h;
         ground_between(m, b, k, pos, *f_try, ag_old, ag_new);
-        if (!solve_step(m, s, st, w, b, k, *hs, *ag_old, *ag_new)) {
+        if (!solve_step(m, s, st, w, b, k, *hs, ag_old, ag_new)) {
             w->scalars[HELD] = -1.0;
             return 0;
         }
@@ -137,7 +137,7 @@ static int locate_event(const Model *m, const Settings *s, State *st, Work *w, i
  * velocity): every law evaluated at the committed state on its new branch (contact `held`
  * closed, if >= 0), and the acceleration from equilibrium there, as at t = 0. */
 static int restart(const Model *m, const Settings *s, State *st, Work *w, int64_t b, int64_t k,
-                   double hs, double ag, int64_t held)
+                   double hs, const double *ag, int64_t held)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *U = st->U + b * n, *V = st->V + b * n, *mass = m->mass + b * n;
@@ -195,7 +195,7 @@ static int64_t touching(const Model *m, const State *st, int64_t b)
     int64_t e;
     for (e = 0; e < nc; e++) {
         if (st->penetration[b * nc + e] == 0.0 && st->contact_force[b * nc + e] == 0.0
-            && contact_side(m, V, b, e, 0) - contact_side(m, V, b, e, 1) > 0.0)
+            && contact_closing(m, b, e, V) > 0.0)
             return e;
     }
     return -1;
@@ -213,7 +213,7 @@ static int event_substeps(const Model *m, const Settings *s, State *st, Work *w,
     while (pos < stop) {
         /* while a contact is closed, sub-steps of 1 / event_parts of the step (a sliver left
          * before the step end joins the last one) */
-        double f_try = stop, hs, ag_old, ag_new;
+        double f_try = stop, hs, *ag_old = w->ag_old, *ag_new = w->ag_new;
         int64_t e, onset;
         int located;
         for (e = 0; e < nc; e++) {
@@ -225,13 +225,13 @@ static int event_substeps(const Model *m, const Settings *s, State *st, Work *w,
             }
         }
         hs = (f_try - pos) * h;
-        ground_between(m, b, k, pos, f_try, &ag_old, &ag_new);
+        ground_between(m, b, k, pos, f_try, ag_old, ag_new);
         onset = touching(m, st, b);
         if (onset >= 0 && !restart(m, s, st, w, b, k, hs, ag_old, onset))
             return 0;
         if (!solve_step(m, s, st, w, b, k, hs, ag_old, ag_new))
             return 0;
-        if (!locate_event(m, s, st, w, b, k, h, pos, &f_try, &hs, &ag_old, &ag_new, &located)
+        if (!locate_event(m, s, st, w, b, k, h, pos, &f_try, &hs, ag_old, ag_new, &located)
             || !commit(m, s, st, w, b, k, hs, ag_old, ag_new))
             return 0;
         if (located) {

@@ -20,9 +20,9 @@ static int explicit_step(const Model *m, const Settings *s, State *st, Work *w,
     const double hs = h / (double)parts;
     int64_t part, i, pass;
     for (part = 0; part < parts; part++) {
-        double ag_old, ag_new;
+        const double *ag_old = w->ag_old, *ag_new = w->ag_new;
         ground_between(m, b, k, (double)part / (double)parts, (double)(part + 1) / (double)parts,
-                       &ag_old, &ag_new);
+                       w->ag_old, w->ag_new);
         for (i = 0; i < n; i++) {
             u[i] = U[i] + hs * V[i] + 0.5 * hs * hs * A[i];
             v[i] = V[i] + hs * A[i];

@@ -70,12 +70,11 @@ static int split_step(const Model *m, const Settings *s, State *st, Work *w, Sav
                 const double pos = (double)part / (double)parts;
                 const double stop = (double)(part + 1) / (double)parts;
                 const double hs = (stop - pos) * h;
-                double ag_old, ag_new;
-                ground_between(m, b, k, pos, stop, &ag_old, &ag_new);
-                ok = (solve_step(m, s, st, w, b, k, hs, ag_old, ag_new)
-                      && commit(m, s, st, w, b, k, hs, ag_old, ag_new));
+                ground_between(m, b, k, pos, stop, w->ag_old, w->ag_new);
+                ok = (solve_step(m, s, st, w, b, k, hs, w->ag_old, w->ag_new)
+                      && commit(m, s, st, w, b, k, hs, w->ag_old, w->ag_new));
                 if (ok)
-                    record_substep(m, st, rec, b, k, ag_new);
+                    record_substep(m, st, rec, b, k, w->ag_new);
             }
             if (!ok)
                 break;

@@ -214,11 +214,13 @@ static void end_point(const Settings *s, int64_t n, const Weights *c, const doub
 }
 
 /* Move the evaluation point (w->ue, ve, ae) to where the stage imposes equilibrium, from the
- * points before it and the stage's end in w->u, v, a; return the ground acceleration there
- * (linear in the step's samples, extrapolated past its end). Without s->alpha (every stage
- * evaluated at its end) the evaluation arrays are the end arrays themselves. */
-static double evaluation_point(const Model *m, const Settings *s, State *st, Work *w,
-                               const Weights *c, int64_t b, double ag_old, double ag_new)
+ * points before it and the stage's end in w->u, v, a; return the ground accelerations there
+ * (linear in the step's samples, extrapolated past its end: w->age, or ag_new itself). Without
+ * s->alpha (every stage evaluated at its end) the evaluation arrays are the end arrays
+ * themselves. */
+static const double *evaluation_point(const Model *m, const Settings *s, State *st, Work *w,
+                                      const Weights *c, int64_t b, const double *ag_old,
+                                      const double *ag_new)
 {
     const int64_t n = m->dofs;
     const double *U, *V, *A;
@@ -229,7 +231,8 @@ static double evaluation_point(const Model *m, const Settings *s, State *st, Wor
             combine(n, c, V_EVAL, w->ve);
             combine(n, c, A_EVAL, w->ae);
         }
-        return (1.0 - c->at) * ag_old + c->at * ag_new;
+        ground_mix(m, w->age, 1.0 - c->at, ag_old, c->at, ag_new);
+        return w->age;
     }
     if (!s->alpha)
         return ag_new;
@@ -246,14 +249,16 @@ static double evaluation_point(const Model *m, const Settings *s, State *st, Wor
             w->ve[i] = V[i] + f_A * A[i] + f_a * w->a[i];
             w->ae[i] = c->wm * w->a[i] + s->alpha_m * A[i];
         }
-        return th * ag_new + (1.0 - th) * ag_old;
+        ground_mix(m, w->age, th, ag_new, 1.0 - th, ag_old);
+        return w->age;
     }
     for (i = 0; i < n; i++) {
         w->ue[i] = c->wf * w->u[i] + s->alpha_f * U[i];
         w->ve[i] = c->wf * w->v[i] + s->alpha_f * V[i];
         w->ae[i] = c->wm * w->a[i] + s->alpha_m * A[i];
     }
-    return c->wf * ag_new + s->alpha_f * ag_old;
+    ground_mix(m, w->age, c->wf, ag_new, s->alpha_f, ag_old);
+    return w->age;
 }
 
 /* Move the evaluation point to the stage's end (a no-op without s->alpha). */
@@ -276,7 +281,8 @@ static void at_end_point(const Model *m, const Settings *s, Work *w)
  * stage's end. The element deformation increments are those of the stage end (the evaluation
  * point is not on the straight line from U to u for every scheme). Called with the forces of
  * the evaluation point in w and the stage's end in w->u. */
-static double evaluation_work(const Model *m, Work *w, int64_t b, double age, const double *U,
+static double evaluation_work(const Model *m, Work *w, int64_t b, const double *age,
+                              const double *U,
                               const double *drift_c, const double *pen_c)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
@@ -286,21 +292,15 @@ static double evaluation_work(const Model *m, Work *w, int64_t b, double age, co
     double work = 0.0;
     int64_t i, e;
     for (i = 0; i < n; i++)
-        work += (damping[i] * ve[i] + m->ground_influence[i] * mass[i] * age) * (u[i] - U[i]);
+        work += (damping[i] * ve[i] + mass[i] * dof_ground(m, i, age)) * (u[i] - U[i]);
     if (m->modal_blocks)
         work += modal_work(m, b, ve, ve, 0.0, u, U);
     for (e = 0; e < ns; e++) {
-        const int64_t lo = m->story_dofs[2 * e], up = m->story_dofs[2 * e + 1];
-        const int64_t th = m->story_theta[e];
-        double d = u[up] - dof_value(u, lo);
-        if (th >= 0)
-            d -= m->story_height[b * ns + e] * u[th];
+        const double d = spring_deformation(m, b, e, u);
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
     }
-    for (e = 0; e < nc; e++) {
-        work += w->contact_force[e]
-                * ((contact_side(m, u, b, e, 0) - contact_side(m, u, b, e, 1) - gap[e]) - pen_c[e]);
-    }
+    for (e = 0; e < nc; e++)
+        work += w->contact_force[e] * ((contact_closing(m, b, e, u) - gap[e]) - pen_c[e]);
     return work;
 }
 

@@ -50,35 +50,106 @@ static int64_t iabs(int64_t a) { return a < 0 ? -a : a; }
 /* x[i] of a DOF, or 0 for the ground (-1): a storey's lower end, a wall's side */
 static double dof_value(const double *x, int64_t i) { return i >= 0 ? x[i] : 0.0; }
 
-/* The displacement (or velocity) of one side of contact e: its node's, or for a floor-to-column
- * contact the point of the struck column, psi x_upper + (1 - psi) x_lower (assembly.c). */
-static int plain_side(const Model *m, int64_t b, int64_t e, int side)
+/* Elements act along a direction at a point of each side (pframe/assemble/incidence.py). A
+ * plain element (no terms) joins its two DOFs of *_dofs with coefficient 1; any other has its
+ * sides as terms: side s of element e is sum coef[t] x[dof[t]], t = start[2e+s] ..
+ * start[2e+s+1] (coef offset to the member: coef + b * terms). */
+static int general(const int64_t *start, int64_t e) { return start[2 * e + 2] > start[2 * e]; }
+
+/* first side's terms times sign_first plus the second side's times sign_second, summed term
+ * by term in that order (a storey on soil: (u_upper - u_lower) - h theta, as written) */
+static PFRAME_INLINE double sides_sum(const int64_t *start, const int64_t *dof,
+                                      const double *coef, int64_t e, int first, const double *x)
 {
-    return m->contact_lower[2 * e + side] < 0
-           && m->contact_share[(b * m->contacts + e) * 2 + side] == 1.0;
+    double sum = 0.0;
+    int64_t t;
+    for (t = start[2 * e + first]; t < start[2 * e + first + 1]; t++)
+        sum += coef[t] * x[dof[t]];
+    for (t = start[2 * e + 1 - first]; t < start[2 * e + 2 - first]; t++)
+        sum -= coef[t] * x[dof[t]];
+    return sum;
 }
 
-/* A contact between two floors (or a floor and a wall): no column on either side. */
-static int plain_contact(const Model *m, int64_t b, int64_t e)
+/* sides_sum of x and of y in one pass over the terms (an element's deformation and its rate:
+ * each sum in the same order as sides_sum's, so the same bits) */
+static PFRAME_INLINE void sides_sum2(const int64_t *start, const int64_t *dof,
+                                     const double *coef, int64_t e, int first, const double *x,
+                                     const double *y, double *sx, double *sy)
 {
-    return plain_side(m, b, e, 0) && plain_side(m, b, e, 1);
-}
-
-static double contact_side(const Model *m, const double *x, int64_t b, int64_t e, int side)
-{
-    const int64_t node = m->contact_dofs[2 * e + side], lower = m->contact_lower[2 * e + side];
-    if (plain_side(m, b, e, side))
-        return dof_value(x, node);
-    {
-        const double psi = m->contact_share[(b * m->contacts + e) * 2 + side];
-        return psi * dof_value(x, node) + (1.0 - psi) * dof_value(x, lower);
+    const int64_t add_from = start[2 * e + first], add_to = start[2 * e + first + 1];
+    const int64_t sub_from = start[2 * e + 1 - first], sub_to = start[2 * e + 2 - first];
+    double a = 0.0, c = 0.0;
+    int64_t t;
+    for (t = add_from; t < add_to; t++) {
+        const double k = coef[t];
+        const int64_t i = dof[t];
+        a += k * x[i];
+        c += k * y[i];
     }
+    for (t = sub_from; t < sub_to; t++) {
+        const double k = coef[t];
+        const int64_t i = dof[t];
+        a -= k * x[i];
+        c -= k * y[i];
+    }
+    *sx = a;
+    *sy = c;
+}
+
+/* R[dof] += w_s coef over both sides of element e, side s_first first (an element's force on
+ * its sides' DOFs; the bounds read once, as the stores into R cannot change them) */
+static PFRAME_INLINE void sides_add(double *R, const int64_t *start, const int64_t *dof,
+                                    const double *coef, int64_t e, int s_first, double w_first,
+                                    double w_second)
+{
+    const int64_t a_from = start[2 * e + s_first], a_to = start[2 * e + s_first + 1];
+    const int64_t b_from = start[2 * e + 1 - s_first], b_to = start[2 * e + 2 - s_first];
+    int64_t t;
+    for (t = a_from; t < a_to; t++)
+        R[dof[t]] += coef[t] * w_first;
+    for (t = b_from; t < b_to; t++)
+        R[dof[t]] += coef[t] * w_second;
+}
+
+/* The deformation of spring e at x: upper (second) side less lower (first). */
+static double spring_deformation(const Model *m, int64_t b, int64_t e, const double *x)
+{
+    if (general(m->story_side_start, e))
+        return sides_sum(m->story_side_start, m->story_side_dof,
+                         m->story_side_coef + b * m->story_terms, e, 1, x);
+    return x[m->story_dofs[2 * e + 1]] - dof_value(x, m->story_dofs[2 * e]);
+}
+
+/* How far contact e's sides have closed at x: left less right (before the gap). */
+static double contact_closing(const Model *m, int64_t b, int64_t e, const double *x)
+{
+    if (general(m->contact_side_start, e))
+        return sides_sum(m->contact_side_start, m->contact_side_dof,
+                         m->contact_side_coef + b * m->contact_terms, e, 0, x);
+    return dof_value(x, m->contact_dofs[2 * e]) - dof_value(x, m->contact_dofs[2 * e + 1]);
+}
+
+/* The ground acceleration that loads DOF i, from the channels' values g: that of its channel
+ * (m->dof_channel), 0 for a rotation or a foundation's rocking (-1). */
+static double dof_ground(const Model *m, int64_t i, const double *g)
+{
+    const int64_t c = m->dof_channel[i];
+    return c >= 0 ? g[c] : 0.0;
+}
+
+/* out = wa a + wb b, channel by channel: the ground accelerations between two times */
+static void ground_mix(const Model *m, double *out, double wa, const double *a, double wb,
+                       const double *b)
+{
+    int64_t c;
+    for (c = 0; c < m->channels; c++)
+        out[c] = wa * a[c] + wb * b[c];
 }
 
 /* functions used before the file that defines them */
 static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                      int64_t k, double h, double ag_old, double ag_new);
+                      int64_t k, double h, const double *ag_old, const double *ag_new);
 static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                  int64_t k, double h, double ag_old, double ag_new);
+                  int64_t k, double h, const double *ag_old, const double *ag_new);
 
 #endif

@@ -33,20 +33,22 @@ static int initial_state(const Model *m, const Settings *s, State *st, Work *w, 
 {
     const int64_t n = m->dofs;
     const double *U = st->U + b * n, *V = st->V + b * n, *mass = m->mass + b * n;
-    const double ag = m->ground[b * m->ground_width];
     int64_t i;
+    ground_at(m, b, 0, w->ag_new); /* the ground's acceleration at t = 0, each channel */
+    for (i = 0; i < m->channels; i++)
+        w->ag_old[i] = 0.0;
     for (i = 0; i < n; i++) {
         w->u[i] = U[i];
         w->v[i] = V[i];
         w->a[i] = 0.0;
     }
     at_end_point(m, s, w);
-    evaluate(m, s, st, w, b, ag, 0.0, 1.0, 0);
+    evaluate(m, s, st, w, b, w->ag_new, 0.0, 1.0, 0);
     if (!check_finite(m, st, w, b, k))
         return 0;
     for (i = 0; i < n; i++)
         w->a[i] = w->R[i] / mass[i];
-    return commit(m, s, st, w, b, k, h, 0.0, ag);
+    return commit(m, s, st, w, b, k, h, w->ag_old, w->ag_new);
 }
 
 /* Advance every member that has not stopped from state begin to state end (state 0 is t = 0,
@@ -88,10 +90,10 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             } else if (s->events) {
                 ok = step_in_parts(m, s, st, w, sv, rec, b, k, h);
             } else {
-                double ag_old, ag_new;
-                ground_between(m, b, k, 0.0, 1.0, &ag_old, &ag_new);
-                if ((s->linear || !s->force_split) && solve_step(m, s, st, w, b, k, h, ag_old, ag_new))
-                    ok = commit(m, s, st, w, b, k, h, ag_old, ag_new);
+                ground_between(m, b, k, 0.0, 1.0, w->ag_old, w->ag_new);
+                if ((s->linear || !s->force_split)
+                    && solve_step(m, s, st, w, b, k, h, w->ag_old, w->ag_new))
+                    ok = commit(m, s, st, w, b, k, h, w->ag_old, w->ag_new);
                 else
                     ok = step_in_parts(m, s, st, w, sv, rec, b, k, h);
             }
@@ -105,7 +107,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             if (k == due)
                 due = record_histories(m, st, rec, b, k);
             if (envelopes)
-                record_envelopes(m, st, rec, b, k, m->ground[b * m->ground_width + k]);
+                record_envelopes(m, st, rec, b, k, NULL); /* the ground at step k itself */
         }
     }
     return RUN_OK;

@@ -39,14 +39,16 @@ static int factor_linear(const Model *m, const Settings *s, State *st, Work *w, 
  * adds the stage's works at its evaluation point to the work scalars (energy.c); returns 0
  * (after recording why in st->status) if it failed. */
 static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                       int64_t k, double h, int64_t stage, double ag_old, double ag_new)
+                       int64_t k, double h, int64_t stage, const double *ag_old,
+                       const double *ag_new)
 {
     const int64_t n = m->dofs;
     const double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     double *u = w->u, *v = w->v, *a = w->a, *R = w->R, *scalars = w->scalars;
     int64_t *counters = st->counters + b * COUNTER_SLOTS;
     Weights c;
-    double inv_c0_mmin, norm_u = 0.0, age = ag_new;
+    const double *age = ag_new;
+    double inv_c0_mmin, norm_u = 0.0;
     int converged = 0;
     int64_t i, it;
     if (!stage_weights(m, s, st, w, b, h, stage, &c))
@@ -160,7 +162,7 @@ static void keep_stage(const Model *m, State *st, Work *w, int64_t b, int64_t st
  * committed state untouched); returns 0 (after recording why in st->status) if a stage
  * failed. */
 static int solve_step(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                      int64_t k, double h, double ag_old, double ag_new)
+                      int64_t k, double h, const double *ag_old, const double *ag_new)
 {
     int64_t stage;
     int ok = 1;

@@ -10,7 +10,7 @@
 #define NEVER ((int64_t)1 << 62)
 
 /* The committed values of quantity q of member b, and how many there are (NULL for the
- * ground acceleration, which is m->ground[b, k]). */
+ * ground acceleration, which is m->ground[b, c, k], a value per channel c). */
 static const double *source(const Model *m, const State *st, int64_t q, int64_t b,
                             int64_t *width)
 {
@@ -31,30 +31,67 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
     /* a foundation's sway and rocking DOFs (m->foundation_dofs) */
     case FOUNDATION_SWAY: *width = m->foundations; return st->U + b * n;
     case FOUNDATION_ROCKING: *width = m->foundations; return st->U + b * n;
-    default: *width = 1; return NULL;
+    /* the named plan points: sums of the DOFs (m->gauge_*), along x and y of each point */
+    case POINT_DISPLACEMENT: *width = 2 * m->points; return st->U + b * n;
+    case POINT_DRIFT: *width = 2 * m->points; return st->U + b * n;
+    default: *width = m->channels; return NULL;
     }
 }
 
-/* The absolute acceleration of DOF i: its acceleration relative to the ground plus the
- * ground's (ag) as the ground load sees it (m->ground_influence: 1 on a translation, 0 on a
- * foundation's rocking), the one place the sum is made. */
-static double absolute_acceleration(const Model *m, int64_t b, int64_t i, double relative,
-                                    double ag)
+/* The ground acceleration of channel c of member b at the committed state: ag[c] at the end
+ * of a sub-step, or (ag NULL) the sample of step k itself. */
+static double ground_of(const Model *m, int64_t b, int64_t k, int64_t c, const double *ag)
 {
-    (void)b;
-    return relative + m->ground_influence[i] * ag;
+    return ag != NULL ? ag[c] : m->ground[(b * m->channels + c) * m->ground_width + k];
 }
 
-/* Committed value i of quantity q (its values from source); ag is the ground acceleration at
- * the committed state (step k's end, or a sub-step's). */
-static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
-                    int64_t i, double ag)
+/* The absolute acceleration of DOF i: its acceleration relative to the ground plus the
+ * ground's as the ground load sees it (its channel's, m->dof_channel; none on a rotation or a
+ * foundation's rocking), the one place the sum is made. */
+static double absolute_acceleration(const Model *m, int64_t b, int64_t k, int64_t i,
+                                    double relative, const double *ag)
 {
-    (void)k;
+    const int64_t c = m->dof_channel[i];
+    return c >= 0 ? relative + ground_of(m, b, k, c, ag) : relative + 0.0;
+}
+
+/* Gauge g of member b at the displacements U: a named plan point's motion along an axis. */
+static double gauge(const Model *m, int64_t b, int64_t g, const double *U)
+{
+    const double *coef = m->gauge_coef + b * m->gauge_terms;
+    double sum = 0.0;
+    int64_t t;
+    for (t = m->gauge_start[g]; t < m->gauge_start[g + 1]; t++)
+        sum += coef[t] * U[m->gauge_dof[t]];
+    return sum;
+}
+
+/* The running peaks of gauges first .. first + count - 1 at the displacements U: gauge()
+ * in one loop over their terms (the point drifts' envelope, kept for every scene in plan,
+ * is most of the recording's work there). */
+static void gauge_peaks(const Model *m, int64_t b, int64_t first, int64_t count,
+                        const double *U, double *peak)
+{
+    const double *coef = m->gauge_coef + b * m->gauge_terms;
+    const int64_t *start = m->gauge_start + first, *dof = m->gauge_dof;
+    int64_t g, t = start[0];
+    for (g = 0; g < count; g++) {
+        double sum = 0.0;
+        for (; t < start[g + 1]; t++)
+            sum += coef[t] * U[dof[t]];
+        peak[g] = py_max(peak[g], fabs(sum));
+    }
+}
+
+/* Committed value i of quantity q (its values from source); ag holds the ground accelerations
+ * at the committed state (a sub-step's end; NULL: the samples of step k). */
+static double value(const Model *m, int64_t q, const double *values, int64_t b, int64_t k,
+                    int64_t i, const double *ag)
+{
     if (q == GROUND_ACCELERATION)
-        return ag;
+        return ground_of(m, b, k, i, ag);
     if (q == ABSOLUTE_ACCELERATION)
-        return absolute_acceleration(m, b, i, values[i], ag);
+        return absolute_acceleration(m, b, k, i, values[i], ag);
     if (q == CONTACT_PENETRATION)
         return py_max(values[i], 0.0);
     if (q == STORY_DRIFT_RATIO)
@@ -63,6 +100,10 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
         return values[m->foundation_dofs[2 * i]];
     if (q == FOUNDATION_ROCKING)
         return values[m->foundation_dofs[2 * i + 1]];
+    if (q == POINT_DISPLACEMENT)
+        return gauge(m, b, i, values);
+    if (q == POINT_DRIFT)
+        return gauge(m, b, 2 * m->points + i, values);
     return values[i];
 }
 
@@ -70,7 +111,8 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
 static int as_stored(int64_t q)
 {
     return q != GROUND_ACCELERATION && q != ABSOLUTE_ACCELERATION && q != CONTACT_PENETRATION
-           && q != STORY_DRIFT_RATIO && q != FOUNDATION_SWAY && q != FOUNDATION_ROCKING;
+           && q != STORY_DRIFT_RATIO && q != FOUNDATION_SWAY && q != FOUNDATION_ROCKING
+           && q != POINT_DISPLACEMENT && q != POINT_DRIFT;
 }
 
 /* The first step at or after k at which a history is due (NEVER if none is). */
@@ -100,7 +142,7 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
             double *history = rec->history[q] + (b * rec->history_rows[q] + row) * columns;
             const double *values = source(m, st, q, b, &width); /* once per quantity */
             for (i = 0; i < columns; i++)
-                history[i] = value(m, q, values, b, k, i, m->ground[b * m->ground_width + k]);
+                history[i] = value(m, q, values, b, k, i, NULL);
             gathered += columns;
         }
     }
@@ -109,9 +151,9 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
 }
 
 /* Update the running peaks of the enveloped quantities with step k (or a sub-step of it, at
- * whose end the ground acceleration is ag). */
+ * whose end the ground accelerations are ag; NULL: step k's samples). */
 static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
-                             double ag)
+                             const double *ag)
 {
     int64_t gathered = 0, q, i, width;
     for (q = 0; q < RECORDABLE_COUNT; q++) {
@@ -122,6 +164,8 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
             if (as_stored(q)) /* most quantities: their committed values */
                 for (i = 0; i < columns; i++)
                     peak[i] = py_max(peak[i], fabs(values[i]));
+            else if (q == POINT_DISPLACEMENT || q == POINT_DRIFT) /* kept for every plan */
+                gauge_peaks(m, b, q == POINT_DRIFT ? 2 * m->points : 0, columns, values, peak);
             else
                 for (i = 0; i < columns; i++)
                     peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
@@ -135,7 +179,7 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
  * difference's substeps, event location, split steps), not only at the step end: a contact
  * that opens and closes inside one step has its peak force recorded. */
 static void record_substep(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
-                           double ag)
+                           const double *ag)
 {
     int64_t q;
     int envelopes = 0;

@@ -67,7 +67,9 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define FOUNDATION_SWAY 11
 #define FOUNDATION_ROCKING 12
 #define ABSOLUTE_ACCELERATION 13
-#define RECORDABLE_COUNT 14
+#define POINT_DISPLACEMENT 14
+#define POINT_DRIFT 15
+#define RECORDABLE_COUNT 16
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
@@ -137,8 +139,6 @@ typedef struct Model {
     double *story_height;
     double *story_kg;
     int64_t *contact_dofs;
-    int64_t *contact_lower;
-    double *contact_share;
     int64_t *contact_order;
     int64_t *contact_law;
     double *contact_params;
@@ -148,9 +148,17 @@ typedef struct Model {
     int64_t *cd_parts;
     int64_t *event_parts;
     int64_t *stop;
-    int64_t *story_theta;
-    double *ground_influence;
+    int64_t *dof_channel;
     int64_t *foundation_dofs;
+    int64_t *story_side_start;
+    int64_t *story_side_dof;
+    double *story_side_coef;
+    int64_t *contact_side_start;
+    int64_t *contact_side_dof;
+    double *contact_side_coef;
+    int64_t *gauge_start;
+    int64_t *gauge_dof;
+    double *gauge_coef;
     int64_t *modal_dofs;
     int64_t *modal_start;
     double *modal_matrix;
@@ -164,9 +172,14 @@ typedef struct Model {
     int64_t contact_width;
     int64_t contact_states;
     int64_t ground_width;
+    int64_t channels;
     int64_t materials;
     int64_t contact_laws;
     int64_t foundations;
+    int64_t story_terms;
+    int64_t contact_terms;
+    int64_t points;
+    int64_t gauge_terms;
     int64_t modal_blocks;
     int64_t modal_width;
 } Model;
@@ -253,6 +266,9 @@ typedef struct Work {
     double *stage_penetration;
     double *story_stage;
     double *contact_stage;
+    double *ag_old;
+    double *ag_new;
+    double *age;
 } Work;
 
 typedef struct Saved {

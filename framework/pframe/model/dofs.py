@@ -1,0 +1,143 @@
+"""Which degrees of freedom a scene moves, and the checks that they can move as they must.
+
+A floor has three: u_x, u_y and theta (docs/plan.md). The scene keeps those that an element
+acts on, the ground motion loads or an initial condition sets; the others stay at rest and
+are left out, so a planar scene (every element along x through the centres of mass, a motion
+along x) has one degree of freedom per floor, as it always had. A floor that turns needs its
+polar inertia; a storey must resist every motion its floor is given (a storey whose lines of
+resistance give no torsional stiffness to a floor that an eccentric impact turns is refused,
+with what turns it).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pframe.model.load import ModelError
+from pframe.model.plan import COMPONENTS
+
+_AXIS_WORDS = {0: "along x", 1: "along y", 2: "in torsion (about the vertical)"}
+
+
+@dataclass(frozen=True)
+class Dofs:
+    """The degrees of freedom of a scene: ``table`` of (node, component) in node order, then
+    component order (x, y, theta), and the mass of each (kg; kg m^2 for theta)."""
+
+    table: tuple[tuple[int, int], ...]
+    mass: np.ndarray
+    #: (node, component) -> why it moves (for the messages)
+    reasons: dict
+
+    @property
+    def planar(self) -> bool:
+        """Only u_x of every node: today's planar scene."""
+        return all(c == 0 for _, c in self.table)
+
+
+def _reasons(elements, channels, initial) -> dict:
+    """(node, component) -> why it moves (the first element, load or initial value)."""
+    why: dict = {}
+    for e in elements:
+        for terms in e.side_terms():
+            for node, component, _ in terms:
+                why.setdefault((node, component), f"{e.name} acts on it")
+    return why | {k: v for k, v in initial.items() if k not in why} | {
+        k: v for k, v in channels.items() if k not in why}
+
+
+def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
+    """The scene's degrees of freedom (see the module) from its floors, every element, the
+    site's axes the ground motion loads (``channels``: 'x', 'y') and the initial values given
+    ((node, component) -> value)."""
+    loads = {(i, COMPONENTS.index(axis)): f"the ground motion's {axis} component loads it"
+             for i in range(len(floors.nodes)) for axis in channels}
+    given = {key: "an initial condition sets it" for key, value in initial.items() if value}
+    why = _reasons(elements, loads, given)
+    table = tuple(sorted(why))
+    masses = []
+    for node, component in table:
+        floor = floors.nodes[node]
+        if component < 2:
+            masses.append(floor.mass)
+            continue
+        if floor.inertia is None:
+            raise ModelError(floor.building_path, f"floor {floor.name} turns "
+                             f"({why[(node, component)]}: it acts off the floor's centre of "
+                             "mass) but its polar moment of inertia is unknown: give "
+                             "polar_inertia (kg m^2), or the plan (size or outline) for a "
+                             "uniform slab's")
+        masses.append(floor.inertia)
+    return Dofs(table, np.array(masses, dtype=float), why)
+
+
+def check_storeys(floors, resolver, storeys, dofs: Dofs) -> None:
+    """Every storey resists every motion of its upper floor relative to its lower one: the
+    directions of its springs (lines of resistance, a planar storey spring, P-delta's own
+    aside) span the upper floor's degrees of freedom. A planar scene has nothing to check."""
+    if dofs.planar:
+        return
+    moving: dict[int, list[int]] = {}
+    for node, component in dofs.table:
+        moving.setdefault(node, []).append(component)
+    groups: dict[tuple[int, int], list] = {}
+    for e in storeys:
+        if "/P-delta-" in e.name:
+            continue
+        groups.setdefault(e.nodes, []).append(e)
+    for (_, upper), lines in groups.items():
+        comps = moving.get(upper, [])
+        rows = []
+        for e in lines:
+            a = np.zeros(3)
+            for node, component, c in e.side_terms()[1]:
+                if node == upper:
+                    a[component] = c
+            rows.append(a[comps])
+        matrix = np.array(rows)
+        gram = matrix.T @ matrix
+        scale = max(float(np.max(np.abs(gram))), 1e-300)
+        values, vectors = np.linalg.eigh(gram / scale)
+        if values[0] > 1e-10:
+            continue
+        loose = np.zeros(3)
+        loose[comps] = vectors[:, 0]
+        floor = floors.nodes[upper]
+        path = next((spec.path for spec in floors.stories if spec.nodes[1] == floor.name),
+                    floor.building_path)
+        twist = abs(loose[2]) > 1e-9 * max(float(np.max(np.abs(loose))), 1e-300)
+        component = 2 if twist else (0 if abs(loose[0]) >= abs(loose[1]) else 1)
+        reason = dofs.reasons.get((upper, component)) or _loaded_reason(component)
+        if twist:  # a rotation about the point that does not move
+            centre = (floor.centre[0] - loose[1] / loose[2], floor.centre[1] + loose[0] / loose[2])
+            what = (f"in torsion: it can turn about the point [{centre[0]:.4g}, "
+                    f"{centre[1]:.4g}] (site, m)")
+        elif len(comps) > 1 and min(abs(loose[0]), abs(loose[1])) > 1e-9:
+            angle = math.degrees(math.atan2(loose[1], loose[0]))
+            what = f"along the direction at {angle:.4g} degrees from x"
+        else:
+            what = _AXIS_WORDS[component]
+        raise ModelError(path, f"storey {floor.name}: its storey springs give it no stiffness "
+                         f"{what}, but its floor moves so ({reason}); "
+                         f"{_remedy(2 if twist else component, len(lines))}")
+
+
+def _loaded_reason(component: int) -> str:
+    return ("the ground motion or an initial condition moves it" if component < 2
+            else "an element acts off its centre of mass")
+
+
+def _remedy(component: int, lines: int) -> str:
+    if lines == 1:
+        return ("a planar storey spring (story) resists along one direction through the "
+                "centre of mass only: give the building lines of resistance (lines) at its "
+                "frames' plan positions, or keep every element and motion along x through the "
+                "centres of mass")
+    if component == 2:
+        return ("its lines of resistance all pass through one point (or are parallel and "
+                "coincide): place them apart in plan to give torsional stiffness")
+    return ("no line of resistance acts in that direction: add a line along it, or leave the "
+            "motion out")
