@@ -669,6 +669,23 @@ def generate(excitation) -> StochasticMotion:
     return _generate(json.dumps(data, sort_keys=True))
 
 
+def generate_seeds(excitation, seeds) -> list[StochasticMotion]:
+    """The realisations of a ``Stochastic`` excitation for each of ``seeds`` (its own seed is
+    not used), each what :func:`generate` gives for that seed, bit for bit, without the cache
+    (a suite or a study draws thousands once each): rezaeian2010's in one
+    :func:`rezaeian_batch` (parameters and modulating functions computed for all at once),
+    clough_penzien's one by one through the model's one discretised filter."""
+    data = excitation.model_dump(mode="json")
+    data.pop("scale", None)
+    if data["model"] != "rezaeian2010":
+        return [_generate.__wrapped__(json.dumps({**data, "seed": int(s)}, sort_keys=True))
+                for s in seeds]
+    given = data.get("parameters")
+    site = {k: data[k] for k in ("magnitude", "distance", "vs30", "mechanism")}
+    return rezaeian_batch([int(s) for s in seeds], float(data["step"]), None if given else site,
+                          RezaeianParameters(**given) if given else None, data["highpass"])
+
+
 def stochastic_record(excitation):
     """The realisation as an :class:`~pframe.excitation.characteristic.AppliedRecord` (what a
     record excitation gives the rest of pframe): its characteristic period is its mean period

@@ -142,7 +142,7 @@ def _record_extent(loaded, suite: Suite, own: bool) -> tuple[np.ndarray, np.ndar
         return (np.array([record.times[-1]]),
                 np.array([record.times[int(np.abs(record.acceleration).argmax())]]))
     ends = np.array([m.duration for m in suite.motions])
-    peaks = np.array([m.time[int(m.magnitude.argmax())] for m in suite.motions])
+    peaks = np.array([m.peak_time for m in suite.motions])
     return ends, peaks
 
 
