@@ -97,6 +97,27 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     return math.sqrt(max(top, 0.0)), periods
 
 
+def _member_numbers(plan, member: int) -> bytes:
+    """Everything :func:`highest_frequency` reads of a member: its masses, storey stiffnesses,
+    sides, contact parameters, and the closing velocity its ground motion gives when a
+    contact law is a power law (a linear one's stiffness does not depend on it)."""
+    parts = [plan.mass[member], plan.story_k0[member], plan.story_sides.coef[member],
+             plan.contact_sides.coef[member]]
+    power = False
+    for group in plan.contact_groups:
+        params = group.params[member]
+        parts.append(params)
+        names = group.law.param_names
+        exponents = (params[:, names.index("exponent")] if "exponent" in names
+                     else np.array([float(group.law.exponent)]))
+        power = power or bool(np.any(exponents != 1.0))
+    if power:
+        parts.append(np.array([reference_velocity(plan.ground_channels[member],
+                                                  float(plan.dt[member]),
+                                                  plan.initial_velocity[member])]))
+    return b"".join(np.ascontiguousarray(p, dtype=float).tobytes() for p in parts)
+
+
 #: sub-steps of one step beyond which the step is refused as far too large for the scene
 MAX_PARTS = 10**6
 
@@ -121,9 +142,13 @@ def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, .
         return cd_parts, event_parts, ()
     worst = None  # (steps per contact period, member, dt, period) of the worst member
     split = None  # (sub-steps, member, dt, limit, w_max) of the most split member
+    found: dict = {}  # members of the same numbers (a batch of ground motions) share theirs
     for b in range(batch):
         dt = float(plan.dt[b])
-        w_max, periods = highest_frequency(plan, b)
+        key = _member_numbers(plan, b)
+        if key not in found:
+            found[key] = highest_frequency(plan, b)
+        w_max, periods = found[key]
         if explicit and w_max > 0:
             limit = 2.0 * integrator_params.safety / w_max
             if dt > limit:
