@@ -47,14 +47,14 @@ def _springs(plan, member: int, velocity: float, matrix: bool = True):
     closed contact, and each contact's period (s): a contact's effective mass is
     1 / (1/m_left + 1/m_right) of the masses its sides present along it (a wall: the
     floor's)."""
-    from scipy.sparse import diags
-
     from pframe.assemble.incidence import incidence, side_mobility
 
     n = plan.n_dof
     mass = plan.mass[member]
     K = None
     if matrix:
+        from scipy.sparse import diags
+
         stories = incidence(plan.story_dofs, plan.story_sides, member, n)
         K = stories.T @ diags(plan.story_k0[member]) @ stories
     periods = np.full(len(plan.contact_names), np.inf)
@@ -70,6 +70,8 @@ def _springs(plan, member: int, velocity: float, matrix: bool = True):
             # finite period: it limits nothing
             periods[c] = 2.0 * math.pi * math.sqrt(float(m_eff) / k) if k > 0.0 else math.inf
     if matrix and len(plan.contact_names):
+        from scipy.sparse import diags
+
         contacts = incidence(plan.contact_dofs, plan.contact_sides, member, n, contact=True)
         K = K + contacts.T @ diags(stiffness) @ contacts
     return K, periods
