@@ -138,17 +138,19 @@ static void ldl_solve(const double *band, int64_t n, int64_t bw, double *x)
  * returns whether one changed */
 static int residual(const Scene *s, Run *r, double ag, double c1)
 {
+    double *R = r->R;
+    const double *u = r->u, *v = r->v;
     int stale = 0;
     int64_t i, e;
     for (i = 0; i < s->n; i++)
-        r->R[i] = -s->mass[i] * (ag + r->a[i]) - s->damp[i] * r->v[i];
+        R[i] = -s->mass[i] * (ag + r->a[i]) - s->damp[i] * v[i];
     for (e = 0; e < s->ns; e++) {
         const int64_t lo = s->s_lo[e], up = s->s_up[e];
-        double d = r->u[up], rate = r->v[up], k = s->s_k[e], alpha = s->s_alpha[e];
+        double d = u[up], rate = v[up], k = s->s_k[e], alpha = s->s_alpha[e];
         double reach, f, kt, centre, fd, kk;
         if (lo >= 0) {
-            d -= r->u[lo];
-            rate -= r->v[lo];
+            d -= u[lo];
+            rate -= v[lo];
         }
         reach = (1.0 - alpha) * s->s_fy[e];
         f = r->s_force_c[e] + k * (d - r->s_def_c[e]);
@@ -166,9 +168,9 @@ static int residual(const Scene *s, Run *r, double ag, double c1)
         r->s_d[e] = d;
         fd = s->s_a1[e] * kt * rate;
         r->s_f[e] = f;
-        r->R[up] -= f + fd;
+        R[up] -= f + fd;
         if (lo >= 0)
-            r->R[lo] += f + fd;
+            R[lo] += f + fd;
         kk = (kt + c1 * (0.0 + s->s_a1[e] * kt)) * 1.0;
         if (kk != r->s_kk[e]) {
             r->s_kk[e] = kk;
@@ -177,8 +179,8 @@ static int residual(const Scene *s, Run *r, double ag, double c1)
     }
     for (e = 0; e < s->nc; e++) {
         const int64_t l = s->c_l[e], rr = s->c_r[e];
-        const double d = (l >= 0 ? r->u[l] : 0.0) - (rr >= 0 ? r->u[rr] : 0.0) - s->c_gap[e];
-        const double rate = (l >= 0 ? r->v[l] : 0.0) - (rr >= 0 ? r->v[rr] : 0.0);
+        const double d = (l >= 0 ? u[l] : 0.0) - (rr >= 0 ? u[rr] : 0.0) - s->c_gap[e];
+        const double rate = (l >= 0 ? v[l] : 0.0) - (rr >= 0 ? v[rr] : 0.0);
         double f = 0.0, kd = 0.0, kr = 0.0, kk;
         if (d <= 0.0) {
             r->c_v0_t[e] = 0.0;
@@ -220,9 +222,9 @@ static int residual(const Scene *s, Run *r, double ag, double c1)
         }
         r->c_f[e] = f;
         if (l >= 0)
-            r->R[l] -= f;
+            R[l] -= f;
         if (rr >= 0)
-            r->R[rr] += f;
+            R[rr] += f;
         kk = (kd + c1 * kr) * 1.0;
         if (kk != r->c_kk[e]) {
             r->c_kk[e] = kk;
@@ -286,6 +288,7 @@ static int64_t run(const Scene *s, Run *r)
     const double u_A = 0.5 * h * h - s->beta * h * h, u_a = s->beta * h * h;
     const double v_A = h * (1.0 - s->gamma), v_a = h * s->gamma;
     double mass_min = s->mass[0], inv_c0_mmin;
+    double *U = r->U, *V = r->V, *A = r->A, *u = r->u, *v = r->v, *a = r->a, *R = r->R;
     int64_t i, k, it, solves = 0;
     for (i = 0; i < n; i++)
         mass_min = fmin(mass_min, s->mass[i]);
@@ -309,17 +312,17 @@ static int64_t run(const Scene *s, Run *r)
         const double ag = s->ground[k - 1] + (s->ground[k] - s->ground[k - 1]) * 1.0;
         int converged = 0;
         double norm_u = 0.0;
-        memcpy(r->a, r->A, sizeof(double) * (size_t)n);
+        memcpy(a, A, sizeof(double) * (size_t)n);
         for (it = 0; it < s->max_iter + 1; it++) {
             for (i = 0; i < n; i++) {
-                r->u[i] = r->U[i] + (h * r->V[i] + u_A * r->A[i] + u_a * r->a[i]);
-                r->v[i] = r->V[i] + v_A * r->A[i] + v_a * r->a[i];
+                u[i] = U[i] + (h * V[i] + u_A * A[i] + u_a * a[i]);
+                v[i] = V[i] + v_A * A[i] + v_a * a[i];
             }
             r->stale |= residual(s, r, ag, c1);
             if (it > 0 && !converged) {
                 double norm_r = 0.0;
                 for (i = 0; i < n; i++)
-                    norm_r += r->R[i] * r->R[i];
+                    norm_r += R[i] * R[i];
                 converged = sqrt(norm_r) * inv_c0_mmin <= 1e-3 * (s->tol * sqrt(norm_u) + s->abs_tol);
             }
             if (converged)
@@ -332,22 +335,22 @@ static int64_t run(const Scene *s, Run *r)
                 r->stale = 0;
                 factor(s, r, c0, c1);
             }
-            ldl_solve(r->band, n, s->bw, r->R);
+            ldl_solve(r->band, n, s->bw, R);
             solves++;
             {
                 double norm_du = 0.0;
                 norm_u = 0.0;
                 for (i = 0; i < n; i++) {
-                    r->a[i] += c0 * r->R[i];
-                    norm_du += r->R[i] * r->R[i];
-                    norm_u += (r->u[i] + r->R[i]) * (r->u[i] + r->R[i]);
+                    a[i] += c0 * R[i];
+                    norm_du += R[i] * R[i];
+                    norm_u += (u[i] + R[i]) * (u[i] + R[i]);
                 }
                 converged = sqrt(norm_du) <= s->tol * sqrt(norm_u) + s->abs_tol;
             }
         }
-        memcpy(r->U, r->u, sizeof(double) * (size_t)n);
-        memcpy(r->V, r->v, sizeof(double) * (size_t)n);
-        memcpy(r->A, r->a, sizeof(double) * (size_t)n);
+        memcpy(U, u, sizeof(double) * (size_t)n);
+        memcpy(V, v, sizeof(double) * (size_t)n);
+        memcpy(A, a, sizeof(double) * (size_t)n);
         memcpy(r->s_def_c, r->s_def_t, sizeof(double) * (size_t)s->ns);
         memcpy(r->s_force_c, r->s_force_t, sizeof(double) * (size_t)s->ns);
         memcpy(r->c_v0_c, r->c_v0_t, sizeof(double) * (size_t)s->nc);
