@@ -11,7 +11,7 @@
 
 /* The committed values of quantity q of member b, and how many there are (NULL for the
  * ground acceleration, which is m->ground[b, c, k], a value per channel c). */
-static const double *source(const Model *m, const State *st, int64_t q, int64_t b,
+static PFRAME_INLINE const double *source(const Model *m, const State *st, int64_t q, int64_t b,
                             int64_t *width)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
