@@ -37,6 +37,9 @@ G = 9.80665
 #: bytes per step of a run's ground motion while a batch runs (the copies the kernel and
 #: its caller hold, as pframe.resources counts them)
 GROUND_BYTES = 4 * 8.0
+#: the ground motions a batch of runs holds at most when the study gives no chunk (bytes):
+#: memory bounded whatever the number of variants
+BATCH_BYTES = 256 * 2**20
 
 
 class _Base(BaseModel):
@@ -618,7 +621,7 @@ def _check_runs(spec, at, inputs) -> None:
                              f"of memory, more than the {resources.human(limit)} this machine "
                              "allows; use fewer samples per level")
         return
-    batch = min(spec.chunk or inputs.count, inputs.count)
+    batch = min(spec.chunk or default_chunk(inputs), inputs.count)
     need = GROUND_BYTES * batch * (inputs.steps + 1)
     if need > limit:
         raise InputError(f"{at('chunk' if spec.chunk else field)}: {batch:,} runs of "
@@ -626,6 +629,17 @@ def _check_runs(spec, at, inputs) -> None:
                          f"{resources.human(need)} of memory for their ground motions, more than "
                          f"the {resources.human(limit)} this machine allows; give chunk: N (runs "
                          "per batch) or a larger dt")
+
+
+def default_chunk(inputs) -> int:
+    """Variants per batch when the study gives no chunk: as many as hold :data:`BATCH_BYTES`
+    of ground motion in their longer runs (those with contacts run on the scene's step),
+    at most all of them. The batches are saved beside the output as they finish, as given
+    chunks are."""
+    scene_dt = float(inputs.loaded.expanded.dt)
+    steps = max(inputs.steps, math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
+    per_run = GROUND_BYTES * (steps + 1) * len(inputs.channels)
+    return max(1, min(inputs.count, int(BATCH_BYTES // per_run)))
 
 
 def d_levels_above(spec, hazard) -> bool:
@@ -681,7 +695,7 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         return run_subset(spec, text, study, inputs, opened.params, output, overwrite,
                           threads, timings, start, progress, hazard)
     hunt = spec.design.hunt is not None
-    chunk = spec.chunk or inputs.count
+    chunk = spec.chunk or default_chunk(inputs)
     search = None
     if hunt:
         from pframe.risk.ida import run_hunt
