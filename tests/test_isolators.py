@@ -94,8 +94,9 @@ def test_base_isolated_building_agrees_with_opensees():
     OpenSees (zeroLength + BoucWen, Newmark, Newton): displacements, velocities and storey
     forces agree to round-off (measured 3.5e-14, 6.1e-14 and 4.5e-13 of their peaks)."""
     _openseespy()
-    from pframe.assemble import assemble, peer_scene
+    from pframe.assemble import assemble
     from pframe.kernel import simulate
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import run
     from pframe.reader import parse_scene
 

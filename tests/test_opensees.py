@@ -29,8 +29,9 @@ except Exception as exc:  # pragma: no cover - depends on the machine
         allow_module_level=True,
     )
 
-from pframe.assemble import assemble, peer_scene  # noqa: E402
+from pframe.assemble import assemble  # noqa: E402
 from pframe.kernel import simulate  # noqa: E402
+from pframe.peers.from_plan import peer_scene  # noqa: E402
 from pframe.peers.opensees import run, script_text  # noqa: E402
 from pframe.reader import load_scene, parse_scene  # noqa: E402
 

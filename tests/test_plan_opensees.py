@@ -32,10 +32,11 @@ except Exception as exc:  # pragma: no cover - depends on the machine
         allow_module_level=True,
     )
 
-from pframe.assemble import assemble, peer_scene  # noqa: E402
+from pframe.assemble import assemble  # noqa: E402
 from pframe.assemble.incidence import incidence  # noqa: E402
 from pframe.errors import InputError  # noqa: E402
 from pframe.kernel import simulate  # noqa: E402
+from pframe.peers.from_plan import peer_scene  # noqa: E402
 from pframe.peers.opensees import run, script_text  # noqa: E402
 from pframe.reader import parse_scene  # noqa: E402
 

@@ -165,7 +165,7 @@ def to_opensees(scene, *, base_dir: str | Path | None = None) -> str:
     pframe, to cross-check it. Laws OpenSees cannot model are refused with every reason at
     once."""
     from pframe.assemble import assemble
-    from pframe.assemble.plan import peer_scene
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import script_text
 
     expanded = _loaded(scene, base_dir).expanded

@@ -1,6 +1,6 @@
 """A plain description of one scene for peer programs, free of pframe's own data structures.
 
-``pframe.assemble.peer_scene(plan)`` fills it from an assembled plan (batch member 0); the
+``pframe.peers.from_plan.peer_scene(plan)`` fills it from an assembled plan (batch member 0); the
 peer modules turn it into their own input. A planar scene has one degree of freedom per
 floor (DOF ``i`` is node ``i``); a scene in plan adds :class:`FloorsInPlan`: its floors are
 rigid diaphragms and its elements act along a direction at points of them.
