@@ -147,8 +147,9 @@ def opensees_energy(peer, opensees: dict) -> dict:
         work_in -= np.sum(0.5 * (row[:-1] + row[1:]) * (du[:, loaded] @ m[loaded]))
     alpha = np.zeros(len(m))
     beta = np.zeros(len(peer.story_materials))
-    for alpha_m, beta_k, floors, stories in peer.rayleigh:
-        alpha[np.isin(dofs[:, 0], floors)] = alpha_m
+    for alpha_m, beta_k, floors, stories, stiffness in peer.rayleigh:
+        assert stiffness == "initial" or not len(stories)  # beta_k on k0, as below
+        alpha[np.isin(dofs[:, 0], floors)] += alpha_m
         beta[np.asarray(stories, dtype=int)] = beta_k
     k0 = np.array([mat[1] for mat in peer.story_materials])
     drift = np.diff(opensees["story_drift"], axis=0)
@@ -448,14 +449,19 @@ def test_exported_script_runs_without_pframe(tmp_path):
 
 def test_refusals_in_plan_name_each_reason():
     """A scene in plan the script cannot model is refused with every reason: here initial
-    conditions and P-delta (the planar refusal of scenes in plan is gone)."""
-    data = scene([building("A", 2, "elastic", p_delta=True)],
-                 initial_conditions={"displacement": {"A/1": [0.0, 0.01, 0.0]}})
+    conditions and a Kelvin contact, which has no OpenSees twin (the planar refusal of scenes
+    in plan is gone)."""
+    data = corner_scene(dt=0.002)
+    data["contacts"][0] = {key: value for key, value in data["contacts"][0].items()
+                           if key not in ("law", "stiffness")} | {
+        "law": "kelvin", "stiffness": 1.0e9, "restitution": 0.6}
+    data["initial_conditions"] = {"displacement": {"A/1": [0.0, 0.01, 0.0]}}
     plan = assemble(parse_scene(json.dumps(data)).expanded)
     with pytest.raises(InputError) as caught:
         peer_scene(plan)
     message = str(caught.value)
-    assert "initial_conditions" in message and "P-delta" in message
+    assert "initial_conditions" in message
+    assert f"{data['contacts'][0]['name']} (kelvin): OpenSees has no uniaxial material" in message
     assert "planar" not in message
 
 

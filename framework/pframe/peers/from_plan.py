@@ -1,5 +1,12 @@
-"""The scene of one batch member of a plan as peer programs read it (:class:`PeerScene`), and
-every reason the OpenSees peer cannot model it."""
+"""The scene of one batch member of a plan as peer programs read it (:class:`PeerScene`), every
+reason the OpenSees peer cannot model it, and where its model is not pframe's.
+
+Each element's law becomes its OpenSees twin (:mod:`pframe.peers.twins`); a law without one,
+and a scene the script cannot build (initial conditions, floor-to-column contacts, an
+integrator OpenSees has no counterpart of), are refused with every reason at once. Where the
+twin or the script's stepping is the same model but in conditions (a grazing contact, event
+location, central difference's damping), the scene says so in ``differences``.
+"""
 
 from __future__ import annotations
 
@@ -13,94 +20,112 @@ from pframe.assemble.plan import Plan
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.plan import COMPONENTS
-from pframe.peers.scene import FloorsInPlan, PeerScene
+from pframe.peers import twins
+from pframe.peers.geometry import floors_in_plan, foundations
+from pframe.peers.scene import PeerScene
+
+#: the kernel's slot of a storey's damping stiffness -> the script's name of it
+STIFFNESS = {DampingStiffness.INITIAL: "initial", DampingStiffness.CURRENT: "current",
+             DampingStiffness.COMMITTED: "committed"}
+
+EVENTS_DIFFERENCE = (
+    "events: pframe locates each contact's onset and separation inside a step and resolves "
+    "a closed contact in sub-steps (events: true); OpenSees steps over them at dt, as pframe "
+    "does with events: false: from the first impact on the two differ by the step's error")
+WILSON_DIFFERENCE = (
+    "wilson_theta: OpenSees' WilsonTheta reads the ground motion at t + theta dt from the "
+    "record, where pframe extrapolates the step's own samples linearly: the two agree under a "
+    "ground motion linear in time and differ by O(dt^2) under others")
+CENTRAL_DIFFERENCE = (
+    "central_difference: pframe takes the velocity-dependent forces (damping, dashpots, "
+    "damped contacts) at the velocity of one predictor-corrector pass; OpenSees' "
+    "NewmarkExplicit (gamma = 1/2) solves for the step end's velocity with the damping "
+    "tangent: where forces depend on velocity the two differ by O(dt^2)")
 
 
-def _peer_refusals(plan: Plan, member: int) -> list[str]:
-    """Every reason the OpenSees peer cannot model a plan's member (none: it can)."""
+def _scene_refusals(plan: Plan, member: int) -> list[str]:
+    """Every reason the script cannot model the scene, whatever its laws."""
     problems = []
     if np.any(plan.initial_displacement[member]) or np.any(plan.initial_velocity[member]):
         problems.append("it starts from rest: remove initial_conditions")
-    c = plan.integrator
     if plan.contact_share is not None and np.any(plan.contact_share[member] != 1.0):
-        problems.append("its contacts join floors (floor-to-column contacts need a "
-                        "multi-point constraint the script does not write)")
-    if plan.story_kg is not None and np.any(plan.story_kg[member]):
-        problems.append("OpenSees' zeroLength storeys have no P-delta: remove p_delta and "
-                        "gravity_load")
-    if isinstance(c.opensees, str):  # the integrator's own reason (pframe.integrators)
-        problems.append(c.opensees)
-    if c.events and plan.contact_names:
-        problems.append("OpenSees has no event-aware stepping: set 'events: false' on the "
-                        "integrator")
-    if np.any(plan.story_damping_stiffness != DampingStiffness.INITIAL):
-        problems.append("it damps on the initial stiffness only (damping.stiffness: initial)")
-    ns = len(plan.story_names)
-    for group in plan.story_groups:
-        if np.any(group.index >= ns) and group.law.name not in (
-                "elastic", "bilinear", "viscous", "kelvin_voigt"):
-            problems.append(f"it models links with Elastic, Steel01, Viscous or a Parallel of "
-                            f"Elastic and Viscous; the scene's links use {group.law.name!r}")
-        if not np.any(group.index < ns):
-            continue
-        storeys = group.index < ns
-        if group.law.opensees not in ("Elastic", "Steel01", "BoucWen", "ModIMKPeakOriented",
-                                      "BWBN"):
-            problems.append(f"it models storeys with Elastic, Steel01, BoucWen, "
-                            f"ModIMKPeakOriented or BWBN (the laws elastic, bilinear, bouc_wen, "
-                            f"imk_peak and bwbn); the scene's storeys use "
-                            f"{group.law.name!r}, which has no OpenSees uniaxialMaterial "
-                            "counterpart")
-        elif group.law.opensees == "BoucWen" and np.any(
-                group.params[member, storeys, 5] != 1.0) and np.any(
-                plan.story_beta[member, group.index[storeys]]):
-            # OpenSees damps on its initial tangent k0 (alpha + (1 - alpha) A0), pframe on
-            # the tangent at zero drift, k0
-            problems.append("it damps Bouc-Wen storeys on OpenSees' initial tangent, which "
-                            "differs from pframe's when Ao != 1: give Ao = 1 or damping "
-                            "without a stiffness part")
-        elif group.law.opensees == "BWBN" and np.any(
-                group.params[member, storeys, 5:9] != (1.0, 0.0, 0.0, 0.0)):
-            # OpenSees' BWBN has pinching only: no A, nu or eta degradation, z_u with A = 1
-            problems.append("OpenSees' BWBN has no strength or stiffness degradation: its "
-                            "bwbn storeys need Ao = 1 and deltaA = deltaNu = deltaEta = 0")
-    for group in plan.contact_groups:
-        if group.law.opensees != "ElasticPPGap":
-            problems.append(f"it models contacts with ElasticPPGap (the law linear); the "
-                            f"scene's contacts use {group.law.name!r}, which has no OpenSees "
-                            "counterpart in pframe's script")
-    if plan.foundations:
-        problems.append("its bases are fixed: the script has no soil (a foundation's rocking "
-                        "needs a rigid-link constraint it does not write); remove soil")
+        problems.append("OpenSees has no element or constraint that puts a contact at a point "
+                        "of a column moving as psi u_upper + (1 - psi) u_lower (a "
+                        "floor-to-column contact: a multi-point constraint with two retained "
+                        "nodes, which OpenSees' rigidLink and equalDOF are not)")
+    if isinstance(plan.integrator.opensees, str):  # the integrator's own reason
+        problems.append(plan.integrator.opensees)
+    if plan.foundations and not plan.planar:
+        problems.append("its buildings in plan stand on soil, which the script models for "
+                        "planar scenes only")
     return problems
 
 
-def _peer_materials(plan: Plan, member: int) -> tuple[list, list]:
-    """The storeys' and the links' materials of a :class:`PeerScene`, in element order."""
-    ns = len(plan.story_names)
-    materials = []
-    for group in plan.story_groups:
-        for j, i in enumerate(group.index):
-            if i >= ns:
+def _twins(plan: Plan, member: int, kind: str, names, problems: list,
+           differences: list) -> list:
+    """Each element's twin material (a spring's, ``kind`` "material", or a contact's), in
+    element order; the elements without one go to ``problems``, each law's differences to
+    ``differences``."""
+    groups = plan.story_groups if kind == "material" else plan.contact_groups
+    out: list = [None] * sum(len(g.index) for g in groups)
+    for group in groups:
+        refused = {}
+        for j, e in enumerate(group.index):
+            try:
+                made = twins.twin(kind, group.law, group.params[member, j])
+            except twins.NoTwin as why:
+                refused.setdefault(str(why), []).append(names[e])
                 continue
-            p = group.params[member, j]
-            if group.law.opensees == "Elastic":
-                materials.append((i, ("elastic", p[0])))
-            elif group.law.opensees == "BoucWen":
-                materials.append((i, ("bouc_wen", *p[:11])))
-            elif group.law.name == "imk_peak":
-                materials.append((i, ("imk_peak", *p)))
-            elif group.law.opensees == "BWBN":  # OpenSees' 12 numbers, tolerance, iterations
-                materials.append((i, ("bwbn", *p[:6], *p[9:17])))
-            else:
-                materials.append((i, ("bilinear", p[0], p[1], p[2])))
-    links = sorted((i, ("elastic", p[0]) if group.law.name == "elastic"
-                    else ("bilinear", p[0], p[1], p[2]) if group.law.name == "bilinear"
-                    else ("viscous", p[0], p[1]) if group.law.name == "viscous"
-                    else ("kelvin_voigt", p[0], p[1], p[2]))
-                   for group in plan.story_groups
-                   for i, p in zip(group.index, group.params[member]) if i >= ns)
-    return [m for _, m in sorted(materials, key=lambda t: t[0])], [m for _, m in links]
+            out[e] = made.material
+            differences.extend(d for d in made.differences if d not in differences)
+        for why, elements in refused.items():
+            problems.append(f"{', '.join(elements)} ({group.law.name}): {why}")
+    return out
+
+
+def _spring_names(plan: Plan) -> list[str]:
+    """Each spring element's name: the storeys, the links, then the soil's springs."""
+    return [*plan.story_names, *plan.link_names,
+            *(f"{b}/soil_{what}" for b in plan.foundations for what in ("sway", "rocking"))]
+
+
+def _bouc_wen_damping(plan: Plan, member: int, problems: list) -> None:
+    """OpenSees damps on its initial tangent k0 (alpha + (1 - alpha) A0), pframe on the
+    tangent at zero drift, k0: the same only when A0 = 1."""
+    for group in plan.story_groups:
+        if group.law.name != "bouc_wen":
+            continue
+        damped = plan.story_beta[member, group.index] != 0.0
+        if np.any(damped & (group.params[member, :, 5] != 1.0)):
+            problems.append("it damps Bouc-Wen storeys on OpenSees' initial tangent, which "
+                            "differs from pframe's when Ao != 1: give Ao = 1 or damping "
+                            "without a stiffness part")
+
+
+def _velocity_dependent(plan: Plan, member: int, contacts: list, springs: list) -> bool:
+    """Whether any force of the scene depends on a velocity (damping, dashpots, damped
+    contacts): where central difference's two formulations part."""
+    damped_contact = any(m[0] == "jankowski" or (m[0] in ("hertzdamp", "bumper") and m[2])
+                         for m in contacts)
+    dashpot = any(m is not None and m[0] in ("viscous", "kelvin_voigt") for m in springs)
+    return bool(np.any(plan.mass_damping[member]) or np.any(plan.story_beta[member])
+                or (plan.modal_start is not None and len(plan.modal_start) > 1)
+                or damped_contact or dashpot)
+
+
+def _integrator(plan: Plan, member: int, contacts: list, springs: list,
+                differences: list) -> tuple[tuple, int]:
+    """The script's integrator and its analysis steps per step of pframe's."""
+    c = plan.integrator
+    if c.events and plan.contact_names:
+        differences.append(EVENTS_DIFFERENCE)
+    if c.opensees[0] == "wilson_theta":
+        differences.append(WILSON_DIFFERENCE)
+    if c.opensees[0] == "central_difference":
+        if _velocity_dependent(plan, member, contacts, springs):
+            differences.append(CENTRAL_DIFFERENCE)
+        return c.opensees, int(plan.cd_parts[member]) if plan.cd_parts is not None else 1
+    return c.opensees, 2 if c.opensees[0] == "trbdf2" else 1
 
 
 def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
@@ -114,6 +139,10 @@ def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
     if plan.link_names or np.any(plan.mass_damping[member]) or np.any(plan.story_beta[member]):
         problems.append("OpenSees' modalDamping damps the modes of the whole model: every "
                         "building needs modal damping, and no links may join them")
+        return None
+    if plan.foundations:
+        problems.append("OpenSees' modalDamping damps the modes of the whole model, the soil's "
+                        "included: give a building on soil Rayleigh damping")
         return None
     G = incidence.incidence(plan.story_dofs[:ns], _first_sides(plan.story_sides, ns), member,
                             plan.n_dof).toarray()
@@ -144,62 +173,105 @@ def _first_sides(sides: Sides, count: int) -> Sides:
                                coef=sides.coef[:, :end])
 
 
+def _rayleigh(plan: Plan, member: int, building_of_dof: np.ndarray, node_of_dof: np.ndarray,
+              story_building: np.ndarray, problems: list) -> list:
+    """One ``(alpha_m, beta_k, nodes, storeys, stiffness)`` per building and damping stiffness:
+    alpha_m on the nodes of the building's DOFs that take it (not a foundation's), beta_k on
+    its storeys with the stiffness term (not its isolators, by default)."""
+    out = []
+    for b, building in enumerate(plan.buildings):
+        own = np.flatnonzero((building_of_dof == b) & (plan.mass_damping[member] != 0.0))
+        ratios = plan.mass_damping[member, own] / plan.mass[member, own]
+        # a0 m / m is a0 to the last bit or two: one a0 per building is the same damping
+        if len(own) and not np.allclose(ratios, ratios[0], rtol=1e-12, atol=0.0):
+            problems.append(f"building {building!r}: OpenSees' Rayleigh regions take one "
+                            "mass-proportional coefficient per building")
+        alpha, nodes = (float(ratios[0]) if len(own) else 0.0), np.unique(node_of_dof[own])
+        groups: dict[tuple, list] = {}
+        for e in np.flatnonzero(story_building == b):
+            if plan.story_beta[member, e] != 0.0:
+                mode = DampingStiffness(int(plan.story_damping_stiffness[e]))
+                groups.setdefault((float(plan.story_beta[member, e]), STIFFNESS[mode]),
+                                  []).append(e)
+        if not groups:
+            groups[(0.0, "initial")] = []
+        for i, ((beta, stiffness), stories) in enumerate(sorted(groups.items())):
+            # the nodes' alpha_m once, with the first group
+            out.append((alpha if i == 0 else 0.0, beta, nodes if i == 0 else nodes[:0],
+                        np.array(stories, dtype=np.int64), stiffness))
+    return out
+
+
 def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
-    """The scene of one batch member for peer programs: linear contacts, start at rest,
-    Rayleigh on the initial stiffness (what the OpenSees peer models).
+    """The scene of one batch member for peer programs: each element's law as its OpenSees
+    twin, the scene's damping and integrator, starting at rest.
 
     A scene in plan draws its floors at ``centres`` ((nodes, 2), the site coordinates of
     their centres of mass in m: ``Expanded.node_centre``); without them every floor's centre
     is at the origin, the same model drawn elsewhere (an element acts through the arms of its
-    ends about its floor's centre, which its sides hold)."""
-    problems = _peer_refusals(plan, member)  # every reason at once
+    ends about its floor's centre, which its sides hold).
+
+    Raises
+    ------
+    InputError
+        With every reason the OpenSees peer cannot model the scene, at once."""
+    problems = _scene_refusals(plan, member)
+    differences: list[str] = []
+    springs = _twins(plan, member, "material", _spring_names(plan), problems, differences)
+    contacts = _twins(plan, member, "contact", list(plan.contact_names), problems,
+                      differences)
+    _bouc_wen_damping(plan, member, problems)
     modal = _peer_modal(plan, member, problems)
+    ns, nl = len(plan.story_names), len(plan.link_names)
+    soil = None
+    if plan.foundations and plan.planar:
+        try:
+            soil = foundations(plan, member, springs[ns + nl::2], springs[ns + nl + 1::2])
+        except ValueError as why:
+            problems.append(str(why))
+    integrator, substeps = ((None, 1) if isinstance(plan.integrator.opensees, str) else
+                            _integrator(plan, member, contacts, springs, differences))
     if problems:
         raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
-    c = plan.integrator
-    ns = len(plan.story_names)
-    materials, link_materials = _peer_materials(plan, member)
-    stiffness = np.zeros(len(plan.contact_names))
-    for group in plan.contact_groups:
-        stiffness[group.index] = group.params[member, :, 0]
-    floors = None if plan.planar else _floors_in_plan(plan, member, centres)
+    floors = None if plan.planar else floors_in_plan(plan, member, centres)
+    building_of_node = np.array([plan.buildings.index(n.split("/")[0])
+                                 for n in plan.node_names])
     if floors is None:  # a planar scene: its nodes are its DOFs
         names = [""] * plan.n_dof
         for name, dof in zip(plan.node_names, plan.node_dof):
             names[dof] = name
-        node_names, node_of_dof = names, np.arange(plan.n_dof)
+        building_of_dof = np.full(plan.n_dof, -1)
+        building_of_dof[plan.node_dof] = building_of_node
+        for b, dofs in zip(plan.foundations, plan.foundation_dofs
+                           if plan.foundations else []):
+            building_of_dof[dofs] = plan.buildings.index(b)
+            names[dofs[0]], names[dofs[1]] = f"{b}/foundation:sway", f"{b}/foundation:rocking"
+        node_of_dof = np.arange(plan.n_dof)
 
         def nodes(dofs):
             return dofs.copy()
     else:  # its nodes are its floors
-        node_names, node_of_dof = list(plan.node_names), plan.dof_node
         names = [f"{plan.node_names[f]}:{COMPONENTS[k]}" for f, k in floors.dofs]
+        node_of_dof = plan.dof_node
+        building_of_dof = building_of_node[node_of_dof]
 
         def nodes(dofs):
             return np.where(dofs >= 0, plan.dof_node[np.clip(dofs, 0, None)], -1)
-    rayleigh = []
-    building_of_node = np.array([plan.buildings.index(n.split("/")[0]) for n in node_names])
     story_nodes = nodes(plan.story_dofs[:ns])
-    story_building = building_of_node[story_nodes[:, 1]]
-    dof_building = building_of_node[node_of_dof]
-    for b in range(len(plan.buildings)):
-        own = np.flatnonzero(dof_building == b)  # every DOF of a building has one alpha_m
-        stories = np.flatnonzero(story_building == b)
-        # the storeys with the stiffness term (not the isolators, by default): one a1 for all
-        damped = stories[plan.story_beta[member, stories] != 0.0]
-        alpha = float(plan.mass_damping[member, own[0]] / plan.mass[member, own[0]])
-        beta = float(plan.story_beta[member, damped[0]]) if len(damped) else 0.0
-        rayleigh.append((alpha, beta, np.flatnonzero(building_of_node == b), damped))
+    rayleigh = _rayleigh(plan, member, building_of_dof, node_of_dof,
+                         building_of_dof[plan.story_dofs[:ns, 1]], problems)
+    if problems:
+        raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
     return PeerScene(
         node_names=names,
         masses=plan.mass[member].copy(),
         story_nodes=story_nodes,
         story_names=list(plan.story_names),
-        story_materials=materials,
+        story_materials=springs[:ns],
         contact_nodes=nodes(plan.contact_dofs),
         contact_names=list(plan.contact_names),
         contact_gaps=plan.contact_gap[member].copy(),
-        contact_stiffness=stiffness,
+        contact_materials=contacts,
         rayleigh=rayleigh,
         ground_acceleration=(plan.ground_acceleration[member].copy() if floors is None
                              else plan.ground_channels[member].copy()),
@@ -207,70 +279,15 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
-        link_nodes=nodes(plan.story_dofs[ns:]),
-        link_materials=link_materials,
+        link_nodes=nodes(plan.story_dofs[ns:ns + nl]),
+        link_materials=springs[ns:ns + nl],
         modal=modal,
-        integrator=c.opensees,
+        integrator=integrator,
         channels=tuple(plan.channels),
         floors=floors,
+        story_geometric=(np.zeros(ns) if plan.story_kg is None
+                         else plan.story_kg[member, :ns].copy()),
+        substeps=substeps,
+        foundations=soil,
+        differences=tuple(differences),
     )
-
-
-def _floors_in_plan(plan: Plan, member: int, centres):
-    """The :class:`pframe.peers.scene.FloorsInPlan` of a scene in plan (see peer_scene)."""
-    count = len(plan.node_names)
-    centres = (np.zeros((count, 2)) if centres is None
-               else np.array(centres, dtype=float).reshape(count, 2))
-    masses, moves = np.zeros((count, 3)), np.zeros((count, 3), dtype=bool)
-    masses[plan.dof_node, plan.dof_component] = plan.mass[member]
-    moves[plan.dof_node, plan.dof_component] = True
-    ns, nl = len(plan.story_names), len(plan.link_names)
-    ends = {kind: _element_ends(plan, dofs, sides, elements, member, centres)
-            for kind, dofs, sides, elements in (
-                ("story", plan.story_dofs, plan.story_sides, range(ns)),
-                ("link", plan.story_dofs, plan.story_sides, range(ns, ns + nl)),
-                ("contact", plan.contact_dofs, plan.contact_sides,
-                 range(len(plan.contact_names))))}
-    return FloorsInPlan(
-        names=list(plan.node_names), centres=centres, masses=masses, moves=moves,
-        dofs=np.stack([plan.dof_node, plan.dof_component], axis=1),
-        story_points=ends["story"][0], story_directions=ends["story"][1],
-        contact_points=ends["contact"][0], contact_directions=ends["contact"][1],
-        link_points=ends["link"][0], link_directions=ends["link"][1])
-
-
-def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres):
-    """(e, 2, 2) a point of each end of each element and (e, 2) its direction, from its sides.
-
-    A floor's side along the unit n at P is a = (n_x, n_y, (P - c) x n) (pframe.model.plan;
-    a zero coefficient left out), so n = (a_x, a_y), and P = c + a_theta (n_y, -n_x) is the
-    point of the line of action nearest the centre c ((P - c) x n = a_theta |n|^2). Both ends
-    are then slid along n to one station, so that ends on one line coincide (a storey's
-    floors, a contact along its normal); an end on the ground stands at the other end."""
-    general = (sides.general() if sides is not None and len(sides.start) > 1
-               else np.zeros(len(dofs), dtype=bool))
-    points, directions = np.zeros((len(elements), 2, 2)), np.zeros((len(elements), 2))
-    for k, e in enumerate(elements):
-        coefficient = np.zeros((2, 3))
-        floor = [-1, -1]
-        for s in range(2):
-            terms = (sides.side(e, s, member) if general[e] else
-                     [(int(dofs[e, s]), 1.0)] if dofs[e, s] >= 0 else [])
-            for d, a in terms:
-                floor[s] = int(plan.dof_node[d])
-                coefficient[s, plan.dof_component[d]] += a
-        on = [s for s in range(2) if floor[s] >= 0]
-        n = coefficient[on[0], :2]
-        if any(not np.array_equal(coefficient[s, :2], n) for s in on):
-            raise ValueError(f"element {e}: its sides act along two directions")
-        across = np.array([n[1], -n[0]])
-        for s in on:
-            points[k, s] = centres[floor[s]] + coefficient[s, 2] * across
-        station = np.mean([points[k, s] @ n for s in on])
-        for s in on:
-            points[k, s] += (station - points[k, s] @ n) * n
-        for s in range(2):
-            if floor[s] < 0:
-                points[k, s] = points[k, on[0]]
-        directions[k] = n
-    return points, directions
