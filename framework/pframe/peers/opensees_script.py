@@ -451,7 +451,7 @@ def pulled(result):
     for c, name in enumerate(CONTACT_NAMES):
         steps = np.flatnonzero(result["contact_force"][:, c] < 0.0)
         if len(steps):
-            print(f"contact {name!r} pulled at t = {result['time'][steps[0]]!r} s "
+            print(f"contact {name!r} pulled at t = {float(result['time'][steps[0]])!r} s "
                   f"({len(steps)} steps): pframe's force is 0 there, and the two differ from "
                   "then on", file=sys.stderr)
 
