@@ -40,7 +40,8 @@ CENTRAL_DIFFERENCE = (
     "central_difference: pframe takes the velocity-dependent forces (damping, dashpots, "
     "damped contacts) at the velocity of one predictor-corrector pass; OpenSees' "
     "NewmarkExplicit (gamma = 1/2) solves for the step end's velocity with the damping "
-    "tangent: where forces depend on velocity the two differ by O(dt^2)")
+    "tangent: where forces depend on velocity the two differ (by O(dt^3) on a damped "
+    "oscillator)")
 
 
 def _scene_refusals(plan: Plan, member: int) -> list[str]:
