@@ -203,6 +203,22 @@ def _rayleigh(plan: Plan, member: int, building_of_dof: np.ndarray, node_of_dof:
     return out
 
 
+def _floors(plan: Plan, member: int, centres, springs: list, problems: list):
+    """The floors of a scene in plan; an element on their rotations alone (P-delta's torsion)
+    must be linear, its stiffness then r^2 times the law's about the rotation."""
+    try:
+        floors = floors_in_plan(plan, member, centres)
+    except ValueError as why:
+        problems.append(f"its elements in plan: {why}")
+        return None
+    levers = np.concatenate([floors.story_levers, floors.link_levers])
+    for e in np.flatnonzero(levers):
+        if springs[e][0] != "elastic":
+            problems.append(f"{_spring_names(plan)[e]} acts on the floors' rotations alone, "
+                            "which the script models for elastic springs only")
+    return floors
+
+
 def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
     """The scene of one batch member for peer programs: each element's law as its OpenSees
     twin, the scene's damping and integrator, starting at rest.
@@ -232,9 +248,9 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
             problems.append(str(why))
     integrator, substeps = ((None, 1) if isinstance(plan.integrator.opensees, str) else
                             _integrator(plan, member, contacts, springs, differences))
+    floors = None if plan.planar else _floors(plan, member, centres, springs, problems)
     if problems:
         raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
-    floors = None if plan.planar else floors_in_plan(plan, member, centres)
     building_of_node = np.array([plan.buildings.index(n.split("/")[0])
                                  for n in plan.node_names])
     if floors is None:  # a planar scene: its nodes are its DOFs

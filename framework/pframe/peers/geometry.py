@@ -26,12 +26,15 @@ def floors_in_plan(plan: Plan, member: int, centres):
                 ("link", plan.story_dofs, plan.story_sides, range(ns, ns + nl)),
                 ("contact", plan.contact_dofs, plan.contact_sides,
                  range(len(plan.contact_names))))}
+    if np.any(ends["contact"][2]):
+        raise ValueError("a contact acts on the floors' rotations alone")
     return FloorsInPlan(
         names=list(plan.node_names), centres=centres, masses=masses, moves=moves,
         dofs=np.stack([plan.dof_node, plan.dof_component], axis=1),
         story_points=ends["story"][0], story_directions=ends["story"][1],
         contact_points=ends["contact"][0], contact_directions=ends["contact"][1],
-        link_points=ends["link"][0], link_directions=ends["link"][1])
+        link_points=ends["link"][0], link_directions=ends["link"][1],
+        story_levers=ends["story"][2], link_levers=ends["link"][2])
 
 
 def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres):
@@ -41,10 +44,16 @@ def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres
     a zero coefficient left out), so n = (a_x, a_y), and P = c + a_theta (n_y, -n_x) is the
     point of the line of action nearest the centre c ((P - c) x n = a_theta |n|^2). Both ends
     are then slid along n to one station, so that ends on one line coincide (a storey's
-    floors, a contact along its normal); an end on the ground stands at the other end."""
+    floors, a contact along its normal); an end on the ground stands at the other end.
+
+    An element on the floors' rotations alone (P-delta's torsion: a lever r on theta, no
+    translation) gets the direction (0, 0), its ends at the floors' centres and its lever r
+    in the third array ((e,), 0 for every other element): the script turns it into a
+    rotational spring of r^2 times its stiffness."""
     general = (sides.general() if sides is not None and len(sides.start) > 1
                else np.zeros(len(dofs), dtype=bool))
     points, directions = np.zeros((len(elements), 2, 2)), np.zeros((len(elements), 2))
+    levers = np.zeros(len(elements))
     for k, e in enumerate(elements):
         coefficient = np.zeros((2, 3))
         floor = [-1, -1]
@@ -56,6 +65,13 @@ def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres
                 coefficient[s, plan.dof_component[d]] += a
         on = [s for s in range(2) if floor[s] >= 0]
         n = coefficient[on[0], :2]
+        if not np.any(coefficient[on, :2]):  # the rotations alone, by one lever
+            if any(coefficient[s, 2] != coefficient[on[0], 2] for s in on):
+                raise ValueError(f"element {e}: its sides turn by two levers")
+            levers[k] = coefficient[on[0], 2]
+            for s in range(2):
+                points[k, s] = centres[floor[s] if floor[s] >= 0 else floor[on[0]]]
+            continue
         if any(not np.array_equal(coefficient[s, :2], n) for s in on):
             raise ValueError(f"element {e}: its sides act along two directions")
         across = np.array([n[1], -n[0]])
@@ -68,7 +84,7 @@ def _element_ends(plan: Plan, dofs, sides: Sides, elements, member: int, centres
             if floor[s] < 0:
                 points[k, s] = points[k, on[0]]
         directions[k] = n
-    return points, directions
+    return points, directions, levers
 
 
 def foundations(plan: Plan, member: int, sway_materials: list,

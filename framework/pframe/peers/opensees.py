@@ -180,6 +180,10 @@ def _values(scene: PeerScene, out_npz: str | None) -> dict:
     }
 
 
+def _levers(levers, points) -> np.ndarray:
+    return np.zeros(len(points)) if levers is None else np.asarray(levers, dtype=float)
+
+
 def _plan_values(scene: PeerScene) -> dict:
     """The constants of a scene in plan's script: its floors, and where its elements act."""
     floors = scene.floors
@@ -202,6 +206,9 @@ def _plan_values(scene: PeerScene) -> dict:
         "CONTACT_DIRECTIONS": directions(floors.contact_directions),
         "LINK_POINTS": points(floors.link_points),
         "LINK_DIRECTIONS": directions(floors.link_directions),
+        # the lever r of an element on the floors' rotations alone (0: none)
+        "STORY_LEVERS": [float(r) for r in _levers(floors.story_levers, floors.story_points)],
+        "LINK_LEVERS": [float(r) for r in _levers(floors.link_levers, floors.link_points)],
         "CHANNEL_DOFS": [{"x": 1, "y": 2}[c] for c in scene.channels],
     }
 

@@ -308,16 +308,24 @@ def build():
 
     def element(tag, nodes, points, direction, *flags):
         # local x along the direction: the deformation is n . (u_second - u_first), the
-        # force acts along n; ends apart across the direction only draw a length warning
+        # force acts along n; ends apart across the direction only draw a length warning.
+        # Direction (0, 0): a spring on the floors' rotations (-dir 3, about z).
         nx, ny = direction
+        turning = nx == 0.0 and ny == 0.0
         ops.element("zeroLength", tag, *(end(f, p) for f, p in zip(nodes, points)),
-                    "-mat", tag, "-dir", 1, "-orient", nx, ny, 0.0, -ny, nx, 0.0, *flags)
+                    "-mat", tag, "-dir", 3 if turning else 1,
+                    *(() if turning else ("-orient", nx, ny, 0.0, -ny, nx, 0.0)), *flags)
         return tag
 
+    def turned(mat, lever):
+        # an elastic spring on r (theta_2 - theta_1) is r^2 k about the rotation
+        return mat if lever == 0.0 else ("elastic", mat[1] * lever * lever)
+
     stories = []
-    for j, (nodes, points, direction, mat) in enumerate(zip(
-            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_MATERIALS, strict=True)):
-        material(j + 1, mat)
+    for j, (nodes, points, direction, mat, lever) in enumerate(zip(
+            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_MATERIALS, STORY_LEVERS,
+            strict=True)):
+        material(j + 1, turned(mat, lever))
         # without -doRayleigh a storey ignores its region's stiffness damping
         stories.append(element(j + 1, nodes, points, direction, "-doRayleigh", 1))
 
@@ -336,17 +344,18 @@ def build():
         contact_material(tag, mat, gap)
         contacts.append(element(tag, nodes, points, direction))
     links = []
-    for nodes, points, direction, mat in zip(LINK_NODES, LINK_POINTS, LINK_DIRECTIONS,
-                                             LINK_MATERIALS, strict=True):
+    for nodes, points, direction, mat, lever in zip(LINK_NODES, LINK_POINTS, LINK_DIRECTIONS,
+                                                    LINK_MATERIALS, LINK_LEVERS, strict=True):
         tag += 1
-        material(tag, mat)
+        material(tag, turned(mat, lever))
         links.append(element(tag, nodes, points, direction))
     GEOMETRIC.clear()
-    for j, (nodes, points, direction, kg) in enumerate(zip(
-            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_GEOMETRIC, strict=True)):
+    for j, (nodes, points, direction, kg, lever) in enumerate(zip(
+            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_GEOMETRIC, STORY_LEVERS,
+            strict=True)):
         if kg != 0.0:  # P-delta: the line resists (P / h) d less, undamped
             tag += 1
-            ops.uniaxialMaterial("Elastic", tag, -kg)
+            material(tag, turned(("elastic", -kg), lever))
             GEOMETRIC.append((j, element(tag, nodes, points, direction)))
 
     rayleigh(stories)
@@ -382,6 +391,12 @@ def finish(result):
     for k, (j, _) in enumerate(GEOMETRIC):  # a line's force with its P-delta part
         result["story_force"][:, j] += result["geometric_force"][:, k]
     del result["geometric_force"]
+    for kind, deformation, levers in (("story", "story_drift", STORY_LEVERS),
+                                      ("link", "link_deformation", LINK_LEVERS)):
+        for j, lever in enumerate(levers):  # a rotational spring's moment and turn
+            if lever != 0.0:
+                result[kind + "_force"][:, j] /= lever
+                result[deformation][:, j] *= lever
     result["contact_force"] = 0.0 - result["contact_force"]
     result["contact_penetration"] = np.maximum(
         0.0 - result["contact_penetration"] - np.asarray(CONTACT_GAPS, dtype=float), 0.0)

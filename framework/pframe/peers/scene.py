@@ -42,7 +42,10 @@ class FloorsInPlan:
         right) and link (first, second).
     story_directions, contact_directions, link_directions : (e, 2) float
         The unit direction each element acts along (a contact's normal, from its left side
-        to its right).
+        to its right); (0, 0) for an element on the floors' rotations alone.
+    story_levers, link_levers : (e,) float
+        The lever r of an element on the floors' rotations alone (its deformation is
+        r (theta_second - theta_first): P-delta's torsion), 0 for every other element (m).
     """
 
     names: list
@@ -56,6 +59,8 @@ class FloorsInPlan:
     contact_directions: np.ndarray
     link_points: np.ndarray
     link_directions: np.ndarray
+    story_levers: np.ndarray = None
+    link_levers: np.ndarray = None
 
 
 @dataclass(frozen=True)
