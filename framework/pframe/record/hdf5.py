@@ -158,6 +158,7 @@ class ResultWriter:
         self.peaks: dict[str, np.ndarray] = {}
         self.file = None
         self.reserved = False  # the file's whole size is allocated on the disk (_reserve)
+        self.verdict = None  # the run's verdict (pframe.verdict), judged by finish
         try:
             self.file = (target if isinstance(target, DatasetWriter)
                          else Writer(target if self.in_memory else self.tmp, compress=compress))
@@ -506,7 +507,8 @@ class ResultWriter:
             attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
                                       zip(plan.foundations, plan.foundation_soil))
             attrs.update(soil_attributes(plan, member))
-        verdict = of_result(result, member)
+        # the verdict the file states, kept for the caller to tell (not judged twice)
+        self.verdict = verdict = of_result(result, member)
         attrs["warnings"] = "\n".join(plan.warnings + verdict.warnings)
         attrs["dt"] = float(plan.dt[member])
         attrs["steps"] = np.int64(plan.steps)
@@ -530,15 +532,10 @@ class ResultWriter:
 def reference_attributes(loaded) -> dict:
     """The reference scales m_b, a_p, w_p, l_e of the paper's dimensionless variables
     (``reference_*`` attributes; none for a scene that has neither an excitation with an
-    amplitude and a frequency nor ``output.scales``)."""
-    from pframe.errors import InputError
-    from pframe.nondim.scene_variables import reference_scales
-
-    try:
-        scales = reference_scales(loaded.scene, loaded.expanded)
-    except (InputError, ValueError, TypeError, AttributeError):
+    amplitude and a frequency nor ``output.scales``: ``loaded.reference`` is None)."""
+    if loaded.reference is None:
         return {}
-    m, a, w = float(scales["m_b"]), float(scales["a_p"]), float(scales["w_p"])
+    m, a, w = (float(loaded.reference[k]) for k in ("m_b", "a_p", "w_p"))
     try:  # scales from an absurd record (DT = 1e-300 s) overflow: then there are none
         values = {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
                   "reference_l_e": a / w**2}
