@@ -20,7 +20,7 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
     the annual frequencies, the hazard curve, the annual frequency of pounding over uniform
     gaps and the gap at the target."""
     from pframe.api import indexed
-    from pframe.gap.output import measure_label
+    from pframe.gap.output import labelled, measure_label
 
     coords = _coordinates(inputs, result, search)
     data = {**_run_variables(inputs, rows, result), **_fragility_variables(spec, result)}
@@ -67,14 +67,6 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                 attrs["code_rules"] = describe(selection(spec.codes),
                                                inputs.loaded.expanded.buildings)
     return indexed(labelled(data, coords, attrs))
-
-
-def labelled(data: dict, coords: dict, attrs: dict):
-    """The Dataset of variables and coordinates given as ``name: (dims, values, attrs)``."""
-    import xarray as xr
-
-    return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
-                      coords={k: xr.Variable(*v) for k, v in coords.items()}, attrs=attrs)
 
 
 def study_attributes(inputs, text: str, source: str, warnings: list[str], title: str,
@@ -336,6 +328,8 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                              "simulation)", design="subset", motion=motion,
                              probability_level=spec.design.probability_level,
                              samples_per_level=spec.design.samples)
+    from pframe.gap.output import labelled
+
     return labelled(data, coords, attrs)
 
 
