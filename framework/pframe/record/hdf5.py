@@ -130,6 +130,17 @@ def integrator_text(plan) -> str:
         + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
 
 
+#: the labels of each kind of element's two ends in the file: (variable, long name)
+END_LABELS = {
+    "story": (("story_lower", "node below the storey ('ground' at the base)"),
+              ("story_upper", "node above the storey")),
+    "link": (("link_first", "first node of the link ('ground': anchored to the ground)"),
+             ("link_second", "second node of the link (deformation = u_second - u_first)")),
+    "contact": (("contact_left", "left node of the contact (penetration = u_left - u_right "
+                 "- gap)"), ("contact_right", "right node of the contact")),
+}
+
+
 class ResultWriter:
     """One batch member's result file, written under a temporary name and renamed when done.
 
@@ -286,21 +297,11 @@ class ResultWriter:
                 f.variable(f"node_{axis}", ("node",), ex.node_centre[:, column], auxiliary=True,
                            units="m", long_name=f"{axis} of the floor's centre of mass on the "
                            "site")
-        if ex.stories:
-            labels("story_lower", "story", [node(e.nodes[0]) for e in ex.stories],
-                   "node below the storey ('ground' at the base)")
-            labels("story_upper", "story", [node(e.nodes[1]) for e in ex.stories],
-                   "node above the storey")
-        if ex.links:
-            labels("link_first", "link", [node(e.nodes[0]) for e in ex.links],
-                   "first node of the link ('ground': anchored to the ground)")
-            labels("link_second", "link", [node(e.nodes[1]) for e in ex.links],
-                   "second node of the link (deformation = u_second - u_first)")
+        for dim, elements in (("story", ex.stories), ("link", ex.links),
+                              ("contact", ex.contacts)):
+            for end, (name, long_name) in enumerate(END_LABELS[dim] if elements else ()):
+                labels(name, dim, [node(e.nodes[end]) for e in elements], long_name)
         if ex.contacts:
-            labels("contact_left", "contact", [node(e.nodes[0]) for e in ex.contacts],
-                   "left node of the contact (penetration = u_left - u_right - gap)")
-            labels("contact_right", "contact", [node(e.nodes[1]) for e in ex.contacts],
-                   "right node of the contact")
             gaps = self.plan.contact_gap[self.member]
             data, units, long_name = self.convert.variable(gaps, "m", "initial gap")
             f.variable("contact_gap", ("contact",), data, auxiliary=True, units=units,
