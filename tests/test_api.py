@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import runnable_model
+from conftest import assert_names, runnable_model
 
 import pframe
 
@@ -93,8 +93,8 @@ def test_import_is_light():
 
 
 def test_the_api_is_listed_once():
-    assert set(pframe.__all__) == {"InputError", "EnvironmentFailure", "PframeError", "__version__",
-                                   *pframe._API}
+    assert_names(pframe.__all__, {"InputError", "EnvironmentFailure", "PframeError",
+                                  "__version__", *pframe._API}, "pframe.__all__")
     for name in pframe.__all__:
         assert getattr(pframe, name) is not None
 
