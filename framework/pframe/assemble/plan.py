@@ -428,12 +428,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                   for block in fitted.modal_keys for i, a in enumerate(block)
                   for c in block[i + 1:]]
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
-    known = {key: m for ex in variants for key, m in zip(
-        ex.dofs or [(i, 0) for i in range(nodes)],
-        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
-    masses = [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
-                                       else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
-                              if soil.count else np.zeros(0)]) for ex in variants]
+    masses = _masses(variants, node_keys, soil)
     node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
     # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
     # foundation's (the soil's dashpots damp them)
@@ -442,31 +437,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
                   for f in fitted.fits]
 
-    history: dict[str, int] = {}
-    envelope: list[str] = []
-    for rec in first.recorders:
-        for q in rec.quantities:
-            if rec.kind == "history":
-                if q in history and history[q] != rec.every:
-                    raise InputError(f"{q} is recorded twice with different 'every' "
-                                     f"({history[q]} and {rec.every})")
-                history[q] = rec.every
-            elif q not in envelope:
-                envelope.append(q)
-    if any(e.column_side is not None for e in first.contacts) and \
-            "contact_force" not in envelope:
-        # the struck columns' shear: written (peak_column_shear) and checked on its peak
-        envelope.append("contact_force")
     planar = all(ex.dofs is None for ex in variants)
-    if first.point_names and not planar and "point_drift" not in envelope:
-        envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
-    if not planar and "displacement" not in envelope:
-        envelope.append("displacement")  # the floors' rotations: the small-rotation check
-    for kind, elements in (("contact_", first.contacts), ("link_", first.links),
-                           ("foundation_", first.foundations), ("point_", first.point_names)):
-        if not elements:
-            history = {q: k for q, k in history.items() if not q.startswith(kind)}
-            envelope = [q for q in envelope if not q.startswith(kind)]
+    history, envelope = _recorded(first, planar)
 
     damping_codes = np.array(
         [DAMPING_STIFFNESS[getattr(first.damping[b], "stiffness", "initial")]
@@ -523,11 +495,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_sides=story_sides,
         contact_sides=contact_sides,
         channels=first.channels,
-        dof_channel=np.array([first.channels.index(COMPONENTS[c]) if node < nodes and c < 2
-                              and COMPONENTS[c] in first.channels else
-                              (0 if node >= nodes and (node - nodes) % 2 == 0
-                               and "x" in first.channels else -1)
-                              for node, c in keys], dtype=np.int64)[order],
+        dof_channel=_dof_channels(first.channels, keys, nodes)[order],
         dof_node=node_of_key[order],
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
         planar=planar,
@@ -541,6 +509,59 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
+
+
+def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]:
+    """The quantities the kernel records: histories (quantity -> every how many steps) and
+    envelopes, the recorders' and those the checks and the file need, none of a kind of
+    element the scene has not."""
+    history: dict[str, int] = {}
+    envelope: list[str] = []
+    for rec in first.recorders:
+        for q in rec.quantities:
+            if rec.kind == "history":
+                if q in history and history[q] != rec.every:
+                    raise InputError(f"{q} is recorded twice with different 'every' "
+                                     f"({history[q]} and {rec.every})")
+                history[q] = rec.every
+            elif q not in envelope:
+                envelope.append(q)
+    if any(e.column_side is not None for e in first.contacts) and \
+            "contact_force" not in envelope:
+        # the struck columns' shear: written (peak_column_shear) and checked on its peak
+        envelope.append("contact_force")
+    if first.point_names and not planar and "point_drift" not in envelope:
+        envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
+    if not planar and "displacement" not in envelope:
+        envelope.append("displacement")  # the floors' rotations: the small-rotation check
+    for kind, elements in (("contact_", first.contacts), ("link_", first.links),
+                           ("foundation_", first.foundations), ("point_", first.point_names)):
+        if not elements:
+            history = {q: k for q, k in history.items() if not q.startswith(kind)}
+            envelope = [q for q in envelope if not q.startswith(kind)]
+    return history, envelope
+
+
+def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]:
+    """Each variant's mass (or inertia) on each DOF key: the nodes', a DOF a variant lacks
+    taking another's (a batch's union of DOFs), then the foundations'."""
+    nodes = len(variants[0].node_names)
+    known = {key: m for ex in variants for key, m in zip(
+        ex.dofs or [(i, 0) for i in range(nodes)],
+        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+    return [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
+                                     else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
+                            if soil.count else np.zeros(0)]) for ex in variants]
+
+
+def _dof_channels(channels: tuple, keys: list, nodes: int) -> np.ndarray:
+    """The ground-motion channel that loads each DOF key (-1: none): a node's u_x and u_y
+    their site axis's, a foundation's sway the x channel, a rotation or rocking none."""
+    return np.array([channels.index(COMPONENTS[c]) if node < nodes and c < 2
+                     and COMPONENTS[c] in channels else
+                     (0 if node >= nodes and (node - nodes) % 2 == 0 and "x" in channels
+                      else -1)
+                     for node, c in keys], dtype=np.int64)
 
 
 def _node_order(keys, edges) -> np.ndarray:
