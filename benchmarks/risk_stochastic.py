@@ -231,8 +231,8 @@ def opensees_ratio(args) -> int:
     sys.path.insert(0, str(Path(__file__).parent))
     from gap_audit import _OpenSeesLoop
 
-    from pframe.assemble import peer_scene
     from pframe.gap.runs import batch_plan, contact_pairs
+    from pframe.peers.from_plan import peer_scene
     from pframe.reader import load_scene
     from pframe.risk.runs import run_batch
 

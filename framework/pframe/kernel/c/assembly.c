@@ -244,6 +244,127 @@ static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from
     return to;
 }
 
+/* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
+ * evaluation point, subtracted from the residual, law group by law group; returns 1 when an
+ * effective tangent changed (see evaluate). */
+static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                            int from_stage, double c1, double wf, int tangent)
+{
+    const int64_t ns = m->stories;
+    int stale = 0, terms;
+    int64_t j, to;
+    SpringLoop L;
+    int64_t *calls = st->material_calls + b * m->materials;
+    L.dofs = m->story_dofs;
+    L.order = m->story_order;
+    L.modes = m->story_damping;
+    L.start = m->story_side_start;
+    L.side_dof = m->story_side_dof;
+    L.params = m->story_params + b * ns * m->story_width;
+    L.committed = from_stage ? w->story_stage : st->story_committed + b * ns * m->story_states;
+    L.k0 = m->story_k0 + b * ns;
+    L.beta = m->story_beta + b * ns;
+    L.kg = m->story_kg + b * ns;
+    L.side_coef = m->story_side_coef + b * m->story_terms;
+    L.tangent_c = st->story_tangent + b * ns;
+    L.ue = w->ue;
+    L.ve = w->ve;
+    L.trial = st->story_trial + b * ns * m->story_states;
+    L.drift = w->drift;
+    L.force = w->story_force;
+    L.damping_force = w->story_damping_force;
+    L.tangent_t = w->story_tangent;
+    L.kks = w->story_kk;
+    L.R = w->R;
+    L.P = m->story_width;
+    L.S = m->story_states;
+    L.c1 = c1;
+    L.wf = wf;
+    L.tangent = tangent;
+    terms = m->story_terms > 0;
+    for (j = 0; j < ns; j = to) {
+        const int64_t law = m->story_law[m->story_order[j]];
+        to = group_end(m->story_order, m->story_law, j, ns);
+        calls[law] += to - j;
+        switch (law) {
+#define SPRING_GROUP(id, function) \
+        case id: \
+            stale |= terms ? spring_run(&L, j, to, function, 1) \
+                           : spring_run(&L, j, to, function, 0); \
+            break;
+            MATERIAL_LAWS(SPRING_GROUP)
+#undef SPRING_GROUP
+        default:
+            stale |= spring_run(&L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
+                                terms);
+        }
+    }
+    return stale;
+}
+
+/* The contacts' forces at the evaluation point, added to the residual, law group by law
+ * group; returns 1 when an effective tangent changed (see evaluate). */
+static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                             int from_stage, double c1, double wf, int tangent)
+{
+    const int64_t nc = m->contacts;
+    int stale = 0, terms;
+    int64_t j, to;
+    ContactLoop L;
+    int64_t *calls = st->contact_calls + b * m->contact_laws;
+    L.dofs = m->contact_dofs;
+    L.order = m->contact_order;
+    L.start = m->contact_side_start;
+    L.side_dof = m->contact_side_dof;
+    L.params = m->contact_params + b * nc * m->contact_width;
+    L.committed = from_stage ? w->contact_stage
+                             : st->contact_committed + b * nc * m->contact_states;
+    L.gap = m->gap + b * nc;
+    L.pen_c = st->penetration + b * nc;
+    L.force_c = st->contact_force + b * nc;
+    L.side_coef = m->contact_side_coef + b * m->contact_terms;
+    L.ue = w->ue;
+    L.ve = w->ve;
+    L.trial = st->contact_trial + b * nc * m->contact_states;
+    L.force = w->contact_force;
+    L.penetration = w->penetration;
+    L.kks = w->contact_kk;
+    L.R = w->R;
+    L.Q = m->contact_width;
+    L.T = m->contact_states;
+    L.held = (int64_t)w->scalars[HELD];
+    L.held_closed = w->scalars[HELD_CLOSED];
+    L.c1 = c1;
+    L.wf = wf;
+    L.tangent = tangent;
+    /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
+     * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
+     * start: a contact that closes or opens beyond the sub-step's end must not act inside
+     * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
+     * crosses inside it is located (events.c) and the sub-step cut there. The step end
+     * (tangent off: the commit's evaluation) sees the real law. */
+    L.hold_start = tangent && s->events && s->beyond;
+    terms = m->contact_terms > 0;
+    for (j = 0; j < nc; j = to) {
+        const int64_t law = m->contact_law[m->contact_order[j]];
+        to = group_end(m->contact_order, m->contact_law, j, nc);
+        calls[law] += to - j;
+        switch (law) {
+#define CONTACT_GROUP(id, function) \
+        case id: \
+            stale |= terms ? contact_run(&L, j, to, function, 1) \
+                           : contact_run(&L, j, to, function, 0); \
+            break;
+            CONTACT_LAWS(CONTACT_GROUP)
+#undef CONTACT_GROUP
+        default:
+            stale |= contact_run(&L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
+                                 terms);
+        }
+    }
+    return stale;
+}
+
 /* Element forces and the residual at the evaluation point, ground accelerations age (one per
  * channel).
  *
@@ -254,124 +375,24 @@ static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                     const double *age, double c1, double wf, int tangent)
 {
-    const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
+    const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
-    const double *ue = w->ue, *ve = w->ve, *ae = w->ae;
+    const double *ve = w->ve, *ae = w->ae;
     /* the laws' committed state: the step start's, or in a stage after the first the end of
      * the stage before (newton.c, keep_stage) */
     const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
     double *R = w->R;
-    int stale = 0, terms;
-    int64_t i, j, to;
+    int stale;
+    int64_t i;
     for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
         R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
-    if (ns) {
-        SpringLoop L;
-        int64_t *calls = st->material_calls + b * m->materials;
-        L.dofs = m->story_dofs;
-        L.order = m->story_order;
-        L.modes = m->story_damping;
-        L.start = m->story_side_start;
-        L.side_dof = m->story_side_dof;
-        L.params = m->story_params + b * ns * m->story_width;
-        L.committed = from_stage ? w->story_stage : st->story_committed + b * ns * m->story_states;
-        L.k0 = m->story_k0 + b * ns;
-        L.beta = m->story_beta + b * ns;
-        L.kg = m->story_kg + b * ns;
-        L.side_coef = m->story_side_coef + b * m->story_terms;
-        L.tangent_c = st->story_tangent + b * ns;
-        L.ue = ue;
-        L.ve = ve;
-        L.trial = st->story_trial + b * ns * m->story_states;
-        L.drift = w->drift;
-        L.force = w->story_force;
-        L.damping_force = w->story_damping_force;
-        L.tangent_t = w->story_tangent;
-        L.kks = w->story_kk;
-        L.R = R;
-        L.P = m->story_width;
-        L.S = m->story_states;
-        L.c1 = c1;
-        L.wf = wf;
-        L.tangent = tangent;
-        terms = m->story_terms > 0;
-        for (j = 0; j < ns; j = to) {
-            const int64_t law = m->story_law[m->story_order[j]];
-            to = group_end(m->story_order, m->story_law, j, ns);
-            calls[law] += to - j;
-            switch (law) {
-#define SPRING_GROUP(id, function) \
-            case id: \
-                stale |= terms ? spring_run(&L, j, to, function, 1) \
-                               : spring_run(&L, j, to, function, 0); \
-                break;
-                MATERIAL_LAWS(SPRING_GROUP)
-#undef SPRING_GROUP
-            default:
-                stale |= spring_run(&L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
-                                    terms);
-            }
-        }
-    }
-
-    if (nc) {
-        ContactLoop L;
-        int64_t *calls = st->contact_calls + b * m->contact_laws;
-        L.dofs = m->contact_dofs;
-        L.order = m->contact_order;
-        L.start = m->contact_side_start;
-        L.side_dof = m->contact_side_dof;
-        L.params = m->contact_params + b * nc * m->contact_width;
-        L.committed = from_stage ? w->contact_stage
-                                 : st->contact_committed + b * nc * m->contact_states;
-        L.gap = m->gap + b * nc;
-        L.pen_c = st->penetration + b * nc;
-        L.force_c = st->contact_force + b * nc;
-        L.side_coef = m->contact_side_coef + b * m->contact_terms;
-        L.ue = ue;
-        L.ve = ve;
-        L.trial = st->contact_trial + b * nc * m->contact_states;
-        L.force = w->contact_force;
-        L.penetration = w->penetration;
-        L.kks = w->contact_kk;
-        L.R = R;
-        L.Q = m->contact_width;
-        L.T = m->contact_states;
-        L.held = (int64_t)w->scalars[HELD];
-        L.held_closed = w->scalars[HELD_CLOSED];
-        L.c1 = c1;
-        L.wf = wf;
-        L.tangent = tangent;
-        /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
-         * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
-         * start: a contact that closes or opens beyond the sub-step's end must not act inside
-         * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
-         * crosses inside it is located (events.c) and the sub-step cut there. The step end
-         * (tangent off: the commit's evaluation) sees the real law. */
-        L.hold_start = tangent && s->events && s->beyond;
-        terms = m->contact_terms > 0;
-        for (j = 0; j < nc; j = to) {
-            const int64_t law = m->contact_law[m->contact_order[j]];
-            to = group_end(m->contact_order, m->contact_law, j, nc);
-            calls[law] += to - j;
-            switch (law) {
-#define CONTACT_GROUP(id, function) \
-            case id: \
-                stale |= terms ? contact_run(&L, j, to, function, 1) \
-                               : contact_run(&L, j, to, function, 0); \
-                break;
-                CONTACT_LAWS(CONTACT_GROUP)
-#undef CONTACT_GROUP
-            default:
-                stale |= contact_run(&L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
-                                     terms);
-            }
-        }
-    }
+    stale = m->stories ? evaluate_springs(m, s, st, w, b, from_stage, c1, wf, tangent) : 0;
+    if (m->contacts && evaluate_contacts(m, s, st, w, b, from_stage, c1, wf, tangent))
+        stale = 1;
     return stale;
 }
 

@@ -18,12 +18,13 @@ from pframe.laws.contact._hunt_crossley import (
     PARAM_NAMES,
     STATE_NAMES,
     hunt_crossley_force,
+    hunt_crossley_rebound,
     hunt_crossley_tangent_states,
 )
 from pframe.laws.facts import Impact
 from pframe.laws.params import Calibration, ContactStiffness, DampedRestitution
 from pframe.laws.registry import SpringContact, contact_law
-from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
+from pframe.laws.restitution import hunt_crossley_chi
 
 
 def ye_chi(e: float) -> float:
@@ -42,6 +43,7 @@ class ImprovedKelvin(SpringContact):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
+    opensees = "Hertzdamp"  # n = 1, but in conditions (pframe.peers.twins)
     tangent_states = classmethod(hunt_crossley_tangent_states)
     examples = ({"stiffness": 2.0e7, "restitution": 0.6},
                 {"frequency_ratio": 30.0, "restitution": 0.5})
@@ -66,10 +68,7 @@ class ImprovedKelvin(SpringContact):
     def published_source(cls, params) -> str:
         return "Ye, Li & Zhu 2009"
 
-    @classmethod
-    def rebound(cls, params) -> float:
-        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
-        return hunt_crossley_restitution(cls.chi(params))
+    rebound = classmethod(hunt_crossley_rebound)
 
     @classmethod
     def pack(cls, params, context=None):
