@@ -52,7 +52,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     """Validate composed YAML data (a Pi-form scene is expanded first) and resolve it;
     ``lines`` map data paths to lines of ``source`` for the messages."""
     from pframe.model.expand import expand
-    from pframe.model.scene import scene_class
+    from pframe.model.scene import scene_class, scene_motions
 
     unit_scales = ()
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
@@ -69,9 +69,10 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     plugins = plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")
-    if scene.excitation is not None and scene.excitation.kind == "record":
-        # copies of the scene (model_copy) read the record from here, whatever the cwd
-        scene.excitation._folder = str(base_dir.resolve())
+    for motion in scene_motions(scene):
+        if motion.kind == "record":
+            # copies of the scene (model_copy) read the record from here, whatever the cwd
+            motion._folder = str(base_dir.resolve())
     try:
         expanded = expand(scene, base_dir)
     except ModelError as exc:

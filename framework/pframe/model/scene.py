@@ -37,6 +37,7 @@ NodeName = Annotated[
     ),
 ]
 BuildingName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
+SupportName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
 QUANTITIES = tuple(_QUANTITIES)
 Quantity = Literal[QUANTITIES]
 
@@ -257,6 +258,10 @@ class StoryBase(Base):
         None, description="Whether its building's Rayleigh damping adds the stiffness-"
         "proportional term a1 k to this storey (default: yes, but not on an isolator).")
 
+    support: SupportName | None = Field(
+        None, description="The support its lower end stands on when it is 'ground' "
+        "(docs/supports.md); default: the scene's only support.")
+
 
 class LinkBase(Base):
     """A link: a material element between any two nodes, or a node and the ground, acting in
@@ -273,6 +278,9 @@ class LinkBase(Base):
         "its centre of mass, the default).")
     direction: Point = Field((1.0, 0.0), description="[x, y]: the direction the link acts "
                              "along, in the site's axes (default [1, 0]: the row's axis).")
+    support: SupportName | None = Field(
+        None, description="The support a side of it that is 'ground' stands on "
+        "(docs/supports.md); default: the scene's only support.")
 
 
 def default_link_name(nodes) -> str:
@@ -325,6 +333,9 @@ class ContactBase(Base):
                           "to the right one along which they close, in the site's axes "
                           "(default [1, 0]: the row's axis); penetration = normal . (u_left - "
                           "u_right) - gap.")
+    support: SupportName | None = Field(
+        None, description="The support its wall (a side that is 'ground') stands on "
+        "(docs/supports.md); default: the scene's only support.")
 
 
 class LineBase(Base):
@@ -756,16 +767,59 @@ class Components(Base):
         return tuple((axis, m) for axis, m in (("x", self.x), ("y", self.y)) if m is not None)
 
 
-def records_of(excitation) -> tuple:
-    """The record definitions an excitation reads (a record, or the records among the
-    components of a pair)."""
+class WavePassage(Base):
+    """One motion reaching each support later as the waves pass (docs/supports.md): at
+    support s it is a(t - tau_s), tau_s = (p_s - p_first) . (cos phi, sin phi) / v_app, the
+    supports' positions p projected on the direction of propagation phi, counted from the
+    support the waves reach first."""
+
+    kind: Literal["wave_passage"] = "wave_passage"
+    motion: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic, Components],  # noqa: UP007
+                      Field(discriminator="kind")] = Field(
+        description="The motion as the waves bring it (at the support they reach first).")
+    velocity: Positive = Field(description="The apparent velocity v_app of the waves along "
+                               "the ground surface (m/s), typically 200 to 2000 m/s.")
+    direction: float = Field(0.0, allow_inf_nan=False, description="The direction the waves "
+                             "travel, degrees from the site's x axis (counter-clockwise).")
+
+
+class Support(Base):
+    """A piece of ground that moves as one (docs/supports.md): what buildings, walls and the
+    ground ends of storeys and links stand on, with its own motion."""
+
+    name: SupportName = Field(description="Its name (buildings and elements name it).")
+    position: Point = Field((0.0, 0.0), description="[x, y]: where it is on the site (m): the "
+                            "wave passage's delays.")
+    excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
+                                Components], Field(discriminator="kind")] | None = Field(
+        None, description="Its own motion; none: the scene's excitation (the same motion, or "
+        "the wave passage's at this support).")
+
+
+def plain_motions(excitation) -> tuple:
+    """The plain motions (a sine, a pulse, a record, a stochastic motion) an excitation is
+    made of: itself, each of two components, the motion a wave passage carries."""
     if excitation is None:
         return ()
-    if excitation.kind == "record":
-        return (excitation,)
     if excitation.kind == "components":
-        return tuple(m for _, m in excitation.motions() if m.kind == "record")
-    return ()
+        return tuple(m for _, m in excitation.motions())
+    if excitation.kind == "wave_passage":
+        return plain_motions(excitation.motion)
+    return (excitation,)
+
+
+def scene_motions(scene) -> tuple:
+    """Every plain motion of a scene: its excitation's, then each support's own."""
+    out = plain_motions(scene.excitation)
+    for support in getattr(scene, "supports", ()) or ():
+        out += plain_motions(support.excitation)
+    return out
+
+
+def records_of(excitation) -> tuple:
+    """The record definitions an excitation reads (a record, the records among the
+    components of a pair or in a wave passage)."""
+    return tuple(m for m in plain_motions(excitation) if m.kind == "record")
 
 
 def tag_reader(key: str, default: str):
@@ -992,6 +1046,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             False, description="P-delta: each storey carries the weight of the floors above "
             "it (g = 9.80665 m/s^2 times their masses), whose geometric stiffness -P/h "
             "softens it (needs height).")
+        support: SupportName | None = Field(
+            None, description="The support the building stands on (docs/supports.md); "
+            "default: the scene's only support.")
         soil: Soil | None = Field(
             None, description="Soil under the building (default: a fixed base): a foundation "
             "that sways and rocks on springs and dashpots (needs height; docs/soil.md).")
@@ -1027,11 +1084,15 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         damping: Damping = Field(Rayleigh(), description="Default damping of every building: "
                                  "Rayleigh (kind: rayleigh, the default) or modal (kind: "
                                  "modal).")
+        supports: list[Support] = Field(
+            default_factory=list, description="The pieces of ground structures stand on, each "
+            "with its own motion (docs/supports.md); none: one ground under everything.")
         excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
-                                    Components],
+                                    Components, WavePassage],
                               Field(discriminator="kind")] | None = Field(
             None, description="Ground motion along the site's x axis, or in two components "
-            "(kind: components); none: free vibration from initial conditions.")
+            "(kind: components), or as the waves pass the supports (kind: wave_passage); "
+            "none: free vibration from initial conditions.")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")
         analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "

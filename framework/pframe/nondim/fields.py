@@ -162,6 +162,16 @@ SCENE_FIELDS = {
 SCENE_FIELDS.update({("excitation", axis) + pattern[1:]: quantity
                      for axis in ("x", "y") for pattern, quantity in list(SCENE_FIELDS.items())
                      if pattern[0] == "excitation" and pattern != ("excitation", "angle")})
+# a support's own motion and the motion a wave passage carries are motions too
+_MOTION_FIELDS = [(pattern[1:], quantity) for pattern, quantity in SCENE_FIELDS.items()
+                  if pattern[0] == "excitation"]
+SCENE_FIELDS.update({("supports", "*", "excitation") + rest: q for rest, q in _MOTION_FIELDS})
+SCENE_FIELDS.update({("excitation", "motion") + rest: q for rest, q in _MOTION_FIELDS})
+SCENE_FIELDS.update({
+    ("supports", "*", "position"): "length",
+    ("excitation", "velocity"): "velocity",  # a wave passage's apparent velocity
+    ("excitation", "direction"): "dimensionless",
+})
 
 
 def scene_field_dimension(path: tuple) -> Dimension | None:

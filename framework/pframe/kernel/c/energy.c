@@ -96,9 +96,25 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
             work_damp += 0.5 * modal_work(m, b, V, v, 1.0, u, U);
             du_dG += modal_work(m, b, v, V, -1.0, u, U);
         }
+        /* across supports (docs/supports.md): an element's deformation includes the ground
+         * displacements' part g_e, and the supports do work f dg_e on it (input), which is
+         * not the DOFs' (du . [G] takes its force jump on G du alone) */
+        const double *g_old = ground_block(m, ag_old, 1), *g_new = ground_block(m, ag_new, 1);
+        const double *gs_coef = m->story_ground_coef + b * m->story_ground_terms;
+        const double *gc_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+        double work_supports = 0.0;
         for (e = 0; e < ns; e++) {
             const double dd = drift_t[e] - drift_c[e];
             const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
+            if (m->story_ground_terms) {
+                const double dg = ground_sum(m->story_ground_start, m->story_ground_channel,
+                                             gs_coef, e, g_new)
+                                  - ground_sum(m->story_ground_start, m->story_ground_channel,
+                                               gs_coef, e, g_old);
+                work_supports += 0.5 * (force_c[e] + force_t[e] + damping_c[e] + damping_t[e])
+                                 * dg;
+                du_dG -= (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dg;
+            }
             if (e < ns - m->links) /* a storey */
                 work_story += work;
             else /* a link (no Rayleigh damping: its dashpot is in its force) */
@@ -115,11 +131,21 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
                 const double dp = pen_t[e] - pen_c[e];
                 work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
                 du_dG += (cforce_t[e] - cforce_c[e]) * dp;
+                if (m->contact_ground_terms) {
+                    const double dg = ground_sum(m->contact_ground_start,
+                                                 m->contact_ground_channel, gc_coef, e, g_new)
+                                      - ground_sum(m->contact_ground_start,
+                                                   m->contact_ground_channel, gc_coef, e, g_old);
+                    work_supports += 0.5 * (cforce_c[e] + cforce_t[e]) * dg;
+                    du_dG -= (cforce_t[e] - cforce_c[e]) * dg;
+                }
                 if (pen_c[e] <= 0.0 && pen_t[e] > 0.0)
                     impacts[e] += 1;
             }
             energy[CONTACTS] += work_contact;
         }
+        work_in += work_supports;
+        energy[INPUT] += work_supports;
         if (s->scheme == TABLEAU)
             inertial = w->scalars[INERTIAL_WORK] - (kinetic - energy[KINETIC]);
         else

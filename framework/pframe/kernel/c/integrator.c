@@ -282,7 +282,7 @@ static void at_end_point(const Model *m, const Settings *s, Work *w)
  * point is not on the straight line from U to u for every scheme). Called with the forces of
  * the evaluation point in w and the stage's end in w->u. */
 static double evaluation_work(const Model *m, Work *w, int64_t b, const double *age,
-                              const double *U,
+                              const double *end_ground, const double *U,
                               const double *drift_c, const double *pen_c)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
@@ -296,11 +296,13 @@ static double evaluation_work(const Model *m, Work *w, int64_t b, const double *
     if (m->modal_blocks)
         work += modal_work(m, b, ve, ve, 0.0, u, U);
     for (e = 0; e < ns; e++) {
-        const double d = spring_deformation(m, b, e, u);
+        const double d = spring_deformation(m, b, e, u, ground_block(m, end_ground, 1));
         work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
     }
     for (e = 0; e < nc; e++)
-        work += w->contact_force[e] * ((contact_closing(m, b, e, u) - gap[e]) - pen_c[e]);
+        work += w->contact_force[e] * ((contact_closing(m, b, e, u,
+                                                        ground_block(m, end_ground, 1))
+                                        - gap[e]) - pen_c[e]);
     return work;
 }
 

@@ -119,8 +119,11 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
     if (s->scheme == TABLEAU || s->alpha) {
         const int later = stage > 0;
         const double *from = later ? w->stage_values + (stage - 1) * VALUE_SLOTS * n : U;
+        /* the ground at the stage's end: the step's end, or a stage of a tableau evaluated
+         * at its end */
         scalars[ALPHA_WORK] += evaluation_work(
-            m, w, b, age, from, later ? w->stage_drift : st->drift + b * m->stories,
+            m, w, b, age, s->scheme == TABLEAU ? age : ag_new, from,
+            later ? w->stage_drift : st->drift + b * m->stories,
             later ? w->stage_penetration : st->penetration + b * m->contacts);
         if (s->scheme == TABLEAU)
             scalars[INERTIAL_WORK] += inertial_work(m, w, b, from);

@@ -42,7 +42,7 @@ static const double *source(const Model *m, const State *st, int64_t q, int64_t 
  * of a sub-step, or (ag NULL) the sample of step k itself. */
 static double ground_of(const Model *m, int64_t b, int64_t k, int64_t c, const double *ag)
 {
-    return ag != NULL ? ag[c] : m->ground[(b * m->channels + c) * m->ground_width + k];
+    return ag != NULL ? ag[c] : m->ground[(b * m->ground_series + c) * m->ground_width + k];
 }
 
 /* The absolute acceleration of DOF i: its acceleration relative to the ground plus the

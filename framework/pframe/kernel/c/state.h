@@ -159,6 +159,12 @@ typedef struct Model {
     int64_t *gauge_start;
     int64_t *gauge_dof;
     double *gauge_coef;
+    int64_t *story_ground_start;
+    int64_t *story_ground_channel;
+    double *story_ground_coef;
+    int64_t *contact_ground_start;
+    int64_t *contact_ground_channel;
+    double *contact_ground_coef;
     int64_t *modal_dofs;
     int64_t *modal_start;
     double *modal_matrix;
@@ -173,6 +179,7 @@ typedef struct Model {
     int64_t contact_states;
     int64_t ground_width;
     int64_t channels;
+    int64_t ground_series;
     int64_t materials;
     int64_t contact_laws;
     int64_t foundations;
@@ -180,6 +187,8 @@ typedef struct Model {
     int64_t contact_terms;
     int64_t points;
     int64_t gauge_terms;
+    int64_t story_ground_terms;
+    int64_t contact_ground_terms;
     int64_t modal_blocks;
     int64_t modal_width;
 } Model;

@@ -1,0 +1,209 @@
+"""A motion for every support (docs/supports.md): identical supports are today's scene; a
+delayed copy of one motion moves the second building later by the delay; an element across
+supports sees the ground displacements' difference; the kernel's relative formulation is the
+total-coordinate integration of the same scene with the supports' motion imposed."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from conftest import analysis, building, node_history, record_file, run_text
+
+from pframe.errors import InputError
+from pframe.reader import parse_scene
+
+MASS, K = 2.0e5, 1.0e8
+
+
+def pair(supports=None, excitation=None, links=(), contacts=(), dt=0.005, duration=4.0,
+         quantities=("displacement",), **more) -> dict:
+    """Two three-storey frames A and B (their first floors 3 m apart on the site), on
+    supports west and east when ``supports`` says so."""
+    scene = {
+        "buildings": [building("A", 3, MASS, {"material": "elastic", "stiffness": K}),
+                      building("B", 3, MASS, {"material": "elastic", "stiffness": 2 * K})],
+        "links": list(links), "contacts": list(contacts),
+        "excitation": excitation or {"kind": "sine", "amplitude": 3.0, "frequency": 9.0},
+        "damping": {"ratio": 0.05},
+        "analysis": analysis(dt, duration),
+        "recorders": [{"kind": "history", "quantities": list(quantities)}],
+    } | more
+    if supports:
+        scene["supports"] = supports
+        scene["buildings"][0]["support"] = "west"
+        scene["buildings"][1]["support"] = "east"
+    return scene
+
+
+SUPPORTS = [{"name": "west", "position": [0.0, 0.0]}, {"name": "east", "position": [40.0, 0.0]}]
+
+
+def _run(scene: dict):
+    return run_text(json.dumps(scene))
+
+
+def test_identical_supports_are_todays_scene():
+    """Two supports under one motion, a contact and a link across them: the same bits as the
+    scene on one ground (the ground displacements' difference, d_west - d_east, is 0 to the
+    bit)."""
+    contacts = [{"nodes": ["A/3", "B/3"], "gap": 0.005, "law": "linear", "stiffness": 1e9}]
+    links = [{"nodes": ["A/2", "B/2"], "material": "viscous", "damping": 1e5}]
+    today = _run(pair(links=links, contacts=contacts,
+                      quantities=("displacement", "contact_force", "link_force")))[1]
+    plan, both = _run(pair(SUPPORTS, links=links, contacts=contacts,
+                           quantities=("displacement", "contact_force", "link_force")))
+    assert plan.channels == ("west:x", "east:x")
+    assert plan.contact_ground_start.tolist() == [0, 2]  # the contact is across the supports
+    assert int(today.impacts.sum()) > 0
+    for q in ("displacement", "contact_force", "link_force"):
+        np.testing.assert_array_equal(both.history[q], today.history[q])
+    np.testing.assert_array_equal(both.energy, today.energy)
+
+
+def test_a_delayed_copy_moves_the_second_building_later():
+    """A wave passage at 400 m/s over 10 m, a delay of 25 steps, of a sine that starts from
+    zero (a(0) = 0: A starts from rest as B does when the waves reach it): B (as A) responds
+    0.025 s later, u_B(t) = u_A(t - 0.025), to the bit; and a contact between them (1 N/m,
+    gap 0, a force too small to matter) closes by their relative motion plus the ground
+    displacements' difference d(t) - d(t - tau), the sine integrated twice by the trapezoid
+    rule, to 1e-6 of its peak (what its force changes)."""
+    supports = [{"name": "west", "position": [0.0, 0.0]},
+                {"name": "east", "position": [10.0, 0.0]}]
+    scene = pair(supports, {"kind": "wave_passage", "velocity": 400.0,
+                            "motion": {"kind": "sine", "amplitude": 3.0, "frequency": 9.0,
+                                       "cycles": 6}},
+                 dt=0.001, duration=6.0, quantities=("displacement", "contact_penetration"))
+    scene["buildings"][1]["story"]["stiffness"] = K  # B as A
+    plan, result = _run(scene)
+    k = 25
+    a = node_history(plan, result, "displacement", "A/1")
+    b = node_history(plan, result, "displacement", "B/1")
+    assert np.max(np.abs(a)) > 0.005
+    np.testing.assert_array_equal(b[:k], 0.0)
+    np.testing.assert_array_equal(b[k:], a[:-k])
+    scene["contacts"] = [{"nodes": ["A/1", "B/1"], "gap": 0.0, "law": "linear",
+                          "stiffness": 1.0}]
+    plan, result = _run(scene)
+    a = node_history(plan, result, "displacement", "A/1")
+    b = node_history(plan, result, "displacement", "B/1")
+    from pframe.model.support_motion import integrated
+
+    ground = plan.ground_channels[0]
+    np.testing.assert_array_equal(ground[1][k:], ground[0][:-k])
+    _, d_west = integrated(ground[0], 0.001)
+    _, d_east = integrated(ground[1], 0.001)
+    closing = (a + d_west) - (b + d_east)
+    penetration = result.history["contact_penetration"][0][:, 0]
+    np.testing.assert_allclose(penetration, np.maximum(closing, 0.0), rtol=0,
+                               atol=1e-9 * np.max(np.abs(closing)))
+    assert np.max(np.abs(d_west - d_east)) > 0.3 * np.max(np.abs(closing))
+
+
+def _total_newmark(plan, k_a: float, k_b: float, k_link: float) -> np.ndarray:
+    """The pair with an elastic link between A/2 and B/2 integrated in total coordinates, an
+    implementation independent of pframe's (its relative coordinates and ground terms):
+    Newmark's average acceleration on the floors' total displacements x,
+
+        M x'' + a0 M (x' - v_s) + sum_storeys (k d + a1 k d') + k_link (x_B2 - x_A2) = 0,
+
+    each storey's deformation d = x_upper - x_lower with the ground end at its support's
+    displacement d_s (west under A, east under B), the supports' displacements and velocities
+    the trapezoid rule twice over their accelerations. Returns x (steps + 1, 6) in the order
+    A/1..3, B/1..3. a0 and a1 are the plan's (the damping's fit is not what is checked)."""
+    from pframe.model.support_motion import integrated
+
+    dt, steps = float(plan.dt[0]), plan.steps
+    (v_w, d_w), (v_e, d_e) = (integrated(g, dt) for g in plan.ground_channels[0])
+    order = [plan.node_dof[plan.node_names.index(f"{b}/{i}")] for b in "AB" for i in (1, 2, 3)]
+    m = plan.mass[0][order]
+    a0 = (plan.mass_damping[0] / plan.mass[0])[order]
+    a1 = plan.story_beta[0][:6]  # the storeys A/1..3, B/1..3 in declaration order
+    K, C = np.zeros((6, 6)), np.diag(a0 * m)
+    # storey spring s between floors (lower, upper), -1 the ground
+    storeys = [(-1, 0), (0, 1), (1, 2), (-1, 3), (3, 4), (4, 5)]
+    stiff = [k_a] * 3 + [k_b] * 3
+    for (lo, up), k, b in zip(storeys, stiff, a1):
+        g = np.zeros(6)
+        g[up] = 1.0
+        if lo >= 0:
+            g[lo] = -1.0
+        K += k * np.outer(g, g)
+        C += b * k * np.outer(g, g)
+    g = np.zeros(6)
+    g[4], g[1] = 1.0, -1.0
+    K += k_link * np.outer(g, g)
+
+    def force(n):  # what the moving supports put into the floors at step n
+        f = a0 * m * np.r_[[v_w[n]] * 3, [v_e[n]] * 3]
+        f[0] += stiff[0] * d_w[n] + a1[0] * stiff[0] * v_w[n]
+        f[3] += stiff[3] * d_e[n] + a1[3] * stiff[3] * v_e[n]
+        return f
+
+    M = np.diag(m)
+    x, v = np.zeros(6), np.zeros(6)
+    acc = np.linalg.solve(M, force(0) - C @ v - K @ x)
+    out = np.zeros((steps + 1, 6))
+    effective = M + 0.5 * dt * C + 0.25 * dt * dt * K
+    for n in range(steps):
+        x_pred = x + dt * v + 0.25 * dt * dt * acc
+        v_pred = v + 0.5 * dt * acc
+        acc = np.linalg.solve(effective, force(n + 1) - C @ v_pred - K @ x_pred)
+        x = x_pred + 0.25 * dt * dt * acc
+        v = v_pred + 0.5 * dt * acc
+        out[n + 1] = x
+    return out, d_w, d_e
+
+
+def test_the_relative_formulation_is_the_total_one():
+    """Two frames on two supports with different motions (a record at west, a sine at east),
+    an elastic link across: pframe's floors relative to their supports, plus their supports'
+    displacements, are the total displacements of an independent total-coordinate Newmark
+    integration (_total_newmark), to 1e-10 of the peak; the energy balance closes."""
+    record = record_file("elCentro.AT2")
+    supports = [{"name": "west", "position": [0.0, 0.0],
+                 "excitation": {"kind": "record", "file": str(record)}},
+                {"name": "east", "position": [30.0, 0.0],
+                 "excitation": {"kind": "sine", "amplitude": 2.0, "frequency": 7.0}}]
+    k_link = 3e7
+    scene = pair(supports, links=[{"nodes": ["A/2", "B/2"], "material": "elastic",
+                                   "stiffness": k_link}], dt=0.002, duration=8.0)
+    scene.pop("excitation")
+    plan, result = _run(scene)
+    assert plan.story_ground_start is not None  # the link is across the supports
+    total, d_w, d_e = _total_newmark(plan, K, 2 * K, k_link)
+    order = [plan.node_dof[plan.node_names.index(f"{b}/{i}")] for b in "AB" for i in (1, 2, 3)]
+    relative = result.history["displacement"][0][:, order]
+    ours = relative + np.c_[np.repeat(d_w[:, None], 3, 1), np.repeat(d_e[:, None], 3, 1)]
+    scale = np.max(np.abs(total))
+    assert scale > 0.01
+    np.testing.assert_allclose(ours, total, rtol=0, atol=1e-10 * scale)
+    assert result.energy_error(0) < 1e-12
+
+
+def test_supports_are_checked():
+    """A building on an undeclared support, a support nothing stands on, a wall without its
+    support in a scene of several, a wave passage without supports, an apparent velocity of
+    zero: each refused, naming the place."""
+    def refused(scene, match):
+        with pytest.raises(InputError, match=match):
+            parse_scene(json.dumps(scene))
+
+    scene = pair(SUPPORTS)
+    scene["buildings"][1]["support"] = "north"
+    refused(scene, r"buildings\[1\]\.support.*support 'north', which the scene does not "
+                   r"declare; its supports are west, east")
+    scene = pair(SUPPORTS + [{"name": "north"}])
+    refused(scene, r"support 'north': nothing stands on it")
+    scene = pair(SUPPORTS, contacts=[{"nodes": ["B/1", "ground"], "gap": 0.1,
+                                      "law": "linear", "stiffness": 1e9}])
+    refused(scene, r"contacts\[0\].*several supports \(west, east\): say which with "
+                   r"support: <name>")
+    scene = pair(excitation={"kind": "wave_passage", "velocity": 300.0,
+                             "motion": {"kind": "sine", "amplitude": 1.0, "frequency": 5.0}})
+    refused(scene, "declare them")
+    scene = pair(SUPPORTS, excitation={"kind": "wave_passage", "velocity": 0.0,
+                                       "motion": {"kind": "sine", "amplitude": 1.0,
+                                                  "frequency": 5.0}})
+    refused(scene, r"excitation.velocity.*greater than 0")
