@@ -439,7 +439,7 @@ def work_arrays(plan, st: State) -> Work:
                 np.zeros((stages - 1, len(Value), n)), np.zeros(s), np.zeros(c),
                 np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size),
                 *(np.zeros(len(plan.channels) * (1 if plan.ground_motion is None else 3))
-                  for _ in range(3)))
+                  for _ in range(4)))
     return work
 
 

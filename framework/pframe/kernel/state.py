@@ -354,8 +354,9 @@ Work = namedtuple("Work", [
     # the generic stage loop: the ends of the stages before the last, (stages - 1, 3, n) u, v
     # and a, the deformations and law states at the previous stage's end, the laws start from
     "stage_values", "stage_drift", "stage_penetration", "story_stage", "contact_stage",
-    # (G,) the ground's series at a (sub-)step's start and end and at its evaluation point
-    "ag_old", "ag_new", "age",
+    # (G,) the ground's series at a (sub-)step's start and end and at its evaluation point,
+    # and at the end of the stage before (the generic stage loop)
+    "ag_old", "ag_new", "age", "ag_stage",
 ])
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)

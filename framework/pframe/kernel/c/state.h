@@ -278,6 +278,7 @@ typedef struct Work {
     double *ag_old;
     double *ag_new;
     double *age;
+    double *ag_stage;
 } Work;
 
 typedef struct Saved {
