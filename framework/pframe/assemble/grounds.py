@@ -49,17 +49,29 @@ def _terms(elements_of_members, ex_of_members) -> tuple[np.ndarray, np.ndarray, 
             np.array(coefs, dtype=float).reshape(len(elements_of_members), len(channel)))
 
 
-def ground_fields(variants, spring_sets) -> dict:
+#: what a recorder reads of the ground's displacements
+GROUND_QUANTITIES = ("ground_displacement", "contact_ground_displacement")
+
+
+def _channels_of(ex) -> list:
+    """The one ground's samples along each of its channels ('x', 'y')."""
+    rows = {"x": ex.ground_acceleration, "y": ex.ground_acceleration_y}
+    return [rows[c] for c in ex.channels]
+
+
+def ground_fields(variants, spring_sets, recorded) -> dict:
     """The Plan's fields of the elements across supports (see the module): their ground
     terms for the springs (storeys, links, soil) and the contacts, and the channels'
-    displacements and velocities (B, 2 C, steps + 1); empty when no element has a term."""
-    if not any(e.ground for ex in variants for e in (*ex.stories, *ex.links, *ex.contacts)):
+    displacements and velocities (B, 2 C, steps + 1); empty on one ground whose displacement
+    no recorder asks for (``recorded``: the quantities recorded)."""
+    first = variants[0]
+    if not (first.node_support or any(q in recorded for q in GROUND_QUANTITIES)):
         return {}
     story = _terms(spring_sets, variants)
     contact = _terms([ex.contacts for ex in variants], variants)
     motion = []
     for ex in variants:
-        samples = ex.support_samples
+        samples = ex.support_samples if ex.support_samples is not None else _channels_of(ex)
         pairs = [integrated(row, ex.dt) for row in samples]
         motion.append(np.concatenate([np.array([d for _, d in pairs]),
                                       np.array([v for v, _ in pairs])]))

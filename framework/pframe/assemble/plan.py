@@ -555,7 +555,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                              dtype=np.int64)[order],
         supports=first.supports,
         node_support=first.node_support,
-        **grounds.ground_fields(variants, spring_sets),
+        **grounds.ground_fields(variants, spring_sets, set(history) | set(envelope)),
         dof_node=node_of_key[order],
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
         planar=planar,

@@ -66,7 +66,8 @@ LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "foundation": ("foundation_name", "foundation on soil (named by its building)"),
           "direction": ("direction_name", "horizontal direction of the site (x, y)"),
           "point": ("point_name", "named plan point of a floor (<floor>:<point>)"),
-          "axis": ("axis_name", "axis of the point's building (x, y)")}
+          "axis": ("axis_name", "axis of the point's building (x, y)"),
+          "support": ("support_name", "support: a piece of ground that moves as one")}
 
 
 def _free_bytes(folder: Path) -> int | None:
@@ -221,8 +222,10 @@ class ResultWriter:
         names = {"node": plan.node_names, "story": plan.story_names,
                  "contact": plan.contact_names, "link": plan.link_names,
                  "foundation": plan.foundations}
-        if not plan.planar:
+        if not plan.planar or self._axes() == ("x", "y"):
             names["direction"] = ("x", "y")
+        if plan.node_support:
+            names["support"] = plan.supports
         if plan.point_names and any(DIMENSION[q] == "point" for q in
                                     [*(q for q, _ in plan.history), *plan.envelope]):
             names["point"] = plan.point_names
@@ -246,6 +249,11 @@ class ResultWriter:
         units, long_name = UNITS[q]
         if DIMENSION[q] == "point":
             return [(q, units, long_name, ("axis",))]
+        if DIMENSION[q] is None and self.plan.node_support:  # each support's, each axis
+            two = self._axes() == ("x", "y")
+            return [(q, units, long_name + " of each support" + (" along the site's x and y"
+                                                                  if two else ""),
+                     ("support", "direction") if two else ("support",))]
         if DIMENSION[q] is None and len(self.plan.channels) > 1:  # along the site's x and y
             return [(q, units, long_name + " along the site's x and y", ("direction",))]
         if self.plan.planar or DIMENSION[q] != "node":
@@ -253,6 +261,10 @@ class ResultWriter:
         name, rotation_units, rotation_name = ROTATION[q]
         return [(q, units, long_name.replace("floor ", "floor centre of mass "),
                  ("direction",)), (name, rotation_units, rotation_name, ())]
+
+    def _axes(self) -> tuple[str, ...]:
+        """The site's axes the ground motion loads (a channel per support and axis)."""
+        return tuple(dict.fromkeys(c.rsplit(":", 1)[-1] for c in self.plan.channels))
 
     def _undefined(self, q: str) -> str | None:
         """Why some values of ``q`` are NaN by definition (the drift ratio of a storey without
@@ -326,6 +338,11 @@ class ResultWriter:
         if DIMENSION[q] == "point":
             data = np.asarray(data)
             return [data.reshape(data.shape[:-1] + (data.shape[-1] // 2, 2))]
+        if DIMENSION[q] is None and self.plan.node_support:  # (support, axis) of each channel
+            data = np.asarray(data)
+            axes = len(self._axes())
+            shape = data.shape[:-1] + (data.shape[-1] // axes, axes)
+            return [data.reshape(shape) if axes > 1 else data]
         if DIMENSION[q] != "node":
             return [data]
         plan = self.plan

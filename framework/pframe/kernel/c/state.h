@@ -69,7 +69,9 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define ABSOLUTE_ACCELERATION 13
 #define POINT_DISPLACEMENT 14
 #define POINT_DRIFT 15
-#define RECORDABLE_COUNT 16
+#define GROUND_DISPLACEMENT 16
+#define CONTACT_GROUND_DISPLACEMENT 17
+#define RECORDABLE_COUNT 18
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
