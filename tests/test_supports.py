@@ -258,3 +258,40 @@ def test_every_integrator_pounds_across_supports(integrator, facts):
                                reference.envelope["displacement"][0], rtol=1e-2)
     assert result.envelope["contact_force"][0][0] == pytest.approx(
         reference.envelope["contact_force"][0][0], rel=3e-2)
+
+
+def test_a_result_on_supports_reproduces_from_the_file_alone(tmp_path):
+    """Each support's own record is kept in the result under its name (record_east_file,
+    its text and checksum, excitation_east_pga with its unit) and pframe.load of the file,
+    the records gone, runs the same bits again."""
+    import hashlib
+    import shutil
+
+    import pframe
+
+    sources = {"west": record_file("elCentro.AT2"), "east": record_file("A-ELC180.AT2")}
+    folder = tmp_path / "project"
+    (folder / "records").mkdir(parents=True)
+    for source in sources.values():
+        shutil.copy(source, folder / "records" / source.name)
+    supports = [{"name": name, "position": [40.0 * i, 0.0],
+                 "excitation": {"kind": "record", "file": f"records/{source.name}"}}
+                for i, (name, source) in enumerate(sources.items())]
+    scene = pair(supports, contacts=[{"nodes": ["A/3", "B/3"], "gap": 0.002, "law": "linear",
+                                      "stiffness": 1e9}],
+                 dt=0.005, duration=4.0, quantities=("displacement", "ground_displacement",
+                                                     "contact_ground_displacement"))
+    scene.pop("excitation")
+    path = folder / "scene.yaml"
+    path.write_text(json.dumps(scene), encoding="utf-8")
+    first = pframe.solve(path, output=tmp_path / "run.nc", progress=False).load()
+    for name, source in sources.items():
+        assert first.attrs[f"record_{name}_sha256"] == hashlib.sha256(
+            source.read_bytes()).hexdigest()
+    assert first.attrs["excitation_west_pga_g"] == pytest.approx(0.3188, abs=5e-5)
+    assert first.attrs["excitation_west_pga_units"] == "m/s^2"
+    assert first.ground_displacement.dims == ("t", "support")
+    assert float(np.abs(first.contact_ground_displacement).max()) > 0.0
+    shutil.rmtree(folder)
+    again = pframe.solve(pframe.load(tmp_path / "run.nc"), progress=False)
+    np.testing.assert_array_equal(again.displacement.values, first.displacement.values)

@@ -578,24 +578,55 @@ def record_attributes(loaded) -> dict:
     (``kind: components``): ``excitation_applied`` says both and the angle, and each
     component's facts carry its axis, ``excitation_x_pga``, ``record_x_file``, ...,
     ``excitation_y_pga``, ``record_y_file``, ... (a component has its own peak, the
-    site's axes each a mix of the two)."""
-    excitation = getattr(loaded.scene, "excitation", None)
-    if excitation is None:
-        return {}
+    site's axes each a mix of the two). A scene on supports (docs/supports.md): the motion a
+    wave passage carries (``excitation_applied`` with each support's delay) or the scene's,
+    and each support's own under its name (``excitation_east_pga``, ``record_east_file``,
+    ...)."""
+    scene = loaded.scene
     expanded = getattr(loaded, "expanded", None)
     duration = None if expanded is None else float(expanded.dt * expanded.steps)
+    supports = list(getattr(scene, "supports", ()) or ())
+    own = [s.excitation is not None for s in supports]
+    motions = tuple(getattr(expanded, "support_motions", ()) or ())
+    shared = next((m for m, mine in zip(motions, own) if not mine), None)
+    out = {}
+    excitation = scene.excitation
+    if excitation is not None and excitation.kind == "wave_passage":
+        out.update(_excitation_attributes(excitation.motion, shared, expanded, loaded,
+                                          duration, ""))
+        out["excitation_applied"] = (
+            f"a wave passage at {excitation.velocity:g} m/s towards {excitation.direction:g} "
+            "degrees (" + ", ".join(f"{name} {tau:.4g} s" for name, tau in zip(
+                expanded.supports, expanded.support_delays)) + "): "
+            + out.get("excitation_applied", excitation.motion.kind))
+    elif excitation is not None and not (supports and all(own)):
+        out.update(_excitation_attributes(excitation, shared, expanded, loaded, duration, ""))
+    for support, mine, motion in zip(supports, own, motions):
+        if mine:  # its own motion: its facts under its name
+            out.update(_excitation_attributes(support.excitation, motion, expanded, loaded,
+                                              duration, f"{support.name}_"))
+    return out
+
+
+def _excitation_attributes(excitation, ground, expanded, loaded, duration, name) -> dict:
+    """:func:`record_attributes` of one excitation (a motion or two components) as applied
+    (``ground`` its GroundMotion, None: the scene's one), its attributes' names with
+    ``name`` after ``excitation_`` and ``record_`` (a support's: ``east_``)."""
+    record = ground.record if ground is not None else getattr(expanded, "record", None)
     if excitation.kind != "components":
-        return _motion_attributes(excitation, getattr(expanded, "record", None), loaded,
-                                  duration, "excitation_", "record_")
-    records = dict(getattr(expanded, "component_records", ()) or ())
+        return _motion_attributes(excitation, record, loaded, duration,
+                                  f"excitation_{name}", f"record_{name}")
+    records = dict(ground.records if ground is not None
+                   else getattr(expanded, "component_records", ()) or ())
     out, said = {}, []
     for axis, motion in excitation.motions():
         part = _motion_attributes(motion, records.get(axis), loaded, duration,
-                                  f"excitation_{axis}_", f"record_{axis}_")
-        said.append(f"{axis}: {part.pop(f'excitation_{axis}_applied', motion.kind)}")
+                                  f"excitation_{name}{axis}_", f"record_{name}{axis}_")
+        said.append(f"{axis}: {part.pop(f'excitation_{name}{axis}_applied', motion.kind)}")
         out.update(part)
-    out["excitation_applied"] = (f"two components, x at {excitation.angle:g} degrees from the "
-                                 "site's x axis and y at 90 degrees to it: " + "; ".join(said))
+    out[f"excitation_{name}applied"] = (f"two components, x at {excitation.angle:g} degrees "
+                                       "from the site's x axis and y at 90 degrees to it: "
+                                       + "; ".join(said))
     return out
 
 
