@@ -137,13 +137,40 @@ class Expanded:
         if x.shape != (steps + 1,) or (y is not None and np.shape(y) != (steps + 1,)):
             raise ValueError(f"a ground motion of {steps} steps has {steps + 1} samples per "
                              f"axis, not {x.shape} and {np.shape(y) if y is not None else ''}")
-        if "y" in self.channels:
+        if "y" in self.axes:
             y = np.zeros(steps + 1) if y is None else np.asarray(y, dtype=float)
         elif y is not None:
             raise ValueError("the scene's motion does not load its y axis: expand it with a "
                              "motion in two components (kind: components) to apply one")
+        if self.support_samples is not None:
+            changes["support_samples"] = self._carried(x, y, steps)
         return dataclasses.replace(self, steps=steps, ground_acceleration=x,
                                    ground_acceleration_y=y, **changes)
+
+    def first_steps(self, steps: int, **changes) -> Expanded:
+        """This scene cut to its first ``steps`` steps (a warm-up, a plan for its periods),
+        every ground motion with it."""
+        cut = slice(0, steps + 1)
+        return dataclasses.replace(
+            self, steps=steps, ground_acceleration=self.ground_acceleration[cut],
+            ground_acceleration_y=(None if self.ground_acceleration_y is None
+                                   else self.ground_acceleration_y[cut]),
+            support_samples=(None if self.support_samples is None
+                             else self.support_samples[:, cut]), **changes)
+
+    def _carried(self, x, y, steps: int) -> np.ndarray:
+        """Each support's samples of a motion the scene's wave passage carries (docs/
+        supports.md): x and y delayed by each support's delay. A scene whose supports have
+        motions of their own takes no single motion."""
+        from pframe.model.scene import WavePassage
+        from pframe.model.support_motion import delayed
+
+        if not isinstance(self.excitation, WavePassage):  # (gap.runs.for_runs says why)
+            raise ValueError("the scene's supports move with motions of their own: one motion "
+                             "cannot stand for them (give the scene a wave passage, whose "
+                             "motion each support takes with its delay)")
+        return np.array([delayed(x if axis == "x" else y, tau, self.dt)
+                         for tau in self.support_delays for axis in self.axes])
 
 
 def _check_size(scene) -> None:

@@ -54,6 +54,28 @@ def load_sweep(path: str | Path, chunk: int | None = None) -> SweepDefinition:
     return parse_sweep(read_input(path, "sweep"), str(path), path.parent, chunk)
 
 
+def scene_records(data) -> list[tuple[tuple, dict]]:
+    """(path, motion) of each record of scene data besides its excitation's own (a record
+    excitation is the sweep's base record): the components of a pair, the motion a wave
+    passage carries, each support's own motion and its components."""
+    places = []
+    excitation = data.get("excitation") if isinstance(data, dict) else None
+    if isinstance(excitation, dict) and not isinstance(excitation.get("file"), str):
+        places.append((("excitation",), excitation))
+    for i, support in enumerate((data.get("supports") or []) if isinstance(data, dict) else []):
+        if isinstance(support, dict) and isinstance(support.get("excitation"), dict):
+            places.append((("supports", i, "excitation"), support["excitation"]))
+    out = []
+    while places:
+        path, motion = places.pop(0)
+        if isinstance(motion.get("file"), str):
+            out.append((path, motion))
+        for key in ("x", "y", "motion"):
+            if isinstance(motion.get(key), dict):
+                places.append((path + (key,), motion[key]))
+    return out
+
+
 def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
                 chunk: int | None = None) -> SweepDefinition:
     """:func:`load_sweep` for YAML text; ``folder`` is where relative file names start."""
@@ -80,6 +102,12 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
         key = _record_key(content, file.name)
         files[key] = content
         records.append(("base", excitation["file"], key, str(file.resolve())))
+    for path, motion in scene_records(base_data):  # components, a wave passage, supports
+        file = base_dir / motion["file"]
+        content = _record(file, base_dir, base_source or source)
+        key = _record_key(content, file.name)
+        files[key] = content
+        records.append(("scene", ".".join(map(str, path)), key, str(file.resolve())))
     for i, axis in enumerate(model.axes):
         if not axis.is_file:
             continue
