@@ -10,7 +10,7 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.model.scene import Envelope, History
 from pframe.sweep.definition import RESPONSES, SweepFile, validated_sweep
-from pframe.sweep.paths import check_targets, resolve
+from pframe.sweep.paths import check_targets, resolve, scene_records
 from pframe.sweep.spec import ENVELOPES, SweepDefinition
 from pframe.yamltext import compose as _compose
 from pframe.yamltext import where as _where
@@ -130,8 +130,6 @@ def parse(definition: SweepDefinition) -> Spec:
     excitation = base_data.get("excitation")
     if isinstance(excitation, dict) and isinstance(excitation.get("file"), str):
         base_record = keys[("base", excitation["file"])]
-    from pframe.sweep.reading import scene_records
-
     others = tuple((path, keys[("scene", ".".join(map(str, path)))])
                    for path, _ in scene_records(base_data))
 

@@ -10,6 +10,7 @@ from pframe.errors import InputError, given
 from pframe.excitation.records import MAX_RECORD_BYTES, read_record
 from pframe.model.load import read_input
 from pframe.sweep.definition import validated_sweep
+from pframe.sweep.paths import scene_records
 from pframe.sweep.spec import SweepDefinition, code_fingerprint
 from pframe.yamltext import MAX_YAML_BYTES, read_bounded_bytes
 from pframe.yamltext import compose as _compose
@@ -52,28 +53,6 @@ def load_sweep(path: str | Path, chunk: int | None = None) -> SweepDefinition:
     """
     path = Path(path)
     return parse_sweep(read_input(path, "sweep"), str(path), path.parent, chunk)
-
-
-def scene_records(data) -> list[tuple[tuple, dict]]:
-    """(path, motion) of each record of scene data besides its excitation's own (a record
-    excitation is the sweep's base record): the components of a pair, the motion a wave
-    passage carries, each support's own motion and its components."""
-    places = []
-    excitation = data.get("excitation") if isinstance(data, dict) else None
-    if isinstance(excitation, dict) and not isinstance(excitation.get("file"), str):
-        places.append((("excitation",), excitation))
-    for i, support in enumerate((data.get("supports") or []) if isinstance(data, dict) else []):
-        if isinstance(support, dict) and isinstance(support.get("excitation"), dict):
-            places.append((("supports", i, "excitation"), support["excitation"]))
-    out = []
-    while places:
-        path, motion = places.pop(0)
-        if isinstance(motion.get("file"), str):
-            out.append((path, motion))
-        for key in ("x", "y", "motion"):
-            if isinstance(motion.get(key), dict):
-                places.append((path + (key,), motion[key]))
-    return out
 
 
 def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
