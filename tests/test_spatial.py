@@ -68,10 +68,12 @@ def test_wave_passage_delays_follow_the_plane_wave():
 
 
 def test_a_reference_support_keeps_the_record_and_earlier_ones_start_before_it():
+    """The record does not start at zero: a zero before it at every support (one step), and
+    the first support is reached 0.1234 s before the reference."""
     a = np.random.default_rng(1).standard_normal(400)
     m = sp.wave_passage(a, STEP, [(0.0, 0.0), (123.4, 0.0)], co.WavePassage(1000.0, 0.0),
                         reference=1)
-    lead = math.ceil(0.1234 / STEP)  # the first support is reached 0.1234 s earlier
+    lead = 1 + math.ceil(0.1234 / STEP)
     assert m.delays[1] == pytest.approx(lead * STEP, abs=1e-15)
     assert m.delays[0] == pytest.approx(lead * STEP - 0.1234, abs=1e-12)
     assert np.array_equal(m.acceleration[1, lead:lead + 400], a)
@@ -80,11 +82,15 @@ def test_a_reference_support_keeps_the_record_and_earlier_ones_start_before_it()
 
 def test_wave_passage_says_what_the_motions_are():
     """The motions are longer than the record (never cut) and say so; an abrupt record, whose
-    fractional delay rings, is named."""
+    fractional delay rings and which gets a zero before it, is named."""
     a = np.random.default_rng(2).standard_normal(300)
     m = sp.wave_passage(a, STEP, [(0.0, 0.0), (12.345, 0.0)], co.WavePassage(500.0, 0.0))
-    assert m.acceleration.shape == (2, 300 + math.ceil(12.345 / 500.0 / STEP))
-    assert any("longer than the motion" in n and "0.02469 s" in n for n in m.notes)
+    assert m.acceleration.shape == (2, 301 + math.ceil(12.345 / 500.0 / STEP))
+    assert m.acceleration[0, 0] == 0.0 and np.array_equal(m.acceleration[0, 1:301], a)
+    assert any("not zero: every support's motion starts one step before" in n
+               for n in m.notes)
+    assert any("0.03469 s longer than the motion" in n and "0.02469 s after the first" in n
+               for n in m.notes)
     assert any("starts or ends at" in n for n in m.notes)
     assert any("above 0.8 of the Nyquist" in n for n in m.notes)
     smooth = sp.wave_passage(_pulse(np.arange(1000) * STEP), STEP,

@@ -8,6 +8,14 @@ support on one time grid t_k = k dt from 0, with when the waves reach each suppo
 starts when the waves reach the first support, so that every motion is zero before it
 arrives and none is cut: the motions last longer than the motion they come from by the
 largest delay, and their notes say by how much.
+
+Every support's motion is zero at t = 0: a motion that does not start at zero is preceded by
+one zero sample. Linear between samples and zero before the grid, each motion is then what
+the trapezoid rule integrates from rest (:mod:`pframe.excitation.kinematics`, the kernel's
+relations), the same at every support: two supports with the same motion delayed have the
+same velocity and displacement, delayed (a motion whose first sample is not zero, taken
+from rest at t = 0, would jump there, and its copy delayed by whole steps would ramp up over
+a step instead: their velocities would differ by a_0 dt / 2 for good).
 """
 
 from __future__ import annotations
@@ -39,10 +47,12 @@ BAND_LIMIT = 1e-3
 class SupportMotions:
     """The ground accelerations of several supports on one time grid.
 
-    ``acceleration`` (supports, samples), m/s^2, at t_k = k ``step`` from 0 (read-only);
-    ``delays`` (s, >= 0): when the waves reach each support (every support's motion is zero
-    before it, to round-off for a fractional delay: docs); ``notes``: what a user must know
-    about them (longer than the motion they come from, a delay that cannot be exact, ...)."""
+    ``acceleration`` (supports, samples), m/s^2, at t_k = k ``step`` from 0 (read-only), zero
+    at t = 0; ``delays`` (s, >= 0): support s's motion is the motion it comes from (the
+    record, the simulated motion), whose first sample is at its t = 0, shifted to t =
+    ``delays[s]`` (zero before, to round-off for a fractional delay: docs); ``notes``: what a
+    user must know about them (longer than the motion they come from, a delay that cannot be
+    exact, ...)."""
 
     step: float
     acceleration: np.ndarray
@@ -67,6 +77,17 @@ class SupportMotions:
             return self.acceleration, v, d
         done = kinematics.baseline_correct(self.acceleration, self.step, **baseline)
         return done.acceleration, done.velocity, done.displacement
+
+
+#: a motion whose first sample is at most this part of its peak starts at rest: no zero is put
+#: before it (the jump it would make there changes its velocity by a_0 dt / 2, negligible)
+AT_REST = 1e-9
+
+
+def starts_at_rest(samples) -> bool:
+    """Whether every row of ``samples`` starts at zero (within :data:`AT_REST` of its peak)."""
+    a = np.atleast_2d(np.asarray(samples, float))
+    return bool(np.all(np.abs(a[:, 0]) <= AT_REST * np.max(np.abs(a), axis=1)))
 
 
 def _frozen(array: np.ndarray) -> np.ndarray:
@@ -139,20 +160,21 @@ def delayed(samples, step: float, delay: float, length: int | None = None) -> np
 
 
 def support_delays(positions, step: float, wave: WavePassage | None,
-                   reference: int | None = None) -> np.ndarray:
+                   reference: int | None = None, lead: int = 0) -> np.ndarray:
     """When the wave reaches each support (s) from t = 0 of the motions: tau_s - tau_min
     (``reference`` None: the first support reached is reached at t = 0), or tau_s - tau_r + P
     ``step`` with P the fewest whole steps that keep every delay >= 0 (``reference`` r: the
-    reference support's delay is whole steps, so its motion is the given samples unchanged).
+    reference support's delay is whole steps, so its motion is the given samples unchanged),
+    all plus ``lead`` whole steps (a zero before every motion: module docstring).
     tau_s = (x_s, y_s) . (cos phi, sin phi) / v_app (:class:`WavePassage`)."""
     p = support_positions(positions)
     if wave is None:
-        return np.zeros(len(p))
+        return np.full(len(p), lead * step)
     tau = wave.arrivals(p)
     if reference is None:
-        return tau - np.min(tau)
-    lead = tau[reference] - np.min(tau)  # how long before the reference the first is reached
-    whole = int(math.ceil(lead / step - WHOLE_STEP)) if lead > 0 else 0
+        return tau - np.min(tau) + lead * step
+    first = tau[reference] - np.min(tau)  # how long before the reference the first is reached
+    whole = lead + (int(math.ceil(first / step - WHOLE_STEP)) if first > 0 else 0)
     delays = tau - tau[reference] + whole * step
     delays[reference] = whole * step
     return np.maximum(delays, 0.0)
@@ -182,18 +204,40 @@ def _band_notes(samples: np.ndarray, step: float, delays: np.ndarray, what: str)
     return notes
 
 
-def _longer_note(delays: np.ndarray, extra: float = 0.0, why: str = "") -> list[str]:
-    longest = float(np.max(delays)) if delays.size else 0.0
-    if longest <= 0.0 and extra <= 0.0:
-        return []
-    text = (f"the support motions last {longest + extra:.4g} s longer than the motion they come "
-            "from")
+def _longer_note(delays: np.ndarray, extra: float = 0.0, why: str = "",
+                 lead_why: str = "a zero before a motion that does not start at zero") -> list:
+    """The note that the motions are longer than the motion they come from, and why: the
+    lead before the first arrival, the wave's crossing, ``extra`` s for ``why``."""
+    first, last = float(np.min(delays)), float(np.max(delays))
     parts = []
-    if longest > 0.0:
-        parts.append(f"the wave reaches the last support {longest:.4g} s after the first")
+    if first > 0.0:
+        parts.append(f"{first:.4g} s before the first arrival for {lead_why}")
+    if last > first:
+        parts.append(f"the wave reaches the last support {last - first:.4g} s after the first")
     if extra > 0.0:
         parts.append(f"{extra:.4g} s for {why}")
-    return [text + ": " + "; ".join(parts) + " (the analysis needs that long to see them whole)"]
+    if not parts:
+        return []
+    return [f"the support motions last {last + extra:.4g} s longer than the motion they come "
+            "from: " + "; ".join(parts) + " (the analysis needs that long to see them whole)"]
+
+
+def _start_notes(samples: np.ndarray, step: float, what: str) -> list[str]:
+    """What a user must know when ``samples`` do not start at zero: every support's motion is
+    then preceded by a zero (module docstring), and so taken the motion may not end at rest
+    (its baseline was corrected for a jump at its first sample)."""
+    if starts_at_rest(samples):
+        return []
+    from pframe.excitation.kinematics import integrate
+
+    v, d = integrate(np.concatenate([[0.0], samples]), step)
+    text = (f"{what} starts at {samples[0]:.4g} m/s^2, not zero: every support's motion starts "
+            "one step before it, from zero (the motions start at rest)")
+    if abs(v[-1]) > 1e-3 * np.max(np.abs(v)) or abs(d[-1]) > 1e-3 * np.max(np.abs(d)):
+        text += (f"; so taken it ends with a velocity of {v[-1]:.4g} m/s and a displacement of "
+                 f"{d[-1]:.4g} m (peak {np.max(np.abs(d)):.4g} m): every support's motion has "
+                 "that drift, which kinematics.baseline_correct(fit='rest') removes")
+    return [text]
 
 
 def wave_passage(record, step: float, positions, wave: WavePassage,
@@ -203,17 +247,18 @@ def wave_passage(record, step: float, positions, wave: WavePassage,
     interpolation otherwise: :func:`delayed`). ``record``: accelerations (m/s^2) every
     ``step`` s from t = 0; ``positions``: (x, y) of each support (m, site axes); ``reference``:
     the support whose motion is the record's samples unchanged (default: the first reached,
-    whose delay is 0). The motions are the record's length plus the largest delay (nothing is
-    cut)."""
+    whose delay is 0, or one step when the record does not start at zero). The motions are the
+    record's length plus the largest delay (nothing is cut)."""
     a = _check_samples(record, "the record")
     step = _check_step(step)
     p = support_positions(positions)
     if reference is not None and not 0 <= reference < len(p):
         raise ValueError(f"reference support {reference} is not one of the {len(p)} supports")
-    delays = support_delays(p, step, wave, reference)
+    delays = support_delays(p, step, wave, reference, lead=int(not starts_at_rest(a)))
     length = a.size + int(math.ceil(float(np.max(delays)) / step - WHOLE_STEP))
     acc = np.array([delayed(a, step, float(d), length) for d in delays])
-    notes = _longer_note(delays) + _band_notes(a, step, delays, "the record")
+    notes = (_longer_note(delays) + _start_notes(a, step, "the record")
+             + _band_notes(a, step, delays, "the record"))
     description = (f"one record at {len(p)} supports, wave passage at {wave.velocity:g} m/s "
                    f"towards {wave.direction:g} degrees")
     return SupportMotions(step, _frozen(acc), _frozen(delays), description, None, tuple(notes))
@@ -383,7 +428,8 @@ def simulate(positions, step: float, duration: float, spectrum, coherency=None, 
     motion = stationary(p, step, count, spectrum, coherency, sites, rng)
     if envelope is not None:
         motion *= np.asarray(envelope(np.arange(count) * step), float)
-    delays = support_delays(p, step, wave)
+    lead = int(not starts_at_rest(motion))  # a zero before a motion that does not start at 0
+    delays = support_delays(p, step, wave, lead=lead)
     length = count + int(math.ceil(float(np.max(delays)) / step - WHOLE_STEP))
     acc = np.array([delayed(row, step, float(d), length) for row, d in zip(motion, delays)])
     settle = 0.0
