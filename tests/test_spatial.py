@@ -80,6 +80,19 @@ def test_a_reference_support_keeps_the_record_and_earlier_ones_start_before_it()
     assert not np.any(m.acceleration[1, :lead])
 
 
+def test_supports_with_one_motion_delayed_have_one_displacement_delayed():
+    """A record that starts at 0.3 m/s^2, 0.37 s later at the second support: both supports'
+    velocities and displacements, the trapezoid rule from rest, are the same delayed (the
+    record is put after a zero at both, not jumping at t = 0 at the first), so the gap between
+    them does not drift."""
+    a = np.random.default_rng(6).standard_normal(800)
+    a[0] = 0.3
+    m = sp.wave_passage(a, STEP, [(0.0, 0.0), (185.0, 0.0)], co.WavePassage(500.0, 0.0))
+    _, v, d = m.kinematics()
+    assert np.max(np.abs(v[1, 37:] - v[0, :-37])) < 1e-13
+    assert np.max(np.abs(d[1, 37:] - d[0, :-37])) < 1e-12
+
+
 def test_wave_passage_says_what_the_motions_are():
     """The motions are longer than the record (never cut) and say so; an abrupt record, whose
     fractional delay rings and which gets a zero before it, is named."""
