@@ -396,3 +396,174 @@ def test_the_soil_columns_amplify_and_respond_after_the_input():
         out = np.fft.irfft(column(omega) * np.fft.rfft(pulse), t.size)
         before = np.max(np.abs(out[t < 19.7]))
         assert before < precursor * np.max(np.abs(out)), column
+
+
+# ----------------------------------------------------------------------------------------
+# Motions conditioned on a record
+
+
+def test_the_recorded_support_keeps_the_record():
+    """Bit for bit, from the whole step at which the wave reaches it; the supports the wave
+    reaches first start before it, and the notes say which support holds the record."""
+    from pframe.excitation.conditioned import conditioned
+
+    a = np.random.default_rng(4).standard_normal(1500)
+    m = conditioned(a, STEP, LINE, co.HarichandranVanmarcke(), recorded=1, seed=2,
+                    wave=co.WavePassage(650.0, 0.0), sites=[None, co.SoilColumn(2, 0.2), None])
+    start = round(m.delays[1] / STEP)  # after the conditional mean's second before the record
+    assert start == 100 + math.ceil(60.0 / 650.0 / STEP) and m.delays[0] == pytest.approx(
+        start * STEP - 60.0 / 650.0, abs=1e-12)
+    assert np.array_equal(m.acceleration[1, start:start + a.size], a)
+    assert not np.any(m.acceleration[1, :start]) and not np.any(m.acceleration[1, start + 1500:])
+    assert "support 1 keeps the record" in m.notes[0]
+    again = conditioned(a, STEP, LINE, co.HarichandranVanmarcke(), recorded=1, seed=2,
+                        wave=co.WavePassage(650.0, 0.0), sites=[None, co.SoilColumn(2, 0.2), None])
+    assert np.array_equal(again.acceleration, m.acceleration)
+
+
+def test_fully_coherent_supports_get_the_record_delayed():
+    """|gamma| = 1, firm ground: the conditional covariance is zero and the mean is the record,
+    so every other support has the record arriving as the wave reaches it: the analytic
+    a(t - d_s) of a band-limited record, to round-off."""
+    from pframe.excitation.conditioned import conditioned
+
+    t = np.arange(1200) * STEP
+    m = conditioned(_pulse(t), STEP, [(50.0, 0.0), (0.0, 0.0), (180.0, 20.0)], None,
+                    seed=1, wave=co.WavePassage(420.0, 0.0))
+    for row, delay in zip(m.acceleration, m.delays):
+        assert np.max(np.abs(row - _pulse(np.arange(row.size) * STEP - delay))) < 1e-12
+    assert m.delays[0] == pytest.approx(math.ceil(50 / 420 / STEP) * STEP, abs=1e-12)
+    assert m.delays[2] - m.delays[0] == pytest.approx(130.0 / 420.0, abs=1e-12)
+
+
+def test_the_residual_follows_the_record_in_time():
+    """Windows of 2 s: where the record is quiet (its first 10 s) the simulated motions are
+    quiet too, their residual localised by the windows."""
+    from pframe.excitation.conditioned import conditioned
+
+    t = np.arange(2000) * STEP
+    a = np.random.default_rng(5).standard_normal(t.size) * (t >= 10.0)
+    m = conditioned(a, STEP, LINE, co.LucoWong(0.5, 300.0), seed=3, segment=2.0,
+                    highpass=False)
+    for row, delay in zip(m.acceleration[1:], m.delays[1:]):
+        local = m.times - delay  # the record's time at this support
+        assert np.sum(row[local < 8.5] ** 2) < 1e-6 * np.sum(row[(local > 11) & (local < 20)]
+                                                             ** 2)
+
+
+def _model_coherency(model, omega, positions, sites):
+    """gamma_jk(w) without wave passage, site phases included: G_jk / sqrt(G_jj G_kk)."""
+    g = co.lagged_matrix(omega, positions, model, sites)
+    auto = np.real(np.einsum("fjj->fj", g))
+    return g / np.sqrt(auto[:, :, None] * auto[:, None, :])
+
+
+@pytest.mark.slow
+def test_the_conditional_mean_and_covariance_are_the_theory():
+    """One stationary segment, a fixed record, 300 realisations: the mean motion of each
+    support is (H_u / H_0) |gamma_u0| applied to the record (within five standard errors of
+    the mean at every sample; before the record, over the pre-roll, tapered to zero at t = 0;
+    after it, the columns' free vibration alone), and the residual (motion less that mean)
+    has the conditional covariance C_uv = G_uv - G_u0 G_0v / G_00 relative to the record's
+    power: its power in 1 Hz bands over the record's is C_uu, and the coherency of the
+    residuals at two supports is C_uv / sqrt(C_uu C_vv), within four jackknife standard
+    errors (plus 0.02)."""
+    from pframe.excitation.conditioned import PREROLL, conditioned
+
+    model = co.LucoWong(0.4, 300.0)
+    sites = [co.SoilColumn(3.0, 0.4), None, co.SoilColumn(1.5, 0.3)]
+    record = sp.simulate(LINE, STEP, 2046 * STEP, CP, model, seed=99, sites=sites,
+                         highpass=False).acceleration[0]
+    assert record.size == 2048 and record[0] == 0.0  # a zero put before the stationary motion
+    runs = np.array([conditioned(record, STEP, LINE, model, seed=s, sites=sites, segment=None,
+                                 highpass=False).acceleration for s in range(300)])
+    lead = round(PREROLL / STEP)
+    span = slice(lead, lead + 2048)
+    assert np.array_equal(runs[:, 0, span], np.broadcast_to(record, (300, 2048)))
+    frame = runs.shape[-1]  # pre-roll, record, the soil columns' free vibration after it
+    assert frame == lead + 2048 + math.ceil(10.0 / (0.3 * 2 * math.pi * 1.5) / STEP)
+    size = 8192
+    omega = 2 * math.pi * np.fft.rfftfreq(size, STEP)
+    g = co.lagged_matrix(omega, LINE, model, sites)
+    gain = g[:, 1:, 0] / g[:, :1, 0].real
+    framed = np.concatenate([np.zeros(lead), record])
+    mean = np.fft.irfft(gain.T * np.fft.rfft(framed, size), size)[:, :frame]
+    mean[:, :lead] *= np.sin(0.5 * math.pi * np.arange(lead) / lead) ** 2
+    spread = runs[:, 1:, span].std(axis=0, ddof=1) / math.sqrt(300)
+    assert np.max(np.abs(runs[:, 1:, span].mean(axis=0) - mean[:, span]) / spread) < 5.0
+    outside = np.r_[0:lead, lead + 2048:frame]  # no residual there: the mean alone
+    assert np.max(np.abs(runs[:, 1:, outside] - mean[:, outside])) < 1e-9 * np.max(np.abs(mean))
+    assert np.all(runs[:, :, 0] == 0.0)
+    residual = np.fft.rfft(runs[:, 1:, span] - mean[:, span], axis=-1)  # the coefficients
+    per = residual[:, :, None, :] * np.conj(residual[:, None, :, :])
+    omega = 2 * math.pi * np.fft.rfftfreq(2048, STEP)
+    g = co.lagged_matrix(omega, LINE, model, sites)
+    cov = (g[:, 1:, 1:] - g[:, 1:, :1] * g[:, :1, 1:] / g[:, :1, :1]) / g[:, :1, :1].real
+    power = np.abs(np.fft.rfft(record)) ** 2
+    for lo_hz in (1.0, 3.0, 6.0):
+        band = (omega >= 2 * math.pi * lo_hz) & (omega < 2 * math.pi * (lo_hz + 1.0))
+        for u in range(2):
+            def ratio(total, u=u, band=band):
+                return np.sum(np.real(total[u, u, band])) / (300 * np.sum(power[band]))
+
+            estimate, error = _jackknife(per, ratio)
+            expected = np.sum(np.real(cov[band, u, u]) * power[band]) / np.sum(power[band])
+            assert abs(estimate - expected) < 4 * error + 0.02 * expected, (lo_hz, u)
+        b = int(np.argmin(np.abs(omega - 2 * math.pi * (lo_hz + 0.5))))
+
+        def conditional(total, b=b):
+            c = _coherency(total)[0, 1, b]
+            return np.array([c.real, c.imag])
+
+        estimate, error = _jackknife(per, conditional)
+        expected = cov[b, 0, 1] / np.sqrt(cov[b, 0, 0].real * cov[b, 1, 1].real)
+        assert np.all(np.abs(estimate - [expected.real, expected.imag]) < 4 * error + 0.02), \
+            (lo_hz, estimate, expected)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model, windows", [
+    (co.HarichandranVanmarcke(), False), (co.LucoWong(0.25, 400.0), False),
+    (co.HarichandranVanmarcke(), True)],
+    ids=["harichandran_vanmarcke", "luco_wong", "harichandran_vanmarcke_windows"])
+def test_records_of_the_model_conditioned_have_the_model_coherency(model, windows):
+    """Records drawn from the model at support 0 (on a soil column), the other supports (one
+    on another column) simulated conditioned on each: over 200 such arrays the coherency of
+    every pair, the record's with the simulated ones' and between simulated ones, is the
+    model's with its site phases (within four jackknife standard errors plus 0.02), and each
+    support's power over the record's is |H_u / H_0|^2 (four standard errors plus 3 %); with
+    one stationary segment, and with the defaults (windows of 4 s, the high-pass)."""
+    from pframe.excitation.conditioned import PREROLL, conditioned
+
+    options = {} if windows else {"segment": None, "highpass": False}
+
+    sites = [co.SoilColumn(2.5, 0.4), None, co.SoilColumn(1.5, 0.3)]
+    runs = []
+    for s in range(200):
+        record = sp.simulate(LINE, STEP, 2046 * STEP, CP, model, seed=1000 + s, sites=sites,
+                             highpass=False).acceleration[0]
+        runs.append(conditioned(record, STEP, LINE, model, seed=s, sites=sites,
+                                **options).acceleration)
+    lead = round(PREROLL / STEP)
+    per, omega = _spectra(np.array(runs), slice(lead, lead + 2048))
+    gamma = _model_coherency(model, omega, LINE, sites)
+    h = co.site_transfers(omega, sites, 3)
+    for hz in (0.7, 2.0, 4.0, 7.0):
+        b = int(np.argmin(np.abs(omega - 2 * math.pi * hz)))
+        for j, k in ((0, 1), (0, 2), (1, 2)):
+            def coherency(total, j=j, k=k, b=b):
+                c = _coherency(total)[j, k, b]
+                return np.array([c.real, c.imag])
+
+            estimate, error = _jackknife(per, coherency)
+            expected = gamma[b, j, k]
+            assert np.all(np.abs(estimate - [expected.real, expected.imag]) < 4 * error
+                          + 0.02), (hz, j, k, estimate, expected)
+        band = (omega >= 2 * math.pi * hz) & (omega < 2 * math.pi * (hz + 0.5))
+        for u in (1, 2):
+            def gain(total, u=u, band=band):
+                return np.sum(np.real(total[u, u, band])) / np.sum(np.real(total[0, 0, band]))
+
+            estimate, error = _jackknife(per, gain)
+            expected = np.mean(np.abs(h[u, band] / h[0, band]) ** 2)
+            assert abs(estimate - expected) < 4 * error + 0.03 * expected, (hz, u)
