@@ -59,9 +59,11 @@ SMOOTHING = 0.5
 #: the filters' free vibration (soil columns, high-pass) is followed until it has decayed by
 #: e^-DECAY
 DECAY = 10.0
-#: the conditional mean, the record through a filter that is not causal, starts this long (s)
-#: before the record
-PREROLL = 1.0
+#: the conditional mean, the record through |gamma_u0| (real: not causal), starts before the
+#: record: the motions start 1.5 times the time beyond which the filter's impulse response
+#: holds at most this part of its L1 norm before its centre, and the mean is tapered to zero
+#: over the first third (beyond that time: it holds at most this part there)
+PRECURSOR = 1e-4
 #: a conditional mean that amplifies the record by more than this at some frequency is named
 #: in the notes (a support without the soil column the record was taken on)
 GAIN_NOTE = 10.0
@@ -80,14 +82,15 @@ def conditioned(record, step: float, positions, coherency=None, *, recorded: int
     the record was taken on).
 
     Non-stationarity: the residual's spectrum is the record's in Hann windows of ``segment``
-    s overlapping by half (the windows sum to 1; each window's residual is generated with the
+    s overlapping by half (the windows sum to 1, but over the first half window, where the
+    sum rises from 0 at the record's start; each window's residual is generated with the
     periodogram of the windowed record, smoothed over ``smoothing`` Hz, divided by the
     window's mean square, and localised by the window's square root, so the residual's
     variance follows the record's mean square in time); ``segment`` None: the whole record is
     one stationary segment. The conditional mean is the whole record filtered: a filter that
-    is not causal (|gamma| is real), whose part before the record's start is kept over
-    :data:`PREROLL` s before it, tapered to zero at t = 0 (sin^2) so that every motion
-    starts at rest.
+    is not causal (|gamma| is real), whose part before the record's start is kept
+    (:data:`PRECURSOR`: the motions start that much earlier, the mean tapered to zero at
+    t = 0 (sin^2) over the first third, so that every motion starts at rest).
 
     ``highpass``: the residual, summed over the windows, goes through the rezaeian2010
     post-filter (:func:`pframe.excitation.stochastic.highpass`, 0.2 Hz): it ends at rest, and
@@ -113,9 +116,9 @@ def conditioned(record, step: float, positions, coherency=None, *, recorded: int
         raise ValueError(f"the smoothing must be a finite width >= 0 (Hz), got {smoothing!r}")
     order = [recorded] + [j for j in range(n) if j != recorded]  # recorded first
     site_list = None if sites is None else [sites[j] for j in order]
-    filtered = n > 1 and (coherency is not None or any(s is not None for s in site_list or ()))
-    lead = int(math.ceil(PREROLL / step)) if filtered else int(not starts_at_rest(a0))
     tail = _tail_samples(step, site_list, highpass)
+    precursor = _precursor(a0.size + tail, step, p[order], coherency)
+    lead = max(precursor + precursor // 2, int(not starts_at_rest(a0)))
     framed = np.concatenate([np.zeros(lead), a0, np.zeros(tail)])
     rng = np.random.Generator(np.random.PCG64(int(seed)))
     motions = np.zeros((n, framed.size))
@@ -145,13 +148,31 @@ def _simulated(framed, lead, count, step, positions, coherency, sites, segment, 
     samples of the record, the tail), before the wave passage: the conditional mean, its part
     before the record tapered to zero at the frame's start, plus the residual."""
     mean = _conditional_mean(framed, step, framed.size, positions, coherency, sites)
-    if lead > 1:
-        mean[:, :lead] *= np.sin(0.5 * math.pi * np.arange(lead) / lead) ** 2
+    taper = lead // 3
+    if taper:
+        mean[:, :taper] *= np.sin(0.5 * math.pi * np.arange(taper) / taper) ** 2
+    else:
+        mean[:, :lead] = 0.0
     residual = np.zeros_like(mean)
     record = framed[lead:lead + count]
     residual[:, lead:] = _residual(record, step, framed.size - lead, positions, coherency,
                                    sites, segment, smoothing, highpass, rng)
     return mean + residual
+
+
+def _precursor(count: int, step: float, positions, coherency) -> int:
+    """Samples before its centre beyond which the impulse response of every |gamma_u0|
+    (zero phase) holds at most :data:`PRECURSOR` of its L1 norm (0 for full coherence)."""
+    if coherency is None or len(positions) < 2:
+        return 0
+    size = fast_length(2 * count)
+    omega = 2.0 * math.pi * np.fft.rfftfreq(size, step)
+    d = np.hypot(*(positions[1:] - positions[0]).T)
+    kernel = np.abs(np.fft.irfft(coherency(omega[None, :], d[:, None]), size))
+    before = kernel[:, size // 2:][:, ::-1]  # before[:, i]: i + 1 steps before the centre
+    beyond = np.cumsum(before[:, ::-1], axis=1)[:, ::-1]  # L1 norm from i + 1 steps on
+    far = beyond > PRECURSOR * np.sum(kernel, axis=1, keepdims=True)
+    return int(np.max(np.sum(far, axis=1)))
 
 
 def _tail_samples(step: float, sites, highpass: bool) -> int:
@@ -178,14 +199,16 @@ def _conditional_mean(a0, step, frame, positions, coherency, sites) -> np.ndarra
 
 
 def _windows(count: int, step: float, segment: float | None):
-    """(start, weights) of each Hann window: sin^2 of length 2 H samples every H samples (they
-    sum to 1 over [0, count)), clipped to the record; one window of ones without segments."""
-    if segment is None or segment / step >= count:
+    """(start, weights) of each Hann window: sin^2 of length 2 H samples every H samples from
+    the record's start, clipped to its end: they sum to 1 but over the first H samples, where
+    the sum rises from 0 (the residual starts from rest, as the record does); one window of
+    ones without segments or when the record is shorter than one."""
+    hop = 0 if segment is None else max(1, int(round(segment / (2.0 * step))))
+    if segment is None or 2 * hop >= count:
         return [(0, np.ones(count))]
-    hop = max(1, int(round(segment / (2.0 * step))))
     shape = np.sin(0.5 * math.pi * np.arange(2 * hop) / hop) ** 2
     out = []
-    for start in range(-hop, count, hop):
+    for start in range(0, count - hop, hop):
         lo, hi = max(start, 0), min(start + 2 * hop, count)
         if hi > lo:
             out.append((lo, shape[lo - start:hi - start]))
