@@ -1,6 +1,6 @@
-"""Motions at several supports (pframe.excitation.spatial, coherency, conditioned, kinematics)
-against closed forms and the models' own statistics: a delayed analytic band-limited signal,
-the trapezoid rule's exact cases, the coherency and the auto-spectra estimated from many
+"""Motions at several supports (pframe.excitation: spatial, simulated, coherency, conditioned,
+kinematics) against closed forms and the models' own statistics: a delayed analytic
+band-limited signal, the trapezoid rule's exact cases, the coherency and the auto-spectra estimated from many
 simulated motions, the conditional mean and covariance of the conditioned motions."""
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ import pytest
 
 from pframe.excitation import coherency as co
 from pframe.excitation import kinematics as kin
+from pframe.excitation import simulated as sim
 from pframe.excitation import spatial as sp
 
 STEP = 0.01
@@ -204,7 +205,7 @@ def test_a_rest_baseline_ends_the_motion_at_rest_and_says_so():
 # ----------------------------------------------------------------------------------------
 # Coherent simulated motions
 
-CP = sp.CloughPenzienSpectrum(intensity=0.01, ground_frequency=15.6, ground_damping=0.6,
+CP = sim.CloughPenzienSpectrum(intensity=0.01, ground_frequency=15.6, ground_damping=0.6,
                               filter_frequency=1.6, filter_damping=0.6)
 LINE = np.array([(0.0, 0.0), (60.0, 0.0), (150.0, 40.0)])
 
@@ -245,9 +246,9 @@ def _jackknife(per_realisation, statistic, groups=20):
 def test_the_same_seed_gives_the_same_motions():
     args = (LINE, STEP, 10.0, CP, co.LucoWong(0.3, 400.0))
     kw = {"wave": co.WavePassage(900.0, 20.0), "envelope": lambda t: np.minimum(t / 2, 1.0)}
-    one = sp.simulate(*args, seed=7, **kw)
-    assert np.array_equal(one.acceleration, sp.simulate(*args, seed=7, **kw).acceleration)
-    assert not np.allclose(one.acceleration, sp.simulate(*args, seed=8, **kw).acceleration)
+    one = sim.simulate(*args, seed=7, **kw)
+    assert np.array_equal(one.acceleration, sim.simulate(*args, seed=7, **kw).acceleration)
+    assert not np.allclose(one.acceleration, sim.simulate(*args, seed=8, **kw).acceleration)
     assert one.seed == 7 and "seed 7" in one.description
     assert not one.acceleration.flags.writeable
 
@@ -256,7 +257,7 @@ def test_fully_coherent_motions_are_one_motion_delayed():
     """|gamma| = 1 on firm ground: every support has the same stationary motion (the cross-
     spectral matrix has rank one), so each support's motion is the first's, delayed by the
     wave passage (whole steps here: 0.2 s and 0.5 s at 500 m/s), to round-off."""
-    m = sp.simulate([(0.0, 0.0), (100.0, 0.0), (250.0, 0.0)], STEP, 20.0, CP, None, seed=3,
+    m = sim.simulate([(0.0, 0.0), (100.0, 0.0), (250.0, 0.0)], STEP, 20.0, CP, None, seed=3,
                     wave=co.WavePassage(500.0, 0.0), envelope=lambda t: np.minimum(t / 3, 1),
                     highpass=False)
     assert m.delays == pytest.approx([0.0, 0.2, 0.5], abs=1e-15)
@@ -270,7 +271,7 @@ def test_fully_coherent_motions_are_one_motion_delayed():
 def test_a_simulated_motion_ends_at_rest():
     """The high-pass post-filter runs on until it has settled: the final velocity and
     displacement are below 1e-3 of their peaks at every support."""
-    m = sp.simulate(LINE, STEP, 20.0, CP, co.HarichandranVanmarcke(), seed=5,
+    m = sim.simulate(LINE, STEP, 20.0, CP, co.HarichandranVanmarcke(), seed=5,
                     envelope=lambda t: np.sin(math.pi * np.clip(t / 20.0, 0, 1)) ** 2,
                     wave=co.WavePassage(700.0, 45.0))
     _, v, d = m.kinematics()
@@ -288,7 +289,7 @@ def test_the_simulated_coherency_is_the_model(model):
     jackknife standard errors (plus 0.02 for the smoothing's bias): its modulus, and its phase
     the wave passage's exp(-i w tau_jk), here removed so that the real part is compared."""
     wave = co.WavePassage(800.0, 10.0)
-    runs = np.array([sp.simulate(LINE, STEP, 30.0, CP, model, seed=s, wave=wave).acceleration
+    runs = np.array([sim.simulate(LINE, STEP, 30.0, CP, model, seed=s, wave=wave).acceleration
                      for s in range(200)])
     per, omega = _spectra(runs, slice(700, 700 + 2048))
     distance = co.separations(LINE)
@@ -312,7 +313,7 @@ def test_each_support_keeps_its_auto_spectrum_and_the_sites_their_phase():
     four jackknife standard errors), and the cross-spectrum's phase is arg(H_j H_k^*), the
     sign of the convention S_jk = E[X_j X_k^*]."""
     sites = [None, co.SoilColumn(2.0, 0.3), co.SoilColumn(1.2, 0.2, kind="layer")]
-    runs = np.array([sp.simulate(LINE, STEP, 2047 * STEP, CP, co.LucoWong(0.1, 600.0),
+    runs = np.array([sim.simulate(LINE, STEP, 2047 * STEP, CP, co.LucoWong(0.1, 600.0),
                                  seed=s, sites=sites, highpass=False).acceleration
                      for s in range(150)])
     per, omega = _spectra(runs, slice(0, 2048))
@@ -349,7 +350,7 @@ def test_the_mid_time_filter_spectrum_has_unit_variance():
 
     params = RezaeianParameters(arias=0.3, d595=8.0, tmid=6.0, frequency=4.0, slope=-0.1,
                                 damping=0.25)
-    spectrum, q, duration = sp.rezaeian_mid_time(params)
+    spectrum, q, duration = sim.rezaeian_mid_time(params)
     total, _ = integrate.quad(lambda w: 2.0 * spectrum(w), 0.0, np.inf, limit=400)
     assert total == pytest.approx(1.0, rel=1e-8)
     assert q.arias() == pytest.approx(0.3, rel=1e-12)
@@ -497,7 +498,7 @@ def test_the_conditional_mean_and_covariance_are_the_theory():
 
     model = co.LucoWong(0.4, 300.0)
     sites = [co.SoilColumn(3.0, 0.4), None, co.SoilColumn(1.5, 0.3)]
-    record = sp.simulate(LINE, STEP, 2046 * STEP, CP, model, seed=99, sites=sites,
+    record = sim.simulate(LINE, STEP, 2046 * STEP, CP, model, seed=99, sites=sites,
                          highpass=False).acceleration[0]
     assert record.size == 2048 and record[0] == 0.0  # a zero put before the stationary motion
     made = [conditioned(record, STEP, LINE, model, seed=s, sites=sites, segment=None,
@@ -567,7 +568,7 @@ def test_records_of_the_model_conditioned_have_the_model_coherency(model, window
     sites = [co.SoilColumn(2.5, 0.4), None, co.SoilColumn(1.5, 0.3)]
     runs = []
     for s in range(200):
-        record = sp.simulate(LINE, STEP, 2046 * STEP, CP, model, seed=1000 + s, sites=sites,
+        record = sim.simulate(LINE, STEP, 2046 * STEP, CP, model, seed=1000 + s, sites=sites,
                              highpass=False).acceleration[0]
         made = conditioned(record, STEP, LINE, model, seed=s, sites=sites, **options)
         runs.append(made.acceleration)

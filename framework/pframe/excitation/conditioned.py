@@ -19,7 +19,7 @@ so the firm-ground spectrum cancels: S_00, the spectrum of the motion at the rec
 support, is estimated from the record (its smoothed periodogram), and nothing else is needed.
 The wave passage factors out of both (tau_u0 + tau_0v = tau_uv): pframe builds each support's
 motion without it and then delays the whole motion by tau_u - tau_0 (:func:`spatial.delayed`),
-as :func:`spatial.simulate` does.
+as :func:`simulated.simulate` does.
 """
 
 from __future__ import annotations
@@ -38,15 +38,15 @@ from pframe.excitation.coherency import (
 from pframe.excitation.spatial import (
     WHOLE_STEP,
     SupportMotions,
-    _band_notes,
-    _check_samples,
-    _check_step,
-    _describe,
-    _frozen,
-    _longer_note,
-    _start_notes,
+    band_notes,
+    check_samples,
+    check_step,
     delayed,
+    describe,
     fast_length,
+    frozen,
+    longer_note,
+    start_notes,
     starts_at_rest,
     support_delays,
 )
@@ -78,7 +78,7 @@ def conditioned(record, step: float, positions, coherency=None, *, recorded: int
     samples unchanged; the others are their conditional mean (a filter of the record) plus a
     Gaussian residual of the conditional covariance (module docstring), each delayed as the
     ``wave`` reaches it. ``coherency``, ``sites``, ``wave`` as for
-    :func:`pframe.excitation.spatial.simulate` (the recorded support's soil column is the one
+    :func:`pframe.excitation.simulated.simulate` (the recorded support's soil column is the one
     the record was taken on).
 
     Non-stationarity: the residual's spectrum is the record's in Hann windows of ``segment``
@@ -104,8 +104,8 @@ def conditioned(record, step: float, positions, coherency=None, *, recorded: int
     fewest that keep every delay >= 0 after the pre-roll. ``seed``: numpy's PCG64, the
     residual's normal variables drawn window by window in time order, for each a (2,
     unrecorded supports, frequencies) array."""
-    a0 = _check_samples(record, "the record")
-    step = _check_step(step)
+    a0 = check_samples(record, "the record")
+    step = check_step(step)
     p = support_positions(positions)
     n = len(p)
     if not (isinstance(recorded, (int, np.integer)) and 0 <= recorded < n):
@@ -137,8 +137,8 @@ def conditioned(record, step: float, positions, coherency=None, *, recorded: int
     notes = _notes(a0, step, out_delays, recorded, tail * step, segment, smoothing)
     notes += _gain_notes(step, p[order], site_list, order)
     description = (f"{n} motions conditioned on a record at support {recorded}, seed "
-                   f"{int(seed)}: {_describe(coherency, wave, sites)}")
-    return SupportMotions(step, _frozen(acc), _frozen(out_delays), description, int(seed),
+                   f"{int(seed)}: {describe(coherency, wave, sites)}")
+    return SupportMotions(step, frozen(acc), frozen(out_delays), description, int(seed),
                           tuple(notes))
 
 
@@ -266,11 +266,11 @@ def _notes(a0, step, delays, recorded, tail, segment, smoothing) -> list[str]:
     notes = [f"support {recorded} keeps the record (its samples unchanged, from t = "
              f"{delays[recorded]:.6g} s); the others are simulated conditioned on it, {how}, "
              f"its periodogram smoothed over {smoothing:g} Hz"]
-    notes += _longer_note(delays, tail, "the soil columns' and the high-pass filter's free "
+    notes += longer_note(delays, tail, "the soil columns' and the high-pass filter's free "
                           "vibration to decay", "the conditional mean's part before the record "
                           "(a filter that is not causal) or a zero before a record that does "
                           "not start at zero")
-    return notes + _start_notes(a0, step, "the record") + _band_notes(a0, step, delays,
+    return notes + start_notes(a0, step, "the record") + band_notes(a0, step, delays,
                                                                        "the record")
 
 
