@@ -61,8 +61,8 @@ SMOOTHING = 0.5
 DECAY = 10.0
 #: the conditional mean, the record through |gamma_u0| (real: not causal), starts before the
 #: record: the motions start 1.5 times the time beyond which the filter's impulse response
-#: holds at most this part of its L1 norm before its centre, and the mean is tapered to zero
-#: over the first third (beyond that time: it holds at most this part there)
+#: stays below this part of its peak before its centre, and the mean is tapered to zero over
+#: the first third (beyond that time)
 PRECURSOR = 1e-4
 #: a conditional mean that amplifies the record by more than this at some frequency is named
 #: in the notes (a support without the soil column the record was taken on)
@@ -116,7 +116,7 @@ def conditioned(record, step: float, positions, coherency=None, *, recorded: int
         raise ValueError(f"the smoothing must be a finite width >= 0 (Hz), got {smoothing!r}")
     order = [recorded] + [j for j in range(n) if j != recorded]  # recorded first
     site_list = None if sites is None else [sites[j] for j in order]
-    tail = _tail_samples(step, site_list, highpass)
+    tail = _tail_samples(step, site_list, highpass) if n > 1 else 0
     precursor = _precursor(a0.size + tail, step, p[order], coherency)
     lead = max(precursor + precursor // 2, int(not starts_at_rest(a0)))
     framed = np.concatenate([np.zeros(lead), a0, np.zeros(tail)])
@@ -162,17 +162,16 @@ def _simulated(framed, lead, count, step, positions, coherency, sites, segment, 
 
 def _precursor(count: int, step: float, positions, coherency) -> int:
     """Samples before its centre beyond which the impulse response of every |gamma_u0|
-    (zero phase) holds at most :data:`PRECURSOR` of its L1 norm (0 for full coherence)."""
+    (zero phase) stays below :data:`PRECURSOR` of its peak (0 for full coherence)."""
     if coherency is None or len(positions) < 2:
         return 0
     size = fast_length(2 * count)
     omega = 2.0 * math.pi * np.fft.rfftfreq(size, step)
     d = np.hypot(*(positions[1:] - positions[0]).T)
     kernel = np.abs(np.fft.irfft(coherency(omega[None, :], d[:, None]), size))
-    before = kernel[:, size // 2:][:, ::-1]  # before[:, i]: i + 1 steps before the centre
-    beyond = np.cumsum(before[:, ::-1], axis=1)[:, ::-1]  # L1 norm from i + 1 steps on
-    far = beyond > PRECURSOR * np.sum(kernel, axis=1, keepdims=True)
-    return int(np.max(np.sum(far, axis=1)))
+    before = kernel[:, size // 2:]  # before[:, -1 - i]: i + 1 steps before the centre
+    far = before > PRECURSOR * np.max(kernel, axis=1, keepdims=True)
+    return int(max((before.shape[1] - int(np.argmax(row)) if row.any() else 0) for row in far))
 
 
 def _tail_samples(step: float, sites, highpass: bool) -> int:
