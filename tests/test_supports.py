@@ -406,3 +406,67 @@ def test_buildings_in_plan_on_supports():
     np.testing.assert_allclose(ground, (d["west:x"] - d["east:x"])[:, None] * np.ones(6),
                                rtol=0, atol=1e-12 * np.max(np.abs(d["west:x"])))
     assert passed.impacts[0].tolist() != today.impacts[0].tolist()
+
+
+def _coherent(excitation: dict, sites=(None, None)) -> dict:
+    supports = [{"name": "west", "position": [0.0, 0.0]},
+                {"name": "east", "position": [50.0, 0.0]}]
+    for support, site in zip(supports, sites):
+        if site:
+            support["site"] = site
+    scene = pair(supports, excitation, dt=0.005, duration=12.0,
+                 contacts=[{"nodes": ["A/3", "B/3"], "gap": 0.05, "law": "linear",
+                            "stiffness": 1e9}],
+                 quantities=("ground_acceleration", "contact_ground_displacement"))
+    return scene
+
+
+CP = {"kind": "stochastic", "model": "clough_penzien", "intensity": 0.02,
+      "ground_frequency": 15.0, "ground_damping": 0.6,
+      "envelope": {"kind": "jennings", "rise": 1.0, "plateau": 4.0, "decay": 0.5}}
+
+
+def test_coherent_motions_at_the_supports():
+    """kind: coherent: fully coherent without delay or soil, the supports move alike (to
+    round-off, and no ground part at the contact); the same seed gives the same motions bit for bit, another
+    seed others; incoherence (Harichandran-Vanmarcke) and a soft column under east make them
+    differ, and the contact then sees a ground part."""
+    alike = _run(_coherent({"kind": "coherent", "seed": 3, "motion": CP}))[1]
+    g = alike.history["ground_acceleration"][0]
+    assert np.max(np.abs(g)) > 0.5
+    np.testing.assert_allclose(g[:, 0], g[:, 1], rtol=0, atol=1e-12 * np.max(np.abs(g)))
+    assert np.max(np.abs(alike.history["contact_ground_displacement"][0])) < 1e-9  # m
+    differing = {"kind": "coherent", "seed": 3, "motion": CP, "velocity": 500.0,
+                 "coherency": {"model": "harichandran_vanmarcke"}}
+    site = {"frequency": 1.2, "damping": 0.25}
+    one = _run(_coherent(differing, (None, site)))[1]
+    again = _run(_coherent(differing, (None, site)))[1]
+    other = _run(_coherent(differing | {"seed": 4}, (None, site)))[1]
+    h = one.history["ground_acceleration"][0]
+    np.testing.assert_array_equal(h, again.history["ground_acceleration"][0])
+    assert not np.array_equal(h, other.history["ground_acceleration"][0])
+    assert np.max(np.abs(h[:, 0] - h[:, 1])) > 0.2 * np.max(np.abs(h))
+    assert np.max(np.abs(one.history["contact_ground_displacement"][0])) > 1e-3
+
+
+def test_coherent_motions_conditioned_on_a_record():
+    """Conditioned on a record at west (Konakli & Der Kiureghian 2012): west's motion is the
+    record as applied at the analysis step, sample for sample, from the delay the scene
+    states for west on; east's is simulated."""
+    record = record_file("elCentro.AT2")
+    plain = pair(excitation={"kind": "record", "file": str(record)}, dt=0.005,
+                 duration=12.0, quantities=("ground_acceleration",))
+    applied = _run(plain)[1].history["ground_acceleration"][0]
+    scene = _coherent({"kind": "coherent", "seed": 1, "motion": CP,
+                       "coherency": {"model": "luco_wong", "incoherence": 0.3,
+                                     "shear_velocity": 400.0},
+                       "record": {"kind": "record", "file": str(record)}, "at": "west"})
+    g = _run(scene)[1].history["ground_acceleration"][0]
+    # the simulated motions start before the record (the conditional mean's precursor and a
+    # sample at rest): the record stands at west from its delay on, sample for sample
+    delay = parse_scene(json.dumps(scene)).expanded.support_delays[0]
+    k = int(round(delay / 0.005))
+    assert k > 0
+    np.testing.assert_array_equal(g[:k, 0], 0.0)
+    np.testing.assert_array_equal(g[k:, 0], applied[:-k])
+    assert 0.0 < np.max(np.abs(g[:, 0] - g[:, 1]))

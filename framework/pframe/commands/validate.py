@@ -83,6 +83,25 @@ def motion_lines(excitation, ground, loaded) -> list[str]:
     return out
 
 
+def _coherent_words(excitation) -> str:
+    """A coherent simulation in words: its motion's model, coherency, waves, conditioning."""
+    motion = excitation.motion
+    parts = [f"the {motion.model} spectrum and modulating function"]
+    c = excitation.coherency
+    parts.append("fully coherent" if c is None else
+                 f"Luco-Wong coherency (alpha {c.incoherence:g}, v_s {c.shear_velocity:g} m/s)"
+                 if c.model == "luco_wong" else
+                 f"Harichandran-Vanmarcke coherency (A {c.amplitude:g}, alpha {c.alpha:g}, "
+                 f"k {c.k:g} m, f0 {c.f0:g} Hz, b {c.b:g})")
+    if excitation.velocity is not None:
+        parts.append(f"waves at {excitation.velocity:g} m/s towards "
+                     f"{excitation.direction:g} degrees")
+    if excitation.record is not None:
+        parts.append(f"conditioned on the record {excitation.record.file} at support "
+                     f"{excitation.at}")
+    return "; ".join(parts)
+
+
 def support_lines(loaded) -> list[str]:
     """The supports of a loaded scene (docs/supports.md): where each stands, the scene's
     motion (the same under every support without its own, or a wave passage with each
@@ -93,7 +112,17 @@ def support_lines(loaded) -> list[str]:
     excitation = scene.excitation
     own = [s.excitation is not None for s in scene.supports]
     shared = next((m for m, mine in zip(ex.support_motions, own) if not mine), None)
-    if excitation is not None and excitation.kind == "wave_passage":
+    if excitation is not None and excitation.kind == "coherent":
+        import numpy as np
+
+        out.append("excitation: motions simulated at the supports (coherent, seed "
+                   f"{excitation.seed}): " + _coherent_words(excitation))
+        for name, tau, row in zip(ex.supports, ex.support_delays, ex.support_samples):
+            peak = float(np.max(np.abs(row)))
+            at = float(np.argmax(np.abs(row)) * ex.dt)
+            out.append(f"  support {name}: delay {tau:.4g} s; PGA {peak:.4g} m/s^2 "
+                       f"({peak / 9.80665:.4g} g) at t = {at:.4g} s")
+    elif excitation is not None and excitation.kind == "wave_passage":
         delays = ", ".join(f"{name} {tau:.4g} s" for name, tau in
                            zip(ex.supports, ex.support_delays))
         out.append(f"excitation: a wave passage at {excitation.velocity:g} m/s towards "

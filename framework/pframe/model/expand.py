@@ -277,7 +277,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
         + motion.warnings + floating,
-        notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
+        notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0])
+        + tuple(getattr(motion, "notes", ())),
         foundations=_foundations(floors.foundations, scene, resolver.buildings,
                                  resolver.building_of),
         dofs=None if dofs.planar and len(dofs.table) == len(floors.nodes) else dofs.table,

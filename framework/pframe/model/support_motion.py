@@ -34,6 +34,9 @@ class SupportMotion:
     delays: tuple[float, ...]
     motions: tuple[GroundMotion, ...]
     warnings: tuple[str, ...]
+    #: what the run is told besides (a coherent simulation's notes) and how it was made
+    notes: tuple[str, ...] = ()
+    description: str = ""
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -86,6 +89,8 @@ def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportM
     """The motion of each of ``supports`` (:class:`pframe.model.supports.Supports`) at the
     analysis steps (see the module)."""
     excitation = scene.excitation
+    if excitation is not None and excitation.kind == "coherent":
+        return _coherent(scene, supports, base_dir, steps, dt)
     passage = excitation is not None and excitation.kind == "wave_passage"
     if passage:
         tau = delays(supports.positions, excitation.velocity, excitation.direction)
@@ -127,3 +132,20 @@ def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportM
                                 f"{float(tau[s]):.4g} s")
     return SupportMotion(samples, axes, tuple(map(float, tau)), tuple(motions),
                          tuple(warnings))
+
+
+def _coherent(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion:
+    """The supports' motions of a coherent simulation (:mod:`pframe.model.coherent`)."""
+    from pframe.model.coherent import coherent_motions
+
+    own = [i for i, s in enumerate(scene.supports) if s.excitation is not None]
+    if own:
+        raise ModelError(("supports", own[0], "excitation"), f"support "
+                         f"{scene.supports[own[0]].name!r} has its own motion and the scene's "
+                         "is a coherent simulation, which gives every support its motion: "
+                         "give one or the other")
+    acceleration, tau, notes, description = coherent_motions(scene, supports, base_dir, steps,
+                                                             dt)
+    samples = {f"{name}:x": row for name, row in zip(supports.names, acceleration)}
+    motions = tuple(GroundMotion({"x": row}) for row in acceleration)
+    return SupportMotion(samples, ("x",), tau, motions, (), notes, description)

@@ -369,6 +369,9 @@ def _motions(excitation: dict, where: tuple) -> dict:
                 if isinstance(excitation.get(axis), dict)}
     if excitation.get("kind") == "wave_passage" and isinstance(excitation.get("motion"), dict):
         return _motions(excitation["motion"], where + ("motion",))
+    if excitation.get("kind") == "coherent":  # its stochastic motion and its record
+        return {where + (key,): excitation[key] for key in ("motion", "record")
+                if isinstance(excitation.get(key), dict)}
     return {where: excitation}
 
 
