@@ -130,7 +130,8 @@ def opensees_script(model: Path, folder: Path, out_npz: Path | None = None) -> l
     """Write the standalone OpenSeesPy script of ``model`` (``pframe.peers.opensees
     .script_text``; it never imports pframe) into ``folder``; return the command running it
     with this Python. Run as a script it saves its four histories to ``out_npz``."""
-    from pframe.assemble import assemble, peer_scene
+    from pframe.assemble import assemble
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import script_text
     from pframe.reader import load_scene
 

@@ -161,9 +161,9 @@ def main(argv: list[str] | None = None) -> int:
         if why_not is not None:
             print(f"\nOpenSeesPy not available ({why_not}); no ratio")
             return 0
-        from pframe.assemble import peer_scene
         from pframe.gap.audit import prepare
         from pframe.gap.runs import batch_plan
+        from pframe.peers.from_plan import peer_scene
 
         inputs = prepare(SCENE, suite, levels=list(levels), dt=args.dt)
         picks = np.unique(np.linspace(0, count - 1, args.sample).round().astype(int))

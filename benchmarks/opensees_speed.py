@@ -56,8 +56,9 @@ from _common import (
     table,
 )
 
-from pframe.assemble import assemble, peer_scene
+from pframe.assemble import assemble
 from pframe.kernel import simulate
+from pframe.peers.from_plan import peer_scene
 from pframe.reader import load_scene
 from pframe.record import write_result
 

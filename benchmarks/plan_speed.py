@@ -81,7 +81,7 @@ def _pframe(text: str, repeats: int):
 
 
 def _opensees(plan, repeats: int) -> float:
-    from pframe.assemble import peer_scene
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import run
 
     peer = peer_scene(plan)

@@ -82,8 +82,8 @@ def main(argv: list[str] | None = None) -> int:
     sys.path.insert(0, str(Path(__file__).parent))
     from gap_audit import _OpenSeesLoop
 
-    from pframe.assemble import peer_scene
     from pframe.gap.runs import batch_plan
+    from pframe.peers.from_plan import peer_scene
 
     picks = rng.choice(args.runs, args.sample, replace=False)
     plan = batch_plan(loaded, grounds[picks], STEPS, dt=DT)

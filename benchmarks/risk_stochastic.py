@@ -147,8 +147,8 @@ def opensees_ratio(args, load_scene, contact_pairs, run_batch) -> int:
     sys.path.insert(0, str(Path(__file__).parent))
     from gap_audit import _OpenSeesLoop
 
-    from pframe.assemble import peer_scene
     from pframe.gap.runs import batch_plan
+    from pframe.peers.from_plan import peer_scene
 
     twin = load_scene(LINEAR)
     pairs = contact_pairs(twin)

@@ -192,7 +192,8 @@ def main(argv: list[str] | None = None) -> int:
         parser.error("need --variants >= 2 and 1 <= --sample <= --variants")
 
     print_header()
-    from pframe.assemble import assemble, peer_scene
+    from pframe.assemble import assemble
+    from pframe.peers.from_plan import peer_scene
     from pframe.reader import load_scene
 
     with tempfile.TemporaryDirectory(prefix="pframe-sweep-bench-") as tmp:

@@ -331,8 +331,27 @@ def test_to_opensees_script_runs_and_agrees(tmp_path):
 
 
 def test_opensees_refuses_laws_it_cannot_model():
-    with pytest.raises(pframe.InputError, match="improved_kelvin"):
-        pframe.to_opensees(pframe.load(MODELS / "wu2021-eq14.yaml"))
+    """The paper's scene with Kelvin contacts: OpenSees has no twin of the law; the refusal
+    names the contacts, the law and why."""
+    import yaml
+
+    data = yaml.safe_load((MODELS / "wu2021-eq14.yaml").read_text(encoding="utf-8"))
+    for contact in data["contacts"]:
+        contact["law"] = "kelvin"
+    with pytest.raises(pframe.InputError, match=r"floor-1, floor-2, floor-3 \(kelvin\): "
+                                                "OpenSees has no uniaxial material"):
+        pframe.to_opensees(data, base_dir=MODELS)
+
+
+def test_to_opensees_warns_where_its_model_is_not_pframes():
+    """The paper's improved Kelvin contacts are OpenSees' Hertzdamp but for conditions
+    (pframe.peers.twins): to_opensees warns of each, and the script says them."""
+    with pytest.warns(UserWarning, match="the OpenSees script's model is not pframe's") as caught:
+        text = pframe.to_opensees(pframe.load(MODELS / "wu2021-eq14.yaml"))
+    messages = [str(w.message) for w in caught]
+    assert len(messages) == 3 and all("improved_kelvin: OpenSees' Hertzdamp" in m
+                                      for m in messages)
+    assert "Where this model is not pframe's" in text and "energy-velocity floor" in text
 
 
 @pytest.mark.slow

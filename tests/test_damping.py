@@ -22,12 +22,13 @@ import pytest
 from conftest import analysis, building, record_file, run_text, scene_text
 
 import pframe
-from pframe.assemble import assemble, assemble_batch, modes, peer_scene
+from pframe.assemble import assemble, assemble_batch, modes
 from pframe.cli import main
 from pframe.errors import InputError
 from pframe.kernel import simulate
 from pframe.laws import get_law
 from pframe.laws.registry import GRAVITY, all_materials
+from pframe.peers.from_plan import peer_scene
 from pframe.reader import parse_scene
 
 #: a base-isolated building: a base slab and three floors above a stiff superstructure

@@ -186,8 +186,9 @@ def test_a_scene_of_imk_peak_storeys_agrees_with_its_opensees_export():
     deterioration."""
     pytest.importorskip("openseespy.opensees", reason="OpenSeesPy (the peers extra) is not "
                         "installed")
-    from pframe.assemble import assemble, peer_scene
+    from pframe.assemble import assemble
     from pframe.kernel import simulate
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import run
     from pframe.reader import parse_scene
 

@@ -94,8 +94,9 @@ def test_base_isolated_building_agrees_with_opensees():
     OpenSees (zeroLength + BoucWen, Newmark, Newton): displacements, velocities and storey
     forces agree to round-off (measured 3.5e-14, 6.1e-14 and 4.5e-13 of their peaks)."""
     _openseespy()
-    from pframe.assemble import assemble, peer_scene
+    from pframe.assemble import assemble
     from pframe.kernel import simulate
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import run
     from pframe.reader import parse_scene
 
@@ -572,8 +573,9 @@ def test_bouc_wen_input_errors_name_the_field():
 
 def test_opensees_export_names_bouc_wen_and_refuses_the_pendulum(tmp_path):
     """The OpenSees script models a Bouc-Wen storey with BoucWen (its 9 parameters, tolerance
-    and iterations); a friction pendulum, an OpenSees element rather than a uniaxialMaterial,
-    is refused with the reason."""
+    and iterations); a friction pendulum with velocity-dependent friction, an OpenSees
+    element rather than a uniaxialMaterial, is refused with the reason (with a constant mu
+    it is written: tests/test_opensees_twins.py)."""
     import pframe
     from pframe.errors import InputError
 
@@ -586,6 +588,6 @@ def test_opensees_export_names_bouc_wen_and_refuses_the_pendulum(tmp_path):
     path.write_text(_single_bearing(1.0e5, FP_VELOCITY, {"kind": "sine", "amplitude": 1.0,
                                                          "frequency": 3.0}, duration=0.1),
                     encoding="utf-8")
-    with pytest.raises(InputError, match="'friction_pendulum', which has no OpenSees "
-                                         "uniaxialMaterial counterpart"):
+    with pytest.raises(InputError, match=r"iso \(friction_pendulum\): OpenSees' "
+                                         "velocity-dependent friction .* is an element's"):
         pframe.to_opensees(path)

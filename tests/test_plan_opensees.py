@@ -32,10 +32,11 @@ except Exception as exc:  # pragma: no cover - depends on the machine
         allow_module_level=True,
     )
 
-from pframe.assemble import assemble, peer_scene  # noqa: E402
+from pframe.assemble import assemble  # noqa: E402
 from pframe.assemble.incidence import incidence  # noqa: E402
 from pframe.errors import InputError  # noqa: E402
 from pframe.kernel import simulate  # noqa: E402
+from pframe.peers.from_plan import peer_scene  # noqa: E402
 from pframe.peers.opensees import run, script_text  # noqa: E402
 from pframe.reader import parse_scene  # noqa: E402
 
@@ -146,8 +147,9 @@ def opensees_energy(peer, opensees: dict) -> dict:
         work_in -= np.sum(0.5 * (row[:-1] + row[1:]) * (du[:, loaded] @ m[loaded]))
     alpha = np.zeros(len(m))
     beta = np.zeros(len(peer.story_materials))
-    for alpha_m, beta_k, floors, stories in peer.rayleigh:
-        alpha[np.isin(dofs[:, 0], floors)] = alpha_m
+    for alpha_m, beta_k, floors, stories, stiffness in peer.rayleigh:
+        assert stiffness == "initial" or not len(stories)  # beta_k on k0, as below
+        alpha[np.isin(dofs[:, 0], floors)] += alpha_m
         beta[np.asarray(stories, dtype=int)] = beta_k
     k0 = np.array([mat[1] for mat in peer.story_materials])
     drift = np.diff(opensees["story_drift"], axis=0)
@@ -248,6 +250,27 @@ def test_one_storey_bilinear_building():
     assert np.max(np.abs(force - both.plan.story_k0[0] * drift)) > 1e-2 * np.max(np.abs(force))
     assert_agreement(both)
     assert_energy_closes(both)
+
+
+@pytest.mark.slow
+def test_p_delta_in_plan():
+    """P-delta in plan: pframe's P-delta springs of each storey, along x and y at the
+    gravity loads' centre and on the floors' rotation (lever r, the loads' spread: a
+    zeroLength about z of r^2 times its stiffness, Elastic(-r^2 P / h) beside it, undamped),
+    of two buildings pounding at a corner: every history agrees, each spring's force with
+    its P-delta part (measured 3e-15 of the peak in displacement)."""
+    data = corner_scene(dt=0.002)
+    for b in data["buildings"]:
+        b["p_delta"] = True
+    both = solve_both(data)
+    names = both.plan.story_names
+    p_delta = np.array(["P-delta" in name for name in names])
+    assert np.all(both.peer.story_geometric[p_delta] > 0) and not np.any(
+        both.peer.story_geometric[~p_delta])
+    turning = np.array([name.endswith("P-delta-rz") for name in names])
+    assert np.all(both.peer.floors.story_levers[turning] > 0)
+    assert np.all(both.result.impacts[0] > 0)
+    assert_agreement(both)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -447,14 +470,19 @@ def test_exported_script_runs_without_pframe(tmp_path):
 
 def test_refusals_in_plan_name_each_reason():
     """A scene in plan the script cannot model is refused with every reason: here initial
-    conditions and P-delta (the planar refusal of scenes in plan is gone)."""
-    data = scene([building("A", 2, "elastic", p_delta=True)],
-                 initial_conditions={"displacement": {"A/1": [0.0, 0.01, 0.0]}})
+    conditions and a Kelvin contact, which has no OpenSees twin (the planar refusal of scenes
+    in plan is gone)."""
+    data = corner_scene(dt=0.002)
+    data["contacts"][0] = {key: value for key, value in data["contacts"][0].items()
+                           if key not in ("law", "stiffness")} | {
+        "law": "kelvin", "stiffness": 1.0e9, "restitution": 0.6}
+    data["initial_conditions"] = {"displacement": {"A/1": [0.0, 0.01, 0.0]}}
     plan = assemble(parse_scene(json.dumps(data)).expanded)
     with pytest.raises(InputError) as caught:
         peer_scene(plan)
     message = str(caught.value)
-    assert "initial_conditions" in message and "P-delta" in message
+    assert "initial_conditions" in message
+    assert f"{data['contacts'][0]['name']} (kelvin): OpenSees has no uniaxial material" in message
     assert "planar" not in message
 
 

@@ -161,15 +161,28 @@ def _origin(scene):
 
 def to_opensees(scene, *, base_dir: str | Path | None = None) -> str:
     """A standalone OpenSeesPy script of a scene (anything :func:`load` takes), planar or in
-    plan: linear contacts, elastic or bilinear storeys, starting at rest; it runs without
-    pframe, to cross-check it. Laws OpenSees cannot model are refused with every reason at
-    once."""
+    plan, each law written as its OpenSees twin (docs/python.md#a-scene-for-opensees); it
+    runs without pframe, to cross-check it. A scene OpenSees cannot model is refused with
+    every reason at once; where the script's model is not pframe's (a twin's own conditions,
+    event location), each difference is warned of and written in the script."""
+    loaded = _loaded(scene, base_dir)
+    text, differences = opensees_script(loaded)
+    for difference in differences:
+        warnings.warn(f"{loaded.source}: the OpenSees script's model is not pframe's: "
+                      f"{difference}", stacklevel=2)
+    return text
+
+
+def opensees_script(loaded) -> tuple[str, tuple[str, ...]]:
+    """The OpenSeesPy script of a loaded scene (:func:`loaded_scene`) and where its model is
+    not pframe's (``pframe opensees`` prints them, :func:`to_opensees` warns of them)."""
     from pframe.assemble import assemble
-    from pframe.assemble.plan import peer_scene
+    from pframe.peers.from_plan import peer_scene
     from pframe.peers.opensees import script_text
 
-    expanded = _loaded(scene, base_dir).expanded
-    return script_text(peer_scene(assemble(expanded), centres=expanded.node_centre))
+    expanded = loaded.expanded
+    peer = peer_scene(assemble(expanded), centres=expanded.node_centre)
+    return script_text(peer), peer.differences
 
 
 def loaded_scene(source, base_dir=None):

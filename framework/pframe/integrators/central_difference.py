@@ -36,9 +36,10 @@ class CentralDifference(IntegratorParams):
     safety: float = Field(0.9, gt=0, le=1, description="Fraction of the stability limit used.")
 
     def coefficients(self):
-        return Coefficients(0.5, 0.0, explicit=True, retry=False, opensees=(
-            "it integrates with central_difference; the OpenSees export writes an implicit "
-            "integrator (newmark, hht, wilson_theta, or bathe with gamma: 0.5)"))
+        # OpenSees' NewmarkExplicit with gamma = 1/2 (pframe.peers.from_plan says where the
+        # two part: forces that depend on velocity)
+        return Coefficients(0.5, 0.0, explicit=True, retry=False,
+                            opensees=("central_difference",))
 
     def describe(self) -> str:
         return "central_difference"

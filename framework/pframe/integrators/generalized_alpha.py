@@ -38,14 +38,11 @@ class GeneralizedAlpha(Implicit):
         am = (2.0 * rho - 1.0) / (rho + 1.0)
         af = rho / (rho + 1.0)
         gamma, beta = 0.5 - am + af, 0.25 * (1.0 - am + af) ** 2
-        # alpha_m = 0 (rho_inf = 1/2) is HHT; otherwise OpenSees' GeneralizedAlpha is not the
-        # method (pframe.peers.opensees)
-        opensees = ("hht", af, gamma, beta) if am == 0.0 else (
-            "OpenSees' GeneralizedAlpha does not integrate the generalised-alpha method (its "
-            "Newton update takes the inertia at the step end instead of at t(n+1-alpha_m), and "
-            "a linear oscillator's amplitude grows under it): compare with newmark, hht or "
-            "wilson_theta")
-        return Coefficients(gamma, beta, am, af, opensees=opensees, **self.runs_on())
+        # OpenSees' HHTGeneralized is the method (its GeneralizedAlpha is not:
+        # pframe.peers.opensees)
+        return Coefficients(gamma, beta, am, af,
+                            opensees=("generalized_alpha", am, af, gamma, beta),
+                            **self.runs_on())
 
     def describe(self) -> str:
         return f"generalized_alpha(rho_infinity={self.rho_infinity:.6g})"

@@ -6,50 +6,68 @@ the model can be rerun, inspected or timed without pframe installed; :func:`run`
 same text in this process and returns its histories.
 
 A planar scene (one DOF per floor) is a 1-D model: node ``i + 1`` is DOF ``i``, with one
-fixed ground node. A scene in plan is a 2-D model (``-ndm 2 -ndf 3``): node ``f + 1`` is floor
-``f`` at its centre of mass with its mass (m, m, J), and each element end is a node at its
-point on the element's line of action, tied to its floor by ``rigidLink beam``, with the
-element a ``zeroLength`` oriented (``-orient``) along the element's direction. In 2-D that
-constraint is exactly pframe's small-rotation map of a rigid diaphragm, u_P = (u_x - theta
-(P_y - c_y), u_y + theta (P_x - c_x)), a constant matrix that the ``Transformation`` handler
-eliminates exactly; ``rigidDiaphragm`` is the same map but needs a 3-D model (``-ndm 3 -ndf 6``,
-the out-of-plane DOFs all fixed) for nothing more. An end's point is where the element's line
-of action passes nearest its floor's centre of mass: a force along n has the same moment about
-the centre from any point of its line, so it is the model pframe runs whatever point the scene
-named on that line. The components the scene does not move are fixed. Both models have:
+fixed ground node. A planar scene with buildings on soil is a 2-D model in the vertical plane
+(``-ndm 2 -ndf 3``): each foundation's node sways and rocks (its mass m_f and I_f) on
+``zeroLength`` springs to the ground (along x and about z), each floor of its building turns
+with it (``equalDOF`` of the rotation, which has no mass) and each of its storeys is a
+vertical ``twoNodeLink`` of the storey's height, whose shear deformation is
+u_upper - u_lower - h theta (docs/soil.md; the floors are drawn downwards, so that the link's
+local y runs along +x and theta is pframe's sign). A scene in plan is a 2-D model
+(``-ndm 2 -ndf 3``): node ``f + 1`` is floor ``f`` at its centre of mass with its mass
+(m, m, J), and each element end is a node at its point on the element's line of action, tied
+to its floor by ``rigidLink beam``, with the element a ``zeroLength`` oriented (``-orient``)
+along the element's direction. In 2-D that constraint is exactly pframe's small-rotation map
+of a rigid diaphragm, u_P = (u_x - theta (P_y - c_y), u_y + theta (P_x - c_x)), a constant
+matrix that the ``Transformation`` handler eliminates exactly; ``rigidDiaphragm`` is the same
+map but needs a 3-D model (``-ndm 3 -ndf 6``, the out-of-plane DOFs all fixed) for nothing
+more. An end's point is where the element's line of action passes nearest its floor's centre
+of mass: a force along n has the same moment about the centre from any point of its line, so
+it is the model pframe runs whatever point the scene named on that line. The components the
+scene does not move are fixed. The models have:
 
-* storeys (lines of resistance): ``zeroLength`` with ``Elastic``, ``Steel01`` (``b = alpha``,
-  no isotropic hardening), ``BoucWen`` (the law ``bouc_wen``, its parameters, tolerance and iterations),
-  ``ModIMKPeakOriented`` (imk_peak's 23 numbers) or ``BWBN`` (the law ``bwbn`` without
-  degradation: its 12 numbers, tolerance and iterations) from the lower to the upper node,
-  so the element deformation is the drift;
-* contacts: ``zeroLength`` from the left to the right node with ``ElasticPPGap(k, -huge, -gap)``;
-  its deformation ``u_right - u_left`` falls below ``-gap`` exactly when
-  ``u_left - u_right - gap > 0``, and the (negative) material stress is minus the
-  compression force;
+* storeys (lines of resistance) and links: ``zeroLength`` with each law's twin
+  (:mod:`pframe.peers.twins`: ``Elastic``, ``Steel01``, ``BoucWen``, ``ModIMKPeakOriented``,
+  ``BWBN``, ``Viscous``, ``Parallel`` ones) from the lower to the upper node, so the element
+  deformation is the drift; P-delta (P / h) a ``zeroLength`` of ``Elastic(-P / h)`` beside
+  its storey, without Rayleigh damping (pframe damps the material's stiffness only) and added
+  after the modes of modal damping are taken (pframe fits them without it);
+* contacts: ``zeroLength`` from the left to the right node with the law's twin
+  (``ElasticPPGap``, ``Hertzdamp``, ``JankowskiImpact``) and its gap negative; its
+  deformation ``u_right - u_left`` falls below ``-gap`` exactly when ``u_left - u_right - gap
+  > 0``, and the (negative) material stress is minus the compression force;
 * Rayleigh damping: ``alpha_m`` on the building's nodes (in plan their rotational inertia
-  too, as pframe), ``beta_k`` on the initial stiffness of its storeys that take the stiffness
-  term (``-doRayleigh 1``; not its isolators); contacts are undamped; or modal damping:
-  ``eigen`` of every mode with ``-fullGenLapack`` on the storeys' initial stiffness (before
-  the contacts exist), then ``modalDamping`` with the ratio of each mode;
+  too, as pframe; not a foundation's), ``beta_k`` on the initial, current or committed
+  stiffness of its storeys that take the stiffness term (``betaKinit``, ``betaK``,
+  ``betaKcomm``; ``-doRayleigh``; not its isolators); contacts and links are undamped; or
+  modal damping: ``eigen`` of every mode with ``-fullGenLapack`` on the storeys' initial
+  stiffness (before the contacts exist), then ``modalDamping`` with the ratio of each mode;
 * ground motion: a ``Path`` series driving a ``UniformExcitation`` per site axis it loads
   (load ``-m a_g`` in relative coordinates; in plan along x, y or both), its sample times
   accumulated as OpenSees accumulates time, so that step ``n`` sees ``a_g[n]`` exactly;
   Newton iterations with a ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and
   binary recorders;
-* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's), ``WilsonTheta`` or
-  ``TRBDF2`` (Bathe's method with gamma = 1/2: OpenSees takes its trapezoidal and backward
-  sub-steps as alternate analysis steps of dt / 2, so the script analyses twice the steps at
-  half the step, with the ground motion sampled between pframe's samples as pframe
-  interpolates it, linearly, and records every second step).
-  Not generalised-alpha: OpenSees' ``GeneralizedAlpha`` sets the nodes' accelerations to
-  a(n+1) in its Newton update (``GeneralizedAlpha::update``) where its tangent and the method
-  have a(n+1-alpha_m); a linear oscillator (w dt = 5, rho_inf = 0.6) grows in amplitude under
-  it, where the method's amplification matrix and pframe decay.
-  OpenSees' Wilson-theta reads the ground motion at t + theta dt from the record (between the
-  next two samples) where the method, as pframe has it, extrapolates the step's own samples
-  linearly (Wilson, Farhoomand & Bathe 1973): the two agree to round-off under a ground
-  motion linear in time, and differ by O(dt^2) under others.
+* the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's),
+  ``HHTGeneralized`` for generalised-alpha (alpha_I = 1 - alpha_m, alpha_F = 1 - alpha_f,
+  Chung & Hulbert's method operation for operation), ``WilsonTheta``, ``TRBDF2`` (Bathe's
+  method with gamma = 1/2: OpenSees takes its trapezoidal and backward sub-steps as alternate
+  analysis steps of dt / 2, so the script analyses twice the steps at half the step, with the
+  ground motion sampled between pframe's samples as pframe interpolates it, linearly, and
+  records every second step) or ``NewmarkExplicit`` (gamma = 1/2, a ``Linear`` algorithm) for
+  central difference, with its sub-steps.
+  Not OpenSees' ``GeneralizedAlpha``: it sets the nodes' accelerations to a(n+1) in its
+  Newton update (``GeneralizedAlpha::update``) where its tangent and the method have
+  a(n+1-alpha_m); a linear oscillator (w dt = 5, rho_inf = 0.6) grows in amplitude under it,
+  where the method's amplification matrix and pframe decay.
+
+Where the script's model is not pframe's, :class:`PeerScene`'s ``differences`` say so, and
+the script writes them in its docstring and prints them when run: a twin's own conditions
+(:mod:`pframe.peers.twins`), event location (``events: true``: OpenSees steps over contact
+events), central difference where forces depend on velocity, and Wilson-theta, which in
+OpenSees reads the ground motion at t + theta dt from the record (between the next two
+samples) where the method, as pframe has it, extrapolates the step's own samples linearly
+(Wilson, Farhoomand & Bathe 1973): the two agree to round-off under a ground motion linear in
+time, and differ by O(dt^2) under others. The script also says where a contact pulled (a
+Hertzdamp in rebound), from which step on its model left pframe's.
 
 Known difference from pframe, far below any tolerance: ``Steel01`` ignores a trial strain
 within ``DBL_EPSILON`` (2.2e-16, here metres of drift) of its committed strain and keeps the
@@ -63,6 +81,7 @@ import base64
 import os
 import pprint
 import tempfile
+import textwrap
 
 import numpy as np
 
@@ -87,31 +106,12 @@ def opensees_integrator(integrator: tuple) -> tuple:
         return ("WilsonTheta", float(integrator[1]))
     if kind == "hht":  # OpenSees weighs the step end by its alpha
         return ("HHT", 1.0 - float(integrator[1]), float(integrator[2]), float(integrator[3]))
+    if kind == "generalized_alpha":  # alpha_I, alpha_F: OpenSees' weights of the step end
+        alpha_m, alpha_f, gamma, beta = (float(v) for v in integrator[1:])
+        return ("HHTGeneralized", 1.0 - alpha_m, 1.0 - alpha_f, beta, gamma)
+    if kind == "central_difference":
+        return ("NewmarkExplicit", 0.5)
     raise ValueError(f"unknown integrator {kind!r}")
-
-
-def analysis_steps(integrator: tuple) -> int:
-    """OpenSees analysis steps per pframe step: 2 for TRBDF2 (a sub-step each), else 1."""
-    return 2 if integrator[0] == "trbdf2" else 1
-
-
-def _materials(scene: PeerScene) -> list:
-    """The storeys' materials as the script's STORY_MATERIALS."""
-    materials = []
-    for mat in scene.story_materials:
-        if mat[0] == "elastic":
-            materials.append(("elastic", float(mat[1])))
-        elif mat[0] == "bilinear":
-            materials.append(("bilinear", *(float(v) for v in mat[1:4])))
-        elif mat[0] == "bouc_wen":  # the 9 parameters, the tolerance, the iterations
-            materials.append(("bouc_wen", *(float(v) for v in mat[1:11]), int(mat[11])))
-        elif mat[0] == "imk_peak":
-            materials.append(("imk_peak", *(float(v) for v in mat[1:24])))
-        elif mat[0] == "bwbn":  # the 12 parameters, the tolerance, the iterations
-            materials.append(("bwbn", *(float(v) for v in mat[1:14]), int(mat[14])))
-        else:
-            raise ValueError(f"unknown storey material {mat[0]!r}")
-    return materials
 
 
 def _pairs(nodes) -> list:
@@ -119,32 +119,69 @@ def _pairs(nodes) -> list:
     return np.asarray(nodes if nodes is not None else [], dtype=int).reshape(-1, 2).tolist()
 
 
+def _numbers(values) -> list:
+    """Floats (and integers) as plain Python numbers, whose ``repr`` round-trips."""
+    return [int(v) if isinstance(v, (int, np.integer)) else float(v) for v in values]
+
+
+def _materials(materials) -> list:
+    """Twins (:mod:`pframe.peers.twins`) as the script's tuples: the kind, then plain numbers."""
+    return [(m[0], *_numbers(m[1:])) for m in materials or []]
+
+
+def _foundations(scene: PeerScene):
+    """The script's FOUNDATIONS (None: fixed bases)."""
+    soil = scene.foundations
+    if soil is None:
+        return None
+    return {"sway": [int(d) for d in soil.sway], "rocking": [int(d) for d in soil.rocking],
+            "heights": [float(z) for z in soil.heights],  # (m)
+            "story_foundation": [int(f) for f in soil.story_foundation],
+            "sway_materials": _materials(soil.sway_materials),
+            "rocking_materials": _materials(soil.rocking_materials)}
+
+
 def _values(scene: PeerScene, out_npz: str | None) -> dict:
     """The script's constants, in the order it lists them."""
     rayleigh = [
-        (float(am), float(bk), [int(i) for i in nodes], [int(j) for j in stories])
-        for am, bk, nodes, stories in scene.rayleigh
+        (float(am), float(bk), [int(i) for i in nodes], [int(j) for j in stories], stiffness)
+        for am, bk, nodes, stories, stiffness in scene.rayleigh
     ]
+    geometric = (np.zeros(len(scene.story_names)) if scene.story_geometric is None
+                 else scene.story_geometric)
     return {
         "MASSES": [float(m) for m in scene.masses],
         "STORY_NODES": _pairs(scene.story_nodes),
-        "STORY_MATERIALS": _materials(scene),
+        "STORY_MATERIALS": _materials(scene.story_materials),
+        "STORY_GEOMETRIC": [float(k) for k in geometric],  # P / h (N/m), 0: no P-delta
         "CONTACT_NODES": _pairs(scene.contact_nodes),
+        "CONTACT_NAMES": list(scene.contact_names),
         "CONTACT_GAPS": [float(g) for g in scene.contact_gaps],
-        "CONTACT_STIFFNESS": [float(k) for k in scene.contact_stiffness],
-        "RAYLEIGH": rayleigh,  # (alpha_m, beta_k on initial stiffness, nodes, storeys)
+        "CONTACT_MATERIALS": _materials(scene.contact_materials),
+        # (alpha_m, beta_k, nodes, storeys, the stiffness beta_k multiplies)
+        "RAYLEIGH": rayleigh,
         "MODAL": [float(r) for r in scene.modal] if scene.modal else [],  # ratio per mode
         "DT": float(scene.dt),
         "STEPS": int(scene.steps),
         "TOL": float(scene.tolerance),
-        "MAX_ITER": int(scene.max_iterations),
+        # OpenSees' Hertzdamp and JankowskiImpact give Newton no damping tangent, so it
+        # converges linearly while they are closed (some 60 iterations a step): a wider limit
+        # than pframe's, which changes no converged step
+        "MAX_ITER": max(int(scene.max_iterations), 1000),
         "INTEGRATOR": opensees_integrator(scene.integrator),
-        "SUBSTEPS": analysis_steps(scene.integrator),
+        # an explicit step is one linear solve (NewmarkExplicit takes no Newton iteration)
+        "ALGORITHM": "Linear" if scene.integrator[0] == "central_difference" else "Newton",
+        "SUBSTEPS": int(scene.substeps),
         "LINK_NODES": _pairs(scene.link_nodes),
-        "LINK_MATERIALS": [tuple(m[:1]) + tuple(float(v) for v in m[1:])
-                           for m in (scene.link_materials or [])],
+        "LINK_MATERIALS": _materials(scene.link_materials),
+        "FOUNDATIONS": _foundations(scene),
+        "DIFFERENCES": list(scene.differences),  # where this model is not pframe's
         "OUT_NPZ": out_npz,
     }
+
+
+def _levers(levers, points) -> np.ndarray:
+    return np.zeros(len(points)) if levers is None else np.asarray(levers, dtype=float)
 
 
 def _plan_values(scene: PeerScene) -> dict:
@@ -169,6 +206,9 @@ def _plan_values(scene: PeerScene) -> dict:
         "CONTACT_DIRECTIONS": directions(floors.contact_directions),
         "LINK_POINTS": points(floors.link_points),
         "LINK_DIRECTIONS": directions(floors.link_directions),
+        # the lever r of an element on the floors' rotations alone (0: none)
+        "STORY_LEVERS": [float(r) for r in _levers(floors.story_levers, floors.story_points)],
+        "LINK_LEVERS": [float(r) for r in _levers(floors.link_levers, floors.link_points)],
         "CHANNEL_DOFS": [{"x": 1, "y": 2}[c] for c in scene.channels],
     }
 
@@ -199,6 +239,18 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _docstring(scene: PeerScene) -> str:
+    """The script's docstring: what wrote it, and where its model is not pframe's."""
+    text = "OpenSeesPy model of one pounding scene, written by pframe.peers.opensees."
+    if not scene.differences:
+        return text + "\n\nIt is pframe's model of the scene.\n"
+    lines = [text, "", "Where this model is not pframe's:", ""]
+    for difference in scene.differences:
+        lines += textwrap.wrap(difference, _WIDTH - 4, initial_indent="- ",
+                               subsequent_indent="  ")
+    return "\n".join(lines).replace('"', "'") + "\n"
+
+
 def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
     """Return a self-contained OpenSeesPy script for ``scene``.
 
@@ -222,8 +274,8 @@ def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
         ``ops.analyze(steps, dt)`` call.
     """
     header = (
-        '"""OpenSeesPy model of one pounding scene, written by pframe.peers.opensees."""\n\n'
-        "import base64\nimport os\nimport tempfile\nimport time\n\n"
+        f'"""{_docstring(scene)}"""\n\n'
+        "import base64\nimport os\nimport sys\nimport tempfile\nimport time\n\n"
         "import numpy as np\nimport openseespy.opensees as ops\n\n"
     )
     build = (opensees_script.PLANAR_BUILD if scene.floors is None

@@ -11,59 +11,81 @@ from __future__ import annotations
 
 MATERIALS = '''
 HUGE_FY = 1.0e30  # ElasticPPGap yield force: contacts must never yield
+PART = 1000000  # tags of the parts of a Parallel material: PART * k + the element's tag
 
 
-def story_material(tag, mat):
-    """The uniaxialMaterial of a storey: pframe's law and its packed numbers."""
-    if mat[0] == "elastic":
+def material(tag, mat):
+    """The uniaxialMaterial of a storey or link: pframe's law as its OpenSees twin
+    (pframe.peers.twins) with the law's packed numbers."""
+    kind = mat[0]
+    if kind == "elastic":
         ops.uniaxialMaterial("Elastic", tag, mat[1])
-    elif mat[0] == "bouc_wen":
-        # alpha, ko, n, gamma, beta, Ao, deltaA, deltaNu, deltaEta, tolerance, maxNumIter
-        ops.uniaxialMaterial("BoucWen", tag, *mat[1:])
-    elif mat[0] == "imk_peak":  # pframe's packed numbers are OpenSees' 23 arguments
-        ops.uniaxialMaterial("ModIMKPeakOriented", tag, *mat[1:])
-    elif mat[0] == "bwbn":
-        # alpha, ko, n, gamma, beta, Ao, q, zetas, p, Shi, deltaShi, lamda, tol, maxNumIter
-        ops.uniaxialMaterial("BWBN", tag, *mat[1:])
-    else:
+    elif kind == "bilinear":  # kinematic hardening: Steel01 without isotropic hardening
         _, k, fy, alpha = mat
         ops.uniaxialMaterial("Steel01", tag, fy, k, alpha)
-
-
-def gap_material(tag, gap, k):
-    """A contact: from the left to the right side, the deformation (u_right - u_left along the
-    normal) drops below -gap when the floors overlap, where ElasticPPGap (negative Fy and gap)
-    gives stress k (defo + gap) < 0."""
-    ops.uniaxialMaterial("ElasticPPGap", tag, k, -HUGE_FY, -gap, 0.0)
-
-
-def link_material(tag, mat):
-    """The uniaxialMaterial of a link (no Rayleigh damping: a dashpot is in its force)."""
-    if mat[0] == "elastic":
-        ops.uniaxialMaterial("Elastic", tag, mat[1])
-    elif mat[0] == "bilinear":
-        ops.uniaxialMaterial("Steel01", tag, mat[2], mat[1], mat[3])
-    elif mat[0] == "viscous":
+    elif kind == "bouc_wen":
+        # alpha, ko, n, gamma, beta, Ao, deltaA, deltaNu, deltaEta, tolerance, maxNumIter
+        ops.uniaxialMaterial("BoucWen", tag, *mat[1:])
+    elif kind == "imk_peak":  # pframe's packed numbers are OpenSees' 23 arguments
+        ops.uniaxialMaterial("ModIMKPeakOriented", tag, *mat[1:])
+    elif kind == "bwbn":
+        # alpha, ko, n, gamma, beta, Ao, q, zetas, p, Shi, deltaShi, lamda, tol, maxNumIter
+        ops.uniaxialMaterial("BWBN", tag, *mat[1:])
+    elif kind == "viscous":  # c |v|^alpha sign v
         ops.uniaxialMaterial("Viscous", tag, mat[1], mat[2])
-    else:  # kelvin_voigt: a spring and a dashpot in parallel
-        ops.uniaxialMaterial("Elastic", 100000 + tag, mat[1])
-        ops.uniaxialMaterial("Viscous", 200000 + tag, mat[2], mat[3])
-        ops.uniaxialMaterial("Parallel", tag, 100000 + tag, 200000 + tag)
+    elif kind == "kelvin_voigt":  # a spring and a dashpot in parallel
+        ops.uniaxialMaterial("Elastic", PART + tag, mat[1])
+        ops.uniaxialMaterial("Viscous", 2 * PART + tag, mat[2], mat[3])
+        ops.uniaxialMaterial("Parallel", tag, PART + tag, 2 * PART + tag)
+    elif kind == "coulomb_pendulum":
+        # Coulomb friction, elastic-perfectly plastic (k0 = k_init - W / R up to mu W),
+        # beside the pendulum's restoring stiffness W / R
+        _, k0, q_yield, k2 = mat
+        ops.uniaxialMaterial("Steel01", PART + tag, q_yield, k0, 0.0)
+        ops.uniaxialMaterial("Elastic", 2 * PART + tag, k2)
+        ops.uniaxialMaterial("Parallel", tag, PART + tag, 2 * PART + tag)
+    else:
+        raise ValueError(f"unknown material {kind!r}")
+
+
+def contact_material(tag, mat, gap):
+    """A contact's twin, from the left to the right side: the deformation (u_right - u_left
+    along the normal) drops below -gap when the floors overlap, where each material (with its
+    gap negative) pushes back with a negative stress."""
+    kind = mat[0]
+    if kind == "linear":  # ElasticPPGap: stress k (defo + gap) < 0
+        ops.uniaxialMaterial("ElasticPPGap", tag, mat[1], -HUGE_FY, -gap, 0.0)
+    elif kind == "hertzdamp":  # (K_h + xi delta') delta^n, xi = xi_norm K_h / v0
+        _, k, xi_norm, n = mat
+        ops.uniaxialMaterial("Hertzdamp", tag, k, xi_norm, -gap, n)
+    elif kind == "jankowski":  # beta delta^1.5 + 2 zeta sqrt(beta delta^0.5 m_eff) delta'
+        _, beta, zeta, m_eff = mat
+        ops.uniaxialMaterial("JankowskiImpact", tag, beta, zeta, m_eff, -gap, 1.5)
+    elif kind == "bumper":  # the rubber, and the hard contact once it is crushed
+        _, k, chi, n, hard, depth = mat
+        ops.uniaxialMaterial("Hertzdamp", PART + tag, k, chi, -gap, n)
+        ops.uniaxialMaterial("Hertzdamp", 2 * PART + tag, hard, chi, -(gap + depth), n)
+        ops.uniaxialMaterial("Parallel", tag, PART + tag, 2 * PART + tag)
+    else:
+        raise ValueError(f"unknown contact material {kind!r}")
 
 
 def rayleigh(stories):
-    """One pair of regions per building: alpha_m on its nodes' masses, beta_k on the initial
-    stiffness of its storeys (node i is tag i + 1)."""
-    for b, (alpha_m, beta_k, nodes, story_ids) in enumerate(RAYLEIGH):
+    """alpha_m on the nodes' masses (node i is tag i + 1), beta_k on the initial, current or
+    committed stiffness of the storeys: a region per building and stiffness."""
+    factors = {"initial": 2, "current": 1, "committed": 3}  # betaKinit, betaK, betaKcomm
+    for r, (alpha_m, beta_k, nodes, story_ids, stiffness) in enumerate(RAYLEIGH):
         # The "Only" flags matter: a -node region also takes every element whose nodes
         # are all listed, an -ele region takes the elements' nodes, and each region
         # overwrites all four factors of everything it holds.
         if alpha_m != 0.0 and len(nodes) > 0:
-            ops.region(2 * b + 1, "-nodeOnly", *[i + 1 for i in nodes],
+            ops.region(2 * r + 1, "-nodeOnly", *[i + 1 for i in nodes],
                        "-rayleigh", alpha_m, 0.0, 0.0, 0.0)
         if beta_k != 0.0 and len(story_ids) > 0:
-            ops.region(2 * b + 2, "-eleOnly", *[stories[j] for j in story_ids],
-                       "-rayleigh", 0.0, 0.0, beta_k, 0.0)
+            beta = [0.0, 0.0, 0.0]
+            beta[factors[stiffness] - 1] = beta_k
+            ops.region(2 * r + 2, "-eleOnly", *[stories[j] for j in story_ids],
+                       "-rayleigh", 0.0, *beta)
 
 
 def ground_motion(channels):
@@ -92,31 +114,91 @@ def ground_motion(channels):
 '''
 
 PLANAR_BUILD = '''
-CONSTRAINTS = "Plain"  # no multi-point constraint: one DOF per node
+# Buildings on soil (FOUNDATIONS) make the model 2-D, in the vertical plane, with equalDOF
+# ties: Transformation eliminates them exactly; otherwise one DOF per node and no constraint.
+CONSTRAINTS = "Plain" if FOUNDATIONS is None else "Transformation"
+GEOMETRIC = []  # P-delta's elements, one per storey that has one (build() fills it)
+
+
+def dof_nodes():
+    """(node, OpenSees DOF) of each DOF: node i + 1 along x, a foundation's rocking the
+    rotation of its sway's node."""
+    out = [(i + 1, 1) for i in range(len(MASSES))]
+    if FOUNDATIONS is not None:
+        for sway, rocking in zip(FOUNDATIONS["sway"], FOUNDATIONS["rocking"]):
+            out[rocking] = (sway + 1, 3)
+    return out
+
+
+def tied_floors():
+    """floor -> the sway DOF of the foundation it turns with: each floor of a building on
+    soil, whose rotation (without mass) carries its foundation's rocking to the storeys'
+    twoNodeLinks."""
+    tied = {}
+    for (lower, upper), f in zip(STORY_NODES, FOUNDATIONS["story_foundation"]):
+        if f >= 0:
+            sway = FOUNDATIONS["sway"][f]
+            tied.update({node: sway for node in (lower, upper) if node != sway})
+    return tied
+
+
+def add_nodes():
+    """The nodes with their masses; on soil, floors drawn downwards (node i at -height):
+    a vertical twoNodeLink's local y then runs along +x and its shear deformation is
+    u_upper - u_lower - h theta, theta the rotation of the foundation's node, as pframe
+    has it (docs/soil.md)."""
+    if FOUNDATIONS is None:
+        ops.model("basic", "-ndm", 1, "-ndf", 1)
+        for i, m in enumerate(MASSES):
+            ops.node(i + 1, 0.0)
+            ops.mass(i + 1, m)
+        return
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    rocking = dict(zip(FOUNDATIONS["sway"], FOUNDATIONS["rocking"]))
+    tied = tied_floors()
+    for i, m in enumerate(MASSES):
+        if i in FOUNDATIONS["rocking"]:
+            continue
+        ops.node(i + 1, 0.0, -FOUNDATIONS["heights"][i])
+        ops.mass(i + 1, m, 0.0, MASSES[rocking[i]] if i in rocking else 0.0)
+        ops.fix(i + 1, 0, 1, 0 if i in rocking or i in tied else 1)
+    for node, sway in sorted(tied.items()):
+        ops.equalDOF(sway + 1, node + 1, 3)
 
 
 def build():
-    """Create the model in the OpenSees domain; return storey, contact and link element tags."""
+    """Create the model in the OpenSees domain; return storey, contact and link element tags
+    (P-delta's in GEOMETRIC)."""
     n = len(MASSES)
     ground = n + 1
     ops.wipe()
-    ops.model("basic", "-ndm", 1, "-ndf", 1)
-    for i, m in enumerate(MASSES):
-        ops.node(i + 1, 0.0)
-        ops.mass(i + 1, m)
-    ops.node(ground, 0.0)
-    ops.fix(ground, 1)
+    add_nodes()
+    if FOUNDATIONS is None:
+        ops.node(ground, 0.0)
+        ops.fix(ground, 1)
+    else:
+        ops.node(ground, 0.0, 0.0)
+        ops.fix(ground, 1, 1, 1)
+
+    def joined(tag, i, j, *flags, direction=1):
+        # zeroLength deformation is u_j - u_i (the ground's node for -1)
+        ops.element("zeroLength", tag, ground if i < 0 else i + 1, ground if j < 0 else j + 1,
+                    "-mat", tag, "-dir", direction, *flags)
+        return tag
 
     stories = []
-    for j, ((lower, upper), mat) in enumerate(zip(STORY_NODES, STORY_MATERIALS, strict=True)):
-        tag = j + 1
-        story_material(tag, mat)
-        # zeroLength deformation is u_j - u_i: lower -> upper makes it the drift.
-        # Without -doRayleigh the element ignores the region's damping factors.
-        i_node = ground if lower < 0 else lower + 1
-        ops.element("zeroLength", tag, i_node, upper + 1, "-mat", tag, "-dir", 1,
-                    "-doRayleigh", 1)
-        stories.append(tag)
+    on_soil = (FOUNDATIONS or {}).get("story_foundation", [-1] * len(STORY_NODES))
+    for j, ((lower, upper), mat, f) in enumerate(zip(STORY_NODES, STORY_MATERIALS, on_soil,
+                                                     strict=True)):
+        material(j + 1, mat)
+        # lower -> upper makes the deformation the drift; without -doRayleigh the element
+        # ignores the region's damping factors
+        if f < 0:
+            stories.append(joined(j + 1, lower, upper, "-doRayleigh", 1))
+        else:  # its lower side holds h theta: a twoNodeLink of length h (add_nodes)
+            ops.element("twoNodeLink", j + 1, lower + 1, upper + 1, "-mat", j + 1, "-dir", 2,
+                        "-doRayleigh")
+            stories.append(j + 1)
 
     if MODAL:
         # every mode of the buildings on their own: before the contacts (and their tangents)
@@ -124,45 +206,67 @@ def build():
         ops.eigen("-fullGenLapack", len(MODAL))
         ops.modalDamping(*MODAL)
 
+    tag = len(stories)
     contacts = []
-    for j, ((left, right), gap, k) in enumerate(
-            zip(CONTACT_NODES, CONTACT_GAPS, CONTACT_STIFFNESS, strict=True)):
-        tag = len(stories) + j + 1
-        gap_material(tag, gap, k)
-        # a wall: the ground's node on its side (-1)
-        ops.element("zeroLength", tag, ground if left < 0 else left + 1,
-                    ground if right < 0 else right + 1, "-mat", tag, "-dir", 1)
-        contacts.append(tag)
-
+    for (left, right), gap, mat in zip(CONTACT_NODES, CONTACT_GAPS, CONTACT_MATERIALS,
+                                       strict=True):
+        tag += 1
+        contact_material(tag, mat, gap)
+        contacts.append(joined(tag, left, right))  # a wall: the ground's node on its side
     links = []
-    for j, ((first, second), mat) in enumerate(zip(LINK_NODES, LINK_MATERIALS, strict=True)):
-        tag = len(stories) + len(contacts) + j + 1
-        link_material(tag, mat)
-        # zeroLength deformation is u_j - u_i: first -> second (no Rayleigh on links)
-        ops.element("zeroLength", tag, ground if first < 0 else first + 1,
-                    ground if second < 0 else second + 1, "-mat", tag, "-dir", 1)
-        links.append(tag)
+    for (first, second), mat in zip(LINK_NODES, LINK_MATERIALS, strict=True):
+        tag += 1
+        material(tag, mat)  # no Rayleigh on links: a dashpot is in its force
+        links.append(joined(tag, first, second))
+    GEOMETRIC.clear()
+    for j, ((lower, upper), kg) in enumerate(zip(STORY_NODES, STORY_GEOMETRIC, strict=True)):
+        if kg != 0.0:  # P-delta: the storey resists (P / h) d less, undamped
+            tag += 1
+            ops.uniaxialMaterial("Elastic", tag, -kg)
+            GEOMETRIC.append((j, joined(tag, lower, upper)))
+    if FOUNDATIONS is not None:  # the soil's springs and dashpots, to the ground
+        for sway, rock_mat, sway_mat in zip(FOUNDATIONS["sway"], FOUNDATIONS["rocking_materials"],
+                                            FOUNDATIONS["sway_materials"]):
+            for mat, direction in ((sway_mat, 1), (rock_mat, 3)):
+                tag += 1
+                material(tag, mat)
+                joined(tag, -1, sway, direction=direction)
 
     rayleigh(stories)
-    ground_motion([(1, AG, range(1, n + 1))])
+    moved = sorted({node for node, dof in dof_nodes() if dof == 1})
+    ground_motion([(1, AG, moved)])
     return stories, contacts, links
 
 
 def recorders(stories, contacts, links):
     """name -> (recorder kind, columns, its arguments)."""
-    nodes = list(range(1, len(MASSES) + 1))
+    nodes = sorted({node for node, _ in dof_nodes()})
+    dofs = (1,) if FOUNDATIONS is None else (1, 3)
+    geometric = [tag for _, tag in GEOMETRIC]
     return {
-        "displacement": ("Node", len(nodes), ("-node", *nodes, "-dof", 1, "disp")),
-        "velocity": ("Node", len(nodes), ("-node", *nodes, "-dof", 1, "vel")),
+        "displacement": ("Node", len(dofs) * len(nodes), ("-node", *nodes, "-dof", *dofs,
+                                                          "disp")),
+        "velocity": ("Node", len(dofs) * len(nodes), ("-node", *nodes, "-dof", *dofs, "vel")),
         "story_force": ("Element", len(stories), ("-ele", *stories, "basicForce")),
+        "story_drift": ("Element", len(stories), ("-ele", *stories, "basicDeformation")),
+        "geometric_force": ("Element", len(geometric), ("-ele", *geometric, "basicForce")),
         "contact_force": ("Element", len(contacts), ("-ele", *contacts, "basicForce")),
         "link_force": ("Element", len(links), ("-ele", *links, "basicForce")),
     }
 
 
 def finish(result):
-    """pframe's conventions: the gap material is negative in compression (0.0 - x also
-    avoids -0.0)."""
+    """pframe's conventions: the DOFs in pframe's order, a storey's force with its P-delta
+    part, a contact's force positive in compression (the materials are negative in
+    compression; 0.0 - x also avoids -0.0)."""
+    nodes = sorted({node for node, _ in dof_nodes()})
+    dofs = (1,) if FOUNDATIONS is None else (1, 3)
+    columns = [len(dofs) * nodes.index(node) + dofs.index(dof) for node, dof in dof_nodes()]
+    for name in ("displacement", "velocity"):
+        result[name] = result[name][:, columns]
+    for k, (j, _) in enumerate(GEOMETRIC):
+        result["story_force"][:, j] += result["geometric_force"][:, k]
+    del result["geometric_force"]
     result["contact_force"] = 0.0 - result["contact_force"]
 '''
 
@@ -170,6 +274,7 @@ PLAN_BUILD = '''
 # The rigid diaphragms are multi-point constraints: Transformation eliminates the tied DOFs
 # exactly (Plain takes single-point constraints only).
 CONSTRAINTS = "Transformation"
+GEOMETRIC = []  # P-delta's elements, one per line of resistance that has one (build() fills it)
 
 
 def build():
@@ -203,16 +308,24 @@ def build():
 
     def element(tag, nodes, points, direction, *flags):
         # local x along the direction: the deformation is n . (u_second - u_first), the
-        # force acts along n; ends apart across the direction only draw a length warning
+        # force acts along n; ends apart across the direction only draw a length warning.
+        # Direction (0, 0): a spring on the floors' rotations (-dir 3, about z).
         nx, ny = direction
+        turning = nx == 0.0 and ny == 0.0
         ops.element("zeroLength", tag, *(end(f, p) for f, p in zip(nodes, points)),
-                    "-mat", tag, "-dir", 1, "-orient", nx, ny, 0.0, -ny, nx, 0.0, *flags)
+                    "-mat", tag, "-dir", 3 if turning else 1,
+                    *(() if turning else ("-orient", nx, ny, 0.0, -ny, nx, 0.0)), *flags)
         return tag
 
+    def turned(mat, lever):
+        # an elastic spring on r (theta_2 - theta_1) is r^2 k about the rotation
+        return mat if lever == 0.0 else ("elastic", mat[1] * lever * lever)
+
     stories = []
-    for j, (nodes, points, direction, mat) in enumerate(zip(
-            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_MATERIALS, strict=True)):
-        story_material(j + 1, mat)
+    for j, (nodes, points, direction, mat, lever) in enumerate(zip(
+            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_MATERIALS, STORY_LEVERS,
+            strict=True)):
+        material(j + 1, turned(mat, lever))
         # without -doRayleigh a storey ignores its region's stiffness damping
         stories.append(element(j + 1, nodes, points, direction, "-doRayleigh", 1))
 
@@ -222,18 +335,28 @@ def build():
         ops.eigen("-fullGenLapack", len(MODAL))
         ops.modalDamping(*MODAL)
 
+    tag = len(stories)
     contacts = []
-    for j, (nodes, points, direction, gap, k) in enumerate(zip(
-            CONTACT_NODES, CONTACT_POINTS, CONTACT_DIRECTIONS, CONTACT_GAPS,
-            CONTACT_STIFFNESS, strict=True)):
-        gap_material(len(stories) + j + 1, gap, k)
-        contacts.append(element(len(stories) + j + 1, nodes, points, direction))
+    for nodes, points, direction, gap, mat in zip(CONTACT_NODES, CONTACT_POINTS,
+                                                  CONTACT_DIRECTIONS, CONTACT_GAPS,
+                                                  CONTACT_MATERIALS, strict=True):
+        tag += 1
+        contact_material(tag, mat, gap)
+        contacts.append(element(tag, nodes, points, direction))
     links = []
-    for j, (nodes, points, direction, mat) in enumerate(zip(
-            LINK_NODES, LINK_POINTS, LINK_DIRECTIONS, LINK_MATERIALS, strict=True)):
-        tag = len(stories) + len(contacts) + j + 1
-        link_material(tag, mat)
+    for nodes, points, direction, mat, lever in zip(LINK_NODES, LINK_POINTS, LINK_DIRECTIONS,
+                                                    LINK_MATERIALS, LINK_LEVERS, strict=True):
+        tag += 1
+        material(tag, turned(mat, lever))
         links.append(element(tag, nodes, points, direction))
+    GEOMETRIC.clear()
+    for j, (nodes, points, direction, kg, lever) in enumerate(zip(
+            STORY_NODES, STORY_POINTS, STORY_DIRECTIONS, STORY_GEOMETRIC, STORY_LEVERS,
+            strict=True)):
+        if kg != 0.0:  # P-delta: the line resists (P / h) d less, undamped
+            tag += 1
+            material(tag, turned(("elastic", -kg), lever))
+            GEOMETRIC.append((j, element(tag, nodes, points, direction)))
 
     rayleigh(stories)
     # each channel loads (and starts accelerated) the floors that move along its axis
@@ -253,6 +376,8 @@ def recorders(stories, contacts, links):
                                     ("link", links, "link_deformation")):
         out[kind + "_force"] = ("Element", len(tags), ("-ele", *tags, "basicForce"))
         out[deformation] = ("Element", len(tags), ("-ele", *tags, "basicDeformation"))
+    geometric = [tag for _, tag in GEOMETRIC]
+    out["geometric_force"] = ("Element", len(geometric), ("-ele", *geometric, "basicForce"))
     return out
 
 
@@ -263,6 +388,15 @@ def finish(result):
     columns = [3 * f + c for f, c in DOFS]
     for name in ("displacement", "velocity"):
         result[name] = result[name][:, columns]
+    for k, (j, _) in enumerate(GEOMETRIC):  # a line's force with its P-delta part
+        result["story_force"][:, j] += result["geometric_force"][:, k]
+    del result["geometric_force"]
+    for kind, deformation, levers in (("story", "story_drift", STORY_LEVERS),
+                                      ("link", "link_deformation", LINK_LEVERS)):
+        for j, lever in enumerate(levers):  # a rotational spring's moment and turn
+            if lever != 0.0:
+                result[kind + "_force"][:, j] /= lever
+                result[deformation][:, j] *= lever
     result["contact_force"] = 0.0 - result["contact_force"]
     result["contact_penetration"] = np.maximum(
         0.0 - result["contact_penetration"] - np.asarray(CONTACT_GAPS, dtype=float), 0.0)
@@ -296,7 +430,7 @@ def simulate(workdir):
     ops.numberer("RCM")
     ops.system("BandGeneral")
     ops.test("NormDispIncr", TOL, MAX_ITER)
-    ops.algorithm("Newton")
+    ops.algorithm(ALGORITHM)
     ops.integrator(*INTEGRATOR)
     ops.analysis("Transient")
 
@@ -321,10 +455,25 @@ def simulate(workdir):
             history[1:] = rows[:, 1:]
         result[name] = history
     finish(result)
+    pulled(result)
     return result
 
 
+def pulled(result):
+    """Say where a contact pulled: pframe's contact laws never do (their force stays at 0
+    where OpenSees' Hertzdamp damping outweighs its spring in rebound), so from there on
+    this model is not pframe's."""
+    for c, name in enumerate(CONTACT_NAMES):
+        steps = np.flatnonzero(result["contact_force"][:, c] < 0.0)
+        if len(steps):
+            print(f"contact {name!r} pulled at t = {float(result['time'][steps[0]])!r} s "
+                  f"({len(steps)} steps): pframe's force is 0 there, and the two differ from "
+                  "then on", file=sys.stderr)
+
+
 if __name__ == "__main__":
+    for difference in DIFFERENCES:
+        print(f"this model is not pframe's: {difference}", file=sys.stderr)
     with tempfile.TemporaryDirectory() as tmp:
         result = simulate(tmp)
     print(f"analyze({STEPS * SUBSTEPS}, {DT / SUBSTEPS!r}): {result['analyze_seconds']:.4f} s")

@@ -1,6 +1,6 @@
 """A plain description of one scene for peer programs, free of pframe's own data structures.
 
-``pframe.assemble.peer_scene(plan)`` fills it from an assembled plan (batch member 0); the
+``pframe.peers.from_plan.peer_scene(plan)`` fills it from an assembled plan (batch member 0); the
 peer modules turn it into their own input. A planar scene has one degree of freedom per
 floor (DOF ``i`` is node ``i``); a scene in plan adds :class:`FloorsInPlan`: its floors are
 rigid diaphragms and its elements act along a direction at points of them.
@@ -42,7 +42,10 @@ class FloorsInPlan:
         right) and link (first, second).
     story_directions, contact_directions, link_directions : (e, 2) float
         The unit direction each element acts along (a contact's normal, from its left side
-        to its right).
+        to its right); (0, 0) for an element on the floors' rotations alone.
+    story_levers, link_levers : (e,) float
+        The lever r of an element on the floors' rotations alone (its deformation is
+        r (theta_second - theta_first): P-delta's torsion), 0 for every other element (m).
     """
 
     names: list
@@ -56,6 +59,40 @@ class FloorsInPlan:
     contact_directions: np.ndarray
     link_points: np.ndarray
     link_directions: np.ndarray
+    story_levers: np.ndarray = None
+    link_levers: np.ndarray = None
+
+
+@dataclass(frozen=True)
+class Foundations:
+    """The buildings on soil of a planar scene (docs/soil.md): each foundation sways (u_f) and
+    rocks (theta) on springs and dashpots to the ground, and a storey of its building deforms
+    by u_upper - u_lower - h theta.
+
+    Attributes
+    ----------
+    sway, rocking : (F,) int
+        The DOF of each foundation's sway and of its rocking (whose mass is the foundation's
+        rotational inertia, kg m^2).
+    sway_materials, rocking_materials : list of tuple
+        The twins of its soil springs (:mod:`pframe.peers.twins`; N/m, N s/m and N m/rad,
+        N m s/rad).
+    story_foundation : (s,) int
+        The foundation whose rocking each storey's lower side holds (-1: none).
+    story_lever : (s,) float
+        That lever h, the storey's height (m; 0: none).
+    heights : (n,) float
+        The height of each DOF's floor above its foundation (m; 0 for a rocking DOF and for
+        a building on a fixed base).
+    """
+
+    sway: np.ndarray
+    rocking: np.ndarray
+    sway_materials: list
+    rocking_materials: list
+    story_foundation: np.ndarray
+    story_lever: np.ndarray
+    heights: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -73,18 +110,29 @@ class PeerScene:
         ``[lower, upper]`` DOF of each storey; ``lower == -1`` is the ground.
     story_names : list of str
     story_materials : list of tuple
-        ``("elastic", k)`` or ``("bilinear", k, fy, alpha)`` with k in N/m and fy in N
-        (kinematic hardening, OpenSees Steel01 with b = alpha and no isotropic hardening), or
-        ``("imk_peak", *packed)``: the law's 23 numbers, ModIMKPeakOriented's arguments.
+        Each storey's OpenSees twin (:mod:`pframe.peers.twins`): ``("elastic", k)``,
+        ``("bilinear", k, fy, alpha)`` with k in N/m and fy in N (kinematic hardening, OpenSees
+        Steel01 with b = alpha and no isotropic hardening), ``("imk_peak", *packed)`` (the
+        law's 23 numbers, ModIMKPeakOriented's arguments), ``("bouc_wen", ...)``,
+        ``("bwbn", ...)``, ``("viscous", c, alpha)``, ``("kelvin_voigt", k, c, alpha)`` or
+        ``("coulomb_pendulum", k0, q_yield, k2)``.
     contact_nodes : (c, 2) int
         ``[left, right]`` DOF; penetration = u_left - u_right - gap.
     contact_names : list of str
     contact_gaps : (c,) float, m (>= 0)
-    contact_stiffness : (c,) float, N/m (linear, compression only, no damping)
+    contact_materials : list of tuple
+        Each contact's OpenSees twin (:mod:`pframe.peers.twins`): ``("linear", k)``
+        (``ElasticPPGap``), ``("hertzdamp", k, xi_norm, n)``, ``("jankowski", beta, zeta,
+        m_eff)`` or ``("bumper", k, chi, n, k_hard, crush_depth)``.
     rayleigh : list of tuple
-        Per building ``(alpha_m, beta_k, node_dofs, story_indices)``: mass-proportional
-        coefficient on the building's nodes, stiffness-proportional coefficient on the
-        *initial* stiffness of its storeys.
+        ``(alpha_m, beta_k, node_dofs, story_indices, stiffness)``: mass-proportional
+        coefficient on the nodes, stiffness-proportional coefficient on the storeys' initial,
+        current or committed stiffness (``stiffness``: ``"initial"``, ``"current"`` or
+        ``"committed"``, OpenSees' ``betaKinit``, ``betaK``, ``betaKcomm``); one tuple per
+        building and stiffness.
+    story_geometric : (s,) float
+        P-delta's geometric stiffness P / h of each storey (N/m, 0: none): the storey resists
+        its material's force less (P / h) d, undamped.
     ground_acceleration : (steps + 1,) float, m/s^2 at t_n = n dt (relative formulation:
         load on DOF i is -m_i a_g(t)); a scene in plan: (len(channels), steps + 1), one row
         per site axis the motion loads.
@@ -96,22 +144,28 @@ class PeerScene:
     link_nodes : (l, 2) int
         ``[first, second]`` DOF of each link (-1: the ground); deformation u_second - u_first.
     link_materials : list of tuple
-        ``("elastic", k)``, ``("bilinear", k, fy, alpha)``, ``("viscous", c, alpha)`` or
-        ``("kelvin_voigt", k, c, alpha)``.
+        Each link's twin, as ``story_materials``.
     modal : list of float, optional
         Modal damping instead of Rayleigh's: the ratio of each mode of the whole scene's
         storeys on their initial stiffness, in ascending frequency (OpenSees' ``eigen`` then
         ``modalDamping``); None: Rayleigh damping.
     integrator : tuple
         ``("newmark", gamma, beta)``, ``("hht", alpha, gamma, beta)`` with alpha the weight of
-        the step's start (pframe's convention), ``("wilson_theta", theta)``, or
-        ``("trbdf2",)``: Bathe's composite method with gamma = 1/2, whose two sub-steps are two
-        analysis steps of OpenSees' TRBDF2. Each integrator says which it is (its
-        coefficients' ``opensees``).
+        the step's start (pframe's convention), ``("generalized_alpha", alpha_m, alpha_f,
+        gamma, beta)`` (Chung & Hulbert's weights of the step's start), ``("wilson_theta",
+        theta)``, ``("trbdf2",)``: Bathe's composite method with gamma = 1/2, whose two
+        sub-steps are two analysis steps of OpenSees' TRBDF2, or ``("central_difference",)``.
+        Each integrator says which it is (its coefficients' ``opensees``).
+    substeps : int
+        Analysis steps per step of pframe's (central difference's sub-steps).
     channels : tuple of str
         The site's axes ('x', 'y') the rows of a scene in plan's ground motion load.
     floors : FloorsInPlan, optional
         The floors of a scene in plan (None: a planar scene).
+    foundations : Foundations, optional
+        The foundations of a planar scene's buildings on soil (None: fixed bases).
+    differences : tuple of str
+        Where the OpenSees model is not pframe's (empty: the same model).
     """
 
     node_names: list
@@ -122,7 +176,7 @@ class PeerScene:
     contact_nodes: np.ndarray
     contact_names: list
     contact_gaps: np.ndarray
-    contact_stiffness: np.ndarray
+    contact_materials: list
     rayleigh: list
     ground_acceleration: np.ndarray
     dt: float
@@ -135,3 +189,7 @@ class PeerScene:
     modal: list = None
     channels: tuple = ("x",)
     floors: FloorsInPlan = None
+    story_geometric: np.ndarray = None
+    substeps: int = 1
+    foundations: Foundations = None
+    differences: tuple = ()

@@ -64,6 +64,7 @@ class Bumper(HertzContact):
                   "thickness": "length", "crush_ratio": "dimensionless",
                   "restitution": "dimensionless"}
     branches = "bumper"
+    opensees = "Parallel(Hertzdamp, Hertzdamp)"  # but in conditions (pframe.peers.twins)
     tangent_states = classmethod(hunt_crossley_tangent_states)
     examples = ({"stiffness": 1.0e8, "hard_stiffness": 1.0e9, "thickness": 0.001,
                  "restitution": 0.6},

@@ -23,6 +23,7 @@ class Hertz(HertzContact):
 
     param_names = ("stiffness",)
     branches = "gap"
+    opensees = "Hertzdamp"  # without damping (pframe.peers.twins)
     examples = ({"stiffness": 1.0e9},)
     impacts = {"hertz": Impact({"stiffness": 1.0e9}, "`hertz`")}
 

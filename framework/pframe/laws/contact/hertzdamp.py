@@ -56,6 +56,7 @@ class Hertzdamp(HertzContact):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
+    opensees = "Hertzdamp"  # but in conditions (pframe.peers.twins)
     tangent_states = classmethod(hunt_crossley_tangent_states)
     examples = ({"stiffness": 1.0e9, "restitution": 0.6},
                 {"stiffness": 1.0e9, "restitution": 0.5, "formula": "muthukumar"},

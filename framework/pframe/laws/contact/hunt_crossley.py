@@ -50,6 +50,7 @@ class HuntCrossley(Law):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
+    opensees = "Hertzdamp"  # but in conditions (pframe.peers.twins)
     dimensions = {"exponent": "dimensionless", "restitution": "dimensionless"}
     undimensioned = {"stiffness": "the stiffness of hunt_crossley is in N/m^n, a dimension that "
                                   "depends on n; scale it by hand (by S_F S_L^-n)"}

@@ -42,6 +42,7 @@ class ImprovedKelvin(SpringContact):
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)
     branches = "hunt_crossley"
+    opensees = "Hertzdamp"  # n = 1, but in conditions (pframe.peers.twins)
     tangent_states = classmethod(hunt_crossley_tangent_states)
     examples = ({"stiffness": 2.0e7, "restitution": 0.6},
                 {"frequency_ratio": 30.0, "restitution": 0.5})

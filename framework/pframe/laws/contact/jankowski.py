@@ -45,6 +45,7 @@ class Jankowski(HertzContact):
 
     param_names = ("stiffness", "zeta", "effective_mass")
     branches = "jankowski"
+    opensees = "JankowskiImpact"
     examples = ({"stiffness": 1.0e9, "restitution": 0.6}, {"stiffness": 1.0e9, "restitution": 0.5})
     # the damping c ~ delta^(1/4) makes the onset force non-smooth: the kernel's e converges
     # as about dt^1.25 (measured at 1000 .. 8000 steps per contact: 1.9e-4, 8.1e-5, 3.4e-5,

@@ -74,7 +74,9 @@ class FrictionPendulum(Law):
                   "mu_fast": "dimensionless", "rate_parameter": "s/m", "weight": "force",
                   "k_init": "stiffness"}
     branches = "smooth"
-    opensees = None  # an element (flatSliderBearing / singleFPBearing), not a uniaxialMaterial
+    #: with Coulomb friction (pframe.peers.twins); velocity-dependent friction is an
+    #: element's in OpenSees (flatSliderBearing / singleFPBearing), not a uniaxialMaterial's
+    opensees = "Parallel(Steel01, Elastic)"
     #: the first without ``weight``: g times the masses above the storey (StoreyContext)
     examples = ({"radius": 1.0, "mu_slow": 0.05, "mu_fast": 0.1, "rate_parameter": 30.0,
                  "k_init": 2.0e6},

@@ -38,6 +38,7 @@ class KelvinVoigt(Law):
                   "linear_below": "velocity"}
     undimensioned = {"damping": DASHPOT_UNDIMENSIONED}
     branches = "smooth"
+    opensees = "Parallel(Elastic, Viscous)"
     examples = ({"stiffness": 1.0e5, "damping": 1.0e3},
                 {"stiffness": 1.0e5, "damping": 2.0e3, "exponent": 0.5})
 
