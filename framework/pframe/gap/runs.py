@@ -83,12 +83,11 @@ def for_runs(loaded, channels: tuple[str, ...] = ("x",), contacts: bool = False)
     from pframe.model.load import ModelError
     from pframe.model.scene import Components, Sine
 
+    zero = Components(x=Sine(amplitude=0.0, frequency=1.0)) if "y" in channels else None
+    carried = _carried_by_passage(loaded, zero) if loaded.scene.supports else zero
     if contacts and ("y" not in channels or "y" in loaded.expanded.axes):
         return loaded.expanded
-    update = {"excitation": Components(x=Sine(amplitude=0.0, frequency=1.0))
-              if "y" in channels else None}
-    if loaded.scene.supports:
-        update["excitation"] = _carried_by_passage(loaded, update["excitation"])
+    update = {"excitation": carried}
     if not contacts:
         update["contacts"] = []
     try:

@@ -54,6 +54,10 @@ def _scene_refusals(plan: Plan, member: int) -> list[str]:
                         "of a column moving as psi u_upper + (1 - psi) u_lower (a "
                         "floor-to-column contact: a multi-point constraint with two retained "
                         "nodes, which OpenSees' rigidLink and equalDOF are not)")
+    if plan.node_support:
+        problems.append("it stands on several supports (docs/supports.md), which the script "
+                        "does not model yet: OpenSees' MultipleSupport pattern with a "
+                        "groundMotion per support is not written")
     if isinstance(plan.integrator.opensees, str):  # the integrator's own reason
         problems.append(plan.integrator.opensees)
     if plan.foundations and not plan.planar:
