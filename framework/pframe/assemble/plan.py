@@ -17,7 +17,6 @@ from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mcke
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
-from pframe.model.plan import COMPONENTS
 
 #: the scene's ``damping.stiffness`` -> the kernel's slot
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
