@@ -112,7 +112,15 @@ def _models(root: type[BaseModel]) -> dict[str, type[BaseModel]]:
 
 
 def _law_text(selector: str, value: str) -> str | None:
-    """The docstring of the law a ``law:`` / ``material:`` value names, as Markdown."""
+    """The docstring of the law a ``law:`` / ``material:`` value names, or of the module of
+    the integrator a ``type:`` names (its equations and sources), as Markdown."""
+    if selector == "type":
+        from pframe import integrators
+
+        if value not in integrators.TABLE:
+            return None
+        doc = inspect.getmodule(getattr(integrators, integrators.TABLE[value])).__doc__
+        return _rst(inspect.cleandoc(doc)) if doc else None
     kind = {"law": "contact", "material": "material"}.get(selector)
     if kind is None:
         return None

@@ -32,6 +32,18 @@ WU2021 = REPO / "models" / "wu2021-eq14.yaml"
 RECORDS = REPO.parent / "shared" / "records"
 
 
+def assert_names(found, expected, what: str, extra: bool = True) -> None:
+    """A list derived from a registry holds exactly the names of ``expected`` (``extra`` False:
+    at least them): fail naming each one missing and each one not expected, whole, never a
+    set difference cut short."""
+    found, expected = set(found), set(expected)
+    missing = sorted(map(str, expected - found))
+    beyond = sorted(map(str, found - expected)) if extra else []
+    parts = ([f"missing {', '.join(missing)}"] if missing else []) + (
+        [f"not expected {', '.join(beyond)}"] if beyond else [])
+    assert not parts, f"{what}: {'; '.join(parts)}"
+
+
 def fact(cls, name: str):
     """An integrator's declared fact (pframe.integrators' Facts): the generic tests ask the
     integrator what to check. One left out fails here, naming the integrator and the fact."""

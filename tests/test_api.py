@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
-from conftest import runnable_model
+from conftest import assert_names, runnable_model
 
 import pframe
 
@@ -93,8 +93,8 @@ def test_import_is_light():
 
 
 def test_the_api_is_listed_once():
-    assert set(pframe.__all__) == {"InputError", "EnvironmentFailure", "PframeError", "__version__",
-                                   *pframe._API}
+    assert_names(pframe.__all__, {"InputError", "EnvironmentFailure", "PframeError",
+                                  "__version__", *pframe._API}, "pframe.__all__")
     for name in pframe.__all__:
         assert getattr(pframe, name) is not None
 
@@ -189,6 +189,66 @@ def test_round_trip_keeps_tags_left_at_defaults():
     assert data["analysis"]["integrator"] == {"type": "hht", "alpha": 0.1}
     assert data["excitation"]["kind"] == "sine"
     assert pframe.load(data) == scene
+
+
+def _calls_during(watched: set, work) -> dict:
+    """How often each (module, function) of ``watched`` is entered while ``work()`` runs."""
+    counts = dict.fromkeys(watched, 0)
+
+    def profile(frame, event, arg):
+        if event == "call":
+            key = (frame.f_globals.get("__name__"), frame.f_code.co_name)
+            if key in counts:
+                counts[key] += 1
+
+    sys.setprofile(profile)
+    try:
+        work()
+    finally:
+        sys.setprofile(None)
+    return counts
+
+
+@pytest.mark.parametrize("given", ["objects", "dict"])
+def test_a_python_scene_flows_one_way(given, tmp_path):
+    """pframe.solve of a scene built in Python validates its data once and expands it once,
+    writes no YAML text to read it again (the text is written once, for the file's
+    input_yaml), finds its reference scales once (a dimensionless scene used to find them
+    three times), and opens the file it wrote without checking it as one of unknown origin."""
+    scene = paper_scene().model_copy(update={
+        "analysis": pframe.Analysis(dt=5e-4, duration=0.05),
+        "output": pframe.Output(units="dimensionless")})
+    source = scene if given == "objects" else yaml.safe_load(scene.to_yaml())
+    out = tmp_path / "run.nc"
+    counts = _calls_during({("pframe.model.load", "validated"), ("pframe.model.expand", "expand"),
+                            ("pframe.yamltext", "compose"), ("yaml", "dump_all"),
+                            ("pframe.nondim.scene_variables", "reference_scales"),
+                            ("pframe.record.check", "check_file")},
+                           lambda: pframe.solve(source, output=out).close())
+    assert counts == {("pframe.model.load", "validated"): 1, ("pframe.model.expand", "expand"): 1,
+                      ("pframe.yamltext", "compose"): 0, ("yaml", "dump_all"): 1,
+                      ("pframe.nondim.scene_variables", "reference_scales"): 1,
+                      ("pframe.record.check", "check_file"): 0}
+    with pframe.open(out) as ds:
+        assert ds.attrs["input_yaml"] == scene.to_yaml()
+        assert ds.attrs["source"] == ("pframe.Scene" if given == "objects" else "pframe.load(dict)")
+    assert pframe.load(out) == scene
+
+
+def test_a_scene_objects_problem_names_its_field():
+    """A problem found when a scene object is used names the field, as a dict's does (not a
+    line of a YAML text the user never saw)."""
+    scene = paper_scene()
+    bad = scene.model_copy(update={"contacts": [pframe.Contact(
+        law="linear", nodes=("A/3", "C/3"), gap=0.05, stiffness=1e7)]})
+    with pytest.raises(pframe.InputError, match=r"^pframe\.Scene, contacts\[0\]\.nodes\[1\]: "
+                       "no node named 'C/3'"):
+        pframe.load(bad)
+    huge = scene.model_copy(update={"buildings": [
+        scene.buildings[0].model_copy(update={"mass": 1e200}), scene.buildings[1]]})
+    with pytest.raises(pframe.InputError, match=r"^pframe\.Scene, buildings\[0\]\.mass: 1e\+200 "
+                       "is larger than"):
+        pframe.load(huge)
 
 
 def test_bad_objects_raise_input_error():

@@ -65,6 +65,28 @@ def test_yaml_reference_is_current():
         f"docs/yaml-reference.md is stale; regenerate it with:\n{REGENERATE}")
 
 
+def test_every_built_in_law_has_its_section_in_the_docs():
+    """docs/theory.md describes every built-in law (architecture.md's recipe, step 3): a
+    contact law by its row in the table of ``## Contact laws``, a material by its paragraph
+    (``**name**``) under ``## Storey materials`` or, a link's material, by its row in
+    docs/links-and-walls.md; the test names each one missing."""
+    from pframe.laws.registry import builtin_laws
+
+    theory = (DOCS / "theory.md").read_text(encoding="utf-8")
+    contacts = theory[theory.index("## Contact laws"):theory.index("\n## ", theory.index(
+        "## Contact laws") + 1)]
+    materials = theory[theory.index("## Storey materials"):theory.index("## Contact laws")]
+    links = (DOCS / "links-and-walls.md").read_text(encoding="utf-8")
+    missing = [f"contact law {law.name} (a row | `{law.name}` | of the table of ## Contact "
+               "laws in docs/theory.md)" for law in builtin_laws("contact")
+               if f"| `{law.name}` |" not in contacts]
+    missing += [f"material {law.name} (a paragraph **{law.name}** under ## Storey materials "
+                "in docs/theory.md, or a row of the link materials in docs/links-and-walls.md)"
+                for law in builtin_laws("material")
+                if f"**{law.name}**" not in materials and f"| `{law.name}` |" not in links]
+    assert not missing, "undocumented built-in laws: " + "; ".join(missing)
+
+
 def test_the_docs_hold_scenes():
     """Guard against a fence pattern that silently finds nothing."""
     pages = {name for name, _, _ in SCENE_BLOCKS}

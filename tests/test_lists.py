@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import analysis, building, run_text, scene_text
+from conftest import analysis, assert_names, building, run_text, scene_text
 
 from pframe.kernel import state
 from pframe.quantities import QUANTITIES
@@ -55,9 +55,9 @@ def test_every_quantity_is_gathered_by_the_kernel_and_known_to_its_users():
         assert re.search(rf"\b{slot.name}\b", record_c), f"record.c never gathers {slot.name}"
     assert recordable == tuple(QUANTITIES)
     histories = typing.get_args(typing.get_args(Keep.model_fields["histories"].annotation)[0])
-    assert set(histories) == set(QUANTITIES)
-    fields = {f for f in ReferenceResult.__dataclass_fields__}
-    assert set(QUANTITIES) <= fields
+    assert_names(histories, QUANTITIES, "the sweep's keep.histories choices")
+    assert_names(ReferenceResult.__dataclass_fields__, QUANTITIES,
+                 "the reference solver's ReferenceResult fields", extra=False)
 
 
 GAP, CONTACT_STIFFNESS = 0.01, 5.0e6
@@ -96,7 +96,8 @@ def test_every_quantity_records_what_it_means():
     # a foundation's sway and rocking need soil (tests/test_soil.py checks them), a named
     # plan point a floor plan (tests/test_plan.py)
     on_soil = {q for q, (dim, _, _) in QUANTITIES.items() if dim in ("foundation", "point")}
-    assert set(result.history) == set(result.envelope) == set(QUANTITIES) - on_soil
+    assert_names(result.history, set(QUANTITIES) - on_soil, "the quantities recorded as histories")
+    assert_names(result.envelope, set(QUANTITIES) - on_soil, "the quantities recorded as envelopes")
     widths = {"node": plan.n_dof, "story": len(plan.story_names),
               "contact": len(plan.contact_names), "link": len(plan.link_names)}
     for q, (dim, _, _) in QUANTITIES.items():
@@ -154,7 +155,7 @@ def test_energy_terms_and_bookkeeping_are_the_energy_slots(tmp_path):
     they close the balance."""
     terms, bookkeeping = set(state.ENERGY_TERMS.values()), set(state.ENERGY_BOOKKEEPING)
     assert not terms & bookkeeping
-    assert terms | bookkeeping == set(state.Energy)
+    assert_names(terms | bookkeeping, state.Energy, "the energy terms and bookkeeping slots")
     assert len(state.ENERGY_TERMS) == len(terms)
     assert _c_defines()["ENERGY_SLOTS"] == len(state.Energy)
     netcdf = (ROOT / "docs" / "netcdf.md").read_text(encoding="utf-8")
@@ -178,14 +179,15 @@ def test_energy_terms_and_bookkeeping_are_the_energy_slots(tmp_path):
     dataset = pframe.solve(scene)
     written = {k[len("energy_"):] for k in dataset.attrs
                if k.startswith("energy_") and not k.endswith("_units")}
-    assert written - {"balance_error"} == set(state.ENERGY_TERMS)
+    assert_names(written - {"balance_error"}, state.ENERGY_TERMS, "the file's energy attributes")
 
 
 def test_counters_are_named_and_written():
     from pframe.record.hdf5 import COUNTER_ATTRIBUTES
 
     assert state.COUNTER_NAMES == tuple(c.name.lower() for c in state.Counter)
-    assert {name for name, _ in COUNTER_ATTRIBUTES} == set(state.COUNTER_NAMES)
+    assert_names({name for name, _ in COUNTER_ATTRIBUTES}, state.COUNTER_NAMES,
+                 "record/hdf5.py's COUNTER_ATTRIBUTES")
     assert _c_defines()["COUNTER_SLOTS"] == len(state.Counter)
 
 

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import assert_names
 
 import pframe
 
@@ -53,12 +54,12 @@ CLASSES = [name for name in pframe.__all__ if name[0].isupper() and name not in 
 
 def test_every_public_function_is_covered():
     public = {n for n in pframe.__all__ if callable(getattr(pframe, n)) and n[0].islower()}
-    assert public - {"risk"} == set(FUNCTIONS)
+    assert_names(public - {"risk"}, FUNCTIONS, "the public functions FUNCTIONS tries")
     for name, arguments in FUNCTIONS.items():
         signature = inspect.signature(getattr(pframe, name) if name not in ("sweep", "plot")
                                       else getattr(pframe, name).__call__)
         if name not in ("sweep", "plot"):  # made callable packages take *args, **kwargs
-            assert set(arguments) == set(signature.parameters), name
+            assert_names(arguments, signature.parameters, f"the arguments of pframe.{name}")
 
 
 @pytest.fixture(scope="module")

@@ -22,6 +22,7 @@ from conftest import (  # tests/ is on sys.path under pytest and when run as a s
     M_RIGHT,
     V_IMPACT,
     analysis,
+    assert_names,
     building,
     element_history,
     hunt_crossley_restitution,
@@ -163,12 +164,15 @@ for _case, (_law, _, _) in VARIANTS.items():
 
 def test_every_damped_law_is_covered():
     """Every built-in law with a restitution has a calibration, a row and a kernel batch."""
-    assert sorted(c for cases in BATCHES.values() for c in cases) == sorted(VARIANTS)
+    assert_names([c for cases in BATCHES.values() for c in cases], VARIANTS,
+                 "the impact cases run in the kernel batches")
     damped = {law.name for law in all_contact_laws() if "restitution" in law.Params.model_fields}
-    assert damped == {law for law, _, _ in VARIANTS.values()}
+    assert_names({law for law, _, _ in VARIANTS.values()}, damped,
+                 "the damped laws with impacts declared (a law's impacts fact)")
     for name in damped:
         assert "calibration" in get_law("contact", name).Params.model_fields
-    assert {row[0] for row in ROWS} == set(VARIANTS)
+    assert_names({row[0] for row in ROWS}, VARIANTS, "the rows of docs/restitution.md's "
+                 "tables (python tests/test_restitution.py rewrites them)")
 
 
 @pytest.mark.slow

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import pytest
 import yaml
+from conftest import assert_names
 
 from pframe.commands.validate import input_kind
 from pframe.schema import FILES, packaged, texts
@@ -66,7 +67,8 @@ def test_the_package_ships_the_schemas():
     config = tomllib.loads((REPO / "pyproject.toml").read_text(encoding="utf-8"))
     patterns = config["tool"]["setuptools"]["package-data"]["pframe"]
     shipped = {p.name for pattern in patterns for p in packaged().parent.glob(pattern)}
-    assert set(FILES) <= shipped, patterns
+    assert_names(shipped, FILES, f"the schemas pyproject's package data ({patterns}) ships",
+                 extra=False)
 
 
 def test_each_schema_has_its_id_and_title():

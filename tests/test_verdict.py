@@ -57,9 +57,15 @@ def test_balance_with_algorithmic_dissipation_closes(name, dt_factor):
     config, (low, high) = INTEGRATORS[name]
     _, result = run_text(_paper(config, dt_factor))
     assert result.completed(0), result.describe_failure(0)
-    assert result.energy_error(0) < fact(integrator_class(config), "balance_tolerance")
+    tolerance = fact(integrator_class(config), "balance_tolerance")
+    assert result.energy_error(0) < tolerance, (
+        f"{name} at {dt_factor} times the step: balance error {result.energy_error(0):.3g}, "
+        f"above its balance_tolerance {tolerance:g}")
     assert vd.of_result(result).level == vd.TRUSTED
-    assert low < result.algorithmic_dissipation(0) < high
+    measured = result.algorithmic_dissipation(0)
+    assert low < measured < high, (
+        f"{name} at {dt_factor} times the step: algorithmic dissipation {measured:.3g} of the "
+        f"largest energy term, outside the band ({low:g}, {high:g}) its facts declare (balance)")
 
 
 def _amplification(gamma, beta, alpha_m, alpha_f, omega_h):

@@ -15,6 +15,7 @@ import weakref
 from pathlib import Path
 
 from pframe.errors import InputError
+from pframe.objects import describe
 
 #: suffixes of result files (``load`` of one rebuilds the scene it holds)
 RESULT_SUFFIXES = (".nc", ".h5", ".hdf5", ".nc4")
@@ -89,21 +90,6 @@ def result_dataset(result, call: str):
         ds.close()
         return ds
     return indexed(result)
-
-
-def describe(value) -> str:
-    """``None``, ``a int (5)``, ``a list``: what a wrong argument is, for messages."""
-    import numpy as np
-
-    if value is None:
-        return "None"
-    if isinstance(value, np.ndarray):
-        return f"a numpy array of shape {value.shape}"
-    kind = type(value).__name__
-    article = "an" if kind[:1].lower() in "aeiou" else "a"
-    shown = repr(value)
-    return (f"{article} {kind} ({shown})" if len(shown) <= 40 and "\n" not in shown
-            and not isinstance(value, dict) else f"{article} {kind}")
 
 
 # -- scenes ---------------------------------------------------------------------------------
@@ -193,7 +179,8 @@ def loaded_scene(source, base_dir=None):
 
 def _loaded(source, base_dir=None):
     """The :class:`pframe.reader.LoadedScene` of any ``source`` that :func:`load` takes."""
-    from pframe.reader import LoadedScene, load_scene, parse_scene, scene_from_data
+    from pframe.model.scene import given_fields
+    from pframe.reader import LoadedScene, load_scene, scene_from_data
 
     if isinstance(source, LoadedScene):
         return source
@@ -206,71 +193,27 @@ def _loaded(source, base_dir=None):
             return _from_result(path)
         return load_scene(path)
     if isinstance(source, dict):
-        import copy
-
-        import yaml
-
-        data = plain_data(source, "pframe.load(dict)")
-        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True)
         # no lines: messages name the dict's keys (a line of text the user never saw would
-        # not help); the text is what the result file keeps as the scene it ran
-        return scene_from_data(copy.deepcopy(data), {}, "pframe.load(dict)",
-                               Path(base_dir or "."), text)
+        # not help); the text the result file keeps is made of the data when it is written
+        return scene_from_data(given_fields(source, "pframe.load(dict)"), {},
+                               "pframe.load(dict)", Path(base_dir or "."))
     loaded = _origin(source)
     if loaded is not None:
         return loaded
-    if hasattr(source, "to_yaml"):
-        from pydantic import BaseModel
+    from pydantic import BaseModel
 
-        from pframe.model.scene import given_fields
-
-        if isinstance(source, BaseModel):  # a value model_construct let in, named by its key
-            plain_data(given_fields(source), f"pframe.{type(source).__name__}")
+    if isinstance(source, BaseModel) and hasattr(source, "to_yaml"):  # a scene object
+        where = f"pframe.{type(source).__name__}"
+        # its fields as data, checked as a dict's (a value model_construct let in is named by
+        # its key), then validated and expanded once, as a file's data is: no text between
+        data = given_fields(source, where)
         # a copy of a loaded scene (model_copy) finds its record where the original did
         excitation = getattr(source, "excitation", None)
         base = base_dir or getattr(excitation, "_folder", None) or "."
-        # the line of a problem is a line of the text scene.to_yaml() returns
-        return parse_scene(source.to_yaml(), f"pframe.{type(source).__name__} (as "
-                           "scene.to_yaml() writes it)", Path(base))
+        return scene_from_data(data, {}, where, Path(base))
     raise InputError(f"pframe.load: cannot read a scene from {describe(source)}; give a scene "
                      "file's path (str or pathlib.Path), a dict with the fields of the YAML, "
                      "or a pframe.Scene")
-
-
-def plain_data(value, where: str, path: tuple = ()):
-    """A scene given as Python data, as the YAML would hold it: numpy numbers and arrays as
-    Python numbers and lists, tuples as lists, paths as text, scene objects as their fields.
-    Anything else (a set, a function, an object of another library) is an InputError naming
-    its key."""
-    import numpy as np
-    from pydantic import BaseModel
-
-    from pframe.model.scene import given_fields
-    from pframe.objects import dotted
-
-    if isinstance(value, np.generic) and isinstance(value.item(), (bool, int, float, str)):
-        return value.item()  # before float: numpy's float64 is one, and YAML cannot write it
-    if value is None or isinstance(value, (bool, int, float, str)):
-        return value
-    if isinstance(value, np.ndarray) and value.dtype.kind in "biuf":
-        return value.tolist()
-    if isinstance(value, os.PathLike):
-        return os.fspath(value)
-    if isinstance(value, BaseModel):
-        return given_fields(value)
-    if isinstance(value, dict):
-        out = {}
-        for key, item in value.items():
-            if not isinstance(key, str):
-                raise InputError(f"{where}: {dotted(path) or 'the dict'}: the key {key!r} is "
-                                 f"{describe(key)}; a scene's keys are the field names, as text")
-            out[key] = plain_data(item, where, path + (key,))
-        return out
-    if isinstance(value, (list, tuple)):
-        return [plain_data(item, where, path + (i,)) for i, item in enumerate(value)]
-    raise InputError(f"{where}: {dotted(path) or 'the value'} is {describe(value)}; a scene holds "
-                     "numbers, text, True/False, None, and lists and dicts of them (numpy "
-                     "numbers and arrays are taken as numbers and lists)")
 
 
 def _from_result(path: Path):
@@ -395,7 +338,7 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
         output = check_output(output, overwrite, loaded)
     _check_resources(loaded, output)
     plan = assemble(loaded.expanded)
-    from pframe.verdict import AccuracyWarning, of_result
+    from pframe.verdict import AccuracyWarning
 
     for text in plan.warnings:
         warnings.warn(f"{loaded.source}: {text}", AccuracyWarning, stacklevel=2)
@@ -417,7 +360,7 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
         from pframe import outputs
 
         raise outputs.failure(output, exc) from None
-    for text in of_result(result).warnings:
+    for text in writer.verdict.warnings:
         warnings.warn(f"{loaded.source}: {text}", AccuracyWarning, stacklevel=2)
     if not result.completed():
         warnings.warn(f"{loaded.source}: the run stopped early: {result.describe_failure()}; "
@@ -425,7 +368,7 @@ def solve(scene, *, output: str | Path | None = None, overwrite: bool = False,
                       IncompleteRun, stacklevel=2)
     if output is None:
         return indexed(target.dataset())
-    return open(output)
+    return _opened(output)  # the file just written: not checked as a file of unknown origin
 
 
 def _check_resources(loaded, output) -> None:

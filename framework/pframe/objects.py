@@ -38,6 +38,21 @@ def booleans(node, path: tuple = ()):
             yield from booleans(value, path + (i,))
 
 
+def describe(value) -> str:
+    """``None``, ``a int (5)``, ``a list``: what a wrong argument is, for messages."""
+    import numpy as np
+
+    if value is None:
+        return "None"
+    if isinstance(value, np.ndarray):
+        return f"a numpy array of shape {value.shape}"
+    kind = type(value).__name__
+    article = "an" if kind[:1].lower() in "aeiou" else "a"
+    shown = repr(value)
+    return (f"{article} {kind} ({shown})" if len(shown) <= 40 and "\n" not in shown
+            and not isinstance(value, dict) else f"{article} {kind}")
+
+
 def value_at(obj, path: tuple):
     """What a validated model holds at a path of the data it was built from (a sentinel if
     the path does not lead anywhere)."""

@@ -8,51 +8,72 @@ numbers), :mod:`pframe.model.load` (validation with messages that name the line)
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from pframe.errors import InputError
 from pframe.model.load import ModelError, check_numbers, plugin_names, read_input, validated
-from pframe.yamltext import compose, where
+from pframe.yamltext import compose, dump, where
 
 Path_ = tuple  # a path into the YAML data: keys and list indices
 
 
 @dataclass(frozen=True)
 class LoadedScene:
-    """A validated scene with where it came from."""
+    """A validated scene with where it came from.
+
+    ``given`` is the scene's data as it was given (a file's composed YAML, a dict, a scene
+    object's fields; a Pi-form scene in Pi numbers), ``lines`` the line of each of its values
+    in ``source`` (none for data and objects: their messages name the keys), ``given_text``
+    a file's own text. A scene given as data or objects has no text until one is asked for
+    (:attr:`text`)."""
 
     scene: object
-    text: str
     source: str
     base_dir: Path
     lines: dict = field(repr=False)
     expanded: object = field(repr=False, default=None)
+    given: dict | None = field(repr=False, default=None)
+    given_text: str | None = field(repr=False, default=None)
+    #: the reference scales m_b, a_p, w_p of the paper's dimensionless variables, or None for
+    #: a scene without them (:func:`pframe.nondim.scene_variables.reference_scales`)
+    reference: dict | None = field(repr=False, default=None)
+    #: the units its result file is written in (:class:`pframe.nondim.output.OutputUnits`:
+    #: SI, or the paper's dimensionless variables with the reference scales)
+    units: object = field(repr=False, default=None)
 
     def where(self, path: Path_) -> str:
         return where(self.source, self.lines, path)
 
     @property
-    def data(self) -> dict:
-        """The scene's YAML data as its file says it (a Pi-form scene in Pi numbers)."""
-        return compose(self.text, self.source)[0]
+    def text(self) -> str:
+        """The scene's YAML (a result file's ``input_yaml``): a file's own text, comments
+        included; for data and objects, their data written once, when first asked for."""
+        if self.given_text is None:
+            text = "" if self.given is None else dump(self.given)
+            object.__setattr__(self, "given_text", text)  # a cache of what given says
+        return self.given_text
 
     @property
-    def units(self):
-        """The units its result file is written in (:func:`pframe.nondim.output.output_units`:
-        SI, or the paper's dimensionless variables with their reference scales)."""
-        from pframe.nondim.output import output_units
-
-        return output_units(self.scene, self.expanded)
+    def data(self) -> dict:
+        """The scene's YAML data as given (a Pi-form scene in Pi numbers): a copy, the
+        caller's to change."""
+        return copy.deepcopy(self.given)
 
 
 def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str = ".",
-                    text: str = "") -> LoadedScene:
-    """Validate composed YAML data (a Pi-form scene is expanded first) and resolve it;
-    ``lines`` map data paths to lines of ``source`` for the messages."""
+                    text: str | None = None) -> LoadedScene:
+    """Validate scene data (composed YAML, or plain Python data; a Pi-form scene is expanded
+    first) and resolve it: the one validation and the one expansion of every scene read.
+    ``lines`` map data paths to lines of ``source`` for the messages (empty: messages name
+    the keys); ``text`` is the file's text, if the data came from one. ``data`` becomes the
+    scene's :attr:`LoadedScene.given`: the caller does not change it afterwards."""
+    given = data
     from pframe.model.expand import expand
     from pframe.model.scene import scene_class, scene_motions
+    from pframe.nondim.output import OutputUnits
 
     unit_scales = ()
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
@@ -79,14 +100,23 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
         raise InputError(f"{where(source, lines, exc.path)}: {exc.message}") from None
     if unit_scales:
         expanded = dataclasses.replace(expanded, unit_scales=unit_scales)
-    if scene.output.units == "dimensionless":  # fail now, not after the run
-        from pframe.nondim.scene_variables import reference_scales
+    reference = _reference(scene, expanded, source, lines)
+    units = OutputUnits(reference if scene.output.units == "dimensionless" else None)
+    return LoadedScene(scene, source, base_dir, lines, expanded, given, text, reference, units)
 
-        try:
-            reference_scales(scene, expanded)
-        except InputError as exc:
+
+def _reference(scene, expanded, source: str, lines: dict) -> dict | None:
+    """The scene's reference scales (m_b, a_p, w_p), found once: the result file's
+    ``reference_*`` attributes, and its units when ``output.units`` is dimensionless, where
+    a scene without them is refused now, naming ``output``, not after the run."""
+    from pframe.nondim.scene_variables import reference_scales
+
+    try:
+        return reference_scales(scene, expanded)
+    except (InputError, ValueError, TypeError, AttributeError) as exc:
+        if scene.output.units == "dimensionless":
             raise InputError(f"{where(source, lines, ('output',))}: {exc}") from None
-    return LoadedScene(scene, text, source, base_dir, lines, expanded)
+        return None
 
 
 def _unit_scales(data: dict) -> tuple[str, ...]:
@@ -117,28 +147,17 @@ def load_scene(path: str | Path) -> LoadedScene:
     return parse_scene(read_input(path, "model"), str(path), path.parent)
 
 
-def variant(loaded: LoadedScene, change, composed: tuple | None = None,
-            text: bool = True) -> LoadedScene:
+def variant(loaded: LoadedScene, change) -> LoadedScene:
     """A variant of a loaded scene, made on its data -- the one way pframe makes variants.
 
-    ``change(data)`` edits the scene's YAML data (a dict, as the file says it: a Pi-form
-    scene stays in Pi numbers) in place; the variant is validated as a file is, its messages
-    name the original file and lines, and its text (``input_yaml`` of a result) is the
-    changed data. A key that ``change`` expects and does not find raises there, instead of
-    leaving the scene unchanged.
-
-    Many variants of one scene: ``composed`` is ``compose(loaded.text, loaded.source)``,
-    done once (it is copied, not changed); ``text=False`` leaves the variant's text empty,
-    for variants that are run and never written (it costs more than the validation)."""
-    import copy
-
-    import yaml
-
-    data, lines = compose(loaded.text, loaded.source) if composed is None else composed
-    data = copy.deepcopy(data)
+    ``change(data)`` edits a copy of the scene's data as given (a dict, as the file says it:
+    a Pi-form scene stays in Pi numbers) in place; the variant is validated as a file is, its
+    messages name the original file and lines, and its text (``input_yaml`` of a result), if
+    asked for, is the changed data. A key that ``change`` expects and does not find raises
+    there, instead of leaving the scene unchanged."""
+    data = loaded.data
     change(data)
-    text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True) if text else ""
     # the folder the record was read from (absolute), not base_dir again relative to a
     # current folder that may have changed since
     folder = getattr(loaded.scene.excitation, "_folder", None) or loaded.base_dir
-    return scene_from_data(data, lines, loaded.source, folder, text)
+    return scene_from_data(data, loaded.lines, loaded.source, folder)

@@ -450,12 +450,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                   for block in fitted.modal_keys for i, a in enumerate(block)
                   for c in block[i + 1:]]
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
-    known = {key: m for ex in variants for key, m in zip(
-        ex.dofs or [(i, 0) for i in range(nodes)],
-        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
-    masses = [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
-                                       else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
-                              if soil.count else np.zeros(0)]) for ex in variants]
+    masses = _masses(variants, node_keys, soil)
     node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
     # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
     # foundation's (the soil's dashpots damp them)
@@ -464,31 +459,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
                   for f in fitted.fits]
 
-    history: dict[str, int] = {}
-    envelope: list[str] = []
-    for rec in first.recorders:
-        for q in rec.quantities:
-            if rec.kind == "history":
-                if q in history and history[q] != rec.every:
-                    raise InputError(f"{q} is recorded twice with different 'every' "
-                                     f"({history[q]} and {rec.every})")
-                history[q] = rec.every
-            elif q not in envelope:
-                envelope.append(q)
-    if any(e.column_side is not None for e in first.contacts) and \
-            "contact_force" not in envelope:
-        # the struck columns' shear: written (peak_column_shear) and checked on its peak
-        envelope.append("contact_force")
     planar = all(ex.dofs is None for ex in variants)
-    if first.point_names and not planar and "point_drift" not in envelope:
-        envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
-    if not planar and "displacement" not in envelope:
-        envelope.append("displacement")  # the floors' rotations: the small-rotation check
-    for kind, elements in (("contact_", first.contacts), ("link_", first.links),
-                           ("foundation_", first.foundations), ("point_", first.point_names)):
-        if not elements:
-            history = {q: k for q, k in history.items() if not q.startswith(kind)}
-            envelope = [q for q in envelope if not q.startswith(kind)]
+    history, envelope = _recorded(first, planar)
 
     damping_codes = np.array(
         [DAMPING_STIFFNESS[getattr(first.damping[b], "stiffness", "initial")]
@@ -545,9 +517,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_sides=story_sides,
         contact_sides=contact_sides,
         channels=first.channels,
-        dof_channel=np.array([grounds.channel_index(first, node, c) if node < nodes and c < 2
-                              else soil.channel(first, node) for node, c in keys],
-                             dtype=np.int64)[order],
+        dof_channel=_dof_channels(first, keys, nodes, soil)[order],
         supports=first.supports,
         node_support=first.node_support,
         **grounds.ground_fields(variants, spring_sets, set(history) | set(envelope)),
@@ -564,6 +534,57 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
                                + timescales.check(plan, variants))
+
+
+def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]:
+    """The quantities the kernel records: histories (quantity -> every how many steps) and
+    envelopes, the recorders' and those the checks and the file need, none of a kind of
+    element the scene has not."""
+    history: dict[str, int] = {}
+    envelope: list[str] = []
+    for rec in first.recorders:
+        for q in rec.quantities:
+            if rec.kind == "history":
+                if q in history and history[q] != rec.every:
+                    raise InputError(f"{q} is recorded twice with different 'every' "
+                                     f"({history[q]} and {rec.every})")
+                history[q] = rec.every
+            elif q not in envelope:
+                envelope.append(q)
+    if any(e.column_side is not None for e in first.contacts) and \
+            "contact_force" not in envelope:
+        # the struck columns' shear: written (peak_column_shear) and checked on its peak
+        envelope.append("contact_force")
+    if first.point_names and not planar and "point_drift" not in envelope:
+        envelope.append("point_drift")  # the storeys' torsional irregularity is read off it
+    if not planar and "displacement" not in envelope:
+        envelope.append("displacement")  # the floors' rotations: the small-rotation check
+    for kind, elements in (("contact_", first.contacts), ("link_", first.links),
+                           ("foundation_", first.foundations), ("point_", first.point_names)):
+        if not elements:
+            history = {q: k for q, k in history.items() if not q.startswith(kind)}
+            envelope = [q for q in envelope if not q.startswith(kind)]
+    return history, envelope
+
+
+def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]:
+    """Each variant's mass (or inertia) on each DOF key: the nodes', a DOF a variant lacks
+    taking another's (a batch's union of DOFs), then the foundations'."""
+    nodes = len(variants[0].node_names)
+    known = {key: m for ex in variants for key, m in zip(
+        ex.dofs or [(i, 0) for i in range(nodes)],
+        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+    return [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
+                                     else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
+                            if soil.count else np.zeros(0)]) for ex in variants]
+
+
+def _dof_channels(first: Expanded, keys: list, nodes: int, soil) -> np.ndarray:
+    """The ground-motion channel that loads each DOF key (-1: none): a node's u_x and u_y
+    their support's along their site axis (pframe.assemble.grounds), a foundation's sway its
+    building's support's along x, a rotation or rocking none."""
+    return np.array([grounds.channel_index(first, node, c) if node < nodes and c < 2
+                     else soil.channel(first, node) for node, c in keys], dtype=np.int64)
 
 
 def _node_order(keys, edges) -> np.ndarray:

@@ -28,7 +28,7 @@ import math
 
 import numpy as np
 
-from pframe.assemble.modes import scaled_triplets, spring_matrix
+from pframe.assemble.modes import building_springs, scaled_triplets, spring_matrix
 
 #: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
 STEPS_PER_PERIOD = 20
@@ -71,12 +71,7 @@ def period_error(coefficients, steps: float) -> float:
 
 def _building_matrix(ex, b: int, k0: np.ndarray):
     """(nodes, springs (i, j, k) local to building b, i = -1 the ground, half-bandwidth)."""
-    nodes = np.flatnonzero(ex.node_building == b)
-    local = {node: i for i, node in enumerate(nodes)}
-    springs = []
-    for s in np.flatnonzero(ex.story_building == b):
-        low, up = ex.stories[s].nodes
-        springs.append((local[low] if low >= 0 else -1, local[up], float(k0[s])))
+    nodes, springs = building_springs(ex, b, k0)
     width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
     return nodes, springs, width
 

@@ -13,10 +13,9 @@ def expanded_text(path: Path) -> str | None:
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form, pi_expansion
     from pframe.reader import load_scene
-    from pframe.yamltext import compose
 
     loaded = load_scene(path)  # validates both forms, with line numbers
-    data, lines = compose(loaded.text, str(path))
+    data, lines = loaded.data, loaded.lines
     if not is_pi_form(data):
         return None
     expansion = pi_expansion(data, lines, str(path), path.parent)

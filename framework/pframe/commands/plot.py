@@ -19,7 +19,7 @@ def _plot(args) -> int:
         # before any figure is made: no display is needed, and none is opened
         matplotlib.use("Agg")
     from pframe.plot import figures, output_paths, save
-    from pframe.plot.spectrum import is_sweep
+    from pframe.record.check import file_kind
 
     if args.output == "":
         from pframe.errors import InputError
@@ -35,17 +35,13 @@ def _plot(args) -> int:
     if output.suffix.lower() == ".pdf":  # PNG names per level are checked when saved
         outputs.check_output(output, inputs=[args.result], overwrite=args.overwrite,
                              what="figure")
-    sweep_file = is_sweep(args.result)
-    _check_options(args, sweep_file)
-    if sweep_file:
+    kind = file_kind(args.result)
+    _check_options(args, kind == "sweep")
+    if kind == "sweep":
         return _plot_sweep(args, output)
-    from pframe.plot.gap import is_gap_audit
-
-    if is_gap_audit(args.result):
+    if kind == "gap_audit":
         return _plot_gap(args, output)
-    from pframe.plot.risk import is_risk_study
-
-    if is_risk_study(args.result):
+    if kind == "risk_study":
         from pframe.plot import save
         from pframe.plot.risk import risk_figures
 

@@ -63,13 +63,13 @@ def _scaled_scene(path: Path, sim, to: str) -> str:
     from pframe.nondim.pi_form import is_pi_form
     from pframe.nondim.similitude import SimilitudeError, scale_scene
     from pframe.reader import load_scene, parse_scene
-    from pframe.yamltext import compose, where
+    from pframe.yamltext import where
 
     loaded = load_scene(path)
     if loaded.expanded.foundations:
         raise InputError(f"{path}: pframe scale does not scale soil yet (docs/soil.md: its "
                          "springs, dashpots and foundation inertias); remove soil")
-    data, lines = compose(loaded.text, str(path))
+    data, lines = loaded.data, loaded.lines
     try:
         scaled = scale_scene(data, sim, to)
     except SimilitudeError as exc:  # the file, line and field of a value it cannot scale

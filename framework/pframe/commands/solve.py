@@ -101,9 +101,9 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
                         "never replaces it)")
                 writer.path = out = elsewhere
         writer.finish(result)
-    from pframe.verdict import TRUSTED, of_result
+    from pframe.verdict import TRUSTED
 
-    verdict = of_result(result)
+    verdict = writer.verdict
     for warning in verdict.warnings:  # warnings are printed even with -q
         print(f"pframe: warning: {loaded.source}: {warning}", file=sys.stderr)
     if not args.quiet:

@@ -40,58 +40,29 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
     """The Dataset of an audit from the batch's rows (variants record-major); ``codes``, the
     code rules (:class:`pframe.gap.selection.Selection`), ``geometry`` the contacts' floors
     (:class:`pframe.gap.floors.Geometry`; by default from the scene)."""
-    import xarray as xr
-
     import pframe
+    from pframe.api import indexed
     from pframe.gap.floors import contact_geometry
-    from pframe.gap.selection import Selection, contact_correlation, describe, rules_over_runs
+    from pframe.gap.selection import Selection, describe, rules_over_runs
+    from pframe.record.netcdf import with_units
+
     R, L = inputs.factors.shape
-    pairs = inputs.pairs
-    C = len(pairs.names)
-    shape = (R, L, C)
+    shape = (R, L, len(inputs.pairs.names))
     complete = rows["complete"].reshape(R, L).astype(np.int8)
     ok = complete.astype(bool)[:, :, None]
     u_left = np.where(ok, rows["peak_left"].reshape(shape), np.nan)
     u_right = np.where(ok, rows["peak_right"].reshape(shape), np.nan)
     g_sim = np.where(ok, np.maximum(rows["g_req"].reshape(shape), 0.0), np.nan)
 
-    buildings = list(inputs.loaded.expanded.buildings)
     codes = codes if codes is not None else Selection()
     if geometry is None:
-        geometry = contact_geometry(inputs.loaded.expanded, pairs.left, pairs.right,
-                                    override=codes.aligned, tolerance=codes.tolerance)
+        geometry = contact_geometry(inputs.loaded.expanded, inputs.pairs.left,
+                                    inputs.pairs.right, override=codes.aligned,
+                                    tolerance=codes.tolerance)
     rules = rules_over_runs(inputs, codes, geometry, u_left, u_right, en_coincident)
-    rho = contact_correlation(inputs)
-    names = list(rules)
-    names.append("simulated")
     rules["simulated"] = g_sim
+    names = list(rules)
     table = np.stack([rules[n] for n in names], axis=-1)  # (R, L, C, rule)
-
-    floor = np.array([int(n.split("/")[1]) if n.split("/")[1].isdigit() else i + 1
-                      for i, n in enumerate(pairs.left)])
-    from pframe.record.netcdf import STANDARD_GRAVITY
-
-    # intensities in g, in UDUNITS' terms (its "g" is the gram)
-    level_units = STANDARD_GRAVITY if inputs.scaled else "1"
-    # named positions are label coordinates <dim>_name (CF: no string coordinate variables),
-    # indexed so that .sel(rule_name="DDC") selects by name
-    coords = {
-        "record_name": ("record", np.array(inputs.suite.names, dtype=object),
-                        {"long_name": "ground-motion record"}),
-        "level": ("level", inputs.levels, {
-            "units": level_units,
-            "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
-                          else "records as given (factor 1)")}),
-        "contact_name": ("contact", np.array(pairs.names, dtype=object),
-                         {"long_name": "contact element (the level audited)"}),
-        "rule_name": ("rule", np.array(names, dtype=object),
-                      {"long_name": "separation rule (ABS, SRSS, DDC, ...; simulated)"}),
-        "statistic_name": ("statistic", np.array(STATISTICS, dtype=object),
-                           {"long_name": "statistic over the records"}),
-        "building_name": ("building", np.array(buildings, dtype=object),
-                          {"long_name": "building"}),
-    }
-    intensity = inputs.intensities[:, None] * inputs.factors
     data = {
         "gap_required": (("record", "level", "contact", "rule"), table, {
             "units": "m", "long_name": "minimum separation by each rule; 'simulated' is "
@@ -106,38 +77,10 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "peak_displacement_right": (("record", "level", "contact"), u_right, {
             "units": "m", "long_name": "peak |u| of the contact's right floor (in plan: of "
             "its point along the contact's normal), no contact"}),
-        "scale_factor": (("record", "level"), inputs.factors, {
-            "units": "1", "long_name": "factor applied to the record"}),
-        "intensity": (("record", "level"), intensity, {
-            "units": STANDARD_GRAVITY,
-            "long_name": f"{measure_label(inputs)} of the scaled record"}),
-        "complete": (("record", "level"), complete, {
-            "units": "1", "long_name": "1 if the run completed"}),
-        "status": (("record", "level"), rows["status"].reshape(R, L).astype(object), {
-            "long_name": "completed, or why the run stopped"}),
-        "period": (("building",), inputs.periods, {
-            "units": "s", "long_name": "first fixed-base period"}),
-        "damping_ratio": (("building",), inputs.damping, {
-            "units": "1", "long_name": "Rayleigh damping ratio at the first period"}),
-        "correlation": (("contact",), rho, {
-            "units": "1", "long_name": "CQC correlation coefficient rho of the two "
-            "buildings' first modes (DDC rule)"}),
-        "floors_aligned": (("contact",), geometry.aligned, {
-            "units": "1", "long_name": "1 if the two buildings' floors align, 0 if not, NaN "
-            "unknown (no storey heights): " + geometry.decided}),
-        "floor": (("contact",), floor.astype(np.int32),
-                  {"units": "1", "long_name": "floor of the left node"}),
-        "left_node": (("contact",), np.array(pairs.left, dtype=object),
-                      {"long_name": "left node of the contact"}),
-        "right_node": (("contact",), np.array(pairs.right, dtype=object),
-                       {"long_name": "right node of the contact"}),
-        "scene_gap": (("contact",), pairs.gaps, {
-            "units": "m", "long_name": "the gap the scene gives the contact"}),
-        "record_duration": (("record",), np.array(
-            [m.duration for m in inputs.suite.motions], dtype=float), {
-            "units": "s", "long_name": "time of the record's last sample (every run goes on "
-            "to the analysed duration: free vibration after its record)"}),
+        **_run_variables(inputs, rows, complete),
+        **_scene_variables(inputs, geometry),
     }
+    buildings = list(inputs.loaded.expanded.buildings)
     attrs = {
         "title": f"gap audit: {inputs.loaded.scene.title or inputs.loaded.source}",
         "pframe_kind": KIND,
@@ -156,43 +99,136 @@ def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: b
         "Conventions": "CF-1.8",
     }
     if gap is not None:
-        pounds = np.where(ok, (g_sim > gap).astype(np.int8), -1).astype(np.int8)
-        n = complete.sum(axis=0)  # (L,)
-        hit = (pounds == 1).sum(axis=0)  # (L, C)
-        any_hit = ((pounds == 1).any(axis=2) & complete.astype(bool)).sum(axis=0)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            fraction = hit / n[:, None]
-            fraction_any = any_hit / n
-        fits = [fit_lognormal(inputs.levels, n, hit[:, c]) if inputs.scaled else (np.nan, np.nan)
-                for c in range(C)]
-        fit_any = fit_lognormal(inputs.levels, n, any_hit) if inputs.scaled else (np.nan, np.nan)
-        data.update({
-            "provided_gap": ((), float(gap), {"units": "m", "long_name": "the gap provided"}),
-            "pounds": (("record", "level", "contact"), pounds, {
-                "units": "1", "long_name": "1 if g_req > provided gap, 0 if not, -1 not run"}),
-            "pounding_fraction": (("level", "contact"), fraction, {
-                "units": "1", "long_name": "fraction of the records that pound at the contact"}),
-            "pounding_fraction_any": (("level",), fraction_any, {
-                "units": "1", "long_name": "fraction of the records that pound at any contact"}),
-            "fragility_median": (("contact",), np.array([f[0] for f in fits]), {
-                "units": level_units, "long_name": "median of the lognormal fragility "
-                "P(g_req > gap | IM) (maximum likelihood)"}),
-            "fragility_dispersion": (("contact",), np.array([f[1] for f in fits]), {
-                "units": "1", "long_name": "dispersion (log standard deviation) of the "
-                "lognormal fragility"}),
-            "fragility_median_any": ((), fit_any[0], {
-                "units": level_units, "long_name": "median of the fragility of pounding at "
-                "any contact"}),
-            "fragility_dispersion_any": ((), fit_any[1], {
-                "units": "1", "long_name": "dispersion of the fragility of pounding at any "
-                "contact"}),
-        })
-    from pframe.api import indexed
-    from pframe.record.netcdf import with_units
+        data.update(_pounding_variables(inputs, gap, g_sim, complete))
+    return indexed(labelled(data, _coordinates(inputs, names, buildings), with_units(attrs)))
 
-    return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
-                              coords={k: xr.Variable(*v) for k, v in coords.items()},
-                              attrs=with_units(attrs)))
+
+def labelled(data: dict, coords: dict, attrs: dict):
+    """The Dataset of variables and coordinates given as ``name: (dims, values, attrs)``."""
+    import xarray as xr
+
+    return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
+                      coords={k: xr.Variable(*v) for k, v in coords.items()}, attrs=attrs)
+
+
+def _level_units(inputs) -> str:
+    """The units of the levels: intensities in g, in UDUNITS' terms (its "g" is the gram),
+    or 1 for records as given."""
+    from pframe.record.netcdf import STANDARD_GRAVITY
+
+    return STANDARD_GRAVITY if inputs.scaled else "1"
+
+
+def _coordinates(inputs, rules: list[str], buildings: list[str]) -> dict:
+    """The records, levels, contacts, rules, statistics and buildings of an audit: named
+    positions are label coordinates <dim>_name (CF: no string coordinate variables),
+    indexed so that .sel(rule_name="DDC") selects by name."""
+    return {
+        "record_name": ("record", np.array(inputs.suite.names, dtype=object),
+                        {"long_name": "ground-motion record"}),
+        "level": ("level", inputs.levels, {
+            "units": _level_units(inputs),
+            "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
+                          else "records as given (factor 1)")}),
+        "contact_name": ("contact", np.array(inputs.pairs.names, dtype=object),
+                         {"long_name": "contact element (the level audited)"}),
+        "rule_name": ("rule", np.array(rules, dtype=object),
+                      {"long_name": "separation rule (ABS, SRSS, DDC, ...; simulated)"}),
+        "statistic_name": ("statistic", np.array(STATISTICS, dtype=object),
+                           {"long_name": "statistic over the records"}),
+        "building_name": ("building", np.array(buildings, dtype=object),
+                          {"long_name": "building"}),
+    }
+
+
+def _run_variables(inputs, rows: dict, complete) -> dict:
+    """Each run's scale factor, intensity, completion and status."""
+    from pframe.record.netcdf import STANDARD_GRAVITY
+
+    R, L = inputs.factors.shape
+    return {
+        "scale_factor": (("record", "level"), inputs.factors, {
+            "units": "1", "long_name": "factor applied to the record"}),
+        "intensity": (("record", "level"), inputs.intensities[:, None] * inputs.factors, {
+            "units": STANDARD_GRAVITY,
+            "long_name": f"{measure_label(inputs)} of the scaled record"}),
+        "complete": (("record", "level"), complete, {
+            "units": "1", "long_name": "1 if the run completed"}),
+        "status": (("record", "level"), rows["status"].reshape(R, L).astype(object), {
+            "long_name": "completed, or why the run stopped"}),
+    }
+
+
+def _scene_variables(inputs, geometry) -> dict:
+    """What the rules take of the scene: each building's period and damping, each
+    contact's modal correlation, floors, nodes and gap, and each record's length."""
+    from pframe.gap.selection import contact_correlation
+
+    pairs = inputs.pairs
+    floor = np.array([int(n.split("/")[1]) if n.split("/")[1].isdigit() else i + 1
+                      for i, n in enumerate(pairs.left)])
+    return {
+        "period": (("building",), inputs.periods, {
+            "units": "s", "long_name": "first fixed-base period"}),
+        "damping_ratio": (("building",), inputs.damping, {
+            "units": "1", "long_name": "Rayleigh damping ratio at the first period"}),
+        "correlation": (("contact",), contact_correlation(inputs), {
+            "units": "1", "long_name": "CQC correlation coefficient rho of the two "
+            "buildings' first modes (DDC rule)"}),
+        "floors_aligned": (("contact",), geometry.aligned, {
+            "units": "1", "long_name": "1 if the two buildings' floors align, 0 if not, NaN "
+            "unknown (no storey heights): " + geometry.decided}),
+        "floor": (("contact",), floor.astype(np.int32),
+                  {"units": "1", "long_name": "floor of the left node"}),
+        "left_node": (("contact",), np.array(pairs.left, dtype=object),
+                      {"long_name": "left node of the contact"}),
+        "right_node": (("contact",), np.array(pairs.right, dtype=object),
+                       {"long_name": "right node of the contact"}),
+        "scene_gap": (("contact",), pairs.gaps, {
+            "units": "m", "long_name": "the gap the scene gives the contact"}),
+        "record_duration": (("record",), np.array(
+            [m.duration for m in inputs.suite.motions], dtype=float), {
+            "units": "s", "long_name": "time of the record's last sample (every run goes on "
+            "to the analysed duration: free vibration after its record)"}),
+    }
+
+
+def _pounding_variables(inputs, gap: float, g_sim, complete) -> dict:
+    """At the provided ``gap``: which runs pound, the fraction of the records that pound at
+    each level, and the lognormal fragility of pounding fitted to them."""
+    level_units = _level_units(inputs)
+    ok = complete.astype(bool)[:, :, None]
+    pounds = np.where(ok, (g_sim > gap).astype(np.int8), -1).astype(np.int8)
+    n = complete.sum(axis=0)  # (L,)
+    hit = (pounds == 1).sum(axis=0)  # (L, C)
+    any_hit = ((pounds == 1).any(axis=2) & complete.astype(bool)).sum(axis=0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        fraction = hit / n[:, None]
+        fraction_any = any_hit / n
+    fits = [fit_lognormal(inputs.levels, n, hit[:, c]) if inputs.scaled else (np.nan, np.nan)
+            for c in range(hit.shape[1])]
+    fit_any = fit_lognormal(inputs.levels, n, any_hit) if inputs.scaled else (np.nan, np.nan)
+    return {
+        "provided_gap": ((), float(gap), {"units": "m", "long_name": "the gap provided"}),
+        "pounds": (("record", "level", "contact"), pounds, {
+            "units": "1", "long_name": "1 if g_req > provided gap, 0 if not, -1 not run"}),
+        "pounding_fraction": (("level", "contact"), fraction, {
+            "units": "1", "long_name": "fraction of the records that pound at the contact"}),
+        "pounding_fraction_any": (("level",), fraction_any, {
+            "units": "1", "long_name": "fraction of the records that pound at any contact"}),
+        "fragility_median": (("contact",), np.array([f[0] for f in fits]), {
+            "units": level_units, "long_name": "median of the lognormal fragility "
+            "P(g_req > gap | IM) (maximum likelihood)"}),
+        "fragility_dispersion": (("contact",), np.array([f[1] for f in fits]), {
+            "units": "1", "long_name": "dispersion (log standard deviation) of the "
+            "lognormal fragility"}),
+        "fragility_median_any": ((), fit_any[0], {
+            "units": level_units, "long_name": "median of the fragility of pounding at "
+            "any contact"}),
+        "fragility_dispersion_any": ((), fit_any[1], {
+            "units": "1", "long_name": "dispersion of the fragility of pounding at any "
+            "contact"}),
+    }
 
 
 def _factors(chosen) -> str:

@@ -8,6 +8,7 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 
 import functools
 import math
+import os
 from typing import Annotated, Literal, Union, get_args
 
 from pydantic import (
@@ -21,11 +22,12 @@ from pydantic import (
     model_validator,
 )
 
+from pframe.errors import InputError
 from pframe.integrators import ALL_INTEGRATORS, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.model.plan import Direction, FloorPlan, Point
-from pframe.objects import Frozen
+from pframe.objects import Frozen, describe, dotted
 from pframe.quantities import QUANTITIES as _QUANTITIES
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
@@ -1001,24 +1003,44 @@ class Output(Base):
 TAGS = ("kind", "type", "law", "material")
 
 
-def given_fields(value):
-    """The data of a model as YAML would give it: the fields that were set, plus the tags
-    that select a model of a union (``kind``, ``type``, ``law``, ``material``)."""
+def given_fields(value, where: str | None = None, path: tuple = ()):
+    """The data of a scene, a part of one, or Python data holding parts, as YAML gives it:
+    of a model the fields that were set, plus the tags that select a model of a union
+    (``kind``, ``type``, ``law``, ``material``); numpy numbers and arrays as Python numbers
+    and lists, tuples as lists, paths as text. Anything else (a set, a function, an object of
+    another library, which ``model_construct`` or ``model_copy`` may have let in) is an
+    :class:`InputError` naming ``where`` (the call; default: the object's public name) and
+    its key."""
+    if where is None:
+        where = f"pframe.{_public_name(type(value))}" if isinstance(value, BaseModel) \
+            else "the scene"
+    if type(value).__module__ == "numpy":  # before float: numpy's float64 is one
+        kind = value.dtype.kind if hasattr(value, "dtype") else ""
+        if getattr(value, "shape", None) == () and kind and kind in "biufU":
+            return value.item()  # YAML writes Python's numbers only
+        if getattr(value, "shape", ()) and kind and kind in "biuf":
+            return value.tolist()
+    if value is None or isinstance(value, (bool, int, float, str)):
+        return value
     if isinstance(value, BaseModel):
+        return {name: given_fields(getattr(value, name), where, path + (name,))
+                for name in type(value).model_fields
+                if name in value.model_fields_set or name in TAGS}
+    if isinstance(value, dict):
         out = {}
-        for name in type(value).model_fields:
-            if name in value.model_fields_set or name in TAGS:
-                out[name] = given_fields(getattr(value, name))
+        for key, item in value.items():
+            if not isinstance(key, str):
+                raise InputError(f"{where}: {dotted(path) or 'the dict'}: the key {key!r} is "
+                                 f"{describe(key)}; a scene's keys are the field names, as text")
+            out[key] = given_fields(item, where, path + (key,))
         return out
     if isinstance(value, (list, tuple)):
-        return [given_fields(v) for v in value]
-    if isinstance(value, dict):
-        return {k: given_fields(v) for k, v in value.items()}
-    if type(value).__module__ == "numpy" and hasattr(value, "item"):
-        # a numpy number put in by model_copy(update=...), which does not validate: YAML
-        # writes Python's numbers only
-        return value.item()
-    return value
+        return [given_fields(item, where, path + (i,)) for i, item in enumerate(value)]
+    if isinstance(value, os.PathLike):
+        return os.fspath(value)
+    raise InputError(f"{where}: {dotted(path) or 'the value'} is {describe(value)}; a scene holds "
+                     "numbers, text, True/False, None, and lists and dicts of them (numpy "
+                     "numbers and arrays are taken as numbers and lists)")
 
 
 def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseModel]:
@@ -1196,10 +1218,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         def to_yaml(self) -> str:
             """The scene as YAML: the fields that were given (defaults left out), in the
             order of the reference; ``pframe.load`` of it gives an equal scene."""
-            import yaml
+            from pframe.yamltext import dump
 
-            return yaml.safe_dump(given_fields(self), sort_keys=False, allow_unicode=True,
-                                  width=100)
+            return dump(given_fields(self))
 
     return Scene
 

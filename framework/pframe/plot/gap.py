@@ -23,18 +23,6 @@ MORE = [(m, c) for m, c in zip("PX*hp<>d8H", ("tab:purple", "tab:brown", "tab:pi
 FEW_RECORDS = 10
 
 
-def is_gap_audit(path: str | Path) -> bool:
-    """Whether ``path`` is a result file written by ``pframe gap``."""
-    import h5py
-
-    try:
-        with h5py.File(path, "r") as f:
-            value = f.attrs.get("pframe_kind")
-    except OSError:
-        return False
-    return (value.decode() if isinstance(value, bytes) else str(value)) == "gap_audit"
-
-
 def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = None):
     """The report figure: gap needed against contact level (one marker per rule, the
     ``statistic`` over the records, whiskers from the median to the maximum), the provided

@@ -10,18 +10,6 @@ import numpy as np
 from scipy.stats import norm
 
 
-def is_risk_study(path: str | Path) -> bool:
-    """Whether ``path`` is a result file written by ``pframe risk``."""
-    import h5py
-
-    try:
-        with h5py.File(path, "r") as f:
-            value = f.attrs.get("pframe_kind")
-    except OSError:
-        return False
-    return (value.decode() if isinstance(value, bytes) else str(value)) == "risk_study"
-
-
 def risk_figures(path: str | Path) -> dict:
     """{"fragility": fig, "hazard": fig, "gap": fig} (the last two when the file has them)."""
     import matplotlib.pyplot as plt

@@ -37,17 +37,6 @@ def _text(value) -> str:
     return value.decode() if isinstance(value, bytes) else str(value)
 
 
-def is_sweep(path: str | Path) -> bool:
-    """Whether ``path`` is a result file written by ``pframe sweep``."""
-    import h5py
-
-    try:
-        with h5py.File(path, "r") as f:
-            return "sweep_axes" in f.attrs
-    except OSError:
-        return False
-
-
 def _strings_or_numbers(values) -> np.ndarray:
     values = np.asarray(values)
     if values.dtype.kind in "OSU":

@@ -67,6 +67,24 @@ def _stored(dataset) -> tuple[int, int]:
     return dataset.id.get_num_chunks(), claimed
 
 
+def file_kind(path: str | Path) -> str | None:
+    """What wrote a result file: ``sweep`` (pframe sweep), its ``pframe_kind``
+    (``gap_audit``, ``risk_study``), or None (pframe solve's, or a file that cannot be read
+    as HDF5)."""
+    import h5py
+
+    try:
+        with h5py.File(path, "r") as f:
+            if "sweep_axes" in f.attrs:
+                return "sweep"
+            value = f.attrs.get("pframe_kind")
+    except OSError:
+        return None
+    if value is None:
+        return None
+    return value.decode() if isinstance(value, bytes) else str(value)
+
+
 def check_file(path: str | Path) -> None:
     """Raise :class:`InputError` if the netCDF-4 file ``path`` is not whole (see the module
     docstring); return quietly when it is."""

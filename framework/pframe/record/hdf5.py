@@ -131,6 +131,17 @@ def integrator_text(plan) -> str:
         + (", event-aware" if plan.integrator.events and plan.contact_names else ""))
 
 
+#: the labels of each kind of element's two ends in the file: (variable, long name)
+END_LABELS = {
+    "story": (("story_lower", "node below the storey ('ground' at the base)"),
+              ("story_upper", "node above the storey")),
+    "link": (("link_first", "first node of the link ('ground': anchored to the ground)"),
+             ("link_second", "second node of the link (deformation = u_second - u_first)")),
+    "contact": (("contact_left", "left node of the contact (penetration = u_left - u_right "
+                 "- gap)"), ("contact_right", "right node of the contact")),
+}
+
+
 class ResultWriter:
     """One batch member's result file, written under a temporary name and renamed when done.
 
@@ -159,6 +170,7 @@ class ResultWriter:
         self.peaks: dict[str, np.ndarray] = {}
         self.file = None
         self.reserved = False  # the file's whole size is allocated on the disk (_reserve)
+        self.verdict = None  # the run's verdict (pframe.verdict), judged by finish
         try:
             self.file = (target if isinstance(target, DatasetWriter)
                          else Writer(target if self.in_memory else self.tmp, compress=compress))
@@ -297,21 +309,11 @@ class ResultWriter:
                 f.variable(f"node_{axis}", ("node",), ex.node_centre[:, column], auxiliary=True,
                            units="m", long_name=f"{axis} of the floor's centre of mass on the "
                            "site")
-        if ex.stories:
-            labels("story_lower", "story", [node(e.nodes[0]) for e in ex.stories],
-                   "node below the storey ('ground' at the base)")
-            labels("story_upper", "story", [node(e.nodes[1]) for e in ex.stories],
-                   "node above the storey")
-        if ex.links:
-            labels("link_first", "link", [node(e.nodes[0]) for e in ex.links],
-                   "first node of the link ('ground': anchored to the ground)")
-            labels("link_second", "link", [node(e.nodes[1]) for e in ex.links],
-                   "second node of the link (deformation = u_second - u_first)")
+        for dim, elements in (("story", ex.stories), ("link", ex.links),
+                              ("contact", ex.contacts)):
+            for end, (name, long_name) in enumerate(END_LABELS[dim] if elements else ()):
+                labels(name, dim, [node(e.nodes[end]) for e in elements], long_name)
         if ex.contacts:
-            labels("contact_left", "contact", [node(e.nodes[0]) for e in ex.contacts],
-                   "left node of the contact (penetration = u_left - u_right - gap)")
-            labels("contact_right", "contact", [node(e.nodes[1]) for e in ex.contacts],
-                   "right node of the contact")
             gaps = self.plan.contact_gap[self.member]
             data, units, long_name = self.convert.variable(gaps, "m", "initial gap")
             f.variable("contact_gap", ("contact",), data, auxiliary=True, units=units,
@@ -523,7 +525,8 @@ class ResultWriter:
             attrs["soil"] = "\n".join(f"{b}: {text}" for b, text in
                                       zip(plan.foundations, plan.foundation_soil))
             attrs.update(soil_attributes(plan, member))
-        verdict = of_result(result, member)
+        # the verdict the file states, kept for the caller to tell (not judged twice)
+        self.verdict = verdict = of_result(result, member)
         attrs["warnings"] = "\n".join(plan.warnings + verdict.warnings)
         attrs["dt"] = float(plan.dt[member])
         attrs["steps"] = np.int64(plan.steps)
@@ -547,15 +550,10 @@ class ResultWriter:
 def reference_attributes(loaded) -> dict:
     """The reference scales m_b, a_p, w_p, l_e of the paper's dimensionless variables
     (``reference_*`` attributes; none for a scene that has neither an excitation with an
-    amplitude and a frequency nor ``output.scales``)."""
-    from pframe.errors import InputError
-    from pframe.nondim.scene_variables import reference_scales
-
-    try:
-        scales = reference_scales(loaded.scene, loaded.expanded)
-    except (InputError, ValueError, TypeError, AttributeError):
+    amplitude and a frequency nor ``output.scales``: ``loaded.reference`` is None)."""
+    if loaded.reference is None:
         return {}
-    m, a, w = float(scales["m_b"]), float(scales["a_p"]), float(scales["w_p"])
+    m, a, w = (float(loaded.reference[k]) for k in ("m_b", "a_p", "w_p"))
     try:  # scales from an absurd record (DT = 1e-300 s) overflow: then there are none
         values = {"reference_m_b": m, "reference_a_p": a, "reference_w_p": w,
                   "reference_l_e": a / w**2}

@@ -90,9 +90,7 @@ class _Releasing(Gap):
         raise NotImplementedError
 
     def coefficients(self, regime, params, committed):
-        a, b, c = _inactive(len(regime), self.n_events)
-        a[:, 0] = np.where(regime == OPEN, -1.0, 1.0)
-        c[:, 0] = 0.0
+        a, b, c = super().coefficients(regime, params, committed)  # n_events columns
         ua, ub, uc, clips = self.unclipped(params, committed)
         sign = np.where(regime == CLOSED, 1.0, -1.0)
         watched = clips & (regime != OPEN)
@@ -174,9 +172,7 @@ class Jankowski(Gap):
     n_events = 2
 
     def coefficients(self, regime, params, committed):
-        a, b, c = _inactive(len(regime), self.n_events)
-        a[:, 0] = np.where(regime == OPEN, -1.0, 1.0)
-        c[:, 0] = 0.0
+        a, b, c = super().coefficients(regime, params, committed)  # n_events columns
         b[:, 1] = np.where(regime == APPROACH, 1.0, np.where(regime == RESTITUTION, -1.0, 0.0))
         c[:, 1] = np.where(regime == OPEN, 1.0, 0.0)
         return a, b, c

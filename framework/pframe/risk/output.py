@@ -15,18 +15,82 @@ KIND = "risk_study"
 
 def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, hazard=None,
                   search=None):
-    import xarray as xr
-
-    import pframe
+    """A study's labelled result: its runs (intensity, critical gap, peaks, impacts, which
+    completed), each limit's fragility under each condition, and where the study has them
+    the annual frequencies, the hazard curve, the annual frequency of pounding over uniform
+    gaps and the gap at the target."""
     from pframe.api import indexed
+    from pframe.gap.output import labelled, measure_label
+
+    coords = _coordinates(inputs, result, search)
+    data = {**_run_variables(inputs, rows, result), **_fragility_variables(spec, result)}
+    attrs = study_attributes(inputs, text, source, [*inputs.warnings, *result.warnings],
+                             title="risk study", suite=inputs.suite.source,
+                             measure=measure_label(inputs), design=spec.design.kind)
+    if search is not None:
+        d = spec.design
+        attrs.update(ida_limit=d.limit, ida_condition=d.condition or (
+            "with_pounding" if spec.pounding_runs else "without_pounding"),
+            ida_resolution=d.resolution, ida_rounds=search.rounds, ida_runs=search.runs,
+            ida_hunt=f"start {d.hunt.start:g} g, step {d.hunt.step:g} g, growth "
+                     f"{d.hunt.growth:g}, max_level {d.max_level:g} g")
+    if any(math.isfinite(result.maf[k][0]) for k in result.maf):
+        data.update(_annual_frequency_variables(result))
+    if hazard is not None:
+        data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
+            "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
+        coords["hazard_im"] = ("hazard_point", hazard.im, {
+            "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
+    if result.gap_grid is not None:
+        coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
+        data["pounding_frequency"] = (("gap",), result.gap_rates, {
+            "units": "year-1", "long_name": "annual frequency of pounding at the gap: the "
+            "upper envelope from the right of pounding_frequency_raw (at each gap, the "
+            "largest of any wider gap), whose root is gap_at_target"})
+        data["pounding_frequency_raw"] = (("gap",), result.gap_rates_raw, {
+            "units": "year-1", "long_name": "annual frequency of pounding at the gap, the "
+            "design's fragility refitted at each gap (not monotone in general)"})
+    if math.isfinite(result.target):
+        data.update(_target_variables(result))
+        if result.rules_at_target:
+            coords["rule_name"] = ("rule", np.array(list(result.rules_at_target), dtype=object),
+                                   {"long_name": "separation rule"})
+            data["rule_separation_at_target"] = (("rule",), np.array(
+                list(result.rules_at_target.values())), {
+                "units": "m", "long_name": "median over the records of the rule's separation "
+                "at intensity_at_target (ABS, SRSS, DDC of the peak displacements, the code "
+                "rules of the study's codes described in code_rules; simulated: the critical "
+                "gap)"})
+            if spec.codes is not None:
+                from pframe.gap.selection import describe, selection
+
+                attrs["code_rules"] = describe(selection(spec.codes),
+                                               inputs.loaded.expanded.buildings)
+    return indexed(labelled(data, coords, attrs))
+
+
+def study_attributes(inputs, text: str, source: str, warnings: list[str], title: str,
+                     **more) -> dict:
+    """The attributes every study's file has: its title, kind, files and texts, the runs'
+    step and length, its warnings, and what wrote it; ``more`` in the middle."""
+    import pframe
+
+    return {
+        "title": f"{title}: {inputs.loaded.scene.title or inputs.loaded.source}",
+        "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source, **more,
+        "study_yaml": text, "input_yaml": inputs.loaded.text, "dt": inputs.dt,
+        "steps": inputs.steps, "duration": inputs.steps * inputs.dt,
+        "warnings": "\n".join(warnings),
+        "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
+    }
+
+
+def _coordinates(inputs, result, search) -> dict:
+    """The records, levels (intensities, or the runs of a hunt and fill), contacts,
+    buildings, limit states and conditions of a study."""
     from pframe.gap.output import measure_label
 
-    R, L = inputs.factors.shape
-    C = len(inputs.pairs.names)
-    buildings = list(inputs.loaded.expanded.buildings)
-    nb = len(buildings)
-    units = {"pounding": "m", "drift": "m", "drift_ratio": "1", "acceleration": "g"}
-    coords = {
+    return {
         "record_name": ("record", np.array(inputs.suite.names, dtype=object),
                         {"long_name": "ground-motion record"}),
         "level": ("level", np.asarray(inputs.levels, float),
@@ -37,8 +101,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                                  else "records as given (cloud analysis)")}),
         "contact_name": ("contact", np.array(inputs.pairs.names, dtype=object),
                          {"long_name": "contact level"}),
-        "building_name": ("building", np.array(buildings, dtype=object),
-                          {"long_name": "building"}),
+        "building_name": ("building", np.array(list(inputs.loaded.expanded.buildings),
+                                               dtype=object), {"long_name": "building"}),
         "limit_name": ("limit", np.array(result.limit_names, dtype=object),
                        {"long_name": "limit state"}),
         "condition_name": ("condition", np.array(CONDITIONS, dtype=object),
@@ -46,31 +110,31 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                             "scene's gaps"}),
     }
 
+
+def _run_variables(inputs, rows: dict, result) -> dict:
+    """Each run's intensity, critical gap, peak drift (and ratio) and floor acceleration of
+    each building under each condition, impacts, and whether it completed (NaN, -1: not
+    run or failed)."""
+    from pframe.gap.output import measure_label
+
+    R, L = inputs.factors.shape
+    C = len(inputs.pairs.names)
+    nb = len(inputs.loaded.expanded.buildings)
+
     def grid(key, width, fill=np.nan):
         if key not in rows:
             return np.full((R, L, width), fill)
         ok = (rows[key.split("_")[0] + "_complete"] == 1)[:, None]
         return np.where(ok, rows[key], fill).reshape(R, L, width)
 
-    frag = result.fragilities
-    lim, cond = result.limit_names, CONDITIONS
-
-    def table(f):
-        return np.array([[f(frag[(n, c)]) for c in cond] for n in lim], dtype=float)
-
-    def maf(i):
-        return np.array([[result.maf[(n, c)][i] for c in cond] for n in lim], dtype=float)
-
-    im = result.im.reshape(R, L)
     drift = np.stack([grid("free_drift", nb), grid("contact_drift", nb)])
     ratio = np.stack([grid("free_drift_ratio", nb), grid("contact_drift_ratio", nb)])
     acc = np.stack([grid("free_acceleration", nb), grid("contact_acceleration", nb)]) / G
     impacts = (np.where((rows["contact_complete"] == 1)[:, None], rows["contact_impacts"], -1)
                .reshape(R, L, C).astype(np.int32) if "contact_impacts" in rows
                else np.full((R, L, C), -1, np.int32))
-    pct = f"{100 * CONFIDENCE:g} %"
-    data = {
-        "intensity": (("record", "level"), im, {
+    return {
+        "intensity": (("record", "level"), result.im.reshape(R, L), {
             "units": "g", "long_name": f"intensity of the run ({measure_label(inputs)})"}),
         "critical_gap": (("record", "level", "contact"), grid("free_g_req", C), {
             "units": "m", "long_name": "max over time of u_left - u_right without contacts: "
@@ -85,10 +149,32 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
             "floors"}),
         "impact_count": (("record", "level", "contact"), impacts, {
             "units": "1", "long_name": "impacts in the run with contacts (-1: not run)"}),
+        "complete": (("condition", "record", "level"), np.stack([
+            rows.get(f"{p}_complete", np.zeros(R * L, np.int8)).reshape(R, L)
+            for p in ("free", "contact")]).astype(np.int8),
+            {"units": "1", "long_name": "1 if the run completed, 0 if it failed, -1 if not "
+             "run (a slot of ida by hunt and fill)"}),
+    }
+
+
+#: the units of each kind of limit
+_LIMIT_UNITS = {"pounding": "m", "drift": "m", "drift_ratio": "1", "acceleration": "g"}
+
+
+def _fragility_variables(spec, result) -> dict:
+    """Each limit (its value and units) and its lognormal fragility under each condition:
+    median and dispersion with their confidence bounds, or why there is none."""
+    frag, lim, cond = result.fragilities, result.limit_names, CONDITIONS
+    pct = f"{100 * CONFIDENCE:g} %"
+
+    def table(f):
+        return np.array([[f(frag[(n, c)]) for c in cond] for n in lim], dtype=float)
+
+    return {
         "limit_value": (("limit",), np.array(result.limit_values, float), {
             "units": "1", "long_name": "the limit: gap (m) for pounding, drift (m), drift "
             "ratio (1), floor acceleration (g); see limit_units"}),
-        "limit_units": (("limit",), np.array([units[k] for k in result.limit_kinds],
+        "limit_units": (("limit",), np.array([_LIMIT_UNITS[k] for k in result.limit_kinds],
                                              dtype=object), {"long_name": "units of the limit"}),
         "fragility_median": (("limit", "condition"), table(lambda f: f.median), {
             "units": "g", "long_name": "median theta of the lognormal fragility "
@@ -110,88 +196,47 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
             [[frag[(n, c)].note for c in cond] for n in lim], dtype=object), {
             "long_name": "why the fragility is absent (NaN), where it is: what the data "
             "cannot fix"}),
-        "complete": (("condition", "record", "level"), np.stack([
-            rows.get(f"{p}_complete", np.zeros(R * L, np.int8)).reshape(R, L)
-            for p in ("free", "contact")]).astype(np.int8),
-            {"units": "1", "long_name": "1 if the run completed, 0 if it failed, -1 if not "
-             "run (a slot of ida by hunt and fill)"}),
     }
-    attrs = {
-        "title": f"risk study: {inputs.loaded.scene.title or inputs.loaded.source}",
-        "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source,
-        "suite": inputs.suite.source, "measure": measure_label(inputs),
-        "design": spec.design.kind, "study_yaml": text, "input_yaml": inputs.loaded.text,
-        "dt": inputs.dt, "steps": inputs.steps, "duration": inputs.steps * inputs.dt,
-        "warnings": "\n".join([*inputs.warnings, *result.warnings]),
-        "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
-    }
-    if search is not None:
-        d = spec.design
-        attrs.update(ida_limit=d.limit, ida_condition=d.condition or (
-            "with_pounding" if spec.pounding_runs else "without_pounding"),
-            ida_resolution=d.resolution, ida_rounds=search.rounds, ida_runs=search.runs,
-            ida_hunt=f"start {d.hunt.start:g} g, step {d.hunt.step:g} g, growth "
-                     f"{d.hunt.growth:g}, max_level {d.max_level:g} g")
-    if any(math.isfinite(result.maf[k][0]) for k in result.maf):
-        data.update({
-            "annual_frequency": (("limit", "condition"), maf(0), {
-                "units": "year-1", "long_name": "mean annual frequency of the limit state"}),
-            "annual_frequency_low": (("limit", "condition"), maf(1), {
-                "units": "year-1", "long_name": "5th percentile of the annual frequency over "
-                "the fragility's parameter uncertainty"}),
-            "annual_frequency_high": (("limit", "condition"), maf(2), {
-                "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
-        })
-    if hazard is not None:
-        data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
-            "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
-        coords["hazard_im"] = ("hazard_point", hazard.im, {
-            "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
-    if result.gap_grid is not None:
-        coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
-        data["pounding_frequency"] = (("gap",), result.gap_rates, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap: the "
-            "upper envelope from the right of pounding_frequency_raw (at each gap, the "
-            "largest of any wider gap), whose root is gap_at_target"})
-        data["pounding_frequency_raw"] = (("gap",), result.gap_rates_raw, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap, the "
-            "design's fragility refitted at each gap (not monotone in general)"})
-    if math.isfinite(result.target):
-        data.update({
-            "target_annual_frequency": ((), result.target, {"units": "year-1",
-                                        "long_name": "the target annual frequency of pounding"}),
-            "intensity_at_target": ((), result.im_at_target, {
-                "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
-                "target frequency"}),
-            "gap_at_target": ((), result.gap, {
-                "units": "m", "long_name": "smallest uniform gap at and above which the "
-                "annual frequency of pounding is at most the target (the largest crossing of "
-                "the refitted curve)"}),
-            "gap_at_target_low": ((), result.gap_low, {
-                "units": "m", "long_name": "5th percentile of the gap over record bootstrap"}),
-            "gap_at_target_high": ((), result.gap_high, {
-                "units": "m", "long_name": "95th percentile of the gap over record bootstrap"}),
-            "gap_at_target_regression": ((), result.gap_regression, {
-                "units": "m", "long_name": "the gap at target from the regression of ln "
-                "critical gap on ln IM (a smooth second estimate)"}),
-        })
-        if result.rules_at_target:
-            coords["rule_name"] = ("rule", np.array(list(result.rules_at_target), dtype=object),
-                                   {"long_name": "separation rule"})
-            data["rule_separation_at_target"] = (("rule",), np.array(
-                list(result.rules_at_target.values())), {
-                "units": "m", "long_name": "median over the records of the rule's separation "
-                "at intensity_at_target (ABS, SRSS, DDC of the peak displacements, the code "
-                "rules of the study's codes described in code_rules; simulated: the critical "
-                "gap)"})
-            if spec.codes is not None:
-                from pframe.gap.selection import describe, selection
 
-                attrs["code_rules"] = describe(selection(spec.codes),
-                                               inputs.loaded.expanded.buildings)
-    return indexed(xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
-                              coords={k: xr.Variable(*v) for k, v in coords.items()},
-                              attrs=attrs))
+
+def _annual_frequency_variables(result) -> dict:
+    """Each limit's mean annual frequency under each condition, with its 5-95 % range."""
+    def maf(i):
+        return np.array([[result.maf[(n, c)][i] for c in CONDITIONS]
+                         for n in result.limit_names], dtype=float)
+
+    return {
+        "annual_frequency": (("limit", "condition"), maf(0), {
+            "units": "year-1", "long_name": "mean annual frequency of the limit state"}),
+        "annual_frequency_low": (("limit", "condition"), maf(1), {
+            "units": "year-1", "long_name": "5th percentile of the annual frequency over "
+            "the fragility's parameter uncertainty"}),
+        "annual_frequency_high": (("limit", "condition"), maf(2), {
+            "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
+    }
+
+
+def _target_variables(result) -> dict:
+    """The target annual frequency, the intensity there and the gap at it (with its
+    bootstrap range and the regression's estimate)."""
+    return {
+        "target_annual_frequency": ((), result.target, {"units": "year-1",
+                                    "long_name": "the target annual frequency of pounding"}),
+        "intensity_at_target": ((), result.im_at_target, {
+            "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
+            "target frequency"}),
+        "gap_at_target": ((), result.gap, {
+            "units": "m", "long_name": "smallest uniform gap at and above which the "
+            "annual frequency of pounding is at most the target (the largest crossing of "
+            "the refitted curve)"}),
+        "gap_at_target_low": ((), result.gap_low, {
+            "units": "m", "long_name": "5th percentile of the gap over record bootstrap"}),
+        "gap_at_target_high": ((), result.gap_high, {
+            "units": "m", "long_name": "95th percentile of the gap over record bootstrap"}),
+        "gap_at_target_regression": ((), result.gap_regression, {
+            "units": "m", "long_name": "the gap at target from the regression of ln "
+            "critical gap on ln IM (a smooth second estimate)"}),
+    }
 
 
 def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
@@ -201,10 +246,6 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
     of records (``terms``: each stripe's per-record estimates; ``stripes``: each stripe's
     estimate), each record's conditional probability at each stripe, and with a hazard
     (``maf``: lambda, low, high, cov) the annual frequency of pounding."""
-    import xarray as xr
-
-    import pframe
-
     m = spec.stochastic
     data = {
         "pounding_probability": ((), estimate.probability, {
@@ -279,22 +320,17 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
         data["variable_parameters"] = (("variable", "parameter"), np.array(
             [[p.a, p.b] for p in params]), {"units": "1", "long_name": "mean, sd / median, "
                                             "dispersion / low, high"})
-    attrs = {
-        "title": f"risk study (subset simulation): {inputs.loaded.scene.title or inputs.loaded.source}",
-        "pframe_kind": KIND, "source": source, "scene": inputs.loaded.source,
-        "design": "subset",
-        "motion": (", ".join(f"{k} {v}" for k, v in m.items()) if m is not None else
-                   f"the suite's {len(inputs.suite.motions)} records"
-                   + (" scaled to " + ", ".join(f"{float(x):g}" for x in inputs.levels)
-                      + " g" if inputs.scaled else " as recorded")),
-        "probability_level": spec.design.probability_level,
-        "samples_per_level": spec.design.samples, "study_yaml": text,
-        "input_yaml": inputs.loaded.text, "dt": inputs.dt, "steps": inputs.steps,
-        "duration": inputs.steps * inputs.dt, "warnings": "\n".join(notes),
-        "pframe_version": pframe.__version__, "Conventions": "CF-1.8",
-    }
-    return xr.Dataset({k: xr.Variable(*v) for k, v in data.items()},
-                      coords={k: xr.Variable(*v) for k, v in coords.items()}, attrs=attrs)
+    motion = (", ".join(f"{k} {v}" for k, v in m.items()) if m is not None else
+              f"the suite's {len(inputs.suite.motions)} records"
+              + (" scaled to " + ", ".join(f"{float(x):g}" for x in inputs.levels)
+                 + " g" if inputs.scaled else " as recorded"))
+    attrs = study_attributes(inputs, text, source, notes, title="risk study (subset "
+                             "simulation)", design="subset", motion=motion,
+                             probability_level=spec.design.probability_level,
+                             samples_per_level=spec.design.samples)
+    from pframe.gap.output import labelled
+
+    return labelled(data, coords, attrs)
 
 
 def summary(ds) -> str:

@@ -54,9 +54,8 @@ def parse(uncertain: dict, where: str) -> list[Uncertain]:
 def check_paths(loaded, params: list[Uncertain], where: str) -> None:
     """Every path names numbers the scene gives."""
     from pframe.sweep.paths import check_targets, resolve
-    from pframe.yamltext import compose
 
-    data, _ = compose(loaded.text, loaded.source)
+    data = loaded.given
     for p in params:
         try:
             check_targets(data, resolve(data, tuple(p.path.split("."))), files=False)
@@ -66,13 +65,11 @@ def check_paths(loaded, params: list[Uncertain], where: str) -> None:
 
 def scenes(loaded, params: list[Uncertain], u: np.ndarray) -> list:
     """One scene per row of the standard normals ``u`` (n, len(params)), each validated
-    whole as a file is; the scene's YAML is composed once, and the members, which are run
-    and never written, keep no text of their own."""
+    whole as a file is, from the scene's data (no text is made of the members, which are run
+    and never written)."""
     from pframe.reader import variant
     from pframe.sweep.paths import put, resolve
-    from pframe.yamltext import compose
 
-    composed = compose(loaded.text, loaded.source)
     out = []
     for row in np.atleast_2d(u):
         values = [float(p.value(x)) for p, x in zip(params, row)]
@@ -82,7 +79,7 @@ def scenes(loaded, params: list[Uncertain], u: np.ndarray) -> list:
                 for path in resolve(data, tuple(p.path.split("."))):
                     put(data, path, v)
 
-        out.append(variant(loaded, change, composed, text=False))
+        out.append(variant(loaded, change))
     return out
 
 

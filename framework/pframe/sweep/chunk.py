@@ -285,7 +285,6 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
     of steps.
     """
     from pframe.kernel import simulate
-    from pframe.nondim.output import output_units
     from pframe.outputs import check_stop
     from pframe.sweep.variants import cut_warning, load_fitted, materialise, record_end
 
@@ -329,7 +328,7 @@ def run_chunk(definition, chunk: int, threads: int | None = 1) -> dict[str, np.n
         compile_seconds += result.compile_seconds
         for member, index in enumerate(members):
             expanded = loaded[index].expanded
-            convert = output_units(loaded[index].scene, expanded)
+            convert = loaded[index].units  # its reference scales, found when it was read
             values = responses_of(spec, plan, result, member, convert, layout, expanded)
             values.update(_histories_of(plan, result, member, convert, layout))
             end = record_end(expanded)

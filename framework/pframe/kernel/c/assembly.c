@@ -90,6 +90,197 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
     return work;
 }
 
+/* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
+ * evaluation point, subtracted from the residual; returns 1 when an effective tangent changed
+ * (see evaluate). */
+static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                            const double *age, int from_stage, double c1, double wf,
+                            int tangent)
+{
+    const double *ue = w->ue, *ve = w->ve;
+    const int64_t ns = m->stories;
+    double *R = w->R;
+    int stale = 0;
+    int64_t j;
+    double out[3];
+    const int64_t *dofs = m->story_dofs, *order = m->story_order, *laws = m->story_law;
+    const int64_t *modes = m->story_damping;
+    const int64_t P = m->story_width, S = m->story_states;
+    const double *params = m->story_params + b * ns * P;
+    const double *committed = from_stage ? w->story_stage
+                                         : st->story_committed + b * ns * S;
+    double *trial = st->story_trial + b * ns * S;
+    const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
+    const double *kg = m->story_kg + b * ns;
+    const int64_t *start = m->story_side_start, *side_dof = m->story_side_dof;
+    const double *side_coef = m->story_side_coef + b * m->story_terms;
+    const double *tangent_c = st->story_tangent + b * ns;
+    /* across supports: the ground displacements' part (docs/supports.md) */
+    const int64_t *g_start = m->story_ground_start, *g_channel = m->story_ground_channel;
+    const double *g_coef = m->story_ground_coef + b * m->story_ground_terms;
+    const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
+    const int grounded = m->story_ground_terms > 0;
+    int64_t *calls = st->material_calls + b * m->materials;
+    double *drift = w->drift, *force = w->story_force;
+    double *damping_force = w->story_damping_force, *tangent_t = w->story_tangent;
+    double *kks = w->story_kk;
+    for (j = 0; j < ns; j++) {
+        const int64_t e = order[j];
+        const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
+        const int64_t law = laws[e];
+        const int64_t mode = modes[e];
+        const int sided = general(start, e);
+        double d, r, f, kt, kr, kd, fd;
+        if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
+            sides_sum2(start, side_dof, side_coef, e, 1, ue, ve, &d, &r);
+        } else {
+            d = ue[up];
+            r = ve[up];
+            if (lo >= 0) {
+                d -= ue[lo];
+                r -= ve[lo];
+            }
+        }
+        if (grounded) {
+            d += ground_sum(g_start, g_channel, g_coef, e, g_d);
+            r += ground_sum(g_start, g_channel, g_coef, e, g_v);
+        }
+        material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
+                       out);
+        f = out[0];
+        kt = out[1];
+        kr = out[2];
+        calls[law] += 1;
+        if (mode == DAMPING_INITIAL)
+            kd = k0[e];
+        else if (mode == DAMPING_CURRENT)
+            kd = kt;
+        else
+            kd = tangent_c[e];
+        fd = beta[e] * kd * r;
+        drift[e] = d;
+        tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
+        if (kg[e] != 0.0) {
+            /* P-delta: the gravity load P's overturning moment P d over the height h is a
+             * shear P d / h the storey's columns must also resist: the storey resists
+             * f - (P / h) d, with tangent k_t - P / h */
+            f -= kg[e] * d;
+            kt -= kg[e];
+        }
+        force[e] = f;
+        damping_force[e] = fd;
+        if (sided) {
+            sides_add(R, start, side_dof, side_coef, e, 1, -(f + fd), f + fd);
+        } else {
+            R[up] -= f + fd;
+            if (lo >= 0)
+                R[lo] += f + fd;
+        }
+        if (tangent) {
+            double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
+            if (kk != kks[e]) {
+                kks[e] = kk;
+                stale = 1;
+            }
+        }
+    }
+    return stale;
+}
+
+/* The contacts' forces at the evaluation point, added to the residual; returns 1 when an
+ * effective tangent changed (see evaluate). */
+static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                             const double *age, int from_stage, double c1, double wf,
+                             int tangent)
+{
+    const double *ue = w->ue, *ve = w->ve;
+    const int64_t nc = m->contacts;
+    double *R = w->R;
+    int stale = 0;
+    int64_t j;
+    double out[3];
+    const int64_t *dofs = m->contact_dofs, *order = m->contact_order, *laws = m->contact_law;
+    const int64_t Q = m->contact_width, T = m->contact_states;
+    const double *params = m->contact_params + b * nc * Q;
+    const double *committed = from_stage ? w->contact_stage
+                                         : st->contact_committed + b * nc * T;
+    double *trial = st->contact_trial + b * nc * T;
+    const double *gap = m->gap + b * nc;
+    int64_t *calls = st->contact_calls + b * m->contact_laws;
+    double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
+    const int64_t held = (int64_t)w->scalars[HELD];
+    /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
+     * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
+     * start: a contact that closes or opens beyond the sub-step's end must not act inside
+     * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
+     * crosses inside it is located (events.c) and the sub-step cut there. The step end
+     * (tangent off: the commit's evaluation) sees the real law. */
+    const int hold_start = tangent && s->events && s->beyond;
+    const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
+    const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
+    const double *side_coef = m->contact_side_coef + b * m->contact_terms;
+    const int64_t *g_start = m->contact_ground_start, *g_channel = m->contact_ground_channel;
+    const double *g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+    const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
+    const int grounded = m->contact_ground_terms > 0;
+    for (j = 0; j < nc; j++) {
+        const int64_t e = order[j];
+        const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
+        const int64_t law = laws[e];
+        const int plain = !general(start, e);
+        double d, r, f, kd, kr, at;
+        if (plain) { /* floor to floor or to a wall: its nodes' values */
+            d = dof_value(ue, left) - dof_value(ue, right);
+            r = dof_value(ve, left) - dof_value(ve, right);
+        } else { /* points off the centre of mass, a struck column: its sides */
+            sides_sum2(start, side_dof, side_coef, e, 0, ue, ve, &d, &r);
+        }
+        if (grounded) { /* across supports: the ground displacements' difference */
+            d += ground_sum(g_start, g_channel, g_coef, e, g_d);
+            r += ground_sum(g_start, g_channel, g_coef, e, g_v);
+        }
+        d -= gap[e];
+        at = d;
+        if (e == held) {
+            /* Located events (events.c) hold the contact on one branch, so that its
+             * penetration is a continuous function of the sub-step length: held open, no
+             * force on either side of delta = 0; held closed, the law's force at
+             * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
+             * delta = 0 stays off the search). */
+            at = w->scalars[HELD_CLOSED] != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
+        } else if (hold_start) {
+            /* closed: in contact, or touching with a force (restarted at its onset) */
+            at = (pen_c[e] > 0.0 || force_c[e] > 0.0) ? py_max(d, HELD_DEPTH)
+                                                       : py_min(d, 0.0);
+        }
+        contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, at, r, out);
+        f = out[0];
+        kd = out[1];
+        kr = out[2];
+        if (at > d)
+            kd = 0.0;
+        calls[law] += 1;
+        force[e] = f;
+        penetration[e] = d;
+        if (plain) {
+            if (left >= 0) /* -1: a wall, the ground's side */
+                R[left] -= f;
+            if (right >= 0)
+                R[right] += f;
+        } else { /* the force on each side's DOFs, as its point moves with them */
+            sides_add(R, start, side_dof, side_coef, e, 0, -f, f);
+        }
+        if (tangent) {
+            double kk = (kd + c1 * kr) * wf;
+            if (kk != kks[e]) {
+                kks[e] = kk;
+                stale = 1;
+            }
+        }
+    }
+    return stale;
+}
+
 /* Element forces and the residual at the evaluation point, ground accelerations age (one per
  * channel).
  *
@@ -99,187 +290,24 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                     const double *age, double c1, double wf, int tangent)
 {
-    const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
+    const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
-    const double *ue = w->ue, *ve = w->ve, *ae = w->ae;
+    const double *ve = w->ve, *ae = w->ae;
     /* the laws' committed state: the step start's, or in a stage after the first the end of
      * the stage before (newton.c, keep_stage) */
     const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
     double *R = w->R;
-    int stale = 0;
-    int64_t i, j;
-    double out[3];
+    int stale;
+    int64_t i;
     for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
         R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
-    {
-        const int64_t *dofs = m->story_dofs, *order = m->story_order, *laws = m->story_law;
-        const int64_t *modes = m->story_damping;
-        const int64_t P = m->story_width, S = m->story_states;
-        const double *params = m->story_params + b * ns * P;
-        const double *committed = from_stage ? w->story_stage
-                                             : st->story_committed + b * ns * S;
-        double *trial = st->story_trial + b * ns * S;
-        const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
-        const double *kg = m->story_kg + b * ns;
-        const int64_t *start = m->story_side_start, *side_dof = m->story_side_dof;
-        const double *side_coef = m->story_side_coef + b * m->story_terms;
-        const double *tangent_c = st->story_tangent + b * ns;
-        /* across supports: the ground displacements' part (docs/supports.md) */
-        const int64_t *g_start = m->story_ground_start, *g_channel = m->story_ground_channel;
-        const double *g_coef = m->story_ground_coef + b * m->story_ground_terms;
-        const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
-        const int grounded = m->story_ground_terms > 0;
-        int64_t *calls = st->material_calls + b * m->materials;
-        double *drift = w->drift, *force = w->story_force;
-        double *damping_force = w->story_damping_force, *tangent_t = w->story_tangent;
-        double *kks = w->story_kk;
-        for (j = 0; j < ns; j++) {
-            const int64_t e = order[j];
-            const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
-            const int64_t law = laws[e];
-            const int64_t mode = modes[e];
-            const int sided = general(start, e);
-            double d, r, f, kt, kr, kd, fd;
-            if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
-                sides_sum2(start, side_dof, side_coef, e, 1, ue, ve, &d, &r);
-            } else {
-                d = ue[up];
-                r = ve[up];
-                if (lo >= 0) {
-                    d -= ue[lo];
-                    r -= ve[lo];
-                }
-            }
-            if (grounded) {
-                d += ground_sum(g_start, g_channel, g_coef, e, g_d);
-                r += ground_sum(g_start, g_channel, g_coef, e, g_v);
-            }
-            material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
-                           out);
-            f = out[0];
-            kt = out[1];
-            kr = out[2];
-            calls[law] += 1;
-            if (mode == DAMPING_INITIAL)
-                kd = k0[e];
-            else if (mode == DAMPING_CURRENT)
-                kd = kt;
-            else
-                kd = tangent_c[e];
-            fd = beta[e] * kd * r;
-            drift[e] = d;
-            tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
-            if (kg[e] != 0.0) {
-                /* P-delta: the gravity load P's overturning moment P d over the height h is a
-                 * shear P d / h the storey's columns must also resist: the storey resists
-                 * f - (P / h) d, with tangent k_t - P / h */
-                f -= kg[e] * d;
-                kt -= kg[e];
-            }
-            force[e] = f;
-            damping_force[e] = fd;
-            if (sided) {
-                sides_add(R, start, side_dof, side_coef, e, 1, -(f + fd), f + fd);
-            } else {
-                R[up] -= f + fd;
-                if (lo >= 0)
-                    R[lo] += f + fd;
-            }
-            if (tangent) {
-                double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
-                if (kk != kks[e]) {
-                    kks[e] = kk;
-                    stale = 1;
-                }
-            }
-        }
-    }
-
-    {
-        const int64_t *dofs = m->contact_dofs, *order = m->contact_order, *laws = m->contact_law;
-        const int64_t Q = m->contact_width, T = m->contact_states;
-        const double *params = m->contact_params + b * nc * Q;
-        const double *committed = from_stage ? w->contact_stage
-                                             : st->contact_committed + b * nc * T;
-        double *trial = st->contact_trial + b * nc * T;
-        const double *gap = m->gap + b * nc;
-        int64_t *calls = st->contact_calls + b * m->contact_laws;
-        double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
-        const int64_t held = (int64_t)w->scalars[HELD];
-        /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
-         * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
-         * start: a contact that closes or opens beyond the sub-step's end must not act inside
-         * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
-         * crosses inside it is located (events.c) and the sub-step cut there. The step end
-         * (tangent off: the commit's evaluation) sees the real law. */
-        const int hold_start = tangent && s->events && s->beyond;
-        const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
-        const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
-        const double *side_coef = m->contact_side_coef + b * m->contact_terms;
-        const int64_t *g_start = m->contact_ground_start, *g_channel = m->contact_ground_channel;
-        const double *g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
-        const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
-        const int grounded = m->contact_ground_terms > 0;
-        for (j = 0; j < nc; j++) {
-            const int64_t e = order[j];
-            const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-            const int64_t law = laws[e];
-            const int plain = !general(start, e);
-            double d, r, f, kd, kr, at;
-            if (plain) { /* floor to floor or to a wall: its nodes' values */
-                d = dof_value(ue, left) - dof_value(ue, right);
-                r = dof_value(ve, left) - dof_value(ve, right);
-            } else { /* points off the centre of mass, a struck column: its sides */
-                sides_sum2(start, side_dof, side_coef, e, 0, ue, ve, &d, &r);
-            }
-            if (grounded) { /* across supports: the ground displacements' difference */
-                d += ground_sum(g_start, g_channel, g_coef, e, g_d);
-                r += ground_sum(g_start, g_channel, g_coef, e, g_v);
-            }
-            d -= gap[e];
-            at = d;
-            if (e == held) {
-                /* Located events (events.c) hold the contact on one branch, so that its
-                 * penetration is a continuous function of the sub-step length: held open, no
-                 * force on either side of delta = 0; held closed, the law's force at
-                 * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
-                 * delta = 0 stays off the search). */
-                at = w->scalars[HELD_CLOSED] != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
-            } else if (hold_start) {
-                /* closed: in contact, or touching with a force (restarted at its onset) */
-                at = (pen_c[e] > 0.0 || force_c[e] > 0.0) ? py_max(d, HELD_DEPTH)
-                                                           : py_min(d, 0.0);
-            }
-            contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, at, r, out);
-            f = out[0];
-            kd = out[1];
-            kr = out[2];
-            if (at > d)
-                kd = 0.0;
-            calls[law] += 1;
-            force[e] = f;
-            penetration[e] = d;
-            if (plain) {
-                if (left >= 0) /* -1: a wall, the ground's side */
-                    R[left] -= f;
-                if (right >= 0)
-                    R[right] += f;
-            } else { /* the force on each side's DOFs, as its point moves with them */
-                sides_add(R, start, side_dof, side_coef, e, 0, -f, f);
-            }
-            if (tangent) {
-                double kk = (kd + c1 * kr) * wf;
-                if (kk != kks[e]) {
-                    kks[e] = kk;
-                    stale = 1;
-                }
-            }
-        }
-    }
+    stale = evaluate_springs(m, s, st, w, b, age, from_stage, c1, wf, tangent);
+    if (evaluate_contacts(m, s, st, w, b, age, from_stage, c1, wf, tangent))
+        stale = 1;
     return stale;
 }
 

@@ -37,6 +37,36 @@
  * What the balance then leaves is sum_s R_s . du_s: the stages' residuals, Newton's tolerance.
  */
 
+/* The elements' end-of-step values (drift, forces, tangent, penetration) and the laws' trial
+ * states become member b's committed ones. */
+static void keep_elements(const Model *m, State *st, const Work *w, int64_t b)
+{
+    const int64_t ns = m->stories, nc = m->contacts;
+    double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
+    double *damping_c = st->story_damping_force + b * ns, *tangent_c = st->story_tangent + b * ns;
+    double *cforce_c = st->contact_force + b * nc, *pen_c = st->penetration + b * nc;
+    const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
+    double *to = st->story_committed + b * story_values;
+    const double *from = st->story_trial + b * story_values;
+    int64_t i, e;
+    for (e = 0; e < ns; e++) {
+        drift_c[e] = w->drift[e];
+        force_c[e] = w->story_force[e];
+        damping_c[e] = w->story_damping_force[e];
+        tangent_c[e] = w->story_tangent[e];
+    }
+    for (e = 0; e < nc; e++) {
+        cforce_c[e] = w->contact_force[e];
+        pen_c[e] = w->penetration[e];
+    }
+    for (i = 0; i < story_values; i++)
+        to[i] = from[i];
+    to = st->contact_committed + b * contact_values;
+    from = st->contact_trial + b * contact_values;
+    for (i = 0; i < contact_values; i++)
+        to[i] = from[i];
+}
+
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
  * kinetic energy ran away from what the ground motion put in. */
 static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
@@ -48,9 +78,9 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     const double *u = w->u, *v = w->v, *a = w->a;
     double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
-    double *damping_c = st->story_damping_force + b * ns, *tangent_c = st->story_tangent + b * ns;
+    double *damping_c = st->story_damping_force + b * ns;
     const double *drift_t = w->drift, *force_t = w->story_force;
-    const double *damping_t = w->story_damping_force, *tangent_t = w->story_tangent;
+    const double *damping_t = w->story_damping_force;
     double *cforce_c = st->contact_force + b * nc, *pen_c = st->penetration + b * nc;
     int64_t *impacts = st->impacts + b * nc;
     const double *cforce_t = w->contact_force, *pen_t = w->penetration;
@@ -170,27 +200,7 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
     energy[KINETIC] = kinetic;
     if (k == 0)
         energy[KINETIC_0] = kinetic;
-    for (e = 0; e < ns; e++) {
-        drift_c[e] = drift_t[e];
-        force_c[e] = force_t[e];
-        damping_c[e] = damping_t[e];
-        tangent_c[e] = tangent_t[e];
-    }
-    for (e = 0; e < nc; e++) {
-        cforce_c[e] = cforce_t[e];
-        pen_c[e] = pen_t[e];
-    }
-    {
-        const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
-        double *to = st->story_committed + b * story_values;
-        const double *from = st->story_trial + b * story_values;
-        for (i = 0; i < story_values; i++)
-            to[i] = from[i];
-        to = st->contact_committed + b * contact_values;
-        from = st->contact_trial + b * contact_values;
-        for (i = 0; i < contact_values; i++)
-            to[i] = from[i];
-    }
+    keep_elements(m, st, w, b);
 
     /* Divergence: the kinetic energy cannot exceed what came in (initial energy plus the input
      * work, counted in absolute value) but by the integrator's own small excess; ten times

@@ -32,6 +32,7 @@ from __future__ import annotations
 import math
 
 from pframe.laws.facts import V0, contact_states
+from pframe.laws.restitution import hunt_crossley_restitution
 
 STATE_NAMES = ("onset_velocity", "in_contact")
 PARAM_NAMES = ("stiffness", "exponent", "chi", "inverse_effective_mass")
@@ -41,6 +42,18 @@ def hunt_crossley_tangent_states(cls, packed):
     """The contact tests' states: the onset step (no contact committed), then a running
     contact that began at V0 (a law's ``tangent_states``)."""
     return contact_states((0.0, 0.0), (V0, 1.0))
+
+
+def hunt_crossley_rebound(cls, params) -> float:
+    """The restitution of a two-body impact with the law's damping ``cls.chi(params)``, in
+    closed form (docs/restitution.md; a law's ``rebound``)."""
+    return hunt_crossley_restitution(cls.chi(params))
+
+
+def impact_inverse_mass(context) -> float:
+    """1 / m_eff of the contact's two sides, which a law packs to find its impact's onset
+    velocity (0 without a context: a law packed outside a scene)."""
+    return 0.0 if context is None else 1.0 / context.effective_mass
 
 
 def impact_damping(spring, dspring, chi, rate, v0, onset):

@@ -30,12 +30,17 @@ from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.contact._hunt_crossley import hunt_crossley_tangent_states, impact_damping
+from pframe.laws.contact._hunt_crossley import (
+    hunt_crossley_rebound,
+    hunt_crossley_tangent_states,
+    impact_damping,
+    impact_inverse_mass,
+)
 from pframe.laws.contact.hertzdamp import CHI_FORMULAS
 from pframe.laws.facts import Impact
 from pframe.laws.params import HERTZ_STIFFNESS, Calibration, DampedRestitution, LawParams, Positive
 from pframe.laws.registry import HertzContact, contact_law
-from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
+from pframe.laws.restitution import hunt_crossley_chi
 
 
 @contact_law("bumper")
@@ -110,14 +115,11 @@ class Bumper(HertzContact):
     def published_source(cls, params) -> str:
         return "Muthukumar & DesRoches 2006"
 
-    @classmethod
-    def rebound(cls, params) -> float:
-        """The restitution of a two-body impact, crushed or not (docs/restitution.md)."""
-        return hunt_crossley_restitution(cls.chi(params))
+    rebound = classmethod(hunt_crossley_rebound)
 
     @classmethod
     def pack(cls, params, context=None):
-        inverse_mass = 0.0 if context is None else 1.0 / context.effective_mass
+        inverse_mass = impact_inverse_mass(context)
         return (float(params.stiffness), 1.5, cls.chi(params), inverse_mass,
                 float(params.hard_stiffness), float(params.crush_ratio * params.thickness))
 

@@ -21,7 +21,9 @@ from pframe.laws.contact._hunt_crossley import (
     PARAM_NAMES,
     STATE_NAMES,
     hunt_crossley_force,
+    hunt_crossley_rebound,
     hunt_crossley_tangent_states,
+    impact_inverse_mass,
 )
 from pframe.laws.facts import Impact
 from pframe.laws.params import (
@@ -32,7 +34,7 @@ from pframe.laws.params import (
     Positive,
 )
 from pframe.laws.registry import HertzContact, contact_law
-from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
+from pframe.laws.restitution import hunt_crossley_chi
 
 CHI_FORMULAS = {
     "muthukumar": lambda e: 0.75 * (1.0 - e * e),
@@ -97,12 +99,9 @@ class Hertzdamp(HertzContact):
         return {"muthukumar": "Muthukumar & DesRoches 2006", "ye": "Ye, Li & Zhu 2009"}[
             params.formula]
 
-    @classmethod
-    def rebound(cls, params) -> float:
-        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
-        return hunt_crossley_restitution(cls.chi(params))
+    rebound = classmethod(hunt_crossley_rebound)
 
     @classmethod
     def pack(cls, params, context=None):
-        inverse_mass = 0.0 if context is None else 1.0 / context.effective_mass
+        inverse_mass = impact_inverse_mass(context)
         return (float(params.stiffness), 1.5, cls.chi(params), inverse_mass)

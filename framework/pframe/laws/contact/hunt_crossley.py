@@ -28,12 +28,14 @@ from pframe.laws.contact._hunt_crossley import (
     PARAM_NAMES,
     STATE_NAMES,
     hunt_crossley_force,
+    hunt_crossley_rebound,
     hunt_crossley_tangent_states,
+    impact_inverse_mass,
 )
 from pframe.laws.facts import Impact
 from pframe.laws.params import Calibration, DampedRestitution, LawParams, Positive
 from pframe.laws.registry import Law, contact_law
-from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
+from pframe.laws.restitution import hunt_crossley_chi
 
 
 @contact_law("hunt_crossley")
@@ -77,14 +79,11 @@ class HuntCrossley(Law):
     def published_source(cls, params) -> str:
         return "Hunt & Crossley 1975"
 
-    @classmethod
-    def rebound(cls, params) -> float:
-        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
-        return hunt_crossley_restitution(cls.chi(params))
+    rebound = classmethod(hunt_crossley_rebound)
 
     @classmethod
     def pack(cls, params, context=None):
-        inverse_mass = 0.0 if context is None else 1.0 / context.effective_mass
+        inverse_mass = impact_inverse_mass(context)
         return (float(params.stiffness), float(params.exponent), cls.chi(params), inverse_mass)
 
     @classmethod

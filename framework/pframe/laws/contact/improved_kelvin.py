@@ -18,12 +18,13 @@ from pframe.laws.contact._hunt_crossley import (
     PARAM_NAMES,
     STATE_NAMES,
     hunt_crossley_force,
+    hunt_crossley_rebound,
     hunt_crossley_tangent_states,
 )
 from pframe.laws.facts import Impact
 from pframe.laws.params import Calibration, ContactStiffness, DampedRestitution
 from pframe.laws.registry import SpringContact, contact_law
-from pframe.laws.restitution import hunt_crossley_chi, hunt_crossley_restitution
+from pframe.laws.restitution import hunt_crossley_chi
 
 
 def ye_chi(e: float) -> float:
@@ -67,10 +68,7 @@ class ImprovedKelvin(SpringContact):
     def published_source(cls, params) -> str:
         return "Ye, Li & Zhu 2009"
 
-    @classmethod
-    def rebound(cls, params) -> float:
-        """The restitution of a two-body impact with this damping (docs/restitution.md)."""
-        return hunt_crossley_restitution(cls.chi(params))
+    rebound = classmethod(hunt_crossley_rebound)
 
     @classmethod
     def pack(cls, params, context=None):

@@ -18,10 +18,75 @@ from __future__ import annotations
 
 import math
 
+from pydantic import Field
+
 from pframe.laws.facts import TangentState
+from pframe.laws.params import LawParams, Positive
 
 #: upper bound of the local Newton loop (``max_iterations`` is at most this)
 MAX_ITERATIONS = 100
+
+
+class HystereticParams(LawParams):
+    """The parameters both laws share: the first nine they pack, in this order."""
+
+    material: str
+    alpha: float = Field(ge=0, le=1, description="Post-yield stiffness ratio alpha: "
+                         "F = alpha k0 u + (1 - alpha) k0 z.")
+    ko: Positive = Field(description="Initial storey stiffness k0 (N/m): the tangent at the "
+                                     "origin is k0 (alpha + (1 - alpha) A0).")
+    n: Positive = Field(description="Exponent n of the evolution equation: the sharpness of "
+                                    "the knee (1: smooth; 10 or more: nearly bilinear).")
+    gamma: float = Field(allow_inf_nan=False, description="gamma (m^-n): with beta the "
+                         "shape of the loop; beta + gamma > 0 bounds z.")
+    beta: float = Field(allow_inf_nan=False, description="beta (m^-n): with gamma the shape "
+                        "of the loop; z_y = (A0 / (beta + gamma))^(1/n) is the yield "
+                        "displacement (m; bwbn's z_u). Usual: beta = gamma = 0.5 / z_y^n.")
+    Ao: Positive = Field(1.0, description="A0, the initial value of A (1 unless the "
+                                          "hysteretic part starts softer).")
+    deltaA: float = Field(0.0, ge=0, allow_inf_nan=False,
+                          description="Degradation of A with the hysteretic energy e (1/J).")
+    deltaNu: float = Field(0.0, ge=0, allow_inf_nan=False,
+                           description="Strength degradation nu = 1 + deltaNu e (1/J).")
+    deltaEta: float = Field(0.0, ge=0, allow_inf_nan=False,
+                            description="Stiffness degradation eta = 1 + deltaEta e (1/J).")
+
+
+#: the dimensions of the shared parameters (gamma and beta have none a declaration can say)
+DIMENSIONS = {"alpha": "dimensionless", "ko": "stiffness", "n": "dimensionless",
+              "Ao": "dimensionless", "deltaA": "1/J", "deltaNu": "1/J", "deltaEta": "1/J"}
+
+
+def undimensioned(law: str) -> dict:
+    """Why ``pframe scale`` refuses gamma and beta of ``law`` (a law's ``undimensioned``):
+    they are in m^-n, whose dimension depends on n; ``pframe pi`` names the law by its yield
+    displacement instead (``governing``)."""
+    why = (f"gamma and beta of the {law} material are in m^-n, a dimension that depends on n; "
+           "scale them by hand (by S_L^-n)")
+    return {"gamma": why, "beta": why}
+
+
+def shape_numbers(packed, yield_name: str) -> tuple[dict, float, float]:
+    """The governing numbers both laws share (a law's ``governing``): K = k0, the yield
+    displacement z_y = (A0 / (beta + gamma))^(1/n) (named ``yield_name``), the shape numbers
+    alpha, n, beta / (beta + gamma), A0 and the degradations per unit k0 z_y^2; with z_y
+    and k0 z_y^2 (J)."""
+    alpha, k0, n, gamma, beta, a0, da, dnu, deta = packed[:9]
+    zy = (a0 / (beta + gamma)) ** (1.0 / n) if beta + gamma > 0 else math.inf
+    energy = k0 * zy * zy
+    return ({"K": ("stiffness", k0), yield_name: ("length", zy),
+             "alpha": ("dimensionless", alpha), "n": ("dimensionless", n),
+             "beta_ratio": ("dimensionless", beta / (beta + gamma)),
+             "A0": ("dimensionless", a0),
+             "deltaA_e": ("dimensionless", da * energy),
+             "deltaNu_e": ("dimensionless", dnu * energy),
+             "deltaEta_e": ("dimensionless", deta * energy)}, zy, energy)
+
+
+def post_yield_stiffness(cls, packed):
+    """alpha k0: the elastic part's slope, which the tangent tends to once z saturates (a
+    law's ``post_yield_stiffness``)."""
+    return packed[0] * packed[1]
 
 
 def tangent_states(cls, packed):

@@ -23,39 +23,28 @@ evolution equation's as dt -> 0 (tests/test_isolators.py measures it).
 
 from __future__ import annotations
 
-import math
 from typing import Literal
 
 from pydantic import Field
 
-from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, tangent_states, trial_z
-from pframe.laws.params import LawParams, Positive
+from pframe.laws.material._bouc_wen import (
+    DIMENSIONS,
+    MAX_ITERATIONS,
+    HystereticParams,
+    hysteretic,
+    post_yield_stiffness,
+    shape_numbers,
+    tangent_states,
+    trial_z,
+    undimensioned,
+)
 from pframe.laws.registry import Law, material
 
 
 @material("bouc_wen")
 class BoucWen(Law):
-    class Params(LawParams):
+    class Params(HystereticParams):
         material: Literal["bouc_wen"]
-        alpha: float = Field(ge=0, le=1, description="Post-yield stiffness ratio alpha: "
-                             "F = alpha k0 u + (1 - alpha) k0 z.")
-        ko: Positive = Field(description="Initial storey stiffness k0 (N/m): the tangent at the "
-                                         "origin is k0 (alpha + (1 - alpha) A0).")
-        n: Positive = Field(description="Exponent n of the evolution equation: the sharpness of "
-                                        "the knee (1: smooth; 10 or more: nearly bilinear).")
-        gamma: float = Field(allow_inf_nan=False, description="gamma (m^-n): with beta the "
-                             "shape of the loop; beta + gamma > 0 bounds z.")
-        beta: float = Field(allow_inf_nan=False, description="beta (m^-n): with gamma the shape "
-                            "of the loop; z_y = (A0 / (beta + gamma))^(1/n) is the yield "
-                            "displacement (m). Usual: beta = gamma = 0.5 / z_y^n.")
-        Ao: Positive = Field(1.0, description="A0, the initial value of A (1 unless the "
-                                              "hysteretic part starts softer).")
-        deltaA: float = Field(0.0, ge=0, allow_inf_nan=False,
-                              description="Degradation of A with the hysteretic energy e (1/J).")
-        deltaNu: float = Field(0.0, ge=0, allow_inf_nan=False,
-                               description="Strength degradation nu = 1 + deltaNu e (1/J).")
-        deltaEta: float = Field(0.0, ge=0, allow_inf_nan=False,
-                                description="Stiffness degradation eta = 1 + deltaEta e (1/J).")
         tolerance: float = Field(1e-8, gt=0, le=1e-3, description="Convergence tolerance (m) of the Newton "
                                     "solve for z (OpenSees' default 1e-8).")
         max_iterations: int = Field(20, ge=1, le=MAX_ITERATIONS,
@@ -65,17 +54,8 @@ class BoucWen(Law):
     param_names = ("alpha", "ko", "n", "gamma", "beta", "Ao", "deltaA", "deltaNu", "deltaEta",
                    "tolerance", "max_iterations")
     state_names = ("drift", "z", "energy")
-    #: gamma and beta are in m^-n: their dimension depends on n, which a field's declaration
-    #: cannot say; ``pframe scale`` refuses them with this reason, ``pframe pi`` names the law
-    #: by its yield displacement instead (``governing``)
-    dimensions = {"alpha": "dimensionless", "ko": "stiffness", "n": "dimensionless",
-                  "Ao": "dimensionless", "deltaA": "1/J", "deltaNu": "1/J", "deltaEta": "1/J",
-                  "tolerance": "length", "max_iterations": "dimensionless"}
-    undimensioned = {
-        "gamma": "gamma and beta of the Bouc-Wen material are in m^-n, a dimension that depends "
-                 "on n; scale them by hand (by S_L^-n)",
-        "beta": "gamma and beta of the Bouc-Wen material are in m^-n, a dimension that depends "
-                "on n; scale them by hand (by S_L^-n)"}
+    dimensions = DIMENSIONS | {"tolerance": "length", "max_iterations": "dimensionless"}
+    undimensioned = undimensioned("Bouc-Wen")
     branches = "smooth"
     opensees = "BoucWen"
     examples = ({"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0},
@@ -83,25 +63,13 @@ class BoucWen(Law):
                  "deltaA": 1e-4, "deltaNu": 2e-4, "deltaEta": 1e-4})
     tangent_states = classmethod(tangent_states)
 
+    post_yield_stiffness = classmethod(post_yield_stiffness)
+
     @classmethod
     def governing(cls, packed, effective_mass=None):
         """K = k0, the yield displacement z_y = (A0 / (beta + gamma))^(1/n), the shape numbers
         alpha, n, beta / (beta + gamma), A0 and the degradations per unit k0 z_y^2."""
-        alpha, k0, n, gamma, beta, a0, da, dnu, deta = packed[:9]
-        zy = (a0 / (beta + gamma)) ** (1.0 / n) if beta + gamma > 0 else math.inf
-        energy = k0 * zy * zy
-        return {"K": ("stiffness", k0), "z_y": ("length", zy),
-                "alpha": ("dimensionless", alpha), "n": ("dimensionless", n),
-                "beta_ratio": ("dimensionless", beta / (beta + gamma)),
-                "A0": ("dimensionless", a0),
-                "deltaA_e": ("dimensionless", da * energy),
-                "deltaNu_e": ("dimensionless", dnu * energy),
-                "deltaEta_e": ("dimensionless", deta * energy)}
-
-    @classmethod
-    def post_yield_stiffness(cls, packed):
-        """alpha k0: the elastic part's slope, which the tangent tends to once z saturates."""
-        return packed[0] * packed[1]
+        return shape_numbers(packed, "z_y")[0]
 
     @classmethod
     def pack(cls, params, context=None):

@@ -40,34 +40,25 @@ from typing import Literal
 
 from pydantic import Field, model_validator
 
-from pframe.laws.material._bouc_wen import MAX_ITERATIONS, hysteretic, tangent_states, trial_z
-from pframe.laws.params import LawParams, Positive
+from pframe.laws.material._bouc_wen import (
+    DIMENSIONS,
+    MAX_ITERATIONS,
+    HystereticParams,
+    hysteretic,
+    post_yield_stiffness,
+    shape_numbers,
+    tangent_states,
+    trial_z,
+    undimensioned,
+)
+from pframe.laws.params import Positive
 from pframe.laws.registry import Law, material
 
 
 @material("bwbn")
 class Bwbn(Law):
-    class Params(LawParams):
+    class Params(HystereticParams):
         material: Literal["bwbn"]
-        alpha: float = Field(ge=0, le=1, description="Post-yield stiffness ratio alpha: "
-                             "F = alpha k0 u + (1 - alpha) k0 z.")
-        ko: Positive = Field(description="Initial storey stiffness k0 (N/m): the tangent at the "
-                                         "origin is k0 (alpha + (1 - alpha) A0).")
-        n: Positive = Field(description="Exponent n of the evolution equation: the sharpness of "
-                                        "the knee (1: smooth; 10 or more: nearly bilinear).")
-        gamma: float = Field(allow_inf_nan=False, description="gamma (m^-n): with beta the "
-                             "shape of the loop; beta + gamma > 0 bounds z.")
-        beta: float = Field(allow_inf_nan=False, description="beta (m^-n): with gamma the shape "
-                            "of the loop; z_u = (A0 / (beta + gamma))^(1/n) is the yield "
-                            "displacement (m). Usual: beta = gamma = 0.5 / z_u^n.")
-        Ao: Positive = Field(1.0, description="A0, the initial value of A (1 unless the "
-                                              "hysteretic part starts softer).")
-        deltaA: float = Field(0.0, ge=0, allow_inf_nan=False,
-                              description="Degradation of A with the hysteretic energy e (1/J).")
-        deltaNu: float = Field(0.0, ge=0, allow_inf_nan=False,
-                               description="Strength degradation nu = 1 + deltaNu e (1/J).")
-        deltaEta: float = Field(0.0, ge=0, allow_inf_nan=False,
-                                description="Stiffness degradation eta = 1 + deltaEta e (1/J).")
         q: float = Field(0.0, ge=0, le=1, description="Pinching: where on the loop it acts, "
                          "z = q z_u on the reloading branch (0: at zero hysteretic force).")
         zetas: float = Field(0.0, ge=0, lt=1, description="Pinching: its severity zeta_s, the "
@@ -106,16 +97,10 @@ class Bwbn(Law):
     param_names = ("alpha", "ko", "n", "gamma", "beta", "Ao", "deltaA", "deltaNu", "deltaEta",
                    "q", "zetas", "p", "psi", "deltaPsi", "lamda", "tolerance", "max_iterations")
     state_names = ("drift", "z", "energy")
-    dimensions = {"alpha": "dimensionless", "ko": "stiffness", "n": "dimensionless",
-                  "Ao": "dimensionless", "deltaA": "1/J", "deltaNu": "1/J", "deltaEta": "1/J",
-                  "q": "dimensionless", "zetas": "dimensionless", "p": "1/J", "psi": "length",
-                  "deltaPsi": "m/J", "lamda": "dimensionless",
-                  "tolerance": "length", "max_iterations": "dimensionless"}
-    undimensioned = {
-        "gamma": "gamma and beta of the BWBN material are in m^-n, a dimension that depends "
-                 "on n; scale them by hand (by S_L^-n)",
-        "beta": "gamma and beta of the BWBN material are in m^-n, a dimension that depends "
-                "on n; scale them by hand (by S_L^-n)"}
+    dimensions = DIMENSIONS | {"q": "dimensionless", "zetas": "dimensionless", "p": "1/J",
+                               "psi": "length", "deltaPsi": "m/J", "lamda": "dimensionless",
+                               "tolerance": "length", "max_iterations": "dimensionless"}
+    undimensioned = undimensioned("BWBN")
     #: no regime description for the reference solver (pframe accuracy): the law is its
     #: step's backward-Euler update, whose state the reference solver does not integrate
     branches = None
@@ -126,31 +111,19 @@ class Bwbn(Law):
                 {"alpha": 0.1, "ko": 1.0e5, "n": 2.0, "gamma": 2500.0, "beta": 2500.0})
     tangent_states = classmethod(tangent_states)
 
+    post_yield_stiffness = classmethod(post_yield_stiffness)
+
     @classmethod
     def governing(cls, packed, effective_mass=None):
         """K = k0, z_u = (A0 / (beta + gamma))^(1/n), the shape numbers, the degradations and
         pinching rates per unit k0 z_u^2 and the pinching spread per unit z_u."""
-        alpha, k0, n, gamma, beta, a0, da, dnu, deta, q, zetas, p, psi, dpsi, lamda = \
-            packed[:15]
-        zu = (a0 / (beta + gamma)) ** (1.0 / n) if beta + gamma > 0 else math.inf
-        energy = k0 * zu * zu
-        return {"K": ("stiffness", k0), "z_u": ("length", zu),
-                "alpha": ("dimensionless", alpha), "n": ("dimensionless", n),
-                "beta_ratio": ("dimensionless", beta / (beta + gamma)),
-                "A0": ("dimensionless", a0),
-                "deltaA_e": ("dimensionless", da * energy),
-                "deltaNu_e": ("dimensionless", dnu * energy),
-                "deltaEta_e": ("dimensionless", deta * energy),
-                "q": ("dimensionless", q), "zetas": ("dimensionless", zetas),
-                "p_e": ("dimensionless", p * energy),
-                "psi_zu": ("dimensionless", psi / zu),
-                "deltaPsi_e": ("dimensionless", dpsi * energy / zu),
-                "lamda": ("dimensionless", lamda)}
-
-    @classmethod
-    def post_yield_stiffness(cls, packed):
-        """alpha k0: the elastic part's slope, which the tangent tends to once z saturates."""
-        return packed[0] * packed[1]
+        out, zu, energy = shape_numbers(packed, "z_u")
+        q, zetas, p, psi, dpsi, lamda = packed[9:15]
+        return out | {"q": ("dimensionless", q), "zetas": ("dimensionless", zetas),
+                      "p_e": ("dimensionless", p * energy),
+                      "psi_zu": ("dimensionless", psi / zu),
+                      "deltaPsi_e": ("dimensionless", dpsi * energy / zu),
+                      "lamda": ("dimensionless", lamda)}
 
     @classmethod
     def pack(cls, params, context=None):
