@@ -94,7 +94,8 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
  * evaluation point, subtracted from the residual; returns 1 when an effective tangent changed
  * (see evaluate). */
 static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                            int from_stage, double c1, double wf, int tangent)
+                            const double *age, int from_stage, double c1, double wf,
+                            int tangent)
 {
     const double *ue = w->ue, *ve = w->ve;
     const int64_t ns = m->stories;
@@ -114,6 +115,11 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
     const int64_t *start = m->story_side_start, *side_dof = m->story_side_dof;
     const double *side_coef = m->story_side_coef + b * m->story_terms;
     const double *tangent_c = st->story_tangent + b * ns;
+    /* across supports: the ground displacements' part (docs/supports.md) */
+    const int64_t *g_start = m->story_ground_start, *g_channel = m->story_ground_channel;
+    const double *g_coef = m->story_ground_coef + b * m->story_ground_terms;
+    const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
+    const int grounded = m->story_ground_terms > 0;
     int64_t *calls = st->material_calls + b * m->materials;
     double *drift = w->drift, *force = w->story_force;
     double *damping_force = w->story_damping_force, *tangent_t = w->story_tangent;
@@ -134,6 +140,10 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
                 d -= ue[lo];
                 r -= ve[lo];
             }
+        }
+        if (grounded) {
+            d += ground_sum(g_start, g_channel, g_coef, e, g_d);
+            r += ground_sum(g_start, g_channel, g_coef, e, g_v);
         }
         material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
                        out);
@@ -180,7 +190,8 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
 /* The contacts' forces at the evaluation point, added to the residual; returns 1 when an
  * effective tangent changed (see evaluate). */
 static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                             int from_stage, double c1, double wf, int tangent)
+                             const double *age, int from_stage, double c1, double wf,
+                             int tangent)
 {
     const double *ue = w->ue, *ve = w->ve;
     const int64_t nc = m->contacts;
@@ -208,6 +219,10 @@ static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work 
     const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
     const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
     const double *side_coef = m->contact_side_coef + b * m->contact_terms;
+    const int64_t *g_start = m->contact_ground_start, *g_channel = m->contact_ground_channel;
+    const double *g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+    const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
+    const int grounded = m->contact_ground_terms > 0;
     for (j = 0; j < nc; j++) {
         const int64_t e = order[j];
         const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
@@ -215,12 +230,16 @@ static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work 
         const int plain = !general(start, e);
         double d, r, f, kd, kr, at;
         if (plain) { /* floor to floor or to a wall: its nodes' values */
-            d = dof_value(ue, left) - dof_value(ue, right) - gap[e];
+            d = dof_value(ue, left) - dof_value(ue, right);
             r = dof_value(ve, left) - dof_value(ve, right);
         } else { /* points off the centre of mass, a struck column: its sides */
             sides_sum2(start, side_dof, side_coef, e, 0, ue, ve, &d, &r);
-            d -= gap[e];
         }
+        if (grounded) { /* across supports: the ground displacements' difference */
+            d += ground_sum(g_start, g_channel, g_coef, e, g_d);
+            r += ground_sum(g_start, g_channel, g_coef, e, g_v);
+        }
+        d -= gap[e];
         at = d;
         if (e == held) {
             /* Located events (events.c) hold the contact on one branch, so that its
@@ -286,8 +305,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
-    stale = evaluate_springs(m, s, st, w, b, from_stage, c1, wf, tangent);
-    if (evaluate_contacts(m, s, st, w, b, from_stage, c1, wf, tangent))
+    stale = evaluate_springs(m, s, st, w, b, age, from_stage, c1, wf, tangent);
+    if (evaluate_contacts(m, s, st, w, b, age, from_stage, c1, wf, tangent))
         stale = 1;
     return stale;
 }
@@ -423,24 +442,25 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     return not_definite(m, st, w, b, k, pivot);
 }
 
-/* Ground accelerations of each channel at fractions start and stop of step k (linear between
- * the samples k - 1 and k). */
+/* The ground's series (each channel's acceleration, then with supports their displacements
+ * and velocities) at fractions start and stop of step k (linear between the samples k - 1
+ * and k). */
 static void ground_between(const Model *m, int64_t b, int64_t k, double start, double stop,
                            double *ag_old, double *ag_new)
 {
     int64_t c;
-    for (c = 0; c < m->channels; c++) {
-        const double *ag = m->ground + (b * m->channels + c) * m->ground_width;
+    for (c = 0; c < m->ground_series; c++) {
+        const double *ag = m->ground + (b * m->ground_series + c) * m->ground_width;
         const double slope = ag[k] - ag[k - 1];
         ag_old[c] = ag[k - 1] + slope * start;
         ag_new[c] = ag[k - 1] + slope * stop;
     }
 }
 
-/* The ground accelerations of each channel at sample k. */
+/* The ground's series at sample k. */
 static void ground_at(const Model *m, int64_t b, int64_t k, double *ag)
 {
     int64_t c;
-    for (c = 0; c < m->channels; c++)
-        ag[c] = m->ground[(b * m->channels + c) * m->ground_width + k];
+    for (c = 0; c < m->ground_series; c++)
+        ag[c] = m->ground[(b * m->ground_series + c) * m->ground_width + k];
 }
