@@ -98,10 +98,17 @@ def runnable_model(model: Path, folder: Path) -> Path:
     ``folder`` beside a link to the record of :data:`RECORDS` (skipped when absent there)."""
     import yaml
 
-    excitation = (yaml.safe_load(model.read_text(encoding="utf-8")) or {}).get("excitation") or {}
-    motions = ([excitation.get(axis) or {} for axis in ("x", "y")]
-               if excitation.get("kind") == "components" else [excitation])
-    files = [m["file"] for m in motions if m.get("kind") == "record"]
+    data = yaml.safe_load(model.read_text(encoding="utf-8")) or {}
+
+    def records(node):  # every record file of the scene's motions, wherever it stands
+        if isinstance(node, dict):
+            found = [node["file"]] if node.get("kind") == "record" else []
+            return found + [f for v in node.values() for f in records(v)]
+        if isinstance(node, list):
+            return [f for v in node for f in records(v)]
+        return []
+
+    files = records([data.get("excitation"), data.get("supports")])
     if all((model.parent / file).is_file() for file in files):
         return model
     for file in files:

@@ -133,6 +133,11 @@ def test_every_quantity_records_what_it_means():
     t = np.arange(plan.steps + 1) * plan.dt[0]
     np.testing.assert_allclose(h["ground_acceleration"], 9.81 * np.sin(2.0 * math.pi * t),
                                rtol=0, atol=1e-12)
+    velocity = np.concatenate([[0.0], np.cumsum(0.5 * plan.dt[0] * (
+        h["ground_acceleration"][1:] + h["ground_acceleration"][:-1]))])
+    np.testing.assert_allclose(h["ground_displacement"], np.concatenate([[0.0], np.cumsum(
+        0.5 * plan.dt[0] * (velocity[1:] + velocity[:-1]))]), rtol=1e-12, atol=1e-15)
+    np.testing.assert_array_equal(h["contact_ground_displacement"], 0.0)  # one ground
     np.testing.assert_allclose(h["absolute_acceleration"],
                                h["acceleration"] + h["ground_acceleration"][:, None],
                                rtol=0, atol=1e-12)

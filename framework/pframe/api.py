@@ -225,8 +225,8 @@ def _from_result(path: Path):
     result_file(path, "pframe.load")
     try:
         with h5py.File(path, "r") as f:
-            attrs = {k: f.attrs[k] for k in ("input_yaml", "sweep_yaml") + RECORD_ATTRIBUTES
-                     if k in f.attrs}
+            attrs = {k: f.attrs[k] for k in f.attrs
+                     if k in ("input_yaml", "sweep_yaml") or _record_attribute(k)}
     except FileNotFoundError:
         raise InputError(f"{path}: no such result file") from None
     except OSError as exc:
@@ -240,15 +240,15 @@ def scene_of_attributes(attrs: dict, path, base: Path):
     from pframe.reader import parse_scene
 
     attrs = {k: v.decode() if isinstance(v, bytes) else str(v) for k, v in attrs.items()
-             if k in ("input_yaml", "sweep_yaml") + RECORD_ATTRIBUTES}
+             if k in ("input_yaml", "sweep_yaml") or _record_attribute(k)}
     if "sweep_yaml" in attrs:
         raise InputError(f"{path}: a sweep's result file holds many scenes; load its base "
                          "scene from the sweep file, or a variant with pframe sweep --variant")
     text = attrs.get("input_yaml")
     if not text:
         raise InputError(f"{path}: the file holds no scene (no input_yaml attribute)")
-    records = [(Path(attrs[f"{p}file"]), attrs[f"{p}text"]) for p in _RECORD_PREFIXES
-               if f"{p}text" in attrs and f"{p}file" in attrs]
+    records = [(Path(attrs[k]), attrs[k[:-len("file")] + "text"]) for k in sorted(attrs)
+               if k.endswith("file") and k[:-len("file")] + "text" in attrs]
     for relative, _ in records:
         if relative.is_absolute():
             raise InputError(f"{path}: the scene names its record by the absolute path "
@@ -258,10 +258,11 @@ def scene_of_attributes(attrs: dict, path, base: Path):
     return parse_scene(text, f"{path} (input_yaml)", base)
 
 
-#: the record a result holds (``record_``), or each of its two components' (``record_x_``,
-#: ``record_y_``): the file's name as the scene gives it and its text
-_RECORD_PREFIXES = ("record_", "record_x_", "record_y_")
-RECORD_ATTRIBUTES = tuple(f"{p}{k}" for p in _RECORD_PREFIXES for k in ("file", "text"))
+def _record_attribute(name: str) -> bool:
+    """Whether a result's attribute is a record's file name or text: ``record_file``,
+    ``record_text``, of each component (``record_x_file``), of each support's own motion
+    (``record_east_file``, ``record_east_y_text``)."""
+    return name.startswith("record_") and name.endswith(("_file", "_text"))
 
 
 #: the folder this process restores the records of result files into (one, removed at exit)

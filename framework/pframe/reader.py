@@ -72,7 +72,7 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     scene's :attr:`LoadedScene.given`: the caller does not change it afterwards."""
     given = data
     from pframe.model.expand import expand
-    from pframe.model.scene import scene_class
+    from pframe.model.scene import scene_class, scene_motions
     from pframe.nondim.output import OutputUnits
 
     unit_scales = ()
@@ -90,9 +90,10 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     plugins = plugin_names(data, lines, source)
     scene = validated(scene_class(*plugins), data, lines, source)
     base_dir = Path(base_dir or ".")
-    if scene.excitation is not None and scene.excitation.kind == "record":
-        # copies of the scene (model_copy) read the record from here, whatever the cwd
-        scene.excitation._folder = str(base_dir.resolve())
+    for motion in scene_motions(scene):
+        if motion.kind == "record":
+            # copies of the scene (model_copy) read the record from here, whatever the cwd
+            motion._folder = str(base_dir.resolve())
     try:
         expanded = expand(scene, base_dir)
     except ModelError as exc:

@@ -321,7 +321,9 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
         omega = modes.lowest_modes(ex, b, k_fit, max(wanted))
         named = dict(zip(wanted, damping.modes))
         periods = [f"{m} ({named[m] + ', ' if isinstance(named.get(m), str) else ''}"
-                   f"{2 * math.pi / omega[m - 1]:#.3g} s)" for m in dict.fromkeys(wanted)]
+                   + (f"{2 * math.pi / omega[m - 1]:#.3g} s)" if omega[m - 1] > 0.0 else
+                      "no period: the building slides as a block)")
+                   for m in dict.fromkeys(wanted)]
         a0 = float(result.a0[ex.node_building == b][0])
         a1 = float(np.max(result.a1[mine]))
         skipped = [ex.stories[s].name for s in mine if not damped[s]]

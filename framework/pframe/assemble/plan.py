@@ -11,13 +11,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pframe.assemble import damping, incidence, modes, stability, timescales
+from pframe.assemble import damping, grounds, incidence, modes, stability, timescales
 from pframe.assemble.incidence import Sides
 from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
-from pframe.model.plan import COMPONENTS
 
 #: the scene's ``damping.stiffness`` -> the kernel's slot
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
@@ -120,6 +119,19 @@ class Plan:
     #: (B, s) each spring's stiffness in its building's isolated modes (N/m): an isolator's
     #: post-yield or sliding stiffness, every other spring's initial stiffness
     story_isolated: np.ndarray = None
+    #: elements across supports (docs/supports.md, pframe.assemble.grounds): each spring's
+    #: and contact's ground terms (start (E + 1,), channel (T,), coefficient (B, T)) and the
+    #: channels' displacements then velocities (B, 2 C, steps + 1); None: no such element
+    story_ground_start: np.ndarray = None
+    story_ground_channel: np.ndarray = None
+    story_ground_coef: np.ndarray = None
+    contact_ground_start: np.ndarray = None
+    contact_ground_channel: np.ndarray = None
+    contact_ground_coef: np.ndarray = None
+    ground_motion: np.ndarray = None
+    #: the supports (names; empty: one ground) and each node's (empty: one support)
+    supports: tuple[str, ...] = ()
+    node_support: tuple = ()
     gauge_start: np.ndarray = None  # (4 P + 1,)
     gauge_dof: np.ndarray = None  # (T,)
     gauge_coef: np.ndarray = None  # (B, T)
@@ -269,6 +281,16 @@ class _Soil:
 
     def keys(self) -> list[tuple[int, int]]:
         return [(self.nodes + i, 0) for i in range(2 * self.count)]
+
+    def channel(self, ex: Expanded, key_node: int) -> int:
+        """The channel of a foundation's DOF: its sway is loaded along x by its building's
+        support (its rocking by none)."""
+        f = key_node - self.nodes
+        if f < 0 or f % 2:
+            return -1
+        building = ex.foundations[f // 2].building
+        node = int(np.flatnonzero(ex.node_building == building)[0])
+        return grounds.channel_index(ex, node, 0)
 
     def stories(self, ex: Expanded) -> tuple:
         """The storeys; a storey on soil deforms by u_upper - u_lower - h theta (its lower
@@ -500,7 +522,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_sides=story_sides,
         contact_sides=contact_sides,
         channels=first.channels,
-        dof_channel=_dof_channels(first.channels, keys, nodes)[order],
+        dof_channel=_dof_channels(first, keys, nodes, soil)[order],
+        supports=first.supports,
+        node_support=first.node_support,
+        **grounds.ground_fields(variants, spring_sets, set(history) | set(envelope)),
         dof_node=node_of_key[order],
         dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
         planar=planar,
@@ -559,14 +584,12 @@ def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]
                             if soil.count else np.zeros(0)]) for ex in variants]
 
 
-def _dof_channels(channels: tuple, keys: list, nodes: int) -> np.ndarray:
+def _dof_channels(first: Expanded, keys: list, nodes: int, soil) -> np.ndarray:
     """The ground-motion channel that loads each DOF key (-1: none): a node's u_x and u_y
-    their site axis's, a foundation's sway the x channel, a rotation or rocking none."""
-    return np.array([channels.index(COMPONENTS[c]) if node < nodes and c < 2
-                     and COMPONENTS[c] in channels else
-                     (0 if node >= nodes and (node - nodes) % 2 == 0 and "x" in channels
-                      else -1)
-                     for node, c in keys], dtype=np.int64)
+    their support's along their site axis (pframe.assemble.grounds), a foundation's sway its
+    building's support's along x, a rotation or rocking none."""
+    return np.array([grounds.channel_index(first, node, c) if node < nodes and c < 2
+                     else soil.channel(first, node) for node, c in keys], dtype=np.int64)
 
 
 def _node_order(keys, edges) -> np.ndarray:
@@ -624,5 +647,7 @@ def _gauges(variants, key_index, dof_of_key) -> dict:
 
 def _channels(ex: Expanded) -> np.ndarray:
     """(C, steps + 1): the ground motion along each of the scene's channels."""
+    if ex.support_samples is not None:
+        return np.asarray(ex.support_samples, dtype=float)
     rows = {"x": ex.ground_acceleration, "y": ex.ground_acceleration_y}
     return np.array([rows[c] for c in ex.channels], dtype=float)

@@ -240,12 +240,10 @@ def _plausibility(ex, b, name, first, elastic, k0, member, findings, unit_hint: 
 
 
 def _excitation(plan, ex, member: int, dt: float, coefficients, findings):
-    excitation = ex.excitation
-    if excitation is not None and excitation.kind == "components":
-        for _, motion in excitation.motions():
-            _motion(motion, member, dt, coefficients, findings)
-        return
-    _motion(excitation, member, dt, coefficients, findings)
+    from pframe.model.scene import plain_motions
+
+    for motion in ex.motions or plain_motions(ex.excitation):
+        _motion(motion, member, dt, coefficients, findings)
 
 
 def _motion(excitation, member: int, dt: float, coefficients, findings):

@@ -32,7 +32,9 @@ def register(sub) -> None:
                     "JankowskiImpact; Rayleigh or modal damping, P-delta, soil, the scene's "
                     "integrator), without pframe: to cross-check pframe with the program you "
                     "know. A scene in plan: a node per floor at its centre of mass, each line "
-                    "of resistance and contact point tied to it by rigidLink beam. Where the "
+                    "of resistance and contact point tied to it by rigidLink beam. A scene "
+                    "on several supports: total coordinates, each support's motion imposed "
+                    "on its ground by a MultipleSupport pattern. Where the "
                     "script's model is not pframe's it says so (a warning here, and in the "
                     "script); a scene it cannot model is refused with every reason. See "
                     "docs/python.md#a-scene-for-opensees.")

@@ -32,24 +32,27 @@ def _warn(source: str, warnings) -> None:
 
 
 def record_lines(loaded) -> list[str]:
-    """The facts of the record a loaded scene reads, as lines (none for other excitations):
-    how the file was read, its units and where they were read, the PGA after every scaling
-    and when it occurs, what part the analysis covers. ``pframe solve`` prints them too."""
-    from pframe.excitation.describe import describe_line, describe_scene_record
-
+    """The facts of the records a loaded scene reads, as lines (none for a scene whose one
+    motion is a sine or a pulse): how each file was read, its units and where they were read,
+    the PGA after every scaling and when it occurs, what part the analysis covers; a motion in
+    two components and the motions of the supports, each described. ``pframe solve`` prints
+    them too."""
     excitation = loaded.scene.excitation
-    if excitation is not None and excitation.kind == "components":
-        return component_lines(loaded)
-    if excitation is None or excitation.kind != "record":
+    if loaded.scene.supports:
+        return support_lines(loaded)
+    if excitation is None or excitation.kind not in ("record", "components"):
         return []
-    facts = describe_scene_record(excitation, loaded.base_dir)
-    return [describe_line(facts, duration=loaded.expanded.dt * loaded.expanded.steps)]
+    from pframe.model.motion import GroundMotion
+
+    ex = loaded.expanded
+    ground = GroundMotion({}, ex.record, tuple(ex.component_records))
+    return motion_lines(excitation, ground, loaded)
 
 
-def component_lines(loaded) -> list[str]:
-    """The two components of a loaded scene's motion (``kind: components``), a line each as
-    one motion's (:func:`record_lines` for a record), after a line saying how they are turned
-    onto the site's axes."""
+def motion_lines(excitation, ground, loaded) -> list[str]:
+    """Lines of one excitation as applied (``ground`` its
+    :class:`pframe.model.motion.GroundMotion`: the records read): a record's facts, a sine's,
+    pulse's or stochastic motion's, or two components each so after how they are turned."""
     from pframe.excitation.describe import (
         applied_motion,
         describe_line,
@@ -58,9 +61,15 @@ def component_lines(loaded) -> list[str]:
     )
     from pframe.model.motion import turn
 
-    excitation = loaded.scene.excitation
     duration = loaded.expanded.dt * loaded.expanded.steps
-    records = dict(loaded.expanded.component_records)
+    if excitation is None:
+        return ["excitation: none (the ground stands still)"]
+    if excitation.kind == "record":
+        return [describe_line(describe_scene_record(excitation, loaded.base_dir),
+                              duration=duration)]
+    if excitation.kind != "components":
+        return [motion_line(applied_motion(excitation, ground.record, duration))]
+    records = dict(ground.records)
     cos, sin = turn(excitation.angle)
     out = [f"excitation: two components turned {excitation.angle:g} degrees: x along "
            f"({cos:.4g}, {sin:.4g}) of the site's axes, y along ({-sin:.4g}, {cos:.4g})"]
@@ -74,13 +83,71 @@ def component_lines(loaded) -> list[str]:
     return out
 
 
+def _coherent_words(excitation) -> str:
+    """A coherent simulation in words: its motion's model, coherency, waves, conditioning."""
+    motion = excitation.motion
+    parts = [f"the {motion.model} spectrum and modulating function"]
+    c = excitation.coherency
+    parts.append("fully coherent" if c is None else
+                 f"Luco-Wong coherency (alpha {c.incoherence:g}, v_s {c.shear_velocity:g} m/s)"
+                 if c.model == "luco_wong" else
+                 f"Harichandran-Vanmarcke coherency (A {c.amplitude:g}, alpha {c.alpha:g}, "
+                 f"k {c.k:g} m, f0 {c.f0:g} Hz, b {c.b:g})")
+    if excitation.velocity is not None:
+        parts.append(f"waves at {excitation.velocity:g} m/s towards "
+                     f"{excitation.direction:g} degrees")
+    if excitation.record is not None:
+        parts.append(f"conditioned on the record {excitation.record.file} at support "
+                     f"{excitation.at}")
+    return "; ".join(parts)
+
+
+def support_lines(loaded) -> list[str]:
+    """The supports of a loaded scene (docs/supports.md): where each stands, the scene's
+    motion (the same under every support without its own, or a wave passage with each
+    support's delay), and each support's own motion."""
+    scene, ex = loaded.scene, loaded.expanded
+    out = ["supports: " + ", ".join(f"{s.name} at [{s.position[0]:g}, {s.position[1]:g}] m"
+                                    for s in scene.supports)]
+    excitation = scene.excitation
+    own = [s.excitation is not None for s in scene.supports]
+    shared = next((m for m, mine in zip(ex.support_motions, own) if not mine), None)
+    if excitation is not None and excitation.kind == "coherent":
+        import numpy as np
+
+        out.append("excitation: motions simulated at the supports (coherent, seed "
+                   f"{excitation.seed}): " + _coherent_words(excitation))
+        for name, tau, row in zip(ex.supports, ex.support_delays, ex.support_samples):
+            peak = float(np.max(np.abs(row)))
+            at = float(np.argmax(np.abs(row)) * ex.dt)
+            out.append(f"  support {name}: delay {tau:.4g} s; PGA {peak:.4g} m/s^2 "
+                       f"({peak / 9.80665:.4g} g) at t = {at:.4g} s")
+    elif excitation is not None and excitation.kind == "wave_passage":
+        delays = ", ".join(f"{name} {tau:.4g} s" for name, tau in
+                           zip(ex.supports, ex.support_delays))
+        out.append(f"excitation: a wave passage at {excitation.velocity:g} m/s towards "
+                   f"{excitation.direction:g} degrees: each support's motion delayed by "
+                   f"{delays}; the motion:")
+        out += ["  " + line for line in motion_lines(excitation.motion, shared, loaded)]
+    elif not all(own):
+        without = [s.name for s, mine in zip(scene.supports, own) if not mine]
+        out += [f"{line} (under {', '.join(without)})"
+                for line in motion_lines(excitation, shared, loaded)]
+    for support, motion in zip(scene.supports, ex.support_motions):
+        if support.excitation is not None:
+            out += [f"support {support.name}: {line.removeprefix('excitation: ')}"
+                    for line in motion_lines(support.excitation, motion, loaded)]
+    return out
+
+
 def excitation_lines(loaded) -> list[str]:
     """The motion a loaded scene applies, as lines: :func:`record_lines` for a record, the
     amplitude, period, peak and end of a sine or pulse; none without excitation."""
     from pframe.excitation.describe import applied_motion, motion_line
 
     excitation = loaded.scene.excitation
-    if excitation is None or excitation.kind in ("record", "components"):
+    if loaded.scene.supports or excitation is None or excitation.kind in ("record",
+                                                                          "components"):
         return record_lines(loaded)
     duration = loaded.expanded.dt * loaded.expanded.steps
     return [motion_line(applied_motion(excitation, loaded.expanded.record, duration))]

@@ -156,17 +156,19 @@ _STEPS = Factor("started", "how a height counts in the minimum's steps: started 
 #: the built-in code rules by the name ``--codes`` takes (a name may give several rules)
 CODES: dict[str, tuple[Rule, ...]] = {
     "asce7": (
-        Rule("ASCE7_same_property", "ASCE 7-22", "12.12.2",
-             "ASCE/SEI 7-16 12.12.3 (12.12.2 in ASCE 7-22), read in a copy of its page "
+        Rule("ASCE7_same_property", "ASCE/SEI 7-16", "12.12.3",
+             "ASCE/SEI 7-16 12.12.3 (Structural Separation), read in a copy of its page "
              "(scribd.com/document/408979656): delta_M = C_d delta_max / I_e (eq. 12.12-1) at "
              "critical locations, delta_max the maximum elastic displacement; adjacent "
              "structures on the same property at least delta_MT = sqrt(delta_M1^2 + "
-             "delta_M2^2) (eq. 12.12-2); no provision for aligned floors",
+             "delta_M2^2) (eq. 12.12-2); no provision for aligned floors. ASCE 7-22 keeps "
+             "the equations; its section's number could not be read here, so the clause "
+             "cited is the 2016 edition's",
              "sqrt(delta_M1^2 + delta_M2^2), delta_M = C_d delta_max / I_e",
              (("R", _R), ("Cd", Factor(5.5, "deflection amplification factor C_d")),
               ("Ie", Factor(1.0, "importance factor I_e"))),
              design=(("Ie",), ("R",)), amplify=(("Cd",), ("Ie",)), combination="srss"),
-        Rule("ASCE7_property_line", "ASCE 7-22", "12.12.2",
+        Rule("ASCE7_property_line", "ASCE/SEI 7-16", "12.12.3",
              "as ASCE7_same_property: a structure adjoining a property line not common to a "
              "public way is set back from it by at least its delta_M, so two buildings on "
              "either side of the line stand delta_M1 + delta_M2 apart",

@@ -62,7 +62,7 @@ def design_displacement(u, r_factor, importance):
 
 
 def asce7_separation(delta_max_a, delta_max_b, cd_a, cd_b, ie_a, ie_b) -> dict[str, np.ndarray]:
-    """ASCE 7-22 12.12.2 from the two maximum elastic displacements delta_max (m, under the
+    """ASCE/SEI 7-16 12.12.3 from the two maximum elastic displacements delta_max (m, under the
     design forces): delta_M = C_d delta_max / I_e; the SRSS of the two on one property, their
     sum across a property line (each building set back by its own delta_M)."""
     fa, fb = {"Cd": cd_a, "Ie": ie_a}, {"Cd": cd_b, "Ie": ie_b}

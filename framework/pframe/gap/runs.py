@@ -34,6 +34,9 @@ class Pairs:
     right: tuple[str, ...]
     gaps: np.ndarray  # the scene's gaps (m)
     sides: tuple = ()
+    #: each contact's ground displacements' part across supports (docs/supports.md):
+    #: ((support name, axis, coefficient), ...); () on one support
+    grounds: tuple = ()
 
 
 def contact_pairs(loaded) -> Pairs:
@@ -52,7 +55,22 @@ def contact_pairs(loaded) -> Pairs:
                  tuple(ex.node_names[c.nodes[0]] for c in ex.contacts),
                  tuple(ex.node_names[c.nodes[1]] for c in ex.contacts),
                  np.array([c.gap for c in ex.contacts]),
-                 tuple(c.side_terms() for c in ex.contacts))
+                 tuple(c.side_terms() for c in ex.contacts),
+                 _pair_grounds(ex))
+
+
+def _pair_grounds(ex) -> tuple:
+    """Each contact's ground terms along both of the site's axes (the runs may load y where
+    the scene does not), by support name."""
+    from pframe.model.plan import COMPONENTS
+    from pframe.model.supports import ground_terms
+
+    if not ex.node_support:
+        return ()
+    return tuple(tuple((ex.supports[s], COMPONENTS[c], a) for s, c, a in
+                       ground_terms(contact, ex.node_support, None, ("x", "y"),
+                                    first_positive=True))
+                 for contact in ex.contacts)
 
 
 def for_runs(loaded, channels: tuple[str, ...] = ("x",), contacts: bool = False):
@@ -65,20 +83,43 @@ def for_runs(loaded, channels: tuple[str, ...] = ("x",), contacts: bool = False)
     from pframe.model.load import ModelError
     from pframe.model.scene import Components, Sine
 
-    if contacts and ("y" not in channels or "y" in loaded.expanded.channels):
+    zero = Components(x=Sine(amplitude=0.0, frequency=1.0)) if "y" in channels else None
+    carried = _carried_by_passage(loaded, zero) if loaded.scene.supports else zero
+    if contacts and ("y" not in channels or "y" in loaded.expanded.axes):
         return loaded.expanded
-    update = {"excitation": Components(x=Sine(amplitude=0.0, frequency=1.0))
-              if "y" in channels else None}
+    update = {"excitation": carried}
     if not contacts:
         update["contacts"] = []
     try:
         return expand(loaded.scene.model_copy(update=update), loaded.base_dir)
     except ModelError as exc:
         why = ""
-        if "y" in channels and "y" not in loaded.expanded.channels:
+        if "y" in channels and "y" not in loaded.expanded.axes:
             why = (" (the runs' ground motions move the site's y axis: pairs of records or "
                    "records at an angle, which a scene along x alone cannot take)")
         raise InputError(f"{loaded.where(exc.path)}: {exc.message}{why}") from None
+
+
+def _carried_by_passage(loaded, motion):
+    """A scene on supports run under a suite's motions (docs/supports.md): each member's
+    motion reaches the supports as the scene's wave passage carries it, each support with
+    its delay; supports with motions of their own take no suite."""
+    from pframe.model.scene import Sine, WavePassage
+
+    scene = loaded.scene
+    own = [s.name for s in scene.supports if s.excitation is not None]
+    passage = scene.excitation
+    if own or passage is None or passage.kind != "wave_passage":
+        raise InputError(
+            f"{loaded.source}: the scene stands on supports "
+            + (f"whose motions are their own ({', '.join(own)})" if own else
+               "without a wave passage") + ": a gap audit or a risk study runs it under "
+            "the motions of a suite, one per run, which reach its supports as a wave "
+            "passage carries them; give the scene excitation: {kind: wave_passage, "
+            "velocity: ..., motion: ...} (its motion stands for the suite's) and no "
+            "support a motion of its own")
+    return WavePassage(motion=motion or Sine(amplitude=0.0, frequency=1.0),
+                       velocity=passage.velocity, direction=passage.direction)
 
 
 def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -148,7 +189,7 @@ def base_plan(loaded, channels: tuple[str, ...] = ("x",)):
     from pframe.assemble import assemble
 
     ex = for_runs(loaded, channels)
-    ex = ex.with_ground(np.zeros(2), steps=1, recorders=())
+    ex = ex.first_steps(1, recorders=())
     return assemble(ex)
 
 
@@ -192,6 +233,23 @@ def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None
     return assemble_batch(variants)
 
 
+def _contact_grounds(plan, members):
+    """(B, c, steps + 1) the ground displacements' part of each contact's closing at every
+    step (docs/supports.md: the contacts of ``members``, each a :class:`Pairs`, in a run of
+    ``plan``), or None on one ground."""
+    if plan.ground_motion is None or not any(m.grounds for m in members):
+        return None
+    out = np.zeros((plan.batch, len(members[0].names), plan.steps + 1))
+    for b, pairs in enumerate(members):
+        for c, terms in enumerate(pairs.grounds):
+            for support, axis, a in terms:
+                name = f"{support}:{axis}"
+                if name in plan.channels:  # an axis the runs do not load does not move
+                    series = plan.ground_motion[b, plan.channels.index(name)]
+                    out[b, c] += a * series[:plan.steps + 1]
+    return out
+
+
 class GapSink:
     """Running max over the steps (from row ``start`` on) of the closing of each contact:
     its first side less its second (:class:`Pairs`), u_left - u_right of a planar contact,
@@ -222,6 +280,7 @@ class GapSink:
                               for key in merged(list(mine) for mine in own)])
             self.terms.append(sides)
         self.start = int(start)
+        self.ground = _contact_grounds(plan, members)
         self.gap = np.full((plan.batch, len(members[0].names)), -np.inf)
         self.peak_side = np.zeros((plan.batch, len(members[0].names), 2))
 
@@ -243,11 +302,15 @@ class GapSink:
         if quantity != "displacement" or rows.shape[1] <= skip:
             return
         rows = rows[:, skip:]
+        steps = slice(first_row + skip, first_row + skip + rows.shape[1])
         for c, (left, right) in enumerate(self.terms):
             sides = self._side(rows, left), self._side(rows, right)
+            closing = sides[0] - sides[1]
+            if self.ground is not None:  # across supports: the ground displacements' part
+                closing = closing + self.ground[:, c, steps]
             # a member that failed inside these rows has NaN after the failure: fmax keeps
             # what came before (its results are discarded anyway)
-            block = np.max(sides[0] - sides[1], axis=1)
+            block = np.max(closing, axis=1)
             np.fmax(self.gap[:, c], block, out=self.gap[:, c])
             for s in range(2):
                 np.fmax(self.peak_side[:, c, s], np.max(np.abs(sides[s]), axis=1),

@@ -223,7 +223,9 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
                   else np.zeros((B, plan.n_springs))),
         contact_dofs=plan.contact_dofs,
         contact_order=contact_order, contact_law=contact_law, contact_params=contact_params,
-        gap=plan.contact_gap, ground=plan.ground_channels, dt=plan.dt,
+        gap=plan.contact_gap, dt=plan.dt,
+        ground=(plan.ground_channels if plan.ground_motion is None
+                else np.concatenate([plan.ground_channels, plan.ground_motion], axis=1)),
         cd_parts=plan.cd_parts if plan.cd_parts is not None else ones,
         event_parts=plan.event_parts if plan.event_parts is not None else ones,
         stop=np.zeros(1, dtype=np.int64),
@@ -231,6 +233,10 @@ def _group_model(plan, ids) -> tuple[Model, np.ndarray, np.ndarray]:
                      else np.zeros(plan.n_dof, dtype=np.int64)),
         foundation_dofs=(plan.foundation_dofs if plan.foundation_dofs is not None
                          else np.zeros((0, 2), dtype=np.int64)),
+        **_grounds("story", plan.story_ground_start, plan.story_ground_channel,
+                   plan.story_ground_coef, plan.n_springs, B),
+        **_grounds("contact", plan.contact_ground_start, plan.contact_ground_channel,
+                   plan.contact_ground_coef, len(plan.contact_names), B),
         **_sides("story", plan.story_sides, plan.n_springs, B),
         **_sides("contact", plan.contact_sides, len(plan.contact_names), B),
         gauge_start=(plan.gauge_start if plan.gauge_start is not None
@@ -255,6 +261,17 @@ def _sides(kind: str, sides, count: int, batch: int) -> dict:
                 f"{kind}_side_coef": np.zeros((batch, 0))}
     return {f"{kind}_side_start": sides.start, f"{kind}_side_dof": sides.dof,
             f"{kind}_side_coef": sides.coef}
+
+
+def _grounds(kind: str, start, channel, coef, count: int, batch: int) -> dict:
+    """The Model's arrays of the ground terms of a kind of element (docs/supports.md; none:
+    every element on one support)."""
+    if start is None:
+        return {f"{kind}_ground_start": np.zeros(count + 1, dtype=np.int64),
+                f"{kind}_ground_channel": np.zeros(0, dtype=np.int64),
+                f"{kind}_ground_coef": np.zeros((batch, 0))}
+    return {f"{kind}_ground_start": start, f"{kind}_ground_channel": channel,
+            f"{kind}_ground_coef": coef}
 
 
 def _normalised(group):
@@ -421,7 +438,8 @@ def work_arrays(plan, st: State) -> Work:
                 np.zeros(c), np.zeros(len(Scalar)),
                 np.zeros((stages - 1, len(Value), n)), np.zeros(s), np.zeros(c),
                 np.zeros(st.story_committed[0].size), np.zeros(st.contact_committed[0].size),
-                *(np.zeros(len(plan.channels)) for _ in range(3)))
+                *(np.zeros(len(plan.channels) * (1 if plan.ground_motion is None else 3))
+                  for _ in range(4)))
     return work
 
 
@@ -443,7 +461,8 @@ _SHARED = {"story_dofs", "story_order", "story_law", "story_damping", "contact_d
            "contact_order", "contact_law", "stop", "dof_channel",
            "foundation_dofs", "story_side_start", "story_side_dof", "contact_side_start",
            "contact_side_dof", "gauge_start", "gauge_dof",
-           "modal_dofs", "modal_start"}
+           "story_ground_start", "story_ground_channel", "contact_ground_start",
+           "contact_ground_channel", "modal_dofs", "modal_start"}
 
 
 def _slice(group, lo: int, hi: int):
@@ -523,7 +542,10 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                      story_states=st.story_committed.shape[2],
                      contact_width=model.contact_params.shape[2],
                      contact_states=st.contact_committed.shape[2],
-                     ground_width=model.ground.shape[2], channels=model.ground.shape[1],
+                     ground_width=model.ground.shape[2], channels=len(plan.channels),
+                     ground_series=model.ground.shape[1],
+                     story_ground_terms=model.story_ground_channel.shape[0],
+                     contact_ground_terms=model.contact_ground_channel.shape[0],
                      materials=laws.materials,
                      contact_laws=laws.contact_laws, foundations=len(plan.foundations),
                      story_terms=model.story_side_dof.shape[0],

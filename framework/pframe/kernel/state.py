@@ -256,8 +256,11 @@ Model = namedtuple("Model", [
     "contact_law",      # (c,) contact law id
     "contact_params",   # (B, c, Q) the law's packed parameters
     "gap",              # (B, c) m
-    "ground",           # (B, C, steps + 1) ground acceleration along each channel (m/s^2):
-                        # the site's axes the motion loads (pframe.assemble.Plan.channels)
+    "ground",           # (B, G, steps + 1) the ground's series (pframe.assemble.grounds):
+                        # the acceleration along each of the C channels (m/s^2), the site's
+                        # axes the motion loads at each support (pframe.assemble.Plan.channels),
+                        # then, with elements across supports, their displacements (m) and
+                        # velocities (m/s): G = C or 3 C
     "dt",               # (B,) s
     "cd_parts",         # (B,) central-difference sub-steps per step
     "event_parts",      # (B,) sub-steps per step while a contact is closed (events)
@@ -281,6 +284,15 @@ Model = namedtuple("Model", [
     "gauge_start",         # (4 P + 1,)
     "gauge_dof",           # (Tg,)
     "gauge_coef",          # (B, Tg)
+    # elements across supports (docs/supports.md): the ground displacements' part of spring
+    # e's deformation, sum coef[b, t] x[C + channel[t]] over t in start[e] .. start[e + 1]
+    # with x the ground's series at the evaluation point (its rate: x[2 C + channel[t]])
+    "story_ground_start",    # (s + 1,)
+    "story_ground_channel",  # (Tgs,)
+    "story_ground_coef",     # (B, Tgs)
+    "contact_ground_start",    # (c + 1,)
+    "contact_ground_channel",  # (Tgc,)
+    "contact_ground_coef",     # (B, Tgc)
     # modal damping (docs/theory.md#damping): a dense block over each such building's DOFs
     "modal_dofs",       # (q,) the DOFs of the blocks, one block after another
     "modal_start",      # (blocks + 1,) where each block starts in modal_dofs
@@ -342,15 +354,17 @@ Work = namedtuple("Work", [
     # the generic stage loop: the ends of the stages before the last, (stages - 1, 3, n) u, v
     # and a, the deformations and law states at the previous stage's end, the laws start from
     "stage_values", "stage_drift", "stage_penetration", "story_stage", "contact_stage",
-    # (C,) the ground accelerations at a (sub-)step's start and end and at its evaluation point
-    "ag_old", "ag_new", "age",
+    # (G,) the ground's series at a (sub-)step's start and end and at its evaluation point,
+    # and at the end of the stage before (the generic stage loop)
+    "ag_old", "ag_new", "age", "ag_stage",
 ])
 
 #: the sizes the C kernel needs besides the arrays (appended to its Model struct)
 SIZES = ("batch", "dofs", "stories", "contacts", "links", "story_width", "story_states",
-         "contact_width", "contact_states", "ground_width", "channels", "materials",
-         "contact_laws", "foundations", "story_terms", "contact_terms", "points", "gauge_terms",
-         "modal_blocks", "modal_width")
+         "contact_width", "contact_states", "ground_width", "channels", "ground_series",
+         "materials", "contact_laws", "foundations", "story_terms", "contact_terms", "points",
+         "gauge_terms", "story_ground_terms", "contact_ground_terms", "modal_blocks",
+         "modal_width")
 
 #: C types of the fields that are not arrays of doubles (``double *``); Recording's per-quantity
 #: arrays are C arrays of RECORDABLE length (pframe.kernel.translate writes the structs)
@@ -361,6 +375,8 @@ C_TYPES = {
               "story_side_start": "int64_t *", "story_side_dof": "int64_t *",
               "contact_side_start": "int64_t *", "contact_side_dof": "int64_t *",
               "gauge_start": "int64_t *", "gauge_dof": "int64_t *",
+              "story_ground_start": "int64_t *", "story_ground_channel": "int64_t *",
+              "contact_ground_start": "int64_t *", "contact_ground_channel": "int64_t *",
               "modal_dofs": "int64_t *", "modal_start": "int64_t *",
               "contact_order": "int64_t *", "contact_law": "int64_t *",
               "cd_parts": "int64_t *", "event_parts": "int64_t *", "stop": "int64_t *",

@@ -49,6 +49,9 @@ class Element:
     #: a floor-to-column contact: where its column is struck on each side (the fraction of
     #: the storey's height; NaN: a floor)
     at: tuple[float, float] = (math.nan, math.nan)
+    #: the ground displacements' part of its deformation across supports: ((support,
+    #: axis component, coefficient), ...); empty on one support (pframe.model.supports)
+    ground: tuple = ()
 
     @property
     def column_side(self) -> int | None:

@@ -5,12 +5,13 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import numpy as np
 
 from pframe.model import dofs as dof_table
+from pframe.model import supports as support_table
 from pframe.model.elements import (
     AT_TOLERANCE,
     Element,
@@ -26,8 +27,10 @@ from pframe.model.elements import (
 )
 from pframe.model.floors import floors as collect_floors
 from pframe.model.load import ModelError
-from pframe.model.motion import ground_motion
+from pframe.model.motion import GroundMotion, ground_motion
+from pframe.model.scene import scene_motions
 from pframe.model.soil import FoundationSoil, foundation_soil
+from pframe.model.support_motion import support_motion
 from pframe.resources import check_floors, check_steps, steps_of
 
 __all__ = ["AT_TOLERANCE", "Element", "Expanded", "FoundationSoil", "column_share",
@@ -105,6 +108,23 @@ class Expanded:
     story_isolator: tuple = ()
     story_stiffness_damping: tuple = ()
 
+    #: the supports the scene declares (docs/supports.md; empty: one ground), where each
+    #: stands (site, m), each node's support (empty: one support), the motion of every
+    #: channel (support and axis; None: one support) and each support's wave-passage delay
+    supports: tuple[str, ...] = ()
+    support_positions: tuple = ()
+    node_support: tuple = ()
+    support_samples: np.ndarray = None
+    support_delays: tuple = ()
+    #: the site's axes the ground motion loads ('x', or 'x' and 'y')
+    axes: tuple[str, ...] = ("x",)
+    #: every plain motion of the scene (its excitation's, each support's own): the time
+    #: scales checked against dt; empty: the excitation's
+    motions: tuple = ()
+    #: each declared support's motion as applied (pframe.model.motion.GroundMotion: its
+    #: record, its components' records), before any wave-passage delay
+    support_motions: tuple = ()
+
     def with_ground(self, x, y=None, steps: int | None = None, **changes) -> Expanded:
         """This scene under another ground motion: ``x`` along the site's x axis and ``y``
         along its y axis (m/s^2 at t_n = n dt, n = 0..steps; ``steps`` default: this scene's),
@@ -117,13 +137,40 @@ class Expanded:
         if x.shape != (steps + 1,) or (y is not None and np.shape(y) != (steps + 1,)):
             raise ValueError(f"a ground motion of {steps} steps has {steps + 1} samples per "
                              f"axis, not {x.shape} and {np.shape(y) if y is not None else ''}")
-        if "y" in self.channels:
+        if "y" in self.axes:
             y = np.zeros(steps + 1) if y is None else np.asarray(y, dtype=float)
         elif y is not None:
             raise ValueError("the scene's motion does not load its y axis: expand it with a "
                              "motion in two components (kind: components) to apply one")
+        if self.support_samples is not None:
+            changes["support_samples"] = self._carried(x, y, steps)
         return dataclasses.replace(self, steps=steps, ground_acceleration=x,
                                    ground_acceleration_y=y, **changes)
+
+    def first_steps(self, steps: int, **changes) -> Expanded:
+        """This scene cut to its first ``steps`` steps (a warm-up, a plan for its periods),
+        every ground motion with it."""
+        cut = slice(0, steps + 1)
+        return dataclasses.replace(
+            self, steps=steps, ground_acceleration=self.ground_acceleration[cut],
+            ground_acceleration_y=(None if self.ground_acceleration_y is None
+                                   else self.ground_acceleration_y[cut]),
+            support_samples=(None if self.support_samples is None
+                             else self.support_samples[:, cut]), **changes)
+
+    def _carried(self, x, y, steps: int) -> np.ndarray:
+        """Each support's samples of a motion the scene's wave passage carries (docs/
+        supports.md): x and y delayed by each support's delay. A scene whose supports have
+        motions of their own takes no single motion."""
+        from pframe.model.scene import WavePassage
+        from pframe.model.support_motion import delayed
+
+        if not isinstance(self.excitation, WavePassage):  # (gap.runs.for_runs says why)
+            raise ValueError("the scene's supports move with motions of their own: one motion "
+                             "cannot stand for them (give the scene a wave passage, whose "
+                             "motion each support takes with its delay)")
+        return np.array([delayed(x if axis == "x" else y, tau, self.dt)
+                         for tau in self.support_delays for axis in self.axes])
 
 
 def _check_size(scene) -> None:
@@ -168,7 +215,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     floating = _check_held(scene, floors.nodes, stories, links)
     analysis = scene.analysis
     steps = _steps(analysis)
-    motion = ground_motion(scene.excitation, base_dir, steps, analysis.dt)
+    supports = support_table.resolve(scene, floors, resolver)
+    motion = _motion(scene, supports, base_dir, steps, analysis.dt)
     excitation_frequency = None  # of frequency_ratio (Pi_wcon = w_bar / w_p): a sine's
     if scene.excitation is not None and scene.excitation.kind == "sine":
         excitation_frequency = scene.excitation.frequency
@@ -178,12 +226,15 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                 for s in floors.stories])
     springs = stories + [e for e, *_ in p_delta]
     dofs = dof_table.active(floors, [g.element for g in geometries] + links + springs,
-                            motion.channels, initial)
+                            motion.axes, initial)
     dof_table.check_storeys(floors, resolver, springs, dofs)
     position = {key: i for i, key in enumerate(dofs.table)}
     contacts, rebounds = pack_contacts(geometries,
                                        lambda node, c: dofs.mass[position[(node, c)]],
                                        excitation_frequency)
+    if supports.several:
+        springs, links, contacts = _across(scene, supports, motion.axes, springs, links,
+                                           contacts)
     reference = _reference(scene, resolver.buildings)
     point_names, point_gauges, point_positions = gauges(floors, resolver, position)
     heights = [s.height for s in floors.stories] + [h for *_, h, _ in p_delta]
@@ -201,9 +252,19 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         story_height=np.array([np.nan if h is None else float(h) for h in heights]),
         story_gravity=np.array([float(g) for g in gravity]),
         damping=tuple(floors.damping.get(b) or scene.damping for b in resolver.buildings),
-        ground_acceleration=motion.samples.get("x", np.zeros(steps + 1)),
-        ground_acceleration_y=motion.samples.get("y"),
+        ground_acceleration=motion.samples[motion.channels[0]] if "x" in motion.axes
+        else np.zeros(steps + 1),
+        ground_acceleration_y=motion.samples.get(motion.channels[0][:-1] + "y"),
         channels=motion.channels,
+        supports=supports.names if supports.declared else (),
+        support_positions=supports.positions if supports.declared else (),
+        node_support=supports.node_support if supports.several else (),
+        support_samples=(np.array([motion.samples[c] for c in motion.channels])
+                         if supports.several else None),
+        support_delays=getattr(motion, "delays", ()),
+        axes=motion.axes,
+        motions=scene_motions(scene),
+        support_motions=getattr(motion, "motions", ()),
         initial_displacement=np.array([initial.get(k, (0.0, 0.0))[0] for k in dofs.table]),
         initial_velocity=np.array([initial.get(k, (0.0, 0.0))[1] for k in dofs.table]),
         dt=float(analysis.dt),
@@ -220,7 +281,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         reference=reference,
         warnings=tuple(_rebound_text(key, names) for key, names in rebounds.items() if not key[0])
         + motion.warnings + floating,
-        notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0]),
+        notes=tuple(_rebound_text(key, names) for key, names in rebounds.items() if key[0])
+        + tuple(getattr(motion, "notes", ())),
         foundations=_foundations(floors.foundations, scene, resolver.buildings,
                                  resolver.building_of),
         dofs=None if dofs.planar and len(dofs.table) == len(floors.nodes) else dofs.table,
@@ -233,6 +295,53 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         point_positions=point_positions,
         **_storey_flags(floors.stories, len(p_delta)),
     )
+
+
+def _motion(scene, supports, base_dir, steps: int, dt: float):
+    """The scene's ground motion: one ground's (:func:`ground_motion`, its channels the axes
+    it loads) or each support's (:func:`support_motion`, a channel per support and axis)."""
+    if not supports.declared:
+        if scene.excitation is not None and scene.excitation.kind == "wave_passage":
+            raise ModelError(("excitation", "kind"), "a wave passage moves the scene's "
+                             "supports one after the other: declare them (supports: with "
+                             "their names and positions) and put the buildings on them")
+        motion = ground_motion(scene.excitation, base_dir, steps, dt)
+        return _OneGround(motion)
+    found = support_motion(scene, supports, base_dir, steps, dt)
+    if not supports.several:  # one declared support: today's channels, named by axis
+        samples = {axis: found.samples[f"{supports.names[0]}:{axis}"] for axis in found.axes}
+        return _OneGround(GroundMotion(samples, found.motions[0].record,
+                                       found.motions[0].records, found.warnings),
+                          found.delays, found.motions)
+    return found
+
+
+class _OneGround:
+    """A one-ground motion seen as a support motion (its axes are its channels)."""
+
+    def __init__(self, motion, delays=(), motions=()):
+        self.motion, self.delays, self.motions = motion, delays, motions
+        self.samples, self.warnings = motion.samples, motion.warnings
+        self.record, self.records = motion.record, motion.records
+        self.channels = self.axes = motion.channels
+
+
+def _across(scene, supports, axes, springs, links, contacts):
+    """The elements with the ground displacements' part of their deformation (elements
+    across supports, :func:`pframe.model.supports.ground_terms`)."""
+    grounds = support_table.ground_supports(scene, supports)
+    node_support = supports.node_support
+
+    def with_ground(kind, element, first_positive=False):
+        other = [n for n in element.nodes if n >= 0]
+        side = grounds.get((kind, element.name),
+                           node_support[other[0]] if other else None)
+        terms = support_table.ground_terms(element, node_support, side, axes, first_positive)
+        return replace(element, ground=terms) if terms else element
+
+    return ([with_ground("stories", e) for e in springs],
+            [with_ground("links", e) for e in links],
+            [with_ground("contacts", e, True) for e in contacts])
 
 
 def _storey_flags(specs, extra: int) -> dict:

@@ -102,11 +102,13 @@ def turn(angle: float) -> tuple[float, float]:
     return math.cos(math.radians(angle)), math.sin(math.radians(angle))
 
 
-def ground_motion(excitation, base_dir, steps: int, dt: float) -> GroundMotion:
-    """The ground motion of a scene's ``excitation`` at its analysis steps (see the module)."""
+def ground_motion(excitation, base_dir, steps: int, dt: float,
+                  path: tuple = ("excitation",)) -> GroundMotion:
+    """The ground motion of a scene's ``excitation`` at its analysis steps (see the module);
+    ``path`` where the scene gives it (messages)."""
     duration = steps * dt
     if excitation is None or excitation.kind != "components":
-        record = _record(excitation, base_dir, ("excitation",))
+        record = _record(excitation, base_dir, path)
         warnings = (tuple(motion_warnings(applied_motion(excitation, record, duration)))
                     + tuple(stochastic_warnings(excitation)))
         return GroundMotion({"x": _samples(excitation, record, steps, dt)}, record,
@@ -115,8 +117,7 @@ def ground_motion(excitation, base_dir, steps: int, dt: float) -> GroundMotion:
     samples: dict = {}
     records, warnings = [], []
     for axis, motion in excitation.motions():
-        path = ("excitation", axis)
-        record = _record(motion, base_dir, path)
+        record = _record(motion, base_dir, path + (axis,))
         if record is not None:
             records.append((axis, record))
         values = _samples(motion, record, steps, dt)

@@ -39,6 +39,7 @@ NodeName = Annotated[
     ),
 ]
 BuildingName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
+SupportName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
 QUANTITIES = tuple(_QUANTITIES)
 Quantity = Literal[QUANTITIES]
 
@@ -266,6 +267,10 @@ class StoryBase(Base):
         None, description="Whether its building's Rayleigh damping adds the stiffness-"
         "proportional term a1 k to this storey (default: yes, but not on an isolator).")
 
+    support: SupportName | None = Field(
+        None, description="The support its lower end stands on when it is 'ground' "
+        "(docs/supports.md); default: the scene's only support.")
+
 
 class LinkBase(Base):
     """A link: a material element between any two nodes, or a node and the ground, acting in
@@ -282,6 +287,9 @@ class LinkBase(Base):
         "its centre of mass, the default).")
     direction: Point = Field((1.0, 0.0), description="[x, y]: the direction the link acts "
                              "along, in the site's axes (default [1, 0]: the row's axis).")
+    support: SupportName | None = Field(
+        None, description="The support a side of it that is 'ground' stands on "
+        "(docs/supports.md); default: the scene's only support.")
 
 
 def default_link_name(nodes) -> str:
@@ -359,6 +367,9 @@ class ContactBase(Base):
                           "to the right one along which they close, in the site's axes "
                           "(default [1, 0]: the row's axis); penetration = normal . (u_left - "
                           "u_right) - gap.")
+    support: SupportName | None = Field(
+        None, description="The support its wall (a side that is 'ground') stands on "
+        "(docs/supports.md); default: the scene's only support.")
 
 
 class LineBase(Base):
@@ -790,16 +801,137 @@ class Components(Base):
         return tuple((axis, m) for axis, m in (("x", self.x), ("y", self.y)) if m is not None)
 
 
-def records_of(excitation) -> tuple:
-    """The record definitions an excitation reads (a record, or the records among the
-    components of a pair)."""
+class WavePassage(Base):
+    """One motion reaching each support later as the waves pass (docs/supports.md): at
+    support s it is a(t - tau_s), tau_s = (p_s - p_first) . (cos phi, sin phi) / v_app, the
+    supports' positions p projected on the direction of propagation phi, counted from the
+    support the waves reach first."""
+
+    kind: Literal["wave_passage"] = "wave_passage"
+    motion: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic, Components],  # noqa: UP007
+                      Field(discriminator="kind")] = Field(
+        description="The motion as the waves bring it (at the support they reach first).")
+    velocity: Positive = Field(description="The apparent velocity v_app of the waves along "
+                               "the ground surface (m/s), typically 200 to 2000 m/s.")
+    direction: float = Field(0.0, allow_inf_nan=False, description="The direction the waves "
+                             "travel, degrees from the site's x axis (counter-clockwise).")
+
+
+class Coherency(Base):
+    """How alike the motions of two supports are, frequency by frequency, apart from the
+    waves' delay (the lagged coherency |gamma(w, d)|; docs/supports.md)."""
+
+    model: Literal["luco_wong", "harichandran_vanmarcke"] = Field(
+        description="luco_wong (Luco & Wong 1986) or harichandran_vanmarcke (Harichandran & "
+        "Vanmarcke 1986).")
+    incoherence: float | None = Field(None, ge=0, allow_inf_nan=False, description="luco_wong: "
+                                      "alpha, about 0.1 to 0.5.")
+    shear_velocity: Positive | None = Field(None, description="luco_wong: v_s of the ground "
+                                            "(m/s).")
+    amplitude: float = Field(0.736, ge=0, le=1, allow_inf_nan=False,
+                             description="harichandran_vanmarcke: A.")
+    alpha: Positive = Field(0.147, description="harichandran_vanmarcke: alpha.")
+    k: Positive = Field(5210.0, description="harichandran_vanmarcke: k (m).")
+    f0: Positive = Field(1.09, description="harichandran_vanmarcke: f0 (Hz).")
+    b: Positive = Field(2.78, description="harichandran_vanmarcke: b.")
+
+    @model_validator(mode="after")
+    def _parameters(self):
+        if self.model == "luco_wong" and (self.incoherence is None
+                                          or self.shear_velocity is None):
+            raise ValueError("luco_wong needs incoherence and shear_velocity")
+        if self.model == "harichandran_vanmarcke" and (self.incoherence is not None
+                                                       or self.shear_velocity is not None):
+            raise ValueError("incoherence and shear_velocity are luco_wong's")
+        return self
+
+
+class SiteColumn(Base):
+    """The soil column under a support (its site response, docs/supports.md): a filter of the
+    firm-ground motion of fundamental frequency ``frequency`` and damping ``damping``."""
+
+    frequency: Positive = Field(description="The column's fundamental frequency f_s (Hz).")
+    damping: float = Field(gt=0, lt=1, allow_inf_nan=False, description="Its damping ratio.")
+    kind: Literal["sdof", "layer"] = Field("sdof", description="sdof (a single-mode filter, "
+                                           "causal) or layer (a uniform damped layer on rock, "
+                                           "Kramer 1996).")
+
+
+class Coherent(Base):
+    """Motions simulated at every support (docs/supports.md): one stochastic motion's
+    spectrum and modulating function, made partly incoherent between supports by a coherency
+    model, delayed by the waves' passage, filtered by each support's soil column; seeded and
+    reproducible. With ``record`` at support ``at``, the others are simulated conditioned on
+    it (Konakli & Der Kiureghian 2012)."""
+
+    kind: Literal["coherent"] = "coherent"
+    motion: Stochastic = Field(description="The firm-ground motion whose spectrum and "
+                               "modulating function every support shares (kind: stochastic: "
+                               "clough_penzien, or rezaeian2010 at its mid-time filter).")
+    coherency: Coherency | None = Field(None, description="The lagged coherency; none: fully "
+                                        "coherent (the supports differ by their delays and "
+                                        "soil only).")
+    velocity: Positive | None = Field(None, description="The waves' apparent velocity (m/s): "
+                                      "each support's motion delayed as they reach it; none: "
+                                      "no delay.")
+    direction: float = Field(0.0, allow_inf_nan=False, description="The direction the waves "
+                             "travel (degrees from the site's x axis).")
+    seed: int = Field(0, ge=0, description="Seed of the random numbers: the same seed gives "
+                      "the same motions.")
+    record: Record | None = Field(None, description="A record the motions are conditioned on: "
+                                  "it is the motion of support 'at'.")
+    at: SupportName | None = Field(None, description="The support where the record was taken.")
+
+    @model_validator(mode="after")
+    def _record_at(self):
+        if (self.record is None) != (self.at is None):
+            raise ValueError("give record and at together (the record and the support it "
+                             "was taken at), or neither")
+        return self
+
+
+class Support(Base):
+    """A piece of ground that moves as one (docs/supports.md): what buildings, walls and the
+    ground ends of storeys and links stand on, with its own motion."""
+
+    name: SupportName = Field(description="Its name (buildings and elements name it).")
+    position: Point = Field((0.0, 0.0), description="[x, y]: where it is on the site (m): the "
+                            "wave passage's delays.")
+    excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
+                                Components], Field(discriminator="kind")] | None = Field(
+        None, description="Its own motion; none: the scene's excitation (the same motion, or "
+        "the wave passage's at this support).")
+    site: SiteColumn | None = Field(None, description="The soil column under it, which "
+                                    "filters a coherent simulation's motion here (kind: "
+                                    "coherent); none: firm ground.")
+
+
+def plain_motions(excitation) -> tuple:
+    """The plain motions (a sine, a pulse, a record, a stochastic motion) an excitation is
+    made of: itself, each of two components, the motion a wave passage carries."""
     if excitation is None:
         return ()
-    if excitation.kind == "record":
-        return (excitation,)
     if excitation.kind == "components":
-        return tuple(m for _, m in excitation.motions() if m.kind == "record")
-    return ()
+        return tuple(m for _, m in excitation.motions())
+    if excitation.kind == "wave_passage":
+        return plain_motions(excitation.motion)
+    if excitation.kind == "coherent":
+        return (excitation.motion,) + ((excitation.record,) if excitation.record else ())
+    return (excitation,)
+
+
+def scene_motions(scene) -> tuple:
+    """Every plain motion of a scene: its excitation's, then each support's own."""
+    out = plain_motions(scene.excitation)
+    for support in getattr(scene, "supports", ()) or ():
+        out += plain_motions(support.excitation)
+    return out
+
+
+def records_of(excitation) -> tuple:
+    """The record definitions an excitation reads (a record, the records among the
+    components of a pair or in a wave passage)."""
+    return tuple(m for m in plain_motions(excitation) if m.kind == "record")
 
 
 def tag_reader(key: str, default: str):
@@ -1046,6 +1178,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             False, description="P-delta: each storey carries the weight of the floors above "
             "it (g = 9.80665 m/s^2 times their masses), whose geometric stiffness -P/h "
             "softens it (needs height).")
+        support: SupportName | None = Field(
+            None, description="The support the building stands on (docs/supports.md); "
+            "default: the scene's only support.")
         soil: Soil | None = Field(
             None, description="Soil under the building (default: a fixed base): a foundation "
             "that sways and rocks on springs and dashpots (needs height; docs/soil.md).")
@@ -1081,11 +1216,16 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         damping: Damping = Field(Rayleigh(), description="Default damping of every building: "
                                  "Rayleigh (kind: rayleigh, the default) or modal (kind: "
                                  "modal).")
+        supports: list[Support] = Field(
+            default_factory=list, description="The pieces of ground structures stand on, each "
+            "with its own motion (docs/supports.md); none: one ground under everything.")
         excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
-                                    Components],
+                                    Components, WavePassage, Coherent],
                               Field(discriminator="kind")] | None = Field(
             None, description="Ground motion along the site's x axis, or in two components "
-            "(kind: components); none: free vibration from initial conditions.")
+            "(kind: components), or as the waves pass the supports (kind: wave_passage), or "
+            "simulated at every support (kind: coherent); none: free vibration from initial "
+            "conditions.")
         initial_conditions: InitialConditions = Field(
             InitialConditions(), description="State at t = 0 (default: at rest).")
         analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "

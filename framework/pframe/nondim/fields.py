@@ -162,6 +162,27 @@ SCENE_FIELDS = {
 SCENE_FIELDS.update({("excitation", axis) + pattern[1:]: quantity
                      for axis in ("x", "y") for pattern, quantity in list(SCENE_FIELDS.items())
                      if pattern[0] == "excitation" and pattern != ("excitation", "angle")})
+# a support's own motion and the motion a wave passage carries are motions too
+_MOTION_FIELDS = [(pattern[1:], quantity) for pattern, quantity in SCENE_FIELDS.items()
+                  if pattern[0] == "excitation"]
+SCENE_FIELDS.update({("supports", "*", "excitation") + rest: q for rest, q in _MOTION_FIELDS})
+SCENE_FIELDS.update({("excitation", "motion") + rest: q for rest, q in _MOTION_FIELDS})
+SCENE_FIELDS.update({("excitation", "record") + rest: q for rest, q in _MOTION_FIELDS})
+SCENE_FIELDS.update({
+    ("supports", "*", "position"): "length",
+    ("supports", "*", "site", "frequency"): "frequency",
+    ("supports", "*", "site", "damping"): "dimensionless",
+    ("excitation", "seed"): "dimensionless",  # a coherent simulation's
+    ("excitation", "coherency", "incoherence"): "dimensionless",
+    ("excitation", "coherency", "shear_velocity"): "velocity",
+    ("excitation", "coherency", "amplitude"): "dimensionless",
+    ("excitation", "coherency", "alpha"): "dimensionless",
+    ("excitation", "coherency", "k"): "length",
+    ("excitation", "coherency", "f0"): "frequency",
+    ("excitation", "coherency", "b"): "dimensionless",
+    ("excitation", "velocity"): "velocity",  # a wave passage's apparent velocity
+    ("excitation", "direction"): "dimensionless",
+})
 
 
 def scene_field_dimension(path: tuple) -> Dimension | None:

@@ -166,6 +166,12 @@ def scene_pi(scene, expanded, repeating: list[str] | None = None) -> PiReport:
                          "motion's incidence are not derived, and the paper's groups alone "
                          "would describe another scene; write the scene's storeys along x "
                          "through the centres of mass (a planar scene) to see its groups")
+    if getattr(scene, "supports", None):
+        raise InputError("the Pi form has no supports yet (docs/supports.md): the groups of "
+                         "their distances, the apparent velocity and their motions' "
+                         "coherence are not derived, and the paper's groups alone would "
+                         "describe another scene; remove supports to see the groups of the "
+                         "pair on one ground")
     variables, roles = scene_variables(scene, expanded)
     by_name = {v.name: v for v in variables}
     default = repeating is None

@@ -17,6 +17,7 @@ Ratios are kept exact: a :class:`Ratio` is a product of primes with rational exp
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -330,35 +331,69 @@ def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
         for key, quantity in SCALE_QUANTITY.items():
             scales[key] = float(scales.get(key, 1.0)) * factor_of(QUANTITY[quantity])
         return {**data, "scales": scales}
-    excitation = data.get("excitation") or {}
-    motions = _motions(excitation)
+    motions = _scene_motions(data)
     for where, motion in motions.items():
-        _check_motion(motion, where, sim)
+        _check_motion(motion, ".".join(map(str, where)), sim)
     kept = {k: data[k] for k in ("title", "recorders") if k in data}
-    walked = {k: v for k, v in data.items() if k not in kept}
+    walked = copy.deepcopy({k: v for k, v in data.items() if k not in kept})
     stochastic = [w for w, m in motions.items() if m.get("kind") == "stochastic"]
-    if "excitation" in stochastic:
-        walked.pop("excitation")
-    elif stochastic:  # components: each stochastic one is kept as it is (S_T = S_a = 1)
-        walked["excitation"] = {k: v for k, v in excitation.items()
-                                if f"excitation.{k}" not in stochastic}
+    for where in stochastic:  # kept as it is (S_T = S_a = 1, checked)
+        _parent(walked, where).pop(where[-1])
     out = _walk(walked, (), None, factor_of)
-    if stochastic:
-        out["excitation"] = {**excitation, **out.get("excitation", {})} \
-            if "excitation" not in stochastic else excitation
+    for where in stochastic:
+        _parent(out, where, create=True)[where[-1]] = motions[where]
     for where, motion in motions.items():
         if motion.get("kind") == "record" and "period" in motion:  # of the file's time axis
-            (out["excitation"] if where == "excitation"
-             else out["excitation"][where[-1]])["period"] = motion["period"]
-    return {k: (kept[k] if k in kept else out[k]) for k in data}
+            _parent(out, where)[where[-1]]["period"] = motion["period"]
+    return {k: (kept[k] if k in kept else _ordered(out[k], data[k])) for k in data}
 
 
-def _motions(excitation: dict) -> dict:
-    """The scene's motions by where they stand: the excitation, or each of two components."""
+def _scene_motions(data: dict) -> dict:
+    """Every motion of a scene by its path: the excitation, each of two components, the
+    motion a wave passage carries, each support's own."""
+    out = {}
+    places = [(("excitation",), data.get("excitation"))] + [
+        (("supports", i, "excitation"), s.get("excitation"))
+        for i, s in enumerate(data.get("supports") or []) if isinstance(s, dict)]
+    for where, excitation in places:
+        if isinstance(excitation, dict):
+            out.update(_motions(excitation, where))
+    return out
+
+
+def _motions(excitation: dict, where: tuple) -> dict:
+    """The motions of one excitation by path: itself, each of two components, the motion a
+    wave passage carries."""
     if excitation.get("kind") == "components":
-        return {f"excitation.{axis}": excitation[axis] for axis in ("x", "y")
+        return {where + (axis,): excitation[axis] for axis in ("x", "y")
                 if isinstance(excitation.get(axis), dict)}
-    return {"excitation": excitation} if excitation else {}
+    if excitation.get("kind") == "wave_passage" and isinstance(excitation.get("motion"), dict):
+        return _motions(excitation["motion"], where + ("motion",))
+    if excitation.get("kind") == "coherent":  # its stochastic motion and its record
+        return {where + (key,): excitation[key] for key in ("motion", "record")
+                if isinstance(excitation.get(key), dict)}
+    return {where: excitation}
+
+
+def _parent(data, where: tuple, create: bool = False):
+    """The container of ``where`` in nested data (``create``: making the missing mappings)."""
+    node = data
+    for key in where[:-1]:
+        if create and isinstance(node, dict) and key not in node:
+            node[key] = {}
+        node = node[key]
+    return node
+
+
+def _ordered(value, like):
+    """``value`` with the keys of its mappings in ``like``'s order (a motion kept aside and
+    put back stands where the scene wrote it)."""
+    if isinstance(value, dict) and isinstance(like, dict):
+        return {k: _ordered(value[k], like[k]) for k in like if k in value} | {
+            k: v for k, v in value.items() if k not in like}
+    if isinstance(value, list) and isinstance(like, list) and len(value) == len(like):
+        return [_ordered(v, w) for v, w in zip(value, like)]
+    return value
 
 
 def _check_motion(motion: dict, where: str, sim: Similitude) -> None:

@@ -5,7 +5,8 @@ Each element's law becomes its OpenSees twin (:mod:`pframe.peers.twins`); a law 
 and a scene the script cannot build (initial conditions, floor-to-column contacts, an
 integrator OpenSees has no counterpart of), are refused with every reason at once. Where the
 twin or the script's stepping is the same model but in conditions (a grazing contact, event
-location, central difference's damping), the scene says so in ``differences``.
+location, central difference's damping), the scene says so in ``differences``. A scene on
+several supports is written in total coordinates (:mod:`pframe.peers.supports`).
 """
 
 from __future__ import annotations
@@ -20,9 +21,9 @@ from pframe.assemble.plan import Plan
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.plan import COMPONENTS
-from pframe.peers import twins
+from pframe.peers import supports, twins
 from pframe.peers.geometry import floors_in_plan, foundations
-from pframe.peers.scene import PeerScene
+from pframe.peers.scene import PeerScene, Supports
 
 #: the kernel's slot of a storey's damping stiffness -> the script's name of it
 STIFFNESS = {DampingStiffness.INITIAL: "initial", DampingStiffness.CURRENT: "current",
@@ -36,6 +37,12 @@ WILSON_DIFFERENCE = (
     "wilson_theta: OpenSees' WilsonTheta reads the ground motion at t + theta dt from the "
     "record, where pframe extrapolates the step's own samples linearly: the two agree under a "
     "ground motion linear in time and differ by O(dt^2) under others")
+SUPPORTS_DIFFERENCE = (
+    "supports: the script integrates total displacements with the supports' motion imposed, "
+    "pframe the motion relative to the supports; the two are one model under Newmark's "
+    "average acceleration (gamma = 1/2, beta = 1/4), whose relations the supports' "
+    "displacement, velocity and acceleration keep; under {name} the two integrate the "
+    "supports' motion differently and part by O(dt^2)")
 CENTRAL_DIFFERENCE = (
     "central_difference: pframe takes the velocity-dependent forces (damping, dashpots, "
     "damped contacts) at the velocity of one predictor-corrector pass; OpenSees' "
@@ -120,6 +127,8 @@ def _integrator(plan: Plan, member: int, contacts: list, springs: list,
     c = plan.integrator
     if c.events and plan.contact_names:
         differences.append(EVENTS_DIFFERENCE)
+    if plan.node_support and tuple(c.opensees) != ("newmark", 0.5, 0.25):
+        differences.append(SUPPORTS_DIFFERENCE.format(name=plan.integrator_name))
     if c.opensees[0] == "wilson_theta":
         differences.append(WILSON_DIFFERENCE)
     if c.opensees[0] == "central_difference":
@@ -144,6 +153,11 @@ def _peer_modal(plan: Plan, member: int, problems: list) -> list | None:
     if plan.foundations:
         problems.append("OpenSees' modalDamping damps the modes of the whole model, the soil's "
                         "included: give a building on soil Rayleigh damping")
+        return None
+    if plan.node_support:
+        problems.append("OpenSees' modalDamping damps the total velocities of a model on "
+                        "several supports, pframe's modal damping the motion relative to them "
+                        "(it would damp the supports' rigid motion): give Rayleigh damping")
         return None
     G = incidence.incidence(plan.story_dofs[:ns], _first_sides(plan.story_sides, ns), member,
                             plan.n_dof).toarray()
@@ -178,10 +192,13 @@ def _rayleigh(plan: Plan, member: int, building_of_dof: np.ndarray, node_of_dof:
               story_building: np.ndarray, problems: list) -> list:
     """One ``(alpha_m, beta_k, nodes, storeys, stiffness)`` per building and damping stiffness:
     alpha_m on the nodes of the building's DOFs that take it (not a foundation's), beta_k on
-    its storeys with the stiffness term (not its isolators, by default)."""
+    its storeys with the stiffness term (not its isolators, by default). On supports alpha_m
+    is 0: the mass term acts on the motion relative to the supports, and the script writes it
+    as dashpots (:class:`pframe.peers.scene.Supports`)."""
     out = []
+    mass_damping = 0.0 if plan.node_support else plan.mass_damping[member]
     for b, building in enumerate(plan.buildings):
-        own = np.flatnonzero((building_of_dof == b) & (plan.mass_damping[member] != 0.0))
+        own = np.flatnonzero((building_of_dof == b) & (mass_damping != 0.0))
         ratios = plan.mass_damping[member, own] / plan.mass[member, own]
         # a0 m / m is a0 to the last bit or two: one a0 per building is the same damping
         if len(own) and not np.allclose(ratios, ratios[0], rtol=1e-12, atol=0.0):
@@ -219,6 +236,27 @@ def _floors(plan: Plan, member: int, centres, springs: list, problems: list):
     return floors
 
 
+def _supports(plan: Plan, member: int, problems: list):
+    """A scene on several supports: the support of each spring's and contact's ground end
+    (-1: none) and its :class:`pframe.peers.scene.Supports`; (None, None, None) on one
+    ground."""
+    if not plan.node_support:
+        return None, None, None
+    try:
+        springs = supports.ground_ends(plan, member, "spring")
+        contacts = supports.ground_ends(plan, member, "contact")
+    except ValueError as why:
+        problems.append(f"its elements across supports: {why}")
+        return None, None, None
+    count = len(plan.channels)
+    motion = plan.ground_motion[member]  # displacements, then velocities
+    return springs, contacts, Supports(
+        names=list(plan.supports), channels=supports.channels(plan),
+        displacement=motion[:count].copy(), velocity=motion[count:].copy(),
+        dof_channel=plan.dof_channel.copy(), dof_support=supports.dof_supports(plan),
+        damping=plan.mass_damping[member].copy())
+
+
 def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
     """The scene of one batch member for peer programs: each element's law as its OpenSees
     twin, the scene's damping and integrator, starting at rest.
@@ -249,6 +287,7 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
     integrator, substeps = ((None, 1) if isinstance(plan.integrator.opensees, str) else
                             _integrator(plan, member, contacts, springs, differences))
     floors = None if plan.planar else _floors(plan, member, centres, springs, problems)
+    spring_grounds, contact_grounds, on_supports = _supports(plan, member, problems)
     if problems:
         raise InputError("the OpenSees peer cannot model this scene: " + "; ".join(problems))
     building_of_node = np.array([plan.buildings.index(n.split("/")[0])
@@ -274,7 +313,14 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
 
         def nodes(dofs):
             return np.where(dofs >= 0, plan.dof_node[np.clip(dofs, 0, None)], -1)
-    story_nodes = nodes(plan.story_dofs[:ns])
+    story_nodes, link_nodes = nodes(plan.story_dofs[:ns]), nodes(plan.story_dofs[ns:ns + nl])
+    contact_nodes = nodes(plan.contact_dofs)
+    if on_supports is not None:  # each ground end on its support's ground: -1 - s
+        story_nodes = supports.with_grounds(story_nodes, spring_grounds[:ns])
+        link_nodes = supports.with_grounds(link_nodes, spring_grounds[ns:ns + nl])
+        contact_nodes = supports.with_grounds(contact_nodes, contact_grounds)
+        if soil is not None:  # a foundation's springs stand on its sway spring's ground
+            soil = dataclasses.replace(soil, grounds=np.maximum(spring_grounds[ns + nl::2], 0))
     rayleigh = _rayleigh(plan, member, building_of_dof, node_of_dof,
                          building_of_dof[plan.story_dofs[:ns, 1]], problems)
     if problems:
@@ -285,18 +331,19 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
         story_nodes=story_nodes,
         story_names=list(plan.story_names),
         story_materials=springs[:ns],
-        contact_nodes=nodes(plan.contact_dofs),
+        contact_nodes=contact_nodes,
         contact_names=list(plan.contact_names),
         contact_gaps=plan.contact_gap[member].copy(),
         contact_materials=contacts,
         rayleigh=rayleigh,
-        ground_acceleration=(plan.ground_acceleration[member].copy() if floors is None
+        ground_acceleration=(plan.ground_acceleration[member].copy()
+                             if floors is None and on_supports is None
                              else plan.ground_channels[member].copy()),
         dt=float(plan.dt[member]),
         steps=plan.steps,
         tolerance=plan.absolute_tolerance or 1e-12,
         max_iterations=plan.max_iterations,
-        link_nodes=nodes(plan.story_dofs[ns:ns + nl]),
+        link_nodes=link_nodes,
         link_materials=springs[ns:ns + nl],
         modal=modal,
         integrator=integrator,
@@ -307,4 +354,5 @@ def peer_scene(plan: Plan, member: int = 0, centres=None) -> PeerScene:
         substeps=substeps,
         foundations=soil,
         differences=tuple(differences),
+        supports=on_supports,
     )

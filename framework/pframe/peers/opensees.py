@@ -46,6 +46,21 @@ scene does not move are fixed. The models have:
   accumulated as OpenSees accumulates time, so that step ``n`` sees ``a_g[n]`` exactly;
   Newton iterations with a ``NormDispIncr`` test, one ``analyze(steps, dt)`` call and
   binary recorders;
+* a scene on several supports (docs/supports.md) in total coordinates instead: a ground node
+  per support (in plan, per ground end), each support's motion imposed on them by a
+  ``MultipleSupport`` pattern, a ``groundMotion`` per support and axis of three ``Path``
+  series, pframe's displacement, velocity and acceleration (the trapezoid rule twice from
+  rest: OpenSees then imposes pframe's displacement sample for sample, where its own
+  integration of ``-accel`` runs at 0.01 s whatever the record's step), ``imposedMotion``
+  on the ground nodes (``Transformation`` constraints); each element's ground end on its
+  support's node (:mod:`pframe.peers.supports`); the mass-proportional damping, which pframe
+  applies to the motion relative to the supports, a ``Viscous`` dashpot (alpha = 1) of
+  ``a0 m`` from each DOF to its support's ground instead of the Rayleigh mass term, which
+  acts on total velocities; the histories' displacements and velocities made relative to
+  each DOF's support, the totals kept (``total_displacement``, ``total_velocity``). Under
+  Newmark's average acceleration the two formulations are one model (the supports' motion
+  keeps its relations); under another integrator they part by O(dt^2), which the export
+  names;
 * the integrator: ``Newmark``, ``HHT`` (OpenSees' alpha is 1 - pframe's),
   ``HHTGeneralized`` for generalised-alpha (alpha_I = 1 - alpha_m, alpha_F = 1 - alpha_f,
   Chung & Hulbert's method operation for operation), ``WilsonTheta``, ``TRBDF2`` (Bathe's
@@ -87,6 +102,7 @@ import numpy as np
 
 from pframe.peers import opensees_script
 from pframe.peers.scene import PeerScene
+from pframe.peers.supports import AXIS_DOF
 
 _IMPORT_HINT = (
     'OpenSeesPy is not importable: install the peers extra (pip install "pframe[peers]") '
@@ -134,11 +150,30 @@ def _foundations(scene: PeerScene):
     soil = scene.foundations
     if soil is None:
         return None
+    grounds = soil.grounds if soil.grounds is not None else np.zeros(len(soil.sway), dtype=int)
     return {"sway": [int(d) for d in soil.sway], "rocking": [int(d) for d in soil.rocking],
             "heights": [float(z) for z in soil.heights],  # (m)
             "story_foundation": [int(f) for f in soil.story_foundation],
+            "grounds": [int(s) for s in grounds],  # the support of each one's soil springs
             "sway_materials": _materials(soil.sway_materials),
             "rocking_materials": _materials(soil.rocking_materials)}
+
+
+def _supports(scene: PeerScene) -> dict:
+    """The script's constants of a scene on supports (empty lists on one ground)."""
+    on = scene.supports
+    if on is None:
+        return {"SUPPORTS": [], "CHANNELS": [], "DOF_CHANNEL": [], "DOF_SUPPORT": [],
+                "SUPPORT_DAMPING": []}
+    return {
+        "SUPPORTS": list(on.names),
+        # (support, the OpenSees DOF it moves its ground nodes along) of each row of AG
+        "CHANNELS": [(int(s), AXIS_DOF[axis]) for s, axis in on.channels],
+        "DOF_CHANNEL": [int(c) for c in on.dof_channel],  # -1: a rotation
+        "DOF_SUPPORT": [int(s) for s in on.dof_support],
+        # mass-proportional damping relative to the support (N s/m, N m s/rad)
+        "SUPPORT_DAMPING": [float(c) for c in on.damping],
+    }
 
 
 def _values(scene: PeerScene, out_npz: str | None) -> dict:
@@ -175,6 +210,7 @@ def _values(scene: PeerScene, out_npz: str | None) -> dict:
         "LINK_NODES": _pairs(scene.link_nodes),
         "LINK_MATERIALS": _materials(scene.link_materials),
         "FOUNDATIONS": _foundations(scene),
+        **_supports(scene),
         "DIFFERENCES": list(scene.differences),  # where this model is not pframe's
         "OUT_NPZ": out_npz,
     }
@@ -209,7 +245,7 @@ def _plan_values(scene: PeerScene) -> dict:
         # the lever r of an element on the floors' rotations alone (0: none)
         "STORY_LEVERS": [float(r) for r in _levers(floors.story_levers, floors.story_points)],
         "LINK_LEVERS": [float(r) for r in _levers(floors.link_levers, floors.link_points)],
-        "CHANNEL_DOFS": [{"x": 1, "y": 2}[c] for c in scene.channels],
+        "CHANNEL_DOFS": [AXIS_DOF[c.rsplit(":", 1)[-1]] for c in scene.channels],
     }
 
 
@@ -217,9 +253,9 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
     """Python assignments holding the scene; ``repr`` of floats round-trips exactly."""
     if len(scene.masses) != len(scene.node_names):
         raise ValueError("masses and node_names differ in length")
-    ag = np.ascontiguousarray(scene.ground_acceleration, dtype="<f8")
-    shape = (scene.steps + 1,) if scene.floors is None else (len(scene.channels), scene.steps + 1)
-    if ag.shape != shape:
+    rows = scene.floors is not None or scene.supports is not None
+    shape = (len(scene.channels), scene.steps + 1) if rows else (scene.steps + 1,)
+    if np.shape(scene.ground_acceleration) != shape:
         raise ValueError(f"ground_acceleration must have the shape {shape}")
     values = _values(scene, out_npz)
     if scene.floors is not None:
@@ -228,15 +264,26 @@ def _data_block(scene: PeerScene, out_npz: str | None) -> str:
         f"{name} = {pprint.pformat(value, width=_WIDTH - len(name) - 3, compact=True)}"
         for name, value in values.items()
     ]
-    # base64 keeps a long record compact and bit-exact
-    text = base64.b64encode(ag.tobytes()).decode("ascii")
-    chunks = "\n".join(f'        "{text[i : i + 88]}"' for i in range(0, len(text), 88))
-    reshape = "" if scene.floors is None else f".reshape({shape[0]}, -1)"
-    lines.append(
-        f'AG = np.frombuffer(\n    base64.b64decode(\n{chunks}\n    ),\n    dtype="<f8",\n)'
-        f"{reshape}"
-    )
+    arrays = {"AG": scene.ground_acceleration}  # m/s^2; on supports also m and m/s
+    if scene.supports is not None:
+        arrays |= {"GROUND_DISP": scene.supports.displacement,
+                   "GROUND_VEL": scene.supports.velocity}
+    for name, array in arrays.items():
+        lines.append(f"{name} = {_array(array, rows)}")
+    if scene.supports is None:
+        lines.append("GROUND_DISP = GROUND_VEL = None  # one ground: relative coordinates")
     return "\n".join(lines) + "\n"
+
+
+def _array(array, rows: bool) -> str:
+    """Python source of an array of doubles: base64 keeps a long record compact and
+    bit-exact; ``rows``: a row per channel."""
+    data = np.ascontiguousarray(array, dtype="<f8")
+    text = base64.b64encode(data.tobytes()).decode("ascii")
+    chunks = "\n".join(f'        "{text[i : i + 88]}"' for i in range(0, len(text), 88))
+    reshape = f".reshape({data.shape[0]}, -1)" if rows else ""
+    return (f'np.frombuffer(\n    base64.b64decode(\n{chunks}\n    ),\n    dtype="<f8",\n)'
+            f"{reshape}")
 
 
 def _docstring(scene: PeerScene) -> str:
@@ -264,7 +311,8 @@ def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
         Rayleigh part), ``contact_force (steps+1, c)`` (compression positive), ``link_force``
         and ``analyze_seconds``; a scene in plan also ``story_drift``,
         ``contact_penetration`` and ``link_deformation``, and its DOFs are
-        ``scene.floors.dofs``. Nothing is saved when omitted.
+        ``scene.floors.dofs``; a scene on supports also ``total_displacement`` and
+        ``total_velocity``. Nothing is saved when omitted.
 
     Returns
     -------
@@ -307,11 +355,13 @@ def run(scene: PeerScene, workdir: str | None = None) -> dict:
     -------
     dict
         ``time`` (as accumulated by OpenSees), ``displacement`` and ``velocity`` (relative to
-        the ground, ``(steps + 1, n)``), ``story_force`` (material force, without the Rayleigh
-        part, ``(steps + 1, s)``), ``contact_force`` (compression positive, ``(steps + 1, c)``),
-        ``link_force``; a scene in plan also ``story_drift``, ``contact_penetration`` (0
-        while open) and ``link_deformation``, its DOFs ``scene.floors.dofs``. Row 0 is the
-        state at rest. ``analyze_seconds`` times the single ``analyze`` call.
+        the ground, ``(steps + 1, n)``; on supports relative to each DOF's support, and
+        ``total_displacement``, ``total_velocity`` OpenSees' own), ``story_force``
+        (material force, without the Rayleigh part, ``(steps + 1, s)``), ``contact_force``
+        (compression positive, ``(steps + 1, c)``), ``link_force``; a scene in plan also
+        ``story_drift``, ``contact_penetration`` (0 while open) and ``link_deformation``,
+        its DOFs ``scene.floors.dofs``. Row 0 is the state at rest. ``analyze_seconds``
+        times the single ``analyze`` call.
 
     Raises
     ------

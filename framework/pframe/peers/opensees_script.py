@@ -88,35 +88,97 @@ def rayleigh(stories):
                        "-rayleigh", 0.0, *beta)
 
 
+def path(tag, samples):
+    """A Path series of pframe's samples at its steps; returns its tag."""
+    # Step n is analysed at OpenSees' accumulated time t_n = t_(n-1) + DT, which drifts from
+    # n DT by rounding (about 1e-12 s after 50,000 steps); a "Path -dt" series, interpolating
+    # at t_n / DT, would then feed a_g a hair off the sample n (~1e-11 relative late in a
+    # run). Sample times accumulated the same way make step n see sample n itself. A Path
+    # returns 0 past its last sample: one more sample repeats the last value. With SUBSTEPS
+    # analysis steps a step (TRBDF2) the samples between pframe's are its linear
+    # interpolation, as pframe has them.
+    values = [float(samples[0])] + [
+        (1.0 - j / SUBSTEPS) * float(a0) + j / SUBSTEPS * float(a1)
+        for a0, a1 in zip(samples[:-1], samples[1:]) for j in range(1, SUBSTEPS + 1)]
+    times, t = [], 0.0
+    for _ in values:
+        times.append(t)
+        t += DT / SUBSTEPS
+    ops.timeSeries("Path", tag, "-time", *times, t, "-values", *values, values[-1])
+    return tag
+
+
 def ground_motion(channels):
     """A UniformExcitation per (OpenSees DOF, samples, nodes it accelerates at t = 0)."""
     for c, (dof, samples, nodes) in enumerate(channels):
-        # Step n is analysed at OpenSees' accumulated time t_n = t_(n-1) + DT, which drifts
-        # from n DT by rounding (about 1e-12 s after 50,000 steps); a "Path -dt" series,
-        # interpolating at t_n / DT, would then feed a_g a hair off the sample n (~1e-11
-        # relative late in a run). Sample times accumulated the same way make step n see
-        # sample n itself. A Path returns 0 past its last sample: one more sample repeats
-        # the last value. With SUBSTEPS analysis steps a step (TRBDF2) the samples between
-        # pframe's are its linear interpolation, as pframe has them.
-        ag = [float(samples[0])] + [
-            (1.0 - j / SUBSTEPS) * float(a0) + j / SUBSTEPS * float(a1)
-            for a0, a1 in zip(samples[:-1], samples[1:]) for j in range(1, SUBSTEPS + 1)]
-        times, t = [], 0.0
-        for _ in ag:
-            times.append(t)
-            t += DT / SUBSTEPS
-        ops.timeSeries("Path", c + 1, "-time", *times, t, "-values", *ag, ag[-1])
-        ops.pattern("UniformExcitation", c + 1, dof, "-accel", c + 1)
+        ops.pattern("UniformExcitation", c + 1, dof, "-accel", path(c + 1, samples))
         # OpenSees starts from zero acceleration; equilibrium at rest asks for -a_g(0).
-        if ag[0] != 0.0:
+        if samples[0] != 0.0:
             for node in nodes:
-                ops.setNodeAccel(node, dof, -ag[0], "-commit")
+                ops.setNodeAccel(node, dof, -float(samples[0]), "-commit")
+
+
+def ground_node(tag, support, *coordinates):
+    """A node of the ground: fixed on one ground; on supports (SUPPORTS) moved along the DOFs
+    its support's channels move (support_motion) and fixed along the others."""
+    ops.node(tag, *coordinates)
+    moved = {dof for s, dof in CHANNELS if s == support}
+    held = [0 if dof in moved else 1 for dof in range(1, (1 if len(coordinates) == 1 else 3) + 1)]
+    if any(held):
+        ops.fix(tag, *held)
+    return tag
+
+
+def support_motion(grounds):
+    """A scene on supports, in total coordinates: OpenSees' MultipleSupport pattern with a
+    groundMotion per channel imposed on each ground node of its support (grounds: support ->
+    nodes) along its axis. Each groundMotion is given its displacement, velocity and
+    acceleration (GROUND_DISP, GROUND_VEL, AG: pframe's trapezoid rule twice from rest), so
+    that OpenSees imposes pframe's displacement sample for sample and never integrates a
+    record itself (which 3.7 does at 0.01 s whatever the record's step, cut to whole seconds);
+    the ground nodes' velocities are the series' (ImposedMotionSP), which dashpots and
+    stiffness-proportional damping read."""
+    ops.pattern("MultipleSupport", 1)
+    for c, (support, dof) in enumerate(CHANNELS):
+        tags = [path(3 * c + k + 1, rows[c]) for k, rows in enumerate((GROUND_DISP, GROUND_VEL,
+                                                                        AG))]
+        ops.groundMotion(c + 1, "Plain", "-disp", tags[0], "-vel", tags[1], "-accel", tags[2])
+        for node in grounds[support]:
+            ops.imposedMotion(node, dof, c + 1)
+
+
+def support_dashpots(tag, dashpot):
+    """pframe's mass-proportional damping on supports acts on each DOF's motion relative to
+    its support, where OpenSees' Rayleigh mass term would act on the total velocity (and damp
+    the supports' rigid motion): a dashpot (Viscous with alpha = 1: c v exactly) on each DOF
+    from its support's ground, made by dashpot(tag, dof); returns the last tag used."""
+    for d, c in enumerate(SUPPORT_DAMPING):
+        if c != 0.0:
+            tag += 1
+            ops.uniaxialMaterial("Viscous", tag, c, 1.0)
+            dashpot(tag, d)
+    return tag
+
+
+def relative(result):
+    """On supports: each DOF's total displacement and velocity (OpenSees') kept as
+    total_displacement and total_velocity, and made relative to its support, as pframe
+    records them."""
+    if not SUPPORTS:
+        return
+    for name, rows in (("displacement", GROUND_DISP), ("velocity", GROUND_VEL)):
+        result["total_" + name] = result[name].copy()
+        for d, c in enumerate(DOF_CHANNEL):
+            if c >= 0:
+                result[name][:, d] -= rows[c]
 '''
 
 PLANAR_BUILD = '''
 # Buildings on soil (FOUNDATIONS) make the model 2-D, in the vertical plane, with equalDOF
 # ties: Transformation eliminates them exactly; otherwise one DOF per node and no constraint.
-CONSTRAINTS = "Plain" if FOUNDATIONS is None else "Transformation"
+# A scene on supports imposes their motion on ground nodes (non-homogeneous single-point
+# constraints), which Transformation enforces.
+CONSTRAINTS = "Plain" if FOUNDATIONS is None and not SUPPORTS else "Transformation"
 GEOMETRIC = []  # P-delta's elements, one per storey that has one (build() fills it)
 
 
@@ -170,19 +232,15 @@ def build():
     """Create the model in the OpenSees domain; return storey, contact and link element tags
     (P-delta's in GEOMETRIC)."""
     n = len(MASSES)
-    ground = n + 1
     ops.wipe()
     add_nodes()
-    if FOUNDATIONS is None:
-        ops.node(ground, 0.0)
-        ops.fix(ground, 1)
-    else:
-        ops.node(ground, 0.0, 0.0)
-        ops.fix(ground, 1, 1, 1)
+    # the ground's node, n + 1; on supports, support s's ground is node n + 1 + s
+    for s in range(max(len(SUPPORTS), 1)):
+        ground_node(n + 1 + s, s, *((0.0,) if FOUNDATIONS is None else (0.0, 0.0)))
 
     def joined(tag, i, j, *flags, direction=1):
-        # zeroLength deformation is u_j - u_i (the ground's node for -1)
-        ops.element("zeroLength", tag, ground if i < 0 else i + 1, ground if j < 0 else j + 1,
+        # zeroLength deformation is u_j - u_i (-1 - s: support s's ground, node n + 1 + s)
+        ops.element("zeroLength", tag, n - i if i < 0 else i + 1, n - j if j < 0 else j + 1,
                     "-mat", tag, "-dir", direction, *flags)
         return tag
 
@@ -225,16 +283,25 @@ def build():
             ops.uniaxialMaterial("Elastic", tag, -kg)
             GEOMETRIC.append((j, joined(tag, lower, upper)))
     if FOUNDATIONS is not None:  # the soil's springs and dashpots, to the ground
-        for sway, rock_mat, sway_mat in zip(FOUNDATIONS["sway"], FOUNDATIONS["rocking_materials"],
-                                            FOUNDATIONS["sway_materials"]):
+        for sway, rock_mat, sway_mat, s in zip(
+                FOUNDATIONS["sway"], FOUNDATIONS["rocking_materials"],
+                FOUNDATIONS["sway_materials"], FOUNDATIONS["grounds"]):
             for mat, direction in ((sway_mat, 1), (rock_mat, 3)):
                 tag += 1
                 material(tag, mat)
-                joined(tag, -1, sway, direction=direction)
+                joined(tag, -1 - s, sway, direction=direction)
 
     rayleigh(stories)
-    moved = sorted({node for node, dof in dof_nodes() if dof == 1})
-    ground_motion([(1, AG, moved)])
+    if SUPPORTS:
+        def dashpot(tag, d):
+            node, dof = dof_nodes()[d]
+            joined(tag, -1 - DOF_SUPPORT[d], node - 1, direction=dof)
+
+        support_dashpots(tag, dashpot)
+        support_motion({s: [n + 1 + s] for s in range(len(SUPPORTS))})
+    else:
+        moved = sorted({node for node, dof in dof_nodes() if dof == 1})
+        ground_motion([(1, AG, moved)])
     return stories, contacts, links
 
 
@@ -268,6 +335,7 @@ def finish(result):
         result["story_force"][:, j] += result["geometric_force"][:, k]
     del result["geometric_force"]
     result["contact_force"] = 0.0 - result["contact_force"]
+    relative(result)
 '''
 
 PLAN_BUILD = '''
@@ -294,15 +362,16 @@ def build():
         if not all(moves):
             ops.fix(f + 1, *[0 if m else 1 for m in moves])
     ends = {}  # (floor, x, y) -> node: elements meeting at a point of a floor share it
+    grounds = {}  # support -> its ground's nodes
 
     def end(floor, point):
         key = (floor, *point)
         if key not in ends:
             ends[key] = tag = len(CENTRES) + len(ends) + 1
-            ops.node(tag, *point)
-            if floor < 0:  # the ground
-                ops.fix(tag, 1, 1, 1)
+            if floor < 0:  # the ground (-1 - s: support s's)
+                grounds.setdefault(-1 - floor, []).append(ground_node(tag, -1 - floor, *point))
             else:
+                ops.node(tag, *point)
                 ops.rigidLink("beam", floor + 1, tag)
         return ends[key]
 
@@ -359,9 +428,19 @@ def build():
             GEOMETRIC.append((j, element(tag, nodes, points, direction)))
 
     rayleigh(stories)
-    # each channel loads (and starts accelerated) the floors that move along its axis
-    ground_motion([(dof, samples, [f + 1 for f, moves in enumerate(MOVES) if moves[dof - 1]])
-                   for dof, samples in zip(CHANNEL_DOFS, AG, strict=True)])
+    if SUPPORTS:
+        def dashpot(tag, d):  # along the DOF's component, at its floor's centre
+            f, component = DOFS[d]
+            ops.element("zeroLength", tag, end(-1 - DOF_SUPPORT[d], CENTRES[f]), f + 1,
+                        "-mat", tag, "-dir", component + 1)
+
+        support_dashpots(tag, dashpot)
+        support_motion(grounds)
+    else:
+        # each channel loads (and starts accelerated) the floors that move along its axis
+        ground_motion([(dof, samples, [f + 1 for f, moves in enumerate(MOVES)
+                                       if moves[dof - 1]])
+                       for dof, samples in zip(CHANNEL_DOFS, AG, strict=True)])
     return stories, contacts, links
 
 
@@ -400,6 +479,7 @@ def finish(result):
     result["contact_force"] = 0.0 - result["contact_force"]
     result["contact_penetration"] = np.maximum(
         0.0 - result["contact_penetration"] - np.asarray(CONTACT_GAPS, dtype=float), 0.0)
+    relative(result)
 '''
 
 RUN = '''

@@ -84,6 +84,9 @@ class Foundations:
     heights : (n,) float
         The height of each DOF's floor above its foundation (m; 0 for a rocking DOF and for
         a building on a fixed base).
+    grounds : (F,) int, optional
+        The support whose ground each foundation's soil springs stand on (None: the one
+        ground).
     """
 
     sway: np.ndarray
@@ -93,6 +96,42 @@ class Foundations:
     story_foundation: np.ndarray
     story_lever: np.ndarray
     heights: np.ndarray
+    grounds: np.ndarray = None
+
+
+@dataclass(frozen=True)
+class Supports:
+    """The supports of a scene on several (docs/supports.md), which the script models in
+    total coordinates: a ground node per support (in plan, per ground end), its motion imposed
+    by OpenSees' ``MultipleSupport`` pattern (:mod:`pframe.peers.supports`). The element
+    arrays of :class:`PeerScene` name support ``s``'s ground as node ``-1 - s``.
+
+    Attributes
+    ----------
+    names : list of str
+        The supports.
+    channels : list of tuple
+        ``(support, axis)`` of each row of the ground motion ('x' or 'y').
+    displacement, velocity : (C, steps + 1) float
+        Each channel's displacement (m) and velocity (m/s), the trapezoid rule twice from rest
+        over its accelerations (``PeerScene.ground_acceleration``): pframe's own.
+    dof_channel : (n,) int
+        The channel each DOF's motion is relative to (-1: none, a rotation).
+    dof_support : (n,) int
+        The support each DOF is relative to (a rotation's: its node's).
+    damping : (n,) float
+        The mass-proportional damping coefficient of each DOF (N s/m, N m s/rad), which acts
+        on its motion relative to its support: a dashpot from its support's ground, not
+        OpenSees' Rayleigh mass term, which acts on total velocities.
+    """
+
+    names: list
+    channels: list
+    displacement: np.ndarray
+    velocity: np.ndarray
+    dof_channel: np.ndarray
+    dof_support: np.ndarray
+    damping: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -107,7 +146,8 @@ class PeerScene:
         ``"A/1"`` style names, one per DOF.
     masses : (n,) float, kg
     story_nodes : (s, 2) int
-        ``[lower, upper]`` DOF of each storey; ``lower == -1`` is the ground.
+        ``[lower, upper]`` DOF of each storey; ``lower == -1`` is the ground (on supports,
+        ``-1 - s`` is support s's ground).
     story_names : list of str
     story_materials : list of tuple
         Each storey's OpenSees twin (:mod:`pframe.peers.twins`): ``("elastic", k)``,
@@ -134,8 +174,9 @@ class PeerScene:
         P-delta's geometric stiffness P / h of each storey (N/m, 0: none): the storey resists
         its material's force less (P / h) d, undamped.
     ground_acceleration : (steps + 1,) float, m/s^2 at t_n = n dt (relative formulation:
-        load on DOF i is -m_i a_g(t)); a scene in plan: (len(channels), steps + 1), one row
-        per site axis the motion loads.
+        load on DOF i is -m_i a_g(t)); a scene in plan or on supports: (len(channels),
+        steps + 1), one row per site axis the motion loads (on supports, per support and
+        axis).
     dt : float, s
     steps : int
     tolerance : float
@@ -166,6 +207,8 @@ class PeerScene:
         The foundations of a planar scene's buildings on soil (None: fixed bases).
     differences : tuple of str
         Where the OpenSees model is not pframe's (empty: the same model).
+    supports : Supports, optional
+        The supports of a scene on several (None: one ground, the relative formulation).
     """
 
     node_names: list
@@ -193,3 +236,4 @@ class PeerScene:
     substeps: int = 1
     foundations: Foundations = None
     differences: tuple = ()
+    supports: Supports = None

@@ -66,7 +66,8 @@ LABELS = {"node": ("node_name", "floor node (building/floor)"),
           "foundation": ("foundation_name", "foundation on soil (named by its building)"),
           "direction": ("direction_name", "horizontal direction of the site (x, y)"),
           "point": ("point_name", "named plan point of a floor (<floor>:<point>)"),
-          "axis": ("axis_name", "axis of the point's building (x, y)")}
+          "axis": ("axis_name", "axis of the point's building (x, y)"),
+          "support": ("support_name", "support: a piece of ground that moves as one")}
 
 
 def _free_bytes(folder: Path) -> int | None:
@@ -234,8 +235,10 @@ class ResultWriter:
         names = {"node": plan.node_names, "story": plan.story_names,
                  "contact": plan.contact_names, "link": plan.link_names,
                  "foundation": plan.foundations}
-        if not plan.planar:
+        if not plan.planar or self._axes() == ("x", "y"):
             names["direction"] = ("x", "y")
+        if plan.node_support:
+            names["support"] = plan.supports
         if plan.point_names and any(DIMENSION[q] == "point" for q in
                                     [*(q for q, _ in plan.history), *plan.envelope]):
             names["point"] = plan.point_names
@@ -259,6 +262,11 @@ class ResultWriter:
         units, long_name = UNITS[q]
         if DIMENSION[q] == "point":
             return [(q, units, long_name, ("axis",))]
+        if DIMENSION[q] is None and self.plan.node_support:  # each support's, each axis
+            two = self._axes() == ("x", "y")
+            return [(q, units, long_name + " of each support" + (" along the site's x and y"
+                                                                  if two else ""),
+                     ("support", "direction") if two else ("support",))]
         if DIMENSION[q] is None and len(self.plan.channels) > 1:  # along the site's x and y
             return [(q, units, long_name + " along the site's x and y", ("direction",))]
         if self.plan.planar or DIMENSION[q] != "node":
@@ -266,6 +274,10 @@ class ResultWriter:
         name, rotation_units, rotation_name = ROTATION[q]
         return [(q, units, long_name.replace("floor ", "floor centre of mass "),
                  ("direction",)), (name, rotation_units, rotation_name, ())]
+
+    def _axes(self) -> tuple[str, ...]:
+        """The site's axes the ground motion loads (a channel per support and axis)."""
+        return tuple(dict.fromkeys(c.rsplit(":", 1)[-1] for c in self.plan.channels))
 
     def _undefined(self, q: str) -> str | None:
         """Why some values of ``q`` are NaN by definition (the drift ratio of a storey without
@@ -329,6 +341,11 @@ class ResultWriter:
         if DIMENSION[q] == "point":
             data = np.asarray(data)
             return [data.reshape(data.shape[:-1] + (data.shape[-1] // 2, 2))]
+        if DIMENSION[q] is None and self.plan.node_support:  # (support, axis) of each channel
+            data = np.asarray(data)
+            axes = len(self._axes())
+            shape = data.shape[:-1] + (data.shape[-1] // axes, axes)
+            return [data.reshape(shape) if axes > 1 else data]
         if DIMENSION[q] != "node":
             return [data]
         plan = self.plan
@@ -560,24 +577,55 @@ def record_attributes(loaded) -> dict:
     (``kind: components``): ``excitation_applied`` says both and the angle, and each
     component's facts carry its axis, ``excitation_x_pga``, ``record_x_file``, ...,
     ``excitation_y_pga``, ``record_y_file``, ... (a component has its own peak, the
-    site's axes each a mix of the two)."""
-    excitation = getattr(loaded.scene, "excitation", None)
-    if excitation is None:
-        return {}
+    site's axes each a mix of the two). A scene on supports (docs/supports.md): the motion a
+    wave passage carries (``excitation_applied`` with each support's delay) or the scene's,
+    and each support's own under its name (``excitation_east_pga``, ``record_east_file``,
+    ...)."""
+    scene = loaded.scene
     expanded = getattr(loaded, "expanded", None)
     duration = None if expanded is None else float(expanded.dt * expanded.steps)
+    supports = list(getattr(scene, "supports", ()) or ())
+    own = [s.excitation is not None for s in supports]
+    motions = tuple(getattr(expanded, "support_motions", ()) or ())
+    shared = next((m for m, mine in zip(motions, own) if not mine), None)
+    out = {}
+    excitation = scene.excitation
+    if excitation is not None and excitation.kind == "wave_passage":
+        out.update(_excitation_attributes(excitation.motion, shared, expanded, loaded,
+                                          duration, ""))
+        out["excitation_applied"] = (
+            f"a wave passage at {excitation.velocity:g} m/s towards {excitation.direction:g} "
+            "degrees (" + ", ".join(f"{name} {tau:.4g} s" for name, tau in zip(
+                expanded.supports, expanded.support_delays)) + "): "
+            + out.get("excitation_applied", excitation.motion.kind))
+    elif excitation is not None and not (supports and all(own)):
+        out.update(_excitation_attributes(excitation, shared, expanded, loaded, duration, ""))
+    for support, mine, motion in zip(supports, own, motions):
+        if mine:  # its own motion: its facts under its name
+            out.update(_excitation_attributes(support.excitation, motion, expanded, loaded,
+                                              duration, f"{support.name}_"))
+    return out
+
+
+def _excitation_attributes(excitation, ground, expanded, loaded, duration, name) -> dict:
+    """:func:`record_attributes` of one excitation (a motion or two components) as applied
+    (``ground`` its GroundMotion, None: the scene's one), its attributes' names with
+    ``name`` after ``excitation_`` and ``record_`` (a support's: ``east_``)."""
+    record = ground.record if ground is not None else getattr(expanded, "record", None)
     if excitation.kind != "components":
-        return _motion_attributes(excitation, getattr(expanded, "record", None), loaded,
-                                  duration, "excitation_", "record_")
-    records = dict(getattr(expanded, "component_records", ()) or ())
+        return _motion_attributes(excitation, record, loaded, duration,
+                                  f"excitation_{name}", f"record_{name}")
+    records = dict(ground.records if ground is not None
+                   else getattr(expanded, "component_records", ()) or ())
     out, said = {}, []
     for axis, motion in excitation.motions():
         part = _motion_attributes(motion, records.get(axis), loaded, duration,
-                                  f"excitation_{axis}_", f"record_{axis}_")
-        said.append(f"{axis}: {part.pop(f'excitation_{axis}_applied', motion.kind)}")
+                                  f"excitation_{name}{axis}_", f"record_{name}{axis}_")
+        said.append(f"{axis}: {part.pop(f'excitation_{name}{axis}_applied', motion.kind)}")
         out.update(part)
-    out["excitation_applied"] = (f"two components, x at {excitation.angle:g} degrees from the "
-                                 "site's x axis and y at 90 degrees to it: " + "; ".join(said))
+    out[f"excitation_{name}applied"] = (f"two components, x at {excitation.angle:g} degrees "
+                                       "from the site's x axis and y at 90 degrees to it: "
+                                       + "; ".join(said))
     return out
 
 

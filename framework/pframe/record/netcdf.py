@@ -249,6 +249,10 @@ def attribute_unit(name: str, energy_units: str = "J") -> str | None:
     """The unit of global attribute ``name`` (None: it has none)."""
     if name in ATTRIBUTE_UNITS:
         return ATTRIBUTE_UNITS[name]
+    if name.startswith("excitation_"):  # a support's own motion: excitation_east_pga, ...
+        for known, unit in ATTRIBUTE_UNITS.items():
+            if known.startswith("excitation_") and name.endswith(known[len("excitation"):]):
+                return unit
     if name.startswith("energy_"):
         return energy_units
     return None

@@ -83,6 +83,18 @@ class ReferenceResult:
     absolute_acceleration: np.ndarray = None  # (K, n) acceleration + ground acceleration
     point_displacement: np.ndarray = None  # (K, 2 P) named plan points along x, y of each
     point_drift: np.ndarray = None  # (K, 2 P) their drifts
+    #: (K,) the ground acceleration at ``times`` integrated twice by the trapezoid rule
+    #: from rest (the kernel's relation; exact as the samples get dense), and (K, c) each
+    #: contact's part of it: 0, the reference takes one ground
+    ground_displacement: np.ndarray = None
+    contact_ground_displacement: np.ndarray = None
+
+    def __post_init__(self):
+        if self.ground_displacement is None or np.all(np.isnan(self.ground_displacement)):
+            t, a = self.times, self.ground_acceleration
+            v = np.concatenate([[0.0], np.cumsum(0.5 * np.diff(t) * (a[1:] + a[:-1]))])
+            self.ground_displacement = np.concatenate(
+                [[0.0], np.cumsum(0.5 * np.diff(t) * (v[1:] + v[:-1]))])
 
     def history(self, quantity: str) -> np.ndarray:
         """A history by its recorder name (``displacement``, ``story_force``, ...)."""

@@ -99,6 +99,7 @@ class Integration:
         half = self.gauges.shape[0] // 2
         out["point_displacement"][rows] = gauged[..., :half]
         out["point_drift"][rows] = gauged[..., half:]
+        out["contact_ground_displacement"][rows] = 0.0  # one ground (supports are refused)
 
     def _samples(self, t_stop, step):
         """Store the samples in (previous stop, t_stop] from the step (its dense output,

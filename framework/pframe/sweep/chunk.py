@@ -391,6 +391,6 @@ def warm_up(definition) -> float:
     start = time.perf_counter()
     base = spec.base_scene()
     ex = base.expanded
-    expanded = ex.with_ground(ex.ground_acceleration[:2], steps=1, recorders=spec.recorders)
+    expanded = ex.first_steps(1, recorders=spec.recorders)
     simulate(assemble(expanded), threads=1)
     return time.perf_counter() - start

@@ -10,7 +10,7 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.model.scene import Envelope, History
 from pframe.sweep.definition import RESPONSES, SweepFile, validated_sweep
-from pframe.sweep.paths import check_targets, resolve
+from pframe.sweep.paths import check_targets, resolve, scene_records
 from pframe.sweep.spec import ENVELOPES, SweepDefinition
 from pframe.yamltext import compose as _compose
 from pframe.yamltext import where as _where
@@ -41,6 +41,8 @@ class Spec:
     base_lines: dict
     base_where: str  # source name for messages about the base scene
     base_record: str | None
+    #: ((path of a motion, its record's key), ...): the scene's other records
+    scene_records: tuple
     axes: tuple[AxisSpec, ...]
 
     @property
@@ -128,6 +130,8 @@ def parse(definition: SweepDefinition) -> Spec:
     excitation = base_data.get("excitation")
     if isinstance(excitation, dict) and isinstance(excitation.get("file"), str):
         base_record = keys[("base", excitation["file"])]
+    others = tuple((path, keys[("scene", ".".join(map(str, path)))])
+                   for path, _ in scene_records(base_data))
 
     names = [a.name for a in model.axes]
     for i, name in enumerate(names):
@@ -182,7 +186,7 @@ def parse(definition: SweepDefinition) -> Spec:
     for response in model.keep.envelopes:
         assert response in RESPONSES
     return Spec(definition, model, lines, base_data, base_lines, base_where, base_record,
-                tuple(axes))
+                others, tuple(axes))
 
 
 def _number(value, where: str, axis: str):
@@ -208,4 +212,6 @@ def variant_data_base(spec: Spec) -> dict:
     data = copy.deepcopy(spec.base_data)
     if spec.base_record is not None:
         put(data, ("excitation", "file"), spec.base_record)
+    for path, key in spec.scene_records:
+        put(data, path + ("file",), key)
     return data

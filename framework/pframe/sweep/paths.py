@@ -144,3 +144,25 @@ def check_targets(data, paths: list[tuple], files: bool) -> None:
         if not items or not all(_numeric(v) for v in items):
             raise InputError(f"{_shown(path)} is {value!r}, not a number: a sweep varies "
                              "numbers (and record files through excitation.file)")
+
+
+def scene_records(data) -> list[tuple[tuple, dict]]:
+    """(path, motion) of each record of scene data besides its excitation's own (a record
+    excitation is the sweep's base record): the components of a pair, the motion a wave
+    passage carries, each support's own motion and its components."""
+    places = []
+    excitation = data.get("excitation") if isinstance(data, dict) else None
+    if isinstance(excitation, dict) and not isinstance(excitation.get("file"), str):
+        places.append((("excitation",), excitation))
+    for i, support in enumerate((data.get("supports") or []) if isinstance(data, dict) else []):
+        if isinstance(support, dict) and isinstance(support.get("excitation"), dict):
+            places.append((("supports", i, "excitation"), support["excitation"]))
+    out = []
+    while places:
+        path, motion = places.pop(0)
+        if isinstance(motion.get("file"), str):
+            out.append((path, motion))
+        for key in ("x", "y", "motion"):
+            if isinstance(motion.get(key), dict):
+                places.append((path + (key,), motion[key]))
+    return out

@@ -10,6 +10,7 @@ from pframe.errors import InputError, given
 from pframe.excitation.records import MAX_RECORD_BYTES, read_record
 from pframe.model.load import read_input
 from pframe.sweep.definition import validated_sweep
+from pframe.sweep.paths import scene_records
 from pframe.sweep.spec import SweepDefinition, code_fingerprint
 from pframe.yamltext import MAX_YAML_BYTES, read_bounded_bytes
 from pframe.yamltext import compose as _compose
@@ -80,6 +81,12 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
         key = _record_key(content, file.name)
         files[key] = content
         records.append(("base", excitation["file"], key, str(file.resolve())))
+    for path, motion in scene_records(base_data):  # components, a wave passage, supports
+        file = base_dir / motion["file"]
+        content = _record(file, base_dir, base_source or source)
+        key = _record_key(content, file.name)
+        files[key] = content
+        records.append(("scene", ".".join(map(str, path)), key, str(file.resolve())))
     for i, axis in enumerate(model.axes):
         if not axis.is_file:
             continue

@@ -41,6 +41,8 @@ def variant_data(spec, index: int, record_path=None, steps: int | None = None) -
     data = copy.deepcopy(spec.base_data)
     if spec.base_record is not None:
         put(data, ("excitation", "file"), record_path(spec.base_record))
+    for path, key in spec.scene_records:
+        put(data, path + ("file",), record_path(key))
     for axis, position in zip(spec.axes, spec.positions(index)):
         value = axis.values[position]
         if axis.is_file:

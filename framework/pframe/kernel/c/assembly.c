@@ -92,8 +92,9 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
 
 /* What the storey (spring) loop of evaluate reads and writes for member b. */
 typedef struct {
-    const int64_t *dofs, *order, *modes, *start, *side_dof;
+    const int64_t *dofs, *order, *modes, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *k0, *beta, *kg, *side_coef, *tangent_c, *ue, *ve;
+    const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
     double *trial, *drift, *force, *damping_force, *tangent_t, *kks, *R;
     int64_t P, S;
     double c1, wf;
@@ -102,9 +103,10 @@ typedef struct {
 
 /* The springs order[from .. to - 1], all of law `force` (a law group: its function called
  * directly, inlined where it is a built-in law); `terms` 0 when no spring of the scene has
- * sides (a planar scene: each its two DOFs). Returns 1 when an effective tangent changed. */
+ * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports. Returns 1
+ * when an effective tangent changed. */
 static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
-                                    LawFunction force, int terms)
+                                    LawFunction force, int terms, int grounded)
 {
     double out[3];
     int stale = 0;
@@ -124,6 +126,10 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
                 d -= L->ue[lo];
                 r -= L->ve[lo];
             }
+        }
+        if (grounded) { /* across supports: the ground displacements' part */
+            d += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_d);
+            r += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_v);
         }
         force(L->params + e * L->P, L->committed + e * L->S, L->trial + e * L->S, d, r, out);
         f = out[0];
@@ -167,8 +173,9 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
 
 /* What the contact loop of evaluate reads and writes for member b. */
 typedef struct {
-    const int64_t *dofs, *order, *start, *side_dof;
+    const int64_t *dofs, *order, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *gap, *pen_c, *force_c, *side_coef, *ue, *ve;
+    const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
     double *trial, *force, *penetration, *kks, *R;
     int64_t Q, T, held;
     double c1, wf, held_closed;
@@ -177,7 +184,7 @@ typedef struct {
 
 /* The contacts order[from .. to - 1], all of law `force` (see spring_run). */
 static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t to,
-                                     LawFunction force, int terms)
+                                     LawFunction force, int terms, int grounded)
 {
     double out[3];
     int stale = 0;
@@ -188,12 +195,16 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
         const int plain = !(terms && general(L->start, e));
         double d, r, f, kd, kr, at;
         if (plain) { /* floor to floor or to a wall: its nodes' values */
-            d = dof_value(L->ue, left) - dof_value(L->ue, right) - L->gap[e];
+            d = dof_value(L->ue, left) - dof_value(L->ue, right);
             r = dof_value(L->ve, left) - dof_value(L->ve, right);
         } else { /* points off the centre of mass, a struck column: its sides */
             sides_sum2(L->start, L->side_dof, L->side_coef, e, 0, L->ue, L->ve, &d, &r);
-            d -= L->gap[e];
         }
+        if (grounded) { /* across supports: the ground displacements' difference */
+            d += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_d);
+            r += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_v);
+        }
+        d -= L->gap[e];
         at = d;
         if (e == L->held) {
             /* Located events (events.c) hold the contact on one branch, so that its
@@ -248,10 +259,11 @@ static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from
  * evaluation point, subtracted from the residual, law group by law group; returns 1 when an
  * effective tangent changed (see evaluate). */
 static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                            int from_stage, double c1, double wf, int tangent)
+                            const double *age, int from_stage, double c1, double wf,
+                            int tangent)
 {
     const int64_t ns = m->stories;
-    int stale = 0, terms;
+    int stale = 0, terms, grounded;
     int64_t j, to;
     SpringLoop L;
     int64_t *calls = st->material_calls + b * m->materials;
@@ -266,6 +278,11 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
     L.beta = m->story_beta + b * ns;
     L.kg = m->story_kg + b * ns;
     L.side_coef = m->story_side_coef + b * m->story_terms;
+    L.g_start = m->story_ground_start;
+    L.g_channel = m->story_ground_channel;
+    L.g_coef = m->story_ground_coef + b * m->story_ground_terms;
+    L.g_d = ground_block(m, age, 1);
+    L.g_v = ground_block(m, age, 2);
     L.tangent_c = st->story_tangent + b * ns;
     L.ue = w->ue;
     L.ve = w->ve;
@@ -282,6 +299,7 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
     L.wf = wf;
     L.tangent = tangent;
     terms = m->story_terms > 0;
+    grounded = m->story_ground_terms > 0;
     for (j = 0; j < ns; j = to) {
         const int64_t law = m->story_law[m->story_order[j]];
         to = group_end(m->story_order, m->story_law, j, ns);
@@ -289,14 +307,14 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
         switch (law) {
 #define SPRING_GROUP(id, function) \
         case id: \
-            stale |= terms ? spring_run(&L, j, to, function, 1) \
-                           : spring_run(&L, j, to, function, 0); \
+            stale |= terms || grounded ? spring_run(&L, j, to, function, terms, grounded) \
+                                       : spring_run(&L, j, to, function, 0, 0); \
             break;
             MATERIAL_LAWS(SPRING_GROUP)
 #undef SPRING_GROUP
         default:
             stale |= spring_run(&L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
-                                terms);
+                                terms, grounded);
         }
     }
     return stale;
@@ -305,10 +323,11 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
 /* The contacts' forces at the evaluation point, added to the residual, law group by law
  * group; returns 1 when an effective tangent changed (see evaluate). */
 static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                             int from_stage, double c1, double wf, int tangent)
+                             const double *age, int from_stage, double c1, double wf,
+                             int tangent)
 {
     const int64_t nc = m->contacts;
-    int stale = 0, terms;
+    int stale = 0, terms, grounded;
     int64_t j, to;
     ContactLoop L;
     int64_t *calls = st->contact_calls + b * m->contact_laws;
@@ -323,6 +342,11 @@ static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work 
     L.pen_c = st->penetration + b * nc;
     L.force_c = st->contact_force + b * nc;
     L.side_coef = m->contact_side_coef + b * m->contact_terms;
+    L.g_start = m->contact_ground_start;
+    L.g_channel = m->contact_ground_channel;
+    L.g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+    L.g_d = ground_block(m, age, 1);
+    L.g_v = ground_block(m, age, 2);
     L.ue = w->ue;
     L.ve = w->ve;
     L.trial = st->contact_trial + b * nc * m->contact_states;
@@ -345,6 +369,7 @@ static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work 
      * (tangent off: the commit's evaluation) sees the real law. */
     L.hold_start = tangent && s->events && s->beyond;
     terms = m->contact_terms > 0;
+    grounded = m->contact_ground_terms > 0;
     for (j = 0; j < nc; j = to) {
         const int64_t law = m->contact_law[m->contact_order[j]];
         to = group_end(m->contact_order, m->contact_law, j, nc);
@@ -352,14 +377,14 @@ static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work 
         switch (law) {
 #define CONTACT_GROUP(id, function) \
         case id: \
-            stale |= terms ? contact_run(&L, j, to, function, 1) \
-                           : contact_run(&L, j, to, function, 0); \
+            stale |= terms || grounded ? contact_run(&L, j, to, function, terms, grounded) \
+                                       : contact_run(&L, j, to, function, 0, 0); \
             break;
             CONTACT_LAWS(CONTACT_GROUP)
 #undef CONTACT_GROUP
         default:
             stale |= contact_run(&L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
-                                 terms);
+                                 terms, grounded);
         }
     }
     return stale;
@@ -390,8 +415,9 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
-    stale = m->stories ? evaluate_springs(m, s, st, w, b, from_stage, c1, wf, tangent) : 0;
-    if (m->contacts && evaluate_contacts(m, s, st, w, b, from_stage, c1, wf, tangent))
+    stale = m->stories ? evaluate_springs(m, s, st, w, b, age, from_stage, c1, wf, tangent)
+                       : 0;
+    if (m->contacts && evaluate_contacts(m, s, st, w, b, age, from_stage, c1, wf, tangent))
         stale = 1;
     return stale;
 }
@@ -527,24 +553,25 @@ static int factor(const Model *m, const Settings *s, State *st, Work *w, int64_t
     return not_definite(m, st, w, b, k, pivot);
 }
 
-/* Ground accelerations of each channel at fractions start and stop of step k (linear between
- * the samples k - 1 and k). */
+/* The ground's series (each channel's acceleration, then with supports their displacements
+ * and velocities) at fractions start and stop of step k (linear between the samples k - 1
+ * and k). */
 static void ground_between(const Model *m, int64_t b, int64_t k, double start, double stop,
                            double *ag_old, double *ag_new)
 {
     int64_t c;
-    for (c = 0; c < m->channels; c++) {
-        const double *ag = m->ground + (b * m->channels + c) * m->ground_width;
+    for (c = 0; c < m->ground_series; c++) {
+        const double *ag = m->ground + (b * m->ground_series + c) * m->ground_width;
         const double slope = ag[k] - ag[k - 1];
         ag_old[c] = ag[k - 1] + slope * start;
         ag_new[c] = ag[k - 1] + slope * stop;
     }
 }
 
-/* The ground accelerations of each channel at sample k. */
+/* The ground's series at sample k. */
 static void ground_at(const Model *m, int64_t b, int64_t k, double *ag)
 {
     int64_t c;
-    for (c = 0; c < m->channels; c++)
-        ag[c] = m->ground[(b * m->channels + c) * m->ground_width + k];
+    for (c = 0; c < m->ground_series; c++)
+        ag[c] = m->ground[(b * m->ground_series + c) * m->ground_width + k];
 }

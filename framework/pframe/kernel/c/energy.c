@@ -163,6 +163,43 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
     }
 }
 
+/* The work of the supports' displacements on the elements across them over a sub-step
+ * (docs/supports.md): an element's deformation includes the ground displacements' part g_e,
+ * on which the supports do f dg_e (input, the trapezoid of the committed and trial forces,
+ * damping's included); and what du . [G] must leave out of the force jumps times the
+ * deformation's change (its dg_e part is not the DOFs'), taken off *du_dG. */
+static double support_work(const Model *m, const State *st, const Work *w, int64_t b,
+                           const double *ag_old, const double *ag_new, double *du_dG)
+{
+    const int64_t ns = m->stories, nc = m->contacts;
+    const double *g_old = ground_block(m, ag_old, 1), *g_new = ground_block(m, ag_new, 1);
+    const double *gs_coef = m->story_ground_coef + b * m->story_ground_terms;
+    const double *gc_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+    const double *force_c = st->story_force + b * ns, *force_t = w->story_force;
+    const double *damping_c = st->story_damping_force + b * ns;
+    const double *damping_t = w->story_damping_force;
+    const double *cforce_c = st->contact_force + b * nc, *cforce_t = w->contact_force;
+    double work = 0.0;
+    int64_t e;
+    for (e = 0; m->story_ground_terms && e < ns; e++) {
+        const double dg = ground_sum(m->story_ground_start, m->story_ground_channel, gs_coef,
+                                     e, g_new)
+                          - ground_sum(m->story_ground_start, m->story_ground_channel, gs_coef,
+                                       e, g_old);
+        work += 0.5 * (force_c[e] + force_t[e] + damping_c[e] + damping_t[e]) * dg;
+        *du_dG -= (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dg;
+    }
+    for (e = 0; m->contact_ground_terms && e < nc; e++) {
+        const double dg = ground_sum(m->contact_ground_start, m->contact_ground_channel,
+                                     gc_coef, e, g_new)
+                          - ground_sum(m->contact_ground_start, m->contact_ground_channel,
+                                       gc_coef, e, g_old);
+        work += 0.5 * (cforce_c[e] + cforce_t[e]) * dg;
+        *du_dG -= (cforce_t[e] - cforce_c[e]) * dg;
+    }
+    return work;
+}
+
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
  * kinetic energy ran away from what the ground motion put in. The state is committed in the
  * same passes that sum the step's works. */
@@ -174,7 +211,7 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     double *energy = st->energy + b * ENERGY_SLOTS;
     StepSums x = {0.0};
-    double shadow, budget, t;
+    double shadow, budget, t, work_supports = 0.0;
     int64_t i, e;
     shadow = kinetic_shadow(s, h);
     if (k > 0 && shadow != 0.0) {
@@ -189,6 +226,8 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         energy[KINETIC] = start;
     }
     commit_dofs(m, st, w, b, k, shadow, ag_old, ag_new, &x);
+    if (k > 0 && (m->story_ground_terms || m->contact_ground_terms)) /* before the commit */
+        work_supports = support_work(m, st, w, b, ag_old, ag_new, &x.du_dG);
     commit_elements(m, st, w, b, k, &x);
     if (k > 0) {
         double inertial;
@@ -198,6 +237,8 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         energy[LINKS] += x.work_link;
         if (nc)
             energy[CONTACTS] += x.work_contact;
+        x.work_in += work_supports;
+        energy[INPUT] += work_supports;
         if (s->scheme == TABLEAU)
             inertial = w->scalars[INERTIAL_WORK] - (x.kinetic - energy[KINETIC]);
         else

@@ -188,14 +188,14 @@ static int restart(const Model *m, const Settings *s, State *st, Work *w, int64_
 /* A contact whose committed penetration is exactly 0 (touching, as two bodies placed against
  * each other at t = 0) with a closing velocity and no force yet: it is at its onset, which no
  * crossing inside a sub-step will show. -1 if none. */
-static int64_t touching(const Model *m, const State *st, int64_t b)
+static int64_t touching(const Model *m, const State *st, int64_t b, const double *ag)
 {
     const int64_t n = m->dofs, nc = m->contacts;
     const double *V = st->V + b * n;
     int64_t e;
     for (e = 0; e < nc; e++) {
         if (st->penetration[b * nc + e] == 0.0 && st->contact_force[b * nc + e] == 0.0
-            && contact_closing(m, b, e, V) > 0.0)
+            && contact_closing(m, b, e, V, ground_block(m, ag, 2)) > 0.0)
             return e;
     }
     return -1;
@@ -226,7 +226,7 @@ static int event_substeps(const Model *m, const Settings *s, State *st, Work *w,
         }
         hs = (f_try - pos) * h;
         ground_between(m, b, k, pos, f_try, ag_old, ag_new);
-        onset = touching(m, st, b);
+        onset = touching(m, st, b, ag_old);
         if (onset >= 0 && !restart(m, s, st, w, b, k, hs, ag_old, onset))
             return 0;
         if (!solve_step(m, s, st, w, b, k, hs, ag_old, ag_new))

@@ -282,8 +282,8 @@ static void at_end_point(const Model *m, const Settings *s, Work *w)
  * point is not on the straight line from U to u for every scheme). Called with the forces of
  * the evaluation point in w and the stage's end in w->u. */
 static double evaluation_work(const Model *m, Work *w, int64_t b, const double *age,
-                              const double *U,
-                              const double *drift_c, const double *pen_c)
+                              const double *start_ground, const double *end_ground,
+                              const double *U, const double *drift_c, const double *pen_c)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
@@ -295,12 +295,24 @@ static double evaluation_work(const Model *m, Work *w, int64_t b, const double *
         work += (damping[i] * ve[i] + mass[i] * dof_ground(m, i, age)) * (u[i] - U[i]);
     if (m->modal_blocks)
         work += modal_work(m, b, ve, ve, 0.0, u, U);
+    /* the elements' work on the DOFs' increments: their deformation's change less the ground
+     * displacements' (the supports' work is the input's, energy.c) */
     for (e = 0; e < ns; e++) {
-        const double d = spring_deformation(m, b, e, u);
-        work += (w->story_force[e] + w->story_damping_force[e]) * (d - drift_c[e]);
+        double d = spring_deformation(m, b, e, u, NULL) - drift_c[e];
+        if (m->story_ground_terms)
+            d += ground_sum(m->story_ground_start, m->story_ground_channel,
+                            m->story_ground_coef + b * m->story_ground_terms, e,
+                            ground_block(m, start_ground, 1));
+        work += (w->story_force[e] + w->story_damping_force[e]) * d;
     }
-    for (e = 0; e < nc; e++)
-        work += w->contact_force[e] * ((contact_closing(m, b, e, u) - gap[e]) - pen_c[e]);
+    for (e = 0; e < nc; e++) {
+        double d = (contact_closing(m, b, e, u, NULL) - gap[e]) - pen_c[e];
+        if (m->contact_ground_terms)
+            d += ground_sum(m->contact_ground_start, m->contact_ground_channel,
+                            m->contact_ground_coef + b * m->contact_ground_terms, e,
+                            ground_block(m, start_ground, 1));
+        work += w->contact_force[e] * d;
+    }
     return work;
 }
 

@@ -111,22 +111,59 @@ static PFRAME_INLINE void sides_add(double *R, const int64_t *start, const int64
         R[dof[t]] += coef[t] * w_second;
 }
 
-/* The deformation of spring e at x: upper (second) side less lower (first). */
-static double spring_deformation(const Model *m, int64_t b, int64_t e, const double *x)
+/* The ground displacements' part of element e's deformation (docs/supports.md): sum of
+ * coef[t] g[channel[t]] over its ground terms, with g a block of the ground's series (the
+ * displacements, or the velocities for its rate); 0 for an element on one support. */
+static PFRAME_INLINE double ground_sum(const int64_t *start, const int64_t *channel,
+                                       const double *coef, int64_t e, const double *g)
 {
-    if (general(m->story_side_start, e))
-        return sides_sum(m->story_side_start, m->story_side_dof,
-                         m->story_side_coef + b * m->story_terms, e, 1, x);
-    return x[m->story_dofs[2 * e + 1]] - dof_value(x, m->story_dofs[2 * e]);
+    double sum = 0.0;
+    int64_t t;
+    for (t = start[e]; t < start[e + 1]; t++)
+        sum += coef[t] * g[channel[t]];
+    return sum;
 }
 
-/* How far contact e's sides have closed at x: left less right (before the gap). */
-static double contact_closing(const Model *m, int64_t b, int64_t e, const double *x)
+/* The deformation of spring e at x: upper (second) side less lower (first), plus across
+ * supports the ground displacements' part from g (the ground's displacements at x's time;
+ * NULL: none, the element on one support). */
+static double spring_deformation(const Model *m, int64_t b, int64_t e, const double *x,
+                                 const double *g)
 {
+    double d;
+    if (general(m->story_side_start, e))
+        d = sides_sum(m->story_side_start, m->story_side_dof,
+                      m->story_side_coef + b * m->story_terms, e, 1, x);
+    else
+        d = x[m->story_dofs[2 * e + 1]] - dof_value(x, m->story_dofs[2 * e]);
+    if (g != NULL && m->story_ground_terms)
+        d += ground_sum(m->story_ground_start, m->story_ground_channel,
+                        m->story_ground_coef + b * m->story_ground_terms, e, g);
+    return d;
+}
+
+/* How far contact e's sides have closed at x: left less right (before the gap), plus
+ * across supports the ground displacements' part from g (as spring_deformation). */
+static double contact_closing(const Model *m, int64_t b, int64_t e, const double *x,
+                              const double *g)
+{
+    double d;
     if (general(m->contact_side_start, e))
-        return sides_sum(m->contact_side_start, m->contact_side_dof,
-                         m->contact_side_coef + b * m->contact_terms, e, 0, x);
-    return dof_value(x, m->contact_dofs[2 * e]) - dof_value(x, m->contact_dofs[2 * e + 1]);
+        d = sides_sum(m->contact_side_start, m->contact_side_dof,
+                      m->contact_side_coef + b * m->contact_terms, e, 0, x);
+    else
+        d = dof_value(x, m->contact_dofs[2 * e]) - dof_value(x, m->contact_dofs[2 * e + 1]);
+    if (g != NULL && m->contact_ground_terms)
+        d += ground_sum(m->contact_ground_start, m->contact_ground_channel,
+                        m->contact_ground_coef + b * m->contact_ground_terms, e, g);
+    return d;
+}
+
+/* The ground's displacements (block 1) and velocities (block 2) within its series g, or NULL
+ * without elements across supports. */
+static const double *ground_block(const Model *m, const double *g, int64_t block)
+{
+    return m->ground_series > m->channels ? g + block * m->channels : NULL;
 }
 
 /* The ground acceleration that loads DOF i, from the channels' values g: that of its channel
@@ -137,12 +174,12 @@ static double dof_ground(const Model *m, int64_t i, const double *g)
     return c >= 0 ? g[c] : 0.0;
 }
 
-/* out = wa a + wb b, channel by channel: the ground accelerations between two times */
+/* out = wa a + wb b, series by series: the ground between two times */
 static void ground_mix(const Model *m, double *out, double wa, const double *a, double wb,
                        const double *b)
 {
     int64_t c;
-    for (c = 0; c < m->channels; c++)
+    for (c = 0; c < m->ground_series; c++)
         out[c] = wa * a[c] + wb * b[c];
 }
 

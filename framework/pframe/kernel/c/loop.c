@@ -35,7 +35,7 @@ static int initial_state(const Model *m, const Settings *s, State *st, Work *w, 
     const double *U = st->U + b * n, *V = st->V + b * n, *mass = m->mass + b * n;
     int64_t i;
     ground_at(m, b, 0, w->ag_new); /* the ground's acceleration at t = 0, each channel */
-    for (i = 0; i < m->channels; i++)
+    for (i = 0; i < m->ground_series; i++)
         w->ag_old[i] = 0.0;
     for (i = 0; i < n; i++) {
         w->u[i] = U[i];

@@ -119,8 +119,12 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
     if (s->scheme == TABLEAU || s->alpha) {
         const int later = stage > 0;
         const double *from = later ? w->stage_values + (stage - 1) * VALUE_SLOTS * n : U;
+        /* the ground at the stage's end: the step's end, or a stage of a tableau evaluated
+         * at its end */
         scalars[ALPHA_WORK] += evaluation_work(
-            m, w, b, age, from, later ? w->stage_drift : st->drift + b * m->stories,
+            m, w, b, age, later ? w->ag_stage : ag_old, s->scheme == TABLEAU ? age : ag_new,
+            from,
+            later ? w->stage_drift : st->drift + b * m->stories,
             later ? w->stage_penetration : st->penetration + b * m->contacts);
         if (s->scheme == TABLEAU)
             scalars[INERTIAL_WORK] += inertial_work(m, w, b, from);
@@ -153,6 +157,8 @@ static void keep_stage(const Model *m, State *st, Work *w, int64_t b, int64_t st
         w->story_stage[i] = st->story_trial[b * S + i];
     for (i = 0; i < T; i++)
         w->contact_stage[i] = st->contact_trial[b * T + i];
+    for (i = 0; i < m->ground_series; i++) /* a tableau's stage ends at its evaluation */
+        w->ag_stage[i] = w->age[i];
     w->scalars[LAWS_FROM_STAGE] = 1.0;
 }
 

@@ -34,6 +34,9 @@ static PFRAME_INLINE const double *source(const Model *m, const State *st, int64
     /* the named plan points: sums of the DOFs (m->gauge_*), along x and y of each point */
     case POINT_DISPLACEMENT: *width = 2 * m->points; return st->U + b * n;
     case POINT_DRIFT: *width = 2 * m->points; return st->U + b * n;
+    /* the ground's displacements (series C + c) and each contact's part of them */
+    case GROUND_DISPLACEMENT: *width = m->channels; return NULL;
+    case CONTACT_GROUND_DISPLACEMENT: *width = nc; return NULL;
     default: *width = m->channels; return NULL;
     }
 }
@@ -42,7 +45,7 @@ static PFRAME_INLINE const double *source(const Model *m, const State *st, int64
  * of a sub-step, or (ag NULL) the sample of step k itself. */
 static double ground_of(const Model *m, int64_t b, int64_t k, int64_t c, const double *ag)
 {
-    return ag != NULL ? ag[c] : m->ground[(b * m->channels + c) * m->ground_width + k];
+    return ag != NULL ? ag[c] : m->ground[(b * m->ground_series + c) * m->ground_width + k];
 }
 
 /* The absolute acceleration of DOF i: its acceleration relative to the ground plus the
@@ -104,6 +107,16 @@ static double value(const Model *m, int64_t q, const double *values, int64_t b, 
         return gauge(m, b, i, values);
     if (q == POINT_DRIFT)
         return gauge(m, b, 2 * m->points + i, values);
+    if (q == GROUND_DISPLACEMENT)
+        return ground_of(m, b, k, m->channels + i, ag);
+    if (q == CONTACT_GROUND_DISPLACEMENT) {
+        const double *coef = m->contact_ground_coef + b * m->contact_ground_terms;
+        double sum = 0.0;
+        int64_t t;
+        for (t = m->contact_ground_start[i]; t < m->contact_ground_start[i + 1]; t++)
+            sum += coef[t] * ground_of(m, b, k, m->channels + m->contact_ground_channel[t], ag);
+        return sum;
+    }
     return values[i];
 }
 
@@ -112,7 +125,8 @@ static int as_stored(int64_t q)
 {
     return q != GROUND_ACCELERATION && q != ABSOLUTE_ACCELERATION && q != CONTACT_PENETRATION
            && q != STORY_DRIFT_RATIO && q != FOUNDATION_SWAY && q != FOUNDATION_ROCKING
-           && q != POINT_DISPLACEMENT && q != POINT_DRIFT;
+           && q != POINT_DISPLACEMENT && q != POINT_DRIFT && q != GROUND_DISPLACEMENT
+           && q != CONTACT_GROUND_DISPLACEMENT;
 }
 
 /* The first step at or after k at which a history is due (NEVER if none is). */

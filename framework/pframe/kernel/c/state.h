@@ -69,7 +69,9 @@ typedef void (*LawFunction)(const double *, const double *, double *, double, do
 #define ABSOLUTE_ACCELERATION 13
 #define POINT_DISPLACEMENT 14
 #define POINT_DRIFT 15
-#define RECORDABLE_COUNT 16
+#define GROUND_DISPLACEMENT 16
+#define CONTACT_GROUND_DISPLACEMENT 17
+#define RECORDABLE_COUNT 18
 
 /* damping stiffness */
 #define DAMPING_INITIAL 0
@@ -159,6 +161,12 @@ typedef struct Model {
     int64_t *gauge_start;
     int64_t *gauge_dof;
     double *gauge_coef;
+    int64_t *story_ground_start;
+    int64_t *story_ground_channel;
+    double *story_ground_coef;
+    int64_t *contact_ground_start;
+    int64_t *contact_ground_channel;
+    double *contact_ground_coef;
     int64_t *modal_dofs;
     int64_t *modal_start;
     double *modal_matrix;
@@ -173,6 +181,7 @@ typedef struct Model {
     int64_t contact_states;
     int64_t ground_width;
     int64_t channels;
+    int64_t ground_series;
     int64_t materials;
     int64_t contact_laws;
     int64_t foundations;
@@ -180,6 +189,8 @@ typedef struct Model {
     int64_t contact_terms;
     int64_t points;
     int64_t gauge_terms;
+    int64_t story_ground_terms;
+    int64_t contact_ground_terms;
     int64_t modal_blocks;
     int64_t modal_width;
 } Model;
@@ -269,6 +280,7 @@ typedef struct Work {
     double *ag_old;
     double *ag_new;
     double *age;
+    double *ag_stage;
 } Work;
 
 typedef struct Saved {
