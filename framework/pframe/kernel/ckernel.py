@@ -137,6 +137,7 @@ def recording(rec) -> Recording:
     count = len(state.Recordable)
     pointers = ctypes.c_void_p * count
     sizes = ctypes.c_int64 * count
+    enveloped = [q for q in range(count) if rec.enveloped[q]]
     return Recording(
         history=pointers(*[_pointer(h) for h in rec.history]),
         every=_pointer(rec.every), first_row=_pointer(rec.first_row),
@@ -144,4 +145,5 @@ def recording(rec) -> Recording:
         enveloped=_pointer(rec.enveloped),
         history_rows=sizes(*[h.shape[1] for h in rec.history]),
         history_width=sizes(*[h.shape[2] for h in rec.history]),
-        envelope_width=sizes(*[e.shape[1] for e in rec.envelope]))
+        envelope_width=sizes(*[e.shape[1] for e in rec.envelope]),
+        envelope_count=len(enveloped), envelope_list=sizes(*enveloped))

@@ -59,10 +59,7 @@ static int initial_state(const Model *m, const Settings *s, State *st, Work *w, 
 PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, Recording *rec,
                                  Work *w, Saved *sv, int64_t begin, int64_t end)
 {
-    int envelopes = 0;
-    int64_t b, k, q;
-    for (q = 0; q < RECORDABLE_COUNT; q++)
-        envelopes = envelopes || rec->enveloped[q] != 0;
+    int64_t b, k;
     for (b = 0; b < m->batch; b++) {
         const double h = m->dt[b];
         const int64_t first_step = imax(begin, 1);
@@ -106,7 +103,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             }
             if (k == due)
                 due = record_histories(m, st, rec, b, k);
-            if (envelopes)
+            if (rec->envelope_count)
                 record_envelopes(m, st, rec, b, k, NULL); /* the ground at step k itself */
         }
     }
