@@ -46,28 +46,29 @@ typedef struct {
     double kinetic, raw;                /* modified and plain kinetic energies at the end */
 } StepSums;
 
-/* The DOFs' sums (with k > 0 the works over the step) in one pass, which also commits U, V
- * and A. */
-static void commit_dofs(const Model *m, State *st, const Work *w, int64_t b, int64_t k,
-                        double shadow, const double *ag_old, const double *ag_new, StepSums *x)
+/* The DOFs' sums in one pass, which also commits U, V and A: the kinetic energies, and with
+ * works (k > 0) the works over the step and the pieces of D_algorithmic, [a M a / 2] and
+ * v_mid M [a] only with mid (see commit_dofs). Inlined with works and mid constant: one loop
+ * without branches for each case. */
+static PFRAME_INLINE void dof_sums(const Model *m, State *st, const Work *w, int64_t b,
+                                   double shadow, const double *ag_old, const double *ag_new,
+                                   int works, int mid, StepSums *x)
 {
     const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
     const int64_t *channel = m->dof_channel;
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     const double *u = w->u, *v = w->v, *a = w->a;
-    double modal_damp = 0.0, modal_dG = 0.0;
-    int64_t i;
-    if (k > 0 && m->modal_blocks) { /* modal damping: (C (V + v) / 2) du and C [v] du */
-        modal_damp = modal_work(m, b, V, v, 1.0, u, U);
-        modal_dG = modal_work(m, b, v, V, -1.0, u, U);
-    }
+    const int shadowed = shadow != 0.0;
     /* the sums in locals, not through x: stores into U, V, A may not change them */
-    double kinetic = 0.0, raw = 0.0, work_in = 0.0, work_damp = 0.0, du_dG = 0.0;
+    double kinetic = 0.0, plain = 0.0, work_in = 0.0, work_damp = 0.0, du_dG = 0.0;
     double du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
+    int64_t i;
     for (i = 0; i < n; i++) {
-        kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
-        if (k > 0) {
+        plain += 0.5 * mass[i] * (v[i] * v[i]);
+        if (shadowed)
+            kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
+        if (works) {
             const double du = u[i] - U[i];
             const double da = a[i] - A[i];
             const int64_t c = channel[i]; /* -1: a rotation, which the ground does not load */
@@ -79,31 +80,59 @@ static void commit_dofs(const Model *m, State *st, const Work *w, int64_t b, int
                 du_dG += damping[i] * (v[i] - V[i]) * du;
             }
             du_Mda += mass[i] * da * du;
-            v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
-            d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
+            if (mid) {
+                v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
+                d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
+            }
         }
         U[i] = u[i];
         V[i] = v[i];
         A[i] = a[i];
-        raw += 0.5 * mass[i] * v[i] * v[i];
     }
-    x->kinetic = kinetic;
-    x->raw = raw;
+    /* without the shadow term the modified kinetic energy is the plain one, the same sum */
+    x->kinetic = shadowed ? kinetic : plain;
+    x->raw = plain;
     x->work_in = work_in;
     x->work_damp = work_damp;
     x->du_dG = du_dG;
     x->du_Mda = du_Mda;
     x->v_Mda = v_Mda;
     x->d_aMa = d_aMa;
+}
+
+/* The DOFs' sums (with k > 0 the works over the step) in one pass, which also commits U, V
+ * and A. The fast paths' inertial dissipation (integrator.c, inertial_dissipation) weighs
+ * [a M a / 2] and v_mid M [a] by (1/4 - gamma/2) h^2 and -(gamma - 1/2) h: with gamma = 1/2
+ * (Newmark's average acceleration, the paper's) both weights are zero and the two sums are
+ * not taken; the generic stage loop (TABLEAU) counts its inertia's work itself and takes
+ * none of the three. */
+static void commit_dofs(const Model *m, const Settings *s, State *st, const Work *w, int64_t b,
+                        int64_t k, double shadow, const double *ag_old, const double *ag_new,
+                        StepSums *x)
+{
+    const int64_t n = m->dofs;
+    const double *u = w->u, *v = w->v;
+    const double *U = st->U + b * n, *V = st->V + b * n;
+    double modal_damp = 0.0, modal_dG = 0.0;
+    if (k > 0 && m->modal_blocks) { /* modal damping: (C (V + v) / 2) du and C [v] du */
+        modal_damp = modal_work(m, b, V, v, 1.0, u, U);
+        modal_dG = modal_work(m, b, v, V, -1.0, u, U);
+    }
+    if (k == 0)
+        dof_sums(m, st, w, b, shadow, ag_old, ag_new, 0, 0, x);
+    else if (s->scheme != TABLEAU && s->gamma != 0.5)
+        dof_sums(m, st, w, b, shadow, ag_old, ag_new, 1, 1, x);
+    else
+        dof_sums(m, st, w, b, shadow, ag_old, ag_new, 1, 0, x);
     if (k > 0 && m->modal_blocks) {
         x->work_damp += 0.5 * modal_damp;
         x->du_dG += modal_dG;
     }
 }
 
-/* The storeys' and links' works over the step (k > 0) and their committed state, in one
- * pass; then the contacts': works, impacts (a contact open at the start and closed at the
- * end), committed force and penetration. */
+/* The storeys' and links' works over the step (k > 0), then the contacts': works and impacts
+ * (a contact open at the start and closed at the end); then every element's committed state
+ * and force, and its law's. */
 static void commit_elements(const Model *m, State *st, const Work *w, int64_t b, int64_t k,
                             StepSums *x)
 {
@@ -118,8 +147,8 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
     double work_story = 0.0, work_link = 0.0, work_damp = x->work_damp, work_contact = 0.0;
     double du_dG = x->du_dG;
     int64_t e;
-    for (e = 0; e < ns; e++) {
-        if (k > 0) {
+    if (k > 0) {
+        for (e = 0; e < ns; e++) {
             const double dd = drift_t[e] - drift_c[e];
             const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
             if (e < storeys)
@@ -129,19 +158,21 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
             work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
             du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
         }
-        drift_c[e] = drift_t[e];
-        force_c[e] = force_t[e];
-        damping_c[e] = damping_t[e];
-        tangent_c[e] = tangent_t[e];
-    }
-    for (e = 0; e < nc; e++) {
-        if (k > 0) {
+        for (e = 0; e < nc; e++) {
             const double dp = pen_t[e] - pen_c[e];
             work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
             du_dG += (cforce_t[e] - cforce_c[e]) * dp;
             if (pen_c[e] <= 0.0 && pen_t[e] > 0.0)
                 impacts[e] += 1;
         }
+    }
+    for (e = 0; e < ns; e++) {
+        drift_c[e] = drift_t[e];
+        force_c[e] = force_t[e];
+        damping_c[e] = damping_t[e];
+        tangent_c[e] = tangent_t[e];
+    }
+    for (e = 0; e < nc; e++) {
         cforce_c[e] = cforce_t[e];
         pen_c[e] = pen_t[e];
     }
@@ -225,7 +256,7 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         energy[ALGORITHMIC] -= start - energy[KINETIC];
         energy[KINETIC] = start;
     }
-    commit_dofs(m, st, w, b, k, shadow, ag_old, ag_new, &x);
+    commit_dofs(m, s, st, w, b, k, shadow, ag_old, ag_new, &x);
     if (k > 0 && (m->story_ground_terms || m->contact_ground_terms)) /* before the commit */
         work_supports = support_work(m, st, w, b, ag_old, ag_new, &x.du_dG);
     commit_elements(m, st, w, b, k, &x);
