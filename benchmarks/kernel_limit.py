@@ -18,7 +18,11 @@ and printed.
 Timing, side by side in one run: ``--rounds`` rounds, each the C program (best of
 ``--repeats`` runs in its process) then pframe's kernel (``simulate`` of the plan, one thread,
 its ``solve_seconds``, best of ``--repeats``); per step, and the ratio kernel / C per round,
-then its median (goal: at most 1.3). Nothing is asserted.
+then its median, and the ratio of the two sides' best times over all rounds (goal: at most
+1.3). On a shared machine another job slows either side at random, and only ever slows it:
+the best of many runs is the side's own cost, so the ratio of the bests is the figure to
+read when the per-round ratios scatter (the load average is printed with each round).
+Nothing is asserted.
 """
 
 from __future__ import annotations
@@ -131,11 +135,12 @@ def main(argv: list[str] | None = None) -> int:
         s_order, c_order = write_input(plan, data)
         binary = compile_limit(Path(tmp))
         run_kernel(plan, 1)  # the kernel loaded before the clock
-        ratios = []
+        ratios, best_c, best_kernel = [], np.inf, np.inf
         for k in range(args.rounds):
             c_ns, c_solves, c_peaks = run_limit(binary, data, args.repeats)
             k_ns, result = run_kernel(plan, args.repeats)
             ratios.append(k_ns / c_ns)
+            best_c, best_kernel = min(best_c, c_ns), min(best_kernel, k_ns)
             print(f"round {k + 1}: C {c_ns:.1f} ns/step, kernel {k_ns:.1f} ns/step, "
                   f"kernel / C {k_ns / c_ns:.2f}; load average {load_average()}", flush=True)
     env = result.envelope
@@ -147,8 +152,10 @@ def main(argv: list[str] | None = None) -> int:
           f"{worst:.2e} ({'within' if worst <= 1e-9 else 'NOT within'} 1e-9); Newton solves: "
           f"C {c_solves}, kernel {solves}")
     print(f"kernel / C per step, median of {args.rounds} rounds: "
-          f"{statistics.median(ratios):.2f} (goal: at most 1.3); {plan.steps} steps, "
-          f"{plan.n_dof} DOFs, {len(s_order)} storeys, {len(c_order)} contacts")
+          f"{statistics.median(ratios):.2f}; best of all rounds: kernel {best_kernel:.1f} "
+          f"ns/step, C {best_c:.1f} ns/step, ratio {best_kernel / best_c:.2f} (goal: at most "
+          f"1.3); {plan.steps} steps, {plan.n_dof} DOFs, {len(s_order)} storeys, "
+          f"{len(c_order)} contacts")
     return 0
 
 
