@@ -286,6 +286,8 @@ def test_the_cli_prints_the_tables_and_refuses_bad_input(tmp_path, capsys):
     assert main(["modes", str(path)]) == 0
     out = capsys.readouterr().out
     assert "building A, fixed base" in out and "94.7" in out
+    assert main(["modes", str(path), "--count", "0"]) == 2
+    assert "--count=0: give at least 1" in capsys.readouterr().err
     assert main(["modes", str(tmp_path / "missing.yaml")]) == 2
     assert "no such" in capsys.readouterr().err
     path.write_text("buildings:\n  - {name: A, floors: 2, mass: -1.0}\nanalysis: {dt: 0.01, "
@@ -297,3 +299,30 @@ def test_the_cli_prints_the_tables_and_refuses_bad_input(tmp_path, capsys):
         pframe.modes(str(tmp_path / "missing.yaml"))
     with pytest.raises(pframe.InputError, match="count"):
         pframe.modes(str(path), count=0)
+
+
+def test_modal_damping_gives_each_mode_its_ratio():
+    ratios = [0.02, 0.03, 0.05]
+    story = {"material": "elastic", "stiffness": STIFF}
+    ds = pframe.modes(_scene(buildings=[building("A", 3, MASSES, story)],
+                             damping={"kind": "modal", "ratio": ratios}))
+    np.testing.assert_allclose(ds.damping_ratio.sel(analysis="A: fixed").values, ratios,
+                               rtol=1e-9)
+
+
+def test_a_scene_on_supports_has_the_modes_of_one_ground():
+    """Two buildings on two supports under a wave passage: each building's modes are those
+    of its storeys on a fixed base (the supports do not enter the modes)."""
+    sine = {"kind": "sine", "amplitude": 1.0, "frequency": 6.0}
+    scene = _scene(
+        supports=[{"name": "west", "position": [0, 0]}, {"name": "east", "position": [60, 0]}],
+        buildings=[building("A", 3, MASSES, {"material": "elastic", "stiffness": STIFF})
+                   | {"support": "west"},
+                   building("B", 2, 1.0e4, {"material": "elastic", "stiffness": 3.0e7})
+                   | {"support": "east"}],
+        excitation={"kind": "wave_passage", "velocity": 300.0, "direction": 0,
+                    "motion": sine})
+    ds = pframe.modes(scene)
+    _agrees(_row(ds, "A: fixed"), *_reference(_chain(STIFF), np.diag(MASSES), np.ones(3)))
+    _agrees(_row(ds, "B: fixed"), *_reference(_chain([3.0e7] * 2), np.diag([1.0e4] * 2),
+                                              np.ones(2)))

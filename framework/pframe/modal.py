@@ -392,7 +392,14 @@ def dataset(loaded, member: int = 0, count: int | None = None):
         attrs={"title": ex_title(loaded), "source": str(loaded.source), "comment": COMMENT,
                "damping": "\n".join(plan.damping_text)},
     )
+    if isinstance(loaded.given, dict) and "pi" in loaded.given:
+        ds.attrs["units_note"] = PI_NOTE
     return ds
+
+
+#: what the numbers of a scene in Pi numbers are (as pframe validate shows them)
+PI_NOTE = ("a scene in Pi numbers: its masses, times and frequencies are its dimensionless "
+           "numbers (masses over m_b, times over 1 / w_p), not the kg, s and Hz the units say")
 
 
 def ex_title(loaded) -> str:
@@ -430,6 +437,8 @@ def table_lines(ds, shown: int) -> list[str]:
     out = [f"{ds.attrs['source']}: modes normalised on the masses; Gamma = phi^T M iota "
            "(kg^0.5), M* = Gamma^2, share: of the mode's kinetic energy; xi of the scene's "
            "damping, and with the elements' dashpots too (docs/modes.md)"]
+    if ds.attrs.get("units_note"):
+        out.append(f"note: {ds.attrs['units_note']}")
     for a in range(ds.sizes["analysis"]):
         period = ds.period.values[a]
         count = int(np.sum(~np.isnan(period)))

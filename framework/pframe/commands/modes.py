@@ -9,11 +9,12 @@ SHOWN = 12
 
 
 def _modes(args) -> int:
-    from pframe.api import loaded_scene
+    from pframe.api import count_argument, loaded_scene
     from pframe.modal import dataset, table_lines
 
+    shown = count_argument(args.count, "--count", "modes") or SHOWN
     ds = dataset(loaded_scene(args.scene))
-    for line in table_lines(ds, args.count or SHOWN):
+    for line in table_lines(ds, shown):
         print(line)
     return 0
 
