@@ -326,3 +326,16 @@ def test_a_scene_on_supports_has_the_modes_of_one_ground():
     _agrees(_row(ds, "A: fixed"), *_reference(_chain(STIFF), np.diag(MASSES), np.ones(3)))
     _agrees(_row(ds, "B: fixed"), *_reference(_chain([3.0e7] * 2), np.diag([1.0e4] * 2),
                                               np.ones(2)))
+
+
+def test_p_delta_softens_the_storeys():
+    """With P-delta each storey takes k - P / h, P the weight of the floors above it (the
+    kernel's storey force is net of P drift / h)."""
+    h = 3.0
+    b = building("A", 3, MASSES, {"material": "elastic", "stiffness": STIFF}) | {
+        "height": h, "p_delta": True}
+    ds = pframe.modes(_scene(buildings=[b]))
+    weights = GRAVITY * np.cumsum(MASSES[::-1])[::-1]
+    softened = [k - p / h for k, p in zip(STIFF, weights)]
+    _agrees(_row(ds, "A: fixed"), *_reference(_chain(softened), np.diag(MASSES), np.ones(3)))
+    assert "less P-delta's P / h" in str(_row(ds, "A: fixed").stiffness.values)
