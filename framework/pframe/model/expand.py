@@ -269,7 +269,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         tolerance=analysis.newton.tolerance,
         absolute_tolerance=analysis.newton.absolute_tolerance,
         max_iterations=analysis.newton.max_iterations,
-        recorders=tuple(scene.recorders),
+        recorders=tuple(scene.recorders) + _limit_recorders(scene),
         record=motion.record,
         component_records=motion.records if scene.excitation is not None
         and scene.excitation.kind == "components" else (),
@@ -291,6 +291,16 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         point_positions=point_positions,
         **_storey_flags(floors.stories, len(p_delta)),
     )
+
+
+def _limit_recorders(scene) -> tuple:
+    """The envelopes the scene's limits are checked on (pframe.limits), recorded with its
+    own recorders."""
+    from pframe.limits import recorded
+    from pframe.model.scene import Envelope
+
+    needed = recorded(getattr(scene, "limits", None))
+    return (Envelope(kind="envelope", quantities=list(needed)),) if needed else ()
 
 
 def _motion(scene, supports, base_dir, steps: int, dt: float):

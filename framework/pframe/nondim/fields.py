@@ -136,6 +136,13 @@ SCENE_FIELDS = {
     ("output", "scales", "m_b"): "mass",
     ("output", "scales", "a_p"): "acceleration",
     ("output", "scales", "w_p"): "frequency",
+    # limits (pframe.limits): a drift ratio and a code's factors are numbers; an acceleration
+    # in g is an acceleration in a fixed unit, scaled as one
+    ("limits", "drift_ratio"): "dimensionless",
+    ("limits", "code", "redundancy"): "dimensionless",
+    ("limits", "code", "factor"): "dimensionless",
+    ("limits", "acceleration"): "acceleration",
+    ("limits", "acceleration_g"): "acceleration",
     # buildings in plan (docs/plan.md): coordinates and sizes are lengths, directions and
     # angles are numbers, a polar inertia is kg m^2
     ("buildings", "*", "origin"): "length",
