@@ -147,6 +147,23 @@ class Expanded:
         return dataclasses.replace(self, steps=steps, ground_acceleration=x,
                                    ground_acceleration_y=y, **changes)
 
+    def with_supports(self, samples, steps: int | None = None, **changes) -> Expanded:
+        """This scene on its several supports under other motions: ``samples`` (C, steps +
+        1), every channel's (support and axis, in ``channels`` order; m/s^2 at t_n = n dt),
+        each support's motion replaced (a suite's member, pframe.gap.members)."""
+        steps = self.steps if steps is None else int(steps)
+        samples = np.asarray(samples, dtype=float)
+        if self.support_samples is None or samples.shape != (len(self.channels), steps + 1):
+            raise ValueError(f"the motions of {len(self.channels)} channels over {steps} steps "
+                             f"are ({len(self.channels)}, {steps + 1}) samples, not "
+                             f"{samples.shape}")
+        rows = dict(zip(self.channels, samples))
+        first = self.channels[0][:-1]
+        return dataclasses.replace(self, steps=steps, support_samples=samples,
+                                   ground_acceleration=rows.get(first + "x",
+                                                                np.zeros(steps + 1)),
+                                   ground_acceleration_y=rows.get(first + "y"), **changes)
+
     def first_steps(self, steps: int, **changes) -> Expanded:
         """This scene cut to its first ``steps`` steps (a warm-up, a plan for its periods),
         every ground motion with it."""
@@ -165,7 +182,7 @@ class Expanded:
         from pframe.model.scene import WavePassage
         from pframe.model.support_motion import delayed
 
-        if not isinstance(self.excitation, WavePassage):  # (gap.runs.for_runs says why)
+        if not isinstance(self.excitation, WavePassage):  # (with_supports replaces them all)
             raise ValueError("the scene's supports move with motions of their own: one motion "
                              "cannot stand for them (give the scene a wave passage, whose "
                              "motion each support takes with its delay)")

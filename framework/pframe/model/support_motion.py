@@ -144,8 +144,8 @@ def _coherent(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion
                          f"{scene.supports[own[0]].name!r} has its own motion and the scene's "
                          "is a coherent simulation, which gives every support its motion: "
                          "give one or the other")
-    acceleration, tau, notes, description = coherent_motions(scene, supports, base_dir, steps,
-                                                             dt)
+    acceleration, tau, notes, description, _ = coherent_motions(scene, supports, base_dir,
+                                                                steps, dt)
     samples = {f"{name}:x": row for name, row in zip(supports.names, acceleration)}
     motions = tuple(GroundMotion({"x": row}) for row in acceleration)
     return SupportMotion(samples, ("x",), tau, motions, (), notes, description)

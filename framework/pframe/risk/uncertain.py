@@ -168,8 +168,7 @@ class RecordSubsetProblem:
         i = self.inputs
         out = run_batch(scenes(i.loaded, self.params, u), i.pairs,
                         np.repeat(self.ground[None], len(u), axis=0), i.steps, i.dt,
-                        contacts=False,
-                        threads=self.threads)
+                        contacts=False, threads=self.threads, axes=i.channels)
         self.runs += len(u)
         g = out["gap"] - np.max(out["g_req"], axis=1)
         return np.where(out["complete"] == 1, g, -np.inf)
