@@ -92,6 +92,11 @@ def coherent_motions(scene, supports, base_dir, steps: int, dt: float, record=No
                 raise ModelError(path + ("at",), f"no support named {excitation.at!r}; the "
                                  f"supports are {', '.join(supports.names)}")
             if record is None:
+                if excitation.record.displacement is not None:
+                    raise ModelError(path + ("record", "displacement"), "the supports of a "
+                                     "coherent simulation move by their simulated "
+                                     "accelerations integrated from rest; a record's "
+                                     "displacement file is not read here (leave it out)")
                 record = ground_motion(excitation.record, base_dir, steps, dt,
                                        path + ("record",)).samples["x"]
             found = conditioned(record, dt, positions, coherency,
