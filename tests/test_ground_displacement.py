@@ -197,3 +197,41 @@ def test_a_sweep_carries_the_displacement_files(tmp_path):
         _, alone = _ground(tmp_path, scene)
         np.testing.assert_array_equal(
             ds.contact_ground_displacement.isel(v=i).values.ravel(), alone)
+
+
+@pytest.mark.slow
+def test_the_supports_figure_draws_what_the_file_holds(tmp_path):
+    """pframe plot --kind supports: a panel per ground history the file holds, each line the
+    file's values (each support's acceleration and displacement, the contact's relative
+    ground displacement, in the file's units), how the displacements were had below; a
+    scene on one ground is refused."""
+    import pframe
+    from pframe.plot import figures
+
+    at2, dt2, _ = _files(tmp_path)
+    scene = _scene(tmp_path, {"kind": "record", "file": at2})
+    scene["recorders"] = [{"kind": "history", "quantities": [
+        "displacement", "ground_acceleration", "ground_displacement",
+        "contact_ground_displacement"]}]
+    path = tmp_path / "s.yaml"
+    path.write_text(json.dumps(scene), encoding="utf-8")
+    ds = pframe.solve(path, output=tmp_path / "s.nc", progress=False)
+    fig = figures(tmp_path / "s.nc", kind="supports")["supports"]
+    panels = {ax.get_gid(): ax for ax in fig.axes if ax.get_gid()}
+    assert list(panels) == ["ground_acceleration", "ground_displacement",
+                            "contact_ground_displacement"]
+    for quantity, ax in panels.items():
+        lines = ax.get_lines()[:len(ds[quantity][ds[quantity].dims[1]])]
+        for i, line in enumerate(lines):
+            np.testing.assert_array_equal(line.get_ydata(), ds[quantity].values[:, i])
+        assert f"({ds[quantity].attrs['units']})" in ax.get_ylabel()
+    assert "no baseline correction" in fig.get_supxlabel()
+    one = json.loads(json.dumps(scene))
+    del one["supports"]
+    for b in one["buildings"]:
+        del b["support"]
+    one["excitation"] = one["excitation"]["motion"]
+    path.write_text(json.dumps(one), encoding="utf-8")
+    pframe.solve(path, output=tmp_path / "one.nc", progress=False)
+    with pytest.raises(InputError, match="stands on one ground: --kind supports"):
+        figures(tmp_path / "one.nc", kind="supports")
