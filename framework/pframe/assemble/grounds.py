@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from pframe.model.plan import COMPONENTS
-from pframe.model.support_motion import kinematics
+from pframe.model.support_motion import GROUND_QUANTITIES, kinematics
 
 
 def channel_index(ex, node: int, component: int) -> int:
@@ -49,8 +49,6 @@ def _terms(elements_of_members, ex_of_members) -> tuple[np.ndarray, np.ndarray, 
             np.array(coefs, dtype=float).reshape(len(elements_of_members), len(channel)))
 
 
-#: what a recorder reads of the ground's displacements
-GROUND_QUANTITIES = ("ground_displacement", "contact_ground_displacement")
 
 
 def ground_fields(variants, spring_sets, recorded) -> dict:

@@ -68,9 +68,9 @@ def duration(loaded, motion: GroundMotion) -> float:
     long as its modulating function (or the motion's duration) says."""
     if not motion.coherent:
         return motion.duration
-    from pframe.model.coherent import _spectrum
+    from pframe.model.coherent import shared_spectrum
 
-    return float(_spectrum(loaded.scene.excitation.motion, ("excitation", "motion"))[2])
+    return float(shared_spectrum(loaded.scene.excitation.motion, ("excitation", "motion"))[2])
 
 
 def own_member(loaded, name: str) -> GroundMotion:

@@ -23,7 +23,7 @@ def _coherency(given):
     return HarichandranVanmarcke(given.amplitude, given.alpha, given.k, given.f0, given.b)
 
 
-def _spectrum(motion, path):
+def shared_spectrum(motion, path):
     """(spectrum, modulating function q(t) or None, duration (s)) of the stochastic motion
     every support shares."""
     from pframe.excitation import stochastic
@@ -104,7 +104,7 @@ def coherent_motions(scene, supports, base_dir, steps: int, dt: float, record=No
                                 seed=seed, wave=wave, sites=sites,
                                 highpass=excitation.motion.highpass)
         else:
-            spectrum, envelope, duration = _spectrum(excitation.motion, path + ("motion",))
+            spectrum, envelope, duration = shared_spectrum(excitation.motion, path + ("motion",))
             found = simulate(positions, dt, duration, spectrum, coherency,
                              seed=seed, envelope=envelope, wave=wave, sites=sites,
                              highpass=excitation.motion.highpass)

@@ -235,11 +235,11 @@ def _given(excitation, record, base_dir, path, samples, dt) -> tuple[tuple, tupl
         b = excitation.baseline
         return (("x", None, None, f"the record's acceleration baseline-corrected (fit {b.fit}, "
                  f"degree {b.degree})"),), ()
-    from pframe.model.support_motion import integrated
+    from pframe.excitation.kinematics import integrate
 
     factor, stretch = excitation.scale * record.amplitude_factor, record.time_factor
     times = np.arange(samples.size) * dt
-    velocity, displacement = integrated(samples, dt)
+    velocity, displacement = integrate(samples, dt)
     found, words, warnings = {}, [], []
     for quantity, power, integral in (("displacement", 2, displacement),
                                       ("velocity", 1, velocity)):

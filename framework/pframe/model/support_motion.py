@@ -187,12 +187,14 @@ def _coherent(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion
     return SupportMotion(samples, ("x",), tau, motions, (), notes, description)
 
 
+#: what a recorder reads of the ground's displacements
+GROUND_QUANTITIES = ("ground_displacement", "contact_ground_displacement")
+
+
 def displacement_lines(ex) -> list[str]:
     """How each channel's displacement is had (:func:`kinematics`' words), where a run uses
     it: on several supports (elements across them), or a recorder of the ground's
     displacement; none otherwise."""
-    from pframe.assemble.grounds import GROUND_QUANTITIES
-
     recorded = {q for r in ex.recorders for q in getattr(r, "quantities", ())}
     if not (ex.node_support or recorded & set(GROUND_QUANTITIES)):
         return []
