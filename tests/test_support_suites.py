@@ -223,3 +223,21 @@ def test_a_risk_study_over_a_record_per_support(tmp_path):
         np.testing.assert_allclose(two[variable].values, one[variable].values, rtol=1e-9,
                                    atol=0)
     np.testing.assert_array_equal(two.impact_count.values, one.impact_count.values)
+
+
+@pytest.mark.slow
+def test_a_conditioned_simulation_scales_with_its_record():
+    """Scaling a conditioned member's motions to a level is conditioning on the scaled
+    record: the simulation is linear in its record at a seed (its mean a filter of the
+    record, its residual's spectrum the record's own), to round-off."""
+    from pframe.excitation.coherency import LucoWong, WavePassage
+    from pframe.excitation.conditioned import conditioned
+    from pframe.excitation.records import read_record
+
+    _, a = read_record(record_file("elCentro.AT2"))
+    made = [conditioned(k * a, 0.02, [(0.0, 0.0), (60.0, 0.0)], LucoWong(0.3, 400.0),
+                        recorded=0, seed=3, wave=WavePassage(400.0, 0.0)).acceleration
+            for k in (1.0, 2.5)]
+    assert np.max(np.abs(made[0][1] - made[0][0])) > 0.1  # the other support differs
+    np.testing.assert_allclose(made[1], 2.5 * made[0], rtol=0,
+                               atol=1e-13 * np.max(np.abs(made[1])))

@@ -103,6 +103,14 @@ class SubsetProblem:
                  threads=None, channels: tuple[str, ...] = ("x",)):
         from pframe.gap.runs import contact_pairs
 
+        excitation = loaded.scene.excitation
+        if loaded.expanded.node_support and (excitation is None
+                                             or excitation.kind != "wave_passage"):
+            raise InputError(f"{loaded.source}: a subset design draws one stochastic motion "
+                             "per run, which reaches a scene's supports as its wave passage "
+                             "carries it; this scene on supports has none (excitation: {kind: "
+                             "wave_passage, ...}), or run it under a suite of records "
+                             "(docs/supports.md#suites-of-a-motion-per-support)")
         self.loaded, self.params, self.threads = loaded, params, threads
         # the motion's direction on the site (its angle, degrees from the site's x)
         self.channels, self.angle = channels, float(motion.get("angle", 0.0))
