@@ -59,7 +59,7 @@ def _copy(tmp_path, name, shift: int = 0) -> str:
 def test_the_same_record_at_every_support_is_one_ground(tmp_path):
     """A member naming elCentro at both supports: every rule and the simulated gap of the
     one-ground audit under elCentro, at two PGA levels, to 1e-9 (the intensity measured at
-    the first support named, every support scaled by its factor)."""
+    the first support named, every support scaled by its factor, as the file says)."""
     record = _copy(tmp_path, "elcentro.txt")
     one, _ = _scene(tmp_path, "one")
     two, _ = _scene(tmp_path, "two", SUPPORTS)
@@ -70,6 +70,8 @@ def test_the_same_record_at_every_support_is_one_ground(tmp_path):
     assert np.max(_gaps(plain)) > 1e-3
     np.testing.assert_allclose(_gaps(per), _gaps(plain), rtol=1e-9, atol=0)
     np.testing.assert_allclose(per.intensity.values, plain.intensity.values, rtol=1e-12)
+    assert list(per.record_intensity_support.values) == ["east"]  # the first named
+    assert "reference support" in per.level.attrs["long_name"]
 
 
 @pytest.mark.slow
@@ -133,7 +135,8 @@ def test_a_coherent_simulation_per_member_is_the_scene_alone(tmp_path):
         alone["excitation"] |= {"record": {"kind": "record", "file": str(tmp_path / file)},
                                 "seed": 7 + i}
         assert simulated[i] == pytest.approx(_alone(alone), rel=1e-9)
-    assert list(ds.record.values) == ["a.txt@west-seed7", "b.txt@west-seed8"]
+    assert list(ds.record_name.values) == ["a.txt@west-seed7", "b.txt@west-seed8"]
+    assert list(ds.record_intensity_support.values) == ["west", "west"]  # at
     path, scene = _coherent_scene(tmp_path, "free", {})
     suite = _suite(tmp_path, "free", [], coherent={"realisations": 2})
     simulated = pframe.gap.audit(path, suite, duration=6.0).gap_required.sel(

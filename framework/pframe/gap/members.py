@@ -58,6 +58,12 @@ class OnSupports:
         return np.array([delayed(row, tau, dt) for tau in self.delays for row in site])
 
 
+def reference(motion: GroundMotion) -> str:
+    """The support a member's intensity is measured at (see the module; a member of one
+    motion has the same at every support)."""
+    return motion.at_supports[0][0] if motion.at_supports else "every support"
+
+
 def several(loaded) -> bool:
     """Whether the scene stands on several supports."""
     return bool(loaded.expanded.node_support)
@@ -185,8 +191,9 @@ def _simulated(loaded, motion: GroundMotion, index: int, steps: int, dt: float):
     except ModelError as exc:
         raise InputError(f"{loaded.where(exc.path)}: {exc.message}") from None
     reference = ex.supports.index(excitation.at) if not motion.coherent else 0
-    parts = tuple((name, GroundMotion(name, times, row, "", where=where))
-                  for name, row in zip(ex.supports, found.acceleration))
+    parts = [(name, GroundMotion(name, times, row, "", where=where))
+             for name, row in zip(ex.supports, found.acceleration)]
+    parts = tuple([parts[reference]] + parts[:reference] + parts[reference + 1:])
     name = (f"coherent-seed{seed}" if motion.coherent
             else f"{motion.name}@{excitation.at}-seed{seed}")
     head = found.acceleration[reference]
