@@ -195,10 +195,14 @@ def test_members_the_scene_cannot_take_are_refused(tmp_path):
 
 
 @pytest.mark.slow
-def test_a_risk_study_over_a_record_per_support(tmp_path):
-    """An MSA study (runs without and with the contacts) of the pair on two supports whose
-    member gives both elCentro: the critical gaps, drifts and impacts of the study of the
-    pair on one ground under elCentro, to 1e-9."""
+@pytest.mark.parametrize("design", [
+    {"kind": "msa", "levels": [0.3, 0.6]},
+    {"kind": "ida", "hunt": {"start": 0.1, "step": 0.1}, "resolution": 0.05, "limit": "LS",
+     "max_level": 1.5}], ids=["msa", "ida"])
+def test_a_risk_study_over_a_record_per_support(tmp_path, design):
+    """A study (runs without and with the contacts; stripes, or IDA's hunt and fill) of the
+    pair on two supports whose member gives both elCentro: the intensities, critical gaps,
+    drifts and impacts of the study of the pair on one ground under elCentro, to 1e-9."""
     import xarray as xr
     import yaml
 
@@ -212,8 +216,7 @@ def test_a_risk_study_over_a_record_per_support(tmp_path):
         scene, _ = _scene(tmp_path, name, supports, duration=3.0, dt=0.005, gap=0.12)
         study = {"scene": scene.name, "suite": _suite(tmp_path, name, records).name,
                  "measure": "pga", "duration": 3.0,
-                 "design": {"kind": "msa", "levels": [0.3, 0.6]},
-                 "limits": {"drift": {"LS": 0.05}}, "bootstrap": 0}
+                 "design": design, "limits": {"drift": {"LS": 0.05}}, "bootstrap": 0}
         path = tmp_path / f"{name}.study.yaml"
         path.write_text(yaml.safe_dump(study), encoding="utf-8")
         out = tmp_path / f"{name}.nc"
@@ -222,7 +225,8 @@ def test_a_risk_study_over_a_record_per_support(tmp_path):
     one, two = found["one"], found["two"]
     assert float(one.critical_gap.max()) > 1e-3
     assert int(one.impact_count.sum()) > 0  # the runs with contacts pound
-    for variable in ("critical_gap", "peak_story_drift", "peak_floor_acceleration"):
+    for variable in ("intensity", "critical_gap", "peak_story_drift",
+                     "peak_floor_acceleration"):
         np.testing.assert_allclose(two[variable].values, one[variable].values, rtol=1e-9,
                                    atol=0)
     np.testing.assert_array_equal(two.impact_count.values, one.impact_count.values)
