@@ -248,3 +248,25 @@ def test_a_conditioned_simulation_scales_with_its_record():
     assert np.max(np.abs(made[0][1] - made[0][0])) > 0.1  # the other support differs
     np.testing.assert_allclose(made[1], 2.5 * made[0], rtol=0,
                                atol=1e-13 * np.max(np.abs(made[1])))
+
+
+def test_a_subset_design_on_supports_needs_a_wave_passage(tmp_path, capsys):
+    """A subset design over a stochastic motion draws one motion per run, which a scene on
+    supports takes through its wave passage: one without (the same sine under both
+    supports) is refused with what to write, exit 2 and nothing written (it failed inside
+    the runs, a traceback)."""
+    import yaml
+    from test_risk_subset import MOTION
+
+    from pframe.cli import main
+
+    scene, _ = _scene(tmp_path, "same", SUPPORTS, duration=8.0, gap=0.2)
+    study = {"scene": scene.name, "stochastic": MOTION, "duration": 8.0, "dt": 0.01,
+             "design": {"kind": "subset", "probability_level": 0.1, "samples": 100},
+             "uncertain": {"gap": {"distribution": "lognormal", "median": 0.2,
+                                   "dispersion": 0.2}}, "seed": 1}
+    path = tmp_path / "study.yaml"
+    path.write_text(yaml.safe_dump(study), encoding="utf-8")
+    assert main(["risk", str(path), "-o", str(tmp_path / "out.nc"), "-q"]) == 2
+    assert "a subset design draws one stochastic motion per run" in capsys.readouterr().err
+    assert not (tmp_path / "out.nc").exists()
