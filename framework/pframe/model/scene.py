@@ -512,6 +512,19 @@ class Sine(Base):
         return self
 
 
+class Baseline(Base):
+    """A polynomial a_c(t) = c_0 + ... + c_p t^p removed from a record's acceleration, its
+    velocity and displacement integrated from rest as the record's are
+    (pframe.excitation.kinematics.baseline_correct; Boore & Bommer 2005)."""
+
+    fit: Literal["velocity", "displacement", "rest"] = Field(
+        "velocity", description="What a_c is fitted to: the velocity or the displacement "
+        "(least squares over the record), or rest (the record ends at rest: final velocity "
+        "and displacement 0).")
+    degree: int = Field(1, ge=0, le=5, description="p, the polynomial's degree (rest: 1 or "
+                        "more); 1 with fit velocity: a quadratic velocity baseline through 0.")
+
+
 class Record(Base):
     """A recorded ground acceleration read from a file (path relative to the YAML file)."""
 
@@ -540,11 +553,28 @@ class Record(Base):
     frequency: Positive | None = Field(
         None, description="Compress or stretch the record's time axis so that its "
         "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")
+    displacement: str | None = Field(
+        None, description="The record's ground displacement: a PEER .DT2 file (units its "
+        "header states, cm) or two columns (time s, displacement m), relative to the YAML "
+        "file; the displacement of the supports it moves, instead of the acceleration "
+        "integrated twice (checked against it, docs/supports.md#displacements-from-a-record).")
+    velocity: str | None = Field(
+        None, description="The record's ground velocity with its displacement: a PEER .VT2 "
+        "file (cm/s) or two columns (time s, velocity m/s).")
+    baseline: Baseline | None = Field(
+        None, description="A baseline correction of the record's acceleration (on its own "
+        "step, before any scaling; docs/supports.md#displacements-from-a-record); none: the "
+        "record as read, its displacement drifting as its acceleration integrates.")
 
     @model_validator(mode="after")
     def _scale_or_pga(self):
         if self.pga is not None and "scale" in self.model_fields_set:
             raise ValueError("give scale (a factor) or pga (a target peak), not both")
+        if self.velocity is not None and self.displacement is None:
+            raise ValueError("velocity comes with displacement (the record's two files)")
+        if self.displacement is not None and self.baseline is not None:
+            raise ValueError("a displacement file is the record's displacement as its "
+                             "provider corrected it: give no baseline with it")
         return self
 
     # The absolute folder ``file`` is relative to, set when the record is read from a scene

@@ -125,6 +125,7 @@ SCENE_FIELDS = {
     ("excitation", "period"): "time",  # a record's is of its file's time axis: kept there
     ("excitation", "n"): "dimensionless",  # a cycloidal pulse's cycles
     ("excitation", "center"): "time",  # a Ricker wavelet's peak
+    ("excitation", "baseline", "degree"): "dimensionless",  # a record's baseline correction
     ("initial_conditions", "displacement", "*"): "length",
     ("initial_conditions", "velocity", "*"): "velocity",
     ("analysis", "dt"): "time",

@@ -645,6 +645,12 @@ def record_attributes(loaded) -> dict:
         if mine:  # its own motion: its facts under its name
             out.update(_excitation_attributes(support.excitation, motion, expanded, loaded,
                                               duration, f"{support.name}_"))
+    if expanded is not None:  # how the supports' displacements were had, where used
+        from pframe.model.support_motion import displacement_lines
+
+        said = displacement_lines(expanded)
+        if said:
+            out["ground_displacement_method"] = "\n".join(said)
     return out
 
 
@@ -705,6 +711,17 @@ def _motion_attributes(excitation, record, loaded, duration, facts_prefix: str,
     out.update({f"{record_prefix}file": excitation.file,
                 f"{record_prefix}sha256": hashlib.sha256(content).hexdigest(),
                 f"{record_prefix}text": content.decode("utf-8", errors="replace")})
+    for quantity in ("displacement", "velocity"):  # its other files: pframe.load restores
+        name = getattr(excitation, quantity, None)
+        try:
+            other = (Path(loaded.base_dir) / name).read_bytes() if name else None
+        except OSError:
+            other = None
+        if other is not None:
+            out.update({f"{record_prefix}{quantity}_file": name,
+                        f"{record_prefix}{quantity}_sha256": hashlib.sha256(other).hexdigest(),
+                        f"{record_prefix}{quantity}_text": other.decode("utf-8",
+                                                                       errors="replace")})
     try:  # how the record was read and applied (pframe validate prints it)
         read = describe_scene_record(excitation, loaded.base_dir)
         line = describe_line(read, duration).removeprefix(f"record {read['file']}: ")
