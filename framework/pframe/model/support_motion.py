@@ -81,11 +81,11 @@ def delayed(samples: np.ndarray, delay: float, dt: float) -> np.ndarray:
 
 def integrated(acceleration: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
     """(velocity, displacement) of ``acceleration`` samples, the trapezoid rule twice from rest
-    (see the module)."""
-    a = np.asarray(acceleration, dtype=float)
-    velocity = np.concatenate([[0.0], np.cumsum(0.5 * dt * (a[1:] + a[:-1]))])
-    displacement = np.concatenate([[0.0], np.cumsum(0.5 * dt * (velocity[1:] + velocity[:-1]))])
-    return velocity, displacement
+    (see the module): :func:`pframe.excitation.kinematics.integrate`, the one place it is
+    written."""
+    from pframe.excitation.kinematics import integrate
+
+    return integrate(acceleration, dt)
 
 
 def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion:
