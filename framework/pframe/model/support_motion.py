@@ -119,6 +119,7 @@ def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportM
                 warnings += list(shared.warnings)
             motion = shared
         motions.append(motion)
+    warnings += _mismatched_records(scene, motions)
     axes = tuple(a for a in ("x", "y") if any(a in m.samples for m in motions)) or ("x",)
     samples, given = {}, []
     for s, (name, motion) in enumerate(zip(supports.names, motions)):
@@ -139,6 +140,27 @@ def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportM
                                 f"{float(tau[s]):.4g} s")
     return SupportMotion(samples, axes, tuple(map(float, tau)), tuple(motions),
                          tuple(warnings), given=tuple(given))
+
+
+def _mismatched_records(scene, motions) -> list[str]:
+    """What says the records of supports with motions of their own differ in time step or
+    length: each is interpolated onto the analysis step and is at rest after its end, so the
+    supports' motions are not one array's recordings sampled alike."""
+    own = [(s, support.name, axis, record.times) for s, (support, motion)
+           in enumerate(zip(scene.supports, motions)) if support.excitation is not None
+           for axis, record in motion.records if len(record.times) > 1]
+    if len(own) < 2:
+        return []
+    steps = {round(float(t[1] - t[0]), 9) for *_, t in own}
+    ends = [float(t[-1]) for *_, t in own]
+    if len(steps) == 1 and max(ends) - min(ends) <= min(steps):
+        return []
+    listed = "; ".join(f"supports[{s}].excitation ({name}, {axis}): dt = {t[1] - t[0]:.4g} s, "
+                       f"ends at {t[-1]:.4g} s" for s, name, axis, t in own)
+    return [f"the supports' records differ in time step or length ({listed}): each is "
+            "interpolated onto the analysis step and is at rest after its end, so their "
+            "difference is not one array's recordings sampled alike; check that they are the "
+            "records meant"]
 
 
 def kinematics(ex) -> tuple[list, list, list]:
