@@ -93,6 +93,19 @@ def record_file(name: str) -> Path:
     return path
 
 
+def require_opensees() -> None:
+    """Skip the calling test module, saying why, when OpenSeesPy cannot be imported (a
+    missing liblapack surfaces as ImportError or OSError: either skips)."""
+    try:
+        import openseespy.opensees  # noqa: F401
+    except Exception as exc:  # pragma: no cover - depends on the machine
+        pytest.skip(
+            f"OpenSeesPy is not importable ({type(exc).__name__}: {exc}); install it with "
+            'pip install -e ".[peers]" and the system libblas3/liblapack3',
+            allow_module_level=True,
+        )
+
+
 def runnable_model(model: Path, folder: Path) -> Path:
     """``model`` itself, or, when it names a record that is not beside it, a copy of it in
     ``folder`` beside a link to the record of :data:`RECORDS` (skipped when absent there)."""

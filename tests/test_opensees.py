@@ -19,15 +19,9 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from conftest import require_opensees
 
-try:  # a missing liblapack surfaces as ImportError or OSError: skip on either, say why
-    import openseespy.opensees  # noqa: F401
-except Exception as exc:  # pragma: no cover - depends on the machine
-    pytest.skip(
-        f"OpenSeesPy is not importable ({type(exc).__name__}: {exc}); install it with "
-        'pip install -e ".[peers]" and the system libblas3/liblapack3',
-        allow_module_level=True,
-    )
+require_opensees()
 
 from pframe.assemble import assemble  # noqa: E402
 from pframe.kernel import simulate  # noqa: E402

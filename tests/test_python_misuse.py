@@ -45,6 +45,7 @@ FUNCTIONS = {
     "to_opensees": ["scene", "base_dir"],
     "summary": ["result", "output", "overwrite"],
     "impacts": ["result"],
+    "modes": ["scene", "count", "base_dir"],
     "plot": ["result", "quantity", "names", "level", "kind", "units", "dimensionless",
              "time_range", "ax", "fig"],
 }
@@ -84,6 +85,7 @@ def valid(tmp_path_factory):
         "to_opensees": {"scene": scene},
         "summary": {"result": ds},
         "impacts": {"result": ds},
+        "modes": {"scene": scene},
         "plot": {"result": ds, "quantity": "displacement"},
         "folder": folder,
     }

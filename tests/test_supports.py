@@ -470,3 +470,26 @@ def test_coherent_motions_conditioned_on_a_record():
     np.testing.assert_array_equal(g[:k, 0], 0.0)
     np.testing.assert_array_equal(g[k:, 0], applied[:-k])
     assert 0.0 < np.max(np.abs(g[:, 0] - g[:, 1]))
+
+
+def test_records_of_different_steps_or_lengths_at_two_supports_are_said(tmp_path):
+    """Supports with records of their own that differ in time step or in length are
+    interpolated onto the analysis step and at rest after their ends: the run says so,
+    naming each support's excitation, its step and its end; records sampled alike are
+    not warned of."""
+    t1, t2 = np.arange(0.0, 4.0 + 1e-9, 0.01), np.arange(0.0, 3.0 + 1e-9, 0.02)
+    for name, t in (("a.txt", t1), ("b.txt", t2), ("c.txt", t1)):
+        np.savetxt(tmp_path / name, np.column_stack([t, np.sin(7.0 * t)]))
+
+    def warnings_of(first, second):
+        supports = [dict(SUPPORTS[0], excitation={"kind": "record", "file": first}),
+                    dict(SUPPORTS[1], excitation={"kind": "record", "file": second})]
+        scene = pair(supports, duration=2.0)
+        scene.pop("excitation")
+        return parse_scene(json.dumps(scene), "s.yaml", tmp_path).expanded.warnings
+
+    said = [w for w in warnings_of("a.txt", "b.txt") if "differ in time step" in w]
+    assert len(said) == 1
+    assert "supports[0].excitation (west, x): dt = 0.01 s, ends at 4 s" in said[0]
+    assert "supports[1].excitation (east, x): dt = 0.02 s, ends at 3 s" in said[0]
+    assert not [w for w in warnings_of("a.txt", "c.txt") if "differ in time step" in w]

@@ -169,11 +169,27 @@ def test_variant_road_equals_the_scene_loader(tmp_path):
         assert mine.scene == theirs.scene, model.name
         a, b = mine.expanded, theirs.expanded
         for field in a.__dataclass_fields__:
-            x, y = getattr(a, field), getattr(b, field)
-            if isinstance(x, np.ndarray):
-                assert np.array_equal(x, y, equal_nan=x.dtype.kind == "f"), (model.name, field)
-            else:
-                assert x == y, (model.name, field)
+            assert _same(getattr(a, field), getattr(b, field)), (model.name, field)
+
+
+def _same(x, y):
+    """Equal to the bit (NaN where NaN), looking into the containers and dataclasses (a
+    support's motion holds arrays) that == cannot compare whole."""
+    if isinstance(x, np.ndarray):
+        return (isinstance(y, np.ndarray)
+                and np.array_equal(x, y, equal_nan=x.dtype.kind == "f"))
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        return type(x) is type(y) and all(
+            _same(getattr(x, f.name), getattr(y, f.name)) for f in dataclasses.fields(x))
+    if isinstance(x, dict):
+        return (isinstance(y, dict) and x.keys() == y.keys()
+                and all(_same(x[k], y[k]) for k in x))
+    if isinstance(x, (list, tuple)):
+        return (type(x) is type(y) and len(x) == len(y)
+                and all(_same(u, v) for u, v in zip(x, y)))
+    if isinstance(x, float) and isinstance(y, float):
+        return x == y or (math.isnan(x) and math.isnan(y))
+    return x == y
 
 
 @pytest.mark.slow

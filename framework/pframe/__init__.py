@@ -22,7 +22,7 @@ _API = {
     "load": "pframe.api", "solve": "pframe.api", "sweep": "pframe.sweep", "open": "pframe.api",
     "to_opensees": "pframe.api", "risk": "pframe.risk",
     "IncompleteRun": "pframe.api", "AccuracyWarning": "pframe.verdict",
-    "summary": "pframe.tables", "impacts": "pframe.demands",
+    "summary": "pframe.tables", "impacts": "pframe.demands", "modes": "pframe.modal",
     # figures (matplotlib: pip install "pframe[plot]"); pframe.plot and pframe.sweep are also
     # packages, made callable (pframe._callable)
     "plot": "pframe.plot",
@@ -46,7 +46,7 @@ __all__ = ["AccuracyWarning", "Analysis", "Building", "Contact", "Cycloidal", "E
            "EnvironmentFailure", "History", "IncompleteRun", "InitialConditions", "InputError",
            "Modal", "Newton", "Node", "Output", "OutputScales", "PframeError", "Rayleigh", "Record",
            "Ricker", "Scene", "Sine", "Stochastic", "Story", "StoryProperties", "__version__",
-           "impacts", "load", "open", "plot", "risk", "solve", "summary", "sweep", "to_opensees"]
+           "impacts", "load", "modes", "open", "plot", "risk", "solve", "summary", "sweep", "to_opensees"]
 __all__ += list(_INTEGRATORS.values())
 
 

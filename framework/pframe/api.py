@@ -405,13 +405,18 @@ def check_output(output, overwrite: bool, loaded=None) -> Path:
 
 
 def run_inputs(loaded) -> list[Path]:
-    """The files a loaded scene reads (the scene, its record): never an output."""
+    """The files a loaded scene reads (the scene, its records with their displacement and
+    velocity files): never an output."""
     inputs = []
     if loaded is not None:
         inputs.append(Path(str(loaded.source)))
-        excitation = getattr(loaded.scene, "excitation", None)
-        if getattr(excitation, "kind", None) == "record":
-            inputs.append(Path(loaded.base_dir) / excitation.file)
+        from pframe.model.scene import scene_motions
+
+        scene = loaded.scene
+        for motion in scene_motions(scene) if hasattr(scene, "excitation") else ():
+            if motion.kind == "record":  # its files, and each support's record's
+                inputs += [Path(loaded.base_dir) / name for name in
+                           (motion.file, motion.displacement, motion.velocity) if name]
     return inputs
 
 

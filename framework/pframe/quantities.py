@@ -27,8 +27,9 @@ QUANTITIES = {
     "point_drift": ("point", "m", "storey drift at a named plan point: the floor's point less "
                     "the same plan point of the floor below, along its building's x and y "
                     "axes"),
-    "ground_displacement": (None, "m", "ground displacement (the acceleration integrated "
-                            "twice by the trapezoid rule from rest)"),
+    "ground_displacement": (None, "m", "ground displacement (a record's displacement file, "
+                            "or the acceleration integrated twice by the trapezoid rule from "
+                            "rest)"),
     "contact_ground_displacement": ("contact", "m", "ground displacements' part of a "
                                     "contact's closing: the left side's support's less the "
                                     "right side's, along the normal (0 on one support)"),

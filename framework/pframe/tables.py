@@ -177,6 +177,7 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
                 rows.append((entity, name, "impacts", int(ds.impact_count.values[i]), "1"))
             if entity == "story":
                 rows += demands.get(name, [])
+            rows += _limit_rows(ds, entity, i, name)
     if why and not ductility:
         rows.append(("warning", "", "ductility not computed", why, ""))
     for name in ("peak_story_drift_ratio", "story_drift_ratio"):
@@ -185,6 +186,8 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
                          _text(ds[name].attrs["comment"]), ""))
             break
     rows += impact_rows + demand_warnings
+    for line in _text(ds.attrs.get("limits_exceeded", "")).splitlines():
+        rows.append(("warning", "", "limit exceeded", line, ""))
     for line in _text(ds.attrs.get("warnings", "")).splitlines():
         if line.strip():
             rows.append(("warning", "", "warning", line, ""))
@@ -192,6 +195,23 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
     if output is not None:
         write(table, output, overwrite)
     return table
+
+
+#: the limit variables of a result (pframe.limits) by entity, and the summary's words
+LIMIT_ROWS = {"story": (("story_drift_ratio_limit", "drift ratio limit"),
+                        ("story_drift_ratio_margin", "drift ratio margin"),
+                        ("story_drift_ratio_utilisation", "drift ratio utilisation")),
+              "node": (("floor_acceleration_limit", "acceleration limit"),
+                       ("floor_acceleration_margin", "acceleration margin"),
+                       ("floor_acceleration_utilisation", "acceleration utilisation"))}
+
+
+def _limit_rows(ds, entity: str, i: int, name: str) -> list[tuple]:
+    """The summary's rows of a storey's or floor's limit, margin and utilisation; NaN where
+    the demand is not defined (the file's comment says why)."""
+    return [(entity, name, quantity, float(ds[variable].values[i]),
+             _text(ds[variable].attrs.get("units", "")))
+            for variable, quantity in LIMIT_ROWS.get(entity, ()) if variable in ds]
 
 
 def _demands(ds) -> tuple[dict, list, list]:

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from pframe.model.plan import COMPONENTS
-from pframe.model.support_motion import integrated
+from pframe.model.support_motion import GROUND_QUANTITIES, kinematics
 
 
 def channel_index(ex, node: int, component: int) -> int:
@@ -49,14 +49,6 @@ def _terms(elements_of_members, ex_of_members) -> tuple[np.ndarray, np.ndarray, 
             np.array(coefs, dtype=float).reshape(len(elements_of_members), len(channel)))
 
 
-#: what a recorder reads of the ground's displacements
-GROUND_QUANTITIES = ("ground_displacement", "contact_ground_displacement")
-
-
-def _channels_of(ex) -> list:
-    """The one ground's samples along each of its channels ('x', 'y')."""
-    rows = {"x": ex.ground_acceleration, "y": ex.ground_acceleration_y}
-    return [rows[c] for c in ex.channels]
 
 
 def ground_fields(variants, spring_sets, recorded) -> dict:
@@ -70,11 +62,9 @@ def ground_fields(variants, spring_sets, recorded) -> dict:
     story = _terms(spring_sets, variants)
     contact = _terms([ex.contacts for ex in variants], variants)
     motion = []
-    for ex in variants:
-        samples = ex.support_samples if ex.support_samples is not None else _channels_of(ex)
-        pairs = [integrated(row, ex.dt) for row in samples]
-        motion.append(np.concatenate([np.array([d for _, d in pairs]),
-                                      np.array([v for v, _ in pairs])]))
+    for ex in variants:  # a record's files where given, else integrated from rest
+        displacement, velocity, _ = kinematics(ex)
+        motion.append(np.concatenate([np.array(displacement), np.array(velocity)]))
     return dict(story_ground_start=story[0], story_ground_channel=story[1],
                 story_ground_coef=story[2], contact_ground_start=contact[0],
                 contact_ground_channel=contact[1], contact_ground_coef=contact[2],

@@ -158,11 +158,17 @@ def directions(ex, b: int, phi: np.ndarray) -> list[str]:
     largest of its participation along the site's x and y and in twist, each over its total
     (p_d^2 / sum m_d with p_d = phi^T M iota_d, phi normalised on the masses)."""
     keys, masses = building_keys(ex, b)
+    return direction_names(np.array([k[1] for k in keys]), masses, phi)
+
+
+def direction_names(components: np.ndarray, masses: np.ndarray, phi: np.ndarray) -> list[str]:
+    """:func:`directions` of modes ``phi`` (columns) over DOFs of ``components`` (0 u_x,
+    1 u_y, 2 theta; any other: none of the three) and ``masses``."""
     out = []
     for mode in np.asarray(phi).T:
         shares = []
         for c in range(3):
-            on = np.array([k[1] == c for k in keys])
+            on = components == c
             total = float(np.sum(masses[on]))
             shares.append((float(mode[on] @ masses[on]) ** 2 / total) if total > 0 else 0.0)
         out.append(("x", "y", "torsion")[int(np.argmax(shares))])

@@ -7,7 +7,7 @@ stays fast and a command never pays for another's imports.
 """
 
 #: sub-command modules, in the order ``pframe --help`` lists them
-COMMANDS = ("solve", "validate", "schema", "pi", "expand", "scale", "plot", "accuracy", "sweep",
+COMMANDS = ("solve", "validate", "modes", "schema", "pi", "expand", "scale", "plot", "accuracy", "sweep",
             "gap", "risk", "compile", "opensees", "summary", "export", "animate")
 
 

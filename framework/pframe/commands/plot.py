@@ -59,7 +59,7 @@ def _plot(args) -> int:
     written = save(figs, output, title=f"pframe plot {args.result}",
                    overwrite=args.overwrite, inputs=[args.result])
     if not args.quiet:
-        levels = [k for k in figs if k not in ("links", "torsion")]
+        levels = [k for k in figs if k not in ("links", "torsion", "supports")]
         what = " and ".join(([f"level{'s' if len(levels) > 1 else ''} {', '.join(levels)}"]
                              if levels else []) + [k for k in figs if k not in levels])
         print(f"{args.result}: {len(figs)} figure{'s' if len(figs) > 1 else ''} "
@@ -143,13 +143,15 @@ def register(sub) -> None:
                            "(FIGURE-<level>.png for several levels); default: RESULT's name "
                            "with .pdf")
     plot.add_argument("--kind", choices=("all", "histories", "hysteresis", "pounding", "links",
-                                         "torsion"),
+                                         "torsion", "supports"),
                       default=None,
                       help="panels to draw (default: all); pounding: per contact, the relative "
                            "displacement of its nodes against the gap, closing shaded, "
                            "impacts marked; links: every link's force history and its force "
                            "against its deformation; torsion (buildings in plan): each "
-                           "storey's torsional irregularity ratio against 1.2 and 1.4")
+                           "storey's torsional irregularity ratio against 1.2 and 1.4; "
+                           "supports: each support's ground acceleration and displacement and "
+                           "each contact's relative ground displacement")
     plot.add_argument("--story", action="append", metavar="N",
                       help="draw floor level N only (repeat for several; default: every level)")
     plot.add_argument("--time-range", nargs=2, type=float, metavar=("START", "END"),

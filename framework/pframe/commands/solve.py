@@ -185,6 +185,12 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
                        f"{' ...' if len(missing) > 4 else ''} (no height)" if missing else "")
             print(f"  peak drift ratio {100 * ratios[r]:.3g} % at {plan.story_names[r]} "
                   f"(height {heights[r]:.4g} m){without}")
+    if getattr(loaded.scene, "limits", None) is not None:
+        from pframe.limits import evaluate
+
+        for line in evaluate(loaded.expanded, plan, loaded.scene.limits,
+                             result.envelope).lines():
+            print(f"  {line}")
     shear = result.column_shear(0)
     for c, name in enumerate(plan.contact_names):
         force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""

@@ -37,16 +37,18 @@ def record_lines(loaded) -> list[str]:
     the PGA after every scaling and when it occurs, what part the analysis covers; a motion in
     two components and the motions of the supports, each described. ``pframe solve`` prints
     them too."""
+    from pframe.model.support_motion import displacement_lines
+
     excitation = loaded.scene.excitation
+    ex = loaded.expanded
     if loaded.scene.supports:
-        return support_lines(loaded)
+        return support_lines(loaded) + displacement_lines(ex)
     if excitation is None or excitation.kind not in ("record", "components"):
-        return []
+        return displacement_lines(ex)
     from pframe.model.motion import GroundMotion
 
-    ex = loaded.expanded
     ground = GroundMotion({}, ex.record, tuple(ex.component_records))
-    return motion_lines(excitation, ground, loaded)
+    return motion_lines(excitation, ground, loaded) + displacement_lines(ex)
 
 
 def motion_lines(excitation, ground, loaded) -> list[str]:

@@ -253,3 +253,43 @@ def _units(path: Path, header: list[str], units: str | None, is_at2: bool,
             f"of {UNITS[found] / UNITS[units]:.6g} between them. Remove excitation.units to "
             "read the file as its header says, or correct the one that is wrong")
     return found, f"header, line {line}", written
+
+
+#: the units of a record's displacement and velocity files in m and m/s (PEER NGA's .DT2 and
+#: .VT2 files state cm and cm/s: DISPLACEMENT TIME SERIES IN UNITS OF CM)
+SERIES_UNITS = {"displacement": {"M": 1.0, "CM": 0.01, "MM": 0.001, "IN": 0.0254,
+                                 "FT": 0.3048},
+                "velocity": {"M/S": 1.0, "CM/S": 0.01, "MM/S": 0.001, "IN/S": 0.0254,
+                             "FT/S": 0.3048}}
+#: the suffixes of PEER's displacement and velocity files
+SERIES_SUFFIXES = {"displacement": ".dt2", "velocity": ".vt2"}
+
+
+def read_series(path: str | Path, quantity: str, within=None) -> tuple[np.ndarray, np.ndarray,
+                                                                       str]:
+    """Times (s), values (m or m/s) and the units read of a record's ``quantity`` file
+    ('displacement': PEER .DT2, 'velocity': .VT2, or two columns), read as
+    :func:`read_record` reads an acceleration: PEER's header (NPTS, DT) for its suffix in any
+    case, else two columns; the units its header states (PEER: cm, cm/s), else m or m/s for
+    two columns and cm or cm/s for PEER's. Raises ValueError naming the file and line,
+    FileNotFoundError."""
+    path = Path(path)
+    text = read_bounded(path, "record", MAX_RECORD_BYTES, errors="replace")
+    peer = path.suffix.lower() == SERIES_SUFFIXES[quantity]
+    shown = _inside(path, within)
+    times, values, header = (_read_at2 if peer else _read_columns)(text, str(path), shown)
+    if not (np.all(np.isfinite(times)) and np.all(np.isfinite(values))):
+        raise ValueError(f"{path}: a value of the {quantity} is not a finite number")
+    known = SERIES_UNITS[quantity]
+    stated = header_units(header)
+    if stated is None:
+        units = ("CM" if quantity == "displacement" else "CM/S") if peer else \
+            ("M" if quantity == "displacement" else "M/S")
+    else:
+        written = stated[2].upper().replace(" ", "").replace("SECOND", "S").replace("SEC", "S")
+        units = written.rstrip("S") if written.rstrip("S") in known else written
+        if units not in known:
+            raise ValueError(f"{path}, line {stated[1]}: the header states the units "
+                             f"{_quoted(stated[2], shown)}, which are not units of {quantity} "
+                             f"pframe reads ({', '.join(u.lower() for u in known)})")
+    return times, values * known[units], units.lower()

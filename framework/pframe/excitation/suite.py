@@ -24,6 +24,14 @@ motion each) as a scene's ``kind: components`` is, or one record along a directi
       - {x: {model: rezaeian2010, ...}, y: {model: rezaeian2010, ...}, angle: 30,
          seeds: [[11, 12], [13, 14]]}
 
+For a scene on supports an entry may give a record per support, and the suite simulations
+of the scene's coherent motions (docs/supports.md#suites-of-a-motion-per-support;
+:mod:`pframe.gap.members` resolves them on the scene)::
+
+    records:
+      - {supports: {west: RSN6_IMPVALL.I_I-ELC180.AT2, east: RSN6_IMPVALL.I_I-E06230.AT2}}
+    coherent: {realisations: 20}
+
 The intensity of a pair is its maximum-direction value (RotD100: the peak of the horizontal
 vector of the two, of the ground accelerations for the PGA and of the oscillators'
 displacements for Sa), which ASCE 7-22 (11.4, 16.2) defines its spectra in; both
@@ -33,6 +41,7 @@ components take one scale factor.
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -67,9 +76,18 @@ class RecordEntry(_Base):
                                 "counter-clockwise; docs/gap-audit.md#suites-in-plan).")
     angles: list[Annotated[float, Field(allow_inf_nan=False)]] | None = Field(
         None, min_length=1, description="Several angles instead of angle: one motion each.")
+    supports: dict[str, str] | None = Field(
+        None, min_length=1, description="A record per support of a scene on supports "
+        "(support name -> file, docs/supports.md#suites-of-a-motion-per-support): one member "
+        "whose intensity is its first support's; give no file, x or y with it.")
 
     @model_validator(mode="after")
     def _one_form(self):
+        if self.supports is not None:
+            if self.file is not None or self.x is not None or self.y is not None:
+                raise ValueError("give supports (a record per support) or file, or x and y, "
+                                 "not both")
+            return self
         pair = self.x is not None or self.y is not None
         if pair and self.file is not None:
             raise ValueError("give file (one record) or x and y (a pair), not both")
@@ -84,7 +102,9 @@ class RecordEntry(_Base):
 
     @property
     def files(self) -> tuple[str, ...]:
-        """The record files the entry reads (one, or a pair's two)."""
+        """The record files the entry reads (one, a pair's two, or one per support)."""
+        if self.supports is not None:
+            return tuple(self.supports.values())
         return (self.file,) if self.file is not None else (self.x, self.y)
     scale: float = Field(1.0, gt=0, allow_inf_nan=False, description="Factor on the record "
                          "(used when the suite is not scaled to levels).")
@@ -104,6 +124,15 @@ class Measure(_Base):
     damping: float = Field(0.05, ge=0, lt=1, description="Sa's damping ratio.")
 
 
+class CoherentEntry(_Base):
+    """Simulations of a scene's coherent motions (``excitation: {kind: coherent}``), one
+    member each."""
+
+    realisations: int = Field(ge=1, le=100000, description="How many: member i (its place "
+                              "in the suite, from 0) is the scene's simulation with seed "
+                              "seed + i.")
+
+
 class SuiteFile(_Base):
     """A suite of ground motions."""
 
@@ -112,6 +141,9 @@ class SuiteFile(_Base):
     stochastic: list[dict] = Field(default_factory=list, description="Stochastic motions: "
                                    "the fields of a scene's stochastic excitation (without "
                                    "kind) and seeds (a list of seeds, one motion each).")
+    coherent: CoherentEntry | None = Field(None, description="Members simulated as a scene "
+                                           "on supports with a coherent excitation says "
+                                           "(docs/supports.md#suites-of-a-motion-per-support).")
     measure: Measure = Field(Measure(), description="Intensity measure of the levels.")
     levels: list[Annotated[float, Field(gt=0, allow_inf_nan=False)]] | None = Field(
         None, description="Target intensities (g); each record is scaled to each level.")
@@ -150,6 +182,14 @@ class GroundMotion:
     second_source: str = ""
     #: the whole motion's extent, when ``time`` holds only its beginning (:meth:`cut`)
     extent: Extent | None = None
+    #: a motion per support ((support name, GroundMotion), ...; docs/supports.md): the
+    #: member's own samples are its first support's (its intensity); empty: one motion
+    at_supports: tuple = ()
+    #: where the suite gives it (file, line, field), for messages
+    where: str = ""
+    #: a simulation of the scene's coherent motions still to be made (its place in the
+    #: suite says its seed; pframe.gap.members)
+    coherent: bool = False
 
     @property
     def dt(self) -> float:
@@ -157,8 +197,9 @@ class GroundMotion:
 
     @property
     def duration(self) -> float:
-        """The whole motion's duration (s)."""
-        return self.extent.duration if self.extent is not None else float(self.time[-1])
+        """The whole motion's duration (s): its own, or its supports' longest."""
+        own = self.extent.duration if self.extent is not None else float(self.time[-1])
+        return max([own] + [m.duration for _, m in self.at_supports])
 
     @property
     def peak(self) -> float:
@@ -175,14 +216,22 @@ class GroundMotion:
 
     def cut(self, until: float) -> GroundMotion:
         """The motion kept only as far as times up to ``until`` (s) read it (on_grid and
-        on_site give the same numbers there), with its whole extent."""
+        on_site give the same numbers there), with its whole extent. (A motion per support
+        keeps its supports' whole.)"""
         keep = int(np.searchsorted(self.time, until, side="left")) + 1
         if keep >= self.time.size:
             return self
-        extent = Extent(self.duration, self.peak_time, self.peak)
+        own = self.extent.duration if self.extent is not None else float(self.time[-1])
+        extent = Extent(own, self.peak_time, self.peak)
         return dataclasses.replace(
             self, time=self.time[:keep].copy(), acceleration=self.acceleration[:keep].copy(),
             second=None if self.second is None else self.second[:keep].copy(), extent=extent)
+
+    @property
+    def sources(self) -> tuple[str, ...]:
+        """The files it reads."""
+        return tuple(f for m in (self,) + tuple(m for _, m in self.at_supports)
+                     for f in (m.source, m.second_source) if f)
 
     @property
     def loads_y(self) -> bool:
@@ -306,8 +355,40 @@ def _turned(motion: GroundMotion, angles: list[float], given: bool) -> list[Grou
             for a in angles]
 
 
-def _entry_motions(entry: RecordEntry, folder: Path, where: str) -> list[GroundMotion]:
-    """The motions of a suite's record entry: one record, or a pair, at each of its angles."""
+def _support_motion(entry: RecordEntry, folder: Path, where) -> GroundMotion:
+    """A member with a record per support (``entry.supports``; ``where(*path)`` the place of
+    a field in the suite): each support's record read as a suite's record is, all on one
+    step; the member's own samples are its first support's."""
+    parts, step = [], None
+    for name, file in entry.supports.items():
+        at = where("supports", name)
+        t, a, path = _read(file, entry, folder, at)
+        motion = GroundMotion(Path(file).name, t, a, path, where=at)
+        steps = np.diff(t)
+        if not np.allclose(steps, steps[0], rtol=1e-6, atol=0):
+            raise InputError(f"{at}: {file} is not sampled on an even step; the records of a "
+                             "motion per support share one step")
+        if step is None:
+            step, first = float(steps[0]), name
+        elif not math.isclose(float(steps[0]), step, rel_tol=1e-6):
+            raise InputError(f"{at}: {file} is sampled every {float(steps[0]):g} s and "
+                             f"{first}'s record every {step:g} s; the records of a motion per "
+                             "support share one step (resample one of them)")
+        parts.append((name, motion))
+    head = parts[0][1]
+    name = "+".join(f"{s}={m.name}" for s, m in parts)
+    return GroundMotion(name, head.time, head.acceleration, head.source,
+                        at_supports=tuple(parts), where=where())
+
+
+def _entry_motions(entry: RecordEntry, folder: Path, where: str, at=None) -> list[GroundMotion]:
+    """The motions of a suite's record entry: one record, or a pair, at each of its angles;
+    or a record per support (``at(*path)``: where a field of the entry is)."""
+    if entry.supports is not None:
+        if entry.angle is not None or entry.angles is not None:
+            raise InputError(f"{where}: a record per support moves the ground along the "
+                             "site's x axis; angle and angles are for one record or a pair")
+        return [_support_motion(entry, folder, at or (lambda *p: where))]
     angles, given = _angles(entry, where)
     if entry.file is not None:
         return _turned(_entry_motion(entry, folder, where), angles, given)
@@ -364,7 +445,10 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
     motions = []
     for i, item in enumerate(model.records):
         entry = RecordEntry(file=item) if isinstance(item, str) else item
-        motions += _entry_motions(entry, base, _where(str(path), lines, ("records", i)))
+        where = _where(str(path), lines, ("records", i))
+        motions += [m if m.where else dataclasses.replace(m, where=where) for m in
+                    _entry_motions(entry, base, where, lambda *p, i=i: _where(
+                        str(path), lines, ("records", i) + p))]
     if model.folder is not None:
         folder = base / model.folder
         if not folder.is_dir():
@@ -374,7 +458,13 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
             motions.append(_entry_motion(RecordEntry(file=str(file.relative_to(base))),
                                          base, _where(str(path), lines, ("folder",))))
     for i, item in enumerate(model.stochastic):
-        motions += stochastic_motions(item, _where(str(path), lines, ("stochastic", i)))
+        where = _where(str(path), lines, ("stochastic", i))
+        motions += [dataclasses.replace(m, where=where) for m in stochastic_motions(item, where)]
+    if model.coherent is not None:
+        at = _where(str(path), lines, ("coherent",))
+        motions += [GroundMotion(f"coherent#{k + 1}", np.zeros(2), np.zeros(2), "", where=at,
+                                 coherent=True)
+                    for k in range(model.coherent.realisations)]
     if not motions:
         raise InputError(f"{path}: the suite names no records (give records or a folder of "
                          ".AT2 files)")

@@ -14,7 +14,7 @@ import numpy as np
 
 from pframe.errors import InputError, given, option
 from pframe.excitation.suite import GroundMotion, Measure, Suite, load_suite, scale_factors, suite_from_files
-from pframe.gap import runs
+from pframe.gap import members, runs
 
 
 @dataclasses.dataclass(frozen=True)
@@ -36,6 +36,16 @@ class AuditInputs:
     #: the site's axes the runs' ground motions load ('x', and 'y' for a scene in plan
     #: under two components or a motion at an angle)
     channels: tuple[str, ...] = ("x",)
+    #: how the members reach a scene's supports (pframe.gap.members); None: one ground
+    supports: object = None
+
+    def motion(self, record: int, times: np.ndarray) -> np.ndarray:
+        """(C, len(times)) record ``record`` as given (unscaled) on ``times`` (s): along the
+        runs' ``channels``, or at each support along each (pframe.gap.members)."""
+        motion = self.suite.motions[record]
+        if self.supports is not None:
+            return self.supports.rows(motion, times)
+        return motion.on_site(times, self.channels)
 
     @property
     def count(self) -> int:
@@ -48,21 +58,24 @@ class AuditInputs:
         steps = self.steps if steps is None else int(steps)
         times = np.arange(steps + 1) * (self.dt if dt is None else dt)
         levels = self.factors.shape[1]
-        out = np.empty((len(variants), len(self.channels), steps + 1))
+        out = None
         cache: dict[int, np.ndarray] = {}
         for k, v in enumerate(variants):
             r, j = divmod(int(v), levels)
             if r not in cache:
-                cache = {r: self.suite.motions[r].on_site(times, self.channels)}
+                cache = {r: self.motion(r, times)}
+            if out is None:
+                out = np.empty((len(variants),) + cache[r].shape)
             out[k] = self.factors[r, j] * cache[r]
-        return out
+        return out if out is not None else np.empty((0, len(self.channels), steps + 1))
 
     def digest(self, options: str) -> str:
         from pframe.sweep.spec import code_fingerprint
 
         h = hashlib.sha256()
         h.update(self.loaded.text.encode())
-        for m in self.suite.motions:
+        for m in (n for member in self.suite.motions
+                  for n in (member, *(p for _, p in member.at_supports))):
             h.update(m.name.encode())
             h.update(np.ascontiguousarray(m.time).tobytes())
             h.update(np.ascontiguousarray(m.acceleration).tobytes())
@@ -93,13 +106,19 @@ def parse_measure(measure) -> Measure | None:
 
 def _scene_motion(loaded) -> GroundMotion:
     ex = loaded.expanded
-    if loaded.scene.excitation is None:
+    moved = members.several(loaded) and any(s.excitation is not None
+                                            for s in loaded.scene.supports)
+    if loaded.scene.excitation is None and not moved:
         raise InputError(f"{loaded.source}: the scene has no excitation; give a suite of "
                          "records (--suite) or an excitation in the scene")
-    kind = loaded.scene.excitation.kind
-    name = Path(loaded.scene.excitation.file).name if kind == "record" else kind
-    if kind == "stochastic":
-        name = f"{loaded.scene.excitation.model}-seed{loaded.scene.excitation.seed}"
+    excitation = loaded.scene.excitation
+    kind = excitation.kind if excitation is not None else "supports"
+    name = Path(excitation.file).name if kind == "record" else kind
+    if kind in ("stochastic", "coherent"):
+        name = (f"{excitation.model}-seed{excitation.seed}" if kind == "stochastic"
+                else f"coherent-seed{excitation.seed}")
+    if members.several(loaded):  # each support's motion as the scene gives it
+        return members.own_member(loaded, name)
     times = np.arange(ex.steps + 1) * ex.dt
     # two components: the scene's samples along the site's x and y (already turned)
     second = None if ex.ground_acceleration_y is None else ex.ground_acceleration_y.copy()
@@ -121,7 +140,7 @@ def run_channels(loaded, suite: Suite, own: bool) -> tuple[str, ...]:
     components, a motion the suite does not place on the site (a plain record, a folder's
     files, a stochastic entry without an angle) is refused: it could mean either axis, or
     the pair it came from."""
-    if not own and "y" in loaded.expanded.channels:
+    if not own and "y" in loaded.expanded.axes:
         loose = [m.name for m in suite.motions if not m.directed]
         if loose:
             raise InputError(
@@ -129,7 +148,7 @@ def run_channels(loaded, suite: Suite, own: bool) -> tuple[str, ...]:
                 f"{' ...' if len(loose) > 4 else ''}: the scene {loaded.source} is shaken in "
                 "two components, and these motions do not say how they stand on the site (they "
                 f"could mean either axis, or half of a pair); {DIRECTED}")
-    if "y" in loaded.expanded.channels or any(m.loads_y for m in suite.motions):
+    if "y" in loaded.expanded.axes or any(m.loads_y for m in suite.motions):
         return ("x", "y")
     return ("x",)
 
@@ -202,8 +221,6 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
         levels = [float(x) for x in levels]
         if not levels or any(not (x > 0 and math.isfinite(x)) for x in levels):
             raise InputError(f"--levels {levels}: intensity levels are positive numbers (g)")
-    by_building = dict(zip(plan.buildings, periods))
-    level_values, factors, ims = scale_factors(suite, by_building, levels)
     if dt is not None and not (dt > 0 and math.isfinite(dt)):
         raise InputError(f"--dt {dt}: the time step is a number > 0 (s)")
     if own and dt is not None and dt != loaded.expanded.dt:
@@ -220,14 +237,18 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
         remedy = ("leave out --duration (the default runs the longest record plus three "
                   "first periods) or give at least the record's length")
         if duration is None:
-            longest = max(m.duration for m in suite.motions)
+            longest = max(members.duration(loaded, m) for m in suite.motions)
             duration = longest + runs.TAIL_PERIODS * float(np.max(periods[np.isfinite(periods)]))
         steps = int(math.ceil(duration / dt - 1e-9))
+    # a motion per support, simulations made: the intensities are the reference supports'
+    suite, on_supports, simulated = members.resolve(loaded, suite, channels, steps, dt, own)
+    by_building = dict(zip(plan.buildings, periods))
+    level_values, factors, ims = scale_factors(suite, by_building, levels)
     ends, peaks = _record_extent(loaded, suite, own)
-    warnings = cut_warnings(suite.names, ends, peaks, steps * dt, dt, remedy)
+    warnings = cut_warnings(suite.names, ends, peaks, steps * dt, dt, remedy) + list(simulated)
     return AuditInputs(loaded, pairs, suite, np.asarray(level_values, float), factors, ims,
                        steps, dt, periods, damping, levels is not None or suite.levels is not None,
-                       tuple(warnings), channels)
+                       tuple(warnings), channels, on_supports)
 
 
 class _Definition:
@@ -299,7 +320,7 @@ def audit(scene, suite=None, *, gap: float | None = None, levels=None, measure=N
         from pframe.api import run_inputs
 
         reads = [*run_inputs(inputs.loaded), inputs.suite.source,
-                 *(f for m in inputs.suite.motions for f in (m.source, m.second_source))]
+                 *(f for m in inputs.suite.motions for f in m.sources)]
         output = outputs.check_output(output, inputs=[r for r in reads if r],
                                       overwrite=overwrite, what="audit file")
     count = inputs.count
@@ -364,7 +385,7 @@ def _run_chunks(inputs: AuditInputs, chunk: int, output, threads, progress,
                     progress(offset + size * step / total, count)
 
             arrays = runs.run_batch(inputs.loaded, inputs.pairs, acc, inputs.steps, inputs.dt,
-                                    threads, report if progress else None)
+                                    threads, report if progress else None, inputs.channels)
             if parts is not None:
                 parts.save(c, arrays)
             done[c] = arrays

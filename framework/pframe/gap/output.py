@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pframe.gap import members
 from pframe.gap.fragility import fit_lognormal
 
 #: the statistics over the suite
@@ -27,12 +28,15 @@ def _statistics(values: np.ndarray) -> np.ndarray:
 def measure_label(inputs) -> str:
     m = inputs.suite.measure
     if m.kind == "pga":
-        return "PGA"
+        return ("PGA" if getattr(inputs, "supports", None) is None else
+                "PGA at each record's reference support (record_intensity_support)")
     try:
         period = f"{float(m.period):g} s"
     except ValueError:
         period = f"T_1 of {m.period}"
-    return f"Sa({period}, {100 * m.damping:g} %)"
+    label = f"Sa({period}, {100 * m.damping:g} %)"
+    return label if getattr(inputs, "supports", None) is None else \
+        f"{label} at each record's reference support (record_intensity_support)"
 
 
 def build_dataset(inputs, rows: dict, gap: float | None = None, en_coincident: bool = False,
@@ -190,6 +194,12 @@ def _scene_variables(inputs, geometry) -> dict:
             [m.duration for m in inputs.suite.motions], dtype=float), {
             "units": "s", "long_name": "time of the record's last sample (every run goes on "
             "to the analysed duration: free vibration after its record)"}),
+        **({} if inputs.supports is None else {"record_intensity_support": (
+            ("record",), np.array([members.reference(m) for m in inputs.suite.motions],
+                                  dtype=object), {
+                "long_name": "the support whose motion the record's intensity is of, every "
+                "support's scaled by its one factor (docs/supports.md#suites-of-a-motion-"
+                "per-support)"})}),
     }
 
 

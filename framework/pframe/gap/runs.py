@@ -84,10 +84,11 @@ def for_runs(loaded, channels: tuple[str, ...] = ("x",), contacts: bool = False)
     from pframe.model.scene import Components, Sine
 
     zero = Components(x=Sine(amplitude=0.0, frequency=1.0)) if "y" in channels else None
-    carried = _carried_by_passage(loaded, zero) if loaded.scene.supports else zero
-    if contacts and ("y" not in channels or "y" in loaded.expanded.axes):
+    update = {"excitation": zero}
+    if loaded.scene.supports:
+        update.update(_at_supports(loaded, zero))
+    elif contacts and ("y" not in channels or "y" in loaded.expanded.axes):
         return loaded.expanded
-    update = {"excitation": carried}
     if not contacts:
         update["contacts"] = []
     try:
@@ -100,26 +101,30 @@ def for_runs(loaded, channels: tuple[str, ...] = ("x",), contacts: bool = False)
         raise InputError(f"{loaded.where(exc.path)}: {exc.message}{why}") from None
 
 
-def _carried_by_passage(loaded, motion):
-    """A scene on supports run under a suite's motions (docs/supports.md): each member's
-    motion reaches the supports as the scene's wave passage carries it, each support with
-    its delay; supports with motions of their own take no suite."""
+def _at_supports(loaded, motion) -> dict:
+    """The scene's changes to run it on its supports under a suite's motions
+    (docs/supports.md): a wave passage keeps its delays (a motion given along the site's
+    axes alone reaches each support with its delay, :meth:`Expanded.with_ground`); any other
+    scene stands under the same zero motion at every support, its supports' own motions
+    left out, each member replacing every support's motion (:meth:`Expanded.with_supports`,
+    pframe.gap.members)."""
     from pframe.model.scene import Sine, WavePassage
 
     scene = loaded.scene
-    own = [s.name for s in scene.supports if s.excitation is not None]
+    motion = motion or Sine(amplitude=0.0, frequency=1.0)
     passage = scene.excitation
-    if own or passage is None or passage.kind != "wave_passage":
-        raise InputError(
-            f"{loaded.source}: the scene stands on supports "
-            + (f"whose motions are their own ({', '.join(own)})" if own else
-               "without a wave passage") + ": a gap audit or a risk study runs it under "
-            "the motions of a suite, one per run, which reach its supports as a wave "
-            "passage carries them; give the scene excitation: {kind: wave_passage, "
-            "velocity: ..., motion: ...} (its motion stands for the suite's) and no "
-            "support a motion of its own")
-    return WavePassage(motion=motion or Sine(amplitude=0.0, frequency=1.0),
-                       velocity=passage.velocity, direction=passage.direction)
+    if passage is not None and passage.kind == "wave_passage":
+        return {"excitation": WavePassage(motion=motion, velocity=passage.velocity,
+                                          direction=passage.direction)}
+    return {"excitation": motion,
+            "supports": [s.model_copy(update={"excitation": None}) for s in scene.supports]}
+
+
+def axes_of(accelerations, axes=None) -> tuple[str, ...]:
+    """The site's axes the runs load: ``axes`` when the caller knows them (rows at each of
+    a scene's supports, pframe.gap.members), else those of ``accelerations``' rows (B, C,
+    steps + 1), along x (and y)."""
+    return tuple(axes) if axes is not None else ("x", "y")[:on_channels(accelerations).shape[1]]
 
 
 def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -202,20 +207,24 @@ def on_channels(accelerations: np.ndarray) -> np.ndarray:
 
 def under(base, accelerations) -> list:
     """``base`` (an Expanded scene) under each ground motion of ``accelerations`` (B, C,
-    steps + 1) or (B, steps + 1): along its x axis, and its y axis when C is 2."""
-    return [base.with_ground(a[0], a[1] if len(a) > 1 else None)
+    steps + 1) or (B, steps + 1): along its x axis, and its y axis when C is 2; on several
+    supports, C a row per channel (support and axis) replaces every support's motion."""
+    several = base.support_samples is not None
+    return [base.with_supports(a) if several and len(a) == len(base.channels)
+            and len(base.channels) > len(base.axes)
+            else base.with_ground(a[0], a[1] if len(a) > 1 else None)
             for a in on_channels(accelerations)]
 
 
 def batch_plan(loaded, accelerations: np.ndarray, steps: int, contacts_gaps=None,
-               dt: float | None = None):
+               dt: float | None = None, axes=None):
     """The batch plan: one member per motion of ``accelerations`` ((B, steps + 1) along x, or
     (B, C, steps + 1) along the site's x and y) on the scene's time step; without contacts,
     or (for checks) with the scene's contacts at ``contacts_gaps`` (B, c); ``dt`` (s)
-    replaces the scene's step."""
+    replaces the scene's step; ``axes``: see :func:`axes_of`."""
     from pframe.assemble import assemble_batch
 
-    channels = ("x", "y")[:on_channels(accelerations).shape[1]]
+    channels = axes_of(accelerations, axes)
     if contacts_gaps is None:
         ex = for_runs(loaded, channels)
         recorders = (Envelope(kind="envelope", quantities=["displacement"]),
@@ -330,12 +339,13 @@ class GapSink:
 
 
 def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
-              threads: int | None = None, progress=None) -> dict[str, np.ndarray]:
+              threads: int | None = None, progress=None, axes=None) -> dict[str, np.ndarray]:
     """Run the no-contact batch; per member: peak |u| of the left and right floor of each
-    contact level, g_req = max_t (u_left - u_right) (not clipped), and the run's status."""
+    contact level, g_req = max_t (u_left - u_right) (not clipped), and the run's status;
+    ``axes``: see :func:`axes_of`."""
     from pframe.kernel import simulate
 
-    plan = batch_plan(loaded, accelerations, steps, dt=dt)
+    plan = batch_plan(loaded, accelerations, steps, dt=dt, axes=axes)
     sink = GapSink(plan, pairs)
     result = simulate(plan, threads=threads, sink=sink,
                       progress=(lambda done, total: progress(done, total)) if progress else None)

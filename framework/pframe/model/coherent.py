@@ -6,6 +6,7 @@ motions cut to the analysis."""
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -22,7 +23,7 @@ def _coherency(given):
     return HarichandranVanmarcke(given.amplitude, given.alpha, given.k, given.f0, given.b)
 
 
-def _spectrum(motion, path):
+def shared_spectrum(motion, path):
     """(spectrum, modulating function q(t) or None, duration (s)) of the stochastic motion
     every support shares."""
     from pframe.excitation import stochastic
@@ -55,9 +56,22 @@ def _spectrum(motion, path):
             shape.energy_time(stochastic.ENERGY_COVERED))
 
 
-def coherent_motions(scene, supports, base_dir, steps: int, dt: float):
-    """(S, steps + 1) each support's acceleration at the analysis steps (m/s^2), each
-    support's delay (s) and the generators' notes."""
+class CoherentMotions(NamedTuple):
+    """What :func:`coherent_motions` gives."""
+
+    acceleration: np.ndarray  # (S, steps + 1) m/s^2
+    delays: tuple
+    notes: tuple
+    description: str
+    lasts: float  # how long the simulated motions last (s), the analysis or not
+
+
+def coherent_motions(scene, supports, base_dir, steps: int, dt: float, record=None,
+                     seed: int | None = None):
+    """Each support's acceleration at the analysis steps (m/s^2), its delay (s) and the
+    generators' notes (:class:`CoherentMotions`). ``record`` (m/s^2 at the analysis steps)
+    replaces the excitation's record at its support ``at``, and ``seed`` its seed: a suite's
+    member run on the scene (pframe.gap.members)."""
     from pframe.excitation.coherency import SoilColumn, WavePassage
     from pframe.excitation.conditioned import conditioned
     from pframe.excitation.simulated import simulate
@@ -71,20 +85,28 @@ def coherent_motions(scene, supports, base_dir, steps: int, dt: float):
     sites = [None if s.site is None else SoilColumn(s.site.frequency, s.site.damping,
                                                     s.site.kind) for s in scene.supports]
     positions = [tuple(p) for p in supports.positions]
+    seed = excitation.seed if seed is None else int(seed)
     try:
-        if excitation.record is not None:
+        if excitation.record is not None or record is not None:
             if excitation.at not in supports.names:
                 raise ModelError(path + ("at",), f"no support named {excitation.at!r}; the "
                                  f"supports are {', '.join(supports.names)}")
-            recorded = ground_motion(excitation.record, base_dir, steps, dt, path + ("record",))
-            found = conditioned(recorded.samples["x"], dt, positions, coherency,
+            if record is None:
+                if excitation.record.displacement is not None:
+                    raise ModelError(path + ("record", "displacement"), "the supports of a "
+                                     "coherent simulation move by their simulated "
+                                     "accelerations integrated from rest; a record's "
+                                     "displacement file is not read here (leave it out)")
+                record = ground_motion(excitation.record, base_dir, steps, dt,
+                                       path + ("record",)).samples["x"]
+            found = conditioned(record, dt, positions, coherency,
                                 recorded=supports.names.index(excitation.at),
-                                seed=excitation.seed, wave=wave, sites=sites,
+                                seed=seed, wave=wave, sites=sites,
                                 highpass=excitation.motion.highpass)
         else:
-            spectrum, envelope, duration = _spectrum(excitation.motion, path + ("motion",))
+            spectrum, envelope, duration = shared_spectrum(excitation.motion, path + ("motion",))
             found = simulate(positions, dt, duration, spectrum, coherency,
-                             seed=excitation.seed, envelope=envelope, wave=wave, sites=sites,
+                             seed=seed, envelope=envelope, wave=wave, sites=sites,
                              highpass=excitation.motion.highpass)
     except ValueError as exc:
         raise ModelError(path, f"cannot simulate the supports' motions: {exc}") from None
@@ -92,8 +114,9 @@ def coherent_motions(scene, supports, base_dir, steps: int, dt: float):
     count = min(steps + 1, found.acceleration.shape[1])
     acceleration[:, :count] = found.acceleration[:, :count]
     notes = list(found.notes)
+    lasts = (found.acceleration.shape[1] - 1) * dt
     if found.acceleration.shape[1] > steps + 1:
-        cut = (found.acceleration.shape[1] - 1) * dt
-        notes.append(f"the simulated motions last {cut:.4g} s and the analysis "
+        notes.append(f"the simulated motions last {lasts:.4g} s and the analysis "
                      f"{steps * dt:.4g} s: the rest is not applied")
-    return acceleration, tuple(map(float, found.delays)), tuple(notes), found.description
+    return CoherentMotions(acceleration, tuple(map(float, found.delays)), tuple(notes),
+                           found.description, lasts)

@@ -124,6 +124,9 @@ class Expanded:
     #: each declared support's motion as applied (pframe.model.motion.GroundMotion: its
     #: record, its components' records), before any wave-passage delay
     support_motions: tuple = ()
+    #: how a channel's displacement is had where it is not its acceleration integrated from
+    #: rest: (channel, displacement, velocity, words) (pframe.model.support_motion.kinematics)
+    ground_given: tuple = ()
 
     def with_ground(self, x, y=None, steps: int | None = None, **changes) -> Expanded:
         """This scene under another ground motion: ``x`` along the site's x axis and ``y``
@@ -145,7 +148,25 @@ class Expanded:
         if self.support_samples is not None:
             changes["support_samples"] = self._carried(x, y, steps)
         return dataclasses.replace(self, steps=steps, ground_acceleration=x,
-                                   ground_acceleration_y=y, **changes)
+                                   ground_acceleration_y=y, ground_given=(), **changes)
+
+    def with_supports(self, samples, steps: int | None = None, **changes) -> Expanded:
+        """This scene on its several supports under other motions: ``samples`` (C, steps +
+        1), every channel's (support and axis, in ``channels`` order; m/s^2 at t_n = n dt),
+        each support's motion replaced (a suite's member, pframe.gap.members)."""
+        steps = self.steps if steps is None else int(steps)
+        samples = np.asarray(samples, dtype=float)
+        if self.support_samples is None or samples.shape != (len(self.channels), steps + 1):
+            raise ValueError(f"the motions of {len(self.channels)} channels over {steps} steps "
+                             f"are ({len(self.channels)}, {steps + 1}) samples, not "
+                             f"{samples.shape}")
+        rows = dict(zip(self.channels, samples))
+        first = self.channels[0][:-1]
+        return dataclasses.replace(self, steps=steps, support_samples=samples,
+                                   ground_acceleration=rows.get(first + "x",
+                                                                np.zeros(steps + 1)),
+                                   ground_acceleration_y=rows.get(first + "y"),
+                                   ground_given=(), **changes)
 
     def first_steps(self, steps: int, **changes) -> Expanded:
         """This scene cut to its first ``steps`` steps (a warm-up, a plan for its periods),
@@ -156,7 +177,9 @@ class Expanded:
             ground_acceleration_y=(None if self.ground_acceleration_y is None
                                    else self.ground_acceleration_y[cut]),
             support_samples=(None if self.support_samples is None
-                             else self.support_samples[:, cut]), **changes)
+                             else self.support_samples[:, cut]),
+            ground_given=tuple((c, *(None if r is None else r[cut] for r in (d, v)), w)
+                               for c, d, v, w in self.ground_given), **changes)
 
     def _carried(self, x, y, steps: int) -> np.ndarray:
         """Each support's samples of a motion the scene's wave passage carries (docs/
@@ -165,7 +188,7 @@ class Expanded:
         from pframe.model.scene import WavePassage
         from pframe.model.support_motion import delayed
 
-        if not isinstance(self.excitation, WavePassage):  # (gap.runs.for_runs says why)
+        if not isinstance(self.excitation, WavePassage):  # (with_supports replaces them all)
             raise ValueError("the scene's supports move with motions of their own: one motion "
                              "cannot stand for them (give the scene a wave passage, whose "
                              "motion each support takes with its delay)")
@@ -265,6 +288,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         axes=motion.axes,
         motions=scene_motions(scene),
         support_motions=getattr(motion, "motions", ()),
+        ground_given=tuple(motion.given),
         initial_displacement=np.array([initial.get(k, (0.0, 0.0))[0] for k in dofs.table]),
         initial_velocity=np.array([initial.get(k, (0.0, 0.0))[1] for k in dofs.table]),
         dt=float(analysis.dt),
@@ -273,7 +297,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         tolerance=analysis.newton.tolerance,
         absolute_tolerance=analysis.newton.absolute_tolerance,
         max_iterations=analysis.newton.max_iterations,
-        recorders=tuple(scene.recorders),
+        recorders=tuple(scene.recorders) + _limit_recorders(scene),
         record=motion.record,
         component_records=motion.records if scene.excitation is not None
         and scene.excitation.kind == "components" else (),
@@ -297,6 +321,16 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     )
 
 
+def _limit_recorders(scene) -> tuple:
+    """The envelopes the scene's limits are checked on (pframe.limits), recorded with its
+    own recorders."""
+    from pframe.limits import recorded
+    from pframe.model.scene import Envelope
+
+    needed = recorded(getattr(scene, "limits", None))
+    return (Envelope(kind="envelope", quantities=list(needed)),) if needed else ()
+
+
 def _motion(scene, supports, base_dir, steps: int, dt: float):
     """The scene's ground motion: one ground's (:func:`ground_motion`, its channels the axes
     it loads) or each support's (:func:`support_motion`, a channel per support and axis)."""
@@ -310,8 +344,9 @@ def _motion(scene, supports, base_dir, steps: int, dt: float):
     found = support_motion(scene, supports, base_dir, steps, dt)
     if not supports.several:  # one declared support: today's channels, named by axis
         samples = {axis: found.samples[f"{supports.names[0]}:{axis}"] for axis in found.axes}
+        given = tuple((c.rpartition(":")[2], d, v, w) for c, d, v, w in found.given)
         return _OneGround(GroundMotion(samples, found.motions[0].record,
-                                       found.motions[0].records, found.warnings),
+                                       found.motions[0].records, found.warnings, given),
                           found.delays, found.motions)
     return found
 
@@ -321,7 +356,7 @@ class _OneGround:
 
     def __init__(self, motion, delays=(), motions=()):
         self.motion, self.delays, self.motions = motion, delays, motions
-        self.samples, self.warnings = motion.samples, motion.warnings
+        self.samples, self.warnings, self.given = motion.samples, motion.warnings, motion.given
         self.record, self.records = motion.record, motion.records
         self.channels = self.axes = motion.channels
 

@@ -34,6 +34,10 @@ class GroundMotion:
     record: object = None
     records: tuple = ()
     warnings: tuple[str, ...] = ()
+    #: how its displacement is had, by site axis: (axis, displacement or None, velocity or
+    #: None, words): a record's files (m, m/s at the steps) or its baseline correction;
+    #: an axis not here is integrated from rest (pframe.model.support_motion.integrated)
+    given: tuple = ()
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -75,6 +79,8 @@ def _record(excitation, base_dir, path):
             raise ModelError(path + (where,), str(exc)) from None
         except (ValueError, OSError) as exc:
             raise ModelError(path + ("file",), f"malformed record: {exc}") from None
+        if excitation.baseline is not None:
+            record = _corrected(excitation, record, path)
         try:
             return apply_record(excitation, *record)
         except InputError as exc:
@@ -111,12 +117,22 @@ def ground_motion(excitation, base_dir, steps: int, dt: float,
         record = _record(excitation, base_dir, path)
         warnings = (tuple(motion_warnings(applied_motion(excitation, record, duration)))
                     + tuple(stochastic_warnings(excitation)))
-        return GroundMotion({"x": _samples(excitation, record, steps, dt)}, record,
-                            (("x", record),) if record is not None else (), warnings)
+        samples = _samples(excitation, record, steps, dt)
+        given, more = _given(excitation, record, base_dir, path, samples, dt)
+        return GroundMotion({"x": samples}, record,
+                            (("x", record),) if record is not None else (), warnings + more,
+                            given)
     cos, sin = turn(excitation.angle)
     samples: dict = {}
     records, warnings = [], []
     for axis, motion in excitation.motions():
+        if motion.kind == "record" and (motion.displacement is not None
+                                        or motion.baseline is not None):
+            field = "displacement" if motion.displacement is not None else "baseline"
+            raise ModelError(path + (axis, field), "a record's displacement file or baseline "
+                             "correction is read for a motion along one axis; not yet for "
+                             "either component of two (leave it out: the displacement is "
+                             "then the acceleration integrated twice, as the run states)")
         record = _record(motion, base_dir, path + (axis,))
         if record is not None:
             records.append((axis, record))
@@ -165,3 +181,91 @@ def _pair_warnings(excitation, base_dir) -> list[str]:
         out.append(f"components x and y differ in time step or length ({x2.strip()!r} and "
                    f"{y2.strip()!r}); the shorter is zero after its end")
     return out
+
+
+#: how far a record's displacement file may stray from its acceleration integrated twice
+#: from rest (the trapezoid rule, as the kernel steps), as a part of the file's peak over the
+#: analysis, before the run warns that the two may not be one record's
+DISPLACEMENT_TOLERANCE = 0.05
+
+
+def _corrected(excitation, record, path) -> tuple:
+    """A record file's (times, acceleration) with the scene's baseline correction
+    (pframe.excitation.kinematics.baseline_correct) on its own step."""
+    from pframe.excitation.kinematics import baseline_correct
+
+    times, acceleration = record
+    steps = np.diff(times)
+    if not np.allclose(steps, steps[0], rtol=1e-6, atol=0):
+        raise ModelError(path + ("baseline",), "a baseline correction is made on the record's "
+                         "own step, and this record's samples are not evenly spaced")
+    try:
+        done = baseline_correct(acceleration, float(steps[0]), excitation.baseline.fit,
+                                excitation.baseline.degree)
+    except ValueError as exc:
+        raise ModelError(path + ("baseline",), str(exc)) from None
+    return times, done.acceleration
+
+
+def _series(excitation, base_dir, path, quantity: str):
+    from pframe.excitation.records import read_series
+
+    name = getattr(excitation, quantity)
+    file = Path(base_dir) / name
+    try:
+        return read_series(file, quantity, within=base_dir)
+    except FileNotFoundError:
+        raise ModelError(path + (quantity,), f"{quantity} file {str(file)!r} not found") \
+            from None
+    except (ValueError, OSError) as exc:
+        raise ModelError(path + (quantity,), f"malformed {quantity} file: {exc}") from None
+
+
+def _given(excitation, record, base_dir, path, samples, dt) -> tuple[tuple, tuple]:
+    """(GroundMotion.given, warnings) of a motion along x: a record's displacement (and
+    velocity) files at the analysis steps, scaled and stretched as its acceleration is
+    (d(t) = f T^2 d_file(t / T), v(t) = f T v_file(t / T): f its amplitude factor and scale,
+    T its time factor), each checked against the acceleration integrated from rest
+    (:data:`DISPLACEMENT_TOLERANCE`); or its baseline correction in words."""
+    if excitation is None or excitation.kind != "record":
+        return (), ()
+    if excitation.displacement is None:
+        if excitation.baseline is None:
+            return (), ()
+        b = excitation.baseline
+        return (("x", None, None, f"the record's acceleration baseline-corrected (fit {b.fit}, "
+                 f"degree {b.degree})"),), ()
+    from pframe.excitation.kinematics import integrate
+
+    factor, stretch = excitation.scale * record.amplitude_factor, record.time_factor
+    times = np.arange(samples.size) * dt
+    velocity, displacement = integrate(samples, dt)
+    found, words, warnings = {}, [], []
+    for quantity, power, integral in (("displacement", 2, displacement),
+                                      ("velocity", 1, velocity)):
+        if getattr(excitation, quantity) is None:
+            continue
+        t, values, units = _series(excitation, base_dir, path, quantity)
+        series = factor * stretch**power * np.interp(times / stretch, t, values)
+        found[quantity] = series
+        peak = float(np.max(np.abs(series)))
+        gap = np.abs(series - integral)
+        worst = int(np.argmax(gap))
+        part = float(gap[worst]) / peak if peak > 0 else (0.0 if gap[worst] == 0 else np.inf)
+        unit = "m" if quantity == "displacement" else "m/s"
+        words.append(f"{quantity} from {getattr(excitation, quantity)} ({units}), within "
+                     f"{100 * part:.3g} % of its peak of the acceleration integrated "
+                     f"{'twice' if power == 2 else 'once'} from rest")
+        if part > DISPLACEMENT_TOLERANCE:
+            warnings.append(
+                f"record {excitation.file}: its {quantity} file {getattr(excitation, quantity)} "
+                f"and its acceleration integrated {'twice' if power == 2 else 'once'} from rest "
+                f"differ by up to {float(gap[worst]):.4g} {unit} at t = {times[worst]:.4g} s, "
+                f"{100 * part:.3g} % of the file's peak {peak:.4g} {unit} (more than "
+                f"{100 * DISPLACEMENT_TOLERANCE:g} %): the supports move by the file's "
+                f"{quantity}, which may not be this record's (another processing, units or "
+                f"step); check the files, or leave {quantity} out to integrate the acceleration")
+    if "velocity" not in found:
+        words.append("velocity the acceleration integrated once from rest")
+    return (("x", found["displacement"], found.get("velocity"), "; ".join(words)),), \
+        tuple(warnings)

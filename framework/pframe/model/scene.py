@@ -544,6 +544,19 @@ class Sine(Base):
         return self
 
 
+class Baseline(Base):
+    """A polynomial a_c(t) = c_0 + ... + c_p t^p removed from a record's acceleration, its
+    velocity and displacement integrated from rest as the record's are
+    (pframe.excitation.kinematics.baseline_correct; Boore & Bommer 2005)."""
+
+    fit: Literal["velocity", "displacement", "rest"] = Field(
+        "velocity", description="What a_c is fitted to: the velocity or the displacement "
+        "(least squares over the record), or rest (the record ends at rest: final velocity "
+        "and displacement 0).")
+    degree: int = Field(1, ge=0, le=5, description="p, the polynomial's degree (rest: 1 or "
+                        "more); 1 with fit velocity: a quadratic velocity baseline through 0.")
+
+
 class Record(Base):
     """A recorded ground acceleration read from a file (path relative to the YAML file)."""
 
@@ -572,11 +585,28 @@ class Record(Base):
     frequency: Positive | None = Field(
         None, description="Compress or stretch the record's time axis so that its "
         "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")
+    displacement: str | None = Field(
+        None, description="The record's ground displacement: a PEER .DT2 file (units its "
+        "header states, cm) or two columns (time s, displacement m), relative to the YAML "
+        "file; the displacement of the supports it moves, instead of the acceleration "
+        "integrated twice (checked against it, docs/supports.md#displacements-from-a-record).")
+    velocity: str | None = Field(
+        None, description="The record's ground velocity with its displacement: a PEER .VT2 "
+        "file (cm/s) or two columns (time s, velocity m/s).")
+    baseline: Baseline | None = Field(
+        None, description="A baseline correction of the record's acceleration (on its own "
+        "step, before any scaling; docs/supports.md#displacements-from-a-record); none: the "
+        "record as read, its displacement drifting as its acceleration integrates.")
 
     @model_validator(mode="after")
     def _scale_or_pga(self):
         if self.pga is not None and "scale" in self.model_fields_set:
             raise ValueError("give scale (a factor) or pga (a target peak), not both")
+        if self.velocity is not None and self.displacement is None:
+            raise ValueError("velocity comes with displacement (the record's two files)")
+        if self.displacement is not None and self.baseline is not None:
+            raise ValueError("a displacement file is the record's displacement as its "
+                             "provider corrected it: give no baseline with it")
         return self
 
     # The absolute folder ``file`` is relative to, set when the record is read from a scene
@@ -1009,6 +1039,54 @@ class InitialConditions(Base):
         "theta' (rad/s)] of a floor in plan.")
 
 
+class CodeDriftLimit(Base):
+    """A building code's allowable storey drift: ASCE/SEI 7-22 Table 12.12-1 (section
+    12.12.1), by risk category and structure (pframe.limits)."""
+
+    code: Literal["asce7-22"] = Field("asce7-22", description="The code (ASCE/SEI 7-22).")
+    risk_category: Literal["I", "II", "III", "IV"] = Field(
+        description="Risk category (ASCE 7-22 Table 1.5-1): I or II 0.020 h_sx, III 0.015, "
+        "IV 0.010 for all other structures.")
+    structure: Literal["low_rise", "masonry_cantilever", "masonry_other", "other"] = Field(
+        "other", description="The table's row: low_rise (other than masonry shear wall, 4 "
+        "storeys or less, walls and partitions designed to accommodate the drifts: 0.025, "
+        "0.020, 0.015 h_sx; a taller building takes 'other'), masonry_cantilever (0.010), "
+        "masonry_other (0.007) or other (all other structures).")
+    redundancy: float = Field(1.0, ge=1.0, allow_inf_nan=False, description="rho: the "
+                              "limit is divided by it for moment frames in Seismic Design "
+                              "Categories D to F (12.12.1.1).")
+    factor: Positive = Field(1.0, description="A multiple of the table's limit (ASCE 7's "
+                             "nonlinear response history procedure, chapter 16, holds the mean "
+                             "over a suite to a multiple of it).")
+
+
+class Limits(Base):
+    """Limits on each storey's peak drift ratio and each floor's peak absolute acceleration:
+    the summary, the result file and the Dataset give each demand's margin and utilisation
+    (docs/modes.md#limits)."""
+
+    drift_ratio: float | None = Field(None, gt=0, le=1, allow_inf_nan=False, description=
+                                      "Allowed peak storey drift ratio (drift over the "
+                                      "storey's height; 0.02 is 2 %); needs heights.")
+    code: CodeDriftLimit | None = Field(None, description="A code's allowable storey drift "
+                                        "instead of drift_ratio.")
+    acceleration: Positive | None = Field(None, description="Allowed peak absolute floor "
+                                          "acceleration (m/s^2).")
+    acceleration_g: Positive | None = Field(None, description="The same in g (9.80665 "
+                                            "m/s^2), instead of acceleration.")
+
+    @model_validator(mode="after")
+    def _one_of_each(self):
+        if self.drift_ratio is not None and self.code is not None:
+            raise ValueError("give drift_ratio or code, not both")
+        if self.acceleration is not None and self.acceleration_g is not None:
+            raise ValueError("give acceleration (m/s^2) or acceleration_g (g), not both")
+        if all(v is None for v in (self.drift_ratio, self.code, self.acceleration,
+                                   self.acceleration_g)):
+            raise ValueError("give drift_ratio or code, acceleration or acceleration_g")
+        return self
+
+
 class OutputScales(Base):
     """Reference scales of dimensionless output (Wu et al. 2021, eq. 6)."""
 
@@ -1238,6 +1316,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
                         "envelope); default: the peaks of displacement, story_drift and "
                         "contact_force.")
         output: Output = Field(Output(), description="Units of the result file.")
+        limits: Limits | None = Field(None, description="Limits on the peak storey drift "
+                                      "ratio and floor acceleration, checked after the run "
+                                      "(docs/modes.md#limits).")
 
         def __repr__(self) -> str:
             return scene_text(self)

@@ -37,6 +37,9 @@ class SupportMotion:
     #: what the run is told besides (a coherent simulation's notes) and how it was made
     notes: tuple[str, ...] = ()
     description: str = ""
+    #: how each channel's displacement is had where not integrated from rest: (channel,
+    #: displacement or None, velocity or None, words), as GroundMotion.given, delayed
+    given: tuple = ()
 
     @property
     def channels(self) -> tuple[str, ...]:
@@ -78,11 +81,11 @@ def delayed(samples: np.ndarray, delay: float, dt: float) -> np.ndarray:
 
 def integrated(acceleration: np.ndarray, dt: float) -> tuple[np.ndarray, np.ndarray]:
     """(velocity, displacement) of ``acceleration`` samples, the trapezoid rule twice from rest
-    (see the module)."""
-    a = np.asarray(acceleration, dtype=float)
-    velocity = np.concatenate([[0.0], np.cumsum(0.5 * dt * (a[1:] + a[:-1]))])
-    displacement = np.concatenate([[0.0], np.cumsum(0.5 * dt * (velocity[1:] + velocity[:-1]))])
-    return velocity, displacement
+    (see the module): :func:`pframe.excitation.kinematics.integrate`, the one place it is
+    written."""
+    from pframe.excitation.kinematics import integrate
+
+    return integrate(acceleration, dt)
 
 
 def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion:
@@ -116,9 +119,14 @@ def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportM
                 warnings += list(shared.warnings)
             motion = shared
         motions.append(motion)
+    warnings += _mismatched_records(scene, motions)
     axes = tuple(a for a in ("x", "y") if any(a in m.samples for m in motions)) or ("x",)
-    samples = {}
+    samples, given = {}, []
     for s, (name, motion) in enumerate(zip(supports.names, motions)):
+        for axis, d, v, words in motion.given:
+            given.append((f"{name}:{axis}", *(None if row is None else
+                                               delayed(row, float(tau[s]), dt)
+                                               for row in (d, v)), words))
         for axis in axes:
             values = motion.samples.get(axis, np.zeros(steps + 1))
             samples[f"{name}:{axis}"] = delayed(values, float(tau[s]), dt)
@@ -131,7 +139,57 @@ def support_motion(scene, supports, base_dir, steps: int, dt: float) -> SupportM
                                 f"{peak:.4g} along {axis}; lengthen analysis.duration by "
                                 f"{float(tau[s]):.4g} s")
     return SupportMotion(samples, axes, tuple(map(float, tau)), tuple(motions),
-                         tuple(warnings))
+                         tuple(warnings), given=tuple(given))
+
+
+def _mismatched_records(scene, motions) -> list[str]:
+    """What says the records of supports with motions of their own differ in time step or
+    length: each is interpolated onto the analysis step and is at rest after its end, so the
+    supports' motions are not one array's recordings sampled alike."""
+    own = [(s, support.name, axis, record.times) for s, (support, motion)
+           in enumerate(zip(scene.supports, motions)) if support.excitation is not None
+           for axis, record in motion.records if len(record.times) > 1]
+    if len(own) < 2:
+        return []
+    steps = {round(float(t[1] - t[0]), 9) for *_, t in own}
+    ends = [float(t[-1]) for *_, t in own]
+    if len(steps) == 1 and max(ends) - min(ends) <= min(steps):
+        return []
+    listed = "; ".join(f"supports[{s}].excitation ({name}, {axis}): dt = {t[1] - t[0]:.4g} s, "
+                       f"ends at {t[-1]:.4g} s" for s, name, axis, t in own)
+    return [f"the supports' records differ in time step or length ({listed}): each is "
+            "interpolated onto the analysis step and is at rest after its end, so their "
+            "difference is not one array's recordings sampled alike; check that they are the "
+            "records meant"]
+
+
+def kinematics(ex) -> tuple[list, list, list]:
+    """(displacements, velocities, words) of each of the scene's channels (m, m/s at the
+    steps; docs/supports.md#displacements-from-a-record): a record's files where it gives
+    them, else its acceleration integrated from rest (:func:`integrated`); words say how,
+    and, where nothing corrects it, how far it drifts by the end of the analysis."""
+    rows = (ex.support_samples if ex.support_samples is not None else
+            [{"x": ex.ground_acceleration, "y": ex.ground_acceleration_y}[c]
+             for c in ex.channels])
+    given = {channel: (d, v, words) for channel, d, v, words in ex.ground_given}
+    out_d, out_v, out_words = [], [], []
+    for channel, row in zip(ex.channels, rows):
+        d, v, words = given.get(channel, (None, None, None))
+        if d is None or v is None:
+            v_int, d_int = integrated(row, ex.dt)
+            v = v_int if v is None else v
+            if d is None:
+                d = d_int
+                words = (f"{words or 'no baseline correction'}: displacement the acceleration "
+                         "integrated twice from rest (the trapezoid rule); at t = "
+                         f"{ex.steps * ex.dt:.4g} s its velocity is {v[-1]:.4g} m/s and its "
+                         f"displacement {d[-1]:.4g} m (peak {float(np.max(np.abs(d))):.4g} m)")
+        support, _, axis = channel.rpartition(":")
+        out_d.append(d)
+        out_v.append(v)
+        out_words.append(f"{'support ' + support if support else 'the ground'} along {axis}: "
+                         f"{words}")
+    return out_d, out_v, out_words
 
 
 def _coherent(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion:
@@ -144,8 +202,22 @@ def _coherent(scene, supports, base_dir, steps: int, dt: float) -> SupportMotion
                          f"{scene.supports[own[0]].name!r} has its own motion and the scene's "
                          "is a coherent simulation, which gives every support its motion: "
                          "give one or the other")
-    acceleration, tau, notes, description = coherent_motions(scene, supports, base_dir, steps,
-                                                             dt)
+    acceleration, tau, notes, description, _ = coherent_motions(scene, supports, base_dir,
+                                                                steps, dt)
     samples = {f"{name}:x": row for name, row in zip(supports.names, acceleration)}
     motions = tuple(GroundMotion({"x": row}) for row in acceleration)
     return SupportMotion(samples, ("x",), tau, motions, (), notes, description)
+
+
+#: what a recorder reads of the ground's displacements
+GROUND_QUANTITIES = ("ground_displacement", "contact_ground_displacement")
+
+
+def displacement_lines(ex) -> list[str]:
+    """How each channel's displacement is had (:func:`kinematics`' words), where a run uses
+    it: on several supports (elements across them), or a recorder of the ground's
+    displacement; none otherwise."""
+    recorded = {q for r in ex.recorders for q in getattr(r, "quantities", ())}
+    if not (ex.node_support or recorded & set(GROUND_QUANTITIES)):
+        return []
+    return kinematics(ex)[2]

@@ -125,6 +125,7 @@ SCENE_FIELDS = {
     ("excitation", "period"): "time",  # a record's is of its file's time axis: kept there
     ("excitation", "n"): "dimensionless",  # a cycloidal pulse's cycles
     ("excitation", "center"): "time",  # a Ricker wavelet's peak
+    ("excitation", "baseline", "degree"): "dimensionless",  # a record's baseline correction
     ("initial_conditions", "displacement", "*"): "length",
     ("initial_conditions", "velocity", "*"): "velocity",
     ("analysis", "dt"): "time",
@@ -136,6 +137,13 @@ SCENE_FIELDS = {
     ("output", "scales", "m_b"): "mass",
     ("output", "scales", "a_p"): "acceleration",
     ("output", "scales", "w_p"): "frequency",
+    # limits (pframe.limits): a drift ratio and a code's factors are numbers; an acceleration
+    # in g is an acceleration in a fixed unit, scaled as one
+    ("limits", "drift_ratio"): "dimensionless",
+    ("limits", "code", "redundancy"): "dimensionless",
+    ("limits", "code", "factor"): "dimensionless",
+    ("limits", "acceleration"): "acceleration",
+    ("limits", "acceleration_g"): "acceleration",
     # buildings in plan (docs/plan.md): coordinates and sizes are lengths, directions and
     # angles are numbers, a polar inertia is kg m^2
     ("buildings", "*", "origin"): "length",

@@ -34,7 +34,7 @@ from pframe.plot.style import headed as _headed
 from pframe.plot.style import on_common_time as _on_common_time
 from pframe.plot.style import tidy as _tidy
 
-KINDS = ("all", "histories", "hysteresis", "pounding", "links", "torsion")
+KINDS = ("all", "histories", "hysteresis", "pounding", "links", "torsion", "supports")
 #: (letter, quantity, title) of the history panels, top to bottom
 HISTORY_PANELS = (("a", "displacement", "displacement histories"),
                   ("b", "contact_force", "pounding force histories"),
@@ -336,13 +336,15 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
     ----------
     source : str, Path or Result
         A result file of ``pframe solve`` (or one already read with :func:`prepare`).
-    kind : {"all", "histories", "hysteresis", "pounding", "links", "torsion"}
+    kind : {"all", "histories", "hysteresis", "pounding", "links", "torsion", "supports"}
         All panels, the histories (a)-(c) only, the hysteresis loops only, the gap
         closing of each contact (:func:`draw_pounding`; levels with contacts only), or every
         link's force history and force-deformation loop (one figure, ``"links"``). A scene in
         plan is drawn by :mod:`pframe.plot.plan`: its levels along x and y, and with ``"all"``
         (every level) or ``"torsion"`` the torsional irregularity of its storeys (one figure,
-        ``"torsion"``).
+        ``"torsion"``); ``"supports"``: each support's ground acceleration and displacement
+        and each contact's relative ground displacement (one figure,
+        :mod:`pframe.plot.supports`).
     levels : sequence of str or int, optional
         The floor levels to draw (default: every level with something to draw).
     time_range : (float, float), optional
@@ -375,6 +377,14 @@ def figures(source: str | Path | Result, *, kind: str = "all", levels=None,
                              "dimensionless, units and levels")
         return link_figures(source if not isinstance(source, Result) else source.path,
                             time_range=time_range)
+    if kind == "supports":  # one figure of the supports' motions (pframe.plot.supports)
+        from pframe.plot.supports import support_figures
+
+        if dimensionless or units is not None or levels is not None:
+            raise InputError("--kind supports draws in the file's units, every support: leave "
+                             "out dimensionless, units and levels")
+        return support_figures(source if not isinstance(source, Result) else source.path,
+                               time_range=time_range)
     result = prepare(source, time_range=time_range, dimensionless=dimensionless)
     if units is not None:
         if dimensionless:

@@ -469,6 +469,47 @@ class ResultWriter:
                        long_name=LONG_NAME)
         if any(e.column_side is not None for e in self.loaded.expanded.contacts):
             self._column_shears(result)
+        if getattr(self.loaded.scene, "limits", None) is not None:
+            self._limits(result)
+
+    def _limits(self, result):
+        """Each storey's drift ratio limit and each floor's acceleration limit, with the
+        margin (limit - demand) and utilisation (demand / limit) of the run's peaks, and what
+        they exceed (pframe.limits)."""
+        from pframe.limits import BASIS, evaluate
+
+        f, ex = self.file, self.loaded.expanded
+        check = evaluate(ex, self.plan, self.loaded.scene.limits, result.envelope, self.member)
+        missing = check.missing_heights()
+        reason = (f"NaN at {', '.join(missing)}: no height was given, so the drift ratio is "
+                  "not defined there (never 0)" if missing else None)
+        if np.any(np.isfinite(check.drift_limit)) or any("footnote" in w
+                                                          for w in check.drift_why):
+            f.variable("story_drift_ratio_limit", ("story",), check.drift_limit, units="1",
+                       long_name="allowed peak storey drift ratio",
+                       comment="; ".join(dict.fromkeys(check.drift_why)))
+            f.variable("story_drift_ratio_margin", ("story",), check.drift_margin, units="1",
+                       long_name="drift ratio limit less the peak storey drift ratio "
+                       "(negative: exceeded)", comment=reason)
+            f.variable("story_drift_ratio_utilisation", ("story",), check.drift_utilisation,
+                       units="1", long_name="peak storey drift ratio over its limit (above "
+                       "1: exceeded)", comment=reason)
+        if np.isfinite(check.acceleration_limit):
+            for name, values, long_name in (
+                    ("floor_acceleration_limit", np.full(len(check.node_names),
+                                                         check.acceleration_limit),
+                     "allowed peak absolute floor acceleration"),
+                    ("floor_acceleration_margin", check.acceleration_margin,
+                     "acceleration limit less the peak absolute floor acceleration (negative: "
+                     "exceeded)")):
+                data, units, long_name = self.convert.variable(values, "m/s^2", long_name)
+                f.variable(name, ("node",), data, units=units, long_name=long_name,
+                           comment=check.acceleration_why)
+            f.variable("floor_acceleration_utilisation", ("node",),
+                       check.acceleration_utilisation, units="1", long_name="peak absolute "
+                       "floor acceleration over its limit (above 1: exceeded)")
+        self.limit_attributes = {"limits": BASIS,
+                                 "limits_exceeded": "\n".join(check.exceeded())}
 
     def _column_shears(self, result):
         """The shear the floor-to-column contacts put into the struck columns: the peak of
@@ -529,6 +570,7 @@ class ResultWriter:
         # the verdict the file states, kept for the caller to tell (not judged twice)
         self.verdict = verdict = of_result(result, member)
         attrs["warnings"] = "\n".join(plan.warnings + verdict.warnings)
+        attrs.update(getattr(self, "limit_attributes", {}))
         attrs["dt"] = float(plan.dt[member])
         attrs["steps"] = np.int64(plan.steps)
         attrs["steps_completed"] = np.int64(result.states_done(member) - 1)
@@ -604,6 +646,12 @@ def record_attributes(loaded) -> dict:
         if mine:  # its own motion: its facts under its name
             out.update(_excitation_attributes(support.excitation, motion, expanded, loaded,
                                               duration, f"{support.name}_"))
+    if expanded is not None:  # how the supports' displacements were had, where used
+        from pframe.model.support_motion import displacement_lines
+
+        said = displacement_lines(expanded)
+        if said:
+            out["ground_displacement_method"] = "\n".join(said)
     return out
 
 
@@ -664,6 +712,17 @@ def _motion_attributes(excitation, record, loaded, duration, facts_prefix: str,
     out.update({f"{record_prefix}file": excitation.file,
                 f"{record_prefix}sha256": hashlib.sha256(content).hexdigest(),
                 f"{record_prefix}text": content.decode("utf-8", errors="replace")})
+    for quantity in ("displacement", "velocity"):  # its other files: pframe.load restores
+        name = getattr(excitation, quantity, None)
+        try:
+            other = (Path(loaded.base_dir) / name).read_bytes() if name else None
+        except OSError:
+            other = None
+        if other is not None:
+            out.update({f"{record_prefix}{quantity}_file": name,
+                        f"{record_prefix}{quantity}_sha256": hashlib.sha256(other).hexdigest(),
+                        f"{record_prefix}{quantity}_text": other.decode("utf-8",
+                                                                       errors="replace")})
     try:  # how the record was read and applied (pframe validate prints it)
         read = describe_scene_record(excitation, loaded.base_dir)
         line = describe_line(read, duration).removeprefix(f"record {read['file']}: ")

@@ -168,8 +168,7 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
 
     def ground(which, ims, steps, dt):
         times = np.arange(steps + 1) * dt
-        return np.stack([im / inputs.intensities[r]
-                         * inputs.suite.motions[r].on_site(times, inputs.channels)
+        return np.stack([im / inputs.intensities[r] * inputs.motion(r, times)
                          for r, im in zip(which, ims)])
 
     parts = None
@@ -191,12 +190,14 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
         else:
             free = run_batch(inputs.loaded, inputs.pairs,
                              ground(which, ims, inputs.steps, inputs.dt), inputs.steps,
-                             inputs.dt, contacts=False, threads=threads)
+                             inputs.dt, contacts=False, threads=threads,
+                             axes=inputs.channels)
             arrays = {f"free_{k}": v for k, v in free.items()}
             if spec.pounding_runs:
                 hit = run_batch(inputs.loaded, inputs.pairs,
                                 ground(which, ims, contact_steps, scene_dt), contact_steps,
-                                scene_dt, contacts=True, threads=threads)
+                                scene_dt, contacts=True, threads=threads,
+                                axes=inputs.channels)
                 arrays.update({f"contact_{k}": v for k, v in hit.items()})
             arrays["ida_record"], arrays["ida_im"] = which, ims
             if parts is not None:

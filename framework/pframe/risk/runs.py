@@ -15,7 +15,15 @@ import dataclasses
 
 import numpy as np
 
-from pframe.gap.runs import GapSink, Pairs, contact_pairs, for_runs, on_channels, under
+from pframe.gap.runs import (
+    GapSink,
+    Pairs,
+    axes_of,
+    contact_pairs,
+    for_runs,
+    on_channels,
+    under,
+)
 from pframe.model.scene import Envelope, History
 
 
@@ -40,9 +48,10 @@ def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarr
 
 
 def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
-              contacts: bool, threads: int | None = None) -> dict[str, np.ndarray]:
+              contacts: bool, threads: int | None = None, axes=None) -> dict[str, np.ndarray]:
     """One batch: a member per ground motion of ``accelerations`` (m/s^2; (B, steps + 1)
-    along x, or (B, C, steps + 1) along the site's x and y)."""
+    along x, or (B, C, steps + 1) along the site's x and y, or at each support along
+    ``axes``: pframe.gap.runs.axes_of)."""
     from pframe.assemble import assemble_batch
     from pframe.kernel import simulate
 
@@ -55,7 +64,7 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
                                                        "absolute_acceleration"]),
                  History(kind="history", quantities=["displacement"]))
     accelerations = on_channels(accelerations)
-    channels = ("x", "y")[:accelerations.shape[1]]
+    channels = axes_of(accelerations, axes)
     bases = [dataclasses.replace(for_runs(m, channels, contacts), steps=int(steps),
                                  recorders=recorders, dt=float(dt)) for m in members]
     plan = assemble_batch([under(bases[k if len(bases) > 1 else 0], a[None])[0]

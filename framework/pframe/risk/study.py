@@ -404,12 +404,13 @@ def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=Non
 
         scenes = variants_of(inputs.loaded, uncertain[0], uncertain[1])
     free = run_batch(scenes, inputs.pairs, inputs.accelerations(variants), inputs.steps,
-                     inputs.dt, contacts=False, threads=threads)
+                     inputs.dt, contacts=False, threads=threads, axes=inputs.channels)
     arrays = {f"free_{k}": v for k, v in free.items()}
     if pounding_runs:
         hit = run_batch(scenes, inputs.pairs,
                         inputs.accelerations(variants, contact_steps, scene_dt),
-                        contact_steps, scene_dt, contacts=True, threads=threads)
+                        contact_steps, scene_dt, contacts=True, threads=threads,
+                        axes=inputs.channels)
         arrays.update({f"contact_{k}": v for k, v in hit.items()})
     return arrays
 
@@ -656,7 +657,7 @@ def study_reads(study, inputs, table=None) -> list[str]:
     from pframe.api import run_inputs
 
     reads = [*run_inputs(inputs.loaded), inputs.suite.source, str(study),
-             *(f for m in inputs.suite.motions for f in (m.source, m.second_source)), table]
+             *(f for m in inputs.suite.motions for f in m.sources), table]
     return [str(r) for r in reads if r]
 
 

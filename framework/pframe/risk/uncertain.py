@@ -91,6 +91,14 @@ class SubsetProblem:
         from pframe.excitation.stochastic import clough_penzien_filter
         from pframe.gap.runs import contact_pairs
 
+        excitation = loaded.scene.excitation
+        if loaded.expanded.node_support and (excitation is None
+                                             or excitation.kind != "wave_passage"):
+            raise InputError(f"{loaded.source}: a subset design draws one stochastic motion "
+                             "per run, which reaches a scene's supports as its wave passage "
+                             "carries it; this scene on supports has none (excitation: {kind: "
+                             "wave_passage, ...}), or run it under a suite of records "
+                             "(docs/supports.md#suites-of-a-motion-per-support)")
         self.loaded, self.params, self.threads = loaded, params, threads
         # the motion's direction on the site (its angle, degrees from the site's x)
         self.channels, self.angle = channels, float(motion.get("angle", 0.0))
@@ -156,8 +164,7 @@ class RecordSubsetProblem:
         i = self.inputs
         out = run_batch(scenes(i.loaded, self.params, u), i.pairs,
                         np.repeat(self.ground[None], len(u), axis=0), i.steps, i.dt,
-                        contacts=False,
-                        threads=self.threads)
+                        contacts=False, threads=self.threads, axes=i.channels)
         self.runs += len(u)
         g = out["gap"] - np.max(out["g_req"], axis=1)
         return np.where(out["complete"] == 1, g, -np.inf)

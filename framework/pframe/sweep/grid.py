@@ -10,7 +10,7 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.model.scene import Envelope, History
 from pframe.sweep.definition import RESPONSES, SweepFile, validated_sweep
-from pframe.sweep.paths import check_targets, resolve, scene_records
+from pframe.sweep.paths import check_targets, resolve, scene_records, series_files
 from pframe.sweep.spec import ENVELOPES, SweepDefinition
 from pframe.yamltext import compose as _compose
 from pframe.yamltext import where as _where
@@ -44,6 +44,8 @@ class Spec:
     #: ((path of a motion, its record's key), ...): the scene's other records
     scene_records: tuple
     axes: tuple[AxisSpec, ...]
+    #: ((path of a record's displacement or velocity file, its key), ...)
+    series_files: tuple = ()
 
     @property
     def shape(self) -> tuple[int, ...]:
@@ -132,6 +134,8 @@ def parse(definition: SweepDefinition) -> Spec:
         base_record = keys[("base", excitation["file"])]
     others = tuple((path, keys[("scene", ".".join(map(str, path)))])
                    for path, _ in scene_records(base_data))
+    series = tuple((path, keys[("scene", ".".join(map(str, path)))])
+                   for path in series_files(base_data))
 
     names = [a.name for a in model.axes]
     for i, name in enumerate(names):
@@ -186,7 +190,7 @@ def parse(definition: SweepDefinition) -> Spec:
     for response in model.keep.envelopes:
         assert response in RESPONSES
     return Spec(definition, model, lines, base_data, base_lines, base_where, base_record,
-                others, tuple(axes))
+                others, tuple(axes), series)
 
 
 def _number(value, where: str, axis: str):
@@ -214,4 +218,6 @@ def variant_data_base(spec: Spec) -> dict:
         put(data, ("excitation", "file"), spec.base_record)
     for path, key in spec.scene_records:
         put(data, path + ("file",), key)
+    for path, key in spec.series_files:
+        put(data, path, key)
     return data

@@ -166,3 +166,17 @@ def scene_records(data) -> list[tuple[tuple, dict]]:
             if isinstance(motion.get(key), dict):
                 places.append((path + (key,), motion[key]))
     return out
+
+
+#: a record's files besides its acceleration (docs/supports.md#displacements-from-a-record)
+SERIES_FIELDS = ("displacement", "velocity")
+
+
+def series_files(data) -> list[tuple]:
+    """The path of each displacement or velocity file scene data names: of its record
+    excitation, and of every record of :func:`scene_records`."""
+    excitation = data.get("excitation") if isinstance(data, dict) else None
+    motions = ([(("excitation",), excitation)] if isinstance(excitation, dict)
+               and isinstance(excitation.get("file"), str) else [])
+    return [path + (field,) for path, motion in motions + scene_records(data)
+            for field in SERIES_FIELDS if isinstance(motion.get(field), str)]

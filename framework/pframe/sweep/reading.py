@@ -7,10 +7,11 @@ import os
 from pathlib import Path
 
 from pframe.errors import InputError, given
-from pframe.excitation.records import MAX_RECORD_BYTES, read_record
+from pframe.excitation.records import MAX_RECORD_BYTES, read_record, read_series
 from pframe.model.load import read_input
+from pframe.objects import value_at
 from pframe.sweep.definition import validated_sweep
-from pframe.sweep.paths import scene_records
+from pframe.sweep.paths import scene_records, series_files
 from pframe.sweep.spec import SweepDefinition, code_fingerprint
 from pframe.yamltext import MAX_YAML_BYTES, read_bounded_bytes
 from pframe.yamltext import compose as _compose
@@ -28,14 +29,18 @@ def _read_bytes(path: Path, where: str, what: str, limit: int = MAX_YAML_BYTES) 
         raise InputError(f"{where}: {exc}") from None
 
 
-def _record(path: Path, folder: Path, where: str) -> bytes:
-    """A record file's bytes. One outside ``folder`` (the file that names it is in
-    ``folder``) is read as a record here, so that a problem in it is told without its text
-    (the copy every variant reads lies in a private folder, where it would be quoted)."""
+def _record(path: Path, folder: Path, where: str, quantity: str | None = None) -> bytes:
+    """A record file's bytes (or of its ``quantity`` file: 'displacement', 'velocity'). One
+    outside ``folder`` (the file that names it is in ``folder``) is read here, so that a
+    problem in it is told without its text (the copy every variant reads lies in a private
+    folder, where it would be quoted)."""
     content = _read_bytes(path, where, "record file", MAX_RECORD_BYTES)
     if not path.resolve().is_relative_to(folder.resolve()):
         try:
-            read_record(path, within=folder)
+            if quantity is None:
+                read_record(path, within=folder)
+            else:
+                read_series(path, quantity, within=folder)
         except (ValueError, OSError) as exc:
             raise InputError(f"{where}: malformed record: {exc}") from None
     return content
@@ -84,6 +89,12 @@ def parse_sweep(text: str, source: str = "<string>", folder: str | Path = ".",
     for path, motion in scene_records(base_data):  # components, a wave passage, supports
         file = base_dir / motion["file"]
         content = _record(file, base_dir, base_source or source)
+        key = _record_key(content, file.name)
+        files[key] = content
+        records.append(("scene", ".".join(map(str, path)), key, str(file.resolve())))
+    for path in series_files(base_data):  # a record's displacement and velocity files
+        file = base_dir / value_at(base_data, path)
+        content = _record(file, base_dir, base_source or source, path[-1])
         key = _record_key(content, file.name)
         files[key] = content
         records.append(("scene", ".".join(map(str, path)), key, str(file.resolve())))

@@ -43,6 +43,8 @@ def variant_data(spec, index: int, record_path=None, steps: int | None = None) -
         put(data, ("excitation", "file"), record_path(spec.base_record))
     for path, key in spec.scene_records:
         put(data, path + ("file",), record_path(key))
+    for path, key in spec.series_files:  # a record's displacement and velocity files
+        put(data, path, record_path(key))
     for axis, position in zip(spec.axes, spec.positions(index)):
         value = axis.values[position]
         if axis.is_file:
