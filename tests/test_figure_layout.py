@@ -210,3 +210,39 @@ def test_risk_figures_fit_and_show_the_study_intensities(files):
     legend = [t.get_text() for t in figs["gap"].axes[0].get_legend().get_texts()]
     for rule, value in rules.items():
         assert f"{rule} at target IM {value:.1f} mm" in legend
+
+
+@pytest.mark.slow
+def test_a_subset_study_draws_its_probabilities_or_says_why_not(tmp_path, capsys):
+    """One probability (a stationary motion): nothing to draw, said in one message (it was a
+    traceback). Probabilities at stripes: against the intensity, with their intervals."""
+    import xarray as xr
+    import yaml
+
+    from pframe.plot.risk import _stripe_figure
+
+    study = tmp_path / "subset.yaml"
+    study.write_text(yaml.safe_dump({
+        "scene": str(REPO / "models" / "wu2021-pulse.yaml"), "dt": 0.005,
+        "stochastic": {"model": "clough_penzien", "intensity": 0.05, "ground_frequency": 15.0,
+                       "ground_damping": 0.6, "duration": 2.0, "step": 0.01},
+        "design": {"kind": "subset", "samples": 100}, "pounding_runs": False}))
+    out = tmp_path / "subset.nc"
+    assert main(["risk", str(study), "-o", str(out), "-q", "--threads", "2"]) == 0
+    capsys.readouterr()
+    assert main(["plot", str(out), "-o", str(tmp_path / "subset.png")]) == 2
+    err = capsys.readouterr().err
+    assert "one probability of pounding" in err and "Traceback" not in err
+    assert not list(tmp_path.glob("*.png"))
+    levels = np.array([0.2, 0.4, 0.8])
+    p = np.array([1e-6, 3.5e-3, 2.4e-2])
+    ds = xr.Dataset({"level_probability": ("level", p),
+                     "level_probability_low": ("level", p / 3),
+                     "level_probability_high": ("level", p * 3)},
+                    coords={"level": ("level", levels, {"units": "g"})},
+                    attrs={"duration": 6.0, "measure": "PGA"})
+    fig = _stripe_figure(ds)
+    check_layout(fig, "subset stripes")
+    x, y = fig.axes[0].lines[0].get_data()
+    np.testing.assert_array_equal(x, levels)
+    np.testing.assert_array_equal(y, p)

@@ -21,7 +21,17 @@ def risk_figures(path: str | Path) -> dict:
 
     with open_result(path) as opened:
         ds = opened.load()
-    out = {"fragility": _fragility_figure(ds)}
+    if "limit_name" not in ds:  # subset simulation: probabilities, no fragilities
+        if "level_probability" not in ds or ds.sizes.get("level", 0) < 2:
+            from pframe.errors import InputError
+
+            raise InputError(f"{path}: a subset simulation's result is one probability of "
+                             "pounding (pframe risk printed it, with its interval): there is "
+                             "no curve to draw; a subset study over records at two or more "
+                             "levels draws its probability against the intensity")
+        out = {"probability": _stripe_figure(ds)}
+    else:
+        out = {"fragility": _fragility_figure(ds)}
     if "hazard_frequency" in ds:
         out["hazard"] = _hazard_figure(ds)
     if "pounding_frequency" in ds:
@@ -37,6 +47,26 @@ def _intensities(ds) -> np.ndarray:
     """The intensities the study's runs reached (g): its levels, or each run's IM."""
     im = np.asarray(ds.intensity.values if "intensity" in ds else ds.level.values, float)
     return im[np.isfinite(im) & (im > 0)]
+
+
+def _stripe_figure(ds):
+    """A subset study over records: the probability of pounding at each level with its 95 %
+    interval."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
+    x, p = ds.level.values, ds.level_probability.values
+    low, high = ds.level_probability_low.values, ds.level_probability_high.values
+    shown = p > 0
+    ax.errorbar(x[shown], p[shown], yerr=[(p - low)[shown], (high - p)[shown]], fmt="o-",
+                capsize=3, label="subset simulation (95 %)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel(_measure(ds))
+    ax.set_ylabel("P(pounding | IM)")
+    ax.set_title(f"probability of pounding within {float(ds.attrs.get('duration', 0)):.3g} s")
+    ax.legend(fontsize=8)
+    return fig
 
 
 def _fragility_figure(ds):
@@ -93,8 +123,19 @@ def _hazard_figure(ds):
     a1.set_ylabel("annual frequency of exceedance (1/yr)")
     a1.set_title("hazard curve over the study's intensities")
     a1.legend(fontsize=8)
-    if "annual_frequency" in ds:
+    if "annual_frequency" in ds and "limit_name" in ds:
         _frequency_bars(ds, a2)
+    elif "annual_frequency" in ds:  # subset over records: pounding only
+        value = float(ds.annual_frequency)
+        a2.bar([0], [value], color="tab:blue")
+        a2.errorbar([0], [value], yerr=[[value - float(ds.annual_frequency_low)],
+                                        [float(ds.annual_frequency_high) - value]],
+                    fmt="none", ecolor="k", capsize=3)
+        a2.set_yscale("log")
+        a2.set_xticks([0], ["pounding"])
+        a2.set_xlim(-1, 1)
+        a2.set_ylabel("mean annual frequency (1/yr)")
+        a2.set_title("annual frequency of pounding (95 %)")
     else:
         a2.set_axis_off()
         a2.text(0.5, 0.5, "no fragility fitted: no mean annual frequency",
