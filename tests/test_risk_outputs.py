@@ -4,9 +4,9 @@ life, and the demands handed to pelicun (FEMA P-58 losses).
 The probability in T years of a Poisson process of rate lambda, 1 - exp(-lambda T), against
 the hazard maps' "10 % in 50 years" (the 475-year return period); the file's storey-by-storey
 demands against its per-building peaks; pelicun's demand table against the file it came
-from, and, where pelicun is installed (in this Python, or in the one ``PELICUN_PYTHON``
-names: pelicun pins its own pandas and scipy, so CI keeps it in a venv of its own), against
-what pelicun reads back from it."""
+from, and, where pelicun is installed (in this Python, in .venv/pelicun or in the Python
+``PELICUN_PYTHON`` names: pelicun pins its own pandas and scipy, so the README and CI keep it
+in a venv of its own), against what pelicun reads back from it."""
 
 from __future__ import annotations
 
@@ -190,15 +190,25 @@ def test_pframe_export_pelicun_never_replaces_a_file_unasked(study, tmp_path, ca
         export_pelicun(result, edp, building="A")
 
 
+#: where the README and .ci/run put pelicun's own environment
+PELICUN_VENV = REPO / ".venv" / "pelicun" / "bin" / "python"
+
+
 def _pelicun_python() -> str | None:
-    """A Python that imports pelicun: this one, or the one ``PELICUN_PYTHON`` names."""
+    """A Python that imports pelicun: this one, the one ``PELICUN_PYTHON`` names, or
+    :data:`PELICUN_VENV`'s."""
     import importlib.util
     import sys
 
     if importlib.util.find_spec("pelicun") is not None:
         return sys.executable
-    other = os.environ.get("PELICUN_PYTHON")
-    return other if other and shutil.which(other) else None
+    for other in (os.environ.get("PELICUN_PYTHON"), str(PELICUN_VENV)):
+        if other and shutil.which(other) and subprocess.run(
+                [other, "-c", "import importlib.util, sys; "
+                 "sys.exit(importlib.util.find_spec('pelicun') is None)"],
+                capture_output=True).returncode == 0:
+            return other
+    return None
 
 
 _READ_BACK = """
@@ -211,9 +221,10 @@ a.demand.save_sample(sys.argv[2])
 
 
 @pytest.mark.slow
-@pytest.mark.skipif(_pelicun_python() is None, reason="pelicun is not installed here and "
-                    "PELICUN_PYTHON names no Python that has it (pip install pelicun in a "
-                    "venv of its own, as .ci/run does)")
+@pytest.mark.skipif(_pelicun_python() is None, reason="pelicun is not installed here, nor "
+                    "in .venv/pelicun, and PELICUN_PYTHON names no Python that has it (python3 "
+                    "-m venv .venv/pelicun && .venv/pelicun/bin/pip install pelicun, as the "
+                    "README and .ci/run do)")
 def test_pelicun_reads_the_table_back(study, tmp_path):
     """pelicun's DemandModel loads the table and saves the same demands in the same units,
     columns (type, location, direction) as FEMA P-58 numbers them."""
