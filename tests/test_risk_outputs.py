@@ -153,6 +153,13 @@ def test_pelicun_table_holds_the_file_demands(study):
     stripe, _ = demand_table(ds, building="B", condition="without_pounding", level=0.6)
     assert len(stripe) == 8
     np.testing.assert_allclose(stripe["1-PFA-0-1"].values, 0.6, rtol=1e-9)
+    failed = ds.copy(deep=True)
+    failed["complete"].loc[dict(condition="with_pounding")] = np.where(
+        np.arange(48).reshape(8, 6) == 7, 0, 1)  # record 2 at level 2 failed
+    with pytest.warns(UserWarning, match="1 of 48 runs failed"):
+        table, _ = demand_table(failed, building="B")
+    assert list(np.flatnonzero(table["1-ERROR"].values)) == [7]
+    assert table.iloc[7, :-1].isna().all() and not table.iloc[6, :-1].isna().any()
     bare = ds.copy(deep=True)
     bare["story_peak_drift_ratio"][:] = np.nan  # a scene without storey heights
     with pytest.raises(InputError, match="no height"):
