@@ -16,6 +16,7 @@ A study file (YAML; paths relative to it)::
       acceleration: {A: 1.0}               # peak absolute floor acceleration (g)
     hazard: {file: hazard.csv}     # or {power_law: {k0: 1.0e-4, k: 2.5}}
     target: {return_period: 475}   # or {annual_frequency: 2.1e-3}
+    design_life: 50                # years: P(at least once) = 1 - exp(-MAF years)
     codes: [asce7, {code: tbdy2018, R: 6}]   # code rules beside the gap at target
 """
 
@@ -152,6 +153,10 @@ class StudyFile(_Base):
     hazard: Hazard | None = Field(None, description="The hazard curve.")
     target: Target | None = Field(None, description="The target annual frequency of "
                                   "pounding.")
+    design_life: float = Field(50.0, gt=0, allow_inf_nan=False, description="Years over "
+                               "which each limit state's probability of happening at least "
+                               "once is given: 1 - exp(-annual frequency x years), occurrences "
+                               "taken as a Poisson process.")
     codes: list | dict | str | None = Field(None, description="Building codes' separation "
                                            "rules shown beside the gap at target: names "
                                            "(asce7, tbdy2018, ...), {code: NAME, factors}, "
