@@ -355,13 +355,25 @@ def test_validate_names_the_system(tmp_path, capsys):
         capsys.readouterr().out
 
 
-def test_a_bad_number_is_quoted_as_written(tmp_path):
-    """The validation's message quotes the scene's number (-0.25 t), not its SI value."""
-    data = written_in("kN-m-t")
-    data["buildings"][0]["mass"] = -0.25
-    with pytest.raises(InputError) as caught:
-        parse_scene(yaml.safe_dump(data, sort_keys=False), "scene.yaml", tmp_path)
-    assert "buildings[0].mass: Input should be greater than 0 (got -0.25)" in str(caught.value)
+@pytest.mark.slow
+@pytest.mark.parametrize("command", [["gap"], ["plot", "--dimensionless"]])
+def test_what_reads_si_only_refuses_another_system(tmp_path, capsys, command):
+    """A gap audit's code rules and suites are SI: refused, naming the file and units."""
+    from pframe.cli import main
+
+    path = _written(tmp_path, "kN-m-t")
+    if command[0] == "plot":
+        data = written_in("kN-m-t")
+        data["analysis"] = {**data["analysis"], "duration": 0.01}
+        (tmp_path / "short.yaml").write_text(yaml.safe_dump(data), encoding="utf-8")
+        assert main(["solve", str(tmp_path / "short.yaml"), "-q", "-o",
+                     str(tmp_path / "short.nc")]) == 0
+        path = str(tmp_path / "short.nc")
+    out = tmp_path / ("out.png" if command[0] == "plot" else "out.nc")
+    assert main([command[0], path, *command[1:], "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "kN-m-t" in err and "units" in err and "Traceback" not in err
+    assert not out.exists()
 
 
 @pytest.mark.slow
@@ -388,3 +400,58 @@ def test_the_summary_of_a_file_in_mm_is_the_si_files_converted(tmp_path, capsys)
         scale = cf_units.Unit(b["units"] or "1").convert(1.0, cf_units.Unit(a["units"] or "1"))
         assert b["value"] * scale == pytest.approx(a["value"], rel=1e-9, abs=1e-12), \
             a["quantity"]
+
+
+@pytest.mark.slow
+@pytest.mark.filterwarnings("ignore:.*the OpenSees script's model is not pframe's")
+def test_the_opensees_script_is_in_si_and_says_so(tmp_path):
+    import pframe
+
+    scene = {k: v for k, v in SI.items() if k != "initial_conditions"}  # OpenSees: from rest
+    si = pframe.to_opensees(parse_scene(yaml.safe_dump(scene), "s.yaml", tmp_path))
+    other = pframe.to_opensees(parse_scene(yaml.safe_dump(written_in("kip-in-s", scene)),
+                                           "s.yaml", tmp_path))
+    assert "Its numbers are in SI units (N, m, kg, s)." in si
+    assert "the scene, written in kip-in-s, converted." in other
+    namespaces = []
+    for text in (si, other):
+        namespace = {"__name__": "units_script"}
+        exec(compile(text, "script.py", "exec"), namespace)  # the data block only
+        namespaces.append(namespace)
+    np.testing.assert_allclose(namespaces[1]["MASSES"], namespaces[0]["MASSES"], rtol=1e-14)
+    np.testing.assert_allclose(namespaces[1]["CONTACT_GAPS"], namespaces[0]["CONTACT_GAPS"],
+                               rtol=1e-14)
+
+
+@pytest.mark.slow
+def test_a_sweep_of_a_scene_in_mm_is_the_si_sweep_in_mm(tmp_path, capsys):
+    """The swept values are in the scene's units, and so are the sweep file's responses."""
+    from pframe.cli import main
+
+    files = {}
+    for name, gaps in (("N-m-kg", [0.002, 0.004]), ("N-mm-t", [2.0, 4.0])):
+        base = _written(tmp_path, name)
+        sweep = tmp_path / f"sweep-{name}.yaml"
+        sweep.write_text(yaml.safe_dump({
+            "base": base, "axes": [{"name": "gap", "path": "contacts.0.gap", "values": gaps}],
+            "keep": {"envelopes": ["peak_displacement", "peak_contact_force",
+                                   "impact_count"]}}), encoding="utf-8")
+        files[name] = tmp_path / f"sweep-{name}.nc"
+        assert main(["sweep", str(sweep), "-o", str(files[name])]) == 0
+    capsys.readouterr()
+    si, mm = (xr.open_dataset(files[n]) for n in ("N-m-kg", "N-mm-t"))
+    assert mm.attrs["units_system"] == "N-mm-t"
+    assert mm["peak_displacement"].attrs["units"] == "mm"
+    assert _agree(si["peak_displacement"].values, _in_si(mm, "peak_displacement")) < TOLERANCE
+    assert _agree(si["peak_contact_force"].values, _in_si(mm, "peak_contact_force")) < TOLERANCE
+    np.testing.assert_array_equal(si["impact_count"].values, mm["impact_count"].values)
+    assert si["impact_count"].values.sum() > 0
+
+
+def test_a_bad_number_is_quoted_as_written(tmp_path):
+    """The validation's message quotes the scene's number (-0.25 t), not its SI value."""
+    data = written_in("kN-m-t")
+    data["buildings"][0]["mass"] = -0.25
+    with pytest.raises(InputError) as caught:
+        parse_scene(yaml.safe_dump(data, sort_keys=False), "scene.yaml", tmp_path)
+    assert "buildings[0].mass: Input should be greater than 0 (got -0.25)" in str(caught.value)
