@@ -189,6 +189,37 @@ def test_a_record_in_g_scaled_to_a_pga_in_the_scenes_units(tmp_path, name):
         assert _agree(np.asarray(si[q].values, float), _in_si(other, q)) < TOLERANCE, q
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("name", ["N-mm-t", "kip-in-s"])
+def test_soil_and_a_stochastic_motion_convert_too(tmp_path, name):
+    """A building on soil (the cone model: V_s, density, a foundation's radius and mass) under
+    a seeded Clough-Penzien motion (S_0 in m^2/s^3): the same physics in any system."""
+    mass, length = SYSTEMS[name]
+    scene = {k: v for k, v in SI.items() if k != "initial_conditions"}
+    scene = copy.deepcopy(scene)
+    scene["buildings"][1]["soil"] = {"shear_wave_velocity": 250.0, "poisson": 0.3,
+                                     "density": 1900.0,
+                                     "foundation": {"radius": 3.0, "mass": 2000.0}}
+    scene["excitation"] = {"kind": "stochastic", "model": "clough_penzien", "seed": 3,
+                           "intensity": 0.02, "ground_frequency": 15.0,
+                           "ground_damping": 0.6, "envelope": {"kind": "gamma", "d595": 2.0,
+                                                              "tmid": 1.0}}
+    scene["analysis"] = {**scene["analysis"], "duration": 0.9}
+    on_soil = QUANTITIES + ["foundation_sway", "foundation_rocking"]
+    scene["recorders"] = [{"kind": "history", "quantities": on_soil}]
+    other = written_in(name, {**scene, "excitation": {"kind": "sine", "amplitude": 1.0,
+                                                      "frequency": 1.0}})
+    soil = other["buildings"][1]["soil"]
+    soil["shear_wave_velocity"] /= length
+    soil["density"] /= mass / length**3
+    soil["foundation"] = {"radius": 3.0 / length, "mass": 2000.0 / mass}
+    other["excitation"] = {**scene["excitation"], "intensity": 0.02 / length**2}
+    si, converted = _solve(scene, tmp_path), _solve(other, tmp_path)
+    assert np.max(np.abs(si["foundation_rocking"].values)) > 0  # the soil moves
+    for q in on_soil:
+        assert _agree(np.asarray(si[q].values, float), _in_si(converted, q)) < TOLERANCE, q
+
+
 def test_an_unknown_unit_system_names_the_file_line_and_the_accepted(tmp_path):
     text = yaml.safe_dump({**SI, "units": "kN-mm-t"}, sort_keys=False)
     with pytest.raises(InputError) as caught:
