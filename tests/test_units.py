@@ -218,6 +218,13 @@ def test_soil_and_a_stochastic_motion_convert_too(tmp_path, name):
     assert np.max(np.abs(si["foundation_rocking"].values)) > 0  # the soil moves
     for q in on_soil:
         assert _agree(np.asarray(si[q].values, float), _in_si(converted, q)) < TOLERANCE, q
+    cf_units = pytest.importorskip("cf_units")
+    for key in ("soil_sway_stiffness", "soil_sway_damping", "soil_rocking_stiffness",
+                "soil_rocking_damping"):  # the springs applied, in the file's units
+        unit = cf_units.Unit(converted.attrs[f"{key}_units"])
+        value = unit.convert(np.asarray(converted.attrs[key]),
+                             cf_units.Unit(si.attrs[f"{key}_units"]))
+        np.testing.assert_allclose(value, si.attrs[key], rtol=1e-12, err_msg=key)
 
 
 def test_an_unknown_unit_system_names_the_file_line_and_the_accepted(tmp_path):
