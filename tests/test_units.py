@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 import xarray as xr
 import yaml
-from conftest import record_file
+from conftest import REPO, record_file
 
 from pframe.errors import InputError
 from pframe.reader import parse_scene
@@ -79,13 +79,11 @@ def written_in(name: str, scene: dict = SI) -> dict:
         b["story"]["stiffness"] /= force / length
         if "yield_drift" in b["story"]:
             b["story"]["yield_drift"] /= length
-    hertz, linear = out["contacts"]
-    hertz["gap"] /= length
-    hertz["stiffness"] /= force / length**1.5
-    linear["gap"] /= length
-    linear["stiffness"] /= force / length
-    link = out["links"][0]
-    link["damping"] /= force * length ** -link["exponent"]
+    for contact in out["contacts"]:
+        contact["gap"] /= length
+        contact["stiffness"] /= force / length ** (1.5 if contact["law"] == "hertz" else 1.0)
+    for link in out.get("links", []):
+        link["damping"] /= force * length ** -link["exponent"]
     excitation = out["excitation"]
     if excitation["kind"] == "sine":
         excitation["amplitude"] /= length
@@ -383,6 +381,32 @@ def test_expand_writes_a_scene_of_another_system_in_si(tmp_path, capsys):
     for a, b in zip(expanded.contacts, original.contacts):
         np.testing.assert_allclose(a.packed, b.packed, rtol=1e-14, atol=0)
     capsys.readouterr()
+
+
+def test_pi_prints_the_governing_variables_in_the_scenes_units(tmp_path, capsys):
+    """The Pi numbers are the same in any system; the variables are printed in its units."""
+    from pframe.cli import main
+
+    scene = {k: v for k, v in SI.items() if k not in ("links", "initial_conditions")}
+    scene["contacts"] = scene["contacts"][:1]  # pi: one contact law
+    outputs = {}
+    for name in ("N-m-kg", "kN-m-t"):
+        assert main(["pi", _written(tmp_path, name, scene)]) == 0
+        outputs[name] = capsys.readouterr().out
+    si, kn = (outputs[n].splitlines() for n in ("N-m-kg", "kN-m-t"))
+    groups = [line for line in si if line.startswith("  Pi_")]
+    assert groups and groups == [line for line in kn if line.startswith("  Pi_")]
+    assert any(line.split()[:3] == ["m_a", "0.25", "t"] for line in kn)
+    assert any(line.split()[:3] == ["K_a", "200", "kN/m"] for line in kn)
+
+
+def test_a_pi_form_scene_takes_no_units(tmp_path):
+    from pframe.reader import load_scene
+
+    text = (REPO / "models" / "hust-4x3-pi.yaml").read_text(encoding="utf-8")
+    (tmp_path / "pi.yaml").write_text(text + "units: kN-m-t\n", encoding="utf-8")
+    with pytest.raises(InputError, match=r"units: a Pi-form scene is written in Pi numbers"):
+        load_scene(tmp_path / "pi.yaml")
 
 
 def test_validate_names_the_system(tmp_path, capsys):
