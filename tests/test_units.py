@@ -517,3 +517,22 @@ def test_a_bad_number_is_quoted_as_written(tmp_path):
     with pytest.raises(InputError) as caught:
         parse_scene(yaml.safe_dump(data, sort_keys=False), "scene.yaml", tmp_path)
     assert "buildings[0].mass: Input should be greater than 0 (got -0.25)" in str(caught.value)
+
+
+@pytest.mark.slow
+def test_figures_label_their_axes_in_the_files_units(tmp_path):
+    import pframe
+    from pframe.plot.figure import figures
+
+    data = written_in("N-mm-t")
+    data["analysis"] = {**data["analysis"], "duration": 0.3}
+    data["recorders"] = [{"kind": "history", "quantities": ["displacement", "velocity",
+                                                            "acceleration", "story_drift",
+                                                            "story_force", "contact_force"]}]
+    (tmp_path / "mm.yaml").write_text(yaml.safe_dump(data), encoding="utf-8")
+    pframe.solve(tmp_path / "mm.yaml", output=tmp_path / "mm.nc", progress=False)
+    axes = [ax for fig in figures(tmp_path / "mm.nc").values() for ax in fig.axes]
+    labels = {ax.get_ylabel() for ax in axes} | {ax.get_xlabel() for ax in axes}
+    assert any(label.endswith("(mm)") for label in labels), labels
+    assert any(label.endswith("(N)") for label in labels), labels
+    assert not any(label.endswith("(m)") for label in labels), labels
