@@ -322,8 +322,9 @@ IMPACT_COLUMNS = (("contact", ""), ("onset", "s"), ("approach_velocity", "m/s"),
 
 
 def impacts(result):
-    """The impacts of a run as a pandas DataFrame, one row per contact episode in time order:
-    ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
+    """The impacts of a run as a pandas DataFrame, one row per contact episode in time order,
+    in SI units whatever the result's (docs/units.md; ``pframe summary`` shows them in the
+    result's): ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
     ``peak_force`` (N), ``duration`` (onset to separation, s), ``impulse`` (the time integral
     of the contact force, N s), ``column_shear`` (N: the peak shear a floor-to-column
     contact's impact put into the struck column, ``Element.column_weight`` times its peak force;
