@@ -536,3 +536,20 @@ def test_figures_label_their_axes_in_the_files_units(tmp_path):
     assert any(label.endswith("(mm)") for label in labels), labels
     assert any(label.endswith("(N)") for label in labels), labels
     assert not any(label.endswith("(m)") for label in labels), labels
+
+
+@pytest.mark.slow
+def test_a_dimensionless_file_is_the_same_in_any_system(tmp_path):
+    """Pi numbers have no units: output.units dimensionless gives the SI scene's file."""
+    files = {}
+    for name in ("N-m-kg", "kip-in-s"):
+        data = written_in(name)
+        data["analysis"] = {**data["analysis"], "duration": 0.1}
+        data["output"] = {"units": "dimensionless"}
+        files[name] = _solve(data, tmp_path)
+    si, kip = files["N-m-kg"], files["kip-in-s"]
+    assert kip.attrs["units_system"] == "dimensionless"
+    for q in QUANTITIES:
+        assert kip[q].attrs["units"] == "1", q
+        assert _agree(si[q].values, kip[q].values) < TOLERANCE, q
+    assert kip.attrs["scale_m_b"] == pytest.approx(si.attrs["scale_m_b"], rel=1e-14)
