@@ -553,3 +553,15 @@ def test_a_dimensionless_file_is_the_same_in_any_system(tmp_path):
         assert kip[q].attrs["units"] == "1", q
         assert _agree(si[q].values, kip[q].values) < TOLERANCE, q
     assert kip.attrs["scale_m_b"] == pytest.approx(si.attrs["scale_m_b"], rel=1e-14)
+
+
+def test_a_number_too_large_once_in_si_says_it_is_quoted_in_si(tmp_path):
+    """5e99 kip s^2/in is 8.8e104 kg, beyond the 1e100 pframe computes with: the message
+    quotes the SI number and says so."""
+    data = written_in("kip-in-s")
+    data["buildings"][0]["mass"] = 5.0e99
+    with pytest.raises(InputError) as caught:
+        parse_scene(yaml.safe_dump(data, sort_keys=False), "scene.yaml", tmp_path)
+    message = str(caught.value)
+    assert "buildings[0].mass: 8.756e+104 is larger than the 1e+100" in message
+    assert message.endswith("(the numbers quoted are the scene's in SI: N, m, kg)")

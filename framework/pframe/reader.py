@@ -173,9 +173,10 @@ def _validated_in_si(data: dict, system, model, lines: dict, source: str):
                          f"{system.name} to SI: {reason}") from None
     try:
         return validated(model, converted, lines, source)
-    except InputError:
+    except InputError as exc:
         validated(model, data, lines, source)  # the same problem, in the scene's numbers
-        raise
+        raise InputError(f"{exc} (the numbers quoted are the scene's in SI: N, m, kg)") \
+            from None
 
 
 def _reference(scene, expanded, source: str, lines: dict) -> dict | None:
