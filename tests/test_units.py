@@ -565,3 +565,12 @@ def test_a_number_too_large_once_in_si_says_it_is_quoted_in_si(tmp_path):
     message = str(caught.value)
     assert "buildings[0].mass: 8.756e+104 is larger than the 1e+100" in message
     assert message.endswith("(the numbers quoted are the scene's in SI: N, m, kg)")
+
+
+def test_a_law_named_by_a_list_is_refused_by_the_validation(tmp_path):
+    """Found by the generated hostile input: ``material: [1.0, 2.0]`` in a scene in kN-m-t
+    was looked up as a law's name (a TypeError); it is the validation's error now."""
+    data = written_in("kN-m-t")
+    data["buildings"][0]["story"]["material"] = [1.0, 2.0]
+    with pytest.raises(InputError, match=r"buildings\[0\]\.story"):
+        parse_scene(yaml.safe_dump(data, sort_keys=False), "scene.yaml", tmp_path)

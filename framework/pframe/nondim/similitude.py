@@ -276,7 +276,7 @@ def _scale_leaf(value, path: tuple, law, factor_of, dimension_at, by_value: bool
             return [v * factor_of(QUANTITY[q]) for v, q in zip(value, _PLAN_TRIPLE[path[1]])]
         return [_scale_leaf(v, path, law, factor_of, dimension_at, by_value) for v in value]
     dimension = dimension_at(path)
-    if dimension is None and law is not None and law[1] is not None:
+    if dimension is None and law is not None and isinstance(law[1], str):
         try:
             dimension = law_field_dimension(law[0], law[1], path[-1],
                                             law[2] if by_value else None)
