@@ -15,6 +15,7 @@ tonne, ``kip`` 1000 lbf, ``in`` the inch.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -51,10 +52,7 @@ class UnitSystem:
         (time is in seconds in every system, so ``time`` does not matter): exact, rounded
         once, for integer exponents; a power of the exact factors for fractional ones (a
         Hertz stiffness, N/m^1.5)."""
-        mass, length = Fraction(mass), Fraction(length)
-        if mass.denominator == 1 and length.denominator == 1:
-            return float(self.kilograms ** int(mass) * self.metres ** int(length))
-        return float(self.kilograms) ** float(mass) * float(self.metres) ** float(length)
+        return _factor(self.kilograms, self.metres, Fraction(mass), Fraction(length))
 
     def symbol(self, mass, length, time) -> str:
         """The unit of dimension ``M^mass L^length T^time`` in this system, UDUNITS-2
@@ -69,6 +67,13 @@ class UnitSystem:
         bottom = [_power(s, -x) for s, x in factors if x < 0]
         text = " ".join(top) or "1"
         return text + "".join(f"/{b}" for b in bottom)
+
+
+@functools.lru_cache(maxsize=256)  # every number of a scene asks for one of a few
+def _factor(kilograms: Fraction, metres: Fraction, mass: Fraction, length: Fraction) -> float:
+    if mass.denominator == 1 and length.denominator == 1:
+        return float(kilograms ** int(mass) * metres ** int(length))
+    return float(kilograms) ** float(mass) * float(metres) ** float(length)
 
 
 def _power(symbol: str, exponent: Fraction) -> str:

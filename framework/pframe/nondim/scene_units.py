@@ -11,6 +11,8 @@ value). A number of unknown dimension is refused: it would otherwise be read as 
 
 from __future__ import annotations
 
+import functools
+
 from pframe.nondim.dimensions import DIMENSIONLESS, QUANTITY, Dimension, parse_units
 from pframe.nondim.fields import SCENE_FIELDS
 from pframe.nondim.similitude import walk_scene
@@ -70,6 +72,7 @@ def _unit_fields() -> dict:
 UNIT_FIELDS = _unit_fields()
 
 
+@functools.lru_cache(maxsize=4096)  # a sweep converts the same paths for every variant
 def unit_field_dimension(path: tuple) -> Dimension | None:
     """The dimension of the number at ``path`` for a conversion of units (a ``fixed`` one
     is dimensionless there: it is not converted); None where unknown."""
