@@ -990,7 +990,10 @@ class Output(Base):
     """Units of the result file: SI, or dimensionless (tau = w_p t, x = X / l_e, l_e = a_p /
     w_p^2, force / (m_b a_p); see docs/dimensional-analysis.md)."""
 
-    units: Literal["SI", "dimensionless"] = Field("SI", description="SI or dimensionless.")
+    units: Literal["SI", "dimensionless"] = Field(
+        "SI", description="SI or dimensionless. Left out, a dimensional file is in the "
+        "scene's units (docs/units.md); SI given writes a scene of another unit system's "
+        "results in SI.")
     scales: OutputScales | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
