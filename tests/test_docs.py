@@ -21,6 +21,7 @@ import pytest
 import yaml
 from conftest import record_file
 
+from pframe.errors import InputError
 from pframe.reader import parse_scene
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
@@ -250,3 +251,17 @@ def test_readme_names_every_system_package_the_tests_use_as_ci_installs_them():
         assert COMMANDS[command] is None or COMMANDS[command] in named, command
     assert "npm install --prefix .venv/node ajv@8" in readme
     assert ".venv/pelicun/bin/pip install pelicun" in readme
+
+
+def test_example_plugin_without_a_dimension_is_refused_in_another_unit_system(example_plugin):
+    """The example law leaves its stiffness's dimension out (N/m^n depends on n): in SI it
+    runs; in kN-m-t it is refused naming the field, never read as SI (docs/units.md)."""
+    law = next(iter(example_plugin["pframe.contact_laws"]))
+    text = next(b[2] for b in SCENE_BLOCKS
+                if b[0] == CONTACT_LAWS.name and f"law: {law}" in b[2])
+    parse_scene(text, base_dir=DOCS)
+    with pytest.raises(InputError) as caught:
+        parse_scene("units: kN-m-t\n" + text, source="scene.yaml", base_dir=DOCS)
+    message = str(caught.value)
+    assert "contacts[0].stiffness: cannot convert this value from kN-m-t to SI" in message
+    assert f"field 'stiffness' of contact law '{law}'" in message

@@ -496,7 +496,7 @@ def open_study(study, records_folder=None) -> Opened:
     everything ``pframe risk`` would refuse before it runs (``pframe validate`` runs this).
     Raises :class:`InputError` naming the file, the line and the field."""
     from pframe.gap.audit import prepare
-    from pframe.reader import load_scene
+    from pframe.reader import load_scene, require_si
 
     spec, base, text, lines = _read(study)
     at = _At(study, lines)
@@ -525,6 +525,7 @@ def open_study(study, records_folder=None) -> Opened:
                          "often they are exceeded, so no annual frequency can be given; "
                          "extend the table up to the stripes, or lower them")
     loaded = load_scene(scene)
+    require_si(loaded, "a risk study")  # its hazard, stripes and gaps are in SI
     _check_measure(spec, at, list(loaded.expanded.buildings))
     if suite is None:  # the scene's own excitation runs as the scene says
         for field, value, own in (("dt", spec.dt, loaded.expanded.dt),
