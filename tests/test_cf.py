@@ -61,10 +61,18 @@ def files(tmp_path_factory) -> dict[str, Path]:
     (folder / "column.yaml").write_text(yaml.safe_dump(scene))
     out["column"] = folder / "column.nc"
     assert main(["solve", str(folder / "column.yaml"), "-o", str(out["column"]), "-q"]) == 0
+    # a file in another unit system (docs/units.md): kip, in, kip in, in/s^2
+    scene = yaml.safe_load((REPO / "models" / "mid-rise-pair-kN-m-t.yaml").read_text())
+    scene["units"] = "kip-in-s"
+    scene["excitation"] = {"kind": "sine", "amplitude": 100.0, "frequency": 9.0}
+    scene["analysis"]["duration"] = 2.0
+    (folder / "kip.yaml").write_text(yaml.safe_dump(scene))
+    out["kip"] = folder / "kip.nc"
+    assert main(["solve", str(folder / "kip.yaml"), "-o", str(out["kip"]), "-q"]) == 0
     return out
 
 
-KINDS = ["solve", "pi", "sweep", "gap", "risk", "column"]
+KINDS = ["solve", "pi", "sweep", "gap", "risk", "column", "kip"]
 HEADER = "IOOS Compliance Checker Report"
 
 

@@ -21,6 +21,7 @@ import pytest
 import yaml
 from conftest import record_file
 
+from pframe.errors import InputError
 from pframe.reader import parse_scene
 
 DOCS = Path(__file__).resolve().parents[1] / "docs"
@@ -219,3 +220,48 @@ def test_theory_rayleigh_coefficients_are_the_codes():
                                           abs=5e-5)
         story = plan.story_names.index(f"{building}/1")
         assert float(a1) == pytest.approx(plan.story_beta[0, story], abs=5e-8)
+
+
+#: the system command each test looks up (shutil.which) and the Debian package that has it
+COMMANDS = {"node": "nodejs", "ncdump": "netcdf-bin", "chromium": "chromium", "cc": "gcc",
+            "gcc": "gcc", "check-jsonschema": None, "mount": None}  # None: pip's, or the base
+
+
+def test_readme_names_every_system_package_the_tests_use_as_ci_installs_them():
+    """A fresh machine that follows the README skips no test it could run: its apt-get line
+    names the packages .ci/run installs, and every command a test looks up on the PATH
+    comes from one of them (or from pip or the base system, as COMMANDS says)."""
+    repo = DOCS.parent
+    readme = (repo / "README.md").read_text(encoding="utf-8")
+    line = re.search(r"^apt-get install -y ([^\n`]+)$", readme, re.M)
+    assert line, "README.md has no 'apt-get install -y ...' line"
+    named = line.group(1).split()
+    ci = re.search(r'^SYSTEM_PACKAGES="([^"]+)"', (repo / ".ci" / "run").read_text(), re.M)
+    assert ci and ci.group(1).split() == named, (named, ci and ci.group(1))
+    looked_up = set()
+    for path in sorted((repo / "tests").glob("*.py")):
+        text = path.read_text(encoding="utf-8")
+        looked_up |= set(re.findall(r"""shutil\.which\(["']([\w.-]+)["']\)""", text))
+        # a loop over the names a program has (chromium, chromium-browser, ...)
+        for names in re.findall(r"for name in \(([^)]*)\):\s*\n\s*found = shutil\.which", text):
+            looked_up.add(re.findall(r'"([\w.-]+)"', names)[0])
+    unknown = looked_up - set(COMMANDS)
+    assert not unknown, f"tests look up {sorted(unknown)}: add them to COMMANDS and README"
+    for command in looked_up:
+        assert COMMANDS[command] is None or COMMANDS[command] in named, command
+    assert "npm install --prefix .venv/node ajv@8" in readme
+    assert ".venv/pelicun/bin/pip install pelicun" in readme
+
+
+def test_example_plugin_without_a_dimension_is_refused_in_another_unit_system(example_plugin):
+    """The example law leaves its stiffness's dimension out (N/m^n depends on n): in SI it
+    runs; in kN-m-t it is refused naming the field, never read as SI (docs/units.md)."""
+    law = next(iter(example_plugin["pframe.contact_laws"]))
+    text = next(b[2] for b in SCENE_BLOCKS
+                if b[0] == CONTACT_LAWS.name and f"law: {law}" in b[2])
+    parse_scene(text, base_dir=DOCS)
+    with pytest.raises(InputError) as caught:
+        parse_scene("units: kN-m-t\n" + text, source="scene.yaml", base_dir=DOCS)
+    message = str(caught.value)
+    assert "contacts[0].stiffness: cannot convert this value from kN-m-t to SI" in message
+    assert f"field 'stiffness' of contact law '{law}'" in message

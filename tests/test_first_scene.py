@@ -18,7 +18,7 @@ from pframe.cli import main
 
 REPO = Path(__file__).resolve().parents[1]
 PAGE = REPO / "docs" / "first-scene.md"
-RECORDS = Path("/work/shared/records")
+RECORDS = REPO.parent / "shared" / "records"  # beside the clone, as conftest.RECORDS
 FENCE = re.compile(r"^```(\w+)\n(.*?)^```", re.M | re.S)
 
 

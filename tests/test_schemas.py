@@ -210,13 +210,17 @@ def test_ajv_strict_mode_compiles_every_schema():
     node = shutil.which("node")
     if node is None:
         pytest.skip("node is not installed: the ajv strict-mode check needs node and npm's ajv")
+    # where the README and .ci/run install it (npm install --prefix .venv/node ajv@8)
+    env = dict(os.environ, NODE_PATH=os.pathsep.join(
+        p for p in (os.environ.get("NODE_PATH"), str(REPO / ".venv" / "node" / "node_modules"))
+        if p))
     probe = subprocess.run([node, "-e", "require.resolve('ajv/dist/2020')"], capture_output=True,
-                           env=os.environ)
+                           env=env)
     if probe.returncode != 0:
-        pytest.skip("node cannot find the npm package ajv (npm install ajv, or set NODE_PATH "
-                    "to a node_modules folder that holds it)")
+        pytest.skip("node cannot find the npm package ajv (npm install --prefix .venv/node "
+                    "ajv@8, or set NODE_PATH to a node_modules folder that holds it)")
     files = [str(packaged() / name) for name in FILES]
-    result = subprocess.run([node, "-e", AJV, *files], capture_output=True, text=True)
+    result = subprocess.run([node, "-e", AJV, *files], capture_output=True, text=True, env=env)
     assert result.returncode == 0, result.stdout + result.stderr
 
 

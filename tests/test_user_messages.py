@@ -26,7 +26,7 @@ from pframe.reader import parse_scene
 
 REPO = Path(__file__).resolve().parents[1]
 MODELS = REPO / "models"
-RECORDS = Path("/work/shared/records")
+RECORDS = REPO.parent / "shared" / "records"  # beside the clone, as conftest.RECORDS
 G = 9.80665
 M_LEFT, M_RIGHT, V_IMPACT = 1000.0, 3000.0, 0.5
 REBOUND = re.compile(r"rebounds with ([0-9.]+)")

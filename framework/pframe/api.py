@@ -168,7 +168,9 @@ def opensees_script(loaded) -> tuple[str, tuple[str, ...]]:
 
     expanded = loaded.expanded
     peer = peer_scene(assemble(expanded), centres=expanded.node_centre)
-    return script_text(peer), peer.differences
+    system = getattr(loaded, "system", None)
+    written_in = None if system is None or system.si else system.name
+    return script_text(peer, written_in=written_in), peer.differences
 
 
 def loaded_scene(source, base_dir=None):

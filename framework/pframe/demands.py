@@ -10,8 +10,9 @@
 - the storey shear attributable to contact forces (:func:`impact_storey_shear`);
 - a table of impacts (:func:`impacts`).
 
-Everything is computed in the file's units from the recorded histories; what a quantity needs
-and the run did not record is named in the error (or the summary's warning).
+Everything is computed from the recorded histories, in SI units (a file written in another
+unit system, docs/units.md, is read back in SI: the scene's yield and ultimate drifts are); what
+a quantity needs and the run did not record is named in the error (or the summary's warning).
 """
 
 from __future__ import annotations
@@ -38,14 +39,59 @@ def _dimensionless(ds) -> bool:
     return _text(ds.attrs.get("units_system", "")) == "dimensionless"
 
 
+def _system(ds):
+    """The unit system of a result (None: dimensionless)."""
+    from pframe.units import SYSTEMS
+
+    name = _text(ds.attrs.get("units_system", "")) or "N-m-kg"
+    if name == "dimensionless":
+        return None
+    if name not in SYSTEMS:
+        raise InputError(f"the result is written in units_system {name!r}, which this pframe "
+                         f"does not know ({', '.join(SYSTEMS)})")
+    return SYSTEMS[name]
+
+
+def in_file_units(ds, value, si_units: str) -> tuple:
+    """(value, units) of an SI value as the result ``ds`` writes its quantities (its unit
+    system's; SI in a dimensionless file, whose demands are not computed)."""
+    from pframe.nondim.output import OutputUnits
+    from pframe.units import SI
+
+    convert = OutputUnits(system=_system(ds) or SI)
+    return convert.variable(value, si_units, "")[:2]
+
+
+def si_factor(ds, si_units: str) -> float:
+    """The SI value of one unit of a quantity of SI units ``si_units`` (``"m"``, ``"N"``) as
+    the result ``ds`` writes it: 1 in SI and in a dimensionless file, else its unit system's
+    (``units_system``; docs/units.md).
+
+    Raises
+    ------
+    InputError
+        For a unit system pframe does not know (a file of a later version).
+    """
+    from pframe.nondim.dimensions import parse_units
+
+    system = _system(ds)
+    return 1.0 if system is None else system.factor(*parse_units(si_units).exponents)
+
+
 def _history(ds, name: str):
-    """(times, values (K, width)) of a recorded history, or None."""
+    """(times, values (K, width)) of a recorded history, in SI (:func:`si_factor`), or
+    None."""
     if name not in ds.data_vars:
         return None
     var = ds[name]
     if var.ndim != 2 or not var.dims[0].startswith("t"):
         return None
-    return np.asarray(ds[var.dims[0]].values, float), np.asarray(var.values, float)
+    from pframe.quantities import QUANTITIES
+
+    factor = si_factor(ds, QUANTITIES[name][1]) if name in QUANTITIES else 1.0
+    values = np.asarray(var.values, float)
+    return (np.asarray(ds[var.dims[0]].values, float),
+            values if factor == 1.0 else values * factor)
 
 
 def _need(ds, names, what: str, where: str):
@@ -276,8 +322,9 @@ IMPACT_COLUMNS = (("contact", ""), ("onset", "s"), ("approach_velocity", "m/s"),
 
 
 def impacts(result):
-    """The impacts of a run as a pandas DataFrame, one row per contact episode in time order:
-    ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
+    """The impacts of a run as a pandas DataFrame, one row per contact episode in time order,
+    in SI units whatever the result's (docs/units.md; ``pframe summary`` shows them in the
+    result's): ``contact``, ``onset`` (s), ``approach_velocity`` (the penetration rate at onset, m/s),
     ``peak_force`` (N), ``duration`` (onset to separation, s), ``impulse`` (the time integral
     of the contact force, N s), ``column_shear`` (N: the peak shear a floor-to-column
     contact's impact put into the struck column, ``Element.column_weight`` times its peak force;

@@ -15,6 +15,7 @@ from pathlib import Path
 
 from pframe.errors import InputError
 from pframe.model.load import ModelError, check_numbers, plugin_names, read_input, validated
+from pframe.units import SI
 from pframe.yamltext import compose, dump, where
 
 Path_ = tuple  # a path into the YAML data: keys and list indices
@@ -43,6 +44,9 @@ class LoadedScene:
     #: the units its result file is written in (:class:`pframe.nondim.output.OutputUnits`:
     #: SI, or the paper's dimensionless variables with the reference scales)
     units: object = field(repr=False, default=None)
+    #: the unit system the scene is written in (:class:`pframe.units.UnitSystem`; its
+    #: ``scene`` and ``expanded`` are in SI whatever it is: docs/units.md)
+    system: object = field(repr=False, default=None)
 
     def where(self, path: Path_) -> str:
         return where(self.source, self.lines, path)
@@ -76,6 +80,11 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     from pframe.nondim.output import OutputUnits
 
     unit_scales = ()
+    system = unit_system(data, lines, source)
+    if "pi" in data and not system.si:
+        raise InputError(f"{where(source, lines, ('units',))}: a Pi-form scene is written in "
+                         "Pi numbers and SI scales; units applies to a dimensional scene (write "
+                         "the scene out with pframe expand, or leave units out)")
     if "pi" in data:  # a scene written in Pi numbers (pframe.nondim.pi_form)
         from pframe.nondim.pi_form import expand_pi_data
 
@@ -88,7 +97,10 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
             if isinstance(contact, dict) and "restitution" in contact:
                 contact.setdefault("calibration", "published")
     plugins = plugin_names(data, lines, source)
-    scene = validated(scene_class(*plugins), data, lines, source)
+    if system.si:
+        scene = validated(scene_class(*plugins), data, lines, source)
+    else:
+        scene = _validated_in_si(data, system, scene_class(*plugins), lines, source)
     base_dir = Path(base_dir or ".")
     for motion in scene_motions(scene):
         if motion.kind == "record":
@@ -101,8 +113,70 @@ def scene_from_data(data: dict, lines: dict, source: str, base_dir: Path | str =
     if unit_scales:
         expanded = dataclasses.replace(expanded, unit_scales=unit_scales)
     reference = _reference(scene, expanded, source, lines)
-    units = OutputUnits(reference if scene.output.units == "dimensionless" else None)
-    return LoadedScene(scene, source, base_dir, lines, expanded, given, text, reference, units)
+    given_output = given.get("output") if isinstance(given.get("output"), dict) else {}
+    output = SI if "units" in given_output else system  # output.units: SI asks for SI
+    units = OutputUnits(reference if scene.output.units == "dimensionless" else None, output)
+    return LoadedScene(scene, source, base_dir, lines, expanded, given, text, reference, units,
+                       system)
+
+
+def require_si(loaded: LoadedScene, what: str) -> None:
+    """Refuse a scene written in another unit system where ``what`` (a command, a study)
+    reads or writes SI only: its numbers would be taken for SI, or its results labelled in
+    units the scene does not use.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the line of ``units``, the system, and how to get the SI scene.
+    """
+    system = getattr(loaded, "system", None)
+    if system is None or system.si:
+        return
+    raise InputError(f"{loaded.where(('units',))}: {what} reads and writes SI units only (N, "
+                     f"m, kg, s), and this scene is written in {system.name}; pframe expand "
+                     f"{loaded.source} -o SCENE.yaml writes it in SI (docs/units.md)")
+
+
+def unit_system(data: dict, lines: dict, source: str):
+    """The :class:`pframe.units.UnitSystem` a scene's data names (``units``; default SI).
+
+    Raises
+    ------
+    InputError
+        Naming the file, the line and ``units``, with the names accepted.
+    """
+    from pframe.units import SYSTEMS
+
+    name = data.get("units", SI.name)
+    if isinstance(name, str) and name in SYSTEMS:
+        return SYSTEMS[name]
+    raise InputError(f"{where(source, lines, ('units',))}: unknown unit system {name!r}; "
+                     f"accepted: {', '.join(SYSTEMS)} (force-length-mass, or force-length-time "
+                     "where the mass unit is force s^2 / length; docs/units.md)")
+
+
+def _validated_in_si(data: dict, system, model, lines: dict, source: str):
+    """The scene of data written in ``system``, validated in SI, its ``units`` SI (the
+    validated scene is in SI and says so). A number of unknown dimension is an InputError
+    naming it; invalid data gets the validation's message of the numbers as written (a mass
+    of -0.25 t, not of -250 kg)."""
+    from pframe.nondim.scene_units import to_si
+    from pframe.nondim.similitude import SimilitudeError
+
+    try:
+        converted = {**to_si(data, system), "units": SI.name}
+    except SimilitudeError as exc:
+        validated(model, data, lines, source)
+        reason = exc.reason.removeprefix("cannot scale this value: ")
+        raise InputError(f"{where(source, lines, exc.path)}: cannot convert this value from "
+                         f"{system.name} to SI: {reason}") from None
+    try:
+        return validated(model, converted, lines, source)
+    except InputError as exc:
+        validated(model, data, lines, source)  # the same problem, in the scene's numbers
+        raise InputError(f"{exc} (the numbers quoted are the scene's in SI: N, m, kg)") \
+            from None
 
 
 def _reference(scene, expanded, source: str, lines: dict) -> dict | None:

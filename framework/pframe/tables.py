@@ -99,12 +99,13 @@ def _yield_drifts(ds) -> tuple[dict[str, float], str]:
         loaded = scene_of_attributes(dict(ds.attrs), "the result", Path("."))
     except InputError as exc:
         return {}, f"the result's scene cannot be read: {exc}"
-    scale = 1.0
+    from pframe.demands import si_factor, yield_properties
+
+    scale = si_factor(ds, "m")  # the scene is read in SI; the file may be in mm
     if _text(ds.attrs.get("units_system", "")) == "dimensionless":
         if "scale_l_e" not in ds.attrs:
             return {}, "a dimensionless result without its length scale (scale_l_e)"
         scale = float(ds.attrs["scale_l_e"])
-    from pframe.demands import yield_properties
 
     out = {}
     for story in loaded.expanded.stories:
@@ -152,7 +153,7 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
         if (key.startswith("energy_") and key != "energy_balance_error"
                 and not key.endswith("_units")):  # an energy's unit (docs/netcdf.md)
             rows.append(("energy", "", key[len("energy_"):].replace("_", " "), float(value),
-                         energy_units))
+                         _text(ds.attrs.get(f"{key}_units", energy_units))))
     ductility, why = _yield_drifts(ds) if "story" in ds.dims else ({}, "")
     demands, impact_rows, demand_warnings = _demands(ds)
     for entity in ENTITIES:
@@ -230,8 +231,11 @@ def _demands(ds) -> tuple[dict, list, list]:
     residual = demands.residual_drift(ds)
     if residual is not None:
         final, swing = residual
-        peak = np.nanmax(np.abs(np.asarray(ds.story_drift.values, float)), axis=0)
+        peak = np.nanmax(np.abs(np.asarray(ds.story_drift.values, float)), axis=0) \
+            * demands.si_factor(ds, "m")  # in SI, as the residual drift
         moving = demands.still_moving(final, swing, peak)
+        if units != "1":  # written in the file's units, as its drifts
+            final, units = demands.in_file_units(ds, final, "m")
         for i, name in enumerate(names):
             per_story.setdefault(name, []).append(("story", name, "residual drift",
                                                    float(final[i]), units))
@@ -252,8 +256,9 @@ def _demands(ds) -> tuple[dict, list, list]:
     if "story_force" in ds.data_vars and "story_drift" in ds.data_vars:
         try:
             for name, row in demands.park_ang(ds, loaded).items():
-                per_story.setdefault(name, []).append(("story", name, "hysteretic energy",
-                                                       row["energy"], "J"))
+                per_story.setdefault(name, []).append(
+                    ("story", name, "hysteretic energy",
+                     *demands.in_file_units(ds, row["energy"], "J")))
                 if "index" in row:
                     per_story[name].append(("story", name, "Park-Ang damage index",
                                             row["index"], "1"))
@@ -264,7 +269,8 @@ def _demands(ds) -> tuple[dict, list, list]:
             shear = np.max(np.abs(demands.impact_storey_shear(ds, loaded)), axis=0)
             for i, name in enumerate(names):
                 per_story.setdefault(name, []).append(
-                    ("story", name, "peak impact storey shear", float(shear[i]), "N"))
+                    ("story", name, "peak impact storey shear",
+                     *demands.in_file_units(ds, float(shear[i]), "N")))
         except InputError:
             pass
     if "contact" in ds.dims:
@@ -280,7 +286,8 @@ def _demands(ds) -> tuple[dict, list, list]:
                     value = float(getattr(row, column))
                     if column == "column_shear" and value != value:
                         continue  # a floor-to-floor contact: no column between floors
-                    impacts.append(("impact", label, column.replace("_", " "), value, unit))
+                    impacts.append(("impact", label, column.replace("_", " "),
+                                    *demands.in_file_units(ds, value, unit)))
     return per_story, impacts, warnings
 
 

@@ -1,4 +1,5 @@
-"""``pframe expand MODEL.yaml``: the dimensional scene a Pi-form scene stands for."""
+"""``pframe expand MODEL.yaml``: the dimensional scene a Pi-form scene stands for, or a scene
+written in another unit system in SI (docs/units.md)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,8 @@ from pframe.commands import checked_output, write_text_output
 
 
 def expanded_text(path: Path) -> str | None:
-    """The dimensional YAML of a Pi-form scene file; None for a dimensional scene."""
+    """The dimensional YAML of a Pi-form scene file, or the SI YAML of a scene in another
+    unit system; None for a dimensional scene in SI."""
     from pframe.nondim.emit import dump_scene
     from pframe.nondim.pi_form import is_pi_form, pi_expansion
     from pframe.reader import load_scene
@@ -17,7 +19,7 @@ def expanded_text(path: Path) -> str | None:
     loaded = load_scene(path)  # validates both forms, with line numbers
     data, lines = loaded.data, loaded.lines
     if not is_pi_form(data):
-        return None
+        return None if loaded.system.si else _in_si(path, data, loaded.system)
     expansion = pi_expansion(data, lines, str(path), path.parent)
     expanded, s = expansion.data, expansion.scales
     header = [
@@ -32,6 +34,17 @@ def expanded_text(path: Path) -> str | None:
     header += _group_lines(expansion.groups)
     header.append("dt = dtau / w_p, duration = tau / w_p.")
     return dump_scene(expanded, header, "../schemas/model.schema.json")
+
+
+def _in_si(path: Path, data: dict, system) -> str:
+    """A scene written in ``system``, in SI (the scene pframe runs; docs/units.md)."""
+    from pframe.nondim.emit import dump_scene
+    from pframe.nondim.scene_units import to_si
+
+    header = [f"Converted from {path} (units: {system.name}) to SI (N, m, kg, s) by "
+              "'pframe expand'."]
+    return dump_scene({k: v for k, v in to_si(data, system).items() if k != "units"}, header,
+                      "../schemas/model.schema.json")
 
 
 def _group_lines(groups, width: int = 96) -> list[str]:
@@ -61,8 +74,10 @@ def _expand(args) -> int:
 
 
 def register(sub) -> None:
-    expand = sub.add_parser("expand", help="print the dimensional scene of a Pi-form scene")
-    expand.add_argument("model", help="scene file in Pi form (YAML with a 'pi:' mapping)")
+    expand = sub.add_parser("expand", help="print the dimensional scene of a Pi-form scene, or "
+                                "a scene written in another unit system in SI")
+    expand.add_argument("model", help="scene file in Pi form (YAML with a 'pi:' mapping) or in "
+                        "another unit system (units: kN-m-t, ...)")
     expand.add_argument("-o", "--output", help="write the YAML here instead of printing it")
     expand.add_argument("--overwrite", action="store_true", help="replace an existing output")
     expand.set_defaults(run=_expand)

@@ -7,7 +7,15 @@ def _number(value: float) -> str:
     return f"{value:.10g}"
 
 
-def _print(report, source: str) -> None:
+def _in_system(variable, system) -> tuple[float, str]:
+    """A governing variable's (value, units) in the scene's unit system (docs/units.md)."""
+    mass, length, time = variable.dimension.exponents
+    if system.si or not (mass or length):
+        return variable.value, variable.units
+    return variable.value / system.factor(mass, length), system.symbol(mass, length, time)
+
+
+def _print(report, source: str, system) -> None:
     n, groups = len(report.variables), report.groups
     print(f"{source}: {n} governing variables, {n - len(groups)} reference dimensions, "
           f"{len(groups)} Pi groups")
@@ -16,7 +24,8 @@ def _print(report, source: str) -> None:
     dims = max(len(str(v.dimension)) for v in report.variables) + 2
     print("\nvariables")
     for v in report.variables:
-        print(f"  {v.name:<{width}}  {_number(v.value):>16} {v.units:<8} "
+        value, units = _in_system(v, system)
+        print(f"  {v.name:<{width}}  {_number(value):>16} {units:<8} "
               f"{'[' + str(v.dimension) + ']':<{dims}}  {v.description}")
     name_width = max((len(g.name) for g in groups), default=0)
     formula_width = max((len(g.formula()) for g in groups), default=0)
@@ -54,9 +63,11 @@ def _pi(args) -> int:
         raise InputError(message if message.startswith(str(loaded.source))
                          else f"{loaded.source}: {message}") from None
     if args.json:
-        print(json.dumps({"source": str(loaded.source)} | report.as_dict(), indent=2))
+        # the variables' values in SI, whatever the scene's units (docs/units.md)
+        print(json.dumps({"source": str(loaded.source), "units_system": "N-m-kg"}
+                         | report.as_dict(), indent=2))
     else:
-        _print(report, str(loaded.source))
+        _print(report, str(loaded.source), loaded.system)
     return 0
 
 

@@ -138,10 +138,14 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
     the running peaks per column that the writer kept of the streamed histories)."""
     import numpy as np
 
+    from pframe.nondim.output import OutputUnits
+    from pframe.units import SI
+
     if verdict is None:
         from pframe.verdict import of_result
 
         verdict = of_result(result)
+    show = OutputUnits(system=loaded.system or SI).show  # in the scene's units
     dt = float(plan.dt[0])
     print(f"{loaded.source}: {plan.steps} steps of dt = {dt:.4g} s ({plan.steps * dt:.4g} s), "
           f"{len(plan.node_names)} nodes, {len(plan.story_names)} storeys, "
@@ -158,23 +162,25 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
         elif q in result.history:
             peaks[q] = np.nanmax(np.abs(result.history[q][0]), axis=0)
     if not plan.planar:
-        _plan_peaks(plan, peaks, result)
+        _plan_peaks(plan, peaks, show)
     elif "displacement" in peaks:
         values = peaks["displacement"][plan.node_dof]
         for b in plan.buildings:
             idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
             top = max(idx, key=lambda i: values[i])
-            print(f"  building {b}: peak displacement {values[top]:.4g} m at {plan.node_names[top]}")
+            print(f"  building {b}: peak displacement {show(values[top], 'm')} at "
+                  f"{plan.node_names[top]}")
     if "absolute_acceleration" in peaks and plan.planar:
         values = peaks["absolute_acceleration"][plan.node_dof]
         for b in plan.buildings:
             idx = [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
             top = max(idx, key=lambda i: values[i])
-            print(f"  building {b}: peak absolute floor acceleration {values[top]:.4g} m/s^2 "
-                  f"at {plan.node_names[top]}")
+            print(f"  building {b}: peak absolute floor acceleration "
+                  f"{show(values[top], 'm/s^2')} at {plan.node_names[top]}")
     if "story_drift" in peaks:
         s = int(np.argmax(peaks["story_drift"]))
-        print(f"  peak storey drift {peaks['story_drift'][s]:.4g} m at {plan.story_names[s]}")
+        print(f"  peak storey drift {show(peaks['story_drift'][s], 'm')} at "
+              f"{plan.story_names[s]}")
         heights = (plan.story_height[0, :len(plan.story_names)] if plan.story_height is not None
                    else np.full(len(plan.story_names), np.nan))
         if np.any(np.isfinite(heights)):
@@ -184,7 +190,7 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             without = (f"; not defined at {', '.join(missing[:4])}"
                        f"{' ...' if len(missing) > 4 else ''} (no height)" if missing else "")
             print(f"  peak drift ratio {100 * ratios[r]:.3g} % at {plan.story_names[r]} "
-                  f"(height {heights[r]:.4g} m){without}")
+                  f"(height {show(heights[r], 'm')}){without}")
     if getattr(loaded.scene, "limits", None) is not None:
         from pframe.limits import evaluate
 
@@ -193,20 +199,21 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
             print(f"  {line}")
     shear = result.column_shear(0)
     for c, name in enumerate(plan.contact_names):
-        force = f", peak force {peaks['contact_force'][c]:.4g} N" if "contact_force" in peaks else ""
+        force = (f", peak force {show(peaks['contact_force'][c], 'N')}"
+                 if "contact_force" in peaks else "")
         if np.isfinite(shear[c]):
             capacity = plan.contact_capacity[c]
-            force += (f"; floor-to-column: local column shear {shear[c]:.4g} N"
-                      + (f" (capacity {capacity:.4g} N)" if np.isfinite(capacity) else ""))
+            force += (f"; floor-to-column: local column shear {show(shear[c], 'N')}"
+                      + (f" (capacity {show(capacity, 'N')})" if np.isfinite(capacity) else ""))
         count = int(result.impacts[0, c])
         print(f"  contact {name}: {count} impact{'' if count == 1 else 's'}{force}")
     if plan.link_names:
         work = result.energy_terms(0)["links"]
         forces = peaks.get("link_force")
         for j, name in enumerate(plan.link_names):
-            force = f": peak force {forces[j]:.4g} N" if forces is not None else ""
+            force = f": peak force {show(forces[j], 'N')}" if forces is not None else ""
             print(f"  link {name}{force}")
-        print(f"  links: work {work:.4g} J (dissipated by their dampers and held in their "
+        print(f"  links: work {show(work, 'J')} (dissipated by their dampers and held in their "
               "springs at the end)")
     print(f"  status: {result.describe_failure()}; energy balance error "
           f"{verdict.balance_error:.2e}, numerical dissipation {verdict.algorithmic:.2e}: "
@@ -215,9 +222,10 @@ def _summary(loaded, plan, result, out: Path, streamed: dict | None = None, verd
           f"kernel compile/load {result.compile_seconds:.2f} s; wrote {out}")
 
 
-def _plan_peaks(plan, peaks: dict, result) -> None:
+def _plan_peaks(plan, peaks: dict, show) -> None:
     """Each building in plan's peak displacement of its centres of mass and of its named
-    points (the critical locations), its peak rotation, and its storeys' torsion."""
+    points (the critical locations), its peak rotation, and its storeys' torsion (``show``:
+    a value in the scene's units, :meth:`pframe.nondim.output.OutputUnits.show`)."""
     import numpy as np
 
     buildings = {b: [i for i, n in enumerate(plan.node_names) if n.split("/")[0] == b]
@@ -231,14 +239,14 @@ def _plan_peaks(plan, peaks: dict, result) -> None:
                 node, c = int(plan.dof_node[d]), int(plan.dof_component[d])
                 if node in nodes and peaks["displacement"][d] > best.get(c, (-1.0, 0))[0]:
                     best[c] = (float(peaks["displacement"][d]), node)
-            parts += [f"{value:.4g} {'rad' if c == 2 else 'm'} {words[c]} at "
+            parts += [f"{show(value, 'rad' if c == 2 else 'm')} {words[c]} at "
                       f"{plan.node_names[node]}" for c, (value, node) in sorted(best.items())]
         if "point_displacement" in peaks and plan.point_names:
             values = np.asarray(peaks["point_displacement"]).reshape(-1, 2)
             mine = [p for p, name in enumerate(plan.point_names) if name.split("/")[0] == b]
             if mine:
                 p, axis = np.unravel_index(int(np.argmax(values[mine])), (len(mine), 2))
-                parts.append(f"{values[mine][p, axis]:.4g} m along its {'xy'[axis]} axis at "
+                parts.append(f"{show(values[mine][p, axis], 'm')} along its {'xy'[axis]} axis at "
                              f"{plan.point_names[mine[p]]}")
         if parts:
             print(f"  building {b}: peak displacement " + "; ".join(parts))

@@ -174,6 +174,12 @@ def _scene(path: Path, kind: str, text: str, data, lines) -> int:
           f"buildings, {len(ex.stories)} storeys, {len(ex.contacts)} contacts, {ex.steps} steps "
           f"of dt = {ex.dt:g} s")
     notes = [f"note: {n}" for n in plan.notes + ex.notes]
+    if not loaded.system.si:  # docs/units.md
+        from pframe.units import describe
+
+        print(f"  units: {loaded.system.name} ({describe(loaded.system)}): the scene is read "
+              "in them and its results are written in them; the lines below name their own "
+              "units")
     for line in (modes.period_lines(ex) + [f"damping of {t.removeprefix('building ')}"
                                            for t in plan.damping_text]
                  + excitation_lines(loaded) + notes):

@@ -198,9 +198,10 @@ def prepare(scene, suite=None, *, levels=None, measure=None, duration: float | N
             dt: float | None = None, records_folder=None) -> AuditInputs:
     """Read the scene and the suite, find the buildings' first modes and every record's
     scale factor at every level."""
-    from pframe.reader import load_scene
+    from pframe.reader import load_scene, require_si
 
     loaded = load_scene(scene) if isinstance(scene, (str, Path)) else scene
+    require_si(loaded, "a gap audit")  # its rules, suites and files are in SI
     pairs = runs.contact_pairs(loaded)
     own = suite is None
     if own:

@@ -107,6 +107,15 @@ DASHPOT_UNDIMENSIONED = ("c of F = c |v|^alpha sign v is in N (s/m)^alpha, a dim
                          "depends on alpha; scale it by hand (by S_F S_v^-alpha)")
 
 
+def dashpot_dimensions(cls, given: dict) -> dict[str, str]:
+    """A dashpot law's ``dimensions_given``: c of F = c |v|^alpha sign v in N (s/m)^alpha,
+    alpha its ``exponent`` as written (the law's default where left out)."""
+    alpha = given.get("exponent", cls.Params.model_fields["exponent"].default)
+    if isinstance(alpha, bool) or not isinstance(alpha, (int, float)) or not alpha > 0:
+        return {}  # validation names the exponent
+    return {"damping": dashpot_units(alpha)}
+
+
 def dashpot_units(alpha: float) -> str:
     """The units of c of F = c |v|^alpha sign v, N (s/m)^alpha = kg m^(1 - alpha)
     s^(alpha - 2), as a unit string :func:`pframe.nondim.dimensions.parse_units` reads.

@@ -142,6 +142,15 @@ class Law:
     #: field -> why it has no fixed dimension (Bouc-Wen's gamma, in m^-n): ``pframe scale``
     #: refuses it with that reason
     undimensioned: ClassVar[dict[str, str]] = {}
+
+    @classmethod
+    def dimensions_given(cls, given: dict) -> dict[str, str]:
+        """The units of the ``undimensioned`` fields given the law's fields as a scene writes
+        them (a dashpot's c in N (s/m)^alpha for its alpha): a scene in another unit system
+        converts them so (docs/units.md); a field left out is refused there with its
+        ``undimensioned`` reason. None by default."""
+        return {}
+
     #: n of F ~ k delta^n: the stability and steps-per-contact checks size a contact from it
     exponent: ClassVar[float] = 1.0
     #: how the reference solver (``pframe accuracy``) locates the law's kinks: a model of

@@ -157,8 +157,9 @@ def check_numbers(data, lines: dict, source: str) -> None:
             why = f"{shown} is larger than the {LARGEST:g} pframe computes with"
         else:
             continue
-        raise InputError(f"{_where(source, lines, path)}: {why}; give a finite number in SI "
-                         "units (check the units and the exponent)")
+        raise InputError(f"{_where(source, lines, path)}: {why}; give a finite number in the "
+                         "scene's units (SI unless its units say otherwise; check the units "
+                         "and the exponent)")
 
 
 def validated(model: type[BaseModel], data, lines: dict, source: str):

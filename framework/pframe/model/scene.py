@@ -29,6 +29,7 @@ from pframe.laws.registry import builtin_names
 from pframe.model.plan import Direction, FloorPlan, Point
 from pframe.objects import Frozen, describe, dotted
 from pframe.quantities import QUANTITIES as _QUANTITIES
+from pframe.units import NAMES
 
 Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
 NodeName = Annotated[
@@ -1099,7 +1100,10 @@ class Output(Base):
     """Units of the result file: SI, or dimensionless (tau = w_p t, x = X / l_e, l_e = a_p /
     w_p^2, force / (m_b a_p); see docs/dimensional-analysis.md)."""
 
-    units: Literal["SI", "dimensionless"] = Field("SI", description="SI or dimensionless.")
+    units: Literal["SI", "dimensionless"] = Field(
+        "SI", description="SI or dimensionless. Left out, a dimensional file is in the "
+        "scene's units (docs/units.md); SI given writes a scene of another unit system's "
+        "results in SI.")
     scales: OutputScales | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
@@ -1187,6 +1191,10 @@ def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] =
     """The Scene model for the built-in laws plus the named plug-in laws (one class per set
     of laws, however they are passed: scenes of the same laws compare equal)."""
     return _scene_class(tuple(sorted(contact_laws)), tuple(sorted(materials)))
+
+
+#: the names a scene's ``units`` accepts (pframe.units.SYSTEMS), the default first
+UNIT_SYSTEMS = NAMES
 
 
 @functools.cache
@@ -1278,6 +1286,12 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         """A scene of adjacent buildings that may pound into each other."""
 
         title: str = Field("", description="A title copied into the result file.")
+        units: Literal[UNIT_SYSTEMS] = Field(
+            UNIT_SYSTEMS[0], description="The unit system every number of the scene is "
+            "written in, and its results are written in (docs/units.md): " + ", ".join(
+                UNIT_SYSTEMS) + ". Each is consistent (F = m a); time is in seconds in all. "
+            "The units the fields below name are N-m-kg's; in another system read the same "
+            "quantity in that system's units (a stiffness N/m is kN/m in kN-m-t).")
         buildings: list[Building] = Field(default_factory=list, description="Shear buildings, "
                                           "from left to right.")
         nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes (their "

@@ -20,8 +20,11 @@ NON_NUMERIC = frozenset({"law", "material", "keep_tension", "formula", "name", "
                          "calibration"})
 
 
-def law_field_dimension(kind: str, law: str, field: str) -> Dimension | None:
+def law_field_dimension(kind: str, law: str, field: str, given: dict | None = None
+                        ) -> Dimension | None:
     """Dimension of ``field`` of a storey material or contact law; None if not numeric.
+    ``given``: the law's fields as a scene writes them, for a field whose dimension depends
+    on another's value (a law's ``dimensions_given``); None refuses such a field.
 
     Raises
     ------
@@ -30,10 +33,10 @@ def law_field_dimension(kind: str, law: str, field: str) -> Dimension | None:
     """
     from pframe.laws import get_law
 
-    return field_dimension(get_law(kind, law), field)
+    return field_dimension(get_law(kind, law), field, given)
 
 
-def field_dimension(cls, field: str) -> Dimension | None:
+def field_dimension(cls, field: str, given: dict | None = None) -> Dimension | None:
     """:func:`law_field_dimension` of the law class ``cls``."""
     if field in NON_NUMERIC:
         return None
@@ -42,6 +45,11 @@ def field_dimension(cls, field: str) -> Dimension | None:
         return dimension_of(declared[field], cls.kind, cls.name, field)
     what = "material" if cls.kind == "material" else "contact law"
     reason = (getattr(cls, "undimensioned", None) or {}).get(field)
+    by_value = getattr(cls, "dimensions_given", None)
+    if reason and given is not None and by_value is not None:
+        units = by_value(given).get(field)
+        if units is not None:
+            return dimension_of(units, cls.kind, cls.name, field)
     if reason:  # a field whose dimension depends on another field's value (the law says why)
         raise InputError(f"field {field!r} of {what} {cls.name!r} has no fixed dimension: "
                          f"{reason}")

@@ -8,11 +8,18 @@ written with ``output: {units: dimensionless}`` holds
 and energies divided by ``m_b a_p l_e``. Two similar scenes (the same Pi numbers) then give
 the same file, whatever their masses, frequencies and amplitudes. The conversion happens when
 the file is written; the kernel always integrates in SI units.
+
+A dimensional file is written in the scene's unit system (``units: kN-m-t``, docs/units.md):
+each SI value divided by the SI value of one unit of its dimension, its ``units`` attribute
+that system's (``kN``, ``kN m``, ``mm/s^2``).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+
+from pframe.nondim.dimensions import parse_units
+from pframe.units import SI, UnitSystem, describe
 
 #: SI units of a recorded quantity -> (symbol of the dimensionless variable, its divisor)
 _DIVISOR = {
@@ -26,13 +33,34 @@ _DIVISOR = {
 
 @dataclass(frozen=True)
 class OutputUnits:
-    """How results are written: SI (``scales`` None) or divided by the reference scales."""
+    """How results are written: in a unit system (``scales`` None; SI by default) or divided
+    by the reference scales."""
 
     scales: dict | None = None
+    system: UnitSystem = field(default=SI)
 
     @property
     def dimensionless(self) -> bool:
         return self.scales is not None
+
+    @property
+    def energy_units(self) -> str:
+        """The units of the file's energies (``energy_*`` attributes)."""
+        return "1" if self.dimensionless else self.units("J")
+
+    def units(self, si_units: str) -> str:
+        """The units a quantity of SI units ``si_units`` is written in, in a dimensional
+        file (``si_units`` itself in SI, or for a quantity without mass or length)."""
+        return self._system(si_units)[0]
+
+    def _system(self, si_units: str) -> tuple[str, float]:
+        """(units, SI value of one of them) of a quantity of SI units ``si_units``."""
+        if self.system.si:
+            return si_units, 1.0
+        mass, length, time = parse_units(si_units).exponents
+        if not mass and not length:
+            return si_units, 1.0
+        return self.system.symbol(mass, length, time), self.system.factor(mass, length)
 
     def _divisor(self, units: str):
         if self.scales is None or units not in _DIVISOR:
@@ -42,10 +70,36 @@ class OutputUnits:
 
     def variable(self, data, units: str, long_name: str):
         """``(data, units, long_name)`` as written; quantities of other units stay SI."""
+        if self.scales is None:
+            written, factor = self._system(units)
+            return (data if factor == 1.0 else data / factor), written, long_name
         symbol, divisor = self._divisor(units)
         if symbol is None:
             return data, units, long_name
         return data / divisor, "1", f"{long_name} (dimensionless, {symbol})"
+
+    def restated(self, attrs: dict) -> dict:
+        """Global attributes with their ``<name>_units`` (:func:`pframe.record.netcdf.
+        with_units`) in this system: SI values of SI units converted (an acceleration in g
+        stays in g; energies are converted already, :meth:`energy`)."""
+        if self.scales is not None or self.system.si:
+            return attrs
+        out = dict(attrs)
+        for name, value in attrs.items():
+            units = attrs.get(f"{name}_units")
+            if units is None or name.startswith("energy_") or isinstance(value, (str, bytes)):
+                continue
+            try:
+                written, factor = self._system(units)
+            except ValueError:  # "9.80665 m/s^2": a value in g
+                continue
+            out[name], out[f"{name}_units"] = value / factor, written
+        return out
+
+    def show(self, value: float, si_units: str, spec: str = ".4g") -> str:
+        """An SI value as a message prints it in this system: ``0.021 m``, ``3.356 kN``."""
+        written, factor = self._system(si_units)
+        return f"{value / factor:{spec}} {written}"
 
     def time(self, seconds):
         """``(values, units, long_name)`` of a time coordinate."""
@@ -54,12 +108,17 @@ class OutputUnits:
         return seconds * self.scales["w_p"], "1", "dimensionless time tau = w_p t"
 
     def energy(self, joules: float) -> float:
+        if self.scales is None:
+            factor = self._system("J")[1]
+            return joules if factor == 1.0 else joules / factor
         return joules / self._divisor("J")[1]
 
     def attributes(self, dt: float) -> dict:
-        """Global attributes describing the scales (none for SI)."""
+        """Global attributes naming the unit system (``units_system``: N-m-kg, kN-m-t, ...,
+        and what its units are), or describing the scales of a dimensionless file."""
         if self.scales is None:
-            return {}
+            return {"units_system": self.system.name,
+                    "units_system_description": describe(self.system)}
         m, a, w = self.scales["m_b"], self.scales["a_p"], self.scales["w_p"]
         return {
             "units_system": "dimensionless",

@@ -251,12 +251,14 @@ def similitude(chosen: Mapping[str, object]) -> Similitude:
 # ---------------------------------------------------------------------------------------------
 
 def _law_context(path: tuple, node: dict):
+    """(kind, law name, the law's fields as written) of the mapping ``node`` at ``path``, if
+    it holds a law's parameters."""
     if len(path) == 2 and path[0] == "contacts":
-        return ("contact", node.get("law"))
+        return ("contact", node.get("law"), node)
     if (len(path) == 2 and path[0] in ("stories", "links")) or (
             len(path) == 3 and path[0] == "buildings" and path[2] == "story") or (
             len(path) == 4 and path[0] == "buildings" and path[2] == "lines"):
-        return ("material", node.get("material"))
+        return ("material", node.get("material"), node)
     return None
 
 
@@ -266,17 +268,18 @@ _PLAN_TRIPLE = {"displacement": ("length", "length", "dimensionless"),
                 "velocity": ("velocity", "velocity", "frequency")}
 
 
-def _scale_leaf(value, path: tuple, law, factor_of):
+def _scale_leaf(value, path: tuple, law, factor_of, dimension_at, by_value: bool = False):
     if isinstance(value, bool) or not isinstance(value, (int, float, list)):
         return value
     if isinstance(value, list):
         if path[:1] == ("initial_conditions",) and len(path) == 3 and len(value) == 3:
             return [v * factor_of(QUANTITY[q]) for v, q in zip(value, _PLAN_TRIPLE[path[1]])]
-        return [_scale_leaf(v, path, law, factor_of) for v in value]
-    dimension = scene_field_dimension(path)
-    if dimension is None and law is not None and law[1] is not None:
+        return [_scale_leaf(v, path, law, factor_of, dimension_at, by_value) for v in value]
+    dimension = dimension_at(path)
+    if dimension is None and law is not None and isinstance(law[1], str):
         try:
-            dimension = law_field_dimension(law[0], law[1], path[-1])
+            dimension = law_field_dimension(law[0], law[1], path[-1],
+                                            law[2] if by_value else None)
         except InputError as exc:
             raise _unscalable(path, str(exc)) from None
     if dimension is None:
@@ -289,13 +292,28 @@ def _unscalable(path: tuple, reason: str) -> SimilitudeError:
                            f"cannot scale this value: {reason}")
 
 
-def _walk(node, path: tuple, law, factor_of):
+def walk_scene(node, factor_of, dimension_at=scene_field_dimension, by_value: bool = False,
+               path: tuple = (), law=None):
+    """``node`` (a scene's data, or a part of it at ``path``) with every number multiplied by
+    ``factor_of(dimension)``; the dimension of a number from ``dimension_at(path)`` (default:
+    :data:`pframe.nondim.fields.SCENE_FIELDS`) or, for a law's parameter, from the law's
+    declarations (:func:`pframe.nondim.fields.law_field_dimension`; ``by_value``: a dimension
+    that depends on the law's other fields, a dashpot's on its exponent, is taken from their
+    values as written, where a similitude refuses it).
+
+    Raises
+    ------
+    SimilitudeError
+        For a number whose dimension is unknown, with its ``path``.
+    """
     if isinstance(node, dict):
         law = _law_context(path, node) or law
-        return {k: _walk(v, path + (k,), law, factor_of) for k, v in node.items()}
+        return {k: walk_scene(v, factor_of, dimension_at, by_value, path + (k,), law)
+                for k, v in node.items()}
     if isinstance(node, list) and node and all(isinstance(v, dict) for v in node):
-        return [_walk(v, path + (i,), law, factor_of) for i, v in enumerate(node)]
-    return _scale_leaf(node, path, law, factor_of)
+        return [walk_scene(v, factor_of, dimension_at, by_value, path + (i,), law)
+                for i, v in enumerate(node)]
+    return _scale_leaf(node, path, law, factor_of, dimension_at, by_value)
 
 
 def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
@@ -339,7 +357,7 @@ def scale_scene(data: dict, sim: Similitude, to: str = "model") -> dict:
     stochastic = [w for w, m in motions.items() if m.get("kind") == "stochastic"]
     for where in stochastic:  # kept as it is (S_T = S_a = 1, checked)
         _parent(walked, where).pop(where[-1])
-    out = _walk(walked, (), None, factor_of)
+    out = walk_scene(walked, factor_of)
     for where in stochastic:
         _parent(out, where, create=True)[where[-1]] = motions[where]
     for where, motion in motions.items():

@@ -286,9 +286,12 @@ def _array(array, rows: bool) -> str:
             f"{reshape}")
 
 
-def _docstring(scene: PeerScene) -> str:
-    """The script's docstring: what wrote it, and where its model is not pframe's."""
-    text = "OpenSeesPy model of one pounding scene, written by pframe.peers.opensees."
+def _docstring(scene: PeerScene, written_in: str | None = None) -> str:
+    """The script's docstring: what wrote it, its units, and where its model is not
+    pframe's."""
+    text = ("OpenSeesPy model of one pounding scene, written by pframe.peers.opensees.\n\n"
+            "Its numbers are in SI units (N, m, kg, s)"
+            + (f": the scene, written in {written_in}, converted." if written_in else "."))
     if not scene.differences:
         return text + "\n\nIt is pframe's model of the scene.\n"
     lines = [text, "", "Where this model is not pframe's:", ""]
@@ -298,7 +301,8 @@ def _docstring(scene: PeerScene) -> str:
     return "\n".join(lines).replace('"', "'") + "\n"
 
 
-def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
+def script_text(scene: PeerScene, out_npz: str | None = None,
+                written_in: str | None = None) -> str:
     """Return a self-contained OpenSeesPy script for ``scene``.
 
     Parameters
@@ -313,6 +317,9 @@ def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
         ``contact_penetration`` and ``link_deformation``, and its DOFs are
         ``scene.floors.dofs``; a scene on supports also ``total_displacement`` and
         ``total_velocity``. Nothing is saved when omitted.
+    written_in : str, optional
+        The unit system the scene was written in, where it is not SI (docs/units.md): the
+        script, in SI, says so.
 
     Returns
     -------
@@ -322,7 +329,7 @@ def script_text(scene: PeerScene, out_npz: str | None = None) -> str:
         ``ops.analyze(steps, dt)`` call.
     """
     header = (
-        f'"""{_docstring(scene)}"""\n\n'
+        f'"""{_docstring(scene, written_in)}"""\n\n'
         "import base64\nimport os\nimport sys\nimport tempfile\nimport time\n\n"
         "import numpy as np\nimport openseespy.opensees as ops\n\n"
     )

@@ -319,6 +319,12 @@ def prepare(source: str | Path | Result, *, time_range: tuple[float, float] | No
     time axis drawn: s, or tau when dimensionless)."""
     result = source if isinstance(source, Result) else read_result(source)
     if dimensionless and not result.is_dimensionless:
+        system = result.attributes.get("units_system", "N-m-kg")
+        system = system.decode() if isinstance(system, bytes) else str(system)
+        if system != "N-m-kg":  # the scales below read the scene's numbers as SI
+            raise InputError(f"{result.path}: --dimensionless draws a result in SI units, and "
+                             f"this one is in {system} (docs/units.md); solve the scene with "
+                             "output: {units: SI}, or {units: dimensionless}")
         reference = stored_scales(result.attributes) or reference_scales(result.input_yaml,
                                                                          str(result.path))
         result = result.dimensionless(reference)

@@ -102,7 +102,9 @@ def gap_figure(path: str | Path, statistic: str = "p84", level: float | None = N
         ax2.grid(True, alpha=0.3)
         ax2.legend(fontsize=8, loc="upper left")
         ax2.set_title("pounding fragility", fontsize=10)
-    fig.suptitle(audit_title(ds), fontsize=11)
+    from pframe.plot.style import fitted
+
+    fig.suptitle(fitted(audit_title(ds), fig.get_figwidth(), 11), fontsize=11)
     return fig, notes
 
 

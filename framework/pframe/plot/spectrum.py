@@ -247,18 +247,26 @@ def spectrum(path: str | Path, *, response: str | None = None, x: str | None = N
                 label=label, color=f"C{i % 10}")
     if _geometric(xs):
         ax.set_xscale("log")
-    x_units = sweep.axis_units.get(x, "")
-    ax.set_xlabel(x + (f" ({x_units})" if x_units and x_units != "1" else ""), fontsize="medium")
-    ax.set_ylabel(f"{response}" + (f" ({units})" if units and units != "1" else ""),
-                  fontsize="medium")
-    ax.set_title(long_name + (f"; {', '.join(notes)}" if notes else ""), fontsize="small", loc="left")
+    from pframe.plot.style import fitted
+
+    ax.set_xlabel(x + _in(sweep.axis_units.get(x, "")), fontsize="medium")
+    ax.set_ylabel(response + _in(units), fontsize="medium")
+    ax.set_title(fitted(long_name + (f"; {', '.join(notes)}" if notes else ""),
+                        fig.get_figwidth(), "small"), fontsize="small", loc="left")
     ax.grid(True, alpha=0.3, linewidth=0.6)
     ax.tick_params(labelsize=8)
     if any(key is not None for key, _, _ in series):
         ax.legend(fontsize="small", frameon=False)
     ax.set_label(f"spectrum {response}")
-    fig.suptitle(sweep.title, fontsize="large")
+    fig.suptitle(fitted(sweep.title, fig.get_figwidth(), "large"), fontsize="large")
     return fig, notes
+
+
+def _in(units: str) -> str:
+    """An axis label's units: `` (m)``; a pure number's `` (dimensionless)``."""
+    if not units:
+        return ""
+    return " (dimensionless)" if units == "1" else f" ({units})"
 
 
 def _choices(names) -> str:

@@ -164,7 +164,7 @@ class ResultWriter:
         self.path = None if self.in_memory else Path(target)
         self.tmp = None if self.in_memory else _temporary(self.path)
         self.plan, self.loaded, self.member = plan, loaded, member
-        self.convert = loaded.units  # SI, or dimensionless
+        self.convert = loaded.units  # the scene's unit system, or dimensionless
         self.call = call
         states = plan.steps + 1 if states is None else states
         self.track = tuple(q for q, _ in plan.history if q in track)
@@ -307,9 +307,11 @@ class ResultWriter:
 
         if not self.plan.planar and ex.node_centre is not None:
             for axis, column in (("x", 0), ("y", 1)):
-                f.variable(f"node_{axis}", ("node",), ex.node_centre[:, column], auxiliary=True,
-                           units="m", long_name=f"{axis} of the floor's centre of mass on the "
-                           "site")
+                data, units = ex.node_centre[:, column], "m"
+                if not self.convert.dimensionless:  # the scene's units (a dimensionless file
+                    data, units, _ = self.convert.variable(data, units, "")  # keeps m)
+                f.variable(f"node_{axis}", ("node",), data, auxiliary=True, units=units,
+                           long_name=f"{axis} of the floor's centre of mass on the site")
         for dim, elements in (("story", ex.stories), ("link", ex.links),
                               ("contact", ex.contacts)):
             for end, (name, long_name) in enumerate(END_LABELS[dim] if elements else ()):
@@ -587,7 +589,7 @@ class ResultWriter:
             attrs[f"energy_{term}"] = float(convert.energy(value))
         attrs.update(reference_attributes(loaded))
         attrs.update(convert.attributes(float(plan.dt[member])))
-        f.attrs.update(with_units(attrs, "1" if convert.dimensionless else "J"))
+        f.attrs.update(convert.restated(with_units(attrs, convert.energy_units)))
 
 
 def reference_attributes(loaded) -> dict:

@@ -225,6 +225,8 @@ ATTRIBUTE_UNITS = {
     "reference_m_b": "kg", "reference_a_p": "m/s^2", "reference_w_p": "rad/s",
     "reference_l_e": "m",
     "scale_m_b": "kg", "scale_a_p": "m/s^2", "scale_w_p": "rad/s", "scale_l_e": "m",
+    "soil_sway_stiffness": "N/m", "soil_sway_damping": "N s/m",
+    "soil_rocking_stiffness": "N m/rad", "soil_rocking_damping": "N m s/rad",
 }
 # each of two components' facts (kind: components) as the one motion's
 ATTRIBUTE_UNITS.update({f"excitation_{axis}_{name[len('excitation_'):]}": units

@@ -12,13 +12,21 @@ Imported by ``pframe risk`` and ``pframe.risk`` only (not by ``import pframe``).
 
 from pframe._callable import make_callable
 from pframe.risk.fragility import Fragility, fit_capacities, fit_cloud, fit_msa
-from pframe.risk.hazard import HazardCurve, closed_form_maf, mean_annual_frequency, read_hazard
+from pframe.risk.hazard import (
+    HazardCurve,
+    closed_form_maf,
+    mean_annual_frequency,
+    probability_in_years,
+    read_hazard,
+)
+from pframe.risk.pelicun import demand_table, export_pelicun
 from pframe.risk.sampling import Uncertain, crude_monte_carlo, latin_hypercube, subset_simulation
 from pframe.risk.study import risk
 
 __all__ = ["Fragility", "HazardCurve", "Uncertain", "closed_form_maf", "crude_monte_carlo",
-           "fit_capacities", "fit_cloud", "fit_msa", "latin_hypercube", "mean_annual_frequency",
-           "read_hazard", "risk", "subset_simulation"]
+           "demand_table", "export_pelicun", "fit_capacities", "fit_cloud", "fit_msa",
+           "latin_hypercube", "mean_annual_frequency", "probability_in_years", "read_hazard",
+           "risk", "subset_simulation"]
 
 
 make_callable(__name__, "pframe.risk.study", "risk")  # pframe.risk(...) runs a study

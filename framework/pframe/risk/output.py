@@ -23,6 +23,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
     from pframe.gap.output import labelled, measure_label
 
     coords = _coordinates(inputs, result, search)
+    if "free_drift_ratio_each" in rows:  # a planar scene: storey by storey
+        coords.update(_storey_coordinates(inputs.loaded.expanded))
     data = {**_run_variables(inputs, rows, result), **_fragility_variables(spec, result)}
     attrs = study_attributes(inputs, text, source, [*inputs.warnings, *result.warnings],
                              title="risk study", suite=inputs.suite.source,
@@ -36,6 +38,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
                      f"{d.hunt.growth:g}, max_level {d.max_level:g} g")
     if any(math.isfinite(result.maf[k][0]) for k in result.maf):
         data.update(_annual_frequency_variables(result))
+        data.update(_design_life_variables(data, spec.design_life))
+        attrs["design_life"] = spec.design_life
     if hazard is not None:
         data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
             "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
@@ -125,7 +129,7 @@ def _run_variables(inputs, rows: dict, result) -> dict:
         if key not in rows:
             return np.full((R, L, width), fill)
         ok = (rows[key.split("_")[0] + "_complete"] == 1)[:, None]
-        return np.where(ok, rows[key], fill).reshape(R, L, width)
+        return np.where(ok, rows[key].reshape(R * L, width), fill).reshape(R, L, width)
 
     drift = np.stack([grid("free_drift", nb), grid("contact_drift", nb)])
     ratio = np.stack([grid("free_drift_ratio", nb), grid("contact_drift_ratio", nb)])
@@ -133,7 +137,9 @@ def _run_variables(inputs, rows: dict, result) -> dict:
     impacts = (np.where((rows["contact_complete"] == 1)[:, None], rows["contact_impacts"], -1)
                .reshape(R, L, C).astype(np.int32) if "contact_impacts" in rows
                else np.full((R, L, C), -1, np.int32))
+    out = _storey_variables(inputs, grid) if "free_drift_ratio_each" in rows else {}
     return {
+        **out,
         "intensity": (("record", "level"), result.im.reshape(R, L), {
             "units": "g", "long_name": f"intensity of the run ({measure_label(inputs)})"}),
         "critical_gap": (("record", "level", "contact"), grid("free_g_req", C), {
@@ -154,6 +160,62 @@ def _run_variables(inputs, rows: dict, result) -> dict:
             for p in ("free", "contact")]).astype(np.int8),
             {"units": "1", "long_name": "1 if the run completed, 0 if it failed, -1 if not "
              "run (a slot of ida by hunt and fill)"}),
+    }
+
+
+def _storey_coordinates(expanded) -> dict:
+    """Each storey's and node's name, building and location in it: storey k of a building
+    (counted up from the ground, in the scene's order) is location k, and so is the floor
+    it carries (its upper node); the ground is 0, a node no storey carries (a tuned mass)
+    -1. FEMA P-58's numbering of stories and floors, which pelicun's demand table uses."""
+    buildings = np.array(expanded.buildings, dtype=object)
+    story_location = np.zeros(len(expanded.stories), np.int32)
+    node_location = np.full(len(expanded.node_names), -1, np.int32)
+    for b in range(len(buildings)):
+        for k, e in enumerate(np.flatnonzero(expanded.story_building == b)):
+            story_location[e] = k + 1
+            node_location[expanded.stories[e].nodes[1]] = k + 1
+    return {
+        "story_name": ("story", np.array([e.name for e in expanded.stories], dtype=object),
+                       {"long_name": "storey"}),
+        "story_building": ("story", buildings[np.asarray(expanded.story_building)],
+                           {"long_name": "building of the storey"}),
+        "story_location": ("story", story_location, {
+            "units": "1", "long_name": "storey number in its building, from the ground up "
+            "(FEMA P-58)"}),
+        "node_name": ("node", np.array(expanded.node_names, dtype=object),
+                      {"long_name": "floor (node)"}),
+        "node_building": ("node", buildings[np.asarray(expanded.node_building)],
+                          {"long_name": "building of the node"}),
+        "node_location": ("node", node_location, {
+            "units": "1", "long_name": "floor number in its building (that of the storey "
+            "below it; -1: a node no storey carries)"}),
+    }
+
+
+def _storey_variables(inputs, grid) -> dict:
+    """A planar scene's demands storey by storey and floor by floor (the demand table pelicun
+    reads: pframe.risk.pelicun): each storey's peak drift ratio, each floor's peak absolute
+    acceleration, and each run's peak ground acceleration, under each condition."""
+    expanded = inputs.loaded.expanded
+    stories = [e.name for e in expanded.stories]
+    nodes = list(expanded.node_names)
+
+    def both(key, width):
+        return np.stack([grid(f"free_{key}", width), grid(f"contact_{key}", width)])
+
+    return {
+        "story_peak_drift_ratio": (("condition", "record", "level", "story"),
+                                   both("drift_ratio_each", len(stories)), {
+            "units": "1", "long_name": "peak |storey drift ratio| of each storey (NaN without "
+            "its height)"}),
+        "node_peak_absolute_acceleration": (("condition", "record", "level", "node"),
+                                            both("acceleration_each", len(nodes)) / G, {
+            "units": "g", "long_name": "peak absolute acceleration |a + a_g| of each floor"}),
+        "peak_ground_acceleration": (("condition", "record", "level"),
+                                     both("ground_acceleration", 1)[..., 0] / G, {
+            "units": "g", "long_name": "peak ground acceleration of the run's motion (as "
+            "scaled, sampled on the run's step)"}),
     }
 
 
@@ -214,6 +276,25 @@ def _annual_frequency_variables(result) -> dict:
         "annual_frequency_high": (("limit", "condition"), maf(2), {
             "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
     }
+
+
+def _design_life_variables(data: dict, years: float) -> dict:
+    """The probability of each ``annual_frequency*`` variable's limit state happening at
+    least once in ``years`` (Poisson occurrences), with its range (the map is monotone)."""
+    from pframe.risk.hazard import probability_in_years
+
+    out = {}
+    for name, (dims, rate, _) in list(data.items()):
+        if not name.startswith("annual_frequency") or name.endswith("_cov"):
+            continue
+        which = {"annual_frequency": "", "annual_frequency_low": "lower end of the range of ",
+                 "annual_frequency_high": "upper end of the range of "}[name]
+        out[name.replace("annual_frequency", "probability_in_design_life")] = (
+            dims, probability_in_years(rate, years), {
+                "units": "1", "long_name": f"{which}the probability that the limit state "
+                f"happens at least once in the design life ({years:g} years): 1 - exp(-"
+                f"annual_frequency x {years:g}), its occurrences a Poisson process"})
+    return out
 
 
 def _target_variables(result) -> dict:
@@ -307,6 +388,7 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                      "levels' estimates' variances combined)")):
                 data[name] = ((), float(value), {"units": "1/yr" if "cov" not in name
                                                  else "1", "long_name": long})
+            data.update(_design_life_variables(data, spec.design_life))
             coords["hazard_im"] = ("hazard_point", np.asarray(hazard.im, float),
                                    {"units": "g", "long_name": "hazard curve: intensity"})
             data["hazard_frequency"] = (("hazard_point",), np.asarray(hazard.frequency, float),
@@ -327,10 +409,18 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
     attrs = study_attributes(inputs, text, source, notes, title="risk study (subset "
                              "simulation)", design="subset", motion=motion,
                              probability_level=spec.design.probability_level,
-                             samples_per_level=spec.design.samples)
+                             samples_per_level=spec.design.samples,
+                             **({"design_life": spec.design_life} if maf is not None else {}))
     from pframe.gap.output import labelled
 
     return labelled(data, coords, attrs)
+
+
+def _percent(p: float) -> str:
+    """A probability as a percentage with the digits it needs (NaN as NaN)."""
+    if not math.isfinite(p):
+        return "NaN"
+    return f"{100 * p:.3g} %"
 
 
 def summary(ds) -> str:
@@ -349,6 +439,13 @@ def summary(ds) -> str:
                        f"(c.o.v. {float(ds.annual_frequency_cov):.2f}; 95 % "
                        f"{float(ds.annual_frequency_low):.3e}-"
                        f"{float(ds.annual_frequency_high):.3e})")
+        if "probability_in_design_life" in ds:
+            years = float(ds.attrs["design_life"])
+            out.append(f"probability of pounding at least once in {years:g} years: "
+                       f"{_percent(float(ds.probability_in_design_life))} (95 % "
+                       f"{_percent(float(ds.probability_in_design_life_low))}-"
+                       f"{_percent(float(ds.probability_in_design_life_high))}; 1 - exp(-MAF "
+                       f"x {years:g}), occurrences a Poisson process)")
         out.append(f"{int(ds.evaluations)} runs")
         return "\n".join(out)
     if "pounding_probability" in ds:
@@ -361,8 +458,11 @@ def summary(ds) -> str:
                 f"{ds.sizes.get('variable', 0)} uncertain values and "
                 + ("the motion's white noise" if "record" not in ds.dims else
                    f"each of {ds.sizes['record']} records (their mean)"))
+    life = "probability_in_design_life" in ds
+    years = float(ds.attrs.get("design_life", math.nan))
     lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
-             + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")]
+             + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")
+             + (f" {f'P {years:g} yr':>9}" if life else "")]
     lines.append("-" * len(lines[0]))
     for limit in ds.limit_name.values:
         for cond in ds.condition_name.values:
@@ -375,7 +475,13 @@ def summary(ds) -> str:
                 row += (f" {float(ds.annual_frequency.sel(sel)):>10.3e} "
                         f"{float(ds.annual_frequency_low.sel(sel)):>10.3e}-"
                         f"{float(ds.annual_frequency_high.sel(sel)):<10.3e}")
+            if life:
+                row += f" {_percent(float(ds.probability_in_design_life.sel(sel))):>9}"
             lines.append(row)
+    if life:
+        lines.append(f"P {years:g} yr: the probability of the limit state at least once in "
+                     f"a design life of {years:g} years, 1 - exp(-MAF x {years:g}) "
+                     "(occurrences a Poisson process)")
     if "gap_at_target" in ds:
         def mm(name):
             value = float(ds[name])

@@ -6,7 +6,9 @@ pounding). The kernel keeps the peaks (envelopes); a sink keeps the running maxi
 u_left - u_right over the streamed displacements, so memory stays bounded whatever the steps.
 
 Demands per variant: peak |storey drift| over each building's storeys (m), peak absolute floor
-acceleration |a_rel + a_g| over each building's floors (m/s^2), the number of impacts.
+acceleration |a_rel + a_g| over each building's floors (m/s^2), the number of impacts; for a
+planar scene also each storey's peak |drift ratio|, each floor's peak absolute acceleration
+and the peak ground acceleration (the demand table pelicun reads, pframe.risk.pelicun).
 """
 
 from __future__ import annotations
@@ -84,6 +86,12 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
         # NaN for a building without storey heights (a drift-ratio limit needs them)
         "drift_ratio": _per_building(np.abs(result.envelope["story_drift_ratio"]), of_story, nb),
         "acceleration": _per_building(result.envelope["absolute_acceleration"], of_dof, nb),
+        # each storey and floor of a planar scene (pframe.risk.pelicun's demand table): a
+        # scene in plan has lines of resistance and three DOFs per floor instead
+        **({"drift_ratio_each": np.abs(result.envelope["story_drift_ratio"]),
+            "acceleration_each": result.envelope["absolute_acceleration"][:, plan.node_dof],
+            "ground_acceleration": np.max(np.abs(accelerations[:, 0]), axis=-1)}
+           if plan.planar else {}),
         "impacts": (result.impacts.astype(np.int32) if contacts and result.impacts is not None
                     else np.zeros((plan.batch, len(pairs.names)), np.int32)),
         "complete": np.array([result.completed(b) for b in range(plan.batch)], dtype=np.int8),

@@ -16,6 +16,7 @@ A study file (YAML; paths relative to it)::
       acceleration: {A: 1.0}               # peak absolute floor acceleration (g)
     hazard: {file: hazard.csv}     # or {power_law: {k0: 1.0e-4, k: 2.5}}
     target: {return_period: 475}   # or {annual_frequency: 2.1e-3}
+    design_life: 50                # years: P(at least once) = 1 - exp(-MAF years)
     codes: [asce7, {code: tbdy2018, R: 6}]   # code rules beside the gap at target
 """
 
@@ -155,6 +156,10 @@ class StudyFile(_Base):
     hazard: Hazard | None = Field(None, description="The hazard curve.")
     target: Target | None = Field(None, description="The target annual frequency of "
                                   "pounding.")
+    design_life: float = Field(50.0, gt=0, allow_inf_nan=False, description="Years over "
+                               "which each limit state's probability of happening at least "
+                               "once is given: 1 - exp(-annual frequency x years), occurrences "
+                               "taken as a Poisson process.")
     codes: list | dict | str | None = Field(None, description="Building codes' separation "
                                            "rules shown beside the gap at target: names "
                                            "(asce7, tbdy2018, ...), {code: NAME, factors}, "
@@ -494,7 +499,7 @@ def open_study(study, records_folder=None) -> Opened:
     everything ``pframe risk`` would refuse before it runs (``pframe validate`` runs this).
     Raises :class:`InputError` naming the file, the line and the field."""
     from pframe.gap.audit import prepare
-    from pframe.reader import load_scene
+    from pframe.reader import load_scene, require_si
 
     spec, base, text, lines = _read(study)
     at = _At(study, lines)
@@ -526,6 +531,7 @@ def open_study(study, records_folder=None) -> Opened:
                          "often they are exceeded, so no annual frequency can be given; "
                          "extend the table up to the stripes, or lower them")
     loaded = loaded or load_scene(scene)
+    require_si(loaded, "a risk study")  # its hazard, stripes and gaps are in SI
     _check_measure(spec, at, list(loaded.expanded.buildings))
     if suite is None:  # the scene's own excitation runs as the scene says
         for field, value, own in (("dt", spec.dt, loaded.expanded.dt),

@@ -190,6 +190,8 @@ def _write(f: Writer, spec: Spec, load_chunk, call: str | None = None) -> dict:
         for key, value in run.convert.attributes(run.dt).items():
             if same or not key.startswith(("scale_", "dtau")):
                 attrs[key] = value
+    else:  # the unit system its responses are written in (docs/units.md)
+        attrs.update(run.convert.attributes(run.dt))
     f.attrs.update(with_units(attrs))
 
     if zipped:

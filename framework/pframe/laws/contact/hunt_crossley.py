@@ -20,6 +20,7 @@ as e -> 1. ``calibration: exact`` packs the chi whose impact rebounds with e its
 
 from __future__ import annotations
 
+from fractions import Fraction
 from typing import Literal
 
 from pydantic import Field
@@ -57,6 +58,15 @@ class HuntCrossley(Law):
     undimensioned = {"stiffness": "the stiffness of hunt_crossley is in N/m^n, a dimension that "
                                   "depends on n; scale it by hand (by S_F S_L^-n)"}
     tangent_states = classmethod(hunt_crossley_tangent_states)
+
+    @classmethod
+    def dimensions_given(cls, given: dict) -> dict[str, str]:
+        """k in N/m^n for the exponent n as written (docs/units.md)."""
+        n = given.get("exponent")
+        if isinstance(n, bool) or not isinstance(n, (int, float)) or not n > 0:
+            return {}  # validation names the exponent
+        return {"stiffness": f"N/m^({Fraction(n).limit_denominator(1000)})"}
+
     examples = ({"stiffness": 1.0e9, "exponent": 1.5, "restitution": 0.6},
                 {"stiffness": 3.0e7, "exponent": 1.2, "restitution": 0.5},
                 {"stiffness": 1.0e12, "exponent": 2.0, "restitution": 0.5, "calibration": "exact"})

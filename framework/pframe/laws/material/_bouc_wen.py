@@ -17,6 +17,7 @@ it, ``pframe.kernel.translate``); each keeps OpenSees' order of operations.
 from __future__ import annotations
 
 import math
+from fractions import Fraction
 
 from pydantic import Field
 
@@ -64,6 +65,15 @@ def undimensioned(law: str) -> dict:
     why = (f"gamma and beta of the {law} material are in m^-n, a dimension that depends on n; "
            "scale them by hand (by S_L^-n)")
     return {"gamma": why, "beta": why}
+
+
+def gamma_beta_dimensions(cls, given: dict) -> dict[str, str]:
+    """The Bouc-Wen family's ``dimensions_given``: gamma and beta in m^-n for n as written."""
+    n = given.get("n")
+    if isinstance(n, bool) or not isinstance(n, (int, float)) or not n > 0:
+        return {}  # validation names n
+    units = f"m^({-Fraction(n).limit_denominator(1000)})"
+    return {"gamma": units, "beta": units}
 
 
 def shape_numbers(packed, yield_name: str) -> tuple[dict, float, float]:

@@ -31,6 +31,7 @@ from pframe.laws.material._bouc_wen import (
     DIMENSIONS,
     MAX_ITERATIONS,
     HystereticParams,
+    gamma_beta_dimensions,
     hysteretic,
     post_yield_stiffness,
     shape_numbers,
@@ -55,6 +56,7 @@ class BoucWen(Law):
                    "tolerance", "max_iterations")
     state_names = ("drift", "z", "energy")
     dimensions = DIMENSIONS | {"tolerance": "length", "max_iterations": "dimensionless"}
+    dimensions_given = classmethod(gamma_beta_dimensions)
     undimensioned = undimensioned("Bouc-Wen")
     branches = "smooth"
     opensees = "BoucWen"

@@ -44,6 +44,7 @@ from pframe.laws.material._bouc_wen import (
     DIMENSIONS,
     MAX_ITERATIONS,
     HystereticParams,
+    gamma_beta_dimensions,
     hysteretic,
     post_yield_stiffness,
     shape_numbers,
@@ -100,6 +101,7 @@ class Bwbn(Law):
     dimensions = DIMENSIONS | {"q": "dimensionless", "zetas": "dimensionless", "p": "1/J",
                                "psi": "length", "deltaPsi": "m/J", "lamda": "dimensionless",
                                "tolerance": "length", "max_iterations": "dimensionless"}
+    dimensions_given = classmethod(gamma_beta_dimensions)
     undimensioned = undimensioned("BWBN")
     #: no regime description for the reference solver (pframe accuracy): the law is its
     #: step's backward-Euler update, whose state the reference solver does not integrate

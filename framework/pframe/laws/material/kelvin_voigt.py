@@ -14,7 +14,13 @@ from typing import Literal
 from pydantic import Field
 
 from pframe.laws.material.viscous import dashpot_states
-from pframe.laws.params import DASHPOT_UNDIMENSIONED, LawParams, Positive, dashpot_units
+from pframe.laws.params import (
+    DASHPOT_UNDIMENSIONED,
+    LawParams,
+    Positive,
+    dashpot_dimensions,
+    dashpot_units,
+)
 from pframe.laws.registry import Law, material
 
 
@@ -37,6 +43,7 @@ class KelvinVoigt(Law):
     dimensions = {"stiffness": "stiffness", "exponent": "dimensionless",
                   "linear_below": "velocity"}
     undimensioned = {"damping": DASHPOT_UNDIMENSIONED}
+    dimensions_given = classmethod(dashpot_dimensions)
     branches = "smooth"
     opensees = "Parallel(Elastic, Viscous)"
     examples = ({"stiffness": 1.0e5, "damping": 1.0e3},

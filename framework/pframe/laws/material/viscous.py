@@ -17,7 +17,13 @@ from typing import Literal
 from pydantic import Field
 
 from pframe.laws.facts import TangentState
-from pframe.laws.params import DASHPOT_UNDIMENSIONED, LawParams, Positive, dashpot_units
+from pframe.laws.params import (
+    DASHPOT_UNDIMENSIONED,
+    LawParams,
+    Positive,
+    dashpot_dimensions,
+    dashpot_units,
+)
 from pframe.laws.registry import Law, material
 
 
@@ -50,6 +56,7 @@ class Viscous(Law):
     param_names = ("damping", "exponent", "linear_below")
     dimensions = {"exponent": "dimensionless", "linear_below": "velocity"}
     undimensioned = {"damping": DASHPOT_UNDIMENSIONED}
+    dimensions_given = classmethod(dashpot_dimensions)
     branches = "smooth"
     opensees = "Viscous"
     stiffness_free = True  # no initial stiffness: a link, not a storey
