@@ -250,6 +250,8 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
 static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from, int64_t count)
 {
     int64_t to = from + 1;
+    if (laws[order[count - 1]] == laws[order[from]]) /* the last group: no search */
+        return count;
     while (to < count && laws[order[to]] == laws[order[from]])
         to++;
     return to;
