@@ -48,7 +48,7 @@ Model = _structure("Model", state.Model._fields + state.SIZES)
 Settings = _structure("Settings", state.Settings._fields)
 State = _structure("State", state.State._fields)
 Recording = _structure("Recording", state.Recording._fields + state.RECORDING_SIZES)
-Work = _structure("Work", state.Work._fields)
+Work = _structure("Work", state.Work._fields + state.WORK_PREPARED)
 Saved = _structure("Saved", state.Saved._fields)
 STRUCTS = (Model, Settings, State, Recording, Work, Saved)
 

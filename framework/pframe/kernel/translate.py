@@ -717,7 +717,7 @@ def state_h() -> str:
     groups = {"Model": state.Model._fields + state.SIZES, "Settings": state.Settings._fields,
               "State": state.State._fields,
               "Recording": state.Recording._fields + state.RECORDING_SIZES,
-              "Work": state.Work._fields, "Saved": state.Saved._fields}
+              "Work": state.Work._fields + state.WORK_PREPARED, "Saved": state.Saved._fields}
     for group, fields in groups.items():
         types = state.C_TYPES[group]
         lines.append(f"typedef struct {group} {{")

@@ -90,8 +90,14 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
     return work;
 }
 
-/* What the storey (spring) loop of evaluate reads and writes for member b. */
+/* What the storey (spring) loop of evaluate reads and writes for member b: prepared once per
+ * call (prepare_loops), but for what each evaluation sets (its point, its weights, where the
+ * laws start from). */
 typedef struct {
+    const double *committed_step; /* the laws' state at the step start */
+    int64_t *calls;
+    int terms, grounded;
+    int current; /* every spring's damping on its current tangent, none with P-delta */
     const int64_t *dofs, *order, *modes, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *k0, *beta, *kg, *side_coef, *tangent_c, *ue, *ve;
     const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
@@ -103,10 +109,11 @@ typedef struct {
 
 /* The springs order[from .. to - 1], all of law `force` (a law group: its function called
  * directly, inlined where it is a built-in law); `terms` 0 when no spring of the scene has
- * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports. Returns 1
- * when an effective tangent changed. */
+ * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports, `current`
+ * 1 when every spring's damping is on its current tangent and none has P-delta (the paper's
+ * scenes: neither is looked up per spring). Returns 1 when an effective tangent changed. */
 static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
-                                    LawFunction force, int terms, int grounded)
+                                    LawFunction force, int terms, int grounded, int current)
 {
     double out[3];
     int stale = 0;
@@ -114,7 +121,7 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
     for (j = from; j < to; j++) {
         const int64_t e = L->order[j];
         const int64_t lo = L->dofs[2 * e], up = L->dofs[2 * e + 1];
-        const int64_t mode = L->modes[e];
+        const int64_t mode = current ? DAMPING_CURRENT : L->modes[e];
         const int sided = terms && general(L->start, e);
         double d, r, f, kt, kr, kd, fd;
         if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
@@ -144,7 +151,7 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
         fd = L->beta[e] * kd * r;
         L->drift[e] = d;
         L->tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
-        if (L->kg[e] != 0.0) {
+        if (!current && L->kg[e] != 0.0) {
             /* P-delta: the gravity load P's overturning moment P d over the height h is a
              * shear P d / h the storey's columns must also resist: the storey resists
              * f - (P / h) d, with tangent k_t - P / h */
@@ -171,8 +178,11 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
     return stale;
 }
 
-/* What the contact loop of evaluate reads and writes for member b. */
+/* What the contact loop of evaluate reads and writes for member b (see SpringLoop). */
 typedef struct {
+    const double *committed_step;
+    int64_t *calls;
+    int terms, grounded;
     const int64_t *dofs, *order, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *gap, *pen_c, *force_c, *side_coef, *ue, *ve;
     const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
@@ -257,66 +267,110 @@ static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from
     return to;
 }
 
+/* Member b's element loops, what of them holds for a whole call (evaluate sets the rest),
+ * in sl and cl, which w then points to. */
+static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, SpringLoop *sl,
+                          ContactLoop *cl)
+{
+    const int64_t ns = m->stories, nc = m->contacts;
+    int64_t e;
+    sl->committed_step = st->story_committed + b * ns * m->story_states;
+    sl->calls = st->material_calls + b * m->materials;
+    sl->terms = m->story_terms > 0;
+    sl->grounded = m->story_ground_terms > 0;
+    sl->current = 1;
+    for (e = 0; e < ns; e++)
+        sl->current &= m->story_damping[e] == DAMPING_CURRENT && m->story_kg[b * ns + e] == 0.0;
+    sl->dofs = m->story_dofs;
+    sl->order = m->story_order;
+    sl->modes = m->story_damping;
+    sl->start = m->story_side_start;
+    sl->side_dof = m->story_side_dof;
+    sl->params = m->story_params + b * ns * m->story_width;
+    sl->k0 = m->story_k0 + b * ns;
+    sl->beta = m->story_beta + b * ns;
+    sl->kg = m->story_kg + b * ns;
+    sl->side_coef = m->story_side_coef + b * m->story_terms;
+    sl->g_start = m->story_ground_start;
+    sl->g_channel = m->story_ground_channel;
+    sl->g_coef = m->story_ground_coef + b * m->story_ground_terms;
+    sl->tangent_c = st->story_tangent + b * ns;
+    sl->ue = w->ue;
+    sl->ve = w->ve;
+    sl->trial = st->story_trial + b * ns * m->story_states;
+    sl->drift = w->drift;
+    sl->force = w->story_force;
+    sl->damping_force = w->story_damping_force;
+    sl->tangent_t = w->story_tangent;
+    sl->kks = w->story_kk;
+    sl->R = w->R;
+    sl->P = m->story_width;
+    sl->S = m->story_states;
+    cl->committed_step = st->contact_committed + b * nc * m->contact_states;
+    cl->calls = st->contact_calls + b * m->contact_laws;
+    cl->terms = m->contact_terms > 0;
+    cl->grounded = m->contact_ground_terms > 0;
+    cl->dofs = m->contact_dofs;
+    cl->order = m->contact_order;
+    cl->start = m->contact_side_start;
+    cl->side_dof = m->contact_side_dof;
+    cl->params = m->contact_params + b * nc * m->contact_width;
+    cl->gap = m->gap + b * nc;
+    cl->pen_c = st->penetration + b * nc;
+    cl->force_c = st->contact_force + b * nc;
+    cl->side_coef = m->contact_side_coef + b * m->contact_terms;
+    cl->g_start = m->contact_ground_start;
+    cl->g_channel = m->contact_ground_channel;
+    cl->g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+    cl->ue = w->ue;
+    cl->ve = w->ve;
+    cl->trial = st->contact_trial + b * nc * m->contact_states;
+    cl->force = w->contact_force;
+    cl->penetration = w->penetration;
+    cl->kks = w->contact_kk;
+    cl->R = w->R;
+    cl->Q = m->contact_width;
+    cl->T = m->contact_states;
+    w->springs = sl;
+    w->contacts = cl;
+}
+
 /* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
  * evaluation point, subtracted from the residual, law group by law group; returns 1 when an
  * effective tangent changed (see evaluate). */
-static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                            const double *age, int from_stage, double c1, double wf,
-                            int tangent)
+static int evaluate_springs(const Model *m, const Settings *s, Work *w, const double *age,
+                            int from_stage, double c1, double wf, int tangent)
 {
     const int64_t ns = m->stories;
-    int stale = 0, terms, grounded;
+    SpringLoop *L = (SpringLoop *)w->springs;
+    const int terms = L->terms, grounded = L->grounded;
+    int stale = 0;
     int64_t j, to;
-    SpringLoop L;
-    int64_t *calls = st->material_calls + b * m->materials;
-    L.dofs = m->story_dofs;
-    L.order = m->story_order;
-    L.modes = m->story_damping;
-    L.start = m->story_side_start;
-    L.side_dof = m->story_side_dof;
-    L.params = m->story_params + b * ns * m->story_width;
-    L.committed = from_stage ? w->story_stage : st->story_committed + b * ns * m->story_states;
-    L.k0 = m->story_k0 + b * ns;
-    L.beta = m->story_beta + b * ns;
-    L.kg = m->story_kg + b * ns;
-    L.side_coef = m->story_side_coef + b * m->story_terms;
-    L.g_start = m->story_ground_start;
-    L.g_channel = m->story_ground_channel;
-    L.g_coef = m->story_ground_coef + b * m->story_ground_terms;
-    L.g_d = ground_block(m, age, 1);
-    L.g_v = ground_block(m, age, 2);
-    L.tangent_c = st->story_tangent + b * ns;
-    L.ue = w->ue;
-    L.ve = w->ve;
-    L.trial = st->story_trial + b * ns * m->story_states;
-    L.drift = w->drift;
-    L.force = w->story_force;
-    L.damping_force = w->story_damping_force;
-    L.tangent_t = w->story_tangent;
-    L.kks = w->story_kk;
-    L.R = w->R;
-    L.P = m->story_width;
-    L.S = m->story_states;
-    L.c1 = c1;
-    L.wf = wf;
-    L.tangent = tangent;
-    terms = m->story_terms > 0;
-    grounded = m->story_ground_terms > 0;
+    L->committed = from_stage ? w->story_stage : L->committed_step;
+    if (grounded) {
+        L->g_d = ground_block(m, age, 1);
+        L->g_v = ground_block(m, age, 2);
+    }
+    L->c1 = c1;
+    L->wf = wf;
+    L->tangent = tangent;
     for (j = 0; j < ns; j = to) {
         const int64_t law = m->story_law[m->story_order[j]];
         to = group_end(m->story_order, m->story_law, j, ns);
-        calls[law] += to - j;
+        L->calls[law] += to - j;
         switch (law) {
 #define SPRING_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded ? spring_run(&L, j, to, function, terms, grounded) \
-                                       : spring_run(&L, j, to, function, 0, 0); \
+            stale |= terms || grounded \
+                ? spring_run(L, j, to, function, terms, grounded, 0) \
+                : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
+                             : spring_run(L, j, to, function, 0, 0, 0); \
             break;
             MATERIAL_LAWS(SPRING_GROUP)
 #undef SPRING_GROUP
         default:
-            stale |= spring_run(&L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
-                                terms, grounded);
+            stale |= spring_run(L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
+                                terms, grounded, 0);
         }
     }
     return stale;
@@ -324,68 +378,45 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
 
 /* The contacts' forces at the evaluation point, added to the residual, law group by law
  * group; returns 1 when an effective tangent changed (see evaluate). */
-static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                             const double *age, int from_stage, double c1, double wf,
-                             int tangent)
+static int evaluate_contacts(const Model *m, const Settings *s, Work *w, const double *age,
+                             int from_stage, double c1, double wf, int tangent)
 {
     const int64_t nc = m->contacts;
-    int stale = 0, terms, grounded;
+    ContactLoop *L = (ContactLoop *)w->contacts;
+    const int terms = L->terms, grounded = L->grounded;
+    int stale = 0;
     int64_t j, to;
-    ContactLoop L;
-    int64_t *calls = st->contact_calls + b * m->contact_laws;
-    L.dofs = m->contact_dofs;
-    L.order = m->contact_order;
-    L.start = m->contact_side_start;
-    L.side_dof = m->contact_side_dof;
-    L.params = m->contact_params + b * nc * m->contact_width;
-    L.committed = from_stage ? w->contact_stage
-                             : st->contact_committed + b * nc * m->contact_states;
-    L.gap = m->gap + b * nc;
-    L.pen_c = st->penetration + b * nc;
-    L.force_c = st->contact_force + b * nc;
-    L.side_coef = m->contact_side_coef + b * m->contact_terms;
-    L.g_start = m->contact_ground_start;
-    L.g_channel = m->contact_ground_channel;
-    L.g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
-    L.g_d = ground_block(m, age, 1);
-    L.g_v = ground_block(m, age, 2);
-    L.ue = w->ue;
-    L.ve = w->ve;
-    L.trial = st->contact_trial + b * nc * m->contact_states;
-    L.force = w->contact_force;
-    L.penetration = w->penetration;
-    L.kks = w->contact_kk;
-    L.R = w->R;
-    L.Q = m->contact_width;
-    L.T = m->contact_states;
-    L.held = (int64_t)w->scalars[HELD];
-    L.held_closed = w->scalars[HELD_CLOSED];
-    L.c1 = c1;
-    L.wf = wf;
-    L.tangent = tangent;
+    L->committed = from_stage ? w->contact_stage : L->committed_step;
+    if (grounded) {
+        L->g_d = ground_block(m, age, 1);
+        L->g_v = ground_block(m, age, 2);
+    }
+    L->held = (int64_t)w->scalars[HELD];
+    L->held_closed = w->scalars[HELD_CLOSED];
+    L->c1 = c1;
+    L->wf = wf;
+    L->tangent = tangent;
     /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
      * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
      * start: a contact that closes or opens beyond the sub-step's end must not act inside
      * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
      * crosses inside it is located (events.c) and the sub-step cut there. The step end
      * (tangent off: the commit's evaluation) sees the real law. */
-    L.hold_start = tangent && s->events && s->beyond;
-    terms = m->contact_terms > 0;
-    grounded = m->contact_ground_terms > 0;
+    L->hold_start = tangent && s->events && s->beyond;
     for (j = 0; j < nc; j = to) {
         const int64_t law = m->contact_law[m->contact_order[j]];
         to = group_end(m->contact_order, m->contact_law, j, nc);
-        calls[law] += to - j;
+        L->calls[law] += to - j;
         switch (law) {
 #define CONTACT_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded ? contact_run(&L, j, to, function, terms, grounded) \
-                                       : contact_run(&L, j, to, function, 0, 0); \
+            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded) \
+                                       : contact_run(L, j, to, function, 0, 0); \
             break;
             CONTACT_LAWS(CONTACT_GROUP)
 #undef CONTACT_GROUP
         default:
-            stale |= contact_run(&L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
+            stale |= contact_run(L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
                                  terms, grounded);
         }
     }
@@ -417,9 +448,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
-    stale = m->stories ? evaluate_springs(m, s, st, w, b, age, from_stage, c1, wf, tangent)
-                       : 0;
-    if (m->contacts && evaluate_contacts(m, s, st, w, b, age, from_stage, c1, wf, tangent))
+    stale = m->stories ? evaluate_springs(m, s, w, age, from_stage, c1, wf, tangent) : 0;
+    if (m->contacts && evaluate_contacts(m, s, w, age, from_stage, c1, wf, tangent))
         stale = 1;
     return stale;
 }

@@ -283,6 +283,8 @@ typedef struct Work {
     double *ag_new;
     double *age;
     double *ag_stage;
+    void *springs;
+    void *contacts;
 } Work;
 
 typedef struct Saved {
