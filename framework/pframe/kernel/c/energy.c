@@ -46,20 +46,20 @@ typedef struct {
     double kinetic, raw;                /* modified and plain kinetic energies at the end */
 } StepSums;
 
-/* The DOFs' sums in one pass, which also commits U, V and A: the kinetic energies, and with
- * works (k > 0) the works over the step and the pieces of D_algorithmic, [a M a / 2] and
- * v_mid M [a] only with mid (see commit_dofs). Inlined with works and mid constant: one loop
- * without branches for each case. */
+/* The DOFs' sums in one pass, which also commits U, V and A: the kinetic energies (the
+ * modified one's shadow term only when shadowed: shadow is not zero), and with works (k > 0)
+ * the works over the step and the pieces of D_algorithmic, [a M a / 2] and v_mid M [a] only
+ * with mid (see commit_dofs). Inlined with the three flags constant: one loop without
+ * branches for each case. */
 static PFRAME_INLINE void dof_sums(const Model *m, State *st, const Work *w, int64_t b,
                                    double shadow, const double *ag_old, const double *ag_new,
-                                   int works, int mid, StepSums *x)
+                                   int works, int mid, int shadowed, StepSums *x)
 {
     const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
     const int64_t *channel = m->dof_channel;
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
     const double *u = w->u, *v = w->v, *a = w->a;
-    const int shadowed = shadow != 0.0;
     /* the sums in locals, not through x: stores into U, V, A may not change them */
     double kinetic = 0.0, plain = 0.0, work_in = 0.0, work_damp = 0.0, du_dG = 0.0;
     double du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
@@ -118,12 +118,25 @@ static void commit_dofs(const Model *m, const Settings *s, State *st, const Work
         modal_damp = modal_work(m, b, V, v, 1.0, u, U);
         modal_dG = modal_work(m, b, v, V, -1.0, u, U);
     }
-    if (k == 0)
-        dof_sums(m, st, w, b, shadow, ag_old, ag_new, 0, 0, x);
-    else if (s->scheme != TABLEAU && s->gamma != 0.5)
-        dof_sums(m, st, w, b, shadow, ag_old, ag_new, 1, 1, x);
-    else
-        dof_sums(m, st, w, b, shadow, ag_old, ag_new, 1, 0, x);
+    const int works = k > 0, mid = works && s->scheme != TABLEAU && s->gamma != 0.5;
+#define DOF_SUMS(works, mid, shadowed) \
+    dof_sums(m, st, w, b, shadow, ag_old, ag_new, works, mid, shadowed, x)
+    if (shadow != 0.0) {
+        if (!works)
+            DOF_SUMS(0, 0, 1);
+        else if (mid)
+            DOF_SUMS(1, 1, 1);
+        else
+            DOF_SUMS(1, 0, 1);
+    } else {
+        if (!works)
+            DOF_SUMS(0, 0, 0);
+        else if (mid)
+            DOF_SUMS(1, 1, 0);
+        else
+            DOF_SUMS(1, 0, 0);
+    }
+#undef DOF_SUMS
     if (k > 0 && m->modal_blocks) {
         x->work_damp += 0.5 * modal_damp;
         x->du_dG += modal_dG;
