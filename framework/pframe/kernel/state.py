@@ -397,12 +397,12 @@ C_TYPES = {
                   "history_width": "int64_t[RECORDABLE_COUNT]",
                   "envelope_width": "int64_t[RECORDABLE_COUNT]",
                   "envelope_count": "int64_t", "envelope_list": "int64_t[RECORDABLE_COUNT]"},
-    "Work": {"springs": "void *", "contacts": "void *"},
+    "Work": {"loops": "void *"},
     "Saved": {"impacts": "int64_t *"},
 }
-#: Work's C-only fields: each member's element loops, prepared once per call (kernel/c/loop.c;
-#: assembly.c's SpringLoop and ContactLoop), the driver leaves them NULL
-WORK_PREPARED = ("springs", "contacts")
+#: Work's C-only field: each member's evaluation loops, prepared once per call (kernel/c/loop.c;
+#: assembly.c's Loops); the driver leaves it NULL
+WORK_PREPARED = ("loops",)
 #: Recording's sizes (C only: the Python group holds the arrays, which carry their shapes),
 #: and the enveloped quantities listed (their count, then their slots in order: the kernel
 #: updates the envelopes every step and sub-step, without a pass over every quantity)

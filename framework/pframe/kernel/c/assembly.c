@@ -267,12 +267,19 @@ static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from
     return to;
 }
 
-/* Member b's element loops, what of them holds for a whole call (evaluate sets the rest),
- * in sl and cl, which w then points to. */
-static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, SpringLoop *sl,
-                          ContactLoop *cl)
+/* What evaluate runs for member b: its element loops. */
+typedef struct {
+    SpringLoop springs;
+    ContactLoop contacts;
+} Loops;
+
+/* Member b's loops, what of them holds for a whole call (evaluate sets the rest), in loops,
+ * which w then points to. */
+static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *loops)
 {
     const int64_t ns = m->stories, nc = m->contacts;
+    SpringLoop *sl = &loops->springs;
+    ContactLoop *cl = &loops->contacts;
     int64_t e;
     sl->committed_step = st->story_committed + b * ns * m->story_states;
     sl->calls = st->material_calls + b * m->materials;
@@ -331,8 +338,7 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, SpringL
     cl->R = w->R;
     cl->Q = m->contact_width;
     cl->T = m->contact_states;
-    w->springs = sl;
-    w->contacts = cl;
+    w->loops = loops;
 }
 
 /* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
@@ -342,7 +348,7 @@ static int evaluate_springs(const Model *m, const Settings *s, Work *w, const do
                             int from_stage, double c1, double wf, int tangent)
 {
     const int64_t ns = m->stories;
-    SpringLoop *L = (SpringLoop *)w->springs;
+    SpringLoop *L = &((Loops *)w->loops)->springs;
     const int terms = L->terms, grounded = L->grounded;
     int stale = 0;
     int64_t j, to;
@@ -382,7 +388,7 @@ static int evaluate_contacts(const Model *m, const Settings *s, Work *w, const d
                              int from_stage, double c1, double wf, int tangent)
 {
     const int64_t nc = m->contacts;
-    ContactLoop *L = (ContactLoop *)w->contacts;
+    ContactLoop *L = &((Loops *)w->loops)->contacts;
     const int terms = L->terms, grounded = L->grounded;
     int stale = 0;
     int64_t j, to;

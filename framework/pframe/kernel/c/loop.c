@@ -63,15 +63,14 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
     for (b = 0; b < m->batch; b++) {
         const double h = m->dt[b];
         const int64_t first_step = imax(begin, 1);
-        SpringLoop springs;
-        ContactLoop contacts;
+        Loops loops;
         int64_t due;
         if (stop_asked(m))
             return RUN_STOPPED;
         if (st->status[b * STATUS_SLOTS + STATUS_CODE] != OK)
             continue;
         reset_work(m, w, b);
-        prepare_loops(m, st, w, b, &springs, &contacts);
+        prepare_loops(m, st, w, b, &loops);
         if (s->linear && !s->explicit && end > first_step) { /* factored once per call */
             if (!factor_linear(m, s, st, w, b, first_step, h, 0)) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)

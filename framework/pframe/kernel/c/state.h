@@ -283,8 +283,7 @@ typedef struct Work {
     double *ag_new;
     double *age;
     double *ag_stage;
-    void *springs;
-    void *contacts;
+    void *loops;
 } Work;
 
 typedef struct Saved {
