@@ -170,6 +170,10 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
                 work_link += work;
             work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
             du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
+            drift_c[e] = drift_t[e];
+            force_c[e] = force_t[e];
+            damping_c[e] = damping_t[e];
+            tangent_c[e] = tangent_t[e];
         }
         for (e = 0; e < nc; e++) {
             const double dp = pen_t[e] - pen_c[e];
@@ -177,17 +181,20 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
             du_dG += (cforce_t[e] - cforce_c[e]) * dp;
             if (pen_c[e] <= 0.0 && pen_t[e] > 0.0)
                 impacts[e] += 1;
+            cforce_c[e] = cforce_t[e];
+            pen_c[e] = pen_t[e];
         }
-    }
-    for (e = 0; e < ns; e++) {
-        drift_c[e] = drift_t[e];
-        force_c[e] = force_t[e];
-        damping_c[e] = damping_t[e];
-        tangent_c[e] = tangent_t[e];
-    }
-    for (e = 0; e < nc; e++) {
-        cforce_c[e] = cforce_t[e];
-        pen_c[e] = pen_t[e];
+    } else {
+        for (e = 0; e < ns; e++) {
+            drift_c[e] = drift_t[e];
+            force_c[e] = force_t[e];
+            damping_c[e] = damping_t[e];
+            tangent_c[e] = tangent_t[e];
+        }
+        for (e = 0; e < nc; e++) {
+            cforce_c[e] = cforce_t[e];
+            pen_c[e] = pen_t[e];
+        }
     }
     x->work_story = work_story;
     x->work_link = work_link;
