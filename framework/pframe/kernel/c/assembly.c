@@ -344,7 +344,7 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
 /* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
  * evaluation point, subtracted from the residual, law group by law group; returns 1 when an
  * effective tangent changed (see evaluate). */
-static int evaluate_springs(const Model *m, const Settings *s, Work *w, const double *age,
+static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Work *w, const double *age,
                             int from_stage, double c1, double wf, int tangent)
 {
     const int64_t ns = m->stories;
@@ -384,7 +384,7 @@ static int evaluate_springs(const Model *m, const Settings *s, Work *w, const do
 
 /* The contacts' forces at the evaluation point, added to the residual, law group by law
  * group; returns 1 when an effective tangent changed (see evaluate). */
-static int evaluate_contacts(const Model *m, const Settings *s, Work *w, const double *age,
+static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Work *w, const double *age,
                              int from_stage, double c1, double wf, int tangent)
 {
     const int64_t nc = m->contacts;
@@ -469,7 +469,7 @@ static int stop_asked(const Model *m) { return *(volatile const int64_t *)m->sto
  * stop is seen within one Newton iteration or sub-step in every mode, however many of them
  * a step takes (the failed step unwinds as any failure does; the driver then discards the
  * call). */
-static int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k)
+static PFRAME_INLINE int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k)
 {
     const double *R = w->R;
     double total = 0.0;
