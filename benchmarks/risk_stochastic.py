@@ -1,145 +1,229 @@
-"""Risk runs under stochastic motions, end to end: N analyses of the paper's pair (8,000 steps
-each), each under its own rezaeian2010 realisation generated here, against OpenSeesPy one by
-one on a sample.
+"""A risk study on stochastic motions, end to end: the risk chain of docs/risk.md over N
+variants of the paper's pair (8,000 steps each, one run without and one with contacts per
+variant), motions, fits and file included; then the runs against OpenSeesPy one by one.
 
-    python benchmarks/risk_stochastic.py [--runs 100000] [--batch 250] [--sample 5]
-                                         [--threads T] [--no-overlap]
+    python benchmarks/risk_stochastic.py [--variants 1000,10000] [--levels 10]
+                                         [--threads T] [--bootstrap B] [--sample 5]
+                                         [--no-opensees]
 
 pframe
-    Motion b is the rezaeian2010 realisation of seed b at a site of magnitude 6.5, R_rup
-    20 km, Vs30 400 m/s, strike-slip (parameters sampled per realisation from the predictive
-    relations), on its own step of 0.01 s (``pframe.excitation.stochastic.rezaeian_batch``,
-    a chunk of motions at once). The analysis is the paper's pair (models/wu2021-eq14.yaml,
-    improved Kelvin contacts at its gap) at dt = 0.001 s over 8,000 steps: the 8 s of the
-    motion from max(0, t_mid - 4 s), its strong phase (a realisation lasts 10-60 s; 8,000
-    steps of 1 ms, as benchmarks/risk_runs.py, keep the contacts resolved), scaled to a PGA
-    drawn uniformly in 0.2-1.5 g (as risk_runs.py scales its record windows: an intensity
-    range where most runs pound, so that the kernel's cost is that of pounding runs). A motion is
-    generated only up to the end of its window (``until``: the same samples as the whole
-    motion's, every filter being causal). Each chunk runs in one batch of the compiled kernel
-    on threads (``pframe.risk.runs.run_batch``: critical gap, peak drift and absolute
-    acceleration per building, impacts; running maxima only), while the next chunk's motions
-    are generated on another thread (``--no-overlap``: one after the other). Memory is
-    bounded by two chunks of motions. Printed: wall time of the whole (generation included),
-    runs per second, CPU time of generation and of the kernel, peak resident memory, the load
-    average before and after (the machine is shared: the figure depends on it).
+    ``pframe.risk`` of a study file written here: the paper's pair (models/wu2021-eq14.yaml,
+    improved Kelvin contacts at its gap, Rayleigh damping on the current stiffness) on a step
+    of 1 ms, ``duration: 8`` s (8,000 steps, which keep the contacts resolved, as
+    benchmarks/risk_runs.py), under ``stochastic: rezaeian2010`` motions of a site of
+    magnitude 6.5, R_rup 20 km, Vs30 400 m/s, strike-slip (each realisation's parameters
+    sampled from the predictive relations), an msa design of ``--levels`` PGA stripes from
+    0.2 to 1.5 g (realisations = variants / levels), ``pounding_runs: true``, two drift
+    limits and an acceleration limit, a power-law hazard, a 475-year target and the gap's
+    bootstrap (``--bootstrap``, default the study's 200), written to a netCDF file. Each size
+    runs in a process of its own (its peak resident memory is its own), after an untimed
+    run of 20 variants there (imports, the kernel loaded). Printed per size: the wall time
+    of the whole call and of its parts (motions generated and the study opened; the runs;
+    the fits, the gap curve and its bootstrap; the dataset and the file), the kernel's
+    time, the CPU time of the process and how busy that keeps the CPUs (CPU / wall / CPUs:
+    1.0 is every CPU busy the whole time), peak resident memory, the load average before
+    and after. Then 10^5 variants projected from the largest size: linearly (wall x 10^5 /
+    N) and from the cost per variant between the two largest sizes (their difference, which
+    leaves out the fixed costs).
 OpenSees
     OpenSeesPy models linear contacts (ElasticPPGap) and Rayleigh damping on the initial
     stiffness, not the paper's improved Kelvin law with damping on the current stiffness. The
     ratio is therefore taken on the scene both model: the paper's pair's OpenSees twin
     (models/wu2021-eq14-linear.yaml: the same buildings, gaps and steps, linear contacts,
-    initial-stiffness damping) on both sides, under the same ``--sample`` windows: OpenSees
-    one analysis after another (the model of ``pframe.peers.opensees``, contacts included,
-    recording the floor displacements), pframe the same runs in one batch, with contacts
-    (recording what ``run_batch`` keeps). Each side's wall time per run, and their ratio.
+    initial-stiffness damping) on both sides, under ``--sample`` 8 s windows of the strong
+    phase of such motions (scaled to a PGA drawn in 0.2-1.5 g): OpenSees one analysis after
+    another (the model of ``pframe.peers.opensees``, contacts included, recording the floor
+    displacements), pframe the same runs in one batch, with contacts (recording what
+    ``pframe.risk.runs.run_batch`` keeps). Each side's wall time per run, and their ratio.
 
-Nothing is asserted: timings depend on the machine and on what else runs on it.
+Nothing is asserted: timings depend on the machine and on what else runs on it (the load
+average says how much).
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import resource
+import subprocess
 import sys
 import tempfile
 import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
+import yaml
 from _common import KELVIN, LINEAR, load_average, opensees_unavailable, print_header
 
 STEPS, DT = 8000, 0.001
 MOTION_STEP = 0.01
 SITE = {"magnitude": 6.5, "distance": 20.0, "vs30": 400.0, "mechanism": "strike_slip"}
 WINDOW = STEPS * DT
-PGA_G = (0.2, 1.5)  # each window scaled to a PGA drawn in this range (g), as in risk_runs.py
+PGA_G = (0.2, 1.5)  # the stripes span this range (g), as risk_runs.py scales its windows
 G = 9.80665
+TARGET = 10**5
 
 
-def window_start(params) -> float:
-    """The analysis window's start in the motion (s): its strong phase around t_mid."""
-    return max(0.0, params.tmid - 0.5 * WINDOW)
+def write_study(folder: Path, variants: int, levels: int, bootstrap: int | None) -> Path:
+    """The study file (and its scene, the paper's pair on a 1 ms step) of ``variants``."""
+    scene = yaml.safe_load(KELVIN.read_text(encoding="utf-8"))
+    scene["analysis"].update(dt=DT, duration=WINDOW)
+    (folder / "scene.yaml").write_text(yaml.safe_dump(scene, sort_keys=False), encoding="utf-8")
+    study = {
+        "scene": "scene.yaml",
+        "stochastic": {"model": "rezaeian2010", **SITE,
+                       "realisations": max(1, variants // levels), "seed": 0},
+        "measure": "pga",
+        "design": {"kind": "msa",
+                   "levels": [round(float(x), 4) for x in np.linspace(*PGA_G, levels)]},
+        "dt": DT, "duration": WINDOW, "pounding_runs": True,
+        "limits": {"drift": {"IO": 0.05, "LS": 0.1}, "acceleration": {"A2": 1.5}},
+        "hazard": {"power_law": {"k0": 1.0e-4, "k": 2.5}},
+        "target": {"return_period": 475},
+    }
+    if bootstrap is not None:
+        study["bootstrap"] = bootstrap
+    path = folder / f"study-{variants}.yaml"
+    path.write_text(yaml.safe_dump(study, sort_keys=False), encoding="utf-8")
+    return path
 
 
-def motions(lo: int, hi: int) -> tuple[np.ndarray, float]:
-    """The ground accelerations (hi - lo, STEPS + 1) on the analysis grid of the realisations
-    of seeds lo..hi-1, and the CPU time of this thread to make them."""
-    from pframe.excitation.stochastic import RezaeianParameters, rezaeian_batch
+def child(study: Path, warm: Path, threads: int | None) -> None:
+    """Run one study in this process and print its timings as JSON (the --child mode)."""
+    import warnings
 
-    cpu = time.thread_time()
-    batch = rezaeian_batch(range(lo, hi), MOTION_STEP, SITE,
-                           until=lambda p: window_start(p) + WINDOW + MOTION_STEP)
-    grid = np.arange(STEPS + 1) * DT
-    grounds = np.empty((hi - lo, STEPS + 1))
-    pga = np.random.default_rng(lo).uniform(*PGA_G, hi - lo) * G
-    for b, m in enumerate(batch):
-        start = window_start(RezaeianParameters(**m.parameters))
-        grounds[b] = np.interp(start + grid, m.times, m.acceleration, right=0.0)
-        grounds[b] *= pga[b] / max(float(np.max(np.abs(grounds[b]))), 1e-12)
-    return grounds, time.thread_time() - cpu
+    import pframe.risk.study as study_module
+    from pframe.risk import analysis as analysis_module
+    from pframe.risk import output as output_module
 
+    parts = {"open": 0.0, "runs": 0.0, "fits": 0.0, "file": 0.0}
 
-def peak_rss_mb() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # kB on Linux
+    def timed(module, name, part):
+        original = getattr(module, name)
+
+        def wrapper(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return original(*args, **kwargs)
+            finally:
+                parts[part] += time.perf_counter() - start
+        setattr(module, name, wrapper)
+
+    timed(study_module, "open_study", "open")
+    timed(study_module, "run_variants", "runs")
+    timed(analysis_module, "analyse", "fits")
+    timed(output_module, "build_dataset", "file")
+    from pframe.record import netcdf
+
+    timed(netcdf, "write_dataset", "file")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        study_module.risk(warm, output=warm.with_suffix(".nc"), overwrite=True, threads=threads)
+        for key in parts:
+            parts[key] = 0.0
+        load_before = load_average()
+        timings: dict = {}
+        wall, cpu = time.perf_counter(), time.process_time()
+        ds = study_module.risk(study, output=study.with_suffix(".nc"), overwrite=True,
+                               threads=threads, timings=timings)
+        wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+    impacts = ds["impact_count"].values
+    pounding = float((impacts.sum(axis=-1) > 0).mean())
+    print(json.dumps({
+        "variants": int(timings["variants"]), "wall": wall, "cpu": cpu,
+        "kernel": float(timings["solve_seconds"]), "parts": parts,
+        "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+        "load_before": load_before, "load_after": load_average(), "pounding": pounding,
+        "gap_mm": float(ds["gap_at_target"]) * 1e3 if "gap_at_target" in ds else float("nan"),
+    }))
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--runs", type=int, default=100_000)
-    parser.add_argument("--batch", type=int, default=250)
-    parser.add_argument("--sample", type=int, default=5, help="OpenSees analyses timed")
+    parser.add_argument("--variants", default="1000,10000",
+                        help="study sizes, comma-separated (variants = records x levels)")
+    parser.add_argument("--levels", type=int, default=10)
     parser.add_argument("--threads", type=int, default=None, help="kernel threads")
-    parser.add_argument("--no-overlap", action="store_true",
-                        help="generate each chunk's motions before its runs, not beside them")
+    parser.add_argument("--bootstrap", type=int, default=None,
+                        help="record resamples of the gap's interval (default: the study's)")
+    parser.add_argument("--sample", type=int, default=5, help="OpenSees analyses timed")
+    parser.add_argument("--no-opensees", action="store_true")
+    parser.add_argument("--child", nargs=2, help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
-    from pframe.gap.runs import contact_pairs
-    from pframe.reader import load_scene
-    from pframe.risk.runs import run_batch
-
+    if args.child:
+        child(Path(args.child[0]), Path(args.child[1]), args.threads)
+        return 0
     print_header()
-    loaded = load_scene(KELVIN)
-    pairs = contact_pairs(loaded)
-    warm, _ = motions(10**9, 10**9 + 2)  # imports and the kernel loaded before the clock
-    run_batch(loaded, pairs, warm, STEPS, DT, contacts=True, threads=args.threads)
+    sizes = [int(v) for v in args.variants.split(",")]
+    cpus = os.cpu_count() or 1
+    done = []
+    with tempfile.TemporaryDirectory(prefix="pframe-risk-study-") as tmp:
+        folder = Path(tmp)
+        warm = write_study(folder, 2 * args.levels, args.levels, args.bootstrap)
+        for size in sizes:
+            study = write_study(folder, size, args.levels, args.bootstrap)
+            command = [sys.executable, __file__, "--child", str(study), str(warm)]
+            if args.threads:
+                command += ["--threads", str(args.threads)]
+            if args.bootstrap is not None:
+                command += ["--bootstrap", str(args.bootstrap)]
+            out = subprocess.run(command, capture_output=True, text=True, check=False)
+            if out.returncode != 0:
+                print(f"{size} variants failed:\n{out.stderr[-2000:]}")
+                return 1
+            r = json.loads(out.stdout.strip().splitlines()[-1])
+            done.append(r)
+            p = r["parts"]
+            print(f"pframe risk, {r['variants']} variants (x 2 runs of {STEPS} steps): "
+                  f"{r['wall']:.1f} s wall = open (motions) {p['open']:.1f} + runs "
+                  f"{p['runs']:.1f} (kernel {r['kernel']:.1f}) + fits {p['fits']:.1f} + file "
+                  f"{p['file']:.1f}; {r['wall'] / r['variants'] * 1e3:.2f} ms/variant")
+            print(f"  CPU {r['cpu']:.1f} s on {cpus} CPUs: busy {r['cpu'] / r['wall'] / cpus:.2f}"
+                  f" of them; peak resident memory {r['rss_mb']:.0f} MB; "
+                  f"{r['pounding']:.0%} of the runs with contacts pound; gap at target "
+                  f"{r['gap_mm']:.1f} mm; load average before {r['load_before']}, after "
+                  f"{r['load_after']}")
+    big = done[-1]
+    linear = big["wall"] * TARGET / big["variants"]
+    line = (f"10^5 variants projected: {linear:.0f} s ({linear / 60:.1f} min) from "
+            f"{big['variants']} x {TARGET // big['variants']}")
+    if len(done) > 1 and done[-1]["variants"] > done[-2]["variants"]:
+        a, b = done[-2], done[-1]
+        per = (b["wall"] - a["wall"]) / (b["variants"] - a["variants"])
+        fixed = b["wall"] - per * b["variants"]
+        line += (f"; {fixed + per * TARGET:.0f} s ({(fixed + per * TARGET) / 60:.1f} min) from "
+                 f"the cost per variant between {a['variants']} and {b['variants']} "
+                 f"({per * 1e3:.2f} ms) and the fixed cost ({fixed:.1f} s)")
+    print(line + " (goal: 180 s)")
+    if args.no_opensees:
+        return 0
+    return opensees_ratio(args)
 
-    load_before = load_average()
-    chunks = [(lo, min(lo + args.batch, args.runs)) for lo in range(0, args.runs, args.batch)]
-    generation_cpu = solve = 0.0
-    pounding = 0
-    g_req = np.empty((args.runs, len(pairs.names)))
-    wall, cpu = time.perf_counter(), time.process_time()
-    with ThreadPoolExecutor(1) as generator:
-        pending = generator.submit(motions, *chunks[0]) if not args.no_overlap else None
-        for k, (lo, hi) in enumerate(chunks):
-            grounds, used = pending.result() if pending is not None else motions(lo, hi)
-            generation_cpu += used
-            if not args.no_overlap and k + 1 < len(chunks):
-                pending = generator.submit(motions, *chunks[k + 1])
-            out = run_batch(loaded, pairs, grounds, STEPS, DT, contacts=True,
-                            threads=args.threads)
-            solve += float(out["solve_seconds"])
-            pounding += int((out["impacts"].sum(axis=1) > 0).sum())
-            g_req[lo:hi] = out["g_req"]
-            del grounds, out
-    wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
-    rate = args.runs / wall
-    print(f"pframe, {args.runs} runs x {STEPS} steps under stochastic motions (generation "
-          f"included{'' if args.no_overlap else ', beside the kernel'}), batches of "
-          f"{args.batch}: {wall:.1f} s wall ({wall / 60:.2f} min), {rate:.0f} runs/s; "
-          f"10^5 runs {'took' if args.runs == 100_000 else 'projected'} "
-          f"{1e5 / rate / 60:.1f} min")
-    print(f"  CPU {cpu:.0f} s ({cpu / args.runs * 1e3:.2f} ms/run) on {os.cpu_count()} CPUs, of "
-          f"which generating the motions {generation_cpu:.0f} s "
-          f"({generation_cpu / args.runs * 1e3:.2f} ms/run); kernel wall {solve:.0f} s; "
-          f"{pounding} runs pound; median critical gap {np.median(g_req.max(axis=1)):.4f} m")
-    print(f"  peak resident memory {peak_rss_mb():.0f} MB; load average before {load_before}, "
-          f"after {load_average()}")
-    return opensees_ratio(args, load_scene, contact_pairs, run_batch)
+
+def windows(lo: int, hi: int) -> np.ndarray:
+    """The ground accelerations (hi - lo, STEPS + 1): the 8 s strong phase (from
+    max(0, t_mid - 4 s)) of the realisations of seeds lo..hi-1, each scaled to a PGA drawn
+    uniformly in PGA_G (the windows where most runs pound, so that the kernel's cost is that
+    of pounding runs)."""
+    from pframe.excitation.stochastic import RezaeianParameters, rezaeian_batch
+
+    def start(p):
+        return max(0.0, p.tmid - 0.5 * WINDOW)
+
+    batch = rezaeian_batch(range(lo, hi), MOTION_STEP, SITE,
+                           until=lambda p: start(p) + WINDOW + MOTION_STEP)
+    grid = np.arange(STEPS + 1) * DT
+    grounds = np.empty((hi - lo, STEPS + 1))
+    pga = np.random.default_rng(lo).uniform(*PGA_G, hi - lo) * G
+    for b, m in enumerate(batch):
+        grounds[b] = np.interp(start(RezaeianParameters(**m.parameters)) + grid, m.times,
+                               m.acceleration, right=0.0)
+        grounds[b] *= pga[b] / max(float(np.max(np.abs(grounds[b]))), 1e-12)
+    return grounds
 
 
-def opensees_ratio(args, load_scene, contact_pairs, run_batch) -> int:
+def opensees_ratio(args) -> int:
     why_not = opensees_unavailable()
     if why_not is not None:
         print(f"OpenSeesPy not available ({why_not}); no ratio")
@@ -147,12 +231,14 @@ def opensees_ratio(args, load_scene, contact_pairs, run_batch) -> int:
     sys.path.insert(0, str(Path(__file__).parent))
     from gap_audit import _OpenSeesLoop
 
-    from pframe.gap.runs import batch_plan
+    from pframe.gap.runs import batch_plan, contact_pairs
     from pframe.peers.from_plan import peer_scene
+    from pframe.reader import load_scene
+    from pframe.risk.runs import run_batch
 
     twin = load_scene(LINEAR)
     pairs = contact_pairs(twin)
-    grounds, _ = motions(0, args.sample)
+    grounds = windows(0, args.sample)
     gaps = np.tile([c.gap for c in twin.expanded.contacts], (args.sample, 1))
     plan = batch_plan(twin, grounds, STEPS, contacts_gaps=gaps, dt=DT)
     dof = dict(zip(plan.node_names, plan.node_dof))
@@ -163,10 +249,9 @@ def opensees_ratio(args, load_scene, contact_pairs, run_batch) -> int:
         timings = [loop.analysis(g, left, right)[3] for g in grounds]
     per_run = float(np.mean([t.wall for t in timings]))
     per_run_cpu = float(np.mean([t.cpu for t in timings]))
-    # pframe on the same twin and windows, batched: repeated to a batch as large as the
-    # benchmark's so that the cost per run is that of a batch, not of a handful
-    reps = max(1, args.batch // args.sample)
-    batch = np.tile(grounds, (reps, 1))
+    # pframe on the same twin and windows, batched: repeated to a batch of 250 so that the
+    # cost per run is that of a batch, not of a handful
+    batch = np.tile(grounds, (max(1, 250 // args.sample), 1))
     run_batch(twin, pairs, batch[:2], STEPS, DT, contacts=True, threads=args.threads)
     wall, cpu = time.perf_counter(), time.process_time()
     run_batch(twin, pairs, batch, STEPS, DT, contacts=True, threads=args.threads)

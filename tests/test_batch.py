@@ -142,3 +142,32 @@ def test_members_share_a_modal_fit_only_when_they_share_the_structure():
         assert np.array_equal(plan.story_beta[b], alone.story_beta[0])
     assert not np.array_equal(plan.mass_damping[0], plan.mass_damping[1])
     assert not np.array_equal(plan.story_beta[0], plan.story_beta[3])
+
+
+@pytest.mark.parametrize("law", ["improved_kelvin", "hertz"])
+def test_a_batch_checks_each_members_contacts_as_alone(law):
+    """The stability check of a batch finds each member's contact periods and event sub-steps
+    as the member's own plan does, whether members share their numbers (found once) or differ
+    only in the ground motion, which sets a power law's stiffness (Hertz) and not a linear
+    one's (improved Kelvin)."""
+    from conftest import parse_scene
+
+    from pframe.assemble import assemble, assemble_batch
+    from pframe.assemble.stability import check, highest_frequency
+
+    contact = ("stiffness: 2.0e7, restitution: 0.4" if law == "improved_kelvin" else
+               "stiffness: 5.0e9")
+    text = (TEMPLATE.replace("law: improved_kelvin,\n     stiffness: STIFFNESS, restitution: 0.4",
+                             f"law: {law}, {contact}")
+            .replace("law: improved_kelvin,\n     stiffness: STIFFNESS, restitution: 0.6",
+                     f"law: {law}, {contact}")
+            .replace("GAP", "0.005")
+            .replace("analysis: {", "analysis: {integrator: {type: newmark, events: true}, "))
+    variants = [parse_scene(text.replace("amplitude: 9.81", f"amplitude: {a!r}")).expanded
+                for a in (9.81, 2.0, 9.81, 40.0)]
+    plan = assemble_batch(variants)
+    periods = [highest_frequency(assemble(ex))[1] for ex in variants]
+    assert [np.array_equal(periods[0], p) for p in periods[1:]] == (
+        [True] * 3 if law == "improved_kelvin" else [False, True, False])
+    batch_parts = check(plan, plan.integrator)[1]
+    assert batch_parts.tolist() == [int(assemble(ex).event_parts[0]) for ex in variants]

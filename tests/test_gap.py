@@ -327,3 +327,20 @@ def test_command_prints_table_and_plot_draws_it(tmp_path, capsys):
     assert len(labels) == 1 and "dispersion 0.04" in labels[0]
     assert "from 1 record: a rough estimate (use 10 or more)" in labels[0]
     assert any("rough estimate" in note for note in notes)
+
+
+def test_runs_cut_before_many_records_end_are_counted_not_listed():
+    """The runs that stop before their record's end are named one by one up to ten; the
+    others are one warning that counts them, and those whose peak ground acceleration is
+    past the end (10^4 stochastic motions of a study are not 10^4 lines of warnings)."""
+    from pframe.gap.audit import CUT_NAMED, cut_warnings
+
+    names = [f"rec{i}" for i in range(25)]
+    ends = [10.0] * 24 + [7.0]  # the last ends before the runs do
+    peaks = [1.0] * 12 + [9.0] * 12 + [1.0]
+    out = cut_warnings(names, ends, peaks, 8.0, 0.01, "shorten them")
+    assert CUT_NAMED == 10 and len(out) == 11
+    assert all(line.startswith(f"record rec{i}: the runs stop at 8 s") for i, line in
+               enumerate(out[:10]))
+    assert out[10].startswith("14 more records: the runs stop at 8 s")
+    assert "12 of them have their peak ground acceleration past it" in out[10]

@@ -1011,6 +1011,8 @@ def test_a_scene_beyond_the_size_limit_is_refused_before_it_is_parsed(tmp_path, 
     err, peak = bounded(refused, capsys, ["validate", str(model)])
     assert str(model) in err and f"{MAX_YAML_BYTES / 2**20:g} MiB" in err
     assert "getting-started.md#limits" in err and peak < 4 * MAX_YAML_BYTES
+    # and how to give a scene that large: the shorthands that keep it short
+    assert "floors: N" in err and "nodes: [A, B]" in err and "pframe.Scene" in err
 
 
 def test_a_disk_that_fills_during_the_run_stops_it_before_hdf5_meets_it(tmp_path, capsys,

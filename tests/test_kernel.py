@@ -505,7 +505,7 @@ def test_the_translator_takes_helper_functions():
     assert source.count("static PFRAME_INLINE double test_kernel__spring(") == 1
     # each helper before its first caller, the force last
     assert source.index("test_kernel__spring(double") < source.index(
-        "test_kernel__spring_and_slope(double") < source.index("static void contact_helped(")
+        "test_kernel__spring_and_slope(double") < source.index("static PFRAME_INLINE void contact_helped(")
 
 
 def test_the_translator_refuses_helpers_it_cannot_translate():
@@ -584,8 +584,8 @@ def test_a_law_with_helpers_gives_its_python_bits_in_c_and_numba(tmp_path):
     prelude = ("#include <math.h>\n#include <stdint.h>\n#define PFRAME_INLINE inline\n"
                "static inline double py_min(double a, double b) { return b < a ? b : a; }\n"
                "static inline double py_max(double a, double b) { return b > a ? b : a; }\n")
-    source = prelude + translate(_Helped, "contact_helped").replace("static void contact_helped",
-                                                                     "void contact_helped")
+    source = prelude + translate(_Helped, "contact_helped").replace(
+        "static PFRAME_INLINE void contact_helped", "void contact_helped")
     (tmp_path / "helped.c").write_text(source, encoding="utf-8")
     library = tmp_path / "helped.so"
     subprocess.run([compiler, "-std=c99", "-O2", "-ffp-contract=off", "-fno-fast-math",

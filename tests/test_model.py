@@ -147,3 +147,62 @@ def _load(scene: dict):
     import json
 
     return parse_scene(json.dumps(scene))
+
+
+PAIR = """\
+buildings:
+  - {name: A, floors: 3, mass: [300.0, 200.0, 100.0], story: {material: elastic, stiffness: 3.0e5}}
+  - {name: B, floors: 2, mass: [500.0, 400.0], story: {material: elastic, stiffness: 1.0e6}}
+contacts:
+CONTACTS
+analysis: {dt: 0.01, duration: 1.0}
+"""
+
+
+def _pair(contacts: list[str]) -> str:
+    return PAIR.replace("CONTACTS", "\n".join(f"  - {c}" for c in contacts))
+
+
+def test_a_contact_at_every_level_is_each_level_written_out():
+    """[A, B] stands for a contact at every floor level both have (A/1-B/1, A/2-B/2: B has
+    two), each with the shorthand's fields and its own impact mass; [A, ground] for a wall at
+    each of A's floors; a name names the levels <name>/<k>. The same elements, packed
+    numbers, warnings and notes as the contacts written out one by one."""
+    law = "law: improved_kelvin, stiffness: 2.0e7, restitution: 0.5"
+    short = parse_scene(_pair([f"{{nodes: [A, B], gap: 0.01, {law}}}",
+                               f"{{name: moat, nodes: [A, ground], gap: 0.03, {law}}}"]))
+    long = parse_scene(_pair(
+        [f"{{nodes: [A/{k}, B/{k}], gap: 0.01, {law}}}" for k in (1, 2)]
+        + [f"{{name: moat/{k}, nodes: [A/{k}, ground], gap: 0.03, {law}}}" for k in (1, 2, 3)]))
+    a, b = short.expanded, long.expanded
+    assert [c.name for c in a.contacts] == ["A/1-B/1", "A/2-B/2", "moat/1", "moat/2",
+                                            "moat/3"]
+    assert a.contacts == b.contacts
+    assert a.contacts[0].packed != a.contacts[1].packed  # each level's impact mass
+    assert a.warnings == b.warnings and a.notes == b.notes
+
+
+@pytest.mark.parametrize("contact, says", [
+    ("{nodes: [A, B/2], gap: 0.01, law: linear, stiffness: 1.0e7}",
+     "names two buildings (or a building and 'ground'), not a building and a node"),
+    ("{nodes: [A, C], gap: 0.01, law: linear, stiffness: 1.0e7}", "no building named 'C'"),
+    ("{nodes: [A, B], gap: 0.01, law: linear, stiffness: 1.0e7, column: right, at: 0.5}",
+     "a floor-to-column contact names its two nodes"),
+    ("{nodes: [B, A], gap: 0.01, law: linear, stiffness: 1.0e7}", "on the left of"),
+])
+def test_a_bad_contact_at_every_level_is_named_at_its_line(contact, says):
+    with pytest.raises(InputError, match="line 5, contacts\\[0\\]") as error:
+        parse_scene(_pair([contact]), source="pair.yaml")
+    assert says in str(error.value)
+
+
+def test_a_contact_at_every_level_counts_its_levels_before_anything_is_built(monkeypatch):
+    """The size check counts one contact per level of the shorter side: a pair of 20,001 and
+    20,002 floors with [A, B] is 100,007 floors, storeys and contacts, refused at once
+    (without PFRAME_MAX_FLOORS), as the same contacts written out would be."""
+    monkeypatch.delenv("PFRAME_MAX_FLOORS", raising=False)
+    text = (PAIR.replace("floors: 3, mass: [300.0, 200.0, 100.0]", "floors: 20001, mass: 300.0")
+            .replace("floors: 2, mass: [500.0, 400.0]", "floors: 20002, mass: 500.0")
+            .replace("CONTACTS", "  - {nodes: [A, B], gap: 0.01, law: linear, stiffness: 1.0e7}"))
+    with pytest.raises(InputError, match="100,007 floors, storeys and contacts in all"):
+        parse_scene(text)

@@ -382,6 +382,33 @@ def test_a_stopped_study_resumes_from_its_saved_batches(tmp_path, pulse):
 
 
 @pytest.mark.slow
+def test_a_study_without_chunk_runs_in_batches_its_memory_holds(tmp_path, pulse, monkeypatch):
+    """Without chunk, a study runs as many variants at once as BATCH_BYTES of ground motion
+    hold (memory bounded whatever their number), saving each batch as a given chunk is, and
+    gives the file of one batch of all."""
+    import xarray as xr
+
+    import pframe.risk.study as study_module
+    from pframe.risk import risk
+
+    whole, _ = pulse
+    study = pulse_study(tmp_path)
+    inputs = study_module.open_study(study).inputs
+    scene_dt = float(inputs.loaded.expanded.dt)
+    steps = max(inputs.steps, math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
+    monkeypatch.setattr(study_module, "BATCH_BYTES",
+                        3 * study_module.GROUND_BYTES * (steps + 1) + 1)
+    seen = []
+    out = tmp_path / "batched.nc"
+    risk(study, output=out, progress=lambda done, total: seen.append(done))
+    assert seen == [3, 6, 7]
+    again = xr.open_dataset(out)
+    assert np.array_equal(again.critical_gap.values, whole.critical_gap.values)
+    assert np.array_equal(again.impact_count.values, whole.impact_count.values)
+    assert float(again.gap_at_target) == float(whole.gap_at_target)
+
+
+@pytest.mark.slow
 def test_pframe_plot_draws_the_figure_set(pulse, tmp_path):
     pytest.importorskip("matplotlib")
     _, folder = pulse

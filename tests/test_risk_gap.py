@@ -140,6 +140,27 @@ def test_the_gap_at_target_against_a_population_with_a_known_answer():
     assert float(np.median(found)) == pytest.approx(exact, rel=0.05)
 
 
+def test_pounding_counts_at_every_gap_are_the_fits_counts():
+    """The msa curve's counts of pounding runs per stripe, found for every gap by sorting, are
+    the fit's own count at each gap, g_req / g > 1 over the runs that count: failed runs and
+    NaNs left out, a critical gap equal to g not pounding, nor one an ulp above g whose ratio
+    rounds to 1."""
+    from pframe.risk.analysis import _pounding_counts
+
+    rng = np.random.default_rng(1)
+    records = 300
+    g_req = rng.lognormal(-3.0, 1.0, (records, 4)).ravel()
+    g_req[::7] = np.nan
+    ok = rng.random(g_req.size) > 0.1
+    grid = np.unique(g_req[np.isfinite(g_req)])
+    g_req[5:60] = np.nextafter(grid[5:60], 1.0)  # an ulp above a gap of the grid
+    g_req[60:90] = np.nextafter(grid[60:90], 0.0)  # and below one
+    grid = np.unique(np.concatenate([grid, g_req[np.isfinite(g_req)], [0.5 * grid[0], 1.0]]))
+    expected = np.array([((g_req / g > 1) & ok).reshape(records, -1).sum(axis=0)
+                         for g in grid])
+    assert np.array_equal(_pounding_counts(grid, g_req, ok, records), expected)
+
+
 def test_code_rules_at_the_target_intensity_are_exact_for_an_elastic_pair():
     """Peak displacements proportional to the intensity: ABS (their sum) and the simulated
     critical gap at the target's intensity between two stripes a factor 2 apart are the

@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from pframe.cli import main
+from pframe.excitation.records import G
 from pframe.risk import fit_capacities
 from pframe.risk.ida import hunt_and_fill
 
@@ -149,6 +150,39 @@ def test_a_studys_stochastic_motions_are_the_scenes_realisations_of_those_seeds(
         scene = generate(Stochastic(kind="stochastic", seed=5 + k, **fields))
         assert np.array_equal(m.acceleration, scene.acceleration)
     assert not np.array_equal(suite.motions[0].acceleration, suite.motions[1].acceleration)
+
+
+@pytest.mark.slow
+def test_a_study_keeps_of_each_motion_what_its_runs_read(tmp_path):
+    """A stochastic study given its duration (and measured in PGA) keeps each realisation only
+    as far as its runs read it, generated in blocks on threads: the same realisations, scale
+    factors, warnings and ground motions of the runs (with and without contacts) as from the
+    whole motions, and each knows its whole duration and peak."""
+    from pframe.risk.study import open_study, stochastic_suite
+
+    motion = {"model": "rezaeian2010", "magnitude": 6.5, "distance": 20.0, "vs30": 400.0,
+              "realisations": 40, "seed": 3}
+    study = _study(tmp_path, "cut", {"kind": "msa", "levels": [0.2, 0.4]}, stochastic=motion,
+                   duration=3.0, pounding_runs=True)
+    inputs = open_study(study).inputs
+    whole = stochastic_suite(motion, "whole").motions
+    kept = inputs.suite.motions
+    assert [m.name for m in kept] == [m.name for m in whole]
+    for cut, full in zip(kept, whole):
+        assert cut.time[-1] < 3.0 + 0.01 + 1e-9 < full.time[-1]
+        assert (cut.duration, cut.peak, cut.peak_time) == (full.duration, full.peak,
+                                                           full.peak_time)
+    scene_dt = inputs.loaded.expanded.dt
+    for steps, dt in ((inputs.steps, inputs.dt),
+                      (math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9), scene_dt)):
+        times = np.arange(steps + 1) * dt
+        for r in (0, 39):
+            assert np.array_equal(kept[r].on_site(times), whole[r].on_site(times))
+    ims = np.array([m.peak for m in whole]) / G
+    assert np.array_equal(inputs.factors, np.array([[0.2, 0.4]]) / ims[:, None])
+    # each motion's cut warning from its whole extent: ten named, thirty counted
+    assert len(inputs.warnings) == 11 and "runs to" in inputs.warnings[0]
+    assert inputs.warnings[-1].startswith("30 more records: the runs stop at 3 s")
 
 
 @pytest.mark.parametrize("stochastic, says", [

@@ -176,6 +176,26 @@ def test_clough_penzien_periodogram_is_the_psd():
 
 
 @pytest.mark.slow
+def test_a_motion_models_filter_is_discretised_once(monkeypatch):
+    """Realisations of one Clough-Penzien model, one by one (a scene's, a suite's) or in a
+    batch (the first-passage check, a subset study), share one discretisation of its filters
+    and are the same process: a batch of one row is the realisation of the same noise."""
+    from scipy import signal
+
+    from pframe.risk.firstpassage import clough_penzien_batch
+
+    calls = []
+    original = signal.cont2discrete
+    monkeypatch.setattr(signal, "cont2discrete",
+                        lambda *a, **k: calls.append(1) or original(*a, **k))
+    args = dict(intensity=0.02, wg=15.1, zg=0.6, wf=1.3, zf=0.6)  # a model no test used
+    alone = [st.clough_penzien_stationary(500, 0.01, rng=np.random.default_rng(s), **args)
+             for s in range(3)]
+    batch = clough_penzien_batch(1, 500, 0.01, rng=np.random.default_rng(2), **args)
+    assert len(calls) == 1
+    assert np.array_equal(batch[0], alone[2])
+
+
 def test_same_seed_same_motion_other_seed_other_motion():
     site = dict(model="rezaeian2010", magnitude=6.8, distance=15.0, vs30=500.0)
     a = st.generate(Stochastic(**site, seed=4))

@@ -121,7 +121,7 @@ def _call(name: str, fields) -> str:
 class Frozen(BaseModel):
     """A frozen model with unknown fields refused, whose misuse raises InputError."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
     @classmethod
     def public_name(cls) -> str:

@@ -39,6 +39,13 @@ MAX_ALIAS_NODES = 100_000
 #: 1 s per MiB with libyaml (10 s with PyYAML's Python parser), so a larger file is refused
 #: at once rather than read for minutes
 MAX_YAML_BYTES = 2**20
+#: how to give a scene that would pass the size limit, said when a scene file (``model``, or
+#: an ``input`` that pframe validate reads) does
+LARGE_SCENE = ("a tall building is one line, `floors: N` with one mass and one storey for all "
+               "floors, a contact at every floor level two buildings share is one line, "
+               "`nodes: [A, B]` (docs/first-scene.md), and a scene built in Python "
+               "(pframe.Scene, docs/python.md) has no file to read")
+LARGE_INPUT = {"model": LARGE_SCENE, "input": LARGE_SCENE}
 
 
 def read_bounded(path, what: str, limit: int = MAX_YAML_BYTES, errors: str = "strict") -> str:
@@ -82,10 +89,11 @@ def read_bounded_bytes(path, what: str, limit: int = MAX_YAML_BYTES) -> bytes:
         data = handle.read(limit + 1) if size <= limit else b""
         if size > limit or len(data) > limit:
             size = max(size, len(data))
+            how = LARGE_INPUT.get(what)
             raise InputError(
                 f"{path}: the {what} file is {size / 2**20:.1f} MiB; pframe reads {what} files "
                 f"of up to {limit / 2**20:g} MiB (docs/getting-started.md#limits): is it "
-                f"the right file?")
+                f"the right file?" + (f" A large scene is written short: {how}." if how else ""))
     return data
 
 

@@ -30,8 +30,14 @@ class Sides:
         return len(self.start) // 2
 
     def general(self) -> np.ndarray:
-        """(E,) True where an element has terms (is not plain)."""
-        return self.start[2::2] > self.start[:-1:2]
+        """(E,) True where an element has terms (is not plain); found once (callers ask
+        element by element)."""
+        found = self.__dict__.get("_general")
+        if found is None:
+            found = self.start[2::2] > self.start[:-1:2]
+            found.setflags(write=False)
+            object.__setattr__(self, "_general", found)
+        return found
 
     def side(self, e: int, s: int, member: int = 0) -> list[tuple[int, float]]:
         """Side ``s`` of element ``e`` as (DOF, coefficient) pairs."""
@@ -94,6 +100,12 @@ def incidence(dofs: np.ndarray, sides: Sides, member: int, n: int, contact: bool
     rows, cols, values = [], [], []
     general = sides.general() if len(sides.start) > 1 else np.zeros(len(dofs), dtype=bool)
     signs = (1.0, -1.0) if contact else (-1.0, 1.0)
+    if not general.any():  # every element plain: its two DOFs, in the same order as below
+        dofs = np.asarray(dofs, dtype=np.int64).reshape(-1, 2)
+        keep = (dofs >= 0).ravel()
+        rows = np.repeat(np.arange(len(dofs)), 2)[keep]
+        values = np.tile(np.array(signs), len(dofs))[keep]
+        return csr_matrix((values, (rows, dofs.ravel()[keep])), shape=(len(dofs), n))
     for e in range(len(dofs)):
         for s in range(2):
             if general[e]:

@@ -22,6 +22,7 @@ A frame whose storeys all yield alike is not an isolator (its storeys soften tog
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -38,8 +39,15 @@ SHOWN_MODES = 3
 
 
 def initial_tangent(law, packed) -> float:
-    """The tangent of a law at zero deformation from rest (N/m)."""
+    """The tangent of a law at zero deformation from rest (N/m); found once per law and
+    parameters (the storeys of a tall building share theirs)."""
     params = np.asarray(packed, dtype=float)
+    return _initial_tangent(law, params.tobytes())
+
+
+@functools.lru_cache(maxsize=4096)
+def _initial_tangent(law, packed: bytes) -> float:
+    params = np.frombuffer(packed, dtype=float).copy()
     state = np.zeros(len(law.state_names))
     return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
 

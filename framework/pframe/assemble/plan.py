@@ -252,14 +252,20 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
     nl = ns + len(plan.link_names)
     out = []
     for group in plan.story_groups:
+        said: dict = {}  # the law's warnings on a row of parameters, once per distinct row
         for j, e in enumerate(group.index):
             if e >= nl:  # the soil's springs: their values are checked as the scene's
                 continue
             name = (f"storey {plan.story_names[e]}" if e < ns
                     else f"link {plan.link_names[e - ns]}")
-            for message in dict.fromkeys(m for b in range(group.params.shape[0])
-                                         for m in group.law.parameter_warnings(
-                                             group.params[b, j])):
+            messages = []
+            for b in range(group.params.shape[0]):
+                row = group.params[b, j]
+                key = row.tobytes()
+                if key not in said:
+                    said[key] = list(group.law.parameter_warnings(row))
+                messages += said[key]
+            for message in dict.fromkeys(messages):
                 out.append(f"{name}: {message}")
     return tuple(out)
 
@@ -398,7 +404,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     """A plan for variants of one scene that differ only in numbers (masses, stiffnesses,
     gaps, law parameters, excitation, dt), not in topology, laws, steps or recorders."""
     first = variants[0]
-    key = batch_key(first)
+    key = batch_key(first) if len(variants) > 1 else None
     for i, ex in enumerate(variants[1:], start=1):
         if batch_key(ex) != key:
             raise InputError(f"variant {i} differs from variant 0 in topology, laws, kinds of "
@@ -421,9 +427,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     principal = _principal(keys, nodes + 2 * len(first.foundations))
 
     def node_dofs(elements):  # each side's node's first DOF (the plain element's DOFs)
-        out = np.array([[principal[i] if i >= 0 else -1 for i in e.nodes] for e in elements],
-                       dtype=np.int64)
-        return out.reshape(len(elements), 2)
+        ends = np.array([e.nodes for e in elements], dtype=np.int64).reshape(len(elements), 2)
+        return np.where(ends >= 0, principal[np.maximum(ends, 0)], -1)
 
     packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
     k0 = np.array([[modes.initial_tangent(e.law, p) for e, p in zip(springs, row)]

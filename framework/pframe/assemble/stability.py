@@ -42,18 +42,21 @@ def contact_stiffness(law, params: np.ndarray, effective_mass: float, velocity: 
     return exponent * k * depth ** (exponent - 1.0)
 
 
-def _springs(plan, member: int, velocity: float):
-    """The stiffness K (scipy.sparse) of every storey, link and closed contact, and each
-    contact's period (s): a contact's effective mass is 1 / (1/m_left + 1/m_right) of the
-    masses its sides present along it (a wall: the floor's)."""
-    from scipy.sparse import diags
-
+def _springs(plan, member: int, velocity: float, matrix: bool = True):
+    """The stiffness K (scipy.sparse; None without ``matrix``) of every storey, link and
+    closed contact, and each contact's period (s): a contact's effective mass is
+    1 / (1/m_left + 1/m_right) of the masses its sides present along it (a wall: the
+    floor's)."""
     from pframe.assemble.incidence import incidence, side_mobility
 
     n = plan.n_dof
     mass = plan.mass[member]
-    stories = incidence(plan.story_dofs, plan.story_sides, member, n)
-    K = stories.T @ diags(plan.story_k0[member]) @ stories
+    K = None
+    if matrix:
+        from scipy.sparse import diags
+
+        stories = incidence(plan.story_dofs, plan.story_sides, member, n)
+        K = stories.T @ diags(plan.story_k0[member]) @ stories
     periods = np.full(len(plan.contact_names), np.inf)
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
@@ -66,7 +69,9 @@ def _springs(plan, member: int, velocity: float):
             # a stiffness that vanishes (an impact too slow to compress a power law) has no
             # finite period: it limits nothing
             periods[c] = 2.0 * math.pi * math.sqrt(float(m_eff) / k) if k > 0.0 else math.inf
-    if len(plan.contact_names):
+    if matrix and len(plan.contact_names):
+        from scipy.sparse import diags
+
         contacts = incidence(plan.contact_dofs, plan.contact_sides, member, n, contact=True)
         K = K + contacts.T @ diags(stiffness) @ contacts
     return K, periods
@@ -76,8 +81,11 @@ def _springs(plan, member: int, velocity: float):
 DENSE_LIMIT = 2000
 
 
-def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
-    """w_max (rad/s) of the scene with every contact closed, and each contact's period (s).
+def highest_frequency(plan, member: int = 0, frequency: bool = True
+                      ) -> tuple[float, np.ndarray]:
+    """w_max (rad/s) of the scene with every contact closed, and each contact's period (s);
+    without ``frequency`` (an implicit integrator, which w_max does not limit) the periods
+    only, w_max NaN.
 
     Up to :data:`DENSE_LIMIT` degrees of freedom the eigenvalue is computed; above, the
     Gershgorin bound of M^-1/2 K M^-1/2 (its largest absolute row sum) is taken from the
@@ -85,7 +93,9 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
     velocity = reference_velocity(plan.ground_channels[member], float(plan.dt[member]),
                                   plan.initial_velocity[member])
     with np.errstate(all="ignore"):  # masses or stiffnesses beyond arithmetic: see _parts
-        K, periods = _springs(plan, member, velocity)
+        K, periods = _springs(plan, member, velocity, matrix=frequency)
+        if not frequency:
+            return math.nan, periods
         scale = 1.0 / np.sqrt(plan.mass[member])
         from scipy.sparse import diags
 
@@ -95,6 +105,27 @@ def highest_frequency(plan, member: int = 0) -> tuple[float, np.ndarray]:
         else:
             top = float(np.max(np.abs(scaled).sum(axis=1)))
     return math.sqrt(max(top, 0.0)), periods
+
+
+def _member_numbers(plan, member: int) -> bytes:
+    """Everything :func:`highest_frequency` reads of a member: its masses, storey stiffnesses,
+    sides, contact parameters, and the closing velocity its ground motion gives when a
+    contact law is a power law (a linear one's stiffness does not depend on it)."""
+    parts = [plan.mass[member], plan.story_k0[member], plan.story_sides.coef[member],
+             plan.contact_sides.coef[member]]
+    power = False
+    for group in plan.contact_groups:
+        params = group.params[member]
+        parts.append(params)
+        names = group.law.param_names
+        exponents = (params[:, names.index("exponent")] if "exponent" in names
+                     else np.array([float(group.law.exponent)]))
+        power = power or bool(np.any(exponents != 1.0))
+    if power:
+        parts.append(np.array([reference_velocity(plan.ground_channels[member],
+                                                  float(plan.dt[member]),
+                                                  plan.initial_velocity[member])]))
+    return b"".join(np.ascontiguousarray(p, dtype=float).tobytes() for p in parts)
 
 
 #: sub-steps of one step beyond which the step is refused as far too large for the scene
@@ -121,9 +152,13 @@ def check(plan, integrator_params) -> tuple[np.ndarray, np.ndarray, tuple[str, .
         return cd_parts, event_parts, ()
     worst = None  # (steps per contact period, member, dt, period) of the worst member
     split = None  # (sub-steps, member, dt, limit, w_max) of the most split member
+    found: dict = {}  # members of the same numbers (a batch of ground motions) share theirs
     for b in range(batch):
         dt = float(plan.dt[b])
-        w_max, periods = highest_frequency(plan, b)
+        key = _member_numbers(plan, b)
+        if key not in found:
+            found[key] = highest_frequency(plan, b, frequency=explicit)
+        w_max, periods = found[key]
         if explicit and w_max > 0:
             limit = 2.0 * integrator_params.safety / w_max
             if dt > limit:

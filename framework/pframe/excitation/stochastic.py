@@ -527,29 +527,47 @@ def clough_penzien_psd(omega, intensity, ground_frequency, ground_damping,
     return intensity * kt * np.nan_to_num(cp)
 
 
-def _cp_transfer(wg, zg, wf, zf):
-    num = np.array([2.0 * zg * wg, wg * wg])
-    den = np.array([1.0, 2.0 * zg * wg, wg * wg])
+@functools.lru_cache(maxsize=16)
+def clough_penzien_filter(step: float, wg: float, zg: float, wf: float = 0.0,
+                          zf: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+    """The zero-order-hold discretisation (b, a) on ``step`` (s) of the Clough-Penzien filters,
+    from white noise to ground acceleration: H(s) = (2 z_g w_g s + w_g^2) / (s^2 + 2 z_g w_g s
+    + w_g^2), times s^2 / (s^2 + 2 z_f w_f s + w_f^2) when ``wf`` > 0. Computed once per motion
+    model (``scipy.signal.cont2discrete``, a matrix exponential), however many realisations
+    are filtered with it; the arrays are read-only."""
+    from scipy import signal
+
+    num, den = np.array([2.0 * zg * wg, wg * wg]), np.array([1.0, 2.0 * zg * wg, wg * wg])
     if wf > 0.0:
         num = np.convolve(num, [1.0, 0.0, 0.0])
         den = np.convolve(den, [1.0, 2.0 * zf * wf, wf * wf])
-    return num, den
+    dnum, dden, _ = signal.cont2discrete((num, den), step, method="zoh")
+    b, a = np.ravel(dnum), np.asarray(dden, float)
+    b.setflags(write=False)
+    a.setflags(write=False)
+    return b, a
+
+
+def clough_penzien_warmup(step: float, wg: float, zg: float, wf: float = 0.0,
+                          zf: float = 0.0) -> int:
+    """Samples filtered before a stationary Clough-Penzien process is kept: 30 time constants
+    of its slowest filter, over which the filters forget their rest."""
+    slow = min(zg * wg, zf * wf if wf > 0 else math.inf)
+    return int(math.ceil(30.0 / max(slow, 1e-3) / step))
 
 
 def clough_penzien_stationary(n: int, step: float, intensity, wg, zg, wf=0.0, zf=0.0,
                               rng=None) -> np.ndarray:
     """n samples (step s) of a stationary Clough-Penzien process: white noise of variance
     2 pi S_0 / dt held over each step, through the exact (zero-order-hold) discretisation of
-    the filters, after a warm-up that forgets the filters' rest (its PSD is S(omega)
-    sinc^2(omega dt / 2) below the Nyquist frequency)."""
+    the filters (:func:`clough_penzien_filter`), after a warm-up that forgets the filters'
+    rest (its PSD is S(omega) sinc^2(omega dt / 2) below the Nyquist frequency)."""
     from scipy import signal
 
-    num, den = _cp_transfer(wg, zg, wf, zf)
-    dnum, dden, _ = signal.cont2discrete((num, den), step, method="zoh")
-    slow = min(zg * wg, zf * wf if wf > 0 else math.inf)
-    warm = int(math.ceil(30.0 / max(slow, 1e-3) / step))
+    b, a = clough_penzien_filter(float(step), float(wg), float(zg), float(wf), float(zf))
+    warm = clough_penzien_warmup(step, wg, zg, wf, zf)
     noise = rng.standard_normal(n + warm) * math.sqrt(2.0 * math.pi * intensity / step)
-    return signal.lfilter(np.ravel(dnum), dden, noise)[warm:]
+    return signal.lfilter(b, a, noise)[warm:]
 
 
 def jennings(t, rise: float, plateau: float, decay: float):
@@ -649,6 +667,23 @@ def generate(excitation) -> StochasticMotion:
     data = excitation.model_dump(mode="json")
     data.pop("scale", None)
     return _generate(json.dumps(data, sort_keys=True))
+
+
+def generate_seeds(excitation, seeds) -> list[StochasticMotion]:
+    """The realisations of a ``Stochastic`` excitation for each of ``seeds`` (its own seed is
+    not used), each what :func:`generate` gives for that seed, bit for bit, without the cache
+    (a suite or a study draws thousands once each): rezaeian2010's in one
+    :func:`rezaeian_batch` (parameters and modulating functions computed for all at once),
+    clough_penzien's one by one through the model's one discretised filter."""
+    data = excitation.model_dump(mode="json")
+    data.pop("scale", None)
+    if data["model"] != "rezaeian2010":
+        return [_generate.__wrapped__(json.dumps({**data, "seed": int(s)}, sort_keys=True))
+                for s in seeds]
+    given = data.get("parameters")
+    site = {k: data[k] for k in ("magnitude", "distance", "vs30", "mechanism")}
+    return rezaeian_batch([int(s) for s in seeds], float(data["step"]), None if given else site,
+                          RezaeianParameters(**given) if given else None, data["highpass"])
 
 
 def stochastic_record(excitation):

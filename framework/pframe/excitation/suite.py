@@ -42,6 +42,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Annotated, Literal
@@ -149,6 +150,18 @@ class SuiteFile(_Base):
 
 
 @dataclass(frozen=True)
+class Extent:
+    """What a motion kept only as far as the runs read it knew of its whole (a stochastic
+    study given its duration keeps no more of each realisation: docs/risk.md#speed): its
+    duration (s), the time of its peak ground acceleration (s) and that peak (m/s^2; of the
+    horizontal vector of a pair)."""
+
+    duration: float
+    peak_time: float
+    peak: float
+
+
+@dataclass(frozen=True)
 class GroundMotion:
     """A record of a suite: its name, samples (m/s^2, scale applied) and step; for a scene in
     plan, where it stands on the site (the module's docstring)."""
@@ -167,6 +180,8 @@ class GroundMotion:
     directed: bool = False
     #: the second component's file
     second_source: str = ""
+    #: the whole motion's extent, when ``time`` holds only its beginning (:meth:`cut`)
+    extent: Extent | None = None
     #: a motion per support ((support name, GroundMotion), ...; docs/supports.md): the
     #: member's own samples are its first support's (its intensity); empty: one motion
     at_supports: tuple = ()
@@ -182,7 +197,35 @@ class GroundMotion:
 
     @property
     def duration(self) -> float:
-        return max([float(self.time[-1])] + [m.duration for _, m in self.at_supports])
+        """The whole motion's duration (s): its own, or its supports' longest."""
+        own = self.extent.duration if self.extent is not None else float(self.time[-1])
+        return max([own] + [m.duration for _, m in self.at_supports])
+
+    @property
+    def peak(self) -> float:
+        """The whole motion's peak ground acceleration (m/s^2; of a pair, its horizontal
+        vector's)."""
+        return self.extent.peak if self.extent is not None else float(np.max(self.magnitude))
+
+    @property
+    def peak_time(self) -> float:
+        """When the whole motion's peak ground acceleration comes (s)."""
+        if self.extent is not None:
+            return self.extent.peak_time
+        return float(self.time[int(self.magnitude.argmax())])
+
+    def cut(self, until: float) -> GroundMotion:
+        """The motion kept only as far as times up to ``until`` (s) read it (on_grid and
+        on_site give the same numbers there), with its whole extent. (A motion per support
+        keeps its supports' whole.)"""
+        keep = int(np.searchsorted(self.time, until, side="left")) + 1
+        if keep >= self.time.size:
+            return self
+        own = self.extent.duration if self.extent is not None else float(self.time[-1])
+        extent = Extent(own, self.peak_time, self.peak)
+        return dataclasses.replace(
+            self, time=self.time[:keep].copy(), acceleration=self.acceleration[:keep].copy(),
+            second=None if self.second is None else self.second[:keep].copy(), extent=extent)
 
     @property
     def sources(self) -> tuple[str, ...]:
@@ -429,31 +472,52 @@ def load_suite(path: str | Path, records_folder: str | Path | None = None) -> Su
     return Suite(_unique(motions), model.measure, levels, str(path))
 
 
-def _simulated(item: dict, seed: int, where: str) -> tuple[str, np.ndarray, np.ndarray]:
-    """One stochastic motion: its name, times and samples (m/s^2, scale applied)."""
+def _simulated(item: dict, seeds: list[int], where: str,
+               until: float | None = None) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """Stochastic motions, one per seed: names, times and samples (m/s^2, scale applied),
+    each generated whole, then (``until``) kept up to that time, with its whole extent
+    (:meth:`GroundMotion.cut`). Blocks of seeds are generated on one thread per CPU (the
+    filter releases the GIL): a block's whole motions at a time."""
     from pydantic import ValidationError
 
-    from pframe.excitation.stochastic import generate
+    from pframe.excitation.stochastic import generate_seeds
     from pframe.model.scene import Stochastic
 
     try:
-        excitation = Stochastic.model_validate({**item, "seed": seed})
+        excitation = Stochastic.model_validate({**item, "seed": seeds[0]})
     except ValidationError as exc:
         problems = "; ".join(f"{'.'.join(map(str, e['loc'])) or 'entry'}: {e['msg']}"
                              for e in exc.errors())
         raise InputError(f"{where}: {problems}") from None
-    m = generate(excitation)
-    return (f"{excitation.model}-seed{seed}", np.asarray(m.times),
-            np.asarray(m.acceleration) * excitation.scale)
+    scale = excitation.scale
+
+    def block(chunk):
+        out = []
+        for seed, m in zip(chunk, generate_seeds(excitation, chunk)):
+            motion = GroundMotion(f"{excitation.model}-seed{seed}", np.asarray(m.times),
+                                  np.asarray(m.acceleration) * scale, "")
+            out.append(motion if until is None else motion.cut(until))
+        return out
+
+    size = 32
+    chunks = [seeds[k:k + size] for k in range(0, len(seeds), size)]
+    if len(chunks) == 1:
+        return block(chunks[0])
+    from concurrent.futures import ThreadPoolExecutor
+
+    with ThreadPoolExecutor(min(len(chunks), os.cpu_count() or 1)) as pool:
+        return [m for part in pool.map(block, chunks) for m in part]
 
 
 def _seed(value) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
 
 
-def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
+def stochastic_motions(item: dict, where: str, until: float | None = None) -> list[GroundMotion]:
     """The motions of a suite's stochastic entry: one per seed of ``seeds`` (at each of its
-    angles); a pair ``{x: {...}, y: {...}}`` takes a pair of seeds for each motion."""
+    angles); a pair ``{x: {...}, y: {...}}`` takes a pair of seeds for each motion. With
+    ``until`` (s), each is kept only up to that time (:meth:`GroundMotion.cut`): memory for
+    the runs, not for the whole motions."""
     item = dict(item)
     seeds = item.pop("seeds", None)
     item.pop("kind", None)
@@ -477,17 +541,18 @@ def stochastic_motions(item: dict, where: str) -> list[GroundMotion]:
     elif not (isinstance(seeds, list) and seeds and all(_seed(s) for s in seeds)):
         raise InputError(f"{where}: a stochastic entry needs seeds, a list of integers >= 0 "
                          "(one motion each), e.g. seeds: [1, 2, 3]")
+    if not pair:  # no file: nothing an output could overwrite
+        return [turned for m in _simulated(item, seeds, where, until)
+                for turned in _turned(m, angles, given)]
+    # a pair: each component generated whole (its extent is the pair's), then cut
+    firsts, seconds = (_simulated(item[k], [s[i] for s in seeds], f"{where}.{k}")
+                       for i, k in enumerate(("x", "y")))
     out = []
-    for seed in seeds:
-        if not pair:  # no file: nothing an output could overwrite
-            name, t, a = _simulated(item, seed, where)
-            out += _turned(GroundMotion(name, t, a, ""), angles, given)
-            continue
-        (n1, t1, a1), (n2, t2, a2) = (_simulated(item[k], s, f"{where}.{k}")
-                                      for k, s in zip(("x", "y"), seed))
-        time, first, second = _on_one_grid(t1, a1, t2, a2)
-        out += _turned(GroundMotion(f"{n1}+{n2}", time, first, "", second=second,
-                                    directed=True), angles, given)
+    for m1, m2 in zip(firsts, seconds):
+        time, first, second = _on_one_grid(m1.time, m1.acceleration, m2.time, m2.acceleration)
+        pair = GroundMotion(f"{m1.name}+{m2.name}", time, first, "", second=second,
+                            directed=True)
+        out += _turned(pair if until is None else pair.cut(until), angles, given)
     return out
 
 
@@ -508,7 +573,9 @@ def intensity(motion: GroundMotion, measure: Measure, period: float | None = Non
     displacements (the oscillator's response to a motion along any direction is the same
     combination of its responses to the two)."""
     if measure.kind == "pga":
-        return float(np.max(motion.magnitude)) / G
+        return motion.peak / G
+    if motion.extent is not None:
+        raise ValueError(f"motion {motion.name} is cut: its spectrum needs the whole motion")
     from pframe.excitation.spectrum import sdof_response, spectral_acceleration
 
     if motion.second is None:

@@ -48,7 +48,7 @@ Model = _structure("Model", state.Model._fields + state.SIZES)
 Settings = _structure("Settings", state.Settings._fields)
 State = _structure("State", state.State._fields)
 Recording = _structure("Recording", state.Recording._fields + state.RECORDING_SIZES)
-Work = _structure("Work", state.Work._fields)
+Work = _structure("Work", state.Work._fields + state.WORK_PREPARED)
 Saved = _structure("Saved", state.Saved._fields)
 STRUCTS = (Model, Settings, State, Recording, Work, Saved)
 
@@ -137,6 +137,7 @@ def recording(rec) -> Recording:
     count = len(state.Recordable)
     pointers = ctypes.c_void_p * count
     sizes = ctypes.c_int64 * count
+    enveloped = [q for q in range(count) if rec.enveloped[q]]
     return Recording(
         history=pointers(*[_pointer(h) for h in rec.history]),
         every=_pointer(rec.every), first_row=_pointer(rec.first_row),
@@ -144,4 +145,5 @@ def recording(rec) -> Recording:
         enveloped=_pointer(rec.enveloped),
         history_rows=sizes(*[h.shape[1] for h in rec.history]),
         history_width=sizes(*[h.shape[2] for h in rec.history]),
-        envelope_width=sizes(*[e.shape[1] for e in rec.envelope]))
+        envelope_width=sizes(*[e.shape[1] for e in rec.envelope]),
+        envelope_count=len(enveloped), envelope_list=sizes(*enveloped))

@@ -395,12 +395,19 @@ C_TYPES = {
                   "first_row": "int64_t *", "envelope": "double *[RECORDABLE_COUNT]",
                   "enveloped": "int64_t *", "history_rows": "int64_t[RECORDABLE_COUNT]",
                   "history_width": "int64_t[RECORDABLE_COUNT]",
-                  "envelope_width": "int64_t[RECORDABLE_COUNT]"},
-    "Work": {},
+                  "envelope_width": "int64_t[RECORDABLE_COUNT]",
+                  "envelope_count": "int64_t", "envelope_list": "int64_t[RECORDABLE_COUNT]"},
+    "Work": {"loops": "void *"},
     "Saved": {"impacts": "int64_t *"},
 }
-#: Recording's sizes (C only: the Python group holds the arrays, which carry their shapes)
-RECORDING_SIZES = ("history_rows", "history_width", "envelope_width")
+#: Work's C-only field: each member's evaluation loops, prepared once per call (kernel/c/loop.c;
+#: assembly.c's Loops); the driver leaves it NULL
+WORK_PREPARED = ("loops",)
+#: Recording's sizes (C only: the Python group holds the arrays, which carry their shapes),
+#: and the enveloped quantities listed (their count, then their slots in order: the kernel
+#: updates the envelopes every step and sub-step, without a pass over every quantity)
+RECORDING_SIZES = ("history_rows", "history_width", "envelope_width", "envelope_count",
+                   "envelope_list")
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [

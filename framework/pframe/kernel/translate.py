@@ -526,9 +526,12 @@ class _Force(_Body):
         declared += ("    (void)params; (void)committed; (void)trial; (void)deformation; "
                      "(void)rate;\n")
         body = "\n".join(self.lines)
-        return (f"static void {self.c_name}(const double *params, const double *committed, "
-                f"double *trial,\n{' ' * (13 + len(self.c_name))}double deformation, "
-                f"double rate, double *out)\n{{\n{declared}{body}\n}}\n")
+        # inlined into the element loop of its law group (assembly.c): its result stays in
+        # registers, and an open contact costs its first test
+        return (f"static PFRAME_INLINE void {self.c_name}(const double *params, "
+                f"const double *committed, double *trial,\n"
+                f"{' ' * (26 + len(self.c_name))}double deformation, double rate, "
+                f"double *out)\n{{\n{declared}{body}\n}}\n")
 
 
 class _Helper(_Body):
@@ -678,6 +681,12 @@ def laws_c() -> str:
                   f"        s->{kind}_plugins[law - {macro}](params, committed, trial, "
                   f"{deformation}, rate, out);",
                   "    }", "}", ""]
+        lines += [f"/* every built-in {kind} law as X(id, function): the element loops of",
+                  " * assembly.c run a law group with its law's function itself (no switch per",
+                  " * element) */", f"#define {kind.upper()}_LAWS(X) \\"]
+        lines += [f"    X({law_id}, {names[law]})" + (" \\" if law_id + 1 < len(laws) else "")
+                  for law_id, law in enumerate(laws)]
+        lines += [""]
     return "\n".join(lines)
 
 
@@ -708,7 +717,7 @@ def state_h() -> str:
     groups = {"Model": state.Model._fields + state.SIZES, "Settings": state.Settings._fields,
               "State": state.State._fields,
               "Recording": state.Recording._fields + state.RECORDING_SIZES,
-              "Work": state.Work._fields, "Saved": state.Saved._fields}
+              "Work": state.Work._fields + state.WORK_PREPARED, "Saved": state.Saved._fields}
     for group, fields in groups.items():
         types = state.C_TYPES[group]
         lines.append(f"typedef struct {group} {{")

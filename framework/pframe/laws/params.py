@@ -44,7 +44,7 @@ Calibration = Annotated[
 class LawParams(BaseModel):
     """Base of every law's parameters: frozen, unknown fields rejected."""
 
-    model_config = ConfigDict(extra="forbid", frozen=True)
+    model_config = ConfigDict(extra="forbid", frozen=True, defer_build=True)
 
 
 class ContactStiffness(LawParams):

@@ -11,8 +11,9 @@ always has.
 
 from __future__ import annotations
 
+import copy
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -21,7 +22,7 @@ from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
 from pframe.model.load import ModelError
 from pframe.model.plan import coefficients, normalised
-from pframe.model.scene import default_contact_name, default_link_name
+from pframe.model.scene import contact_levels, default_link_name
 
 #: a side: ((node index, component, coefficient), ...); () is the ground
 Side = tuple
@@ -113,7 +114,13 @@ def elevations(stories, heights) -> dict[int, float]:
 
 def plain_sides(sides, nodes) -> bool:
     """Whether sides are the plain element's: u_x of each node (or the ground), coefficient 1."""
-    return all(side == (((i, 0, 1.0),) if i >= 0 else ()) for side, i in zip(sides, nodes))
+    for terms, i in zip(sides, nodes):
+        if i < 0:
+            if terms:
+                return False
+        elif len(terms) != 1 or terms[0] != (i, 0, 1.0):
+            return False
+    return True
 
 
 def element(name, nodes, law, packed, sides, **more) -> Element:
@@ -138,6 +145,8 @@ def side(node: int, floor, point, direction, weight: float = 1.0) -> Side:
     the floor, a line along x does not move it along y)."""
     if node < 0:
         return ()
+    if direction == (1.0, 0.0) and point == floor.centre:  # the planar side: its u_x
+        return ((node, 0, weight * 1.0),)
     return tuple((node, c, weight * a) for c, a in
                  enumerate(coefficients(point, floor.centre, direction)) if a != 0.0)
 
@@ -202,6 +211,8 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
         return carried[upper]
 
     out, building, seen = [], [], {}
+    shared: dict = {}  # (law, parameters) -> packed, for laws that do not ask the mass above
+    number = {name: i for i, name in enumerate(resolver.buildings)}
     for spec in floors.stories:
         lower, upper = spec.nodes
         up = resolver.node(upper, spec.path + ("nodes", 1))
@@ -214,15 +225,21 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
         if spec.name in seen:
             raise ModelError(spec.path, f"storey name {spec.name!r} is used twice")
         seen[spec.name] = True
-        try:
-            packed = spec.law.pack(spec.params, StoreyContext(lambda u=upper: mass_above(u)))
-        except InputError as exc:
-            raise ModelError(spec.path, str(exc)) from None
+        key = (spec.law, id(spec.params))
+        packed = shared.get(key)
+        if packed is None:
+            context = StoreyContext(lambda u=upper: mass_above(u))
+            try:
+                packed = finite(spec.law.pack(spec.params, context), spec.path)
+            except InputError as exc:
+                raise ModelError(spec.path, str(exc)) from None
+            if callable(context._mass_above):  # not asked: the same for equal parameters
+                shared[key] = packed
         point = spec.position if spec.position is not None else resolver.floor(up).centre
         sides = (side(low, resolver.floor(low), point, spec.direction),
                  side(up, resolver.floor(up), point, spec.direction))
-        out.append(element(spec.name, (low, up), spec.law, finite(packed, spec.path), sides))
-        building.append(resolver.buildings.index(resolver.building_of[up]))
+        out.append(element(spec.name, (low, up), spec.law, packed, sides))
+        building.append(number[resolver.building_of[up]])
     for spec in floors.stories:
         if getattr(spec.law, "stiffness_free", False):
             raise ModelError(spec.path + ("material",), f"storey {spec.name!r}: a "
@@ -322,66 +339,107 @@ def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
         if contact.nodes[0] == "ground" and contact.nodes[1] == "ground":
             raise ModelError(path + ("nodes",), "a contact needs a node on at least one side; "
                                                 "'ground' on one side is a wall")
-        left, right = (resolver.node(node, path + ("nodes", i))
-                       for i, node in enumerate(contact.nodes))
-        name = contact.name or default_contact_name(contact.nodes)
-        if left >= 0 and right >= 0:
-            if resolver.building_of[left] == resolver.building_of[right]:
-                raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
-                                 f"buildings (or a node and a wall: 'ground'); both nodes are "
-                                 f"in {resolver.building_of[left]!r}")
-        if left >= 0 and right >= 0 and "normal" not in contact.model_fields_set:
-            # along the row (the default normal): the row's order decides left and right; a
-            # normal given says the geometry itself
-            _check_row_order(name, resolver.buildings, resolver.building_of[left],
-                             resolver.building_of[right], contact.nodes, path + ("nodes",))
-        if name in seen:
-            raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
-        seen[name] = True
+        levels = _levels(contact, resolver, path)
         law = get_law("contact", contact.law)
-        sides = list(_sides(resolver, (left, right), contact.points, contact.normal, path,
-                            "normal"))
-        lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
-        if contact.column is None and contact.at is not None:
-            raise ModelError(path + ("at",), "at is where a column is struck: give column "
-                                             "(the side whose node names the struck storey)")
-        if contact.column is None and contact.shear_capacity is not None:
-            raise ModelError(path + ("shear_capacity",), "shear_capacity is a struck "
-                             "column's: give column (a floor-to-column contact); a "
-                             "floor-to-floor contact loads no column between floors")
-        if contact.column is not None:
-            if level is None:
-                level = elevations(stories, heights)
-            side_, lower[side_], at[side_] = _struck_column(contact, path, (left, right),
-                                                            stories, level, resolver.index)
-            upper = (left, right)[side_]
-            share[side_] = column_share(at[side_])
-            refs = contact.points if contact.points is not None else (None, None)
-            point = resolver.point(upper, refs[side_], path + ("points", side_))
-            normal = normalised(contact.normal)
-            sides[side_] = (side(upper, resolver.floor(upper), point, normal, share[side_])
-                            + side(lower[side_], resolver.floor(lower[side_]), point, normal,
-                                   1.0 - share[side_]))
-        out.append(ContactGeometry(path, contact, element(
-            name, (left, right), law, (), tuple(sides), gap=float(contact.gap),
-            lower=tuple(lower), share=tuple(share), shear_capacity=contact.shear_capacity,
-            at=tuple(at))))
-    return out
+        for nodes, name in levels:
+            out.append(_contact(contact, nodes, name, law, path, resolver, seen, stories,
+                                heights, level))
+            level = out[-1][1]
+    return [g for g, _ in out]
+
+
+def _levels(contact, resolver, path) -> list[tuple[tuple[str, str], str]]:
+    """The contacts a scene's contact stands for (scene.contact_levels), or why not."""
+    ends = [end for end in contact.nodes if end != "ground"]
+    shorthand = [end for end in ends if "/" not in end]
+    if not shorthand:
+        return contact_levels(contact, resolver.index.__contains__)
+    if len(shorthand) != len(ends):
+        raise ModelError(path + ("nodes",), "a contact at every level names two buildings (or "
+                         "a building and 'ground'), not a building and a node: "
+                         f"{list(contact.nodes)}")
+    for i, end in enumerate(contact.nodes):
+        if end != "ground" and end not in resolver.buildings:
+            raise ModelError(path + ("nodes", i), f"no building named {end!r}; the buildings "
+                             f"are {', '.join(resolver.buildings)}")
+    if contact.column is not None:
+        raise ModelError(path + ("column",), "a contact at every level joins floors to floors "
+                         "(or a wall); a floor-to-column contact names its two nodes")
+    levels = contact_levels(contact, resolver.index.__contains__)
+    if not levels:
+        raise ModelError(path + ("nodes",), f"{contact.nodes[0]} and {contact.nodes[1]} have "
+                         "no floor level in common (floor 1 of each)")
+    return levels
+
+
+def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, level):
+    """One contact of the scene (or one level of a contact at every level) resolved to its
+    nodes and sides, and the floors' elevations (computed once, for the struck columns)."""
+    left, right = (resolver.node(node, path + ("nodes", i)) for i, node in enumerate(nodes))
+    if left >= 0 and right >= 0:
+        if resolver.building_of[left] == resolver.building_of[right]:
+            raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
+                             f"buildings (or a node and a wall: 'ground'); both nodes are "
+                             f"in {resolver.building_of[left]!r}")
+    if left >= 0 and right >= 0 and "normal" not in contact.model_fields_set:
+        # along the row (the default normal): the row's order decides left and right; a
+        # normal given says the geometry itself
+        _check_row_order(name, resolver.buildings, resolver.building_of[left],
+                         resolver.building_of[right], nodes, path + ("nodes",))
+    if name in seen:
+        raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
+    seen[name] = True
+    sides = list(_sides(resolver, (left, right), contact.points, contact.normal, path,
+                        "normal"))
+    lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
+    if contact.column is None and contact.at is not None:
+        raise ModelError(path + ("at",), "at is where a column is struck: give column "
+                                         "(the side whose node names the struck storey)")
+    if contact.column is None and contact.shear_capacity is not None:
+        raise ModelError(path + ("shear_capacity",), "shear_capacity is a struck "
+                         "column's: give column (a floor-to-column contact); a "
+                         "floor-to-floor contact loads no column between floors")
+    if contact.column is not None:
+        if level is None:
+            level = elevations(stories, heights)
+        side_, lower[side_], at[side_] = _struck_column(contact, path, (left, right),
+                                                        stories, level, resolver.index)
+        upper = (left, right)[side_]
+        share[side_] = column_share(at[side_])
+        refs = contact.points if contact.points is not None else (None, None)
+        point = resolver.point(upper, refs[side_], path + ("points", side_))
+        normal = normalised(contact.normal)
+        sides[side_] = (side(upper, resolver.floor(upper), point, normal, share[side_])
+                        + side(lower[side_], resolver.floor(lower[side_]), point, normal,
+                               1.0 - share[side_]))
+    return ContactGeometry(path, contact, element(
+        name, (left, right), law, (), tuple(sides), gap=float(contact.gap),
+        lower=tuple(lower), share=tuple(share), shear_capacity=contact.shear_capacity,
+        at=tuple(at))), level
 
 
 def pack_contacts(geometries, dof_mass, excitation_frequency):
     """The contacts with their laws' numbers, from the masses their sides move
     (``dof_mass(node, component)``), and the contacts a published damping formula rebounds
     differently from their restitution (key -> names)."""
-    out, rebounds = [], {}
+    out, rebounds, validated, packs = [], {}, {}, {}
     for g in geometries:
         e, contact, path = g.element, g.contact, g.path
         law = e.law
-        params = law.Params.model_validate(contact.model_dump(include=set(law.Params.model_fields)))
+        params = validated.get(id(contact))
+        if params is None:  # once per contact of the scene, whatever its levels
+            params = validated[id(contact)] = law.Params.model_validate(
+                contact.model_dump(include=set(law.Params.model_fields)))
         sides = e.side_terms()
         # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
         # a point of a floor or a column has the mass its displacement's weights give it
         masses = (side_mass(sides[0], dof_mass), side_mass(sides[1], dof_mass))
+        known = packs.get((id(contact), masses))
+        if known is not None:  # another level of a contact at every level, the same masses
+            out.append(_packed(e, known[0]))
+            if known[1] is not None:
+                rebounds[known[1]].append(e.name)
+            continue
         context = ContactContext(masses[0], masses[1], excitation_frequency)
         try:
             effective = context.effective_mass
@@ -397,13 +455,24 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
                 packed = finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
-        out.append(replace(e, packed=packed))
+        out.append(_packed(e, packed))
         obtained = published_rebound(law, params)
+        published = None
         if obtained is not None:
             chosen = "calibration" in contact.model_fields_set
-            key = (chosen, contact.law, law.published_source(params), params.restitution, obtained)
-            rebounds.setdefault(key, []).append(e.name)
+            published = (chosen, contact.law, law.published_source(params), params.restitution,
+                         obtained)
+            rebounds.setdefault(published, []).append(e.name)
+        packs[(id(contact), masses)] = (packed, published)
     return out, rebounds
+
+
+def _packed(e: Element, packed) -> Element:
+    """``e`` with its law's numbers (dataclasses.replace, without its introspection: a tall
+    pair has tens of thousands of contacts)."""
+    out = copy.copy(e)
+    object.__setattr__(out, "packed", packed)
+    return out
 
 
 def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int, float]:

@@ -199,7 +199,7 @@ class Expanded:
 def _check_size(scene) -> None:
     """Refuse, before building them, more floors than the machine can hold, or than pframe
     sets up without the opt-in PFRAME_MAX_FLOORS (resources.MAX_FLOORS)."""
-    total, lines = len(scene.nodes), 0
+    total, lines, counts = len(scene.nodes), 0, {}
     for building in scene.buildings:
         values = [building.mass, *(building.story.model_dump().values() if building.story
                                    else ())]
@@ -207,12 +207,16 @@ def _check_size(scene) -> None:
             values += list(line.model_dump().values())
         floors = building.floors or max((len(v) for v in values if isinstance(v, list)),
                                         default=0)
+        counts[building.name] = floors
         total += floors
         lines += floors * (len(building.lines) - 1 if building.lines else 0)
+    # a contact at every level counts one per level of its shorter side
+    contacts = sum(min([counts.get(end, 0) for end in c.nodes if end != "ground"] or [1])
+                   if any(end != "ground" and "/" not in end for end in c.nodes) else 1
+                   for c in scene.contacts)
     # each floor has its storey (or its lines); generic storeys and contacts are elements of
     # their own
-    elements = (2 * total - len(scene.nodes) + lines + len(scene.stories)
-                + len(scene.contacts))
+    elements = 2 * total - len(scene.nodes) + lines + len(scene.stories) + contacts
     problem = check_floors(total, elements,
                            steps_of(scene.analysis.duration, scene.analysis.dt))
     if problem:
@@ -501,7 +505,9 @@ def _foundations(shorthand, scene, buildings, building_of) -> tuple:
 def _rebound_text(key, names) -> str:
     """What a published damping formula gives instead of the restitution asked for."""
     chosen, law, source, requested, obtained = key
-    which = f"contact{'s' if len(names) > 1 else ''} {', '.join(names)}"
+    listed = (", ".join(names) if len(names) <= 6 else
+              f"{', '.join(names[:3])}, ... {names[-1]} ({len(names)} contacts)")
+    which = f"contact{'s' if len(names) > 1 else ''} {listed}"
     if chosen:
         return (f"{which} ({law}, calibration: published, {source}): restitution {requested:g} "
                 f"rebounds with {obtained:.3f} in a two-body impact")

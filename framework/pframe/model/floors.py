@@ -123,14 +123,34 @@ def per_storey(value, n: int, path):
     return [value] * n
 
 
-def _storey_params(law, fields: dict, i: int, path):
-    """The validated parameters of storey ``i`` from fields that are one value or a list."""
+def _storey_params(law, fields: dict, i: int, path, validated: dict | None = None):
+    """The validated parameters of storey ``i`` from fields that are one value or a list;
+    storeys of the same values share one validation (``validated``: values -> parameters,
+    the building's: a tall building's storeys are validated once, not one by one)."""
     raw = {k: (v if k == "material" else v[i]) for k, v in fields.items()}
     raw = {k: v for k, v in raw.items() if v is not None}
+    key = tuple(raw.items())
     try:
-        return law.Params.model_validate(raw)
+        known = validated.get(key) if validated is not None else None
+    except TypeError:  # a value that is not hashable: validated on its own
+        known, validated = None, None
+    if known is not None:
+        return known
+    try:
+        params = law.Params.model_validate(raw)
     except Exception as exc:
         raise ModelError(path, f"storey {i + 1}: {_validation_message(exc)}") from None
+    if validated is not None:
+        validated[key] = params
+    return params
+
+
+def _one_for_all(law, fields: dict, path):
+    """The parameters every storey shares when no field varies over them (each list one value
+    repeated, the shorthand's usual case: validated once, not once per storey), else None."""
+    if all(k == "material" or all(x is v[0] for x in v) for k, v in fields.items()):
+        return _storey_params(law, fields, 0, path)
+    return None
 
 
 def _material_fields(properties, n: int, path) -> tuple[type, dict]:
@@ -230,17 +250,20 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
     gravity = [GRAVITY * float(above[i]) if building.p_delta else 0.0 for i in range(n)]
     if building.story is not None:
         law, fields = _material_fields(building.story, n, path + ("story",))
+        same, validated = _one_for_all(law, fields, path + ("story",)), {}
         for i in range(n):
             name = f"{building.name}/{i + 1}"
             lower = "ground" if i == 0 else f"{building.name}/{i}"
             stories.append(StoreySpec(name, (lower, name), law,
-                                      _storey_params(law, fields, i, path + ("story",)),
+                                      same or _storey_params(law, fields, i, path + ("story",),
+                                                             validated),
                                       path + ("story",), heights[i], gravity[i],
                                       direction=placement.vector((1.0, 0.0)), storey=name))
         return
     for j, line in enumerate(building.lines):
         lpath = path + ("lines", j)
         law, fields = _material_fields(line, n, lpath)
+        same, validated = _one_for_all(law, fields, lpath), {}
         first, last = line.storeys or (1, n)
         if last > n:
             raise ModelError(lpath + ("storeys",), f"building {building.name!r} has {n} "
@@ -251,7 +274,7 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
             storey = f"{building.name}/{i + 1}"
             lower = "ground" if i == 0 else f"{building.name}/{i}"
             stories.append(StoreySpec(f"{storey}/{line.name}", (lower, storey), law,
-                                      _storey_params(law, fields, i, lpath),
+                                      same or _storey_params(law, fields, i, lpath, validated),
                                       lpath, heights[i], 0.0, position, direction, storey,
                                       line.isolator, line.stiffness_damping))
     if building.p_delta:

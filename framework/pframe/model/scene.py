@@ -215,6 +215,13 @@ NodeOrGround = Annotated[
     Field(pattern=r"^(ground|[A-Za-z0-9_.-]+/[A-Za-z0-9_.-]+)$",
           description="A node name '<building>/<floor>', or 'ground'."),
 ]
+#: a contact's side: a node, 'ground', or a building (a contact at each of its floors)
+ContactEnd = Annotated[
+    str,
+    Field(pattern=r"^(ground|[A-Za-z0-9_.-]+(/[A-Za-z0-9_.-]+)?)$",
+          description="A node name '<building>/<floor>', 'ground', or a building's name (a "
+                      "contact at every floor level)."),
+]
 
 
 class ParkAng(Base):
@@ -297,6 +304,26 @@ def default_contact_name(nodes) -> str:
     return f"{nodes[0]}-{nodes[1]}"
 
 
+def contact_levels(contact, has_node) -> list[tuple[tuple[str, str], str]]:
+    """The contacts a scene's contact stands for, as (nodes, name): itself, or, when its
+    nodes name buildings (the shorthand), one at each floor level k = 1, 2, ... that both
+    sides have (``has_node(name)``; 'ground' has every level), named
+    ``<name>/<k>`` or by the default rule of its nodes."""
+    left, right = contact.nodes
+    if all(end == "ground" or "/" in end for end in (left, right)):
+        return [(tuple(contact.nodes), contact.name or default_contact_name(contact.nodes))]
+    out = []
+    k = 1
+    while True:
+        nodes = tuple(end if end == "ground" or "/" in end else f"{end}/{k}"
+                      for end in (left, right))
+        if not all(end == "ground" or has_node(end) for end in nodes):
+            return out
+        out.append((nodes, f"{contact.name}/{k}" if contact.name
+                    else default_contact_name(nodes)))
+        k += 1
+
+
 def default_story_name(nodes) -> str:
     """The name of a storey the scene does not name: its upper node's."""
     return str(nodes[1])
@@ -306,13 +333,18 @@ class ContactBase(Base):
     """A compression-only contact element across the gap between two buildings, or between a
     floor and a wall (the ground)."""
 
-    name: str | None = Field(None, description="Defaults to '<left>-<right>'.")
-    nodes: tuple[NodeOrGround, NodeOrGround] = Field(
+    name: str | None = Field(None, description="Defaults to '<left>-<right>'; a contact at "
+                             "every level is named '<name>/<floor>' (default "
+                             "'<left>/<floor>-<right>/<floor>', as written out).")
+    nodes: tuple[ContactEnd, ContactEnd] = Field(
         description="[left, right]: penetration = u_left - u_right - gap. The buildings "
         "stand from left to right in the order the scene declares them; the left node's "
         "building must come first (a contact written the other way round is refused). "
         "'ground' on one side is a wall moving with the ground (a moat or retaining wall, a "
-        "stop): [A/1, ground] stands right of A/1, [ground, A/1] left of it."
+        "stop): [A/1, ground] stands right of A/1, [ground, A/1] left of it. Two buildings' "
+        "names ([A, B]) are a contact at every floor level both have (A/1 with B/1, A/2 with "
+        "B/2, ...), each with these fields: the shorthand of a tall pair (a building and "
+        "'ground': a wall at each of its floors)."
     )
     gap: float = Field(ge=0, allow_inf_nan=False, description="Initial gap d (m).")
     column: Literal["left", "right"] | None = Field(

@@ -58,18 +58,19 @@ def _scene(ds):
 def _contacts(scene, placed, nodes, names, force, pick) -> list[dict]:
     """Each contact of the file: the floors it joins (node index, -1 for the ground), its
     point on each (site, m) and whether it is closed at each frame (None: no force history)."""
-    from pframe.model.scene import default_contact_name
+    from pframe.model.scene import contact_levels
 
     by_name = {f.name: f for f in placed.nodes}
-    defined = {(c.name or default_contact_name(c.nodes)): c for c in scene.contacts}
+    defined = {name: (ends, c) for c in scene.contacts
+               for ends, name in contact_levels(c, by_name.__contains__)}
     out = []
     for j, name in enumerate(names):
-        contact = defined.get(name)
-        if contact is None:
+        if name not in defined:
             continue
+        ends, contact = defined[name]
         refs = contact.points if contact.points is not None else (None, None)
         sides = []
-        for node, ref in zip(contact.nodes, refs):
+        for node, ref in zip(ends, refs):
             if node == "ground" or node not in nodes:
                 sides.append(None)
                 continue

@@ -94,13 +94,14 @@ def _reserve(path: Path, nbytes: int) -> bool:
     free-space check before each block is then the guard. Raises ENOSPC if the disk cannot
     hold the file now."""
     import ctypes
-    import ctypes.util
     import sys
 
     if not sys.platform.startswith("linux"):
         return False
     try:
-        libc = ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True)
+        # the C library is in the process already: its symbols without looking for the file
+        # (ctypes.util.find_library runs ldconfig, a process of its own, at every write)
+        libc = ctypes.CDLL(None, use_errno=True)
         fallocate = libc.fallocate
     except (OSError, AttributeError):
         return False

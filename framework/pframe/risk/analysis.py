@@ -173,6 +173,10 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
     return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
 
 
+#: fits whose integrals over the hazard are taken at once (the hazard's 800 points each)
+RATE_ROWS = 4096
+
+
 def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
     """lambda(g) of the msa fit at every gap of ``grid`` at once: the numbers of rate_at in
     :func:`_gap_curve` (the same fit, the same integral, its fallbacks), with the probit fits
@@ -184,7 +188,7 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
 
     lv = np.asarray(levels, float)
     n = ok.reshape(records, -1).sum(axis=0)
-    counts = np.array([((g_req / g > 1) & ok).reshape(records, -1).sum(axis=0) for g in grid])
+    counts = _pounding_counts(grid, g_req, ok, records)
     rows, back = np.unique(counts, axis=0, return_inverse=True)
     keep = n > 0
     nn, zz = n[keep].astype(float), rows[:, keep].astype(float)
@@ -196,9 +200,16 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
         c, good = probit_rows(np.log(lv[keep]), nn, zz[tried])
         x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
         lam = hazard.rate(x)
-        eta = c[good, :1] + c[good, 1:] * np.log(np.sqrt(x[1:] * x[:-1]))
-        inside = np.nan_to_num(ndtr(eta)) @ (lam[:-1] - lam[1:])
-        above = np.nan_to_num(ndtr(c[good, 0] + c[good, 1] * math.log(x[-1]))) * lam[-1]
+        middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
+        c = c[good]
+        inside = np.empty(len(c))
+        for lo in range(0, len(c), RATE_ROWS):  # bounded memory: a block of rows at a time
+            block = c[lo:lo + RATE_ROWS]
+            eta = np.multiply(block[:, 1:], middle)
+            eta += block[:, :1]
+            ndtr(eta, out=eta)
+            inside[lo:lo + RATE_ROWS] = np.nan_to_num(eta, copy=False) @ weight
+        above = np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
         out[tried[good]] = inside + above
         fitted[tried[good]] = True
     for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
@@ -207,6 +218,30 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
         value = float(hazard.rate(step))
         out[k] = value if math.isfinite(value) else math.nan
     return out[back.ravel()]
+
+
+def _pounding_counts(grid, g_req, ok, records) -> np.ndarray:
+    """(len(grid), levels): how many runs of each stripe pound at each gap g of ``grid``,
+    ``g_req / g > 1`` counted over the runs that count (``ok``), as the fit at one gap
+    counts them: by sorting each stripe's critical gaps once, not a pass over the runs per
+    gap. The test is monotone in g_req (a rounded division is), so the runs that pound at g
+    are those after the first whose ratio exceeds 1: past the last g_req <= g, and past the
+    few just above g whose ratio rounds to 1."""
+    grid = np.asarray(grid, float)
+    by_stripe = np.where(ok, g_req, np.nan).reshape(records, -1)
+    out = np.empty((grid.size, by_stripe.shape[1]), dtype=np.int64)
+    for j in range(by_stripe.shape[1]):
+        column = by_stripe[:, j]
+        values = np.sort(column[~np.isnan(column)])
+        first = np.searchsorted(values, grid, side="right")
+        ahead = np.flatnonzero(first < values.size)
+        while ahead.size:  # a ratio that rounds to 1 does not pound
+            stays = values[first[ahead]] / grid[ahead] <= 1
+            ahead = ahead[stays]
+            first[ahead] += 1
+            ahead = ahead[first[ahead] < values.size]
+        out[:, j] = values.size - first
+    return out
 
 
 def _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R) -> None:

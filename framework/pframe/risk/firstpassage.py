@@ -141,16 +141,13 @@ def clough_penzien_batch(count: int, n: int, step: float, intensity: float, wg: 
     ``clough_penzien_psd(w) sinc^2(w dt / 2)`` below the Nyquist frequency."""
     from scipy import signal
 
-    num, den = np.array([2.0 * zg * wg, wg * wg]), np.array([1.0, 2.0 * zg * wg, wg * wg])
-    if wf > 0.0:
-        num = np.convolve(num, [1.0, 0.0, 0.0])
-        den = np.convolve(den, [1.0, 2.0 * zf * wf, wf * wf])
-    dnum, dden, _ = signal.cont2discrete((num, den), step, method="zoh")
-    slow = min(zg * wg, zf * wf if wf > 0 else math.inf)
-    warm = int(math.ceil(30.0 / max(slow, 1e-3) / step))
+    from pframe.excitation.stochastic import clough_penzien_filter, clough_penzien_warmup
+
+    b, a = clough_penzien_filter(float(step), float(wg), float(zg), float(wf), float(zf))
+    warm = clough_penzien_warmup(step, wg, zg, wf, zf)
     rng = np.random.default_rng() if rng is None else rng
     noise = rng.standard_normal((count, n + warm)) * math.sqrt(2.0 * math.pi * intensity / step)
-    return signal.lfilter(np.ravel(dnum), dden, noise, axis=1)[:, warm:]
+    return signal.lfilter(b, a, noise, axis=1)[:, warm:]
 
 
 def held_psd(psd, step: float):

@@ -83,24 +83,12 @@ def scenes(loaded, params: list[Uncertain], u: np.ndarray) -> list:
     return out
 
 
-def cp_filter(step: float, wg: float, zg: float, wf: float = 0.0, zf: float = 0.0):
-    """The zero-order-hold discretisation (b, a) of the Clough-Penzien filters, from white
-    noise to ground acceleration (the process of clough_penzien_stationary)."""
-    from scipy import signal
-
-    num, den = np.array([2.0 * zg * wg, wg * wg]), np.array([1.0, 2.0 * zg * wg, wg * wg])
-    if wf > 0.0:
-        num = np.convolve(num, [1.0, 0.0, 0.0])
-        den = np.convolve(den, [1.0, 2.0 * zf * wf, wf * wf])
-    dnum, dden, _ = signal.cont2discrete((num, den), step, method="zoh")
-    return np.ravel(dnum), dden
-
-
 class SubsetProblem:
     """g(u) of a subset study: runs without contacts of the scenes and motions ``u`` names."""
 
     def __init__(self, loaded, params: list[Uncertain], motion: dict, steps: int, dt: float,
                  threads=None, channels: tuple[str, ...] = ("x",)):
+        from pframe.excitation.stochastic import clough_penzien_filter
         from pframe.gap.runs import contact_pairs
 
         excitation = loaded.scene.excitation
@@ -119,10 +107,10 @@ class SubsetProblem:
         self.step = float(motion.get("step", 0.01))
         self.noise = int(math.ceil(float(motion["duration"]) / self.step)) + 1
         self.scale = math.sqrt(2.0 * math.pi * float(motion["intensity"]) / self.step)
-        self.filter = cp_filter(self.step, float(motion["ground_frequency"]),
-                                float(motion["ground_damping"]),
-                                float(motion.get("filter_frequency", 0.0)),
-                                float(motion.get("filter_damping", 0.6)))
+        self.filter = clough_penzien_filter(self.step, float(motion["ground_frequency"]),
+                                            float(motion["ground_damping"]),
+                                            float(motion.get("filter_frequency", 0.0)),
+                                            float(motion.get("filter_damping", 0.6)))
         self.runs = 0
 
     @property

@@ -90,96 +90,87 @@ static double modal_work(const Model *m, int64_t b, const double *p, const doubl
     return work;
 }
 
-/* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
- * evaluation point, subtracted from the residual; returns 1 when an effective tangent changed
- * (see evaluate). */
-static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                            const double *age, int from_stage, double c1, double wf,
-                            int tangent)
+/* What the storey (spring) loop of evaluate reads and writes for member b: prepared once per
+ * call (prepare_loops), but for what each evaluation sets (its point, its weights, where the
+ * laws start from). */
+typedef struct {
+    const double *committed_step; /* the laws' state at the step start */
+    int64_t *calls;
+    int terms, grounded;
+    int current; /* every spring's damping on its current tangent, none with P-delta */
+    const int64_t *dofs, *order, *modes, *start, *side_dof, *g_start, *g_channel;
+    const double *params, *committed, *k0, *beta, *kg, *side_coef, *tangent_c, *ue, *ve;
+    const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
+    double *trial, *drift, *force, *damping_force, *tangent_t, *kks, *R;
+    int64_t P, S;
+    double c1, wf;
+    int tangent;
+} SpringLoop;
+
+/* The springs order[from .. to - 1], all of law `force` (a law group: its function called
+ * directly, inlined where it is a built-in law); `terms` 0 when no spring of the scene has
+ * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports, `current`
+ * 1 when every spring's damping is on its current tangent and none has P-delta (the paper's
+ * scenes: neither is looked up per spring). Returns 1 when an effective tangent changed. */
+static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
+                                    LawFunction force, int terms, int grounded, int current)
 {
-    const double *ue = w->ue, *ve = w->ve;
-    const int64_t ns = m->stories;
-    double *R = w->R;
+    double out[3];
     int stale = 0;
     int64_t j;
-    double out[3];
-    const int64_t *dofs = m->story_dofs, *order = m->story_order, *laws = m->story_law;
-    const int64_t *modes = m->story_damping;
-    const int64_t P = m->story_width, S = m->story_states;
-    const double *params = m->story_params + b * ns * P;
-    const double *committed = from_stage ? w->story_stage
-                                         : st->story_committed + b * ns * S;
-    double *trial = st->story_trial + b * ns * S;
-    const double *k0 = m->story_k0 + b * ns, *beta = m->story_beta + b * ns;
-    const double *kg = m->story_kg + b * ns;
-    const int64_t *start = m->story_side_start, *side_dof = m->story_side_dof;
-    const double *side_coef = m->story_side_coef + b * m->story_terms;
-    const double *tangent_c = st->story_tangent + b * ns;
-    /* across supports: the ground displacements' part (docs/supports.md) */
-    const int64_t *g_start = m->story_ground_start, *g_channel = m->story_ground_channel;
-    const double *g_coef = m->story_ground_coef + b * m->story_ground_terms;
-    const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
-    const int grounded = m->story_ground_terms > 0;
-    int64_t *calls = st->material_calls + b * m->materials;
-    double *drift = w->drift, *force = w->story_force;
-    double *damping_force = w->story_damping_force, *tangent_t = w->story_tangent;
-    double *kks = w->story_kk;
-    for (j = 0; j < ns; j++) {
-        const int64_t e = order[j];
-        const int64_t lo = dofs[2 * e], up = dofs[2 * e + 1];
-        const int64_t law = laws[e];
-        const int64_t mode = modes[e];
-        const int sided = general(start, e);
+    for (j = from; j < to; j++) {
+        const int64_t e = L->order[j];
+        const int64_t lo = L->dofs[2 * e], up = L->dofs[2 * e + 1];
+        const int64_t mode = current ? DAMPING_CURRENT : L->modes[e];
+        const int sided = terms && general(L->start, e);
         double d, r, f, kt, kr, kd, fd;
         if (sided) { /* a line in plan, a storey on soil (less h theta): its sides */
-            sides_sum2(start, side_dof, side_coef, e, 1, ue, ve, &d, &r);
+            sides_sum2(L->start, L->side_dof, L->side_coef, e, 1, L->ue, L->ve, &d, &r);
         } else {
-            d = ue[up];
-            r = ve[up];
+            d = L->ue[up];
+            r = L->ve[up];
             if (lo >= 0) {
-                d -= ue[lo];
-                r -= ve[lo];
+                d -= L->ue[lo];
+                r -= L->ve[lo];
             }
         }
-        if (grounded) {
-            d += ground_sum(g_start, g_channel, g_coef, e, g_d);
-            r += ground_sum(g_start, g_channel, g_coef, e, g_v);
+        if (grounded) { /* across supports: the ground displacements' part */
+            d += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_d);
+            r += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_v);
         }
-        material_force(s, law, params + e * P, committed + e * S, trial + e * S, d, r,
-                       out);
+        force(L->params + e * L->P, L->committed + e * L->S, L->trial + e * L->S, d, r, out);
         f = out[0];
         kt = out[1];
         kr = out[2];
-        calls[law] += 1;
         if (mode == DAMPING_INITIAL)
-            kd = k0[e];
+            kd = L->k0[e];
         else if (mode == DAMPING_CURRENT)
             kd = kt;
         else
-            kd = tangent_c[e];
-        fd = beta[e] * kd * r;
-        drift[e] = d;
-        tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
-        if (kg[e] != 0.0) {
+            kd = L->tangent_c[e];
+        fd = L->beta[e] * kd * r;
+        L->drift[e] = d;
+        L->tangent_t[e] = kt; /* the material's: Rayleigh damping on the current tangent */
+        if (!current && L->kg[e] != 0.0) {
             /* P-delta: the gravity load P's overturning moment P d over the height h is a
              * shear P d / h the storey's columns must also resist: the storey resists
              * f - (P / h) d, with tangent k_t - P / h */
-            f -= kg[e] * d;
-            kt -= kg[e];
+            f -= L->kg[e] * d;
+            kt -= L->kg[e];
         }
-        force[e] = f;
-        damping_force[e] = fd;
+        L->force[e] = f;
+        L->damping_force[e] = fd;
         if (sided) {
-            sides_add(R, start, side_dof, side_coef, e, 1, -(f + fd), f + fd);
+            sides_add(L->R, L->start, L->side_dof, L->side_coef, e, 1, -(f + fd), f + fd);
         } else {
-            R[up] -= f + fd;
+            L->R[up] -= f + fd;
             if (lo >= 0)
-                R[lo] += f + fd;
+                L->R[lo] += f + fd;
         }
-        if (tangent) {
-            double kk = (kt + c1 * (kr + beta[e] * kd)) * wf;
-            if (kk != kks[e]) {
-                kks[e] = kk;
+        if (L->tangent) {
+            double kk = (kt + L->c1 * (kr + L->beta[e] * kd)) * L->wf;
+            if (kk != L->kks[e]) {
+                L->kks[e] = kk;
                 stale = 1;
             }
         }
@@ -187,95 +178,252 @@ static int evaluate_springs(const Model *m, const Settings *s, State *st, Work *
     return stale;
 }
 
-/* The contacts' forces at the evaluation point, added to the residual; returns 1 when an
- * effective tangent changed (see evaluate). */
-static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                             const double *age, int from_stage, double c1, double wf,
-                             int tangent)
+/* What the contact loop of evaluate reads and writes for member b (see SpringLoop). */
+typedef struct {
+    const double *committed_step;
+    int64_t *calls;
+    int terms, grounded;
+    const int64_t *dofs, *order, *start, *side_dof, *g_start, *g_channel;
+    const double *params, *committed, *gap, *pen_c, *force_c, *side_coef, *ue, *ve;
+    const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
+    double *trial, *force, *penetration, *kks, *R;
+    int64_t Q, T, held;
+    double c1, wf, held_closed;
+    int tangent, hold_start;
+} ContactLoop;
+
+/* The contacts order[from .. to - 1], all of law `force` (see spring_run). */
+static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t to,
+                                     LawFunction force, int terms, int grounded)
 {
-    const double *ue = w->ue, *ve = w->ve;
-    const int64_t nc = m->contacts;
-    double *R = w->R;
+    double out[3];
     int stale = 0;
     int64_t j;
-    double out[3];
-    const int64_t *dofs = m->contact_dofs, *order = m->contact_order, *laws = m->contact_law;
-    const int64_t Q = m->contact_width, T = m->contact_states;
-    const double *params = m->contact_params + b * nc * Q;
-    const double *committed = from_stage ? w->contact_stage
-                                         : st->contact_committed + b * nc * T;
-    double *trial = st->contact_trial + b * nc * T;
-    const double *gap = m->gap + b * nc;
-    int64_t *calls = st->contact_calls + b * m->contact_laws;
-    double *force = w->contact_force, *penetration = w->penetration, *kks = w->contact_kk;
-    const int64_t held = (int64_t)w->scalars[HELD];
+    for (j = from; j < to; j++) {
+        const int64_t e = L->order[j];
+        const int64_t left = L->dofs[2 * e], right = L->dofs[2 * e + 1];
+        const int plain = !(terms && general(L->start, e));
+        double d, r, f, kd, kr, at;
+        if (plain) { /* floor to floor or to a wall: its nodes' values */
+            d = dof_value(L->ue, left) - dof_value(L->ue, right);
+            r = dof_value(L->ve, left) - dof_value(L->ve, right);
+        } else { /* points off the centre of mass, a struck column: its sides */
+            sides_sum2(L->start, L->side_dof, L->side_coef, e, 0, L->ue, L->ve, &d, &r);
+        }
+        if (grounded) { /* across supports: the ground displacements' difference */
+            d += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_d);
+            r += ground_sum(L->g_start, L->g_channel, L->g_coef, e, L->g_v);
+        }
+        d -= L->gap[e];
+        at = d;
+        if (e == L->held) {
+            /* Located events (events.c) hold the contact on one branch, so that its
+             * penetration is a continuous function of the sub-step length: held open, no
+             * force on either side of delta = 0; held closed, the law's force at
+             * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
+             * delta = 0 stays off the search). */
+            at = L->held_closed != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
+        } else if (L->hold_start) {
+            /* closed: in contact, or touching with a force (restarted at its onset) */
+            at = (L->pen_c[e] > 0.0 || L->force_c[e] > 0.0) ? py_max(d, HELD_DEPTH)
+                                                             : py_min(d, 0.0);
+        }
+        force(L->params + e * L->Q, L->committed + e * L->T, L->trial + e * L->T, at, r, out);
+        f = out[0];
+        kd = out[1];
+        kr = out[2];
+        if (at > d)
+            kd = 0.0;
+        L->force[e] = f;
+        L->penetration[e] = d;
+        if (plain) {
+            if (left >= 0) /* -1: a wall, the ground's side */
+                L->R[left] -= f;
+            if (right >= 0)
+                L->R[right] += f;
+        } else { /* the force on each side's DOFs, as its point moves with them */
+            sides_add(L->R, L->start, L->side_dof, L->side_coef, e, 0, -f, f);
+        }
+        if (L->tangent) {
+            double kk = (kd + L->c1 * kr) * L->wf;
+            if (kk != L->kks[e]) {
+                L->kks[e] = kk;
+                stale = 1;
+            }
+        }
+    }
+    return stale;
+}
+
+/* The end of the law group that starts at order[from] (elements of one law are consecutive
+ * in the plan's order). */
+static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from, int64_t count)
+{
+    int64_t to = from + 1;
+    if (laws[order[count - 1]] == laws[order[from]]) /* the last group: no search */
+        return count;
+    while (to < count && laws[order[to]] == laws[order[from]])
+        to++;
+    return to;
+}
+
+/* What evaluate runs for member b: its element loops. */
+typedef struct {
+    SpringLoop springs;
+    ContactLoop contacts;
+} Loops;
+
+/* Member b's loops, what of them holds for a whole call (evaluate sets the rest), in loops,
+ * which w then points to. */
+static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *loops)
+{
+    const int64_t ns = m->stories, nc = m->contacts;
+    SpringLoop *sl = &loops->springs;
+    ContactLoop *cl = &loops->contacts;
+    int64_t e;
+    sl->committed_step = st->story_committed + b * ns * m->story_states;
+    sl->calls = st->material_calls + b * m->materials;
+    sl->terms = m->story_terms > 0;
+    sl->grounded = m->story_ground_terms > 0;
+    sl->current = 1;
+    for (e = 0; e < ns; e++)
+        sl->current &= m->story_damping[e] == DAMPING_CURRENT && m->story_kg[b * ns + e] == 0.0;
+    sl->dofs = m->story_dofs;
+    sl->order = m->story_order;
+    sl->modes = m->story_damping;
+    sl->start = m->story_side_start;
+    sl->side_dof = m->story_side_dof;
+    sl->params = m->story_params + b * ns * m->story_width;
+    sl->k0 = m->story_k0 + b * ns;
+    sl->beta = m->story_beta + b * ns;
+    sl->kg = m->story_kg + b * ns;
+    sl->side_coef = m->story_side_coef + b * m->story_terms;
+    sl->g_start = m->story_ground_start;
+    sl->g_channel = m->story_ground_channel;
+    sl->g_coef = m->story_ground_coef + b * m->story_ground_terms;
+    sl->tangent_c = st->story_tangent + b * ns;
+    sl->ue = w->ue;
+    sl->ve = w->ve;
+    sl->trial = st->story_trial + b * ns * m->story_states;
+    sl->drift = w->drift;
+    sl->force = w->story_force;
+    sl->damping_force = w->story_damping_force;
+    sl->tangent_t = w->story_tangent;
+    sl->kks = w->story_kk;
+    sl->R = w->R;
+    sl->P = m->story_width;
+    sl->S = m->story_states;
+    cl->committed_step = st->contact_committed + b * nc * m->contact_states;
+    cl->calls = st->contact_calls + b * m->contact_laws;
+    cl->terms = m->contact_terms > 0;
+    cl->grounded = m->contact_ground_terms > 0;
+    cl->dofs = m->contact_dofs;
+    cl->order = m->contact_order;
+    cl->start = m->contact_side_start;
+    cl->side_dof = m->contact_side_dof;
+    cl->params = m->contact_params + b * nc * m->contact_width;
+    cl->gap = m->gap + b * nc;
+    cl->pen_c = st->penetration + b * nc;
+    cl->force_c = st->contact_force + b * nc;
+    cl->side_coef = m->contact_side_coef + b * m->contact_terms;
+    cl->g_start = m->contact_ground_start;
+    cl->g_channel = m->contact_ground_channel;
+    cl->g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
+    cl->ue = w->ue;
+    cl->ve = w->ve;
+    cl->trial = st->contact_trial + b * nc * m->contact_states;
+    cl->force = w->contact_force;
+    cl->penetration = w->penetration;
+    cl->kks = w->contact_kk;
+    cl->R = w->R;
+    cl->Q = m->contact_width;
+    cl->T = m->contact_states;
+    w->loops = loops;
+}
+
+/* The storeys' and links' forces (the material's, Rayleigh damping's, P-delta's) at the
+ * evaluation point, subtracted from the residual, law group by law group; returns 1 when an
+ * effective tangent changed (see evaluate). */
+static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Work *w, const double *age,
+                            int from_stage, double c1, double wf, int tangent)
+{
+    const int64_t ns = m->stories;
+    SpringLoop *L = &((Loops *)w->loops)->springs;
+    const int terms = L->terms, grounded = L->grounded;
+    int stale = 0;
+    int64_t j, to;
+    L->committed = from_stage ? w->story_stage : L->committed_step;
+    if (grounded) {
+        L->g_d = ground_block(m, age, 1);
+        L->g_v = ground_block(m, age, 2);
+    }
+    L->c1 = c1;
+    L->wf = wf;
+    L->tangent = tangent;
+    for (j = 0; j < ns; j = to) {
+        const int64_t law = m->story_law[m->story_order[j]];
+        to = group_end(m->story_order, m->story_law, j, ns);
+        L->calls[law] += to - j;
+        switch (law) {
+#define SPRING_GROUP(id, function) \
+        case id: \
+            stale |= terms || grounded \
+                ? spring_run(L, j, to, function, terms, grounded, 0) \
+                : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
+                             : spring_run(L, j, to, function, 0, 0, 0); \
+            break;
+            MATERIAL_LAWS(SPRING_GROUP)
+#undef SPRING_GROUP
+        default:
+            stale |= spring_run(L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
+                                terms, grounded, 0);
+        }
+    }
+    return stale;
+}
+
+/* The contacts' forces at the evaluation point, added to the residual, law group by law
+ * group; returns 1 when an effective tangent changed (see evaluate). */
+static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Work *w, const double *age,
+                             int from_stage, double c1, double wf, int tangent)
+{
+    const int64_t nc = m->contacts;
+    ContactLoop *L = &((Loops *)w->loops)->contacts;
+    const int terms = L->terms, grounded = L->grounded;
+    int stale = 0;
+    int64_t j, to;
+    L->committed = from_stage ? w->contact_stage : L->committed_step;
+    if (grounded) {
+        L->g_d = ground_block(m, age, 1);
+        L->g_v = ground_block(m, age, 2);
+    }
+    L->held = (int64_t)w->scalars[HELD];
+    L->held_closed = w->scalars[HELD_CLOSED];
+    L->c1 = c1;
+    L->wf = wf;
+    L->tangent = tangent;
     /* With located events, an evaluation point past the sub-step's end (Wilson-theta's
      * t + theta h: s->beyond) holds every contact on the branch it has at the sub-step
      * start: a contact that closes or opens beyond the sub-step's end must not act inside
      * it (a dashpot's jump there changed the sub-step before an impact by O(h)); one that
      * crosses inside it is located (events.c) and the sub-step cut there. The step end
      * (tangent off: the commit's evaluation) sees the real law. */
-    const int hold_start = tangent && s->events && s->beyond;
-    const double *pen_c = st->penetration + b * nc, *force_c = st->contact_force + b * nc;
-    const int64_t *start = m->contact_side_start, *side_dof = m->contact_side_dof;
-    const double *side_coef = m->contact_side_coef + b * m->contact_terms;
-    const int64_t *g_start = m->contact_ground_start, *g_channel = m->contact_ground_channel;
-    const double *g_coef = m->contact_ground_coef + b * m->contact_ground_terms;
-    const double *g_d = ground_block(m, age, 1), *g_v = ground_block(m, age, 2);
-    const int grounded = m->contact_ground_terms > 0;
-    for (j = 0; j < nc; j++) {
-        const int64_t e = order[j];
-        const int64_t left = dofs[2 * e], right = dofs[2 * e + 1];
-        const int64_t law = laws[e];
-        const int plain = !general(start, e);
-        double d, r, f, kd, kr, at;
-        if (plain) { /* floor to floor or to a wall: its nodes' values */
-            d = dof_value(ue, left) - dof_value(ue, right);
-            r = dof_value(ve, left) - dof_value(ve, right);
-        } else { /* points off the centre of mass, a struck column: its sides */
-            sides_sum2(start, side_dof, side_coef, e, 0, ue, ve, &d, &r);
-        }
-        if (grounded) { /* across supports: the ground displacements' difference */
-            d += ground_sum(g_start, g_channel, g_coef, e, g_d);
-            r += ground_sum(g_start, g_channel, g_coef, e, g_v);
-        }
-        d -= gap[e];
-        at = d;
-        if (e == held) {
-            /* Located events (events.c) hold the contact on one branch, so that its
-             * penetration is a continuous function of the sub-step length: held open, no
-             * force on either side of delta = 0; held closed, the law's force at
-             * delta = 0+ continued to delta < 0 (the jump of a dashpot, c delta', at
-             * delta = 0 stays off the search). */
-            at = w->scalars[HELD_CLOSED] != 0.0 ? py_max(d, HELD_DEPTH) : py_min(d, 0.0);
-        } else if (hold_start) {
-            /* closed: in contact, or touching with a force (restarted at its onset) */
-            at = (pen_c[e] > 0.0 || force_c[e] > 0.0) ? py_max(d, HELD_DEPTH)
-                                                       : py_min(d, 0.0);
-        }
-        contact_force(s, law, params + e * Q, committed + e * T, trial + e * T, at, r, out);
-        f = out[0];
-        kd = out[1];
-        kr = out[2];
-        if (at > d)
-            kd = 0.0;
-        calls[law] += 1;
-        force[e] = f;
-        penetration[e] = d;
-        if (plain) {
-            if (left >= 0) /* -1: a wall, the ground's side */
-                R[left] -= f;
-            if (right >= 0)
-                R[right] += f;
-        } else { /* the force on each side's DOFs, as its point moves with them */
-            sides_add(R, start, side_dof, side_coef, e, 0, -f, f);
-        }
-        if (tangent) {
-            double kk = (kd + c1 * kr) * wf;
-            if (kk != kks[e]) {
-                kks[e] = kk;
-                stale = 1;
-            }
+    L->hold_start = tangent && s->events && s->beyond;
+    for (j = 0; j < nc; j = to) {
+        const int64_t law = m->contact_law[m->contact_order[j]];
+        to = group_end(m->contact_order, m->contact_law, j, nc);
+        L->calls[law] += to - j;
+        switch (law) {
+#define CONTACT_GROUP(id, function) \
+        case id: \
+            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded) \
+                                       : contact_run(L, j, to, function, 0, 0); \
+            break;
+            CONTACT_LAWS(CONTACT_GROUP)
+#undef CONTACT_GROUP
+        default:
+            stale |= contact_run(L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
+                                 terms, grounded);
         }
     }
     return stale;
@@ -286,7 +434,8 @@ static int evaluate_contacts(const Model *m, const Settings *s, State *st, Work 
  *
  * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
  * with the one in the current factorisation; returns 1 when one changed (the factorisation is
- * then stale). */
+ * then stale). Each law group runs as one loop calling its law's function (spring_run,
+ * contact_run). */
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                     const double *age, double c1, double wf, int tangent)
 {
@@ -305,8 +454,8 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
 
-    stale = evaluate_springs(m, s, st, w, b, age, from_stage, c1, wf, tangent);
-    if (evaluate_contacts(m, s, st, w, b, age, from_stage, c1, wf, tangent))
+    stale = m->stories ? evaluate_springs(m, s, w, age, from_stage, c1, wf, tangent) : 0;
+    if (m->contacts && evaluate_contacts(m, s, w, age, from_stage, c1, wf, tangent))
         stale = 1;
     return stale;
 }
@@ -320,7 +469,7 @@ static int stop_asked(const Model *m) { return *(volatile const int64_t *)m->sto
  * stop is seen within one Newton iteration or sub-step in every mode, however many of them
  * a step takes (the failed step unwinds as any failure does; the driver then discards the
  * call). */
-static int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k)
+static PFRAME_INLINE int check_finite(const Model *m, State *st, Work *w, int64_t b, int64_t k)
 {
     const double *R = w->R;
     double total = 0.0;

@@ -37,36 +37,182 @@
  * What the balance then leaves is sum_s R_s . du_s: the stages' residuals, Newton's tolerance.
  */
 
-/* The elements' end-of-step values (drift, forces, tangent, penetration) and the laws' trial
- * states become member b's committed ones. */
-static void keep_elements(const Model *m, State *st, const Work *w, int64_t b)
+/* The sums of a committed step: the works of its forces (trapezoidal), the pieces of
+ * D_algorithmic and the kinetic energies, each summed in the order of its DOFs, then of its
+ * elements (the order that gives pframe's bits). */
+typedef struct {
+    double work_in, work_damp, work_story, work_link, work_contact;
+    double du_dG, du_Mda, v_Mda, d_aMa; /* du . [G], du M [a], v_mid M [a], [a M a / 2] */
+    double kinetic, raw;                /* modified and plain kinetic energies at the end */
+} StepSums;
+
+/* The DOFs' sums in one pass, which also commits U, V and A: the kinetic energies (the
+ * modified one's shadow term only when shadowed: shadow is not zero), and with works (k > 0)
+ * the works over the step and the pieces of D_algorithmic, [a M a / 2] and v_mid M [a] only
+ * with mid (see commit_dofs). Inlined with the three flags constant: one loop without
+ * branches for each case. */
+static PFRAME_INLINE void dof_sums(const Model *m, State *st, const Work *w, int64_t b,
+                                   double shadow, const double *ag_old, const double *ag_new,
+                                   int works, int mid, int shadowed, StepSums *x)
 {
-    const int64_t ns = m->stories, nc = m->contacts;
-    double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
-    double *damping_c = st->story_damping_force + b * ns, *tangent_c = st->story_tangent + b * ns;
-    double *cforce_c = st->contact_force + b * nc, *pen_c = st->penetration + b * nc;
-    const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
-    double *to = st->story_committed + b * story_values;
-    const double *from = st->story_trial + b * story_values;
-    int64_t i, e;
-    for (e = 0; e < ns; e++) {
-        drift_c[e] = w->drift[e];
-        force_c[e] = w->story_force[e];
-        damping_c[e] = w->story_damping_force[e];
-        tangent_c[e] = w->story_tangent[e];
+    const int64_t n = m->dofs;
+    const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
+    const int64_t *channel = m->dof_channel;
+    double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
+    const double *u = w->u, *v = w->v, *a = w->a;
+    /* the sums in locals, not through x: stores into U, V, A may not change them */
+    double kinetic = 0.0, plain = 0.0, work_in = 0.0, work_damp = 0.0, du_dG = 0.0;
+    double du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
+    int64_t i;
+    for (i = 0; i < n; i++) {
+        plain += 0.5 * mass[i] * (v[i] * v[i]);
+        if (shadowed)
+            kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
+        if (works) {
+            const double du = u[i] - U[i];
+            const double da = a[i] - A[i];
+            const int64_t c = channel[i]; /* -1: a rotation, which the ground does not load */
+            work_damp += 0.5 * damping[i] * (V[i] + v[i]) * du;
+            if (c >= 0) {
+                work_in -= 0.5 * (ag_old[c] + ag_new[c]) * mass[i] * du;
+                du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * (ag_new[c] - ag_old[c])) * du;
+            } else {
+                du_dG += damping[i] * (v[i] - V[i]) * du;
+            }
+            du_Mda += mass[i] * da * du;
+            if (mid) {
+                v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
+                d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
+            }
+        }
+        U[i] = u[i];
+        V[i] = v[i];
+        A[i] = a[i];
     }
-    for (e = 0; e < nc; e++) {
-        cforce_c[e] = w->contact_force[e];
-        pen_c[e] = w->penetration[e];
-    }
-    for (i = 0; i < story_values; i++)
-        to[i] = from[i];
-    to = st->contact_committed + b * contact_values;
-    from = st->contact_trial + b * contact_values;
-    for (i = 0; i < contact_values; i++)
-        to[i] = from[i];
+    /* without the shadow term the modified kinetic energy is the plain one, the same sum */
+    x->kinetic = shadowed ? kinetic : plain;
+    x->raw = plain;
+    x->work_in = work_in;
+    x->work_damp = work_damp;
+    x->du_dG = du_dG;
+    x->du_Mda = du_Mda;
+    x->v_Mda = v_Mda;
+    x->d_aMa = d_aMa;
 }
 
+/* The DOFs' sums (with k > 0 the works over the step) in one pass, which also commits U, V
+ * and A. The fast paths' inertial dissipation (integrator.c, inertial_dissipation) weighs
+ * [a M a / 2] and v_mid M [a] by (1/4 - gamma/2) h^2 and -(gamma - 1/2) h: with gamma = 1/2
+ * (Newmark's average acceleration, the paper's) both weights are zero and the two sums are
+ * not taken; the generic stage loop (TABLEAU) counts its inertia's work itself and takes
+ * none of the three. */
+static void commit_dofs(const Model *m, const Settings *s, State *st, const Work *w, int64_t b,
+                        int64_t k, double shadow, const double *ag_old, const double *ag_new,
+                        StepSums *x)
+{
+    const int64_t n = m->dofs;
+    const double *u = w->u, *v = w->v;
+    const double *U = st->U + b * n, *V = st->V + b * n;
+    double modal_damp = 0.0, modal_dG = 0.0;
+    if (k > 0 && m->modal_blocks) { /* modal damping: (C (V + v) / 2) du and C [v] du */
+        modal_damp = modal_work(m, b, V, v, 1.0, u, U);
+        modal_dG = modal_work(m, b, v, V, -1.0, u, U);
+    }
+    const int works = k > 0, mid = works && s->scheme != TABLEAU && s->gamma != 0.5;
+#define DOF_SUMS(works, mid, shadowed) \
+    dof_sums(m, st, w, b, shadow, ag_old, ag_new, works, mid, shadowed, x)
+    if (shadow != 0.0) {
+        if (!works)
+            DOF_SUMS(0, 0, 1);
+        else if (mid)
+            DOF_SUMS(1, 1, 1);
+        else
+            DOF_SUMS(1, 0, 1);
+    } else {
+        if (!works)
+            DOF_SUMS(0, 0, 0);
+        else if (mid)
+            DOF_SUMS(1, 1, 0);
+        else
+            DOF_SUMS(1, 0, 0);
+    }
+#undef DOF_SUMS
+    if (k > 0 && m->modal_blocks) {
+        x->work_damp += 0.5 * modal_damp;
+        x->du_dG += modal_dG;
+    }
+}
+
+/* The storeys' and links' works over the step (k > 0), then the contacts': works and impacts
+ * (a contact open at the start and closed at the end); then every element's committed state
+ * and force, and its law's. */
+static void commit_elements(const Model *m, State *st, const Work *w, int64_t b, int64_t k,
+                            StepSums *x)
+{
+    const int64_t ns = m->stories, nc = m->contacts, storeys = m->stories - m->links;
+    double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
+    double *damping_c = st->story_damping_force + b * ns, *tangent_c = st->story_tangent + b * ns;
+    const double *drift_t = w->drift, *force_t = w->story_force;
+    const double *damping_t = w->story_damping_force, *tangent_t = w->story_tangent;
+    double *cforce_c = st->contact_force + b * nc, *pen_c = st->penetration + b * nc;
+    int64_t *impacts = st->impacts + b * nc;
+    const double *cforce_t = w->contact_force, *pen_t = w->penetration;
+    double work_story = 0.0, work_link = 0.0, work_damp = x->work_damp, work_contact = 0.0;
+    double du_dG = x->du_dG;
+    int64_t e;
+    if (k > 0) {
+        for (e = 0; e < ns; e++) {
+            const double dd = drift_t[e] - drift_c[e];
+            const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
+            if (e < storeys)
+                work_story += work;
+            else /* a link (no Rayleigh damping: its dashpot is in its force) */
+                work_link += work;
+            work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
+            du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
+            drift_c[e] = drift_t[e];
+            force_c[e] = force_t[e];
+            damping_c[e] = damping_t[e];
+            tangent_c[e] = tangent_t[e];
+        }
+        for (e = 0; e < nc; e++) {
+            const double dp = pen_t[e] - pen_c[e];
+            work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
+            du_dG += (cforce_t[e] - cforce_c[e]) * dp;
+            if (pen_c[e] <= 0.0 && pen_t[e] > 0.0)
+                impacts[e] += 1;
+            cforce_c[e] = cforce_t[e];
+            pen_c[e] = pen_t[e];
+        }
+    } else {
+        for (e = 0; e < ns; e++) {
+            drift_c[e] = drift_t[e];
+            force_c[e] = force_t[e];
+            damping_c[e] = damping_t[e];
+            tangent_c[e] = tangent_t[e];
+        }
+        for (e = 0; e < nc; e++) {
+            cforce_c[e] = cforce_t[e];
+            pen_c[e] = pen_t[e];
+        }
+    }
+    x->work_story = work_story;
+    x->work_link = work_link;
+    x->work_damp = work_damp;
+    x->work_contact = work_contact;
+    x->du_dG = du_dG;
+    {
+        const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
+        double *to = st->story_committed + b * story_values;
+        const double *from = st->story_trial + b * story_values;
+        for (e = 0; e < story_values; e++)
+            to[e] = from[e];
+        to = st->contact_committed + b * contact_values;
+        from = st->contact_trial + b * contact_values;
+        for (e = 0; e < contact_values; e++)
+            to[e] = from[e];
+    }
+}
 
 /* The work of the supports' displacements on the elements across them over a sub-step
  * (docs/supports.md): an element's deformation includes the ground displacements' part g_e,
@@ -106,29 +252,19 @@ static double support_work(const Model *m, const State *st, const Work *w, int64
 }
 
 /* Accept the step from t_k - h to t_k whose end state is in w; 0 (after recording why) if the
- * kinetic energy ran away from what the ground motion put in. */
+ * kinetic energy ran away from what the ground motion put in. The state is committed in the
+ * same passes that sum the step's works. */
 static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                   int64_t k, double h, const double *ag_old, const double *ag_new)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
     const double *mass = m->mass + b * n;
-    const int64_t *channel = m->dof_channel;
     double *U = st->U + b * n, *V = st->V + b * n, *A = st->A + b * n;
-    const double *u = w->u, *v = w->v, *a = w->a;
-    double *drift_c = st->drift + b * ns, *force_c = st->story_force + b * ns;
-    double *damping_c = st->story_damping_force + b * ns;
-    const double *drift_t = w->drift, *force_t = w->story_force;
-    const double *damping_t = w->story_damping_force;
-    double *cforce_c = st->contact_force + b * nc, *pen_c = st->penetration + b * nc;
-    int64_t *impacts = st->impacts + b * nc;
-    const double *cforce_t = w->contact_force, *pen_t = w->penetration;
     double *energy = st->energy + b * ENERGY_SLOTS;
-    double work_in = 0.0, shadow, kinetic, raw, budget, t;
+    StepSums x = {0.0};
+    double shadow, budget, t, work_supports = 0.0;
     int64_t i, e;
     shadow = kinetic_shadow(s, h);
-    kinetic = 0.0;
-    for (i = 0; i < n; i++)
-        kinetic += 0.5 * mass[i] * (v[i] * v[i] + shadow * a[i] * a[i]);
     if (k > 0 && shadow != 0.0) {
         /* The modified kinetic energy depends on the step length: after a (sub-)step of
          * another length (events, retries) the start's is re-taken with this one, as at an
@@ -140,90 +276,46 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         energy[ALGORITHMIC] -= start - energy[KINETIC];
         energy[KINETIC] = start;
     }
+    commit_dofs(m, s, st, w, b, k, shadow, ag_old, ag_new, &x);
+    if (k > 0 && (m->story_ground_terms || m->contact_ground_terms)) /* before the commit */
+        work_supports = support_work(m, st, w, b, ag_old, ag_new, &x.du_dG);
+    commit_elements(m, st, w, b, k, &x);
     if (k > 0) {
-        const double *damping = m->mass_damping + b * n;
-        double work_damp = 0.0, work_story = 0.0, work_link = 0.0, work_contact = 0.0, inertial;
-        /* the pieces of D_algorithmic (see above): du . [G], du M [a], v_mid M [a], [a M a / 2] */
-        double du_dG = 0.0, du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
-        for (i = 0; i < n; i++) {
-            const double du = u[i] - U[i];
-            const double da = a[i] - A[i];
-            const int64_t c = channel[i]; /* -1: a rotation, which the ground does not load */
-            work_damp += 0.5 * damping[i] * (V[i] + v[i]) * du;
-            if (c >= 0) {
-                work_in -= 0.5 * (ag_old[c] + ag_new[c]) * mass[i] * du;
-                du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * (ag_new[c] - ag_old[c])) * du;
-            } else {
-                du_dG += damping[i] * (v[i] - V[i]) * du;
-            }
-            du_Mda += mass[i] * da * du;
-            v_Mda += 0.5 * (V[i] + v[i]) * mass[i] * da;
-            d_aMa += 0.5 * mass[i] * (a[i] * a[i] - A[i] * A[i]);
-        }
-        if (m->modal_blocks) { /* modal damping: (C (V + v) / 2) du and C [v] du */
-            work_damp += 0.5 * modal_work(m, b, V, v, 1.0, u, U);
-            du_dG += modal_work(m, b, v, V, -1.0, u, U);
-        }
-        const double work_supports = m->story_ground_terms || m->contact_ground_terms
-            ? support_work(m, st, w, b, ag_old, ag_new, &du_dG) : 0.0;
-        for (e = 0; e < ns; e++) {
-            const double dd = drift_t[e] - drift_c[e];
-            const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
-            if (e < ns - m->links) /* a storey */
-                work_story += work;
-            else /* a link (no Rayleigh damping: its dashpot is in its force) */
-                work_link += work;
-            work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
-            du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
-        }
-        energy[INPUT] += work_in;
-        energy[DAMPING] += work_damp;
-        energy[STOREYS] += work_story;
-        energy[LINKS] += work_link;
-        if (nc) {
-            for (e = 0; e < nc; e++) {
-                const double dp = pen_t[e] - pen_c[e];
-                work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
-                du_dG += (cforce_t[e] - cforce_c[e]) * dp;
-                if (pen_c[e] <= 0.0 && pen_t[e] > 0.0)
-                    impacts[e] += 1;
-            }
-            energy[CONTACTS] += work_contact;
-        }
-        work_in += work_supports;
+        double inertial;
+        energy[INPUT] += x.work_in;
+        energy[DAMPING] += x.work_damp;
+        energy[STOREYS] += x.work_story;
+        energy[LINKS] += x.work_link;
+        if (nc)
+            energy[CONTACTS] += x.work_contact;
+        x.work_in += work_supports;
         energy[INPUT] += work_supports;
         if (s->scheme == TABLEAU)
-            inertial = w->scalars[INERTIAL_WORK] - (kinetic - energy[KINETIC]);
+            inertial = w->scalars[INERTIAL_WORK] - (x.kinetic - energy[KINETIC]);
         else
-            inertial = inertial_dissipation(s, h, d_aMa, v_Mda, du_Mda);
+            inertial = inertial_dissipation(s, h, x.d_aMa, x.v_Mda, x.du_Mda);
         if (s->alpha || s->scheme == TABLEAU) {
             /* equilibrium holds at the evaluation point, with the forces evaluated there (not
              * the weighted end forces: the two differ where a law is nonlinear) */
-            const double trapezoid = work_damp + work_story + work_link + work_contact - work_in;
+            const double trapezoid = x.work_damp + x.work_story + x.work_link + x.work_contact
+                                     - x.work_in;
             energy[ALGORITHMIC] += inertial + w->scalars[ALPHA_WORK] - trapezoid;
         } else {
-            energy[ALGORITHMIC] += inertial + 0.5 * du_dG;
+            energy[ALGORITHMIC] += inertial + 0.5 * x.du_dG;
         }
     }
-
-    raw = 0.0;
-    for (i = 0; i < n; i++) {
-        U[i] = u[i];
-        V[i] = v[i];
-        A[i] = a[i];
-        raw += 0.5 * mass[i] * v[i] * v[i];
-    }
-    energy[KINETIC] = kinetic;
+    energy[KINETIC] = x.kinetic;
     if (k == 0)
-        energy[KINETIC_0] = kinetic;
-    keep_elements(m, st, w, b);
+        energy[KINETIC_0] = x.kinetic;
 
     /* Divergence: the kinetic energy cannot exceed what came in (initial energy plus the input
      * work, counted in absolute value) but by the integrator's own small excess; ten times
      * that means the numbers are running away (a test on the balance would not do: Newmark
      * with gamma = 1/2 conserves its modified energy even when unstable). */
     if (k == 0) {
-        double start = raw;
+        const double *drift_t = w->drift, *force_t = w->story_force;
+        const double *cforce_t = w->contact_force, *pen_t = w->penetration;
+        double start = x.raw;
         for (e = 0; e < ns; e++)
             start += 0.5 * force_t[e] * drift_t[e];
         for (e = 0; e < nc; e++)
@@ -231,12 +323,12 @@ static int commit(const Model *m, const Settings *s, State *st, Work *w, int64_t
         energy[START] = fabs(start);
         return 1;
     }
-    energy[INPUT_ABS] += fabs(work_in);
+    energy[INPUT_ABS] += fabs(x.work_in);
     t = 0.0; /* how much velocity the ground's steps may give: h |a_g| summed over channels */
     for (i = 0; i < m->channels; i++)
         t += h * (fabs(ag_old[i]) + fabs(ag_new[i]));
     budget = energy[INPUT_ABS] + energy[START] + t * t * w->scalars[MASS_MIN];
-    if (raw <= 10.0 * budget)
+    if (x.raw <= 10.0 * budget)
         return 1;
     {
         int64_t worst = 0;

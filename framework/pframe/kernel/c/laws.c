@@ -4,8 +4,8 @@
 #include "kernel.h"
 
 /* pframe.laws.material.elastic.Elastic.force */
-static void material_elastic(const double *params, const double *committed, double *trial,
-                             double deformation, double rate, double *out)
+static PFRAME_INLINE void material_elastic(const double *params, const double *committed, double *trial,
+                                          double deformation, double rate, double *out)
 {
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
     out[0] = (params[0] * deformation);
@@ -15,8 +15,8 @@ static void material_elastic(const double *params, const double *committed, doub
 }
 
 /* pframe.laws.material.bilinear.Bilinear.force */
-static void material_bilinear(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+static PFRAME_INLINE void material_bilinear(const double *params, const double *committed, double *trial,
+                                           double deformation, double rate, double *out)
 {
     double k_;
     double alpha_;
@@ -47,8 +47,8 @@ static void material_bilinear(const double *params, const double *committed, dou
 }
 
 /* pframe.laws.material.viscous.Viscous.force */
-static void material_viscous(const double *params, const double *committed, double *trial,
-                             double deformation, double rate, double *out)
+static PFRAME_INLINE void material_viscous(const double *params, const double *committed, double *trial,
+                                          double deformation, double rate, double *out)
 {
     double c_;
     double alpha_;
@@ -79,8 +79,8 @@ static void material_viscous(const double *params, const double *committed, doub
 }
 
 /* pframe.laws.material.kelvin_voigt.KelvinVoigt.force */
-static void material_kelvin_voigt(const double *params, const double *committed, double *trial,
-                                  double deformation, double rate, double *out)
+static PFRAME_INLINE void material_kelvin_voigt(const double *params, const double *committed, double *trial,
+                                               double deformation, double rate, double *out)
 {
     double c_;
     double alpha_;
@@ -290,8 +290,8 @@ static PFRAME_INLINE double bouc_wen_trial_z(const double *params_, const double
 }
 
 /* pframe.laws.material.bouc_wen.BoucWen.force */
-static void material_bouc_wen(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+static PFRAME_INLINE void material_bouc_wen(const double *params, const double *committed, double *trial,
+                                           double deformation, double rate, double *out)
 {
     double alpha_;
     double ko_;
@@ -344,8 +344,8 @@ static void material_bouc_wen(const double *params, const double *committed, dou
 }
 
 /* pframe.laws.material.friction_pendulum.FrictionPendulum.force */
-static void material_friction_pendulum(const double *params, const double *committed, double *trial,
-                                       double deformation, double rate, double *out)
+static PFRAME_INLINE void material_friction_pendulum(const double *params, const double *committed, double *trial,
+                                                    double deformation, double rate, double *out)
 {
     double weight_;
     double k2_;
@@ -1101,8 +1101,8 @@ static PFRAME_INLINE void imk_peak__step(const double *params_, double *s_, doub
 }
 
 /* pframe.laws.material.imk_peak.ImkPeak.force */
-static void material_imk_peak(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+static PFRAME_INLINE void material_imk_peak(const double *params, const double *committed, double *trial,
+                                           double deformation, double rate, double *out)
 {
     double d_;
     double delta_d_;
@@ -1195,8 +1195,8 @@ static PFRAME_INLINE void bwbn__pinching_at(const double *params_, double z_, do
 }
 
 /* pframe.laws.material.bwbn.Bwbn.force */
-static void material_bwbn(const double *params, const double *committed, double *trial,
-                          double deformation, double rate, double *out)
+static PFRAME_INLINE void material_bwbn(const double *params, const double *committed, double *trial,
+                                       double deformation, double rate, double *out)
 {
     double alpha_;
     double ko_;
@@ -1291,9 +1291,22 @@ static PFRAME_INLINE void material_force(const Settings *s, int64_t law,
     }
 }
 
+/* every built-in material law as X(id, function): the element loops of
+ * assembly.c run a law group with its law's function itself (no switch per
+ * element) */
+#define MATERIAL_LAWS(X) \
+    X(0, material_elastic) \
+    X(1, material_bilinear) \
+    X(2, material_viscous) \
+    X(3, material_kelvin_voigt) \
+    X(4, material_bouc_wen) \
+    X(5, material_friction_pendulum) \
+    X(6, material_imk_peak) \
+    X(7, material_bwbn)
+
 /* pframe.laws.contact.linear.Linear.force */
-static void contact_linear(const double *params, const double *committed, double *trial,
-                           double deformation, double rate, double *out)
+static PFRAME_INLINE void contact_linear(const double *params, const double *committed, double *trial,
+                                        double deformation, double rate, double *out)
 {
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
     if ((deformation <= 0.0)) {
@@ -1309,8 +1322,8 @@ static void contact_linear(const double *params, const double *committed, double
 }
 
 /* pframe.laws.contact.kelvin.Kelvin.force */
-static void contact_kelvin(const double *params, const double *committed, double *trial,
-                           double deformation, double rate, double *out)
+static PFRAME_INLINE void contact_kelvin(const double *params, const double *committed, double *trial,
+                                        double deformation, double rate, double *out)
 {
     double f_;
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
@@ -1361,8 +1374,8 @@ static PFRAME_INLINE void hunt_crossley_impact_damping(double spring_, double ds
 }
 
 /* pframe.laws.contact.improved_kelvin.ImprovedKelvin.force */
-static void contact_hunt_crossley_force(const double *params, const double *committed, double *trial,
-                                        double deformation, double rate, double *out)
+static PFRAME_INLINE void contact_hunt_crossley_force(const double *params, const double *committed, double *trial,
+                                                     double deformation, double rate, double *out)
 {
     double k_;
     double n_;
@@ -1420,8 +1433,8 @@ static void contact_hunt_crossley_force(const double *params, const double *comm
 }
 
 /* pframe.laws.contact.hertz.Hertz.force */
-static void contact_hertz(const double *params, const double *committed, double *trial,
-                          double deformation, double rate, double *out)
+static PFRAME_INLINE void contact_hertz(const double *params, const double *committed, double *trial,
+                                       double deformation, double rate, double *out)
 {
     double root_;
     (void)params; (void)committed; (void)trial; (void)deformation; (void)rate;
@@ -1439,8 +1452,8 @@ static void contact_hertz(const double *params, const double *committed, double 
 }
 
 /* pframe.laws.contact.jankowski.Jankowski.force */
-static void contact_jankowski(const double *params, const double *committed, double *trial,
-                              double deformation, double rate, double *out)
+static PFRAME_INLINE void contact_jankowski(const double *params, const double *committed, double *trial,
+                                           double deformation, double rate, double *out)
 {
     double beta_;
     double root_;
@@ -1472,8 +1485,8 @@ static void contact_jankowski(const double *params, const double *committed, dou
 }
 
 /* pframe.laws.contact.bumper.Bumper.force */
-static void contact_bumper(const double *params, const double *committed, double *trial,
-                           double deformation, double rate, double *out)
+static PFRAME_INLINE void contact_bumper(const double *params, const double *committed, double *trial,
+                                        double deformation, double rate, double *out)
 {
     double chi_;
     double onset_;
@@ -1577,3 +1590,16 @@ static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
         s->contact_plugins[law - BUILTIN_CONTACT_LAWS](params, committed, trial, penetration, rate, out);
     }
 }
+
+/* every built-in contact law as X(id, function): the element loops of
+ * assembly.c run a law group with its law's function itself (no switch per
+ * element) */
+#define CONTACT_LAWS(X) \
+    X(0, contact_linear) \
+    X(1, contact_kelvin) \
+    X(2, contact_hunt_crossley_force) \
+    X(3, contact_hertz) \
+    X(4, contact_hunt_crossley_force) \
+    X(5, contact_jankowski) \
+    X(6, contact_bumper) \
+    X(7, contact_hunt_crossley_force)

@@ -59,19 +59,18 @@ static int initial_state(const Model *m, const Settings *s, State *st, Work *w, 
 PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, Recording *rec,
                                  Work *w, Saved *sv, int64_t begin, int64_t end)
 {
-    int envelopes = 0;
-    int64_t b, k, q;
-    for (q = 0; q < RECORDABLE_COUNT; q++)
-        envelopes = envelopes || rec->enveloped[q] != 0;
+    int64_t b, k;
     for (b = 0; b < m->batch; b++) {
         const double h = m->dt[b];
         const int64_t first_step = imax(begin, 1);
+        Loops loops;
         int64_t due;
         if (stop_asked(m))
             return RUN_STOPPED;
         if (st->status[b * STATUS_SLOTS + STATUS_CODE] != OK)
             continue;
         reset_work(m, w, b);
+        prepare_loops(m, st, w, b, &loops);
         if (s->linear && !s->explicit && end > first_step) { /* factored once per call */
             if (!factor_linear(m, s, st, w, b, first_step, h, 0)) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)
@@ -106,7 +105,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             }
             if (k == due)
                 due = record_histories(m, st, rec, b, k);
-            if (envelopes)
+            if (rec->envelope_count)
                 record_envelopes(m, st, rec, b, k, NULL); /* the ground at step k itself */
         }
     }

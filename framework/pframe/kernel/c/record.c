@@ -11,7 +11,7 @@
 
 /* The committed values of quantity q of member b, and how many there are (NULL for the
  * ground acceleration, which is m->ground[b, c, k], a value per channel c). */
-static const double *source(const Model *m, const State *st, int64_t q, int64_t b,
+static PFRAME_INLINE const double *source(const Model *m, const State *st, int64_t q, int64_t b,
                             int64_t *width)
 {
     const int64_t n = m->dofs, ns = m->stories, nc = m->contacts;
@@ -164,27 +164,26 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
     return next_due(rec, k + 1);
 }
 
-/* Update the running peaks of the enveloped quantities with step k (or a sub-step of it, at
- * whose end the ground accelerations are ag; NULL: step k's samples). */
+/* Update the running peaks of the enveloped quantities (rec->envelope_list) with step k (or a
+ * sub-step of it, at whose end the ground accelerations are ag; NULL: step k's samples). */
 static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
                              const double *ag)
 {
-    int64_t gathered = 0, q, i, width;
-    for (q = 0; q < RECORDABLE_COUNT; q++) {
-        if (rec->enveloped[q]) {
-            const int64_t columns = rec->envelope_width[q];
-            double *peak = rec->envelope[q] + b * columns;
-            const double *values = source(m, st, q, b, &width);
-            if (as_stored(q)) /* most quantities: their committed values */
-                for (i = 0; i < columns; i++)
-                    peak[i] = py_max(peak[i], fabs(values[i]));
-            else if (q == POINT_DISPLACEMENT || q == POINT_DRIFT) /* kept for every plan */
-                gauge_peaks(m, b, q == POINT_DRIFT ? 2 * m->points : 0, columns, values, peak);
-            else
-                for (i = 0; i < columns; i++)
-                    peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
-            gathered += columns;
-        }
+    int64_t gathered = 0, j, i, width;
+    for (j = 0; j < rec->envelope_count; j++) {
+        const int64_t q = rec->envelope_list[j];
+        const int64_t columns = rec->envelope_width[q];
+        double *peak = rec->envelope[q] + b * columns;
+        const double *values = source(m, st, q, b, &width);
+        if (as_stored(q)) /* most quantities: their committed values */
+            for (i = 0; i < columns; i++)
+                peak[i] = py_max(peak[i], fabs(values[i]));
+        else if (q == POINT_DISPLACEMENT || q == POINT_DRIFT) /* kept for every plan */
+            gauge_peaks(m, b, q == POINT_DRIFT ? 2 * m->points : 0, columns, values, peak);
+        else
+            for (i = 0; i < columns; i++)
+                peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
+        gathered += columns;
     }
     st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
 }
@@ -195,10 +194,6 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
 static void record_substep(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
                            const double *ag)
 {
-    int64_t q;
-    int envelopes = 0;
-    for (q = 0; q < RECORDABLE_COUNT; q++)
-        envelopes = envelopes || rec->enveloped[q] != 0;
-    if (envelopes)
+    if (rec->envelope_count)
         record_envelopes(m, st, rec, b, k, ag);
 }

@@ -252,6 +252,8 @@ typedef struct Recording {
     int64_t history_rows[RECORDABLE_COUNT];
     int64_t history_width[RECORDABLE_COUNT];
     int64_t envelope_width[RECORDABLE_COUNT];
+    int64_t envelope_count;
+    int64_t envelope_list[RECORDABLE_COUNT];
 } Recording;
 
 typedef struct Work {
@@ -281,6 +283,7 @@ typedef struct Work {
     double *ag_new;
     double *age;
     double *ag_stage;
+    void *loops;
 } Work;
 
 typedef struct Saved {
