@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from pframe.record.netcdf import PER_YEAR
 from pframe.risk.analysis import CONDITIONS, G
 from pframe.risk.fragility import CONFIDENCE
 
@@ -42,17 +43,17 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         attrs["design_life"] = spec.design_life
     if hazard is not None:
         data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
-            "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
+            "units": PER_YEAR, "long_name": "annual frequency of exceedance of hazard_im"})
         coords["hazard_im"] = ("hazard_point", hazard.im, {
             "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
     if result.gap_grid is not None:
         coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
         data["pounding_frequency"] = (("gap",), result.gap_rates, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap: the "
+            "units": PER_YEAR, "long_name": "annual frequency of pounding at the gap: the "
             "upper envelope from the right of pounding_frequency_raw (at each gap, the "
             "largest of any wider gap), whose root is gap_at_target"})
         data["pounding_frequency_raw"] = (("gap",), result.gap_rates_raw, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap, the "
+            "units": PER_YEAR, "long_name": "annual frequency of pounding at the gap, the "
             "design's fragility refitted at each gap (not monotone in general)"})
     if math.isfinite(result.target):
         data.update(_target_variables(result))
@@ -269,12 +270,12 @@ def _annual_frequency_variables(result) -> dict:
 
     return {
         "annual_frequency": (("limit", "condition"), maf(0), {
-            "units": "year-1", "long_name": "mean annual frequency of the limit state"}),
+            "units": PER_YEAR, "long_name": "mean annual frequency of the limit state"}),
         "annual_frequency_low": (("limit", "condition"), maf(1), {
-            "units": "year-1", "long_name": "5th percentile of the annual frequency over "
+            "units": PER_YEAR, "long_name": "5th percentile of the annual frequency over "
             "the fragility's parameter uncertainty"}),
         "annual_frequency_high": (("limit", "condition"), maf(2), {
-            "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
+            "units": PER_YEAR, "long_name": "95th percentile of the annual frequency"}),
     }
 
 
@@ -301,7 +302,7 @@ def _target_variables(result) -> dict:
     """The target annual frequency, the intensity there and the gap at it (with its
     bootstrap range and the regression's estimate)."""
     return {
-        "target_annual_frequency": ((), result.target, {"units": "year-1",
+        "target_annual_frequency": ((), result.target, {"units": PER_YEAR,
                                     "long_name": "the target annual frequency of pounding"}),
         "intensity_at_target": ((), result.im_at_target, {
             "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
@@ -386,13 +387,13 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                     ("annual_frequency_high", maf[2], "upper bound of its 95 % interval"),
                     ("annual_frequency_cov", maf[3], "its coefficient of variation (the "
                      "levels' estimates' variances combined)")):
-                data[name] = ((), float(value), {"units": "1/yr" if "cov" not in name
+                data[name] = ((), float(value), {"units": PER_YEAR if "cov" not in name
                                                  else "1", "long_name": long})
             data.update(_design_life_variables(data, spec.design_life))
             coords["hazard_im"] = ("hazard_point", np.asarray(hazard.im, float),
                                    {"units": "g", "long_name": "hazard curve: intensity"})
             data["hazard_frequency"] = (("hazard_point",), np.asarray(hazard.frequency, float),
-                                        {"units": "1/yr", "long_name": "hazard curve: annual "
+                                        {"units": PER_YEAR, "long_name": "hazard curve: annual "
                                          "frequency of exceeding the intensity"})
     if params:
         coords["variable_name"] = ("variable", np.array([p.path for p in params], dtype=object),
@@ -408,12 +409,23 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                  + " g" if inputs.scaled else " as recorded"))
     attrs = study_attributes(inputs, text, source, notes, title="risk study (subset "
                              "simulation)", design="subset", motion=motion,
+                             measure=_subset_measure(inputs, m),
                              probability_level=spec.design.probability_level,
                              samples_per_level=spec.design.samples,
                              **({"design_life": spec.design_life} if maf is not None else {}))
     from pframe.gap.output import labelled
 
     return labelled(data, coords, attrs)
+
+
+def _subset_measure(inputs, stochastic) -> str:
+    """The intensity measure of a subset study's levels, as every study file names it; a
+    stochastic motion is not scaled to an intensity, and its file says so."""
+    if stochastic is not None:
+        return "none (stochastic motions as generated, not scaled to an intensity)"
+    from pframe.gap.output import measure_label
+
+    return measure_label(inputs)
 
 
 def _percent(p: float) -> str:
