@@ -115,6 +115,20 @@ def _yield_drifts(ds) -> tuple[dict[str, float], str]:
     return out, ""
 
 
+def study_kind(ds) -> str | None:
+    """What a result holds when it is not one run: "sweep", "gap audit" or "risk study";
+    None for a run."""
+    if "sweep_axes" in ds.attrs:
+        return "sweep"
+    kind = _text(ds.attrs.get("pframe_kind", ""))
+    if not kind:
+        return None
+    from pframe.gap.output import KIND as GAP
+    from pframe.risk.output import KIND as RISK
+
+    return {GAP: "gap audit", RISK: "risk study"}.get(kind)
+
+
 def summary(result, output: str | Path | None = None, *, overwrite: bool = False):
     """The summary of a run (a Dataset of :func:`pframe.solve` or :func:`pframe.open`, or a
     result file's path) as a pandas DataFrame with columns part, name, quantity, value,
@@ -135,11 +149,13 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
             path_argument(output, "output", "pframe.summary", "the summary file's path"),
             overwrite, inputs=[result] if isinstance(result, (str, os.PathLike)) else [])
     ds = result_dataset(result)
-    if "sweep_axes" in ds.attrs or _text(ds.attrs.get("pframe_kind", "")) == "gap_audit":
-        what = "a sweep" if "sweep_axes" in ds.attrs else "a gap audit"
-        raise InputError(f"{_where(result)}: the summary is of one run (pframe solve); this is "
-                         f"{what}'s result, which holds many: read it as a Dataset "
-                         "(pframe.open) or draw it with pframe plot")
+    kind = study_kind(ds)
+    if kind is not None:
+        raise InputError(f"{_where(result)}: the summary table is of one run (pframe solve); "
+                         f"this is a {kind}'s result, which holds many: read it as a Dataset "
+                         "(pframe.open) or draw it with pframe plot"
+                         + ("" if kind == "sweep" else ", or print its summary with pframe "
+                            "summary"))
     rows = []
     energy_units = "1" if _text(ds.attrs.get("units_system", "")) == "dimensionless" else "J"
     rows.append(("run", "", "title", _text(ds.attrs.get("title", "")), ""))

@@ -435,8 +435,37 @@ def _percent(p: float) -> str:
     return f"{100 * p:.3g} %"
 
 
+def study_line(ds) -> str:
+    """What a study ran, in a line: its design, motions, intensity measure and levels."""
+    from pframe.record.netcdf import short_units
+
+    a = ds.attrs
+    design = str(a.get("design", "?"))
+    n = ds.sizes.get("record", 0)
+    motions = (f"{n} record{'s' if n != 1 else ''}" if "record" in ds.dims
+               else str(a.get("motion", "its motions")))
+    measure = str(a.get("measure", "not recorded in the file"))
+    if "ida_runs" in a:
+        levels = (f"hunt and fill to {a['ida_limit']} ({a['ida_hunt']}; {a['ida_runs']} runs "
+                  f"in {a['ida_rounds']} rounds)")
+    elif "level" in ds.coords and short_units(ds.level.attrs.get("units", "")) == "g":
+        levels = "levels " + ", ".join(f"{float(x):g}" for x in ds.level.values) + " g"
+    elif "level" in ds.coords:
+        levels = "records as given (cloud analysis)"
+    else:
+        levels = "no levels"
+    return f"{design} design over {motions}; intensity measure {measure}; {levels}"
+
+
 def summary(ds) -> str:
-    """The terminal table: each limit's fragility and annual frequency, then the gap."""
+    """The terminal summary of a study: what it ran (:func:`study_line`), then each limit's
+    fragility (median, dispersion and their bounds) and annual frequency, then the gap (of
+    a subset design: the probabilities of pounding)."""
+    return study_line(ds) + "\n" + _results(ds)
+
+
+def _results(ds) -> str:
+    """The study's results as :func:`summary` prints them, under its first line."""
     if "level_probability" in ds and ds.sizes["level"] > 1:
         out = [f"probability of pounding within {float(ds.attrs['duration']):g} s by subset "
                f"simulation over {ds.sizes.get('variable', 0)} uncertain values, the mean over "
@@ -472,7 +501,9 @@ def summary(ds) -> str:
                    f"each of {ds.sizes['record']} records (their mean)"))
     life = "probability_in_design_life" in ds
     years = float(ds.attrs.get("design_life", math.nan))
-    lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
+    pct = f"{100 * CONFIDENCE:g}%"
+    lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} "
+             f"{f'{pct} median':>17} {f'{pct} beta':>13}"
              + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")
              + (f" {f'P {years:g} yr':>9}" if life else "")]
     lines.append("-" * len(lines[0]))
@@ -482,7 +513,9 @@ def summary(ds) -> str:
             m = float(ds.fragility_median.sel(sel))
             row = (f"{limit:<12} {cond:<17} {m:>8.4g} {float(ds.fragility_dispersion.sel(sel)):>6.3g}"
                    f" {float(ds.fragility_median_low.sel(sel)):>8.4g}-"
-                   f"{float(ds.fragility_median_high.sel(sel)):<8.4g}")
+                   f"{float(ds.fragility_median_high.sel(sel)):<8.4g}"
+                   f" {float(ds.fragility_dispersion_low.sel(sel)):>6.3g}-"
+                   f"{float(ds.fragility_dispersion_high.sel(sel)):<6.3g}")
             if "annual_frequency" in ds:
                 row += (f" {float(ds.annual_frequency.sel(sel)):>10.3e} "
                         f"{float(ds.annual_frequency_low.sel(sel)):>10.3e}-"
