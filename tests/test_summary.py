@@ -165,3 +165,4 @@ def test_a_risk_study_and_a_gap_audit_print_what_their_command_prints(tmp_path, 
     out = tmp_path / "risk.md"
     assert main(["summary", str(risk), "-o", str(out)]) == 2
     assert "-o" in capsys.readouterr().err and not out.exists()
+

@@ -364,9 +364,11 @@ def _cell(value) -> str:
     return str(value).replace("|", "\\|")
 
 
-def check_summary_path(output: str | Path, overwrite: bool = True, inputs=()) -> Path:
+def check_summary_path(output: str | Path, overwrite: bool = True, inputs=(),
+                       named_by: str = "output") -> Path:
     """The path of a summary file, checked before any work: ``.csv`` or ``.md``, its folder
-    exists, not an existing file unless ``overwrite``."""
+    exists, not an existing file unless ``overwrite``; messages name option ``named_by``
+    (``pframe solve --summary``: ``"summary"``)."""
     from pframe import outputs
 
     path = Path(output)
@@ -374,14 +376,16 @@ def check_summary_path(output: str | Path, overwrite: bool = True, inputs=()) ->
     if kind not in (".csv", ".md"):
         raise InputError(f"{path}: a summary is written as .csv or .md, not "
                          f"{kind or 'a file without a suffix'}")
-    return outputs.check_output(path, inputs=inputs, overwrite=overwrite, what="summary file")
+    return outputs.check_output(path, inputs=inputs, overwrite=overwrite, what="summary file",
+                                named_by=named_by)
 
 
-def write(table, output: str | Path, overwrite: bool = True) -> Path:
-    """Write a summary table as CSV (``.csv``) or Markdown (``.md``), whole or not at all."""
+def write(table, output: str | Path, overwrite: bool = True, named_by: str = "output") -> Path:
+    """Write a summary table as CSV (``.csv``) or Markdown (``.md``), whole or not at all
+    (``named_by``: as :func:`check_summary_path`'s)."""
     from pframe import outputs
 
-    path = check_summary_path(output, overwrite)
+    path = check_summary_path(output, overwrite, named_by=named_by)
     kind = path.suffix.lower()
     with outputs.replacing(path) as tmp:
         if kind == ".csv":
@@ -400,7 +404,7 @@ def export_csv(result, folder: str | Path) -> list[Path]:
     from pframe import outputs
 
     folder = outputs.check_folder(folder, "CSV files", inputs=[
-        result] if isinstance(result, (str, os.PathLike)) else [])
+        result] if isinstance(result, (str, os.PathLike)) else [], named_by="csv")
     ds = result_dataset(result, "pframe export")
     outputs.make_folder(folder)
     written = []

@@ -20,7 +20,8 @@ def _solve(args) -> int:
     if args.summary is not None:
         from pframe.tables import check_summary_path
 
-        check_summary_path(args.summary, args.overwrite, inputs=[args.model, out])
+        check_summary_path(args.summary, args.overwrite, inputs=[args.model, out],
+                           named_by="summary")
     _check_resources(loaded, out)
 
     from pframe.assemble import assemble
