@@ -166,3 +166,17 @@ def test_a_risk_study_and_a_gap_audit_print_what_their_command_prints(tmp_path, 
     assert main(["summary", str(risk), "-o", str(out)]) == 2
     assert "-o" in capsys.readouterr().err and not out.exists()
 
+
+@pytest.mark.slow
+def test_solve_replaces_its_summary_file_with_overwrite(tmp_path, capsys):
+    """--overwrite replaces an existing --summary file as it does the result; without it,
+    the run is refused before it starts, naming --summary (the option that gave the file)."""
+    out, table = tmp_path / "run.nc", tmp_path / "run.md"
+    table.write_text("an earlier summary\n")
+    argv = ["solve", str(MODELS / "wu2021-eq14-linear.yaml"), "-o", str(out), "-q",
+            "--summary", str(table)]
+    assert main(argv) == 2
+    assert "choose another name with --summary" in capsys.readouterr().err
+    assert not out.exists() and table.read_text() == "an earlier summary\n"
+    assert main([*argv, "--overwrite"]) == 0
+    assert table.read_text().startswith("# Summary: ")
