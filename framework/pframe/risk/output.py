@@ -7,7 +7,7 @@ import math
 
 import numpy as np
 
-from pframe.record.netcdf import PER_YEAR
+from pframe.record.netcdf import PER_YEAR, STANDARD_GRAVITY
 from pframe.risk.analysis import CONDITIONS, G
 from pframe.risk.fragility import CONFIDENCE
 
@@ -45,7 +45,8 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
             "units": PER_YEAR, "long_name": "annual frequency of exceedance of hazard_im"})
         coords["hazard_im"] = ("hazard_point", hazard.im, {
-            "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
+            "units": STANDARD_GRAVITY,
+            "long_name": f"intensity of the hazard curve ({hazard.source})"})
     if result.gap_grid is not None:
         coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
         data["pounding_frequency"] = (("gap",), result.gap_rates, {
@@ -101,7 +102,7 @@ def _coordinates(inputs, result, search) -> dict:
         "level": ("level", np.asarray(inputs.levels, float),
                   {"units": "1", "long_name": "run of the record's hunt and fill, in order of "
                    "intensity (see intensity)"} if search is not None else
-                  {"units": "g" if inputs.scaled else "1",
+                  {"units": STANDARD_GRAVITY if inputs.scaled else "1",
                    "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
                                  else "records as given (cloud analysis)")}),
         "contact_name": ("contact", np.array(inputs.pairs.names, dtype=object),
@@ -142,7 +143,8 @@ def _run_variables(inputs, rows: dict, result) -> dict:
     return {
         **out,
         "intensity": (("record", "level"), result.im.reshape(R, L), {
-            "units": "g", "long_name": f"intensity of the run ({measure_label(inputs)})"}),
+            "units": STANDARD_GRAVITY,
+            "long_name": f"intensity of the run ({measure_label(inputs)})"}),
         "critical_gap": (("record", "level", "contact"), grid("free_g_req", C), {
             "units": "m", "long_name": "max over time of u_left - u_right without contacts: "
             "the gap below which the floors pound"}),
@@ -152,7 +154,8 @@ def _run_variables(inputs, rows: dict, result) -> dict:
             "units": "1", "long_name": "peak |storey drift ratio| over the building's storeys "
             "(NaN without storey heights)"}),
         "peak_floor_acceleration": (("condition", "record", "level", "building"), acc, {
-            "units": "g", "long_name": "peak absolute floor acceleration over the building's "
+            "units": STANDARD_GRAVITY,
+            "long_name": "peak absolute floor acceleration over the building's "
             "floors"}),
         "impact_count": (("record", "level", "contact"), impacts, {
             "units": "1", "long_name": "impacts in the run with contacts (-1: not run)"}),
@@ -212,16 +215,19 @@ def _storey_variables(inputs, grid) -> dict:
             "its height)"}),
         "node_peak_absolute_acceleration": (("condition", "record", "level", "node"),
                                             both("acceleration_each", len(nodes)) / G, {
-            "units": "g", "long_name": "peak absolute acceleration |a + a_g| of each floor"}),
+            "units": STANDARD_GRAVITY,
+            "long_name": "peak absolute acceleration |a + a_g| of each floor"}),
         "peak_ground_acceleration": (("condition", "record", "level"),
                                      both("ground_acceleration", 1)[..., 0] / G, {
-            "units": "g", "long_name": "peak ground acceleration of the run's motion (as "
+            "units": STANDARD_GRAVITY,
+            "long_name": "peak ground acceleration of the run's motion (as "
             "scaled, sampled on the run's step)"}),
     }
 
 
-#: the units of each kind of limit
-_LIMIT_UNITS = {"pounding": "m", "drift": "m", "drift_ratio": "1", "acceleration": "g"}
+#: the units of each kind of limit (an acceleration "in g" as UDUNITS reads it)
+_LIMIT_UNITS = {"pounding": "m", "drift": "m", "drift_ratio": "1",
+                "acceleration": STANDARD_GRAVITY}
 
 
 def _fragility_variables(spec, result) -> dict:
@@ -240,15 +246,17 @@ def _fragility_variables(spec, result) -> dict:
         "limit_units": (("limit",), np.array([_LIMIT_UNITS[k] for k in result.limit_kinds],
                                              dtype=object), {"long_name": "units of the limit"}),
         "fragility_median": (("limit", "condition"), table(lambda f: f.median), {
-            "units": "g", "long_name": "median theta of the lognormal fragility "
+            "units": STANDARD_GRAVITY, "long_name": "median theta of the lognormal fragility "
             f"({spec.design.kind}, maximum likelihood)"}),
         "fragility_dispersion": (("limit", "condition"), table(lambda f: f.dispersion), {
             "units": "1", "long_name": "dispersion beta of the lognormal fragility"}),
         "fragility_median_low": (("limit", "condition"), table(lambda f: f.bounds()[0][0]),
-                                 {"units": "g", "long_name": f"lower {pct} bound of theta "
+                                 {"units": STANDARD_GRAVITY,
+                                  "long_name": f"lower {pct} bound of theta "
                                   "(Fisher information)"}),
         "fragility_median_high": (("limit", "condition"), table(lambda f: f.bounds()[0][1]),
-                                  {"units": "g", "long_name": f"upper {pct} bound of theta"}),
+                                  {"units": STANDARD_GRAVITY,
+                                   "long_name": f"upper {pct} bound of theta"}),
         "fragility_dispersion_low": (("limit", "condition"),
                                      table(lambda f: f.bounds()[1][0]),
                                      {"units": "1", "long_name": f"lower {pct} bound of beta"}),
@@ -305,7 +313,7 @@ def _target_variables(result) -> dict:
         "target_annual_frequency": ((), result.target, {"units": PER_YEAR,
                                     "long_name": "the target annual frequency of pounding"}),
         "intensity_at_target": ((), result.im_at_target, {
-            "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
+            "units": STANDARD_GRAVITY, "long_name": "the intensity the hazard curve exceeds at the "
             "target frequency"}),
         "gap_at_target": ((), result.gap, {
             "units": "m", "long_name": "smallest uniform gap at and above which the "
@@ -354,7 +362,8 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
         coords["record"] = ("record", np.array([mo.name for mo in inputs.suite.motions],
                                                dtype=object), {"long_name": "ground motion"})
         coords["level"] = ("level", np.asarray(inputs.levels, float), {
-            "units": "g", "long_name": "intensity level (stripe) the records are scaled to"})
+            "units": STANDARD_GRAVITY,
+            "long_name": "intensity level (stripe) the records are scaled to"})
         data["record_probability"] = (("record", "level"), np.array(
             [[t.probability for t in stripe] for stripe in terms]).T, {
             "units": "1", "long_name": "probability of pounding under the record (subset "
@@ -391,7 +400,8 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                                                  else "1", "long_name": long})
             data.update(_design_life_variables(data, spec.design_life))
             coords["hazard_im"] = ("hazard_point", np.asarray(hazard.im, float),
-                                   {"units": "g", "long_name": "hazard curve: intensity"})
+                                   {"units": STANDARD_GRAVITY,
+                                    "long_name": "hazard curve: intensity"})
             data["hazard_frequency"] = (("hazard_point",), np.asarray(hazard.frequency, float),
                                         {"units": PER_YEAR, "long_name": "hazard curve: annual "
                                          "frequency of exceeding the intensity"})

@@ -160,7 +160,9 @@ def _study(result):
 
 def _stripe(runs, level: float, source: str):
     """The runs of one level of an msa or grid-ida study."""
-    units = str(runs.level.attrs.get("units", ""))
+    from pframe.record.netcdf import short_units
+
+    units = short_units(runs.level.attrs.get("units", ""))
     if units != "g":
         raise InputError(f"{source}: its runs are not at levels of an intensity ("
                          + ("a hunt and fill's runs" if units == "1" else "records as given")
