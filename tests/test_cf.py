@@ -291,14 +291,18 @@ def test_ncdump_prints_every_attribute(files, kind):
                 assert f'"{text}"' in data, (label, text)
 
 
-def test_gap_intensities_are_accelerations_not_grams(files):
-    """An intensity "in g" is written as one standard gravity in UDUNITS' terms: UDUNITS
-    (and every reader converting with it) reads the unit ``g`` as the gram."""
+@pytest.mark.parametrize("kind, names", [
+    ("gap", ("level", "intensity", "fragility_median", "fragility_median_any")),
+    ("risk", ("level", "intensity", "fragility_median", "fragility_median_low",
+              "peak_floor_acceleration", "intensity_at_target", "hazard_im"))])
+def test_intensities_are_accelerations_not_grams(files, kind, names):
+    """An intensity or acceleration "in g" is written as one standard gravity in UDUNITS'
+    terms: UDUNITS (and every reader converting with it) reads the unit ``g`` as the gram."""
     cf_units = pytest.importorskip("cf_units", reason="cf_units parses the units")
     import xarray as xr
 
-    with xr.open_dataset(files["gap"], engine="h5netcdf") as ds:
-        for name in ("level", "intensity", "fragility_median", "fragility_median_any"):
+    with xr.open_dataset(files[kind], engine="h5netcdf") as ds:
+        for name in names:
             unit = cf_units.Unit(ds[name].attrs["units"])
             assert unit.convert(1.0, cf_units.Unit("m/s^2")) == pytest.approx(9.80665), name
         for var in ds.variables.values():  # and every unit of the file parses

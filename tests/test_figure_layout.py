@@ -126,6 +126,37 @@ def _check_units(label: str, where: str) -> None:
 # the figures
 # --------------------------------------------------------------------------------------------
 
+#: two buildings in plan, each symmetric about its x axis, shaken along x: along y and in
+#: rotation they move by round-off only (about 1e-18 of x and less)
+SYMMETRIC = """\
+title: a symmetric pair in plan under x
+buildings:
+  - name: A
+    floors: 2
+    mass: 4.0e5
+    plan: {size: [20.0, 12.0]}
+    lines:
+      - {name: X1, position: [0, 0], direction: x, material: elastic, stiffness: 1.2e8}
+      - {name: X2, position: [0, 12], direction: x, material: elastic, stiffness: 1.2e8}
+      - {name: Y1, position: [0, 0], direction: y, material: elastic, stiffness: 1.0e8}
+      - {name: Y2, position: [20, 0], direction: y, material: elastic, stiffness: 1.0e8}
+  - name: B
+    floors: 2
+    mass: 3.0e5
+    origin: [20.1, -2.0]
+    plan: {size: [16.0, 16.0]}
+    lines:
+      - {name: X1, position: [0, 0], direction: x, material: elastic, stiffness: 2.0e8}
+      - {name: X2, position: [0, 16], direction: x, material: elastic, stiffness: 2.0e8}
+      - {name: Y1, position: [0, 0], direction: y, material: elastic, stiffness: 2.0e8}
+      - {name: Y2, position: [16, 0], direction: y, material: elastic, stiffness: 2.0e8}
+damping: {ratio: 0.05, modes: [1, 3]}
+excitation: {kind: sine, amplitude: 3.0, frequency: 6.0, cycles: 3}
+analysis: {dt: 0.002, duration: 1.0}
+recorders:
+  - {kind: history, quantities: [displacement, velocity]}
+"""
+
 @pytest.fixture(scope="module")
 def files(tmp_path_factory):
     """A run, a run with links, a run in plan, a sweep, two gap audits and a risk study."""
@@ -135,7 +166,7 @@ def files(tmp_path_factory):
 
     folder = tmp_path_factory.mktemp("layout")
     out = {}
-    for name, text in (("run", PLANAR), ("plan", PLAN)):
+    for name, text in (("run", PLANAR), ("plan", PLAN), ("symmetric", SYMMETRIC)):
         scene = folder / f"{name}.yaml"
         scene.write_text(text)
         out[name] = folder / f"{name}.nc"
@@ -174,6 +205,38 @@ def test_a_run_figures_fit(files):
         check_layout(fig, f"links {level}")
     for level, fig in figures(files["plan"]).items():
         check_layout(fig, f"plan {level}")
+
+
+@pytest.mark.slow
+def test_round_off_panels_are_drawn_as_zero_saying_so(files):
+    """A panel whose values are round-off (a symmetric scene's y and rotation) is drawn as
+    zero with a note, not as noise on an axis of 1e-30 m; the panels of real motion are
+    drawn as they are: x, and the turned pair struck at a corner's rotations and corners
+    (its building A, symmetric about its own x, twists under the impacts at its corner, but
+    its centre of mass does not move along y)."""
+    import xarray as xr
+
+    from pframe.plot import figures
+
+    with xr.open_dataset(files["symmetric"]) as ds:
+        x, y = np.abs(ds.displacement.values).max(axis=(0, 1))  # along x, along y
+        assert 0 < y < 1e-15 * x  # the scene is what the test needs
+    fig = figures(files["symmetric"])["1"]
+    check_layout(fig, "symmetric plan")
+    notes = {ax.get_label(): [t.get_text() for t in ax.texts] for ax in fig.axes}
+    for quantity in ("displacement_y", "velocity_y", "displacement_rz", "velocity_rz"):
+        ax = next(a for a in fig.axes if a.get_label() == quantity)
+        assert len(notes[quantity]) == 1 and notes[quantity][0].startswith("0 to round-off"), \
+            (quantity, notes[quantity])
+        assert all(np.all(line.get_ydata() == 0) for line in ax.get_lines())
+        assert "10^" not in ax.get_ylabel(), ax.get_ylabel()
+    for quantity in ("displacement_x", "velocity_x"):
+        assert notes[quantity] == [], (quantity, notes[quantity])
+    for level, fig in figures(files["plan"]).items():
+        for ax in fig.axes:
+            if ax.get_label().startswith(("displacement_x", "velocity_x", "displacement_rz",
+                                          "velocity_rz", "point_")):
+                assert not ax.texts, (level, ax.get_label(), ax.texts[0].get_text())
 
 
 @pytest.mark.slow

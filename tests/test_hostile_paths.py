@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import re
 import signal
 import stat
 from pathlib import Path
@@ -39,7 +40,8 @@ SCENE = {
 #: each command: its arguments with a valid value ({name} of a fixture file), the argument
 #: that is an input or an output, and what else it needs
 COMMANDS = {
-    "solve": (["{scene}", "-o", "{out}/run.nc", "-q"], {"inputs": [0], "outputs": [2]}),
+    "solve": (["{scene}", "-o", "{out}/run.nc", "--summary", "{out}/summary.md", "-q"],
+              {"inputs": [0], "outputs": [2, 4]}),
     "validate": (["{scene}"], {"inputs": [0], "outputs": []}),
     "pi": (["{scene}"], {"inputs": [0], "outputs": []}),
     "expand": (["{scene}", "-o", "{out}/expanded.yaml"], {"inputs": [0], "outputs": [2]}),
@@ -53,12 +55,16 @@ COMMANDS = {
     "animate": (["{result}", "-o", "{out}/page.html", "-q"], {"inputs": [0], "outputs": [2]}),
     "export": (["{result}", "--csv", "{out}/csv"], {"inputs": [0], "outputs": [2],
                                                      "folder": True}),
+    "export --pelicun": (["{result}", "--pelicun", "{out}/edp.csv"],
+                         {"inputs": [0], "outputs": [2]}),
     "sweep": (["{sweep}", "-o", "{out}/sweep.nc", "-q"], {"inputs": [0], "outputs": [2]}),
     "gap": (["{scene}", "--suite", "{suite}", "--levels", "1.0", "-o", "{out}/gap.nc", "-q"],
             {"inputs": [0, 2], "outputs": [6]}),
     "schema": (["-o", "{out}/schema.json"], {"inputs": [], "outputs": [1],
                                                "makes": "missing-folder"}),
 }
+#: the options that name an output file or folder, in one command or another
+OUTPUT_OPTIONS = ("-o", "--summary", "--pelicun", "--csv")
 #: hostile inputs (made by _hostile)
 INPUTS = ["missing", "folder", "devnull", "devzero", "fifo", "empty", "binary", "long-name",
           "through-a-file", "link-loop"]
@@ -180,7 +186,7 @@ def test_a_hostile_path_is_refused_cleanly(files, tmp_path, capsys, command, rol
     previous = signal.signal(signal.SIGALRM, _alarm)
     signal.alarm(SECONDS)
     try:
-        code = main([command, *argv])
+        code = main([command.split()[0], *argv])
     except _Late:
         pytest.fail(f"pframe {command} {' '.join(argv)}: no answer in {SECONDS} s")
     finally:
@@ -194,3 +200,27 @@ def test_a_hostile_path_is_refused_cleanly(files, tmp_path, capsys, command, rol
     assert _state(files) == before["valid"]  # no input changed, nothing written beside them
     assert _state(work) == before["work"]  # no hostile target changed
     assert not any(out.iterdir()), sorted(p.name for p in out.iterdir())
+    if role == "output":  # advice names the option this output was given with, no other
+        given = argv[index - 1]
+        named = {o for o in OUTPUT_OPTIONS if re.search(rf"(?<![\w-]){o}(?![\w-])", lines[0])}
+        assert named <= {given}, (given, lines[0])
+        if kind == "existing" and not roles.get("folder"):
+            assert given in named, lines[0]
+
+
+@pytest.mark.slow
+def test_a_python_caller_is_told_the_keyword_that_names_its_output(tmp_path):
+    """From Python, a refused output names the keyword of the function called (the pelicun
+    table's ``path``, the CSV export's ``folder``), not the ``pframe`` command's option."""
+    from pframe.errors import InputError
+    from pframe.risk import export_pelicun
+    from pframe.tables import export_csv
+
+    result, existing = tmp_path / "risk.nc", tmp_path / "edp.csv"
+    result.write_bytes(b"never read: the output is refused first")
+    existing.write_text("mine\n")
+    with pytest.raises(InputError, match=r"overwrite=True .* another name with path=\.\.\.$"):
+        export_pelicun(result, existing)
+    with pytest.raises(InputError, match=r"^folder=''"):
+        export_csv(result, "")
+    assert existing.read_text() == "mine\n"

@@ -279,6 +279,30 @@ def test_validate_and_modes_give_the_same_periods(capsys):
                                    rtol=1e-9)
 
 
+def test_validate_prints_the_modes_periods_with_p_delta(tmp_path, capsys):
+    """With P-delta on, the periods validate prints are pframe modes' (k - P / h) and it says
+    so; its damping line says the Rayleigh fit is on the periods without P-delta."""
+    import yaml
+
+    story = {"material": "elastic", "stiffness": [k / 10 for k in STIFF]}  # P / h is 5 % of k
+    b = building("A", 3, MASSES, story) | {"height": 3.0, "p_delta": True}
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(_scene(buildings=[b])))
+    assert main(["validate", str(path)]) == 0
+    out = capsys.readouterr().out
+    with_p_delta = pframe.modes(str(path)).period.sel(analysis="A: fixed").values
+    without = _reference(_chain(story["stiffness"]), np.diag(MASSES), np.ones(3))[0]
+
+    def shown(periods):
+        return ", ".join(f"{t:#.3g}" for t in periods)
+
+    assert shown(with_p_delta) != shown(without)
+    assert (f"periods {shown(with_p_delta)} s (fixed base, initial stiffness less P-delta's "
+            "P / h)") in out, out
+    damping = next(line for line in out.splitlines() if "damping of A" in line)
+    assert f"1 ({without[0]:#.3g} s)" in damping and "without P-delta's P / h" in damping
+
+
 def test_the_cli_prints_the_tables_and_refuses_bad_input(tmp_path, capsys):
     path = tmp_path / "scene.yaml"
     path.write_text("buildings:\n  - {name: A, floors: 2, mass: 1000.0, story: {material: "

@@ -478,6 +478,21 @@ def test_torsional_irregularity_of_one_mode_and_of_a_twist():
     assert translation[1] == pytest.approx(1.0, rel=1e-12)
 
 
+def test_a_storey_drifting_by_round_off_along_an_axis_has_no_ratio_along_it():
+    """A symmetric storey shaken along x drifts along y by round-off only (its ends by a
+    twist of 1e-20 rad, its centre by 1e-36 m): no ratio along y (NaN), not the inf of a
+    storey that twists, which the ratio of those two numbers would give; along x, 1."""
+    from pframe.irregularity import torsional_irregularity
+
+    names = [f"A/1:{p}" for p in ("SW", "SE", "NE", "NW", "centre")]
+    positions = [[0, 0], [20, 0], [20, 12], [0, 12], [10, 6]]
+    drift = [[0.01, 2e-19], [0.01, 2e-19], [0.01, 2e-19], [0.01, 2e-19], [0.01, 1e-36]]
+    ratio = torsional_irregularity(names, positions, drift, ["A/1"])[0]
+    assert ratio[0] == 1.0 and np.isnan(ratio[1])
+    drift = [[5e-3, 5e-3], [5e-3, 5e-3], [5e-3, 5e-3], [5e-3, 5e-3], [1e-36, 1e-36]]
+    assert np.all(torsional_irregularity(names, positions, drift, ["A/1"])[0] == np.inf)
+
+
 def test_two_record_components_are_said_and_reproduce_from_the_file_alone(tmp_path, capsys):
     """Two PEER records as the components of a scene in plan: validate says how each is read
     and how they are turned onto the site; the result holds each record's text and checksum

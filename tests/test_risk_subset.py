@@ -436,3 +436,36 @@ def test_a_stripe_where_no_record_pounds_says_so_with_its_upper_end(tmp_path):
     assert any("no record pounds" in m and "upper end" in m for m in said)
     assert not any("coefficient of variation" in m for m in said)
     assert "no record pounds" in ds.attrs["warnings"]
+
+
+@pytest.mark.slow
+def test_a_subset_file_writes_its_units_and_measure_as_every_study_file_does(tmp_path):
+    """A subset study over records with a hazard and an msa study: every annual frequency
+    of both files in the one unit (a reader comparing units as text finds them equal), one
+    year^-1 to UDUNITS, and both files name their intensity measure."""
+    cf_units = pytest.importorskip("cf_units", reason="cf_units parses the units")
+    from test_risk import pulse_study
+
+    from pframe.risk import risk
+
+    subset = tmp_path / "subset"
+    subset.mkdir()
+    study = _records_study(subset, 5.0, levels=(0.2, 0.3),
+                           hazard={"power_law": {"k0": 1e-4, "k": 2.5}})
+    data = yaml.safe_load(study.read_text())
+    data["design"].update(samples=100, floor=1e-2)  # no record pounds: a short study
+    study.write_text(yaml.safe_dump(data))
+    msa = tmp_path / "msa"
+    msa.mkdir()
+    with pytest.warns(UserWarning):
+        files = {"subset": risk(study), "msa": risk(pulse_study(msa))}
+    units = {(kind, name): var.attrs["units"] for kind, ds in files.items()
+             for name, var in ds.variables.items()
+             if "frequency" in name and not name.endswith("_cov")}
+    assert {("subset", "annual_frequency"), ("subset", "hazard_frequency"),
+            ("msa", "hazard_frequency"), ("msa", "target_annual_frequency")} <= set(units)
+    assert len(set(units.values())) == 1, units
+    year = cf_units.Unit(next(iter(units.values())))
+    assert year.convert(1.0, cf_units.Unit("day-1")) == pytest.approx(1 / 365.242198781)
+    for kind, ds in files.items():
+        assert ds.attrs["measure"] == "PGA", kind

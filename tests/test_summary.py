@@ -122,5 +122,61 @@ def test_a_sweep_has_no_one_run_summary(tmp_path, capsys):
         .replace("linspace: [0, 2, 41]", "linspace: [0, 2, 2]"), encoding="utf-8")
     assert main(["sweep", str(tmp_path / "sweep.yaml"), "-o", str(out), "-q"]) == 0
     assert main(["summary", str(out)]) == 2
-    assert "the summary is of one run (pframe solve); this is a sweep's result" in \
-        capsys.readouterr().err
+    said = capsys.readouterr()
+    assert not said.out and said.err.count("\n") == 1, said  # one line, nothing else
+    assert "a sweep's file holds a run per variant" in said.err
+    with pytest.raises(pframe.InputError, match="this is a sweep's result"):
+        pframe.summary(out)
+
+
+@pytest.mark.slow
+def test_a_risk_study_and_a_gap_audit_print_what_their_command_prints(tmp_path, capsys):
+    """pframe summary of a risk study's file prints its title, what it ran (measure,
+    levels), what pframe risk printed at its end and every warning it holds; of a gap
+    audit's, what pframe gap printed; a table of either with -o is refused, writing
+    nothing; pframe.summary refuses them as not one run."""
+    import xarray as xr
+    from test_risk import pulse_study
+
+    from pframe.commands.gap import table
+    from pframe.risk.output import summary as risk_summary
+
+    risk, gap = tmp_path / "risk.nc", tmp_path / "gap.nc"
+    assert main(["risk", str(pulse_study(tmp_path)), "-o", str(risk), "-q"]) == 0
+    assert main(["gap", str(MODELS / "wu2021-pulse.yaml"), "--levels", "0.2,0.4", "--gap",
+                 "0.1", "-o", str(gap), "-q"]) == 0
+    capsys.readouterr()
+    for path, printed in ((risk, risk_summary), (gap, table)):
+        assert main(["summary", str(path)]) == 0
+        out = capsys.readouterr().out
+        ds = pframe.open(path)
+        assert out.startswith(ds.attrs["title"] + "\n")
+        assert printed(ds) in out
+        warnings = ds.attrs["warnings"].splitlines()
+        assert all(f"  {line}\n" in out for line in warnings) and (warnings or "none" in out)
+        with pytest.raises(pframe.InputError, match="summary table is of one run"):
+            pframe.summary(path)
+        ds.close()
+    with xr.open_dataset(risk) as ds:
+        assert ("msa design over 1 record; intensity measure PGA; levels 0.2, 0.3, 0.4, 0.5, "
+                "0.6, 0.8, 1 g") in risk_summary(ds)
+        assert ds.attrs["warnings"]  # the pulse's all-or-nothing stripes
+        assert "90% median" in risk_summary(ds) and "90% beta" in risk_summary(ds)
+    out = tmp_path / "risk.md"
+    assert main(["summary", str(risk), "-o", str(out)]) == 2
+    assert "-o" in capsys.readouterr().err and not out.exists()
+
+
+@pytest.mark.slow
+def test_solve_replaces_its_summary_file_with_overwrite(tmp_path, capsys):
+    """--overwrite replaces an existing --summary file as it does the result; without it,
+    the run is refused before it starts, naming --summary (the option that gave the file)."""
+    out, table = tmp_path / "run.nc", tmp_path / "run.md"
+    table.write_text("an earlier summary\n")
+    argv = ["solve", str(MODELS / "wu2021-eq14-linear.yaml"), "-o", str(out), "-q",
+            "--summary", str(table)]
+    assert main(argv) == 2
+    assert "choose another name with --summary" in capsys.readouterr().err
+    assert not out.exists() and table.read_text() == "an earlier summary\n"
+    assert main([*argv, "--overwrite"]) == 0
+    assert table.read_text().startswith("# Summary: ")

@@ -16,9 +16,13 @@ class EnvironmentFailure(PframeError):
 
 
 #: the options a message may tell the user to change, as the ``pframe`` command spells them
-#: and as the Python API's keywords do
+#: and as the Python API's keywords do; an output given otherwise than by ``-o`` has its own
+#: (``pframe.outputs.check_output``'s ``named_by``)
 _OPTIONS = {
     "output": ("-o", "output=..."),
+    "summary": ("--summary", "output=..."),  # pframe solve --summary; pframe.summary
+    "pelicun": ("--pelicun", "path=..."),  # pframe export --pelicun; export_pelicun
+    "csv": ("--csv", "folder=..."),  # pframe export --csv; pframe.export_csv
     "overwrite": ("--overwrite", "overwrite=True"),
     "chunk": ("--chunk", "chunk="),
     "threads": ("--threads", "threads="),

@@ -42,6 +42,9 @@ _lock = threading.Lock()
 _live: set[Path] = set()
 #: outputs checked by check_output: resolved path -> may an existing file be replaced
 _claims: dict[str, bool] = {}
+#: outputs checked by check_output: resolved path -> the option that named it (a key of
+#: pframe.errors' options), which later messages about it advise changing
+_named_by: dict[str, str] = {}
 
 _CAUSES = {
     errno.ENOSPC: "the disk is full (no space left on the device)",
@@ -84,7 +87,16 @@ def failure(path: Path | str, exc: BaseException, doing: str = "write") -> Envir
     return EnvironmentFailure(
         f"{path}: cannot {doing} the file: {cause(exc)}. Nothing was written there, and a file "
         f"already there is unchanged; free space or choose a writable folder "
-        f"({option('output')}), then run again")
+        f"({_option_of(path)}), then run again")
+
+
+def _option_of(path) -> str:
+    """The option that named output ``path`` (:func:`check_output`; by default ``-o``)."""
+    try:
+        key = str(Path(path).resolve())
+    except (OSError, RuntimeError):  # a link loop: the path is refused for what it is
+        key = ""
+    return option(_named_by.get(key, "output"))
 
 
 def _alive(pid: int) -> bool:
@@ -162,15 +174,16 @@ def not_regular(path) -> str | None:
     return "not a regular file"
 
 
-def _refuse_special(path: Path, what: str) -> None:
+def _refuse_special(path: Path, what: str, named_by: str = "output") -> None:
     kind = not_regular(path)
     if kind is not None and kind != "a folder":
         raise InputError(f"{path}: is {kind}, not a regular file; pframe writes its {what} "
                          "only to regular files, and never replaces anything else (even with "
-                         f"{option('overwrite')}); choose a file name with {option('output')}")
+                         f"{option('overwrite')}); choose a file name with {option(named_by)}")
 
 
-def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "output file") -> Path:
+def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "output file",
+                 named_by: str = "output") -> Path:
     """Refuse an output path that cannot or must not be written, before any work is done.
 
     Raises :class:`InputError` (exit 2) for an empty name, a folder, a device, FIFO or
@@ -178,22 +191,23 @@ def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "outpu
     ``inputs``, an existing file without ``overwrite`` or a missing folder, and
     :class:`EnvironmentFailure` (exit 3) for a folder that cannot be written or another
     pframe process writing the same output. Stale temporary files of killed runs are removed.
+    Messages advise changing option ``named_by`` (a key of :data:`pframe.errors._OPTIONS`:
+    ``-o``, ``--summary``, ``--pelicun``, ...), now and when the output is written.
     """
+    given = option(named_by)
     if path is None or str(path).strip() == "":
-        raise InputError(f"{option('output').removesuffix('...')}'': the {what} needs a name")
+        raise InputError(f"{given.removesuffix('...')}'': the {what} needs a name")
     path = Path(path)
     if path.is_dir():
-        raise InputError(f"{path}: is a folder; give a file name for the {what} "
-                         f"({option('output')})")
-    _refuse_special(path, what)
+        raise InputError(f"{path}: is a folder; give a file name for the {what} ({given})")
+    _refuse_special(path, what, named_by)
     for source in inputs:
         if source is not None and Path(source).exists() and _same_file(path, Path(source)):
             raise InputError(f"{path}: is one of this run's inputs ({source}); writing the "
-                             f"{what} there would destroy it; choose another name with "
-                             f"{option('output')}")
+                             f"{what} there would destroy it; choose another name with {given}")
     if path.exists() and not overwrite:
         raise InputError(f"{path}: the {what} exists; pass {option('overwrite')} to replace "
-                         f"it, or choose another name with {option('output')}")
+                         f"it, or choose another name with {given}")
     folder = path.parent
     if not folder.exists():
         raise InputError(f"{path}: the folder {str(folder)!r} does not exist")
@@ -203,9 +217,10 @@ def check_output(path, *, inputs=(), overwrite: bool = False, what: str = "outpu
     if busy:
         raise EnvironmentFailure(
             f"{path}: another pframe run (process {busy[0][1]}) is writing this output now; "
-            f"wait for it to finish, or choose another name with {option('output')}")
+            f"wait for it to finish, or choose another name with {given}")
     discard(temporary(path, clean=False))  # the folder can be written (else: why not)
     _claims[str(path.resolve())] = overwrite
+    _named_by[str(path.resolve())] = named_by
     return path
 
 
@@ -252,8 +267,9 @@ def commit(tmp, path, overwrite: bool | None = None) -> Path:
     tmp, path = Path(tmp), Path(path)
     if overwrite is None:
         overwrite = _claims.get(str(path.resolve()), True)
+    named_by = _named_by.get(str(path.resolve()), "output")
     try:
-        _refuse_special(path, "output")  # a device or FIFO put there while this run wrote
+        _refuse_special(path, "output", named_by)  # a device or FIFO put there meanwhile
         if overwrite:
             os.replace(tmp, path)
         else:
@@ -263,7 +279,7 @@ def commit(tmp, path, overwrite: bool | None = None) -> Path:
                 raise EnvironmentFailure(
                     f"{path}: appeared while this run was writing (another program wrote it); "
                     f"this run's result was not put there; pass {option('overwrite')} to replace "
-                    f"it, or choose another name with {option('output')}") from None
+                    f"it, or choose another name with {option(named_by)}") from None
             except OSError as exc:
                 if exc.errno not in (errno.EPERM, errno.ENOTSUP, errno.EOPNOTSUPP, errno.EXDEV,
                                      errno.EMLINK):
@@ -299,12 +315,13 @@ def replacing(path, overwrite: bool | None = None, clean: bool = True):
     commit(tmp, path, overwrite)
 
 
-def check_folder(path, what: str, inputs=()) -> Path:
+def check_folder(path, what: str, inputs=(), named_by: str = "output") -> Path:
     """An output folder (its files written into it), checked before any work: a name, not
     an existing file, device or FIFO, not one of the run's ``inputs``, in a folder that
-    exists; it may exist already. Raises :class:`InputError`."""
+    exists; it may exist already. Raises :class:`InputError`; ``named_by`` as
+    :func:`check_output`'s."""
     if path is None or str(path).strip() == "":
-        raise InputError(f"{option('output').removesuffix('...')}'': the {what} needs a name")
+        raise InputError(f"{option(named_by).removesuffix('...')}'': the {what} needs a name")
     path = Path(path)
     for source in inputs:
         if source is not None and Path(source).exists() and _same_file(path, Path(source)):

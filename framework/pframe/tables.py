@@ -115,6 +115,20 @@ def _yield_drifts(ds) -> tuple[dict[str, float], str]:
     return out, ""
 
 
+def study_kind(ds) -> str | None:
+    """What a result holds when it is not one run: "sweep", "gap audit" or "risk study";
+    None for a run."""
+    if "sweep_axes" in ds.attrs:
+        return "sweep"
+    kind = _text(ds.attrs.get("pframe_kind", ""))
+    if not kind:
+        return None
+    from pframe.gap.output import KIND as GAP
+    from pframe.risk.output import KIND as RISK
+
+    return {GAP: "gap audit", RISK: "risk study"}.get(kind)
+
+
 def summary(result, output: str | Path | None = None, *, overwrite: bool = False):
     """The summary of a run (a Dataset of :func:`pframe.solve` or :func:`pframe.open`, or a
     result file's path) as a pandas DataFrame with columns part, name, quantity, value,
@@ -135,11 +149,13 @@ def summary(result, output: str | Path | None = None, *, overwrite: bool = False
             path_argument(output, "output", "pframe.summary", "the summary file's path"),
             overwrite, inputs=[result] if isinstance(result, (str, os.PathLike)) else [])
     ds = result_dataset(result)
-    if "sweep_axes" in ds.attrs or _text(ds.attrs.get("pframe_kind", "")) == "gap_audit":
-        what = "a sweep" if "sweep_axes" in ds.attrs else "a gap audit"
-        raise InputError(f"{_where(result)}: the summary is of one run (pframe solve); this is "
-                         f"{what}'s result, which holds many: read it as a Dataset "
-                         "(pframe.open) or draw it with pframe plot")
+    kind = study_kind(ds)
+    if kind is not None:
+        raise InputError(f"{_where(result)}: the summary table is of one run (pframe solve); "
+                         f"this is a {kind}'s result, which holds many: read it as a Dataset "
+                         "(pframe.open) or draw it with pframe plot"
+                         + ("" if kind == "sweep" else ", or print its summary with pframe "
+                            "summary"))
     rows = []
     energy_units = "1" if _text(ds.attrs.get("units_system", "")) == "dimensionless" else "J"
     rows.append(("run", "", "title", _text(ds.attrs.get("title", "")), ""))
@@ -348,9 +364,11 @@ def _cell(value) -> str:
     return str(value).replace("|", "\\|")
 
 
-def check_summary_path(output: str | Path, overwrite: bool = True, inputs=()) -> Path:
+def check_summary_path(output: str | Path, overwrite: bool = True, inputs=(),
+                       named_by: str = "output") -> Path:
     """The path of a summary file, checked before any work: ``.csv`` or ``.md``, its folder
-    exists, not an existing file unless ``overwrite``."""
+    exists, not an existing file unless ``overwrite``; messages name option ``named_by``
+    (``pframe solve --summary``: ``"summary"``)."""
     from pframe import outputs
 
     path = Path(output)
@@ -358,14 +376,16 @@ def check_summary_path(output: str | Path, overwrite: bool = True, inputs=()) ->
     if kind not in (".csv", ".md"):
         raise InputError(f"{path}: a summary is written as .csv or .md, not "
                          f"{kind or 'a file without a suffix'}")
-    return outputs.check_output(path, inputs=inputs, overwrite=overwrite, what="summary file")
+    return outputs.check_output(path, inputs=inputs, overwrite=overwrite, what="summary file",
+                                named_by=named_by)
 
 
-def write(table, output: str | Path, overwrite: bool = True) -> Path:
-    """Write a summary table as CSV (``.csv``) or Markdown (``.md``), whole or not at all."""
+def write(table, output: str | Path, overwrite: bool = True, named_by: str = "output") -> Path:
+    """Write a summary table as CSV (``.csv``) or Markdown (``.md``), whole or not at all
+    (``named_by``: as :func:`check_summary_path`'s)."""
     from pframe import outputs
 
-    path = check_summary_path(output, overwrite)
+    path = check_summary_path(output, overwrite, named_by=named_by)
     kind = path.suffix.lower()
     with outputs.replacing(path) as tmp:
         if kind == ".csv":
@@ -384,7 +404,7 @@ def export_csv(result, folder: str | Path) -> list[Path]:
     from pframe import outputs
 
     folder = outputs.check_folder(folder, "CSV files", inputs=[
-        result] if isinstance(result, (str, os.PathLike)) else [])
+        result] if isinstance(result, (str, os.PathLike)) else [], named_by="csv")
     ds = result_dataset(result, "pframe export")
     outputs.make_folder(folder)
     written = []

@@ -298,6 +298,7 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
     a0 = 0.9216 1/s, a1 = 0.002103 s on the initial stiffness``."""
     out = []
     damped = stiffness_damped(ex, isolator)
+    p_delta = modes.geometric_stiffness(ex) > 0.0
     for b, name in enumerate(ex.buildings):
         damping = ex.damping[b]
         mine = np.flatnonzero(ex.story_building == b)
@@ -332,7 +333,9 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
         out.append(f"building {name}: Rayleigh {100 * damping.ratio:.3g} % on mode"
                    f"{'s' if len(periods) > 1 else ''} {' and '.join(periods)} of {on}: a0 = "
                    f"{a0:.4g} 1/s, a1 = {a1:.4g} s on the {damping.stiffness} stiffness"
-                   f"{without}")
+                   f"{without}" + ("; modes and stiffness without P-delta's P / h (its "
+                                   "periods with it are longer; docs/theory.md#damping)"
+                                   if np.any(p_delta[mine]) else ""))
     return tuple(out)
 
 

@@ -67,6 +67,21 @@ def storey_stiffness(ex) -> tuple[np.ndarray, np.ndarray]:
     return k0, post_yield(ex, k0)
 
 
+def geometric_stiffness(ex) -> np.ndarray:
+    """P / h of every storey of an Expanded scene (N/m): P-delta's geometric stiffness where
+    a storey carries a gravity load (``p_delta``), 0 elsewhere. The kernel's storey force is
+    net of P drift / h, so the storey's lateral stiffness at rest is k0 - P / h."""
+    n = len(ex.stories)
+    gravity, height = getattr(ex, "story_gravity", None), getattr(ex, "story_height", None)
+    out = np.zeros(n)
+    if gravity is None or len(gravity) != n:
+        return out
+    gravity = np.asarray(gravity, dtype=float)
+    loaded = gravity > 0.0
+    out[loaded] = gravity[loaded] / np.asarray(height, dtype=float)[loaded]
+    return out
+
+
 def spring_matrix(springs, n: int) -> np.ndarray:
     """The dense n x n stiffness of springs ``(i, j, k)`` between DOFs i and j (i = -1: the
     ground), for the small scenes where a dense matrix is the simplest form."""
@@ -366,9 +381,13 @@ def _periods(omega) -> str:
 
 def period_lines(ex) -> list[str]:
     """The periods that matter of each building, as lines: fixed base on the initial
-    stiffness; isolated (a building with isolators); flexible base (a building on soil)."""
+    stiffness; isolated (a building with isolators); flexible base (a building on soil);
+    each less P-delta's P / h where a storey carries a gravity load, as ``pframe modes``
+    takes them (the damping's fit does not: :func:`pframe.assemble.damping.describe`)."""
     k0, k_post = storey_stiffness(ex)
     iso = isolation(ex, k0, k_post)
+    kg = geometric_stiffness(ex)
+    net = k0 - kg
     lines = []
     for b, name in enumerate(ex.buildings):
         nodes = np.flatnonzero(ex.node_building == b)
@@ -382,25 +401,27 @@ def period_lines(ex) -> list[str]:
                          "2,000 floors)")
             continue
         parts = []
+        initial = ("initial stiffness less P-delta's P / h" if np.any(kg[mine]) else
+                   "initial stiffness")
         isolators = np.flatnonzero(mine & iso.isolator)
         if isolators.size:
-            omega = lowest_modes(ex, b, isolated_stiffness(k0, k_post, iso.isolator),
+            omega = lowest_modes(ex, b, isolated_stiffness(k0, k_post, iso.isolator) - kg,
                                  SHOWN_MODES)
             which = ", ".join(f"{ex.stories[s].name} at {k_post[s]:.4g} N/m"
                               for s in isolators[:3]) + (" ..." if isolators.size > 3 else "")
             parts.append(f"periods {_periods(omega)} s (isolated: {which})")
         if ex.dofs is not None:  # in plan: each period with the direction it mostly moves in
-            fixed, shapes = lowest_modes(ex, b, k0, SHOWN_MODES, vectors=True)
+            fixed, shapes = lowest_modes(ex, b, net, SHOWN_MODES, vectors=True)
             shown = [f"{2.0 * math.pi / w:#.3g} s ({d})" if w > 0 else f"inf ({d})"
                      for w, d in zip(fixed[:SHOWN_MODES], directions(ex, b, shapes))]
-            parts.append(f"periods {', '.join(shown)} (fixed base, initial stiffness, "
+            parts.append(f"periods {', '.join(shown)} (fixed base, {initial}, "
                          "lateral-torsional)")
         else:
-            fixed = lowest_modes(ex, b, k0, SHOWN_MODES)
-            parts.append(f"periods {_periods(fixed)} s (fixed base, initial stiffness)")
-        soil = _soil_frequencies(ex, b, k0)
+            fixed = lowest_modes(ex, b, net, SHOWN_MODES)
+            parts.append(f"periods {_periods(fixed)} s (fixed base, {initial})")
+        soil = _soil_frequencies(ex, b, net)
         if soil is not None:
-            parts.append(f"periods {_periods(soil)} s (on its soil, initial stiffness)")
+            parts.append(f"periods {_periods(soil)} s (on its soil, {initial})")
         lines.append(f"building {name}: {len(nodes)} floor{'s' if len(nodes) > 1 else ''}, "
                      + "; ".join(parts))
     return lines

@@ -210,13 +210,11 @@ def _spring_values(ex: Expanded, field: str, fill: float) -> np.ndarray:
 
 
 def _geometric_stiffness(ex: Expanded) -> np.ndarray:
-    """P / h of every spring (N/m): the storeys with a gravity load, 0 elsewhere."""
-    gravity = _spring_values(ex, "story_gravity", 0.0)
-    height = _spring_values(ex, "story_height", np.nan)
-    out = np.zeros(len(gravity))
-    loaded = gravity > 0.0
-    out[loaded] = gravity[loaded] / height[loaded]
-    return out
+    """P / h of every spring (N/m): the storeys with a gravity load
+    (:func:`pframe.assemble.modes.geometric_stiffness`), 0 elsewhere."""
+    from pframe.assemble.modes import geometric_stiffness
+
+    return np.concatenate([geometric_stiffness(ex), np.zeros(len(ex.links))])
 
 
 def _p_delta_warnings(plan: Plan) -> tuple[str, ...]:

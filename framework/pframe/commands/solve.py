@@ -20,7 +20,8 @@ def _solve(args) -> int:
     if args.summary is not None:
         from pframe.tables import check_summary_path
 
-        check_summary_path(args.summary, args.overwrite, inputs=[args.model, out])
+        check_summary_path(args.summary, args.overwrite, inputs=[args.model, out],
+                           named_by="summary")
     _check_resources(loaded, out)
 
     from pframe.assemble import assemble
@@ -109,9 +110,9 @@ def _run(args, loaded, plan, out: Path, simulate, ResultWriter) -> int:
     if not args.quiet:
         _summary(loaded, plan, result, out, writer.peaks, verdict)
     if args.summary is not None:  # the summary table of the file written (pframe.tables)
-        from pframe.tables import summary
+        from pframe.tables import summary, write
 
-        summary(out, args.summary)
+        write(summary(out), args.summary, overwrite=args.overwrite, named_by="summary")
         if not args.quiet:
             print(f"  summary table: {args.summary}")
     if not result.completed():

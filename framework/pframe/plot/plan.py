@@ -54,6 +54,18 @@ POINT_STYLES = ("-", "--", ":", "-.")
 AXIS_STYLES = ({"marker": "o", "label": "along the building's x"},
                {"marker": "s", "linestyle": ":", "markerfacecolor": "white",
                 "label": "along the building's y"})
+#: what a panel's values are compared with to tell a response from round-off: the figure's
+#: panels of the same kind (a rotation as the displacement it makes one length unit from the
+#: centre of mass: the figure's length unit, or l_e in a dimensionless file)
+KINDS = {"displacement_x": "displacement", "displacement_y": "displacement",
+         "displacement_rz": "displacement", "point_displacement_x": "displacement",
+         "point_displacement_y": "displacement", "velocity_x": "velocity",
+         "velocity_y": "velocity", "velocity_rz": "velocity", "point_drift_x": "drift",
+         "point_drift_y": "drift", "story_drift": "drift"}
+#: a panel whose peak is at most this fraction of the largest peak of its kind in the figure
+#: is zero to round-off (double precision is 1.1e-16; a symmetric scene shaken along x gives
+#: y and rotation near 1e-18 of x, an eccentricity of 1e-9 of the plan far more than 1e-12)
+ROUND_OFF = 1e-12
 #: legend entries that fit beside a panel's title, and in a row of their own under it
 BESIDE_TITLE, LEGEND_ROW = 4, 8
 #: height of a row of panels (inches)
@@ -153,9 +165,45 @@ def _entries(panel) -> int:
     return len(names)
 
 
-def _history_panel(ax, result: Result, panel, letter: str, legend: bool, band: int):
+def _peak(result: Result, panel) -> float:
+    """The largest magnitude a history panel draws (0 when none is finite)."""
+    history = result.histories[panel[0]]
+    values = np.abs(np.stack([history.column(name) for name in panel[2]]))
+    return float(np.nanmax(values)) if np.isfinite(values).any() else 0.0
+
+
+def round_off_notes(result: Result, panels, letters) -> list:
+    """For each of ``panels`` (lettered ``letters``), None, or the note it shows in place of
+    its values when they are zero to round-off: at most :data:`ROUND_OFF` of the largest
+    peak of their kind (:data:`KINDS`) in the figure (a panel of exact zeros draws them)."""
+    peaks = [_peak(result, panel) for panel in panels]
+    largest: dict[str, tuple[float, int]] = {}
+    for k, (panel, peak) in enumerate(zip(panels, peaks)):
+        kind = KINDS.get(panel[0], panel[0])
+        if peak > largest.get(kind, (0.0, -1))[0]:
+            largest[kind] = (peak, k)
+    notes = []
+    for panel, peak in zip(panels, peaks):
+        reference, of = largest.get(KINDS.get(panel[0], panel[0]), (0.0, -1))
+        if not 0.0 < peak <= ROUND_OFF * reference:
+            notes.append(None)
+            continue
+        units = result.histories[panel[0]].units
+        text = f"0 to round-off: |peak| {peak:.1e}" + (
+            f" {units}" if units not in ("", DIMENSIONLESS) else "") + "\n"
+        if panel[0].endswith("_rz"):  # compared as the translation it makes 1 unit away
+            length = result.histories[panels[of][0]].units.split("/")[0]
+            text += (f"times 1 {length} from the centre of mass, "
+                     if length not in ("", DIMENSIONLESS) else "times l_e, ")
+        notes.append(f"{text}below {ROUND_OFF:.0e} of panel ({letters[of]})'s peak")
+    return notes
+
+
+def _history_panel(ax, result: Result, panel, letter: str, legend: bool, band: int,
+                   round_off: str | None = None):
     """One history panel; ``band``: rows of legend under the title (0: the legend beside
-    it)."""
+    it); ``round_off``: the values are zero to round-off (:func:`round_off_notes`), drawn
+    as zero with this note instead of their noise magnified to fill the axis."""
     quantity, title, names = panel
     history = result.histories[quantity]
     styles = {}
@@ -175,8 +223,14 @@ def _history_panel(ax, result: Result, panel, letter: str, legend: bool, band: i
             else:
                 style = "-"
             label = name
-        ax.plot(history.time, history.column(name), label=label, linewidth=0.8, color=colour,
-                linestyle=style)
+        values = history.column(name)
+        ax.plot(history.time, np.zeros_like(values) if round_off else values, label=label,
+                linewidth=0.8, color=colour, linestyle=style)
+    if round_off:
+        ax.set_ylim(-1.0, 1.0)
+        ax.set_yticks([0.0])
+        ax.text(0.5, 0.72, round_off, transform=ax.transAxes, ha="center", va="center",
+                fontsize="x-small", color="0.3")
     ax.set_label(quantity if quantity != "story_drift" else f"story_drift {names[0]}")
     points = quantity.startswith("point_")
     # a long legend has a band of its own under the title (the row's titles stay level)
@@ -220,6 +274,9 @@ def draw_plan_level(result: Result, level: str, kind: str = "all", fig=None):
         top, bottom = (fig, None) if rows else (None, fig)
     letter = ord("a")
     if rows:
+        panels = [panel for row in rows for panel in row]
+        noise = iter(round_off_notes(result, panels,
+                                     [chr(letter + k) for k in range(len(panels))]))
         grid = top.add_gridspec(len(rows), 2)
         first = None
         for r, row in enumerate(rows):
@@ -233,7 +290,8 @@ def draw_plan_level(result: Result, level: str, kind: str = "all", fig=None):
                 # the points' titles are long: their legend never fits beside them
                 beside = longest <= BESIDE_TITLE and not row[0][0].startswith("point_")
                 band = 0 if beside else -(-longest // LEGEND_ROW)
-                _history_panel(ax, result, panel, chr(letter), not paired or c == 1, band)
+                _history_panel(ax, result, panel, chr(letter), not paired or c == 1, band,
+                               next(noise))
                 letter += 1
                 if r < len(rows) - 1:
                     ax.tick_params(labelbottom=False)

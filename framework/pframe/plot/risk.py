@@ -10,6 +10,7 @@ import numpy as np
 from scipy.stats import norm
 
 from pframe.plot.gap import STYLE
+from pframe.record.netcdf import short_units
 
 #: how far the hazard panel reaches beyond the study's intensities (a factor each side)
 IM_MARGIN = 3.0
@@ -110,8 +111,8 @@ def _hazard_figure(ds):
     high = min(im.max() * IM_MARGIN, hazard_im.max())
     shown = (hazard_im >= low) & (hazard_im <= high) & (rate > 0)
     a1.loglog(hazard_im[shown], rate[shown], "k-", label="hazard curve")
-    levels = np.unique(np.asarray(ds.level.values, float)) if ds.level.attrs.get(
-        "units") == "g" else np.array([])
+    levels = (np.unique(np.asarray(ds.level.values, float))
+              if short_units(ds.level.attrs.get("units", "")) == "g" else np.array([]))
     if levels.size:
         a1.loglog(levels, np.interp(np.log(levels), np.log(hazard_im), rate), "o",
                   color="C0", ms=4, label="the study's levels")

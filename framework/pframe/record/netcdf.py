@@ -234,6 +234,10 @@ ATTRIBUTE_UNITS.update({f"excitation_{axis}_{name[len('excitation_'):]}": units
                         if name.startswith("excitation_")})
 #: one standard gravity (an acceleration "in g") in UDUNITS: ``"g"`` there is the gram
 STANDARD_GRAVITY = "9.80665 m/s^2"
+#: the unit of every annual frequency a file holds (hazard curves, rates of limit states,
+#: targets), in UDUNITS' terms: one spelling, so that a reader comparing two files' units
+#: as text finds them equal
+PER_YEAR = "year-1"
 
 
 def short_units(units) -> str:

@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from pframe.record.netcdf import PER_YEAR, STANDARD_GRAVITY
 from pframe.risk.analysis import CONDITIONS, G
 from pframe.risk.fragility import CONFIDENCE
 
@@ -42,17 +43,18 @@ def build_dataset(spec, inputs, rows: dict, result, text: str, source: str, haza
         attrs["design_life"] = spec.design_life
     if hazard is not None:
         data["hazard_frequency"] = (("hazard_point",), hazard.frequency, {
-            "units": "year-1", "long_name": "annual frequency of exceedance of hazard_im"})
+            "units": PER_YEAR, "long_name": "annual frequency of exceedance of hazard_im"})
         coords["hazard_im"] = ("hazard_point", hazard.im, {
-            "units": "g", "long_name": f"intensity of the hazard curve ({hazard.source})"})
+            "units": STANDARD_GRAVITY,
+            "long_name": f"intensity of the hazard curve ({hazard.source})"})
     if result.gap_grid is not None:
         coords["gap"] = ("gap", result.gap_grid, {"units": "m", "long_name": "uniform gap"})
         data["pounding_frequency"] = (("gap",), result.gap_rates, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap: the "
+            "units": PER_YEAR, "long_name": "annual frequency of pounding at the gap: the "
             "upper envelope from the right of pounding_frequency_raw (at each gap, the "
             "largest of any wider gap), whose root is gap_at_target"})
         data["pounding_frequency_raw"] = (("gap",), result.gap_rates_raw, {
-            "units": "year-1", "long_name": "annual frequency of pounding at the gap, the "
+            "units": PER_YEAR, "long_name": "annual frequency of pounding at the gap, the "
             "design's fragility refitted at each gap (not monotone in general)"})
     if math.isfinite(result.target):
         data.update(_target_variables(result))
@@ -100,7 +102,7 @@ def _coordinates(inputs, result, search) -> dict:
         "level": ("level", np.asarray(inputs.levels, float),
                   {"units": "1", "long_name": "run of the record's hunt and fill, in order of "
                    "intensity (see intensity)"} if search is not None else
-                  {"units": "g" if inputs.scaled else "1",
+                  {"units": STANDARD_GRAVITY if inputs.scaled else "1",
                    "long_name": (f"target intensity ({measure_label(inputs)})" if inputs.scaled
                                  else "records as given (cloud analysis)")}),
         "contact_name": ("contact", np.array(inputs.pairs.names, dtype=object),
@@ -141,7 +143,8 @@ def _run_variables(inputs, rows: dict, result) -> dict:
     return {
         **out,
         "intensity": (("record", "level"), result.im.reshape(R, L), {
-            "units": "g", "long_name": f"intensity of the run ({measure_label(inputs)})"}),
+            "units": STANDARD_GRAVITY,
+            "long_name": f"intensity of the run ({measure_label(inputs)})"}),
         "critical_gap": (("record", "level", "contact"), grid("free_g_req", C), {
             "units": "m", "long_name": "max over time of u_left - u_right without contacts: "
             "the gap below which the floors pound"}),
@@ -151,7 +154,8 @@ def _run_variables(inputs, rows: dict, result) -> dict:
             "units": "1", "long_name": "peak |storey drift ratio| over the building's storeys "
             "(NaN without storey heights)"}),
         "peak_floor_acceleration": (("condition", "record", "level", "building"), acc, {
-            "units": "g", "long_name": "peak absolute floor acceleration over the building's "
+            "units": STANDARD_GRAVITY,
+            "long_name": "peak absolute floor acceleration over the building's "
             "floors"}),
         "impact_count": (("record", "level", "contact"), impacts, {
             "units": "1", "long_name": "impacts in the run with contacts (-1: not run)"}),
@@ -211,16 +215,19 @@ def _storey_variables(inputs, grid) -> dict:
             "its height)"}),
         "node_peak_absolute_acceleration": (("condition", "record", "level", "node"),
                                             both("acceleration_each", len(nodes)) / G, {
-            "units": "g", "long_name": "peak absolute acceleration |a + a_g| of each floor"}),
+            "units": STANDARD_GRAVITY,
+            "long_name": "peak absolute acceleration |a + a_g| of each floor"}),
         "peak_ground_acceleration": (("condition", "record", "level"),
                                      both("ground_acceleration", 1)[..., 0] / G, {
-            "units": "g", "long_name": "peak ground acceleration of the run's motion (as "
+            "units": STANDARD_GRAVITY,
+            "long_name": "peak ground acceleration of the run's motion (as "
             "scaled, sampled on the run's step)"}),
     }
 
 
-#: the units of each kind of limit
-_LIMIT_UNITS = {"pounding": "m", "drift": "m", "drift_ratio": "1", "acceleration": "g"}
+#: the units of each kind of limit (an acceleration "in g" as UDUNITS reads it)
+_LIMIT_UNITS = {"pounding": "m", "drift": "m", "drift_ratio": "1",
+                "acceleration": STANDARD_GRAVITY}
 
 
 def _fragility_variables(spec, result) -> dict:
@@ -239,15 +246,17 @@ def _fragility_variables(spec, result) -> dict:
         "limit_units": (("limit",), np.array([_LIMIT_UNITS[k] for k in result.limit_kinds],
                                              dtype=object), {"long_name": "units of the limit"}),
         "fragility_median": (("limit", "condition"), table(lambda f: f.median), {
-            "units": "g", "long_name": "median theta of the lognormal fragility "
+            "units": STANDARD_GRAVITY, "long_name": "median theta of the lognormal fragility "
             f"({spec.design.kind}, maximum likelihood)"}),
         "fragility_dispersion": (("limit", "condition"), table(lambda f: f.dispersion), {
             "units": "1", "long_name": "dispersion beta of the lognormal fragility"}),
         "fragility_median_low": (("limit", "condition"), table(lambda f: f.bounds()[0][0]),
-                                 {"units": "g", "long_name": f"lower {pct} bound of theta "
+                                 {"units": STANDARD_GRAVITY,
+                                  "long_name": f"lower {pct} bound of theta "
                                   "(Fisher information)"}),
         "fragility_median_high": (("limit", "condition"), table(lambda f: f.bounds()[0][1]),
-                                  {"units": "g", "long_name": f"upper {pct} bound of theta"}),
+                                  {"units": STANDARD_GRAVITY,
+                                   "long_name": f"upper {pct} bound of theta"}),
         "fragility_dispersion_low": (("limit", "condition"),
                                      table(lambda f: f.bounds()[1][0]),
                                      {"units": "1", "long_name": f"lower {pct} bound of beta"}),
@@ -269,12 +278,12 @@ def _annual_frequency_variables(result) -> dict:
 
     return {
         "annual_frequency": (("limit", "condition"), maf(0), {
-            "units": "year-1", "long_name": "mean annual frequency of the limit state"}),
+            "units": PER_YEAR, "long_name": "mean annual frequency of the limit state"}),
         "annual_frequency_low": (("limit", "condition"), maf(1), {
-            "units": "year-1", "long_name": "5th percentile of the annual frequency over "
+            "units": PER_YEAR, "long_name": "5th percentile of the annual frequency over "
             "the fragility's parameter uncertainty"}),
         "annual_frequency_high": (("limit", "condition"), maf(2), {
-            "units": "year-1", "long_name": "95th percentile of the annual frequency"}),
+            "units": PER_YEAR, "long_name": "95th percentile of the annual frequency"}),
     }
 
 
@@ -301,10 +310,10 @@ def _target_variables(result) -> dict:
     """The target annual frequency, the intensity there and the gap at it (with its
     bootstrap range and the regression's estimate)."""
     return {
-        "target_annual_frequency": ((), result.target, {"units": "year-1",
+        "target_annual_frequency": ((), result.target, {"units": PER_YEAR,
                                     "long_name": "the target annual frequency of pounding"}),
         "intensity_at_target": ((), result.im_at_target, {
-            "units": "g", "long_name": "the intensity the hazard curve exceeds at the "
+            "units": STANDARD_GRAVITY, "long_name": "the intensity the hazard curve exceeds at the "
             "target frequency"}),
         "gap_at_target": ((), result.gap, {
             "units": "m", "long_name": "smallest uniform gap at and above which the "
@@ -353,7 +362,8 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
         coords["record"] = ("record", np.array([mo.name for mo in inputs.suite.motions],
                                                dtype=object), {"long_name": "ground motion"})
         coords["level"] = ("level", np.asarray(inputs.levels, float), {
-            "units": "g", "long_name": "intensity level (stripe) the records are scaled to"})
+            "units": STANDARD_GRAVITY,
+            "long_name": "intensity level (stripe) the records are scaled to"})
         data["record_probability"] = (("record", "level"), np.array(
             [[t.probability for t in stripe] for stripe in terms]).T, {
             "units": "1", "long_name": "probability of pounding under the record (subset "
@@ -386,13 +396,14 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                     ("annual_frequency_high", maf[2], "upper bound of its 95 % interval"),
                     ("annual_frequency_cov", maf[3], "its coefficient of variation (the "
                      "levels' estimates' variances combined)")):
-                data[name] = ((), float(value), {"units": "1/yr" if "cov" not in name
+                data[name] = ((), float(value), {"units": PER_YEAR if "cov" not in name
                                                  else "1", "long_name": long})
             data.update(_design_life_variables(data, spec.design_life))
             coords["hazard_im"] = ("hazard_point", np.asarray(hazard.im, float),
-                                   {"units": "g", "long_name": "hazard curve: intensity"})
+                                   {"units": STANDARD_GRAVITY,
+                                    "long_name": "hazard curve: intensity"})
             data["hazard_frequency"] = (("hazard_point",), np.asarray(hazard.frequency, float),
-                                        {"units": "1/yr", "long_name": "hazard curve: annual "
+                                        {"units": PER_YEAR, "long_name": "hazard curve: annual "
                                          "frequency of exceeding the intensity"})
     if params:
         coords["variable_name"] = ("variable", np.array([p.path for p in params], dtype=object),
@@ -408,12 +419,23 @@ def subset_dataset(spec, inputs, params, estimate, problem, text, source, notes,
                  + " g" if inputs.scaled else " as recorded"))
     attrs = study_attributes(inputs, text, source, notes, title="risk study (subset "
                              "simulation)", design="subset", motion=motion,
+                             measure=_subset_measure(inputs, m),
                              probability_level=spec.design.probability_level,
                              samples_per_level=spec.design.samples,
                              **({"design_life": spec.design_life} if maf is not None else {}))
     from pframe.gap.output import labelled
 
     return labelled(data, coords, attrs)
+
+
+def _subset_measure(inputs, stochastic) -> str:
+    """The intensity measure of a subset study's levels, as every study file names it; a
+    stochastic motion is not scaled to an intensity, and its file says so."""
+    if stochastic is not None:
+        return "none (stochastic motions as generated, not scaled to an intensity)"
+    from pframe.gap.output import measure_label
+
+    return measure_label(inputs)
 
 
 def _percent(p: float) -> str:
@@ -423,8 +445,37 @@ def _percent(p: float) -> str:
     return f"{100 * p:.3g} %"
 
 
+def study_line(ds) -> str:
+    """What a study ran, in a line: its design, motions, intensity measure and levels."""
+    from pframe.record.netcdf import short_units
+
+    a = ds.attrs
+    design = str(a.get("design", "?"))
+    n = ds.sizes.get("record", 0)
+    motions = (f"{n} record{'s' if n != 1 else ''}" if "record" in ds.dims
+               else str(a.get("motion", "its motions")))
+    measure = str(a.get("measure", "not recorded in the file"))
+    if "ida_runs" in a:
+        levels = (f"hunt and fill to {a['ida_limit']} ({a['ida_hunt']}; {a['ida_runs']} runs "
+                  f"in {a['ida_rounds']} rounds)")
+    elif "level" in ds.coords and short_units(ds.level.attrs.get("units", "")) == "g":
+        levels = "levels " + ", ".join(f"{float(x):g}" for x in ds.level.values) + " g"
+    elif "level" in ds.coords:
+        levels = "records as given (cloud analysis)"
+    else:
+        levels = "no levels"
+    return f"{design} design over {motions}; intensity measure {measure}; {levels}"
+
+
 def summary(ds) -> str:
-    """The terminal table: each limit's fragility and annual frequency, then the gap."""
+    """The terminal summary of a study: what it ran (:func:`study_line`), then each limit's
+    fragility (median, dispersion and their bounds) and annual frequency, then the gap (of
+    a subset design: the probabilities of pounding)."""
+    return study_line(ds) + "\n" + _results(ds)
+
+
+def _results(ds) -> str:
+    """The study's results as :func:`summary` prints them, under its first line."""
     if "level_probability" in ds and ds.sizes["level"] > 1:
         out = [f"probability of pounding within {float(ds.attrs['duration']):g} s by subset "
                f"simulation over {ds.sizes.get('variable', 0)} uncertain values, the mean over "
@@ -460,7 +511,9 @@ def summary(ds) -> str:
                    f"each of {ds.sizes['record']} records (their mean)"))
     life = "probability_in_design_life" in ds
     years = float(ds.attrs.get("design_life", math.nan))
-    lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} {'90% median':>17}"
+    pct = f"{100 * CONFIDENCE:g}%"
+    lines = [f"{'limit':<12} {'condition':<17} {'median':>8} {'beta':>6} "
+             f"{f'{pct} median':>17} {f'{pct} beta':>13}"
              + (f" {'MAF /yr':>10} {'(5-95 %)':>21}" if "annual_frequency" in ds else "")
              + (f" {f'P {years:g} yr':>9}" if life else "")]
     lines.append("-" * len(lines[0]))
@@ -470,7 +523,9 @@ def summary(ds) -> str:
             m = float(ds.fragility_median.sel(sel))
             row = (f"{limit:<12} {cond:<17} {m:>8.4g} {float(ds.fragility_dispersion.sel(sel)):>6.3g}"
                    f" {float(ds.fragility_median_low.sel(sel)):>8.4g}-"
-                   f"{float(ds.fragility_median_high.sel(sel)):<8.4g}")
+                   f"{float(ds.fragility_median_high.sel(sel)):<8.4g}"
+                   f" {float(ds.fragility_dispersion_low.sel(sel)):>6.3g}-"
+                   f"{float(ds.fragility_dispersion_high.sel(sel)):<6.3g}")
             if "annual_frequency" in ds:
                 row += (f" {float(ds.annual_frequency.sel(sel)):>10.3e} "
                         f"{float(ds.annual_frequency_low.sel(sel)):>10.3e}-"

@@ -160,7 +160,9 @@ def _study(result):
 
 def _stripe(runs, level: float, source: str):
     """The runs of one level of an msa or grid-ida study."""
-    units = str(runs.level.attrs.get("units", ""))
+    from pframe.record.netcdf import short_units
+
+    units = short_units(runs.level.attrs.get("units", ""))
     if units != "g":
         raise InputError(f"{source}: its runs are not at levels of an intensity ("
                          + ("a hunt and fill's runs" if units == "1" else "records as given")
@@ -184,14 +186,10 @@ def export_pelicun(result, path: str | Path, *, building: str | None = None,
     row per run) at ``path``; an existing file only with ``overwrite``, never the result
     read. Returns the path written."""
     from pframe import outputs
-    from pframe.errors import option
 
     inputs = [result] if isinstance(result, (str, Path)) else []
-    if not overwrite and Path(path).is_file():  # check_output's words name -o, not this
-        raise InputError(f"{path}: the file exists; pass {option('overwrite')} to replace it, "
-                         "or name another file")
     path = outputs.check_output(path, inputs=inputs, overwrite=overwrite,
-                                what="pelicun demand table")
+                                what="pelicun demand table", named_by="pelicun")
     table, units = demand_table(result, building, condition, level)
     lines = ["," + ",".join(table.columns), "Units," + ",".join(units[c] for c in table.columns)]
     for k, row in enumerate(table.itertuples(index=False)):
