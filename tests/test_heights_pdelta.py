@@ -85,6 +85,29 @@ def test_three_storey_modes_with_p_delta():
     assert np.max(np.abs(u - exact)) < 1e-9 * 0.02
 
 
+def test_the_gap_audits_first_period_is_the_one_the_runs_integrate():
+    """The gap audit's first period (its Sa(T1) measure and DDC's rho) of a building under
+    P-delta is the first mode of K - K_G, the stiffness its runs integrate at rest, not of K
+    alone."""
+    from pframe.assemble import assemble
+    from pframe.gap.runs import first_modes
+    from pframe.reader import parse_scene
+
+    m, k, h, n = 2.0e4, 3.0e6, 3.5, 3
+    K = np.zeros((n, n))
+    for i in range(n):
+        ki = k - G * m * (n - i) / h
+        K[i, i] += ki
+        if i > 0:
+            K[i - 1, i - 1] += ki
+            K[i - 1, i] -= ki
+            K[i, i - 1] -= ki
+    w1 = math.sqrt(np.linalg.eigvalsh(K / m)[0])
+    plan = assemble(parse_scene(_building(n, m, k, h)).expanded)
+    periods, _ = first_modes(plan)
+    assert periods[0] == pytest.approx(2.0 * math.pi / w1, rel=1e-12)
+
+
 def test_a_storey_above_its_buckling_load_departs_exponentially():
     """P / h > k: u'' = ((P / h - k) / m) u grows as cosh; pframe warns before the run."""
     m, k, h = 1000.0, 2.0e3, 3.0  # m g / h = 3269 N/m > k

@@ -137,7 +137,8 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
     (docs/soil.md) is analysed with its foundation's sway and rocking DOFs and springs: its
     flexible-base period (Veletsos & Meek lengthening), with the ratio of its storeys'
     damping (the soil's dashpots left out); a building in plan with its floors' three DOFs
-    (its first lateral-torsional mode). Springs between buildings (links) are left out."""
+    (its first lateral-torsional mode). A storey under P-delta is at k0 - P / h, the
+    stiffness the runs integrate at rest. Springs between buildings (links) are left out."""
     from pframe.assemble.incidence import incidence
 
     owner = np.full(plan.n_dof, -1)
@@ -151,6 +152,10 @@ def first_modes(plan, member: int = 0) -> tuple[np.ndarray, np.ndarray]:
                               if plan.foundations else ()):
         owner[dofs] = plan.buildings.index(building)
     stiffness = plan.story_isolated if plan.story_isolated is not None else plan.story_k0
+    if plan.story_kg is not None and np.any(plan.story_kg):
+        # the storeys at rest as the runs integrate them: k0 less P-delta's P / h, as
+        # pframe validate and pframe modes give the periods
+        stiffness = stiffness - plan.story_kg
     G = incidence(plan.story_dofs, plan.story_sides, member, plan.n_dof).tocsr()
     damping = _damping_matrix(plan, member, G)
     periods, ratios = [], []
