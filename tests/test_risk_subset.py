@@ -469,3 +469,20 @@ def test_a_subset_file_writes_its_units_and_measure_as_every_study_file_does(tmp
     assert year.convert(1.0, cf_units.Unit("day-1")) == pytest.approx(1 / 365.242198781)
     for kind, ds in files.items():
         assert ds.attrs["measure"] == "PGA", kind
+
+
+def test_a_subset_estimate_of_zero_says_why_it_has_no_cov():
+    """No run pounded: the probability is 0 and its c.o.v. undefined; the summary says so in
+    words, never 'c.o.v. inf' or 'c.o.v. nan' as if they were measured."""
+    import xarray as xr
+
+    from pframe.risk.output import _results
+
+    ds = xr.Dataset({"pounding_probability": 0.0, "pounding_probability_cov": np.inf,
+                     "pounding_probability_low": 0.0, "pounding_probability_high": 3e-3,
+                     "evaluations": 1000}, attrs={"duration": 10.0})
+    text = _results(ds)
+    assert "c.o.v. undefined: no run pounded" in text
+    assert "inf" not in text and "nan" not in text
+    ds["pounding_probability"], ds["pounding_probability_cov"] = 1e-3, 0.25
+    assert "c.o.v. 0.25" in _results(ds)

@@ -474,6 +474,15 @@ def summary(ds) -> str:
     return study_line(ds) + "\n" + _results(ds)
 
 
+def _cov(value) -> str:
+    """A subset estimate's c.o.v. as the summary words it: a number, or why there is none (no
+    run pounded, so the estimate is 0 and its c.o.v. is undefined, not inf or nan)."""
+    value = float(value)
+    if math.isfinite(value):
+        return f"c.o.v. {value:.2f}"
+    return "c.o.v. undefined: no run pounded"
+
+
 def _results(ds) -> str:
     """The study's results as :func:`summary` prints them, under its first line."""
     if "level_probability" in ds and ds.sizes["level"] > 1:
@@ -482,12 +491,12 @@ def _results(ds) -> str:
                f"{ds.sizes['record']} records, at each level:"]
         for k in range(ds.sizes["level"]):
             out.append(f"  {float(ds.level[k]):8.4g} g  {float(ds.level_probability[k]):.3e} "
-                       f"(c.o.v. {float(ds.level_probability_cov[k]):.2f}; 95 % "
+                       f"({_cov(ds.level_probability_cov[k])}; 95 % "
                        f"{float(ds.level_probability_low[k]):.3e}-"
                        f"{float(ds.level_probability_high[k]):.3e})")
         if "annual_frequency" in ds:
             out.append(f"mean annual frequency of pounding: {float(ds.annual_frequency):.3e} /yr "
-                       f"(c.o.v. {float(ds.annual_frequency_cov):.2f}; 95 % "
+                       f"({_cov(ds.annual_frequency_cov)}; 95 % "
                        f"{float(ds.annual_frequency_low):.3e}-"
                        f"{float(ds.annual_frequency_high):.3e})")
         if "probability_in_design_life" in ds:
@@ -501,8 +510,8 @@ def _results(ds) -> str:
         return "\n".join(out)
     if "pounding_probability" in ds:
         return (f"probability of pounding within {float(ds.attrs['duration']):g} s: "
-                f"{float(ds.pounding_probability):.3e} (c.o.v. "
-                f"{float(ds.pounding_probability_cov):.2f}; 95 % "
+                f"{float(ds.pounding_probability):.3e} ("
+                f"{_cov(ds.pounding_probability_cov)}; 95 % "
                 f"{float(ds.pounding_probability_low):.3e}-"
                 f"{float(ds.pounding_probability_high):.3e}) from "
                 f"{int(ds.evaluations)} runs by subset simulation over "
