@@ -226,6 +226,17 @@ def test_the_supports_figure_draws_what_the_file_holds(tmp_path):
             np.testing.assert_array_equal(line.get_ydata(), ds[quantity].values[:, i])
         assert f"({ds[quantity].attrs['units']})" in ax.get_ylabel()
     assert "no baseline correction" in fig.get_supxlabel()
+    assert "not drawn" not in fig.get_supxlabel()
+    # a file without the supports' own histories: its panel (c) alone, and the two left out
+    # named below it with what to record
+    scene["recorders"] = [{"kind": "history", "quantities": ["contact_ground_displacement"]}]
+    path.write_text(json.dumps(scene), encoding="utf-8")
+    pframe.solve(path, output=tmp_path / "c.nc", progress=False)
+    fig = figures(tmp_path / "c.nc", kind="supports")["supports"]
+    assert [ax.get_gid() for ax in fig.axes if ax.get_gid()] == ["contact_ground_displacement"]
+    said = " ".join(fig.get_supxlabel().split())
+    assert ("not drawn: (a) ground_acceleration, (b) ground_displacement, which the file does "
+            "not record") in said
     one = json.loads(json.dumps(scene))
     del one["supports"]
     for b in one["buildings"]:

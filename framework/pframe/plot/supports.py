@@ -86,9 +86,14 @@ def support_figures(path: str | Path, *, time_range=None) -> dict:
     time = ds[found[0][1]].dims[0]
     axes[-1].set_xlabel(f"time ({ds[time].attrs.get('units', 's')})", fontsize="small")
     said = ds.attrs.get("ground_displacement_method", "")
+    missing = [f"({letter}) {q}" for letter, q, _ in PANELS if q not in ds]
+    if missing:  # a panel left out is said, with what would draw it
+        said = (f"not drawn: {', '.join(missing)}, which the file does not record (list "
+                f"{' and '.join(q.split(' ')[1] for q in missing)} in a recorder of kind "
+                "history to draw them)" + ("; " + said if said else ""))
     heading = f"{ds.attrs.get('title', '')}: the supports' motions".lstrip(": ")
     fig.suptitle(heading, fontsize="medium")
-    if said:  # how the displacements were had (a record's file, or integrated and drifting)
+    if said:  # what is left out; how the displacements were had (a file, or integrated)
         from pframe.plot.style import fitted
 
         fig.supxlabel(fitted(said, fig.get_figwidth(), "x-small"), fontsize="x-small")
