@@ -367,10 +367,11 @@ static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Wor
         switch (law) {
 #define SPRING_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded \
-                ? spring_run(L, j, to, function, terms, grounded, 0) \
-                : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
-                             : spring_run(L, j, to, function, 0, 0, 0); \
+            stale |= grounded ? spring_run(L, j, to, function, terms, 1, 0) \
+                     : terms ? (L->current ? spring_run(L, j, to, function, 1, 0, 1) \
+                                           : spring_run(L, j, to, function, 1, 0, 0)) \
+                     : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
+                                  : spring_run(L, j, to, function, 0, 0, 0); \
             break;
             MATERIAL_LAWS(SPRING_GROUP)
 #undef SPRING_GROUP
