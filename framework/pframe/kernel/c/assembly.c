@@ -111,7 +111,8 @@ typedef struct {
  * directly, inlined where it is a built-in law); `terms` 0 when no spring of the scene has
  * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports, `current`
  * 1 when every spring's damping is on its current tangent and none has P-delta (the paper's
- * scenes: neither is looked up per spring). Returns 1 when an effective tangent changed. */
+ * scenes, and the lines of a plan's storeys: neither is looked up per spring). Returns 1 when
+ * an effective tangent changed. */
 static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
                                     LawFunction force, int terms, int grounded, int current)
 {
@@ -367,10 +368,11 @@ static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Wor
         switch (law) {
 #define SPRING_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded \
-                ? spring_run(L, j, to, function, terms, grounded, 0) \
-                : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
-                             : spring_run(L, j, to, function, 0, 0, 0); \
+            stale |= grounded ? spring_run(L, j, to, function, terms, 1, 0) \
+                     : terms ? (L->current ? spring_run(L, j, to, function, 1, 0, 1) \
+                                           : spring_run(L, j, to, function, 1, 0, 0)) \
+                     : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
+                                  : spring_run(L, j, to, function, 0, 0, 0); \
             break;
             MATERIAL_LAWS(SPRING_GROUP)
 #undef SPRING_GROUP
