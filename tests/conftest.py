@@ -70,6 +70,17 @@ def integrator_examples() -> list[tuple[str, type, dict]]:
             for label, config in (cls.facts.examples or {}).items()]
 
 
+def integrator_cases() -> list:
+    """pytest parameters (configuration, facts) of every example every integrator declares,
+    and each again with ``events: true`` where the integrator runs on that path."""
+    out = []
+    for label, cls, config in integrator_examples():
+        out.append(pytest.param(config, cls.facts, id=label))
+        if "events" in (cls.facts.paths or ()):
+            out.append(pytest.param({**config, "events": True}, cls.facts, id=f"{label}-events"))
+    return out
+
+
 def integrator_configurations() -> dict[str, dict]:
     """Every integrator in its reference configuration (its first example) by its type, and
     with ``events: true`` (``<type>+events``) where it runs on that path."""

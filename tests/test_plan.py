@@ -16,7 +16,7 @@ import re
 import numpy as np
 import pytest
 import yaml
-from conftest import REPO, analysis, run_text
+from conftest import REPO, analysis, integrator_cases, run_text
 
 from pframe.errors import InputError
 from pframe.reader import parse_scene
@@ -559,22 +559,13 @@ def _corner_impacts(integrator: dict, dt: float) -> tuple:
     return plan, result
 
 
-def _integrator_cases():
-    from pframe.integrators import ALL_INTEGRATORS
-
-    for cls in ALL_INTEGRATORS:
-        for label, config in cls.facts.examples.items():
-            yield pytest.param(config, cls.facts, id=label)
-            if "events" in cls.facts.paths:
-                yield pytest.param({**config, "events": True}, cls.facts, id=f"{label}-events")
-
 
 @functools.cache
 def _corner_reference():
     return _corner_impacts({"type": "newmark", "events": True}, 1.25e-4)[1]
 
 
-@pytest.mark.parametrize("integrator, facts", list(_integrator_cases()))
+@pytest.mark.parametrize("integrator, facts", integrator_cases())
 def test_every_integrator_runs_a_corner_impact_in_plan(integrator, facts):
     """Every integrator (each example its facts declare, with located events where it has
     them) on impacts at a corner of a floor that sways and twists: the run completes, its

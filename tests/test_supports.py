@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 import pytest
-from conftest import analysis, building, node_history, record_file, run_text
+from conftest import analysis, building, integrator_cases, node_history, record_file, run_text
 
 from pframe.errors import InputError
 from pframe.reader import parse_scene
@@ -226,22 +226,13 @@ def _across(integrator: dict, dt: float):
     return _run(scene)[1]
 
 
-def _integrators():
-    from pframe.integrators import ALL_INTEGRATORS
-
-    for cls in ALL_INTEGRATORS:
-        for label, config in cls.facts.examples.items():
-            yield pytest.param(config, cls.facts, id=label)
-            if "events" in cls.facts.paths:
-                yield pytest.param({**config, "events": True}, cls.facts, id=f"{label}-events")
-
 
 @functools.cache
 def _across_reference():
     return _across({"type": "newmark", "events": True}, 1.25e-4)
 
 
-@pytest.mark.parametrize("integrator, facts", list(_integrators()))
+@pytest.mark.parametrize("integrator, facts", integrator_cases())
 def test_every_integrator_pounds_across_supports(integrator, facts):
     """Every integrator (its declared examples, with located events where it has them) on
     impacts between buildings on two supports under a wave passage: the same impacts, peaks
