@@ -11,7 +11,6 @@ always has.
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass
 
@@ -235,10 +234,17 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
                 raise ModelError(spec.path, str(exc)) from None
             if callable(context._mass_above):  # not asked: the same for equal parameters
                 shared[key] = packed
-        point = spec.position if spec.position is not None else resolver.floor(up).centre
-        sides = (side(low, resolver.floor(low), point, spec.direction),
-                 side(up, resolver.floor(up), point, spec.direction))
-        out.append(element(spec.name, (low, up), spec.law, packed, sides))
+        centre = resolver.floor(up).centre
+        if (spec.position is None and spec.direction == (1.0, 0.0)
+                and (low < 0 or resolver.floor(low).centre == centre)):
+            # the planar storey (u_x of both floors: what side() and element() conclude),
+            # without building its sides: a tall building has tens of thousands
+            out.append(Element(spec.name, (low, up), spec.law, packed))
+        else:
+            point = spec.position if spec.position is not None else centre
+            sides = (side(low, resolver.floor(low), point, spec.direction),
+                     side(up, resolver.floor(up), point, spec.direction))
+            out.append(element(spec.name, (low, up), spec.law, packed, sides))
         building.append(number[resolver.building_of[up]])
     for spec in floors.stories:
         if getattr(spec.law, "stiffness_free", False):
@@ -341,9 +347,13 @@ def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
                                                 "'ground' on one side is a wall")
         levels = _levels(contact, resolver, path)
         law = get_law("contact", contact.law)
+        try:
+            unit = normalised(contact.normal)
+        except ValueError:  # refused where its sides are resolved, at its YAML path
+            unit = None
         for nodes, name in levels:
             out.append(_contact(contact, nodes, name, law, path, resolver, seen, stories,
-                                heights, level))
+                                heights, level, unit))
             level = out[-1][1]
     return [g for g, _ in out]
 
@@ -372,9 +382,11 @@ def _levels(contact, resolver, path) -> list[tuple[tuple[str, str], str]]:
     return levels
 
 
-def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, level):
+def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, level,
+             unit=None):
     """One contact of the scene (or one level of a contact at every level) resolved to its
-    nodes and sides, and the floors' elevations (computed once, for the struck columns)."""
+    nodes and sides, and the floors' elevations (computed once, for the struck columns);
+    ``unit`` its normal normalised (None: not computed, or no direction)."""
     left, right = (resolver.node(node, path + ("nodes", i)) for i, node in enumerate(nodes))
     if left >= 0 and right >= 0:
         if resolver.building_of[left] == resolver.building_of[right]:
@@ -389,6 +401,13 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
     if name in seen:
         raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
     seen[name] = True
+    if (unit == (1.0, 0.0) and contact.points is None and contact.column is None
+            and contact.at is None and contact.shear_capacity is None):
+        # floors' centres along x: the plain element (what _sides and element() conclude),
+        # without building its sides: a contact at every level of a tall pair has
+        # tens of thousands
+        return ContactGeometry(path, contact, Element(name, (left, right), law, (),
+                                                      gap=float(contact.gap))), level
     sides = list(_sides(resolver, (left, right), contact.points, contact.normal, path,
                         "normal"))
     lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
@@ -468,10 +487,10 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
 
 
 def _packed(e: Element, packed) -> Element:
-    """``e`` with its law's numbers (dataclasses.replace, without its introspection: a tall
-    pair has tens of thousands of contacts)."""
-    out = copy.copy(e)
-    object.__setattr__(out, "packed", packed)
+    """``e`` with its law's numbers (dataclasses.replace, without its introspection nor
+    copy.copy's protocol: a tall pair has tens of thousands of contacts)."""
+    out = object.__new__(Element)
+    out.__dict__.update(e.__dict__, packed=packed)
     return out
 
 

@@ -225,7 +225,11 @@ def _building_geometry(building, n: int, path):
         inertias = [m * radius2 for m in masses]
     else:
         inertias = [None] * n
-    return placement, plan, points, [tuple(map(float, c)) for c in centres], inertias
+    as_floats, last = [], None
+    for c in centres:  # one tuple for a run of floors given one centre (placed once)
+        as_floats.append(as_floats[-1] if as_floats and c is last else tuple(map(float, c)))
+        last = c
+    return placement, plan, points, as_floats, inertias
 
 
 def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
@@ -243,14 +247,17 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
         raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                          "height (m, one for all storeys or one per storey)")
     above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
+    given, centre = None, None
     for i in range(n):
-        nodes.append(Floor(f"{building.name}/{i + 1}", masses[i], path + ("name",),
-                           placement.point(centres[i]), inertias[i], placement, plan, points,
-                           path))
+        if centres[i] is not given:  # placed once for a run of floors given one centre
+            given, centre = centres[i], placement.point(centres[i])
+        nodes.append(Floor(f"{building.name}/{i + 1}", masses[i], path + ("name",), centre,
+                           inertias[i], placement, plan, points, path))
     gravity = [GRAVITY * float(above[i]) if building.p_delta else 0.0 for i in range(n)]
     if building.story is not None:
         law, fields = _material_fields(building.story, n, path + ("story",))
         same, validated = _one_for_all(law, fields, path + ("story",)), {}
+        direction = placement.vector((1.0, 0.0))
         for i in range(n):
             name = f"{building.name}/{i + 1}"
             lower = "ground" if i == 0 else f"{building.name}/{i}"
@@ -258,7 +265,7 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
                                       same or _storey_params(law, fields, i, path + ("story",),
                                                              validated),
                                       path + ("story",), heights[i], gravity[i],
-                                      direction=placement.vector((1.0, 0.0)), storey=name))
+                                      direction=direction, storey=name))
         return
     for j, line in enumerate(building.lines):
         lpath = path + ("lines", j)
