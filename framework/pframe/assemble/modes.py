@@ -179,12 +179,12 @@ def building_springs(ex, b: int, k: np.ndarray):
     """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
     storey's stiffness taken from ``k`` (one per storey of the scene)."""
     nodes = np.flatnonzero(ex.node_building == b)
-    local = {node: i for i, node in enumerate(nodes)}
-    springs = []
-    for s in np.flatnonzero(ex.story_building == b):
-        low, up = ex.stories[s].nodes
-        springs.append((local[low] if low >= 0 else -1, local[up], float(k[s])))
-    return nodes, springs
+    local = np.full(len(ex.node_building) + 1, -1, dtype=np.int64)  # [-1]: the ground
+    local[nodes] = np.arange(len(nodes))
+    mine = np.flatnonzero(ex.story_building == b)
+    ends = local[np.array([ex.stories[s].nodes for s in mine], dtype=np.int64).reshape(-1, 2)]
+    return nodes, list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(),
+                           np.asarray(k, dtype=float)[mine].tolist()))
 
 
 def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -279,26 +279,30 @@ class Isolation:
 def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     """For each storey, the smallest post-yield stiffness of the storeys above it (those
     reached upward from its upper node; inf: none), in one pass however tall."""
+    upper = [e.nodes[1] for e in ex.stories]
+    k_post = k_post.tolist()
     starting: dict[int, list[int]] = {}
     for s, e in enumerate(ex.stories):
         starting.setdefault(e.nodes[0], []).append(s)
     below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
-    for start in {e.nodes[1] for e in ex.stories}:
+    for start in set(upper):
+        if start in below_top:
+            continue
         todo, open_ = [(start, False)], set()
         while todo:  # post-order; a loop of storeys (refused elsewhere) is cut where it closes
             node, done = todo.pop()
             if done:
                 open_.discard(node)
                 below_top[node] = min([math.inf] + [
-                    min(k_post[s], below_top.get(ex.stories[s].nodes[1], math.inf))
-                    for s in starting.get(node, ()) if ex.stories[s].nodes[1] not in open_])
+                    min(k_post[s], below_top.get(upper[s], math.inf))
+                    for s in starting.get(node, ()) if upper[s] not in open_])
                 continue
             if node in below_top or node in open_:
                 continue
             open_.add(node)
             todo.append((node, True))
-            todo += [(ex.stories[s].nodes[1], False) for s in starting.get(node, ())]
-    return np.array([below_top.get(e.nodes[1], math.inf) for e in ex.stories], dtype=float)
+            todo += [(upper[s], False) for s in starting.get(node, ())]
+    return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
 
 
 def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:

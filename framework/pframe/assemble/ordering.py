@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections import deque
+
 import numpy as np
 
 
@@ -13,15 +15,15 @@ def reverse_cuthill_mckee(n: int, edges: list[tuple[int, int]]) -> np.ndarray:
             neighbours[i].add(j)
             neighbours[j].add(i)
     degree = [len(s) for s in neighbours]
-    seen = np.zeros(n, dtype=bool)
+    seen = [False] * n
     order: list[int] = []
     for start in sorted(range(n), key=lambda v: (degree[v], v)):
         if seen[start]:
             continue
         seen[start] = True
-        queue = [start]
+        queue = deque([start])
         while queue:
-            v = queue.pop(0)
+            v = queue.popleft()
             order.append(v)
             for w in sorted(neighbours[v], key=lambda u: (degree[u], u)):
                 if not seen[w]:

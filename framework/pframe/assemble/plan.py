@@ -599,15 +599,14 @@ def _node_order(keys, edges) -> np.ndarray:
     may scatter them (the DOF graph's own RCM gave half-bandwidth 12 where this gives 8 on a
     pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was."""
     node_of = np.array([node for node, _ in keys], dtype=np.int64)
-    nodes = np.unique(node_of)
-    local = {int(node): i for i, node in enumerate(nodes)}
-    node_edges = {(local[int(node_of[a])], local[int(node_of[c])]) for a, c in edges
-                  if a >= 0 and c >= 0}
-    node_order = reverse_cuthill_mckee(len(nodes), sorted(node_edges))
-    by_node: dict[int, list[int]] = {}
-    for i, node in enumerate(node_of):
-        by_node.setdefault(local[int(node)], []).append(i)
-    return np.array([i for v in node_order for i in by_node[int(v)]], dtype=np.int64)
+    nodes, local = np.unique(node_of, return_inverse=True)  # key -> its node's number
+    pairs = np.array(edges, dtype=np.int64).reshape(-1, 2)
+    pairs = local[pairs[(pairs >= 0).all(axis=1)]]
+    node_order = reverse_cuthill_mckee(len(nodes), np.unique(pairs, axis=0).tolist())
+    rank = np.empty(len(nodes), dtype=np.int64)
+    rank[node_order] = np.arange(len(nodes))
+    # each node's DOFs together, in key order within it (a stable sort)
+    return np.argsort(rank[local.reshape(-1)], kind="stable").astype(np.int64)
 
 
 def _principal(keys, nodes: int) -> np.ndarray:

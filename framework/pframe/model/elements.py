@@ -449,10 +449,12 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
         if params is None:  # once per contact of the scene, whatever its levels
             params = validated[id(contact)] = law.Params.model_validate(
                 contact.model_dump(include=set(law.Params.model_fields)))
-        sides = e.side_terms()
         # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
         # a point of a floor or a column has the mass its displacement's weights give it
-        masses = (side_mass(sides[0], dof_mass), side_mass(sides[1], dof_mass))
+        if e.sides is None:  # the plain element's sides: its nodes' own masses (side_mass)
+            masses = tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf for i in e.nodes)
+        else:
+            masses = (side_mass(e.sides[0], dof_mass), side_mass(e.sides[1], dof_mass))
         known = packs.get((id(contact), masses))
         if known is not None:  # another level of a contact at every level, the same masses
             out.append(_packed(e, known[0]))
