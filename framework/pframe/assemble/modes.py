@@ -236,13 +236,17 @@ def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
         return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
     from scipy.linalg import eig_banded, eigh_tridiagonal
 
-    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
+    # lower form: band[d, j] = A[j + d, j]; summed in Python floats (the same IEEE operations
+    # as on numpy's scalars, without their overhead: a tall building has tens of thousands)
+    band, root = [[0.0] * n for _ in range(width + 1)], scale.tolist()
+    square = [float(v ** 2) for v in scale]  # numpy's pow: inf, not OverflowError, if huge
     for il, iu, kk in springs:
-        band[0, iu] += kk * scale[iu] ** 2
+        band[0][iu] += kk * square[iu]
         if il >= 0:
-            band[0, il] += kk * scale[il] ** 2
+            band[0][il] += kk * square[il]
             lo, hi = min(il, iu), max(il, iu)
-            band[hi - lo, lo] -= kk * scale[il] * scale[iu]
+            band[hi - lo][lo] -= kk * root[il] * root[iu]
+    band = np.array(band, dtype=float).reshape(width + 1, n)
     last = min(count, n) - 1
     if width <= 1:
         out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),

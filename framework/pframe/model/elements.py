@@ -19,6 +19,7 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
+from pframe.model.floors import like
 from pframe.model.load import ModelError
 from pframe.model.plan import coefficients, normalised
 from pframe.model.scene import contact_levels, default_link_name
@@ -72,6 +73,11 @@ class Element:
         if self.sides is not None:
             return self.sides
         return tuple(((i, 0, 1.0),) if i >= 0 else () for i in self.nodes)
+
+
+#: the plain element with every field but its name, nodes, law and numbers at its default
+#: (a planar storey, a contact between floors' centres), which tall scenes copy
+PLAIN = Element("", (-1, -1), type, ())
 
 
 #: a floor-to-column contact's ``at`` may differ from the one its storey heights give by this
@@ -184,6 +190,14 @@ class Resolver:
                                    f"{' ...' if len(names) > 12 else ''}")
         return self.index[name]
 
+    def node_at(self, name, path, *field) -> int:
+        """:meth:`node` with the path ``path + field``, joined only for its error (a tall
+        scene resolves hundreds of thousands of names)."""
+        if name == "ground":
+            return -1
+        i = self.index.get(name)
+        return i if i is not None else self.node(name, path + field)
+
     def floor(self, i: int):
         return self.floors.nodes[i] if i >= 0 else None
 
@@ -214,8 +228,8 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
     number = {name: i for i, name in enumerate(resolver.buildings)}
     for spec in floors.stories:
         lower, upper = spec.nodes
-        up = resolver.node(upper, spec.path + ("nodes", 1))
-        low = resolver.node(lower, spec.path + ("nodes", 0))
+        up = resolver.node_at(upper, spec.path, "nodes", 1)
+        low = resolver.node_at(lower, spec.path, "nodes", 0)
         if low >= 0 and resolver.building_of[low] != resolver.building_of[up]:
             raise ModelError(spec.path + ("nodes",), f"a storey joins floors of one building; "
                                                      f"{lower!r} and {upper!r} are in two")
@@ -239,7 +253,8 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
                 and (low < 0 or resolver.floor(low).centre == centre)):
             # the planar storey (u_x of both floors: what side() and element() conclude),
             # without building its sides: a tall building has tens of thousands
-            out.append(Element(spec.name, (low, up), spec.law, packed))
+            out.append(like(PLAIN, name=spec.name, nodes=(low, up), law=spec.law,
+                            packed=packed))
         else:
             point = spec.position if spec.position is not None else centre
             sides = (side(low, resolver.floor(low), point, spec.direction),
@@ -387,7 +402,8 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
     """One contact of the scene (or one level of a contact at every level) resolved to its
     nodes and sides, and the floors' elevations (computed once, for the struck columns);
     ``unit`` its normal normalised (None: not computed, or no direction)."""
-    left, right = (resolver.node(node, path + ("nodes", i)) for i, node in enumerate(nodes))
+    left, right = (resolver.node_at(nodes[0], path, "nodes", 0),
+                   resolver.node_at(nodes[1], path, "nodes", 1))
     if left >= 0 and right >= 0:
         if resolver.building_of[left] == resolver.building_of[right]:
             raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
@@ -406,8 +422,8 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
         # floors' centres along x: the plain element (what _sides and element() conclude),
         # without building its sides: a contact at every level of a tall pair has
         # tens of thousands
-        return ContactGeometry(path, contact, Element(name, (left, right), law, (),
-                                                      gap=float(contact.gap))), level
+        return ContactGeometry(path, contact, like(PLAIN, name=name, nodes=(left, right),
+                                                   law=law, gap=float(contact.gap))), level
     sides = list(_sides(resolver, (left, right), contact.points, contact.normal, path,
                         "normal"))
     lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
@@ -457,7 +473,7 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
             masses = (side_mass(e.sides[0], dof_mass), side_mass(e.sides[1], dof_mass))
         known = packs.get((id(contact), masses))
         if known is not None:  # another level of a contact at every level, the same masses
-            out.append(_packed(e, known[0]))
+            out.append(like(e, packed=known[0]))
             if known[1] is not None:
                 rebounds[known[1]].append(e.name)
             continue
@@ -476,7 +492,7 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
                 packed = finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
-        out.append(_packed(e, packed))
+        out.append(like(e, packed=packed))
         obtained = published_rebound(law, params)
         published = None
         if obtained is not None:
@@ -486,14 +502,6 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
             rebounds.setdefault(published, []).append(e.name)
         packs[(id(contact), masses)] = (packed, published)
     return out, rebounds
-
-
-def _packed(e: Element, packed) -> Element:
-    """``e`` with its law's numbers (dataclasses.replace, without its introspection nor
-    copy.copy's protocol: a tall pair has tens of thousands of contacts)."""
-    out = object.__new__(Element)
-    out.__dict__.update(e.__dict__, packed=packed)
-    return out
 
 
 def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int, float]:
