@@ -601,8 +601,7 @@ def _node_order(keys, edges) -> np.ndarray:
     node_of = np.array([node for node, _ in keys], dtype=np.int64)
     nodes, local = np.unique(node_of, return_inverse=True)  # key -> its node's number
     pairs = np.array(edges, dtype=np.int64).reshape(-1, 2)
-    pairs = local[pairs[(pairs >= 0).all(axis=1)]]
-    node_order = reverse_cuthill_mckee(len(nodes), np.unique(pairs, axis=0).tolist())
+    node_order = reverse_cuthill_mckee(len(nodes), local[pairs[(pairs >= 0).all(axis=1)]])
     rank = np.empty(len(nodes), dtype=np.int64)
     rank[node_order] = np.arange(len(nodes))
     # each node's DOFs together, in key order within it (a stable sort)
