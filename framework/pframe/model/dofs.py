@@ -57,8 +57,9 @@ def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
     """The scene's degrees of freedom (see the module) from its floors, every element, the
     site's axes the ground motion loads (``channels``: 'x', 'y') and the initial values given
     ((node, component) -> value)."""
-    loads = {(i, COMPONENTS.index(axis)): f"the ground motion's {axis} component loads it"
-             for i in range(len(floors.nodes)) for axis in channels}
+    said = [(COMPONENTS.index(axis), f"the ground motion's {axis} component loads it")
+            for axis in channels]
+    loads = {(i, c): why for i in range(len(floors.nodes)) for c, why in said}
     given = {key: "an initial condition sets it" for key, value in initial.items() if value}
     why = _reasons(elements, loads, given)
     table = tuple(sorted(why))
