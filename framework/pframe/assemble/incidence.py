@@ -57,6 +57,8 @@ def build(elements_of_members, dof_of) -> Sides:
     (in the order first met), a coefficient 0 where a member has none (a line through one
     member's centre of mass does not turn that member's floor, but turns the others')."""
     first = elements_of_members[0]
+    if all(e.sides is None for elements in elements_of_members for e in elements):
+        return empty(len(first), len(elements_of_members))  # all plain: no terms at all
     start, dofs = [0], []
     coefs = [[] for _ in elements_of_members]
     for e in range(len(first)):
@@ -132,13 +134,15 @@ def side_mobility(dofs: np.ndarray, sides: Sides, member: int, mass: np.ndarray,
 
 def edges(dofs: np.ndarray, sides: Sides) -> list[tuple[int, int]]:
     """Pairs of DOFs that an element couples (the band's off-diagonal entries)."""
+    plain = list(map(tuple, np.asarray(dofs, dtype=np.int64).reshape(-1, 2).tolist()))
+    if len(sides.start) <= 1 or not np.any(general := sides.general()):
+        return plain
     out = []
-    general = sides.general() if len(sides.start) > 1 else np.zeros(len(dofs), dtype=bool)
     for e in range(len(dofs)):
         if general[e]:
             lo, hi = sides.start[2 * e], sides.start[2 * e + 2]
             touched = sorted(set(sides.dof[lo:hi].tolist()))
             out += [(a, c) for i, a in enumerate(touched) for c in touched[i + 1:]]
         else:
-            out.append((int(dofs[e, 0]), int(dofs[e, 1])))
+            out.append(plain[e])
     return out
