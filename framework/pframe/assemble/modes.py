@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import functools
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -213,13 +214,34 @@ def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.asarray(k, dtype=float)[mine] @ (drift * drift)
 
 
+#: the last few frequencies :func:`lowest_modes` computed: (scene, its arguments and masses,
+#: frequencies); the damping's fit and its description ask a tall building's same modes twice
+_SOLVED: list = []
+
+
 def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
                  vectors: bool = False):
     """The circular frequencies (rad/s, ascending) of building ``b`` with storey stiffnesses
     ``k``, and with ``vectors`` its mode shapes (columns, normalised on the masses:
     phi^T M phi = 1): all its modes up to :data:`DENSE_FLOORS` floors (or ``count`` None),
     else (at least) the lowest ``count``. In plan: its lateral-torsional modes over its
-    floors' DOFs (:func:`building_keys`)."""
+    floors' DOFs (:func:`building_keys`). The frequencies alone of the same scene (the same
+    object, its masses unchanged) and arguments as one of the last few are not solved again:
+    they are copied."""
+    if vectors:
+        return _lowest_modes(ex, b, k, count, vectors)
+    key = (b, np.asarray(k, dtype=float).tobytes(), count, np.asarray(ex.masses).tobytes(),
+           None if ex.dof_mass is None else np.asarray(ex.dof_mass).tobytes())
+    for scene, asked, omega in _SOLVED:
+        if scene() is ex and asked == key:
+            return np.copy(omega)
+    omega = _lowest_modes(ex, b, k, count, vectors)
+    _SOLVED.insert(0, (weakref.ref(ex), key, np.copy(omega)))
+    del _SOLVED[8:]
+    return omega
+
+
+def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
     if ex.dofs is not None:
         return _plan_modes(ex, b, k, count, vectors)
     nodes, springs = building_springs(ex, b, k)
