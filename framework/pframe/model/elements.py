@@ -366,11 +366,35 @@ def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
             unit = normalised(contact.normal)
         except ValueError:  # refused where its sides are resolved, at its YAML path
             unit = None
+        first = None
         for nodes, name in levels:
-            out.append(_contact(contact, nodes, name, law, path, resolver, seen, stories,
-                                heights, level, unit))
-            level = out[-1][1]
-    return [g for g, _ in out]
+            if first is not None and _plain(contact, unit):
+                # a further level of a contact at every level between floors' centres: its
+                # buildings checked at the first, the first's element with its name and nodes
+                _claim(seen, name, path)
+                out.append(like(first, element=like(first.element, name=name, nodes=(
+                    resolver.node_at(nodes[0], path, "nodes", 0),
+                    resolver.node_at(nodes[1], path, "nodes", 1)))))
+                continue
+            geometry, level = _contact(contact, nodes, name, law, path, resolver, seen,
+                                       stories, heights, level, unit)
+            out.append(geometry)
+            first = first or geometry
+    return out
+
+
+def _plain(contact, unit) -> bool:
+    """Whether each level of a contact is the plain element: between its floors' centres
+    along x, floor to floor."""
+    return (unit == (1.0, 0.0) and contact.points is None and contact.column is None
+            and contact.at is None and contact.shear_capacity is None)
+
+
+def _claim(seen: dict, name: str, path) -> None:
+    """Mark a contact's name as used (refused if it already is)."""
+    if name in seen:
+        raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
+    seen[name] = True
 
 
 def _levels(contact, resolver, path) -> list[tuple[tuple[str, str], str]]:
@@ -414,11 +438,8 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
         # normal given says the geometry itself
         _check_row_order(name, resolver.buildings, resolver.building_of[left],
                          resolver.building_of[right], nodes, path + ("nodes",))
-    if name in seen:
-        raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
-    seen[name] = True
-    if (unit == (1.0, 0.0) and contact.points is None and contact.column is None
-            and contact.at is None and contact.shear_capacity is None):
+    _claim(seen, name, path)
+    if _plain(contact, unit):
         # floors' centres along x: the plain element (what _sides and element() conclude),
         # without building its sides: a contact at every level of a tall pair has
         # tens of thousands
