@@ -22,6 +22,7 @@ A frame whose storeys all yield alike is not an isolator (its storeys soften tog
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import weakref
@@ -214,6 +215,20 @@ def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.asarray(k, dtype=float)[mine] @ (drift * drift)
 
 
+@contextlib.contextmanager
+def one_blas_thread():
+    """BLAS on one thread while a tall building's mode shapes are computed: LAPACK's inverse
+    iteration (stein, behind eigh_tridiagonal's selected vectors) calls vector operations of
+    the building's length, which a threaded BLAS splits over its threads, and those threads
+    then spin more than they compute (at 30,000 floors on two busy cores, ten times the CPU
+    of one thread). The frequencies (bisection) do not depend on it; the shapes differ only
+    in the last bits (another order of the threads' partial sums)."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
 #: the last few frequencies :func:`lowest_modes` computed: (scene, its arguments and masses,
 #: frequencies); the damping's fit and its description ask a tall building's same modes twice
 _SOLVED: list = []
@@ -270,12 +285,13 @@ def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
             band[hi - lo][lo] -= kk * root[il] * root[iu]
     band = np.array(band, dtype=float).reshape(width + 1, n)
     last = min(count, n) - 1
-    if width <= 1:
-        out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
-                               eigvals_only=not vectors, select="i", select_range=(0, last))
-    else:
-        out = eig_banded(band, lower=True, eigvals_only=not vectors, select="i",
-                         select_range=(0, last))
+    with one_blas_thread() if vectors else contextlib.nullcontext():
+        if width <= 1:
+            out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
+                                   eigvals_only=not vectors, select="i", select_range=(0, last))
+        else:
+            out = eig_banded(band, lower=True, eigvals_only=not vectors, select="i",
+                             select_range=(0, last))
     if not vectors:
         return np.sqrt(np.clip(out, 0, None))
     return np.sqrt(np.clip(out[0], 0, None)), out[1] * scale[:, None]

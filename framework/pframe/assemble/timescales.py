@@ -28,7 +28,12 @@ import math
 
 import numpy as np
 
-from pframe.assemble.modes import building_springs, scaled_triplets, spring_matrix
+from pframe.assemble.modes import (
+    building_springs,
+    one_blas_thread,
+    scaled_triplets,
+    spring_matrix,
+)
 
 #: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
 STEPS_PER_PERIOD = 20
@@ -119,8 +124,9 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     omegas, shares = [], []
     for first in range(0, min(LOWEST_MODES, n), MODES_AT_A_TIME):
         last = min(first + MODES_AT_A_TIME, LOWEST_MODES, n) - 1
-        values, vectors = eigh_tridiagonal(diagonal, off, select="i",
-                                           select_range=(first, last))
+        with one_blas_thread():
+            values, vectors = eigh_tridiagonal(diagonal, off, select="i",
+                                               select_range=(first, last))
         omegas.append(np.sqrt(np.clip(values, 0.0, None)))
         shares.append((vectors.T @ root) ** 2 / total)
         if float(np.sum(np.concatenate(shares))) >= MASS_SHARE:
