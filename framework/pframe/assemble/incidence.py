@@ -132,17 +132,19 @@ def side_mobility(dofs: np.ndarray, sides: Sides, member: int, mass: np.ndarray,
     return 1.0 / float(mass[d]) if d >= 0 else 0.0
 
 
-def edges(dofs: np.ndarray, sides: Sides) -> list[tuple[int, int]]:
-    """Pairs of DOFs that an element couples (the band's off-diagonal entries)."""
-    plain = list(map(tuple, np.asarray(dofs, dtype=np.int64).reshape(-1, 2).tolist()))
+def edges(dofs: np.ndarray, sides: Sides) -> np.ndarray:
+    """(m, 2) the pairs of DOFs that the elements couple (the band's off-diagonal entries),
+    element by element: a plain element's two DOFs, each pair of the DOFs an element with
+    sides touches."""
+    plain = np.asarray(dofs, dtype=np.int64).reshape(-1, 2)
     if len(sides.start) <= 1 or not np.any(general := sides.general()):
         return plain
-    out = []
-    for e in range(len(dofs)):
+    out, rows = [], plain.tolist()
+    for e in range(len(rows)):
         if general[e]:
             lo, hi = sides.start[2 * e], sides.start[2 * e + 2]
             touched = sorted(set(sides.dof[lo:hi].tolist()))
             out += [(a, c) for i, a in enumerate(touched) for c in touched[i + 1:]]
         else:
-            out.append(plain[e])
-    return out
+            out.append(rows[e])
+    return np.array(out, dtype=np.int64).reshape(-1, 2)

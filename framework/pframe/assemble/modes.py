@@ -327,6 +327,13 @@ def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     for s, e in enumerate(ex.stories):
         starting.setdefault(e.nodes[0], []).append(s)
     below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
+    if all(t > s for s, u in enumerate(upper) for t in starting.get(u, ())):
+        # every storey declared after the storeys below it (a building of the shorthand):
+        # one pass from the last down gives each node its value once those above have theirs
+        for u in reversed(upper):
+            below_top[u] = min([math.inf] + [min(k_post[t], below_top.get(upper[t], math.inf))
+                                             for t in starting.get(u, ())])
+        return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
     for start in set(upper):
         if start in below_top:
             continue
