@@ -362,11 +362,14 @@ def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     # storey above one
     stiff = k0 > 0.0
     above = _min_above(ex, np.where(stiff, k_post, math.inf))
+    # in Python floats (the same comparisons, without numpy's scalars: tall buildings)
     looks = np.array([s_ and (bool(e.law.isolator)
-                              or (np.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
-                      for e, kp, m, s_ in zip(ex.stories, k_post, above, stiff)], dtype=bool)
-    isolator = np.array([looks[s] if said[s] is None else bool(said[s])
-                         for s in range(len(ex.stories))], dtype=bool)
+                              or (math.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
+                      for e, kp, m, s_ in zip(ex.stories, np.asarray(k_post, dtype=float)
+                                              .tolist(), above.tolist(), stiff.tolist())],
+                     dtype=bool)
+    isolator = np.array([look if says is None else bool(says)
+                         for look, says in zip(looks.tolist(), said)], dtype=bool)
     notes = []
     for s in np.flatnonzero(looks & np.array([x is None for x in said], dtype=bool)):
         e = ex.stories[s]
