@@ -57,6 +57,8 @@ def build(elements_of_members, dof_of) -> Sides:
     (in the order first met), a coefficient 0 where a member has none (a line through one
     member's centre of mass does not turn that member's floor, but turns the others')."""
     first = elements_of_members[0]
+    if all(e.sides is None for elements in elements_of_members for e in elements):
+        return empty(len(first), len(elements_of_members))  # all plain: no terms at all
     start, dofs = [0], []
     coefs = [[] for _ in elements_of_members]
     for e in range(len(first)):
@@ -130,15 +132,19 @@ def side_mobility(dofs: np.ndarray, sides: Sides, member: int, mass: np.ndarray,
     return 1.0 / float(mass[d]) if d >= 0 else 0.0
 
 
-def edges(dofs: np.ndarray, sides: Sides) -> list[tuple[int, int]]:
-    """Pairs of DOFs that an element couples (the band's off-diagonal entries)."""
-    out = []
-    general = sides.general() if len(sides.start) > 1 else np.zeros(len(dofs), dtype=bool)
-    for e in range(len(dofs)):
+def edges(dofs: np.ndarray, sides: Sides) -> np.ndarray:
+    """(m, 2) the pairs of DOFs that the elements couple (the band's off-diagonal entries),
+    element by element: a plain element's two DOFs, each pair of the DOFs an element with
+    sides touches."""
+    plain = np.asarray(dofs, dtype=np.int64).reshape(-1, 2)
+    if len(sides.start) <= 1 or not np.any(general := sides.general()):
+        return plain
+    out, rows = [], plain.tolist()
+    for e in range(len(rows)):
         if general[e]:
             lo, hi = sides.start[2 * e], sides.start[2 * e + 2]
             touched = sorted(set(sides.dof[lo:hi].tolist()))
             out += [(a, c) for i, a in enumerate(touched) for c in touched[i + 1:]]
         else:
-            out.append((int(dofs[e, 0]), int(dofs[e, 1])))
-    return out
+            out.append(rows[e])
+    return np.array(out, dtype=np.int64).reshape(-1, 2)

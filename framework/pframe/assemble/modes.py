@@ -22,8 +22,10 @@ A frame whose storeys all yield alike is not an isolator (its storeys soften tog
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
+import weakref
 from dataclasses import dataclass
 
 import numpy as np
@@ -194,12 +196,12 @@ def building_springs(ex, b: int, k: np.ndarray):
     """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
     storey's stiffness taken from ``k`` (one per storey of the scene)."""
     nodes = np.flatnonzero(ex.node_building == b)
-    local = {node: i for i, node in enumerate(nodes)}
-    springs = []
-    for s in np.flatnonzero(ex.story_building == b):
-        low, up = ex.stories[s].nodes
-        springs.append((local[low] if low >= 0 else -1, local[up], float(k[s])))
-    return nodes, springs
+    local = np.full(len(ex.node_building) + 1, -1, dtype=np.int64)  # [-1]: the ground
+    local[nodes] = np.arange(len(nodes))
+    mine = np.flatnonzero(ex.story_building == b)
+    ends = local[np.array([ex.stories[s].nodes for s in mine], dtype=np.int64).reshape(-1, 2)]
+    return nodes, list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(),
+                           np.asarray(k, dtype=float)[mine].tolist()))
 
 
 def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -228,13 +230,48 @@ def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     return np.asarray(k, dtype=float)[mine] @ (drift * drift)
 
 
+@contextlib.contextmanager
+def one_blas_thread():
+    """BLAS on one thread while a tall building's mode shapes are computed: LAPACK's inverse
+    iteration (stein, behind eigh_tridiagonal's selected vectors) calls vector operations of
+    the building's length, which a threaded BLAS splits over its threads, and those threads
+    then spin more than they compute (at 30,000 floors on two busy cores, ten times the CPU
+    of one thread). The frequencies (bisection) do not depend on it; the shapes differ only
+    in the last bits (another order of the threads' partial sums)."""
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        yield
+
+
+#: the last few frequencies :func:`lowest_modes` computed: (scene, its arguments and masses,
+#: frequencies); the damping's fit and its description ask a tall building's same modes twice
+_SOLVED: list = []
+
+
 def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
                  vectors: bool = False):
     """The circular frequencies (rad/s, ascending) of building ``b`` with storey stiffnesses
     ``k``, and with ``vectors`` its mode shapes (columns, normalised on the masses:
     phi^T M phi = 1): all its modes up to :data:`DENSE_FLOORS` floors (or ``count`` None),
     else (at least) the lowest ``count``. In plan: its lateral-torsional modes over its
-    floors' DOFs (:func:`building_keys`)."""
+    floors' DOFs (:func:`building_keys`). The frequencies alone of the same scene (the same
+    object, its masses unchanged) and arguments as one of the last few are not solved again:
+    they are copied."""
+    if vectors:
+        return _lowest_modes(ex, b, k, count, vectors)
+    key = (b, np.asarray(k, dtype=float).tobytes(), count, np.asarray(ex.masses).tobytes(),
+           None if ex.dof_mass is None else np.asarray(ex.dof_mass).tobytes())
+    for scene, asked, omega in _SOLVED:
+        if scene() is ex and asked == key:
+            return np.copy(omega)
+    omega = _lowest_modes(ex, b, k, count, vectors)
+    _SOLVED.insert(0, (weakref.ref(ex), key, np.copy(omega)))
+    del _SOLVED[8:]
+    return omega
+
+
+def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
     if ex.dofs is not None:
         return _plan_modes(ex, b, k, count, vectors)
     nodes, springs = building_springs(ex, b, k)
@@ -251,20 +288,25 @@ def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
         return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
     from scipy.linalg import eig_banded, eigh_tridiagonal
 
-    band = np.zeros((width + 1, n))  # lower form: band[d, j] = A[j + d, j]
+    # lower form: band[d, j] = A[j + d, j]; summed in Python floats (the same IEEE operations
+    # as on numpy's scalars, without their overhead: a tall building has tens of thousands)
+    band, root = [[0.0] * n for _ in range(width + 1)], scale.tolist()
+    square = [float(v ** 2) for v in scale]  # numpy's pow: inf, not OverflowError, if huge
     for il, iu, kk in springs:
-        band[0, iu] += kk * scale[iu] ** 2
+        band[0][iu] += kk * square[iu]
         if il >= 0:
-            band[0, il] += kk * scale[il] ** 2
+            band[0][il] += kk * square[il]
             lo, hi = min(il, iu), max(il, iu)
-            band[hi - lo, lo] -= kk * scale[il] * scale[iu]
+            band[hi - lo][lo] -= kk * root[il] * root[iu]
+    band = np.array(band, dtype=float).reshape(width + 1, n)
     last = min(count, n) - 1
-    if width <= 1:
-        out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
-                               eigvals_only=not vectors, select="i", select_range=(0, last))
-    else:
-        out = eig_banded(band, lower=True, eigvals_only=not vectors, select="i",
-                         select_range=(0, last))
+    with one_blas_thread() if vectors else contextlib.nullcontext():
+        if width <= 1:
+            out = eigh_tridiagonal(band[0], band[1][:-1] if width else np.zeros(n - 1),
+                                   eigvals_only=not vectors, select="i", select_range=(0, last))
+        else:
+            out = eig_banded(band, lower=True, eigvals_only=not vectors, select="i",
+                             select_range=(0, last))
     if not vectors:
         return np.sqrt(np.clip(out, 0, None))
     return np.sqrt(np.clip(out[0], 0, None)), out[1] * scale[:, None]
@@ -294,26 +336,37 @@ class Isolation:
 def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     """For each storey, the smallest post-yield stiffness of the storeys above it (those
     reached upward from its upper node; inf: none), in one pass however tall."""
+    upper = [e.nodes[1] for e in ex.stories]
+    k_post = k_post.tolist()
     starting: dict[int, list[int]] = {}
     for s, e in enumerate(ex.stories):
         starting.setdefault(e.nodes[0], []).append(s)
     below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
-    for start in {e.nodes[1] for e in ex.stories}:
+    if all(t > s for s, u in enumerate(upper) for t in starting.get(u, ())):
+        # every storey declared after the storeys below it (a building of the shorthand):
+        # one pass from the last down gives each node its value once those above have theirs
+        for u in reversed(upper):
+            below_top[u] = min([math.inf] + [min(k_post[t], below_top.get(upper[t], math.inf))
+                                             for t in starting.get(u, ())])
+        return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
+    for start in set(upper):
+        if start in below_top:
+            continue
         todo, open_ = [(start, False)], set()
         while todo:  # post-order; a loop of storeys (refused elsewhere) is cut where it closes
             node, done = todo.pop()
             if done:
                 open_.discard(node)
                 below_top[node] = min([math.inf] + [
-                    min(k_post[s], below_top.get(ex.stories[s].nodes[1], math.inf))
-                    for s in starting.get(node, ()) if ex.stories[s].nodes[1] not in open_])
+                    min(k_post[s], below_top.get(upper[s], math.inf))
+                    for s in starting.get(node, ()) if upper[s] not in open_])
                 continue
             if node in below_top or node in open_:
                 continue
             open_.add(node)
             todo.append((node, True))
-            todo += [(ex.stories[s].nodes[1], False) for s in starting.get(node, ())]
-    return np.array([below_top.get(e.nodes[1], math.inf) for e in ex.stories], dtype=float)
+            todo += [(upper[s], False) for s in starting.get(node, ())]
+    return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
 
 
 def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
@@ -324,11 +377,14 @@ def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     # storey above one
     stiff = k0 > 0.0
     above = _min_above(ex, np.where(stiff, k_post, math.inf))
+    # in Python floats (the same comparisons, without numpy's scalars: tall buildings)
     looks = np.array([s_ and (bool(e.law.isolator)
-                              or (np.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
-                      for e, kp, m, s_ in zip(ex.stories, k_post, above, stiff)], dtype=bool)
-    isolator = np.array([looks[s] if said[s] is None else bool(said[s])
-                         for s in range(len(ex.stories))], dtype=bool)
+                              or (math.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
+                      for e, kp, m, s_ in zip(ex.stories, np.asarray(k_post, dtype=float)
+                                              .tolist(), above.tolist(), stiff.tolist())],
+                     dtype=bool)
+    isolator = np.array([look if says is None else bool(says)
+                         for look, says in zip(looks.tolist(), said)], dtype=bool)
     notes = []
     for s in np.flatnonzero(looks & np.array([x is None for x in said], dtype=bool)):
         e = ex.stories[s]

@@ -2,38 +2,55 @@
 
 from __future__ import annotations
 
+from collections import deque
+
 import numpy as np
 
 
-def reverse_cuthill_mckee(n: int, edges: list[tuple[int, int]]) -> np.ndarray:
-    """A permutation ``order`` (new -> old) of ``n`` vertices joined by ``edges``."""
-    neighbours: list[set[int]] = [set() for _ in range(n)]
-    for i, j in edges:
-        if i >= 0 and j >= 0 and i != j:
-            neighbours[i].add(j)
-            neighbours[j].add(i)
-    degree = [len(s) for s in neighbours]
-    seen = np.zeros(n, dtype=bool)
+def reverse_cuthill_mckee(n: int, edges) -> np.ndarray:
+    """A permutation ``order`` (new -> old) of ``n`` vertices joined by ``edges`` (pairs;
+    a negative vertex or a loop joins nothing): breadth-first from each unvisited vertex of
+    least degree, each vertex's neighbours visited by degree then number, reversed."""
+    pairs = _pairs(edges)
+    pairs = pairs[pairs[:, 0] != pairs[:, 1]]
+    # each vertex's neighbours once (both directions), sorted by vertex, degree, number
+    joined = np.unique(np.concatenate([pairs[:, 0] * n + pairs[:, 1],
+                                       pairs[:, 1] * n + pairs[:, 0]]))
+    first, other = np.divmod(joined, max(n, 1))
+    degree = np.bincount(first, minlength=n)
+    by = np.lexsort((other, degree[other], first))
+    neighbours = other[by].tolist()
+    start_of = np.searchsorted(first[by], np.arange(n + 1)).tolist()
+    seen = [False] * n
     order: list[int] = []
-    for start in sorted(range(n), key=lambda v: (degree[v], v)):
+    for start in np.lexsort((np.arange(n), degree)).tolist():
         if seen[start]:
             continue
         seen[start] = True
-        queue = [start]
+        queue = deque([start])
         while queue:
-            v = queue.pop(0)
+            v = queue.popleft()
             order.append(v)
-            for w in sorted(neighbours[v], key=lambda u: (degree[u], u)):
+            for w in neighbours[start_of[v]:start_of[v + 1]]:
                 if not seen[w]:
                     seen[w] = True
                     queue.append(w)
     return np.array(order[::-1], dtype=np.int64)
 
 
-def bandwidth(edges: list[tuple[int, int]], position: np.ndarray) -> int:
+def _pairs(edges) -> np.ndarray:
+    """(m, 2) the edges joining two vertices (a negative one, none: left out)."""
+    pairs = np.asarray(edges, dtype=np.int64).reshape(-1, 2)
+    return pairs[(pairs >= 0).all(axis=1)]
+
+
+def bandwidth(edges, position: np.ndarray) -> int:
     """Half-bandwidth of the matrix with these off-diagonal entries in the new numbering."""
-    return max((abs(position[i] - position[j]) for i, j in edges if i >= 0 and j >= 0),
-               default=0)
+    pairs = _pairs(edges)
+    if not len(pairs):
+        return 0
+    return int(np.max(np.abs(np.asarray(position)[pairs[:, 0]]
+                             - np.asarray(position)[pairs[:, 1]])))
 
 
 def place_last(order: np.ndarray, groups: dict[int, set[int]]) -> np.ndarray:

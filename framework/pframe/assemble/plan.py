@@ -434,12 +434,15 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     k0 = k0.reshape(len(variants), len(springs))
     fitted = damping.BatchDamping(variants, k0[:, :len(first.stories)])
     rocking = {key_index[(sway + 1, 0)] for sway in soil.sway.values()}
-    edges = [(a, c) for a, c in incidence.edges(node_dofs(springs), raw[0])
-             + incidence.edges(node_dofs(first.contacts), raw[1])
-             if a not in rocking and c not in rocking]
-    for block in fitted.modal_keys:  # a building's modal damping couples all its DOFs
-        edges += [(key_index[a], key_index[c]) for i, a in enumerate(block) for c in block[i + 1:]]
-    order = _node_order(keys, edges)
+    edges = np.concatenate([incidence.edges(node_dofs(springs), raw[0]),
+                            incidence.edges(node_dofs(first.contacts), raw[1])])
+    if rocking:
+        edges = edges[~np.isin(edges, sorted(rocking)).any(axis=1)]
+    # a building's modal damping couples all its DOFs
+    modal = [(key_index[a], key_index[c]) for block in fitted.modal_keys
+             for i, a in enumerate(block) for c in block[i + 1:]]
+    order = _node_order(keys, np.concatenate([edges, np.array(modal, dtype=np.int64)
+                                              .reshape(-1, 2)]))
     if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
         order = place_last(order, soil.rocking_groups(first, springs, key_index))
     dof_of_key = np.empty(n, dtype=np.int64)
@@ -447,11 +450,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     story_sides, contact_sides = (_renumbered(x, dof_of_key) for x in raw)
     story_dofs = _renumbered_dofs(node_dofs(springs), dof_of_key)
     contact_dofs = _renumbered_dofs(node_dofs(first.contacts), dof_of_key)
-    all_edges = incidence.edges(story_dofs, story_sides) + incidence.edges(contact_dofs,
-                                                                           contact_sides)
-    all_edges += [(int(dof_of_key[key_index[a]]), int(dof_of_key[key_index[c]]))
-                  for block in fitted.modal_keys for i, a in enumerate(block)
-                  for c in block[i + 1:]]
+    all_edges = np.concatenate([incidence.edges(story_dofs, story_sides),
+                                incidence.edges(contact_dofs, contact_sides),
+                                dof_of_key[np.array(modal, dtype=np.int64).reshape(-1, 2)]])
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
     masses = _masses(variants, node_keys, soil)
     node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
@@ -597,15 +598,13 @@ def _node_order(keys, edges) -> np.ndarray:
     may scatter them (the DOF graph's own RCM gave half-bandwidth 12 where this gives 8 on a
     pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was."""
     node_of = np.array([node for node, _ in keys], dtype=np.int64)
-    nodes = np.unique(node_of)
-    local = {int(node): i for i, node in enumerate(nodes)}
-    node_edges = {(local[int(node_of[a])], local[int(node_of[c])]) for a, c in edges
-                  if a >= 0 and c >= 0}
-    node_order = reverse_cuthill_mckee(len(nodes), sorted(node_edges))
-    by_node: dict[int, list[int]] = {}
-    for i, node in enumerate(node_of):
-        by_node.setdefault(local[int(node)], []).append(i)
-    return np.array([i for v in node_order for i in by_node[int(v)]], dtype=np.int64)
+    nodes, local = np.unique(node_of, return_inverse=True)  # key -> its node's number
+    pairs = np.array(edges, dtype=np.int64).reshape(-1, 2)
+    node_order = reverse_cuthill_mckee(len(nodes), local[pairs[(pairs >= 0).all(axis=1)]])
+    rank = np.empty(len(nodes), dtype=np.int64)
+    rank[node_order] = np.arange(len(nodes))
+    # each node's DOFs together, in key order within it (a stable sort)
+    return np.argsort(rank[local.reshape(-1)], kind="stable").astype(np.int64)
 
 
 def _principal(keys, nodes: int) -> np.ndarray:

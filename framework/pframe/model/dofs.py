@@ -42,9 +42,13 @@ def _reasons(elements, channels, initial) -> dict:
     """(node, component) -> why it moves (the first element, load or initial value)."""
     why: dict = {}
     for e in elements:
-        for terms in e.side_terms():
-            for node, component, _ in terms:
-                why.setdefault((node, component), f"{e.name} acts on it")
+        if e.sides is None:  # the plain element: u_x of each node (not the ground)
+            keys = [(i, 0) for i in e.nodes if i >= 0]
+        else:
+            keys = [(node, component) for terms in e.sides for node, component, _ in terms]
+        for key in keys:
+            if key not in why:  # the first element's reason (worded only then)
+                why[key] = f"{e.name} acts on it"
     return why | {k: v for k, v in initial.items() if k not in why} | {
         k: v for k, v in channels.items() if k not in why}
 
@@ -53,8 +57,9 @@ def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
     """The scene's degrees of freedom (see the module) from its floors, every element, the
     site's axes the ground motion loads (``channels``: 'x', 'y') and the initial values given
     ((node, component) -> value)."""
-    loads = {(i, COMPONENTS.index(axis)): f"the ground motion's {axis} component loads it"
-             for i in range(len(floors.nodes)) for axis in channels}
+    said = [(COMPONENTS.index(axis), f"the ground motion's {axis} component loads it")
+            for axis in channels]
+    loads = {(i, c): why for i in range(len(floors.nodes)) for c, why in said}
     given = {key: "an initial condition sets it" for key, value in initial.items() if value}
     why = _reasons(elements, loads, given)
     table = tuple(sorted(why))

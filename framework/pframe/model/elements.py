@@ -11,7 +11,6 @@ always has.
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass
 
@@ -20,6 +19,7 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
+from pframe.model.floors import like
 from pframe.model.load import ModelError
 from pframe.model.plan import coefficients, normalised
 from pframe.model.scene import contact_levels, default_link_name
@@ -73,6 +73,11 @@ class Element:
         if self.sides is not None:
             return self.sides
         return tuple(((i, 0, 1.0),) if i >= 0 else () for i in self.nodes)
+
+
+#: the plain element with every field but its name, nodes, law and numbers at its default
+#: (a planar storey, a contact between floors' centres), which tall scenes copy
+PLAIN = Element("", (-1, -1), type, ())
 
 
 #: a floor-to-column contact's ``at`` may differ from the one its storey heights give by this
@@ -185,6 +190,14 @@ class Resolver:
                                    f"{' ...' if len(names) > 12 else ''}")
         return self.index[name]
 
+    def node_at(self, name, path, *field) -> int:
+        """:meth:`node` with the path ``path + field``, joined only for its error (a tall
+        scene resolves hundreds of thousands of names)."""
+        if name == "ground":
+            return -1
+        i = self.index.get(name)
+        return i if i is not None else self.node(name, path + field)
+
     def floor(self, i: int):
         return self.floors.nodes[i] if i >= 0 else None
 
@@ -215,8 +228,8 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
     number = {name: i for i, name in enumerate(resolver.buildings)}
     for spec in floors.stories:
         lower, upper = spec.nodes
-        up = resolver.node(upper, spec.path + ("nodes", 1))
-        low = resolver.node(lower, spec.path + ("nodes", 0))
+        up = resolver.node_at(upper, spec.path, "nodes", 1)
+        low = resolver.node_at(lower, spec.path, "nodes", 0)
         if low >= 0 and resolver.building_of[low] != resolver.building_of[up]:
             raise ModelError(spec.path + ("nodes",), f"a storey joins floors of one building; "
                                                      f"{lower!r} and {upper!r} are in two")
@@ -235,10 +248,18 @@ def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
                 raise ModelError(spec.path, str(exc)) from None
             if callable(context._mass_above):  # not asked: the same for equal parameters
                 shared[key] = packed
-        point = spec.position if spec.position is not None else resolver.floor(up).centre
-        sides = (side(low, resolver.floor(low), point, spec.direction),
-                 side(up, resolver.floor(up), point, spec.direction))
-        out.append(element(spec.name, (low, up), spec.law, packed, sides))
+        centre = resolver.floor(up).centre
+        if (spec.position is None and spec.direction == (1.0, 0.0)
+                and (low < 0 or resolver.floor(low).centre == centre)):
+            # the planar storey (u_x of both floors: what side() and element() conclude),
+            # without building its sides: a tall building has tens of thousands
+            out.append(like(PLAIN, name=spec.name, nodes=(low, up), law=spec.law,
+                            packed=packed))
+        else:
+            point = spec.position if spec.position is not None else centre
+            sides = (side(low, resolver.floor(low), point, spec.direction),
+                     side(up, resolver.floor(up), point, spec.direction))
+            out.append(element(spec.name, (low, up), spec.law, packed, sides))
         building.append(number[resolver.building_of[up]])
     for spec in floors.stories:
         if getattr(spec.law, "stiffness_free", False):
@@ -341,11 +362,39 @@ def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
                                                 "'ground' on one side is a wall")
         levels = _levels(contact, resolver, path)
         law = get_law("contact", contact.law)
+        try:
+            unit = normalised(contact.normal)
+        except ValueError:  # refused where its sides are resolved, at its YAML path
+            unit = None
+        first = None
         for nodes, name in levels:
-            out.append(_contact(contact, nodes, name, law, path, resolver, seen, stories,
-                                heights, level))
-            level = out[-1][1]
-    return [g for g, _ in out]
+            if first is not None and _plain(contact, unit):
+                # a further level of a contact at every level between floors' centres: its
+                # buildings checked at the first, the first's element with its name and nodes
+                _claim(seen, name, path)
+                out.append(like(first, element=like(first.element, name=name, nodes=(
+                    resolver.node_at(nodes[0], path, "nodes", 0),
+                    resolver.node_at(nodes[1], path, "nodes", 1)))))
+                continue
+            geometry, level = _contact(contact, nodes, name, law, path, resolver, seen,
+                                       stories, heights, level, unit)
+            out.append(geometry)
+            first = first or geometry
+    return out
+
+
+def _plain(contact, unit) -> bool:
+    """Whether each level of a contact is the plain element: between its floors' centres
+    along x, floor to floor."""
+    return (unit == (1.0, 0.0) and contact.points is None and contact.column is None
+            and contact.at is None and contact.shear_capacity is None)
+
+
+def _claim(seen: dict, name: str, path) -> None:
+    """Mark a contact's name as used (refused if it already is)."""
+    if name in seen:
+        raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
+    seen[name] = True
 
 
 def _levels(contact, resolver, path) -> list[tuple[tuple[str, str], str]]:
@@ -372,10 +421,13 @@ def _levels(contact, resolver, path) -> list[tuple[tuple[str, str], str]]:
     return levels
 
 
-def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, level):
+def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, level,
+             unit=None):
     """One contact of the scene (or one level of a contact at every level) resolved to its
-    nodes and sides, and the floors' elevations (computed once, for the struck columns)."""
-    left, right = (resolver.node(node, path + ("nodes", i)) for i, node in enumerate(nodes))
+    nodes and sides, and the floors' elevations (computed once, for the struck columns);
+    ``unit`` its normal normalised (None: not computed, or no direction)."""
+    left, right = (resolver.node_at(nodes[0], path, "nodes", 0),
+                   resolver.node_at(nodes[1], path, "nodes", 1))
     if left >= 0 and right >= 0:
         if resolver.building_of[left] == resolver.building_of[right]:
             raise ModelError(path + ("nodes",), "a contact joins nodes of two different "
@@ -386,9 +438,13 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
         # normal given says the geometry itself
         _check_row_order(name, resolver.buildings, resolver.building_of[left],
                          resolver.building_of[right], nodes, path + ("nodes",))
-    if name in seen:
-        raise ModelError(path + ("name",), f"contact name {name!r} is used twice")
-    seen[name] = True
+    _claim(seen, name, path)
+    if _plain(contact, unit):
+        # floors' centres along x: the plain element (what _sides and element() conclude),
+        # without building its sides: a contact at every level of a tall pair has
+        # tens of thousands
+        return ContactGeometry(path, contact, like(PLAIN, name=name, nodes=(left, right),
+                                                   law=law, gap=float(contact.gap))), level
     sides = list(_sides(resolver, (left, right), contact.points, contact.normal, path,
                         "normal"))
     lower, share, at = [-1, -1], [1.0, 1.0], [math.nan, math.nan]
@@ -430,13 +486,15 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
         if params is None:  # once per contact of the scene, whatever its levels
             params = validated[id(contact)] = law.Params.model_validate(
                 contact.model_dump(include=set(law.Params.model_fields)))
-        sides = e.side_terms()
         # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
         # a point of a floor or a column has the mass its displacement's weights give it
-        masses = (side_mass(sides[0], dof_mass), side_mass(sides[1], dof_mass))
+        if e.sides is None:  # the plain element's sides: its nodes' own masses (side_mass)
+            masses = tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf for i in e.nodes)
+        else:
+            masses = (side_mass(e.sides[0], dof_mass), side_mass(e.sides[1], dof_mass))
         known = packs.get((id(contact), masses))
         if known is not None:  # another level of a contact at every level, the same masses
-            out.append(_packed(e, known[0]))
+            out.append(like(e, packed=known[0]))
             if known[1] is not None:
                 rebounds[known[1]].append(e.name)
             continue
@@ -455,7 +513,7 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
                 packed = finite(law.pack(params, context), path)
         except InputError as exc:
             raise ModelError(path, str(exc)) from None
-        out.append(_packed(e, packed))
+        out.append(like(e, packed=packed))
         obtained = published_rebound(law, params)
         published = None
         if obtained is not None:
@@ -465,14 +523,6 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
             rebounds.setdefault(published, []).append(e.name)
         packs[(id(contact), masses)] = (packed, published)
     return out, rebounds
-
-
-def _packed(e: Element, packed) -> Element:
-    """``e`` with its law's numbers (dataclasses.replace, without its introspection: a tall
-    pair has tens of thousands of contacts)."""
-    out = copy.copy(e)
-    object.__setattr__(out, "packed", packed)
-    return out
 
 
 def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int, float]:

@@ -399,27 +399,24 @@ def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
     dashpot (a stiffness-free link). The nodes of a building without storeys are free bodies
     by design (masses that strike each other or a wall): under a ground motion a warning says
     what they do (the ground moves under them), unless they are declared ``free``."""
-    parent = list(range(len(nodes) + 1))  # the last entry is the ground
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
 
-    def root(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    ground = len(nodes)
-    for element in list(stories) + [e for e in links
-                                    if not getattr(e.law, "stiffness_free", False)]:
-        a, b = (ground if i < 0 else i for i in element.nodes)
-        parent[root(a)] = root(b)
+    ground = len(nodes)  # the ground: the graph's last vertex
+    ends = np.array([e.nodes for e in stories] + [e.nodes for e in links if not getattr(
+        e.law, "stiffness_free", False)], dtype=np.int64).reshape(-1, 2)
+    ends[ends < 0] = ground
+    joined = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])),
+                        shape=(ground + 1, ground + 1))
+    label = connected_components(joined, directed=False)[1]  # the same label: joined
     free = {n.name for n in scene.nodes if n.free}
-    with_storeys = {nodes[e.nodes[1]].building for e in stories}
-    loose = [i for i, floor in enumerate(nodes)
-             if root(i) != root(ground) and floor.name not in free]
+    loose = [i for i in np.flatnonzero(label[:ground] != label[ground]).tolist()
+             if nodes[i].name not in free]
+    with_storeys = {nodes[e.nodes[1]].building for e in stories} if loose else set()
     refused = [i for i in loose if nodes[i].building in with_storeys]
     if refused:
         first = refused[0]
-        group = [nodes[i].name for i in loose if root(i) == root(first)]
+        group = [nodes[i].name for i in loose if label[i] == label[first]]
         what = (f"node {group[0]!r}" if len(group) == 1 else
                 f"nodes {', '.join(repr(g) for g in group)} (joined to each other)")
         it = "it" if len(group) == 1 else "them"

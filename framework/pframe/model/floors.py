@@ -99,6 +99,16 @@ class Floors:
     gravity_centres: dict = field(default_factory=dict)
 
 
+def like(prototype, **changes):
+    """A copy of the frozen dataclass instance ``prototype`` with ``changes`` to its fields:
+    ``dataclasses.replace`` without the per-field ``__init__`` (a fraction of its cost: what
+    every storey of a tall building repeats is built tens of thousands of times). Only for
+    classes without ``__post_init__``; ``changes`` must name their fields."""
+    out = object.__new__(type(prototype))
+    out.__dict__.update(prototype.__dict__, **changes)
+    return out
+
+
 def _validation_message(exc: Exception) -> str:
     """A storey's parameter error in one line: each pydantic error as ``field: message`` (a
     check across fields has no field), never pydantic's closing link to its documentation."""
@@ -225,7 +235,11 @@ def _building_geometry(building, n: int, path):
         inertias = [m * radius2 for m in masses]
     else:
         inertias = [None] * n
-    return placement, plan, points, [tuple(map(float, c)) for c in centres], inertias
+    as_floats, last = [], None
+    for c in centres:  # one tuple for a run of floors given one centre (placed once)
+        as_floats.append(as_floats[-1] if as_floats and c is last else tuple(map(float, c)))
+        last = c
+    return placement, plan, points, as_floats, inertias
 
 
 def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
@@ -243,22 +257,34 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
         raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                          "height (m, one for all storeys or one per storey)")
     above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
+    given, centre, first = None, None, None
     for i in range(n):
-        nodes.append(Floor(f"{building.name}/{i + 1}", masses[i], path + ("name",),
-                           placement.point(centres[i]), inertias[i], placement, plan, points,
-                           path))
+        if centres[i] is not given:  # placed once for a run of floors given one centre
+            given, centre = centres[i], placement.point(centres[i])
+        if first is None:
+            first = Floor(f"{building.name}/1", masses[0], path + ("name",), centre,
+                          inertias[0], placement, plan, points, path)
+            nodes.append(first)
+        else:  # the first floor's placement, plan and points: its fields shared
+            nodes.append(like(first, name=f"{building.name}/{i + 1}", mass=masses[i],
+                              centre=centre, inertia=inertias[i]))
     gravity = [GRAVITY * float(above[i]) if building.p_delta else 0.0 for i in range(n)]
     if building.story is not None:
         law, fields = _material_fields(building.story, n, path + ("story",))
         same, validated = _one_for_all(law, fields, path + ("story",)), {}
+        first = None
         for i in range(n):
             name = f"{building.name}/{i + 1}"
             lower = "ground" if i == 0 else f"{building.name}/{i}"
-            stories.append(StoreySpec(name, (lower, name), law,
-                                      same or _storey_params(law, fields, i, path + ("story",),
-                                                             validated),
-                                      path + ("story",), heights[i], gravity[i],
-                                      direction=placement.vector((1.0, 0.0)), storey=name))
+            params = same or _storey_params(law, fields, i, path + ("story",), validated)
+            if first is None:
+                first = StoreySpec(name, (lower, name), law, params, path + ("story",),
+                                   heights[i], gravity[i],
+                                   direction=placement.vector((1.0, 0.0)), storey=name)
+                stories.append(first)
+            else:  # the first storey's law, path and direction: fields shared
+                stories.append(like(first, name=name, nodes=(lower, name), params=params,
+                                    height=heights[i], gravity=gravity[i], storey=name))
         return
     for j, line in enumerate(building.lines):
         lpath = path + ("lines", j)

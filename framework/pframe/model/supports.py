@@ -87,8 +87,8 @@ def resolve(scene, floors, resolver) -> Supports:
         s = (_index(names, building.support, path + ("support",), f"building {building.name!r}")
              if building.support is not None
              else _default(names, declared, path, f"building {building.name!r}"))
-        for i, floor in enumerate(floors.nodes):
-            if floor.building == building.name:
+        for i, name in enumerate(resolver.building_of):  # each floor's building
+            if name == building.name:
                 support[i] = s
     _carried(scene, resolver, names, declared, support)
     node_support = tuple(support.get(i, 0) for i in range(len(floors.nodes)))
