@@ -419,14 +419,16 @@ def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
         group = [nodes[i].name for i in loose if label[i] == label[first]]
         what = (f"node {group[0]!r}" if len(group) == 1 else
                 f"nodes {', '.join(repr(g) for g in group)} (joined to each other)")
-        it = "it" if len(group) == 1 else "them"
+        one = len(group) == 1
+        it, they = ("it", "it") if one else ("them", "they")
         raise ModelError(nodes[first].path, f"{what}: no storey, link with a stiffness or soil "
                          f"holds {it} to the ground (a contact does not, nor a dashpot), though "
-                         f"the building has storeys; {it} would float, with no stiffness to "
+                         f"the building has storeys; {they} would float, with no stiffness to "
                          f"return {it}. Give {it} a storey (nodes: [ground or the floor below, "
                          f"{group[0]}]) or a link with a stiffness, or write free: true on "
-                         f"{'the node' if len(group) == 1 else 'each node'} if {it} is meant "
-                         "to be a free body")
+                         f"{'the node' if one else 'each node'} if {they} "
+                         f"{'is' if one else 'are'} meant to be "
+                         f"{'a free body' if one else 'free bodies'}")
     if not loose or scene.excitation is None:
         return ()
     names = [nodes[i].name for i in loose]
