@@ -168,8 +168,8 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
 
     many = None
     if kind == "msa":
-        def many(grid):
-            return _msa_rates(grid, g_req, ok, levels, records, hazard)
+        def many(grid, target=None):
+            return _msa_rates(grid, g_req, ok, levels, records, hazard, target)
     return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
 
 
@@ -177,11 +177,13 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
 RATE_ROWS = 4096
 
 
-def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
+def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None) -> np.ndarray:
     """lambda(g) of the msa fit at every gap of ``grid`` at once: the numbers of rate_at in
     :func:`_gap_curve` (the same fit, the same integral, its fallbacks), with the probit fits
     of the distinct count rows in one vectorised Fisher scoring (a curve of hundreds of
-    gaps, and one per bootstrap resample)."""
+    gaps, and one per bootstrap resample). With ``target``, a fit whose integral's bounds
+    (:func:`_sides`) leave no doubt on which side of it lambda lies has that bound in place
+    of lambda: the numbers tell above or below the target, and nothing more."""
     from scipy.special import ndtr
 
     from pframe.risk.fragility import probit_rows
@@ -202,14 +204,12 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
         lam = hazard.rate(x)
         middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
         c = c[good]
-        inside = np.empty(len(c))
-        for lo in range(0, len(c), RATE_ROWS):  # bounded memory: a block of rows at a time
-            block = c[lo:lo + RATE_ROWS]
-            eta = np.multiply(block[:, 1:], middle)
-            eta += block[:, :1]
-            ndtr(eta, out=eta)
-            inside[lo:lo + RATE_ROWS] = np.nan_to_num(eta, copy=False) @ weight
         above = np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
+        inside = np.full(len(c), np.nan)
+        todo = np.arange(len(c))
+        if target is not None and np.all(weight >= 0):
+            inside, todo = _sides(c, middle, weight, above, target)
+        inside[todo] = _integrals(c[todo], middle, weight)
         out[tried[good]] = inside + above
         fitted[tried[good]] = True
     for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
@@ -218,6 +218,52 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
         value = float(hazard.rate(step))
         out[k] = value if math.isfinite(value) else math.nan
     return out[back.ravel()]
+
+
+def _integrals(c, middle, weight) -> np.ndarray:
+    """sum_k Phi(c0 + c1 middle_k) weight_k for each row of ``c`` (m, 2): the midpoint rule
+    of :func:`pframe.risk.hazard.mean_annual_frequency` for many probit fits, each row's
+    the same bits whatever rows are computed with it."""
+    from scipy.special import ndtr
+
+    inside = np.empty(len(c))
+    for lo in range(0, len(c), RATE_ROWS):  # bounded memory: a block of rows at a time
+        block = c[lo:lo + RATE_ROWS]
+        eta = np.multiply(block[:, 1:], middle)
+        eta += block[:, :1]
+        ndtr(eta, out=eta)
+        if not np.isfinite(block).all():  # finite coefficients give a finite Phi
+            np.nan_to_num(eta, copy=False)
+        eta *= weight  # not a matrix product: BLAS's sum for a row can depend on the rows
+        # beside it, and a curve searched a block at a time must find the same numbers
+        inside[lo:lo + RATE_ROWS] = eta.sum(axis=1)
+    return inside
+
+
+#: points of the midpoint rule in each block of :func:`_sides`'s bounds
+SIDE_BLOCK = 16
+
+
+def _sides(c, middle, weight, above, target: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of :func:`_integrals` from a point in ``SIDE_BLOCK``: with c1 > 0 (a fitted
+    probit) Phi grows along the increasing ``middle``, so with weights >= 0 each block's
+    sum lies between its weight times Phi at its first point and at its last. Returns the
+    integrals (the lower bound where even it puts lambda = integral + ``above`` above
+    ``target``, the upper where even it puts lambda at or below; NaN elsewhere) and the
+    rows left to integrate (those the bounds do not decide, and any without c1 > 0). The
+    margin of 1e-9 covers the rounding of both sums (a relative 1e-13 over 800 terms)."""
+    from scipy.special import ndtr
+
+    starts = np.arange(0, middle.size, SIDE_BLOCK)
+    ends = np.append(starts[1:], middle.size) - 1
+    w = np.add.reduceat(weight, starts)
+    low = ndtr(c[:, :1] + c[:, 1:] * middle[starts]) @ w
+    high = ndtr(c[:, :1] + c[:, 1:] * middle[ends]) @ w
+    rising = np.isfinite(c).all(axis=1) & (c[:, 1] > 0)
+    over = rising & ((low + above) * (1 - 1e-9) > target)
+    under = rising & ((high + above) * (1 + 1e-9) <= target)
+    inside = np.where(over, low, np.where(under, high, np.nan))
+    return inside, np.flatnonzero(~(over | under))
 
 
 def _pounding_counts(grid, g_req, ok, records) -> np.ndarray:
