@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 
 import numpy as np
 
@@ -311,7 +312,10 @@ def _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R) -> None:
             "fit is censored, but hunt that limit (design.limit) for its capacities")
 
 
-def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
+def analyse(spec, inputs, rows, hazard: HazardCurve | None, threads: int | None = None) \
+        -> Analysis:
+    """The fragilities, mean annual frequencies and gap at target of a study's runs; the
+    gap's bootstrap resamples in ``threads`` processes (default: one per CPU)."""
     rng = np.random.default_rng(spec.seed)
     kind = spec.design.kind
     R, L = inputs.factors.shape
@@ -367,11 +371,12 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
                     "IM, so the frequency from lower intensities is missing (an underestimate);"
                     " extend the table down")
     if spec.target is not None and hazard is not None:
-        _at_target(out, spec, inputs, rows, hazard, im, rng)
+        _at_target(out, spec, inputs, rows, hazard, im, rng, threads)
     return out
 
 
-def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) -> None:
+def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
+               threads: int | None = None) -> None:
     """The gap at the target annual frequency of pounding (the largest crossing of the
     refitted curve, :mod:`pframe.risk.gapcurve`), its bootstrap interval, the regression's
     estimate and the code rules at the target's intensity."""
@@ -403,13 +408,9 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) 
     out.gap_regression = GapCurve(lambda g: mean_annual_frequency(
         reg.fragility(g, check=False).probability, hazard, points=800)[0], g_req[ok], step=False).gap(target)
     if spec.bootstrap and kind != "cloud":
-        found = []
-        for _ in range(spec.bootstrap):
-            pick = rng.integers(0, R, R)
-            idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
-            found.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], inputs.levels, R,
-                                    hazard, None if used is None else used[idx]).gap(target))
-        found = np.array(found)
+        picks = [rng.integers(0, R, R) for _ in range(spec.bootstrap)]
+        found = np.array(_resampled_gaps((kind, im, g_req, ok, inputs.levels, R, hazard, used,
+                                          target), picks, threads))
         if np.isfinite(found).sum() >= 0.9 * len(found):
             out.gap_low, out.gap_high = (float(v) for v in np.nanpercentile(found, [5, 95]))
         else:
@@ -423,6 +424,43 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) 
     else:
         _say_what_the_gap_rests_on(out, kind, im, g_req, ok, inputs.levels, R, hazard, used)
     _rules_at_target(out, kind, inputs, rows, im, ok, hunted, spec)
+
+
+def _gaps_of(data, picks) -> list:
+    """The gap at target of each resample of the records ``picks`` (record numbers, drawn
+    with replacement); ``data``: (kind, im, g_req, ok, levels, records, hazard, used,
+    target) of the study."""
+    kind, im, g_req, ok, levels, R, hazard, used, target = data
+    L = im.size // R
+    out = []
+    for pick in picks:
+        idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
+        out.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], levels, R, hazard,
+                              None if used is None else used[idx]).gap(target))
+    return out
+
+
+def _resampled_gaps(data, picks: list, workers: int | None) -> list:
+    """:func:`_gaps_of` shared among ``workers`` processes (default: one per CPU), each a
+    contiguous share of the resamples; the numbers are those of one process, in order (each
+    resample's work is its own). Processes, not threads: the fits are many small numpy
+    operations, each too short to run while another thread holds the interpreter. One
+    process where a process cannot be forked (not on this platform, or inside a daemonic
+    worker, as a Dask worker's)."""
+    import multiprocessing
+
+    workers = max(1, min(len(picks), workers or os.cpu_count() or 1))
+    if (workers == 1 or "fork" not in multiprocessing.get_all_start_methods()
+            or multiprocessing.current_process().daemon):
+        return _gaps_of(data, picks)
+    from concurrent.futures import ProcessPoolExecutor
+    from functools import partial
+
+    share = -(-len(picks) // workers)
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        parts = pool.map(partial(_gaps_of, data),
+                         [picks[lo:lo + share] for lo in range(0, len(picks), share)])
+        return [value for part in parts for value in part]
 
 
 def _outside_table(hazard: HazardCurve, target: float) -> str:
