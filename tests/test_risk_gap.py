@@ -109,6 +109,57 @@ def test_the_gap_at_target_is_the_largest_crossing_of_a_non_monotone_curve():
 
 
 @pytest.mark.slow
+def test_the_gap_searched_block_by_block_is_the_gap_of_the_whole_curve(monkeypatch):
+    """A bootstrap resample's curve is searched for the gap at a target from its widest gap
+    down, a block of gaps at a time, each rate only bounded where the bound tells its side
+    of the target: the gap found is the one of the curve computed at every gap, for targets
+    at each of the non-monotone curve's values (where a bound's side is in doubt), an ulp
+    either side, and past both ends."""
+    from pframe.risk import gapcurve
+    from pframe.risk.analysis import _gap_curve
+
+    monkeypatch.setattr(gapcurve, "SCAN", 3)  # blocks of 3 of its 40 gaps
+    g_req = _records(55)
+    R, L = g_req.shape
+
+    def curve():
+        return _gap_curve("msa", np.tile(LEVELS, R), g_req.ravel(), np.ones(R * L, bool),
+                          LEVELS, R, HazardCurve.power_law(K0, K))
+
+    whole = curve()
+    values = whole.values
+    assert whole.rise() is not None  # the case is a non-monotone curve
+    picked = values[np.isfinite(values) & (values > 0)][::6]
+    targets = [*picked, *np.nextafter(picked, 0.0), *np.nextafter(picked, 1.0),
+               0.5 * np.nanmin(values), 2 * np.nanmax(values)]
+    for target in targets:
+        fresh = curve()
+        assert fresh.gap(target) == whole.gap(target) or math.isnan(whole.gap(target))
+        assert fresh._values is None  # the search alone did not compute the curve
+
+
+def test_the_bootstrap_resamples_shared_among_processes_give_the_loops_gaps_in_order():
+    """The gap of each record resample, computed in two processes (a share each), is the gap
+    computed one resample after another, in the order of the resamples."""
+    from pframe.risk.analysis import _gap_curve, _resampled_gaps
+
+    g_req = _records(55, records=12)
+    R, L = g_req.shape
+    im, ok = np.tile(LEVELS, R), np.ones(R * L, bool)
+    hazard, target = HazardCurve.power_law(K0, K), 1 / 2475
+    picks = [np.random.default_rng(seed).integers(0, R, R) for seed in range(7)]
+    expected = []
+    for pick in picks:
+        idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
+        expected.append(_gap_curve("msa", im[idx], g_req.ravel()[idx], ok[idx], LEVELS, R,
+                                   hazard).gap(target))
+    assert len(set(expected)) > 3  # resamples with gaps of their own
+    data = ("msa", im, g_req.ravel(), ok, LEVELS, R, hazard, None, target)
+    assert _resampled_gaps(data, picks, 2) == expected
+    assert _resampled_gaps(data, picks, 1) == expected
+
+
+@pytest.mark.slow
 def test_the_gap_at_target_against_a_population_with_a_known_answer():
     """Critical gaps eps_r x (an elastic pair: the gap a record needs grows in proportion to
     its scaling), eps lognormal (median 50 mm, dispersion 0.35): pounding at g is then a

@@ -66,7 +66,9 @@ def register(sub) -> None:
     p.add_argument("-o", "--output", metavar="OUT.nc", help="result file (default: "
                    "STUDY.risk.nc)")
     p.add_argument("--overwrite", action="store_true", help="replace an existing result file")
-    p.add_argument("--threads", type=int, metavar="N", help="threads (default: one per CPU)")
+    p.add_argument("--threads", type=int, metavar="N",
+                   help="threads of the runs and processes of the gap's bootstrap (default: "
+                        "one per CPU)")
     p.add_argument("--scheduler", metavar="tcp://HOST:PORT",
                    help="run the batches on this Dask distributed scheduler's workers "
                         '(pip install "pframe[cluster]"); msa, grid ida and cloud designs')

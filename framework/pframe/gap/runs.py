@@ -297,6 +297,9 @@ class GapSink:
         self.ground = _contact_grounds(plan, members)
         self.gap = np.full((plan.batch, len(members[0].names)), -np.inf)
         self.peak_side = np.zeros((plan.batch, len(members[0].names), 2))
+        # the sides whose peak is the kernel's envelope (peaks): no running peak of their own
+        self.tracked = [[s for s in range(2) if self.plain(c, s) is None]
+                        for c in range(len(self.terms))]
 
     def plain(self, c: int, s: int) -> int | None:
         """The DOF of side ``s`` of contact ``c`` when that side is its node's u_x alone."""
@@ -326,7 +329,7 @@ class GapSink:
             # what came before (its results are discarded anyway)
             block = np.max(closing, axis=1)
             np.fmax(self.gap[:, c], block, out=self.gap[:, c])
-            for s in range(2):
+            for s in self.tracked[c]:
                 np.fmax(self.peak_side[:, c, s], np.max(np.abs(sides[s]), axis=1),
                         out=self.peak_side[:, c, s])
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 
 import numpy as np
 
@@ -168,8 +169,8 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
 
     many = None
     if kind == "msa":
-        def many(grid):
-            return _msa_rates(grid, g_req, ok, levels, records, hazard)
+        def many(grid, target=None):
+            return _msa_rates(grid, g_req, ok, levels, records, hazard, target)
     return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
 
 
@@ -177,11 +178,13 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
 RATE_ROWS = 4096
 
 
-def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
+def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None) -> np.ndarray:
     """lambda(g) of the msa fit at every gap of ``grid`` at once: the numbers of rate_at in
     :func:`_gap_curve` (the same fit, the same integral, its fallbacks), with the probit fits
     of the distinct count rows in one vectorised Fisher scoring (a curve of hundreds of
-    gaps, and one per bootstrap resample)."""
+    gaps, and one per bootstrap resample). With ``target``, a fit whose integral's bounds
+    (:func:`_sides`) leave no doubt on which side of it lambda lies has that bound in place
+    of lambda: the numbers tell above or below the target, and nothing more."""
     from scipy.special import ndtr
 
     from pframe.risk.fragility import probit_rows
@@ -202,14 +205,12 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
         lam = hazard.rate(x)
         middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
         c = c[good]
-        inside = np.empty(len(c))
-        for lo in range(0, len(c), RATE_ROWS):  # bounded memory: a block of rows at a time
-            block = c[lo:lo + RATE_ROWS]
-            eta = np.multiply(block[:, 1:], middle)
-            eta += block[:, :1]
-            ndtr(eta, out=eta)
-            inside[lo:lo + RATE_ROWS] = np.nan_to_num(eta, copy=False) @ weight
         above = np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
+        inside = np.full(len(c), np.nan)
+        todo = np.arange(len(c))
+        if target is not None and np.all(weight >= 0):
+            inside, todo = _sides(c, middle, weight, above, target)
+        inside[todo] = _integrals(c[todo], middle, weight)
         out[tried[good]] = inside + above
         fitted[tried[good]] = True
     for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
@@ -218,6 +219,52 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard) -> np.ndarray:
         value = float(hazard.rate(step))
         out[k] = value if math.isfinite(value) else math.nan
     return out[back.ravel()]
+
+
+def _integrals(c, middle, weight) -> np.ndarray:
+    """sum_k Phi(c0 + c1 middle_k) weight_k for each row of ``c`` (m, 2): the midpoint rule
+    of :func:`pframe.risk.hazard.mean_annual_frequency` for many probit fits, each row's
+    the same bits whatever rows are computed with it."""
+    from scipy.special import ndtr
+
+    inside = np.empty(len(c))
+    for lo in range(0, len(c), RATE_ROWS):  # bounded memory: a block of rows at a time
+        block = c[lo:lo + RATE_ROWS]
+        eta = np.multiply(block[:, 1:], middle)
+        eta += block[:, :1]
+        ndtr(eta, out=eta)
+        if not np.isfinite(block).all():  # finite coefficients give a finite Phi
+            np.nan_to_num(eta, copy=False)
+        eta *= weight  # not a matrix product: BLAS's sum for a row can depend on the rows
+        # beside it, and a curve searched a block at a time must find the same numbers
+        inside[lo:lo + RATE_ROWS] = eta.sum(axis=1)
+    return inside
+
+
+#: points of the midpoint rule in each block of :func:`_sides`'s bounds
+SIDE_BLOCK = 16
+
+
+def _sides(c, middle, weight, above, target: float) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of :func:`_integrals` from a point in ``SIDE_BLOCK``: with c1 > 0 (a fitted
+    probit) Phi grows along the increasing ``middle``, so with weights >= 0 each block's
+    sum lies between its weight times Phi at its first point and at its last. Returns the
+    integrals (the lower bound where even it puts lambda = integral + ``above`` above
+    ``target``, the upper where even it puts lambda at or below; NaN elsewhere) and the
+    rows left to integrate (those the bounds do not decide, and any without c1 > 0). The
+    margin of 1e-9 covers the rounding of both sums (a relative 1e-13 over 800 terms)."""
+    from scipy.special import ndtr
+
+    starts = np.arange(0, middle.size, SIDE_BLOCK)
+    ends = np.append(starts[1:], middle.size) - 1
+    w = np.add.reduceat(weight, starts)
+    low = ndtr(c[:, :1] + c[:, 1:] * middle[starts]) @ w
+    high = ndtr(c[:, :1] + c[:, 1:] * middle[ends]) @ w
+    rising = np.isfinite(c).all(axis=1) & (c[:, 1] > 0)
+    over = rising & ((low + above) * (1 - 1e-9) > target)
+    under = rising & ((high + above) * (1 + 1e-9) <= target)
+    inside = np.where(over, low, np.where(under, high, np.nan))
+    return inside, np.flatnonzero(~(over | under))
 
 
 def _pounding_counts(grid, g_req, ok, records) -> np.ndarray:
@@ -265,7 +312,10 @@ def _hunt_censoring(out, spec, rows, name, cond, prefix, ratio, R) -> None:
             "fit is censored, but hunt that limit (design.limit) for its capacities")
 
 
-def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
+def analyse(spec, inputs, rows, hazard: HazardCurve | None, threads: int | None = None) \
+        -> Analysis:
+    """The fragilities, mean annual frequencies and gap at target of a study's runs; the
+    gap's bootstrap resamples in ``threads`` processes (default: one per CPU)."""
     rng = np.random.default_rng(spec.seed)
     kind = spec.design.kind
     R, L = inputs.factors.shape
@@ -321,11 +371,12 @@ def analyse(spec, inputs, rows, hazard: HazardCurve | None) -> Analysis:
                     "IM, so the frequency from lower intensities is missing (an underestimate);"
                     " extend the table down")
     if spec.target is not None and hazard is not None:
-        _at_target(out, spec, inputs, rows, hazard, im, rng)
+        _at_target(out, spec, inputs, rows, hazard, im, rng, threads)
     return out
 
 
-def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) -> None:
+def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
+               threads: int | None = None) -> None:
     """The gap at the target annual frequency of pounding (the largest crossing of the
     refitted curve, :mod:`pframe.risk.gapcurve`), its bootstrap interval, the regression's
     estimate and the code rules at the target's intensity."""
@@ -357,13 +408,9 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) 
     out.gap_regression = GapCurve(lambda g: mean_annual_frequency(
         reg.fragility(g, check=False).probability, hazard, points=800)[0], g_req[ok], step=False).gap(target)
     if spec.bootstrap and kind != "cloud":
-        found = []
-        for _ in range(spec.bootstrap):
-            pick = rng.integers(0, R, R)
-            idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
-            found.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], inputs.levels, R,
-                                    hazard, None if used is None else used[idx]).gap(target))
-        found = np.array(found)
+        picks = [rng.integers(0, R, R) for _ in range(spec.bootstrap)]
+        found = np.array(_resampled_gaps((kind, im, g_req, ok, inputs.levels, R, hazard, used,
+                                          target), picks, threads))
         if np.isfinite(found).sum() >= 0.9 * len(found):
             out.gap_low, out.gap_high = (float(v) for v in np.nanpercentile(found, [5, 95]))
         else:
@@ -377,6 +424,43 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng) 
     else:
         _say_what_the_gap_rests_on(out, kind, im, g_req, ok, inputs.levels, R, hazard, used)
     _rules_at_target(out, kind, inputs, rows, im, ok, hunted, spec)
+
+
+def _gaps_of(data, picks) -> list:
+    """The gap at target of each resample of the records ``picks`` (record numbers, drawn
+    with replacement); ``data``: (kind, im, g_req, ok, levels, records, hazard, used,
+    target) of the study."""
+    kind, im, g_req, ok, levels, R, hazard, used, target = data
+    L = im.size // R
+    out = []
+    for pick in picks:
+        idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
+        out.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], levels, R, hazard,
+                              None if used is None else used[idx]).gap(target))
+    return out
+
+
+def _resampled_gaps(data, picks: list, workers: int | None) -> list:
+    """:func:`_gaps_of` shared among ``workers`` processes (default: one per CPU), each a
+    contiguous share of the resamples; the numbers are those of one process, in order (each
+    resample's work is its own). Processes, not threads: the fits are many small numpy
+    operations, each too short to run while another thread holds the interpreter. One
+    process where a process cannot be forked (not on this platform, or inside a daemonic
+    worker, as a Dask worker's)."""
+    import multiprocessing
+
+    workers = max(1, min(len(picks), workers or os.cpu_count() or 1))
+    if (workers == 1 or "fork" not in multiprocessing.get_all_start_methods()
+            or multiprocessing.current_process().daemon):
+        return _gaps_of(data, picks)
+    from concurrent.futures import ProcessPoolExecutor
+    from functools import partial
+
+    share = -(-len(picks) // workers)
+    with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
+        parts = pool.map(partial(_gaps_of, data),
+                         [picks[lo:lo + share] for lo in range(0, len(picks), share)])
+        return [value for part in parts for value in part]
 
 
 def _outside_table(hazard: HazardCurve, target: float) -> str:

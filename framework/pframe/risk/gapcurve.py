@@ -34,24 +34,41 @@ from scipy.optimize import brentq
 #: points of the log grid of an ida or cloud curve (between half the smallest critical gap
 #: and the largest; the crossing is then refined by Brent's method)
 GRID = 48
+#: a curve computed at once is searched for the gap at a target from its widest gap down,
+#: in blocks of SCAN gaps or a SCANS-th of its grid, whichever is more
+SCAN, SCANS = 512, 16
 
 
 class GapCurve:
     """``lambda_raw(g)`` from ``rate_at(g)`` (the design's fit at the uniform gap ``g``,
     integrated over the hazard), its envelope from the right, and the largest crossing of a
     target. ``g_req``: the critical gaps of the runs that count (m); ``step``: the raw curve
-    is constant between consecutive critical gaps (msa)."""
+    is constant between consecutive critical gaps (msa). ``many(grid)``: the numbers of
+    ``rate_at`` at every gap of ``grid``, at once; ``many(grid, target)`` may put in place
+    of a value any number on the same side of ``target`` (above, or at or below), which is
+    all the search for the gap at ``target`` reads of a curve not otherwise used."""
 
     def __init__(self, rate_at, g_req: np.ndarray, step: bool, many=None):
-        self.rate_at, self.step = rate_at, step
+        self.rate_at, self.step, self.many = rate_at, step, many
         g = np.unique(g_req[np.isfinite(g_req) & (g_req > 0)])
         self.grid = g if step or g.size < 2 else np.geomspace(g[0] * 0.5, g[-1], GRID)
-        # ``many(grid)``: the same numbers as rate_at at every gap, computed at once
-        self.values = (np.asarray(many(self.grid), float) if many is not None else
-                       np.array([self.raw(x) for x in self.grid], dtype=float))
-        # the envelope at each grid point: the largest raw value at or to its right
-        finite = np.where(np.isfinite(self.values), self.values, -np.inf)
-        self.right = np.maximum.accumulate(finite[::-1])[::-1]
+        self._values = self._right = None
+
+    @property
+    def values(self) -> np.ndarray:
+        """lambda_raw at every gap of the grid (computed when first asked for)."""
+        if self._values is None:  # ``many(grid)``: the numbers of rate_at, at once
+            self._values = (np.asarray(self.many(self.grid), float) if self.many is not None
+                            else np.array([self.raw(x) for x in self.grid], dtype=float))
+        return self._values
+
+    @property
+    def right(self) -> np.ndarray:
+        """The envelope at each grid point: the largest raw value at or to its right."""
+        if self._right is None:
+            finite = np.where(np.isfinite(self.values), self.values, -np.inf)
+            self._right = np.maximum.accumulate(finite[::-1])[::-1]
+        return self._right
 
     def raw(self, g: float) -> float:
         return float(self.rate_at(g))
@@ -77,20 +94,47 @@ class GapCurve:
         the raw curve (NaN when no gap between the critical gaps reaches the target)."""
         if not self.grid.size:
             return math.nan
-        above = np.flatnonzero(np.isfinite(self.values) & (self.values > target))
-        if not above.size:  # every critical gap meets it: below the smallest, all runs pound
+        i, later = self._last_above(target)
+        if i < 0:  # every critical gap meets it: below the smallest, all runs pound
             low = self.raw(0.5 * self.grid[0])
             if not (math.isfinite(low) and low > target):
                 return math.nan
             return float(self.grid[0]) if self.step else self._root(0.5 * self.grid[0],
                                                                      self.grid[0], target)
-        i = int(above[-1])
-        later = [j for j in range(i + 1, self.grid.size) if math.isfinite(self.values[j])]
-        if not later:
+        if later < 0:
             return math.nan
         if self.step:  # constant on [grid[i], grid[i + 1]): the step is the root
-            return float(self.grid[later[0]])
-        return self._root(self.grid[i], self.grid[later[0]], target)
+            return float(self.grid[later])
+        return self._root(self.grid[i], self.grid[later], target)
+
+    def _last_above(self, target: float) -> tuple[int, int]:
+        """The last grid point whose raw value is above ``target`` and the first after it
+        with a value (-1 where there is none). A curve computed at once whose values are
+        not known yet is computed from its widest gap down, a block at a time, only as far
+        as that point (a bootstrap resample asks for nothing else: where the curve crosses
+        the target, it is far from its widest gap)."""
+        if self._values is None and self.many is not None:
+            end, known = self.grid.size, np.empty(0)
+            size = max(SCAN, -(-end // SCANS))
+            while end > 0:
+                lo = max(0, end - size)
+                known = np.concatenate([np.asarray(self.many(self.grid[lo:end], target),
+                                                   float), known])
+                if self._last(known, target)[0] >= 0:
+                    break
+                end = lo
+            i, later = self._last(known, target)
+            return (lo + i if i >= 0 else -1), (lo + later if later >= 0 else -1)
+        return self._last(self.values, target)
+
+    @staticmethod
+    def _last(values: np.ndarray, target: float) -> tuple[int, int]:
+        above = np.flatnonzero(np.isfinite(values) & (values > target))
+        if not above.size:
+            return -1, -1
+        i = int(above[-1])
+        later = np.flatnonzero(np.isfinite(values[i + 1:]))
+        return i, (i + 1 + int(later[0]) if later.size else -1)
 
     def _root(self, a: float, b: float, target: float) -> float:
         def f(x):

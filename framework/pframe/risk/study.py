@@ -677,9 +677,10 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
     rules. With ``output``, writes it (netCDF-4, CF-1.8), keeping finished batches beside it
     until then so that a stopped study resumes. Warnings (runs cut short, a hazard table too
     short for the fragilities, runs that failed) go in ``warnings`` and the file's
-    ``warnings`` attribute. With ``scheduler`` (tcp://HOST:PORT), the batches of an msa,
-    grid ida or cloud design run on that Dask cluster (the ``cluster`` extra), saved as they
-    come back. Raises :class:`InputError` for bad input."""
+    ``warnings`` attribute. ``threads``: the kernel's threads, and the processes the gap's
+    bootstrap resamples are shared among (default: one per CPU). With ``scheduler``
+    (tcp://HOST:PORT), the batches of an msa, grid ida or cloud design run on that Dask
+    cluster (the ``cluster`` extra), saved as they come back. Raises :class:`InputError` for bad input."""
     from pframe.risk.analysis import analyse
     from pframe.risk.output import build_dataset
 
@@ -721,7 +722,7 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
             identity = f" uncertain={json.dumps(spec.uncertain, sort_keys=True)} seed={spec.seed}"
         rows = run_variants(inputs, spec.pounding_runs, chunk, output, threads, overwrite,
                             progress, uncertain, identity, scheduler)
-    result = analyse(spec, inputs, rows, hazard)
+    result = analyse(spec, inputs, rows, hazard, threads)
     for line in result.warnings:
         warnings.warn(f"{study}: {line}", stacklevel=2)
     ds = build_dataset(spec, inputs, rows, result, text, str(study), hazard, search)
