@@ -74,6 +74,19 @@ def test_a_built_in_scene_neither_imports_numba_nor_compiles(tmp_path):
     assert not cache.exists() or not any(p.is_file() for p in cache.rglob("*"))
 
 
+@pytest.mark.slow
+def test_pframe_solve_of_an_ordinary_scene_imports_no_scipy_sparse(tmp_path):
+    """scipy.sparse (about 0.1 s to import) is for tall scenes and explicit stability
+    checks: the paper's scene solved from the command line never imports it."""
+    probe = ("import sys\nfrom pframe.cli import main\n"
+             "code = main(['solve', sys.argv[1], '-o', sys.argv[2], '-q'])\n"
+             "print(code, 'scipy.sparse' in sys.modules)")
+    done = subprocess.run(
+        [sys.executable, "-c", probe, str(REPO / "models" / "wu2021-eq14.yaml"),
+         str(tmp_path / "a.nc")], capture_output=True, text=True, timeout=600)
+    assert done.stdout.split() == ["0", "False"], done.stderr
+
+
 def _pframe() -> list[str]:
     script = Path(sys.executable).with_name("pframe")
     return [str(script)] if script.exists() else [sys.executable, "-m", "pframe.cli"]

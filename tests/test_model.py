@@ -208,3 +208,24 @@ def test_a_contact_at_every_level_counts_its_levels_before_anything_is_built(mon
             .replace("CONTACTS", "  - {nodes: [A, B], gap: 0.01, law: linear, stiffness: 1.0e7}"))
     with pytest.raises(InputError, match="100,007 floors, storeys and contacts in all"):
         parse_scene(text)
+
+
+def test_the_floating_node_check_labels_alike_with_either_graph_method(monkeypatch):
+    """Small scenes label the graph of storeys and links by a union-find, large ones by
+    scipy's connected components: the same partition of a random graph either way."""
+    import importlib
+
+    import numpy as np
+
+    expand = importlib.import_module("pframe.model.expand")  # the module, not its function
+
+    rng = np.random.default_rng(7)
+    count = 400
+    ends = rng.integers(0, count, size=(300, 2))
+    small = expand._components(count, ends)
+    monkeypatch.setattr(expand, "_GRAPH_LIBRARY_ABOVE", 0)
+    large = expand._components(count, ends)
+    pairs = rng.integers(0, count, size=(5000, 2))
+    np.testing.assert_array_equal(small[pairs[:, 0]] == small[pairs[:, 1]],
+                                  large[pairs[:, 0]] == large[pairs[:, 1]])
+    assert len(set(small.tolist())) == len(set(large.tolist())) > 1

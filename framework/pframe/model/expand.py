@@ -390,6 +390,35 @@ def _storey_flags(specs, extra: int) -> dict:
                 story_stiffness_damping=tuple(f[1] for f in flags))
 
 
+#: vertices above which the floating-node check labels the graph with scipy's connected
+#: components (its import, about 0.1 s, then pays for itself); below, a union-find in Python
+#: keeps scipy.sparse off the path of every ordinary pframe solve
+_GRAPH_LIBRARY_ABOVE = 5000
+
+
+def _components(count: int, ends: np.ndarray) -> np.ndarray:
+    """A label per vertex of the undirected graph of ``count`` vertices and edges ``ends``
+    ((m, 2) vertex pairs): equal labels, joined by a chain of edges."""
+    if count > _GRAPH_LIBRARY_ABOVE:
+        from scipy.sparse import coo_matrix
+        from scipy.sparse.csgraph import connected_components
+
+        joined = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])),
+                            shape=(count, count))
+        return connected_components(joined, directed=False)[1]
+    parent = list(range(count))
+
+    def root(i):
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    for a, b in ends.tolist():
+        parent[root(a)] = root(b)
+    return np.array([root(i) for i in range(count)])
+
+
 def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
     """Refuse a node that nothing holds to the ground in a building that has storeys: no chain
     of storeys, links with a stiffness or (a shorthand building's) soil joins it to the ground,
@@ -399,16 +428,11 @@ def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
     dashpot (a stiffness-free link). The nodes of a building without storeys are free bodies
     by design (masses that strike each other or a wall): under a ground motion a warning says
     what they do (the ground moves under them), unless they are declared ``free``."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
     ground = len(nodes)  # the ground: the graph's last vertex
     ends = np.array([e.nodes for e in stories] + [e.nodes for e in links if not getattr(
         e.law, "stiffness_free", False)], dtype=np.int64).reshape(-1, 2)
     ends[ends < 0] = ground
-    joined = coo_matrix((np.ones(len(ends)), (ends[:, 0], ends[:, 1])),
-                        shape=(ground + 1, ground + 1))
-    label = connected_components(joined, directed=False)[1]  # the same label: joined
+    label = _components(ground + 1, ends)  # the same label: joined
     free = {n.name for n in scene.nodes if n.free}
     loose = [i for i in np.flatnonzero(label[:ground] != label[ground]).tolist()
              if nodes[i].name not in free]
