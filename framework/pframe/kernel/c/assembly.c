@@ -98,6 +98,7 @@ typedef struct {
     int64_t *calls;
     int terms, grounded;
     int current; /* every spring's damping on its current tangent, none with P-delta */
+    int in_order; /* the evaluation order is the elements' own (order[j] == j) */
     const int64_t *dofs, *order, *modes, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *k0, *beta, *kg, *side_coef, *tangent_c, *ue, *ve;
     const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
@@ -114,13 +115,14 @@ typedef struct {
  * scenes, and the lines of a plan's storeys: neither is looked up per spring). Returns 1 when
  * an effective tangent changed. */
 static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
-                                    LawFunction force, int terms, int grounded, int current)
+                                    LawFunction force, int terms, int grounded, int current,
+                                    int in_order)
 {
     double out[3];
     int stale = 0;
     int64_t j;
     for (j = from; j < to; j++) {
-        const int64_t e = L->order[j];
+        const int64_t e = in_order ? j : L->order[j];
         const int64_t lo = L->dofs[2 * e], up = L->dofs[2 * e + 1];
         const int64_t mode = current ? DAMPING_CURRENT : L->modes[e];
         const int sided = terms && general(L->start, e);
@@ -183,7 +185,7 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
 typedef struct {
     const double *committed_step;
     int64_t *calls;
-    int terms, grounded;
+    int terms, grounded, in_order;
     const int64_t *dofs, *order, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *gap, *pen_c, *force_c, *side_coef, *ue, *ve;
     const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
@@ -195,13 +197,13 @@ typedef struct {
 
 /* The contacts order[from .. to - 1], all of law `force` (see spring_run). */
 static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t to,
-                                     LawFunction force, int terms, int grounded)
+                                     LawFunction force, int terms, int grounded, int in_order)
 {
     double out[3];
     int stale = 0;
     int64_t j;
     for (j = from; j < to; j++) {
-        const int64_t e = L->order[j];
+        const int64_t e = in_order ? j : L->order[j];
         const int64_t left = L->dofs[2 * e], right = L->dofs[2 * e + 1];
         const int plain = !(terms && general(L->start, e));
         double d, r, f, kd, kr, at;
@@ -258,7 +260,8 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
 
 /* The end of the law group that starts at order[from] (elements of one law are consecutive
  * in the plan's order). */
-static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from, int64_t count)
+static PFRAME_INLINE int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from,
+                                      int64_t count)
 {
     int64_t to = from + 1;
     if (laws[order[count - 1]] == laws[order[from]]) /* the last group: no search */
@@ -287,8 +290,11 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     sl->terms = m->story_terms > 0;
     sl->grounded = m->story_ground_terms > 0;
     sl->current = 1;
-    for (e = 0; e < ns; e++)
+    sl->in_order = 1;
+    for (e = 0; e < ns; e++) {
         sl->current &= m->story_damping[e] == DAMPING_CURRENT && m->story_kg[b * ns + e] == 0.0;
+        sl->in_order &= m->story_order[e] == e;
+    }
     sl->dofs = m->story_dofs;
     sl->order = m->story_order;
     sl->modes = m->story_damping;
@@ -318,6 +324,9 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->calls = st->contact_calls + b * m->contact_laws;
     cl->terms = m->contact_terms > 0;
     cl->grounded = m->contact_ground_terms > 0;
+    cl->in_order = 1;
+    for (e = 0; e < nc; e++)
+        cl->in_order &= m->contact_order[e] == e;
     cl->dofs = m->contact_dofs;
     cl->order = m->contact_order;
     cl->start = m->contact_side_start;
@@ -368,17 +377,18 @@ static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Wor
         switch (law) {
 #define SPRING_GROUP(id, function) \
         case id: \
-            stale |= grounded ? spring_run(L, j, to, function, terms, 1, 0) \
-                     : terms ? (L->current ? spring_run(L, j, to, function, 1, 0, 1) \
-                                           : spring_run(L, j, to, function, 1, 0, 0)) \
-                     : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
-                                  : spring_run(L, j, to, function, 0, 0, 0); \
+            stale |= grounded ? spring_run(L, j, to, function, terms, 1, 0, 0) \
+                     : terms ? (L->current ? spring_run(L, j, to, function, 1, 0, 1, 0) \
+                                           : spring_run(L, j, to, function, 1, 0, 0, 0)) \
+                     : !L->current ? spring_run(L, j, to, function, 0, 0, 0, 0) \
+                     : L->in_order ? spring_run(L, j, to, function, 0, 0, 1, 1) \
+                                   : spring_run(L, j, to, function, 0, 0, 1, 0); \
             break;
             MATERIAL_LAWS(SPRING_GROUP)
 #undef SPRING_GROUP
         default:
             stale |= spring_run(L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
-                                terms, grounded, 0);
+                                terms, grounded, 0, 0);
         }
     }
     return stale;
@@ -418,14 +428,15 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
         switch (law) {
 #define CONTACT_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded) \
-                                       : contact_run(L, j, to, function, 0, 0); \
+            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded, 0) \
+                     : L->in_order ? contact_run(L, j, to, function, 0, 0, 1) \
+                                   : contact_run(L, j, to, function, 0, 0, 0); \
             break;
             CONTACT_LAWS(CONTACT_GROUP)
 #undef CONTACT_GROUP
         default:
             stale |= contact_run(L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
-                                 terms, grounded);
+                                 terms, grounded, 0);
         }
     }
     return stale;
