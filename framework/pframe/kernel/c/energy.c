@@ -143,6 +143,32 @@ static void commit_dofs(const Model *m, const Settings *s, State *st, const Work
     }
 }
 
+/* The springs e = from .. to - 1 (storeys, or links): their material forces' work over the
+ * step (returned), their damping's added to *work_damp and their part of du . [G] to *du_dG,
+ * each in the springs' order; their committed deformation and forces become the trial ones. */
+static PFRAME_INLINE double spring_works(int64_t from, int64_t to, double *drift_c,
+                                         double *force_c, double *damping_c, double *tangent_c,
+                                         const Work *w, double *work_damp, double *du_dG)
+{
+    const double *drift_t = w->drift, *force_t = w->story_force;
+    const double *damping_t = w->story_damping_force, *tangent_t = w->story_tangent;
+    double work = 0.0, damp = *work_damp, dG = *du_dG;
+    int64_t e;
+    for (e = from; e < to; e++) {
+        const double dd = drift_t[e] - drift_c[e];
+        work += 0.5 * (force_c[e] + force_t[e]) * dd;
+        damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
+        dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
+        drift_c[e] = drift_t[e];
+        force_c[e] = force_t[e];
+        damping_c[e] = damping_t[e];
+        tangent_c[e] = tangent_t[e];
+    }
+    *work_damp = damp;
+    *du_dG = dG;
+    return work;
+}
+
 /* The storeys' and links' works over the step (k > 0), then the contacts': works and impacts
  * (a contact open at the start and closed at the end); then every element's committed state
  * and force, and its law's. */
@@ -161,20 +187,11 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
     double du_dG = x->du_dG;
     int64_t e;
     if (k > 0) {
-        for (e = 0; e < ns; e++) {
-            const double dd = drift_t[e] - drift_c[e];
-            const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
-            if (e < storeys)
-                work_story += work;
-            else /* a link (no Rayleigh damping: its dashpot is in its force) */
-                work_link += work;
-            work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
-            du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
-            drift_c[e] = drift_t[e];
-            force_c[e] = force_t[e];
-            damping_c[e] = damping_t[e];
-            tangent_c[e] = tangent_t[e];
-        }
+        work_story = spring_works(0, storeys, drift_c, force_c, damping_c, tangent_c, w,
+                                  &work_damp, &du_dG);
+        /* the links (no Rayleigh damping: a link's dashpot is in its force) */
+        work_link = spring_works(storeys, ns, drift_c, force_c, damping_c, tangent_c, w,
+                                 &work_damp, &du_dG);
         for (e = 0; e < nc; e++) {
             const double dp = pen_t[e] - pen_c[e];
             work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
@@ -203,14 +220,10 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
     x->du_dG = du_dG;
     {
         const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
-        double *to = st->story_committed + b * story_values;
-        const double *from = st->story_trial + b * story_values;
-        for (e = 0; e < story_values; e++)
-            to[e] = from[e];
-        to = st->contact_committed + b * contact_values;
-        from = st->contact_trial + b * contact_values;
-        for (e = 0; e < contact_values; e++)
-            to[e] = from[e];
+        memcpy(st->story_committed + b * story_values, st->story_trial + b * story_values,
+               sizeof(double) * (size_t)story_values);
+        memcpy(st->contact_committed + b * contact_values, st->contact_trial + b * contact_values,
+               sizeof(double) * (size_t)contact_values);
     }
 }
 
