@@ -275,6 +275,9 @@ static PFRAME_INLINE int64_t group_end(const int64_t *order, const int64_t *laws
 typedef struct {
     SpringLoop springs;
     ContactLoop contacts;
+    /* the fast paths' weights of the step length weights_h (integrator.c, step_weights): the
+     * divisions once per step length, not once per step */
+    double weights_h, c0, c1, inv_c0_mmin;
 } Loops;
 
 /* Member b's loops, what of them holds for a whole call (evaluate sets the rest), in loops,
@@ -348,6 +351,7 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->R = w->R;
     cl->Q = m->contact_width;
     cl->T = m->contact_states;
+    loops->weights_h = NAN; /* none yet: reset_work took this member's smallest mass */
     w->loops = loops;
 }
 

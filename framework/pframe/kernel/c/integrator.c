@@ -49,6 +49,7 @@ typedef struct {
     double h;
     double c0;  /* da per unit end displacement (1 / (beta h^2)); a += c0 x after a solve */
     double c1;  /* the damping weight: d ve/da = wf c1 / c0 */
+    double inv_c0_mmin; /* 1 / (c0 wm min m): Newton's bound on an increment per residual */
     double wm;  /* d ae/da */
     double wf;  /* d ue/da = wf / c0: the stiffness weight of the effective stiffness */
     double u_A, u_a; /* the fast paths: u = U + (h V + u_A A + u_a a) */
@@ -66,21 +67,26 @@ typedef struct {
  * by zero (Python raised ZeroDivisionError there; the driver still does). */
 static int step_weights(const Settings *s, Work *w, double h, Weights *c)
 {
-    double bh2;
-    if (s->beta * h * h == 0.0 || s->beta * h == 0.0 || s->beta == 0.0) {
-        w->scalars[ZERO_DIVISION] = 1.0;
-        return 0;
-    }
-    bh2 = s->beta * h * h;
-    c->h = h;
-    c->c0 = 1.0 / bh2;
-    c->c1 = s->gamma / (s->beta * h);
+    Loops *kept = (Loops *)w->loops; /* the divisions of the last step length */
+    const double bh2 = s->beta * h * h;
     c->wm = 1.0 - s->alpha_m;
-    c->wf = 1.0 - s->alpha_f;
-    if (s->scheme == WILSON_THETA) {
-        c->c1 = c->c1 / s->theta;
-        c->wf = s->theta * s->theta * s->theta;
+    if (h != kept->weights_h) {
+        if (bh2 == 0.0 || s->beta * h == 0.0 || s->beta == 0.0) {
+            w->scalars[ZERO_DIVISION] = 1.0;
+            return 0;
+        }
+        kept->c0 = 1.0 / bh2;
+        kept->c1 = s->gamma / (s->beta * h);
+        if (s->scheme == WILSON_THETA)
+            kept->c1 = kept->c1 / s->theta;
+        kept->inv_c0_mmin = 1.0 / (kept->c0 * c->wm * w->scalars[MASS_MIN]);
+        kept->weights_h = h;
     }
+    c->h = h;
+    c->c0 = kept->c0;
+    c->c1 = kept->c1;
+    c->inv_c0_mmin = kept->inv_c0_mmin;
+    c->wf = s->scheme == WILSON_THETA ? s->theta * s->theta * s->theta : 1.0 - s->alpha_f;
     c->u_A = 0.5 * h * h - bh2;
     c->u_a = bh2;
     c->v_A = h * (1.0 - s->gamma);
@@ -127,6 +133,7 @@ static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, 
     c->wf = ue_own / u_own;
     c->c1 = tableau_entry(s, stage, V_EVAL, stage + 1, VALUE_A) / (ue_own * h);
     c->wm = tableau_entry(s, stage, A_EVAL, stage + 1, VALUE_A);
+    c->inv_c0_mmin = 1.0 / (c->c0 * c->wm * w->scalars[MASS_MIN]);
     c->stage = stage;
     c->at = stage_column(s, stage, STAGE_AT);
     c->stiffness = stage_column(s, stage, STAGE_STIFFNESS);
