@@ -112,8 +112,11 @@ typedef struct {
  * directly, inlined where it is a built-in law); `terms` 0 when no spring of the scene has
  * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports, `current`
  * 1 when every spring's damping is on its current tangent and none has P-delta (the paper's
- * scenes, and the lines of a plan's storeys: neither is looked up per spring). Returns 1 when
- * an effective tangent changed. */
+ * scenes, and the lines of a plan's storeys: neither is looked up per spring), `in_order` 1
+ * when the evaluation order is the springs' own (element j is order[j] = j: every per-element
+ * address then steps with the loop, which the compiler strength-reduces). Each flag is a
+ * constant where spring_run is inlined: one loop without the branches of what the scene does
+ * not use. Returns 1 when an effective tangent changed. */
 static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
                                     LawFunction force, int terms, int grounded, int current,
                                     int in_order)
@@ -195,9 +198,11 @@ typedef struct {
     int tangent, hold_start;
 } ContactLoop;
 
-/* The contacts order[from .. to - 1], all of law `force` (see spring_run). */
+/* The contacts order[from .. to - 1], all of law `force` (see spring_run); `holding` 0 when
+ * no contact is held on a branch (no located event, no hold at the start). */
 static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t to,
-                                     LawFunction force, int terms, int grounded, int in_order)
+                                     LawFunction force, int terms, int grounded, int in_order,
+                                     int holding)
 {
     double out[3];
     int stale = 0;
@@ -219,7 +224,9 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
         }
         d -= L->gap[e];
         at = d;
-        if (e == L->held) {
+        if (!holding) {
+            /* evaluated where it is */
+        } else if (e == L->held) {
             /* Located events (events.c) hold the contact on one branch, so that its
              * penetration is a continuous function of the sub-step length: held open, no
              * force on either side of delta = 0; held closed, the law's force at
@@ -235,7 +242,7 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
         f = out[0];
         kd = out[1];
         kr = out[2];
-        if (at > d)
+        if (holding && at > d)
             kd = 0.0;
         L->force[e] = f;
         L->penetration[e] = d;
@@ -406,7 +413,7 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
     const int64_t nc = m->contacts;
     ContactLoop *L = &((Loops *)w->loops)->contacts;
     const int terms = L->terms, grounded = L->grounded;
-    int stale = 0;
+    int stale = 0, in_order;
     int64_t j, to;
     L->committed = from_stage ? w->contact_stage : L->committed_step;
     if (grounded) {
@@ -425,6 +432,8 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
      * crosses inside it is located (events.c) and the sub-step cut there. The step end
      * (tangent off: the commit's evaluation) sees the real law. */
     L->hold_start = tangent && s->events && s->beyond;
+    /* the elements in their own order, none held: the plain loop */
+    in_order = L->in_order && L->held < 0 && !L->hold_start;
     for (j = 0; j < nc; j = to) {
         const int64_t law = m->contact_law[m->contact_order[j]];
         to = group_end(m->contact_order, m->contact_law, j, nc);
@@ -432,15 +441,15 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
         switch (law) {
 #define CONTACT_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded, 0) \
-                     : L->in_order ? contact_run(L, j, to, function, 0, 0, 1) \
-                                   : contact_run(L, j, to, function, 0, 0, 0); \
+            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded, 0, 1) \
+                     : in_order ? contact_run(L, j, to, function, 0, 0, 1, 0) \
+                                : contact_run(L, j, to, function, 0, 0, 0, 1); \
             break;
             CONTACT_LAWS(CONTACT_GROUP)
 #undef CONTACT_GROUP
         default:
             stale |= contact_run(L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
-                                 terms, grounded, 0);
+                                 terms, grounded, 0, 1);
         }
     }
     return stale;
