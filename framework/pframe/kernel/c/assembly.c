@@ -282,6 +282,9 @@ static PFRAME_INLINE int64_t group_end(const int64_t *order, const int64_t *laws
 typedef struct {
     SpringLoop springs;
     ContactLoop contacts;
+    /* every DOF loaded by the ground's channel 0 (one component, no rotation or rocking DOF):
+     * the loops over the DOFs read its value once */
+    int one_channel;
     /* the fast paths' weights of the step length weights_h (integrator.c, step_weights): the
      * divisions once per step length, not once per step */
     double weights_h, c0, c1, inv_c0_mmin;
@@ -359,6 +362,9 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->Q = m->contact_width;
     cl->T = m->contact_states;
     loops->weights_h = NAN; /* none yet: reset_work took this member's smallest mass */
+    loops->one_channel = 1;
+    for (e = 0; e < m->dofs; e++)
+        loops->one_channel &= m->dof_channel[e] == 0;
     w->loops = loops;
 }
 
@@ -474,8 +480,14 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     double *R = w->R;
     int stale;
     int64_t i;
-    for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
-        R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+    if (((const Loops *)w->loops)->one_channel) {
+        const double g = age[0];
+        for (i = 0; i < n; i++)
+            R[i] = -mass[i] * (g + ae[i]) - damping[i] * ve[i];
+    } else {
+        for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
+            R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+    }
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
