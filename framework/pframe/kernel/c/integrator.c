@@ -65,7 +65,7 @@ typedef struct {
 
 /* The weights of a step of length h; 0 (and the work's ZERO_DIVISION flag set) when one divides
  * by zero (Python raised ZeroDivisionError there; the driver still does). */
-static int step_weights(const Settings *s, Work *w, double h, Weights *c)
+static PFRAME_INLINE int step_weights(const Settings *s, Work *w, double h, Weights *c)
 {
     Loops *kept = (Loops *)w->loops; /* the divisions of the last step length */
     const double bh2 = s->beta * h * h;
@@ -108,11 +108,11 @@ static double tableau_entry(const Settings *s, int64_t stage, int64_t r, int64_t
     return s->tableau[stage * STAGE_WIDTH + STAGE_HEAD + (r * STAGE_POINTS + j) * VALUE_SLOTS + q];
 }
 
-/* The weights of stage `stage` of a step of length h, and the points its relations weigh
- * (member b's committed state, the stored ends of the earlier stages, w->a); 0 (and the
- * work's ZERO_DIVISION flag set) when one divides by zero. */
-static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                         double h, int64_t stage, Weights *c)
+/* The weights of TABLEAU's stage `stage` of a step of length h, and the points its
+ * relations weigh (member b's committed state, the stored ends of the earlier stages, w->a);
+ * 0 (and the work's ZERO_DIVISION flag set) when one divides by zero. */
+static int tableau_weights(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                           double h, int64_t stage, Weights *c)
 {
     /* the power of h each relation is divided by, in Relation's order
      * (pframe.integrators.tableau.RELATIONS; tests/test_integrators.py holds the two together) */
@@ -120,8 +120,6 @@ static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, 
     const int64_t n = m->dofs;
     double power[5], u_own, ue_own;
     int64_t r, j, q;
-    if (s->scheme != TABLEAU)
-        return step_weights(s, w, h, c);
     u_own = tableau_entry(s, stage, U_END, stage + 1, VALUE_A);
     ue_own = tableau_entry(s, stage, U_EVAL, stage + 1, VALUE_A);
     if (u_own * h * h == 0.0 || ue_own * h == 0.0) {
@@ -158,6 +156,17 @@ static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, 
             c->point[j][q] = w->stage_values + ((j - 1) * VALUE_SLOTS + q) * n;
     c->point[stage + 1][VALUE_A] = w->a;
     return 1;
+}
+
+/* The weights of stage `stage` of a step of length h (a fast path's, or the tableau's, with
+ * the points its relations weigh); 0 (and the work's ZERO_DIVISION flag set) when one divides
+ * by zero. Inlined: a fast path's step takes no call for them. */
+static PFRAME_INLINE int stage_weights(const Model *m, const Settings *s, State *st, Work *w,
+                                       int64_t b, double h, int64_t stage, Weights *c)
+{
+    if (s->scheme != TABLEAU)
+        return step_weights(s, w, h, c);
+    return tableau_weights(m, s, st, w, b, h, stage, c);
 }
 
 /* x = relation r of the stage: its coefficients times the points' values (zero terms left
