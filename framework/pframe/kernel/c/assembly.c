@@ -362,7 +362,7 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->Q = m->contact_width;
     cl->T = m->contact_states;
     loops->weights_h = NAN; /* none yet: reset_work took this member's smallest mass */
-    loops->one_channel = 1;
+    loops->one_channel = m->dofs > 0; /* channel 0 then exists */
     for (e = 0; e < m->dofs; e++)
         loops->one_channel &= m->dof_channel[e] == 0;
     w->loops = loops;
