@@ -98,6 +98,7 @@ typedef struct {
     int64_t *calls;
     int terms, grounded;
     int current; /* every spring's damping on its current tangent, none with P-delta */
+    int in_order; /* the evaluation order is the elements' own (order[j] == j) */
     const int64_t *dofs, *order, *modes, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *k0, *beta, *kg, *side_coef, *tangent_c, *ue, *ve;
     const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
@@ -111,16 +112,20 @@ typedef struct {
  * directly, inlined where it is a built-in law); `terms` 0 when no spring of the scene has
  * sides (a planar scene: each its two DOFs), `grounded` 0 when none spans supports, `current`
  * 1 when every spring's damping is on its current tangent and none has P-delta (the paper's
- * scenes, and the lines of a plan's storeys: neither is looked up per spring). Returns 1 when
- * an effective tangent changed. */
+ * scenes, and the lines of a plan's storeys: neither is looked up per spring), `in_order` 1
+ * when the evaluation order is the springs' own (element j is order[j] = j: every per-element
+ * address then steps with the loop, which the compiler strength-reduces). Each flag is a
+ * constant where spring_run is inlined: one loop without the branches of what the scene does
+ * not use. Returns 1 when an effective tangent changed. */
 static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t to,
-                                    LawFunction force, int terms, int grounded, int current)
+                                    LawFunction force, int terms, int grounded, int current,
+                                    int in_order)
 {
     double out[3];
     int stale = 0;
     int64_t j;
     for (j = from; j < to; j++) {
-        const int64_t e = L->order[j];
+        const int64_t e = in_order ? j : L->order[j];
         const int64_t lo = L->dofs[2 * e], up = L->dofs[2 * e + 1];
         const int64_t mode = current ? DAMPING_CURRENT : L->modes[e];
         const int sided = terms && general(L->start, e);
@@ -183,7 +188,7 @@ static PFRAME_INLINE int spring_run(const SpringLoop *L, int64_t from, int64_t t
 typedef struct {
     const double *committed_step;
     int64_t *calls;
-    int terms, grounded;
+    int terms, grounded, in_order;
     const int64_t *dofs, *order, *start, *side_dof, *g_start, *g_channel;
     const double *params, *committed, *gap, *pen_c, *force_c, *side_coef, *ue, *ve;
     const double *g_coef, *g_d, *g_v; /* across supports (docs/supports.md) */
@@ -193,15 +198,17 @@ typedef struct {
     int tangent, hold_start;
 } ContactLoop;
 
-/* The contacts order[from .. to - 1], all of law `force` (see spring_run). */
+/* The contacts order[from .. to - 1], all of law `force` (see spring_run); `holding` 0 when
+ * no contact is held on a branch (no located event, no hold at the start). */
 static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t to,
-                                     LawFunction force, int terms, int grounded)
+                                     LawFunction force, int terms, int grounded, int in_order,
+                                     int holding)
 {
     double out[3];
     int stale = 0;
     int64_t j;
     for (j = from; j < to; j++) {
-        const int64_t e = L->order[j];
+        const int64_t e = in_order ? j : L->order[j];
         const int64_t left = L->dofs[2 * e], right = L->dofs[2 * e + 1];
         const int plain = !(terms && general(L->start, e));
         double d, r, f, kd, kr, at;
@@ -217,7 +224,9 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
         }
         d -= L->gap[e];
         at = d;
-        if (e == L->held) {
+        if (!holding) {
+            /* evaluated where it is */
+        } else if (e == L->held) {
             /* Located events (events.c) hold the contact on one branch, so that its
              * penetration is a continuous function of the sub-step length: held open, no
              * force on either side of delta = 0; held closed, the law's force at
@@ -233,7 +242,7 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
         f = out[0];
         kd = out[1];
         kr = out[2];
-        if (at > d)
+        if (holding && at > d)
             kd = 0.0;
         L->force[e] = f;
         L->penetration[e] = d;
@@ -258,7 +267,8 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
 
 /* The end of the law group that starts at order[from] (elements of one law are consecutive
  * in the plan's order). */
-static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from, int64_t count)
+static PFRAME_INLINE int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from,
+                                      int64_t count)
 {
     int64_t to = from + 1;
     if (laws[order[count - 1]] == laws[order[from]]) /* the last group: no search */
@@ -272,6 +282,12 @@ static int64_t group_end(const int64_t *order, const int64_t *laws, int64_t from
 typedef struct {
     SpringLoop springs;
     ContactLoop contacts;
+    /* every DOF loaded by the ground's channel 0 (one component, no rotation or rocking DOF):
+     * the loops over the DOFs read its value once */
+    int one_channel;
+    /* the fast paths' weights of the step length weights_h (integrator.c, step_weights): the
+     * divisions once per step length, not once per step */
+    double weights_h, c0, c1, inv_c0_mmin;
 } Loops;
 
 /* Member b's loops, what of them holds for a whole call (evaluate sets the rest), in loops,
@@ -287,8 +303,11 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     sl->terms = m->story_terms > 0;
     sl->grounded = m->story_ground_terms > 0;
     sl->current = 1;
-    for (e = 0; e < ns; e++)
+    sl->in_order = 1;
+    for (e = 0; e < ns; e++) {
         sl->current &= m->story_damping[e] == DAMPING_CURRENT && m->story_kg[b * ns + e] == 0.0;
+        sl->in_order &= m->story_order[e] == e;
+    }
     sl->dofs = m->story_dofs;
     sl->order = m->story_order;
     sl->modes = m->story_damping;
@@ -318,6 +337,9 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->calls = st->contact_calls + b * m->contact_laws;
     cl->terms = m->contact_terms > 0;
     cl->grounded = m->contact_ground_terms > 0;
+    cl->in_order = 1;
+    for (e = 0; e < nc; e++)
+        cl->in_order &= m->contact_order[e] == e;
     cl->dofs = m->contact_dofs;
     cl->order = m->contact_order;
     cl->start = m->contact_side_start;
@@ -339,6 +361,10 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->R = w->R;
     cl->Q = m->contact_width;
     cl->T = m->contact_states;
+    loops->weights_h = NAN; /* none yet: reset_work took this member's smallest mass */
+    loops->one_channel = m->dofs > 0; /* channel 0 then exists */
+    for (e = 0; e < m->dofs; e++)
+        loops->one_channel &= m->dof_channel[e] == 0;
     w->loops = loops;
 }
 
@@ -368,17 +394,18 @@ static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Wor
         switch (law) {
 #define SPRING_GROUP(id, function) \
         case id: \
-            stale |= grounded ? spring_run(L, j, to, function, terms, 1, 0) \
-                     : terms ? (L->current ? spring_run(L, j, to, function, 1, 0, 1) \
-                                           : spring_run(L, j, to, function, 1, 0, 0)) \
-                     : L->current ? spring_run(L, j, to, function, 0, 0, 1) \
-                                  : spring_run(L, j, to, function, 0, 0, 0); \
+            stale |= grounded ? spring_run(L, j, to, function, terms, 1, 0, 0) \
+                     : terms ? (L->current ? spring_run(L, j, to, function, 1, 0, 1, 0) \
+                                           : spring_run(L, j, to, function, 1, 0, 0, 0)) \
+                     : !L->current ? spring_run(L, j, to, function, 0, 0, 0, 0) \
+                     : L->in_order ? spring_run(L, j, to, function, 0, 0, 1, 1) \
+                                   : spring_run(L, j, to, function, 0, 0, 1, 0); \
             break;
             MATERIAL_LAWS(SPRING_GROUP)
 #undef SPRING_GROUP
         default:
             stale |= spring_run(L, j, to, s->material_plugins[law - BUILTIN_MATERIALS],
-                                terms, grounded, 0);
+                                terms, grounded, 0, 0);
         }
     }
     return stale;
@@ -392,7 +419,7 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
     const int64_t nc = m->contacts;
     ContactLoop *L = &((Loops *)w->loops)->contacts;
     const int terms = L->terms, grounded = L->grounded;
-    int stale = 0;
+    int stale = 0, in_order;
     int64_t j, to;
     L->committed = from_stage ? w->contact_stage : L->committed_step;
     if (grounded) {
@@ -411,6 +438,8 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
      * crosses inside it is located (events.c) and the sub-step cut there. The step end
      * (tangent off: the commit's evaluation) sees the real law. */
     L->hold_start = tangent && s->events && s->beyond;
+    /* the elements in their own order, none held: the plain loop */
+    in_order = L->in_order && L->held < 0 && !L->hold_start;
     for (j = 0; j < nc; j = to) {
         const int64_t law = m->contact_law[m->contact_order[j]];
         to = group_end(m->contact_order, m->contact_law, j, nc);
@@ -418,14 +447,15 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
         switch (law) {
 #define CONTACT_GROUP(id, function) \
         case id: \
-            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded) \
-                                       : contact_run(L, j, to, function, 0, 0); \
+            stale |= terms || grounded ? contact_run(L, j, to, function, terms, grounded, 0, 1) \
+                     : in_order ? contact_run(L, j, to, function, 0, 0, 1, 0) \
+                                : contact_run(L, j, to, function, 0, 0, 0, 1); \
             break;
             CONTACT_LAWS(CONTACT_GROUP)
 #undef CONTACT_GROUP
         default:
             stale |= contact_run(L, j, to, s->contact_plugins[law - BUILTIN_CONTACT_LAWS],
-                                 terms, grounded);
+                                 terms, grounded, 0, 1);
         }
     }
     return stale;
@@ -450,8 +480,14 @@ static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64
     double *R = w->R;
     int stale;
     int64_t i;
-    for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
-        R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+    if (((const Loops *)w->loops)->one_channel) {
+        const double g = age[0];
+        for (i = 0; i < n; i++)
+            R[i] = -mass[i] * (g + ae[i]) - damping[i] * ve[i];
+    } else {
+        for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
+            R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+    }
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
     st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;

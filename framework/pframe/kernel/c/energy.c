@@ -49,11 +49,12 @@ typedef struct {
 /* The DOFs' sums in one pass, which also commits U, V and A: the kinetic energies (the
  * modified one's shadow term only when shadowed: shadow is not zero), and with works (k > 0)
  * the works over the step and the pieces of D_algorithmic, [a M a / 2] and v_mid M [a] only
- * with mid (see commit_dofs). Inlined with the three flags constant: one loop without
- * branches for each case. */
+ * with mid (see commit_dofs); one: every DOF loaded by channel 0, whose mean and jump over the
+ * step are then taken once. Inlined with the flags constant: one loop without branches for
+ * each case. */
 static PFRAME_INLINE void dof_sums(const Model *m, State *st, const Work *w, int64_t b,
                                    double shadow, const double *ag_old, const double *ag_new,
-                                   int works, int mid, int shadowed, StepSums *x)
+                                   int works, int mid, int shadowed, int one, StepSums *x)
 {
     const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
@@ -63,6 +64,9 @@ static PFRAME_INLINE void dof_sums(const Model *m, State *st, const Work *w, int
     /* the sums in locals, not through x: stores into U, V, A may not change them */
     double kinetic = 0.0, plain = 0.0, work_in = 0.0, work_damp = 0.0, du_dG = 0.0;
     double du_Mda = 0.0, v_Mda = 0.0, d_aMa = 0.0;
+    /* channel 0's mean and jump, as the loop below takes them for each DOF */
+    const double mean_0 = one ? 0.5 * (ag_old[0] + ag_new[0]) : 0.0;
+    const double jump_0 = one ? ag_new[0] - ag_old[0] : 0.0;
     int64_t i;
     for (i = 0; i < n; i++) {
         plain += 0.5 * mass[i] * (v[i] * v[i]);
@@ -71,9 +75,12 @@ static PFRAME_INLINE void dof_sums(const Model *m, State *st, const Work *w, int
         if (works) {
             const double du = u[i] - U[i];
             const double da = a[i] - A[i];
-            const int64_t c = channel[i]; /* -1: a rotation, which the ground does not load */
+            const int64_t c = one ? 0 : channel[i]; /* -1: a rotation, not loaded */
             work_damp += 0.5 * damping[i] * (V[i] + v[i]) * du;
-            if (c >= 0) {
+            if (one) {
+                work_in -= mean_0 * mass[i] * du;
+                du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * jump_0) * du;
+            } else if (c >= 0) {
                 work_in -= 0.5 * (ag_old[c] + ag_new[c]) * mass[i] * du;
                 du_dG += (damping[i] * (v[i] - V[i]) + mass[i] * (ag_new[c] - ag_old[c])) * du;
             } else {
@@ -119,8 +126,14 @@ static void commit_dofs(const Model *m, const Settings *s, State *st, const Work
         modal_dG = modal_work(m, b, v, V, -1.0, u, U);
     }
     const int works = k > 0, mid = works && s->scheme != TABLEAU && s->gamma != 0.5;
+    const int one = ((const Loops *)w->loops)->one_channel;
 #define DOF_SUMS(works, mid, shadowed) \
-    dof_sums(m, st, w, b, shadow, ag_old, ag_new, works, mid, shadowed, x)
+    do { \
+        if (one) \
+            dof_sums(m, st, w, b, shadow, ag_old, ag_new, works, mid, shadowed, 1, x); \
+        else \
+            dof_sums(m, st, w, b, shadow, ag_old, ag_new, works, mid, shadowed, 0, x); \
+    } while (0)
     if (shadow != 0.0) {
         if (!works)
             DOF_SUMS(0, 0, 1);
@@ -143,6 +156,32 @@ static void commit_dofs(const Model *m, const Settings *s, State *st, const Work
     }
 }
 
+/* The springs e = from .. to - 1 (storeys, or links): their material forces' work over the
+ * step (returned), their damping's added to *work_damp and their part of du . [G] to *du_dG,
+ * each in the springs' order; their committed deformation and forces become the trial ones. */
+static PFRAME_INLINE double spring_works(int64_t from, int64_t to, double *drift_c,
+                                         double *force_c, double *damping_c, double *tangent_c,
+                                         const Work *w, double *work_damp, double *du_dG)
+{
+    const double *drift_t = w->drift, *force_t = w->story_force;
+    const double *damping_t = w->story_damping_force, *tangent_t = w->story_tangent;
+    double work = 0.0, damp = *work_damp, dG = *du_dG;
+    int64_t e;
+    for (e = from; e < to; e++) {
+        const double dd = drift_t[e] - drift_c[e];
+        work += 0.5 * (force_c[e] + force_t[e]) * dd;
+        damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
+        dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
+        drift_c[e] = drift_t[e];
+        force_c[e] = force_t[e];
+        damping_c[e] = damping_t[e];
+        tangent_c[e] = tangent_t[e];
+    }
+    *work_damp = damp;
+    *du_dG = dG;
+    return work;
+}
+
 /* The storeys' and links' works over the step (k > 0), then the contacts': works and impacts
  * (a contact open at the start and closed at the end); then every element's committed state
  * and force, and its law's. */
@@ -161,20 +200,11 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
     double du_dG = x->du_dG;
     int64_t e;
     if (k > 0) {
-        for (e = 0; e < ns; e++) {
-            const double dd = drift_t[e] - drift_c[e];
-            const double work = 0.5 * (force_c[e] + force_t[e]) * dd;
-            if (e < storeys)
-                work_story += work;
-            else /* a link (no Rayleigh damping: its dashpot is in its force) */
-                work_link += work;
-            work_damp += 0.5 * (damping_c[e] + damping_t[e]) * dd;
-            du_dG += (force_t[e] - force_c[e] + damping_t[e] - damping_c[e]) * dd;
-            drift_c[e] = drift_t[e];
-            force_c[e] = force_t[e];
-            damping_c[e] = damping_t[e];
-            tangent_c[e] = tangent_t[e];
-        }
+        work_story = spring_works(0, storeys, drift_c, force_c, damping_c, tangent_c, w,
+                                  &work_damp, &du_dG);
+        /* the links (no Rayleigh damping: a link's dashpot is in its force) */
+        work_link = spring_works(storeys, ns, drift_c, force_c, damping_c, tangent_c, w,
+                                 &work_damp, &du_dG);
         for (e = 0; e < nc; e++) {
             const double dp = pen_t[e] - pen_c[e];
             work_contact += 0.5 * (cforce_c[e] + cforce_t[e]) * dp;
@@ -203,14 +233,10 @@ static void commit_elements(const Model *m, State *st, const Work *w, int64_t b,
     x->du_dG = du_dG;
     {
         const int64_t story_values = ns * m->story_states, contact_values = nc * m->contact_states;
-        double *to = st->story_committed + b * story_values;
-        const double *from = st->story_trial + b * story_values;
-        for (e = 0; e < story_values; e++)
-            to[e] = from[e];
-        to = st->contact_committed + b * contact_values;
-        from = st->contact_trial + b * contact_values;
-        for (e = 0; e < contact_values; e++)
-            to[e] = from[e];
+        memcpy(st->story_committed + b * story_values, st->story_trial + b * story_values,
+               sizeof(double) * (size_t)story_values);
+        memcpy(st->contact_committed + b * contact_values, st->contact_trial + b * contact_values,
+               sizeof(double) * (size_t)contact_values);
     }
 }
 

@@ -49,6 +49,7 @@ typedef struct {
     double h;
     double c0;  /* da per unit end displacement (1 / (beta h^2)); a += c0 x after a solve */
     double c1;  /* the damping weight: d ve/da = wf c1 / c0 */
+    double inv_c0_mmin; /* 1 / (c0 wm min m): Newton's bound on an increment per residual */
     double wm;  /* d ae/da */
     double wf;  /* d ue/da = wf / c0: the stiffness weight of the effective stiffness */
     double u_A, u_a; /* the fast paths: u = U + (h V + u_A A + u_a a) */
@@ -64,23 +65,28 @@ typedef struct {
 
 /* The weights of a step of length h; 0 (and the work's ZERO_DIVISION flag set) when one divides
  * by zero (Python raised ZeroDivisionError there; the driver still does). */
-static int step_weights(const Settings *s, Work *w, double h, Weights *c)
+static PFRAME_INLINE int step_weights(const Settings *s, Work *w, double h, Weights *c)
 {
-    double bh2;
-    if (s->beta * h * h == 0.0 || s->beta * h == 0.0 || s->beta == 0.0) {
-        w->scalars[ZERO_DIVISION] = 1.0;
-        return 0;
-    }
-    bh2 = s->beta * h * h;
-    c->h = h;
-    c->c0 = 1.0 / bh2;
-    c->c1 = s->gamma / (s->beta * h);
+    Loops *kept = (Loops *)w->loops; /* the divisions of the last step length */
+    const double bh2 = s->beta * h * h;
     c->wm = 1.0 - s->alpha_m;
-    c->wf = 1.0 - s->alpha_f;
-    if (s->scheme == WILSON_THETA) {
-        c->c1 = c->c1 / s->theta;
-        c->wf = s->theta * s->theta * s->theta;
+    if (h != kept->weights_h) {
+        if (bh2 == 0.0 || s->beta * h == 0.0 || s->beta == 0.0) {
+            w->scalars[ZERO_DIVISION] = 1.0;
+            return 0;
+        }
+        kept->c0 = 1.0 / bh2;
+        kept->c1 = s->gamma / (s->beta * h);
+        if (s->scheme == WILSON_THETA)
+            kept->c1 = kept->c1 / s->theta;
+        kept->inv_c0_mmin = 1.0 / (kept->c0 * c->wm * w->scalars[MASS_MIN]);
+        kept->weights_h = h;
     }
+    c->h = h;
+    c->c0 = kept->c0;
+    c->c1 = kept->c1;
+    c->inv_c0_mmin = kept->inv_c0_mmin;
+    c->wf = s->scheme == WILSON_THETA ? s->theta * s->theta * s->theta : 1.0 - s->alpha_f;
     c->u_A = 0.5 * h * h - bh2;
     c->u_a = bh2;
     c->v_A = h * (1.0 - s->gamma);
@@ -102,11 +108,11 @@ static double tableau_entry(const Settings *s, int64_t stage, int64_t r, int64_t
     return s->tableau[stage * STAGE_WIDTH + STAGE_HEAD + (r * STAGE_POINTS + j) * VALUE_SLOTS + q];
 }
 
-/* The weights of stage `stage` of a step of length h, and the points its relations weigh
- * (member b's committed state, the stored ends of the earlier stages, w->a); 0 (and the
- * work's ZERO_DIVISION flag set) when one divides by zero. */
-static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
-                         double h, int64_t stage, Weights *c)
+/* The weights of TABLEAU's stage `stage` of a step of length h, and the points its
+ * relations weigh (member b's committed state, the stored ends of the earlier stages, w->a);
+ * 0 (and the work's ZERO_DIVISION flag set) when one divides by zero. */
+static int tableau_weights(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                           double h, int64_t stage, Weights *c)
 {
     /* the power of h each relation is divided by, in Relation's order
      * (pframe.integrators.tableau.RELATIONS; tests/test_integrators.py holds the two together) */
@@ -114,8 +120,6 @@ static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, 
     const int64_t n = m->dofs;
     double power[5], u_own, ue_own;
     int64_t r, j, q;
-    if (s->scheme != TABLEAU)
-        return step_weights(s, w, h, c);
     u_own = tableau_entry(s, stage, U_END, stage + 1, VALUE_A);
     ue_own = tableau_entry(s, stage, U_EVAL, stage + 1, VALUE_A);
     if (u_own * h * h == 0.0 || ue_own * h == 0.0) {
@@ -127,6 +131,7 @@ static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, 
     c->wf = ue_own / u_own;
     c->c1 = tableau_entry(s, stage, V_EVAL, stage + 1, VALUE_A) / (ue_own * h);
     c->wm = tableau_entry(s, stage, A_EVAL, stage + 1, VALUE_A);
+    c->inv_c0_mmin = 1.0 / (c->c0 * c->wm * w->scalars[MASS_MIN]);
     c->stage = stage;
     c->at = stage_column(s, stage, STAGE_AT);
     c->stiffness = stage_column(s, stage, STAGE_STIFFNESS);
@@ -151,6 +156,17 @@ static int stage_weights(const Model *m, const Settings *s, State *st, Work *w, 
             c->point[j][q] = w->stage_values + ((j - 1) * VALUE_SLOTS + q) * n;
     c->point[stage + 1][VALUE_A] = w->a;
     return 1;
+}
+
+/* The weights of stage `stage` of a step of length h (a fast path's, or the tableau's, with
+ * the points its relations weigh); 0 (and the work's ZERO_DIVISION flag set) when one divides
+ * by zero. Inlined: a fast path's step takes no call for them. */
+static PFRAME_INLINE int stage_weights(const Model *m, const Settings *s, State *st, Work *w,
+                                       int64_t b, double h, int64_t stage, Weights *c)
+{
+    if (s->scheme != TABLEAU)
+        return step_weights(s, w, h, c);
+    return tableau_weights(m, s, st, w, b, h, stage, c);
 }
 
 /* x = relation r of the stage: its coefficients times the points' values (zero terms left

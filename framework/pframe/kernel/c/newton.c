@@ -48,12 +48,11 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
     int64_t *counters = st->counters + b * COUNTER_SLOTS;
     Weights c;
     const double *age = ag_new;
-    double inv_c0_mmin, norm_u = 0.0;
+    double norm_u = 0.0;
     int converged = 0;
     int64_t i, it;
     if (!stage_weights(m, s, st, w, b, h, stage, &c))
         return fail(st, b, NOT_FINITE, k, NODE, 0);
-    inv_c0_mmin = 1.0 / (c.c0 * c.wm * scalars[MASS_MIN]);
     if (s->linear && c.stiffness != scalars[STIFFNESS_FACTORED]
         && !factor_linear(m, s, st, w, b, k, h, stage))
         return 0;
@@ -75,7 +74,7 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
             double norm_r = 0.0;
             for (i = 0; i < n; i++)
                 norm_r += R[i] * R[i];
-            converged = (sqrt(norm_r) * inv_c0_mmin
+            converged = (sqrt(norm_r) * c.inv_c0_mmin
                          <= 1e-3 * (s->tolerance * sqrt(norm_u) + s->absolute_tolerance));
         }
         if (converged)
