@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pframe.model.rows import column
+
 #: a storey whose post-yield stiffness is at most this many times below that of every storey
 #: above it is an isolator (see the module's docstring)
 ISOLATION_RATIO = 10.0
@@ -54,10 +56,24 @@ def _initial_tangent(law, packed: bytes) -> float:
     return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
 
 
+def per_law(elements, function) -> list:
+    """``function(law, packed)`` of each element, computed once per law and packed numbers
+    (the storeys of a tall building share theirs)."""
+    known: dict = {}
+    out = []
+    for law, packed in zip(column(elements, "law"), column(elements, "packed")):
+        key = (law, id(packed))
+        if key not in known:
+            known[key] = (function(law, packed), packed)  # (the numbers kept: id unique)
+        out.append(known[key][0])
+    return out
+
+
 def post_yield(ex, k0: np.ndarray) -> np.ndarray:
     """(s,) the post-yield or sliding stiffness each storey's law declares (N/m): its initial
     tangent ``k0`` where the law declares none, and never above it."""
-    post = [e.law.post_yield_stiffness(np.asarray(e.packed, dtype=float)) for e in ex.stories]
+    post = per_law(ex.stories, lambda law, packed: law.post_yield_stiffness(
+        np.asarray(packed, dtype=float)))
     return np.array([k if p is None else min(float(p), k) for k, p in zip(k0, post)],
                     dtype=float)
 
@@ -65,7 +81,7 @@ def post_yield(ex, k0: np.ndarray) -> np.ndarray:
 def storey_stiffness(ex) -> tuple[np.ndarray, np.ndarray]:
     """(k0, k_post) of every storey of an Expanded scene (N/m): the initial tangent and the
     post-yield or sliding stiffness (:func:`post_yield`)."""
-    k0 = np.array([initial_tangent(e.law, e.packed) for e in ex.stories], dtype=float)
+    k0 = np.array(per_law(ex.stories, initial_tangent), dtype=float)
     return k0, post_yield(ex, k0)
 
 
@@ -199,7 +215,7 @@ def building_springs(ex, b: int, k: np.ndarray):
     local = np.full(len(ex.node_building) + 1, -1, dtype=np.int64)  # [-1]: the ground
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
-    ends = local[np.array([ex.stories[s].nodes for s in mine], dtype=np.int64).reshape(-1, 2)]
+    ends = local[np.array(column(ex.stories, "nodes"), dtype=np.int64).reshape(-1, 2)[mine]]
     return nodes, list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(),
                            np.asarray(k, dtype=float)[mine].tolist()))
 
@@ -222,9 +238,9 @@ def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     local = np.full(len(ex.node_names), -1)
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
-    upper = local[[ex.stories[s].nodes[1] for s in mine]]
-    lower = np.array([local[ex.stories[s].nodes[0]] if ex.stories[s].nodes[0] >= 0 else -1
-                      for s in mine], dtype=np.int64)
+    ends = np.array(column(ex.stories, "nodes"), dtype=np.int64).reshape(-1, 2)[mine]
+    upper = local[ends[:, 1]]
+    lower = np.where(ends[:, 0] >= 0, local[np.maximum(ends[:, 0], 0)], -1)
     phi = np.asarray(phi, dtype=float).reshape(len(nodes), -1)
     drift = phi[upper] - np.where(lower[:, None] >= 0, phi[np.maximum(lower, 0)], 0.0)
     return np.asarray(k, dtype=float)[mine] @ (drift * drift)
@@ -336,11 +352,12 @@ class Isolation:
 def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     """For each storey, the smallest post-yield stiffness of the storeys above it (those
     reached upward from its upper node; inf: none), in one pass however tall."""
-    upper = [e.nodes[1] for e in ex.stories]
+    ends = column(ex.stories, "nodes")
+    upper = [u for _, u in ends]
     k_post = k_post.tolist()
     starting: dict[int, list[int]] = {}
-    for s, e in enumerate(ex.stories):
-        starting.setdefault(e.nodes[0], []).append(s)
+    for s, (lower, _) in enumerate(ends):
+        starting.setdefault(lower, []).append(s)
     below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
     if all(t > s for s, u in enumerate(upper) for t in starting.get(u, ())):
         # every storey declared after the storeys below it (a building of the shorthand):
@@ -378,9 +395,10 @@ def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     stiff = k0 > 0.0
     above = _min_above(ex, np.where(stiff, k_post, math.inf))
     # in Python floats (the same comparisons, without numpy's scalars: tall buildings)
-    looks = np.array([s_ and (bool(e.law.isolator)
+    looks = np.array([s_ and (bool(law.isolator)
                               or (math.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
-                      for e, kp, m, s_ in zip(ex.stories, np.asarray(k_post, dtype=float)
+                      for law, kp, m, s_ in zip(column(ex.stories, "law"),
+                                                np.asarray(k_post, dtype=float)
                                               .tolist(), above.tolist(), stiff.tolist())],
                      dtype=bool)
     isolator = np.array([look if says is None else bool(says)

@@ -7,6 +7,7 @@ Arrays that differ between variants of a sweep carry a leading batch axis ``B``;
 from __future__ import annotations
 
 import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -17,6 +18,7 @@ from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mcke
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
+from pframe.model.rows import column
 
 #: the scene's ``damping.stiffness`` -> the kernel's slot
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
@@ -189,8 +191,8 @@ class Plan:
 def _groups(elements, n_batch_values):
     """Group elements by law; params stacked over the batch from ``n_batch_values``."""
     laws: dict[type, list[int]] = {}
-    for i, element in enumerate(elements):
-        laws.setdefault(element.law, []).append(i)
+    for i, law in enumerate(column(elements, "law")):
+        laws.setdefault(law, []).append(i)
     groups = []
     for law, index in laws.items():
         params = np.array([[values[i] for i in index] for values in n_batch_values], dtype=float)
@@ -361,9 +363,10 @@ def batch_key(ex: Expanded) -> tuple:
     numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
     return (
         ex.node_names,
-        tuple((e.name, e.nodes, e.law) for e in ex.stories),
-        tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
-        tuple((e.name, e.nodes, e.law) for e in ex.links),
+        *(tuple(zip(*(column(elements, f) for f in fields))) for elements, fields in (
+            (ex.stories, ("name", "nodes", "law")),
+            (ex.contacts, ("name", "nodes", "law", "lower")),
+            (ex.links, ("name", "nodes", "law")))),
         ex.channels,
         ex.point_names,
         ex.steps,
@@ -425,12 +428,13 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     principal = _principal(keys, nodes + 2 * len(first.foundations))
 
     def node_dofs(elements):  # each side's node's first DOF (the plain element's DOFs)
-        ends = np.array([e.nodes for e in elements], dtype=np.int64).reshape(len(elements), 2)
+        ends = np.array(column(elements, "nodes"), dtype=np.int64).reshape(len(elements), 2)
         return np.where(ends >= 0, principal[np.maximum(ends, 0)], -1)
 
-    packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
-    k0 = np.array([[modes.initial_tangent(e.law, p) for e, p in zip(springs, row)]
-                   for row in packed])
+    packed = [column(ex.stories + ex.links + soil.springs(ex), "packed") for ex in variants]
+    # each member's laws are the first's (batch_key)
+    k0 = np.array([modes.per_law(ex.stories + ex.links + soil.springs(ex),
+                                 modes.initial_tangent) for ex in variants])
     k0 = k0.reshape(len(variants), len(springs))
     fitted = damping.BatchDamping(variants, k0[:, :len(first.stories)])
     rocking = {key_index[(sway + 1, 0)] for sway in soil.sway.values()}
@@ -476,8 +480,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     plan = Plan(
         node_names=first.node_names,
         node_dof=dof_of_key[principal[:nodes]],
-        story_names=tuple(e.name for e in first.stories),
-        contact_names=tuple(e.name for e in first.contacts),
+        story_names=tuple(column(first.stories, "name")),
+        contact_names=tuple(column(first.contacts, "name")),
         buildings=first.buildings,
         steps=first.steps,
         bandwidth=int(bandwidth(all_edges, np.arange(n))),
@@ -496,10 +500,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_damping_stiffness=damping_codes,
         story_groups=_groups(springs, packed),
         contact_dofs=contact_dofs,
-        contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
+        contact_gap=np.array([column(ex.contacts, "gap") for ex in variants]).reshape(
             len(variants), len(first.contacts)),
         contact_groups=_groups(first.contacts,
-                               [[e.packed for e in ex.contacts] for ex in variants]),
+                               [column(ex.contacts, "packed") for ex in variants]),
         ground_acceleration=np.array([_channels(ex)[0] for ex in variants]),
         more_channels=(np.array([_channels(ex) for ex in variants])
                        if len(first.channels) > 1 else None),
@@ -509,14 +513,14 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
             ex, node_keys, ex.initial_velocity, {}), pad])[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
-        link_names=tuple(e.name for e in first.links),
+        link_names=tuple(column(first.links, "name")),
         story_height=np.array([soil.pad(_spring_values(ex, "story_height", np.nan), np.nan)
                                for ex in variants]),
         story_kg=np.array([soil.pad(_geometric_stiffness(ex), 0.0) for ex in variants]),
-        contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
+        contact_share=np.array([column(ex.contacts, "share") for ex in variants],
                                dtype=float).reshape(len(variants), len(first.contacts), 2),
-        contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
-                                   for e in first.contacts], dtype=float),
+        contact_capacity=np.array([np.nan if c is None else c for c in
+                                   column(first.contacts, "shear_capacity")], dtype=float),
         **soil.plan_fields(first, lambda node, c: int(dof_of_key[key_index[(node, c)]])),
         story_sides=story_sides,
         contact_sides=contact_sides,
@@ -555,8 +559,8 @@ def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if any(e.column_side is not None for e in first.contacts) and \
-            "contact_force" not in envelope:
+    if any(not (math.isnan(a) and math.isnan(b)) for a, b in column(first.contacts, "at")) \
+            and "contact_force" not in envelope:  # (Element.column_side)
         # the struck columns' shear: written (peak_column_shear) and checked on its peak
         envelope.append("contact_force")
     if first.point_names and not planar and "point_drift" not in envelope:

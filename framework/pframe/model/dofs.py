@@ -18,6 +18,7 @@ import numpy as np
 
 from pframe.model.load import ModelError
 from pframe.model.plan import COMPONENTS
+from pframe.model.rows import Rows, Run, column
 
 _AXIS_WORDS = {0: "along x", 1: "along y", 2: "in torsion (about the vertical)"}
 
@@ -41,14 +42,22 @@ class Dofs:
 def _reasons(elements, channels, initial) -> dict:
     """(node, component) -> why it moves (the first element, load or initial value)."""
     why: dict = {}
-    for e in elements:
-        if e.sides is None:  # the plain element: u_x of each node (not the ground)
-            keys = [(i, 0) for i in e.nodes if i >= 0]
-        else:
-            keys = [(node, component) for terms in e.sides for node, component, _ in terms]
-        for key in keys:
-            if key not in why:  # the first element's reason (worded only then)
-                why[key] = f"{e.name} acts on it"
+    for part in elements.parts if isinstance(elements, Rows) else (elements,):
+        if isinstance(part, Run) and part.template.sides is None and "sides" not in part.fields:
+            # a run of plain elements: u_x of each node (not the ground), read off its columns
+            for name, ends in zip(part.column("name"), part.column("nodes")):
+                for i in ends:
+                    if i >= 0 and (i, 0) not in why:
+                        why[(i, 0)] = f"{name} acts on it"
+            continue
+        for e in part:
+            if e.sides is None:  # the plain element: u_x of each node (not the ground)
+                keys = [(i, 0) for i in e.nodes if i >= 0]
+            else:
+                keys = [(node, component) for terms in e.sides for node, component, _ in terms]
+            for key in keys:
+                if key not in why:  # the first element's reason (worded only then)
+                    why[key] = f"{e.name} acts on it"
     return why | {k: v for k, v in initial.items() if k not in why} | {
         k: v for k, v in channels.items() if k not in why}
 
@@ -64,18 +73,19 @@ def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
     why = _reasons(elements, loads, given)
     table = tuple(sorted(why))
     masses = []
+    mass, inertia = column(floors.nodes, "mass"), column(floors.nodes, "inertia")
     for node, component in table:
-        floor = floors.nodes[node]
         if component < 2:
-            masses.append(floor.mass)
+            masses.append(mass[node])
             continue
-        if floor.inertia is None:
+        if inertia[node] is None:
+            floor = floors.nodes[node]
             raise ModelError(floor.building_path, f"floor {floor.name} turns "
                              f"({why[(node, component)]}: it acts off the floor's centre of "
                              "mass) but its polar moment of inertia is unknown: give "
                              "polar_inertia (kg m^2), or the plan (size or outline) for a "
                              "uniform slab's")
-        masses.append(floor.inertia)
+        masses.append(inertia[node])
     return Dofs(table, np.array(masses, dtype=float), why)
 
 
