@@ -253,6 +253,8 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
     out = []
     for group in plan.story_groups:
         said: dict = {}  # the law's warnings on a row of parameters, once per distinct row
+        if not any(group.law.parameter_warnings(row) for row in _distinct_rows(group.params)):
+            continue  # (a tall building's storeys share a few rows: none says anything)
         for j, e in enumerate(group.index):
             if e >= nl:  # the soil's springs: their values are checked as the scene's
                 continue
@@ -268,6 +270,15 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
             for message in dict.fromkeys(messages):
                 out.append(f"{name}: {message}")
     return tuple(out)
+
+
+def _distinct_rows(params: np.ndarray) -> np.ndarray:
+    """The distinct rows of ``params`` (..., n), bit for bit (-0.0 is not 0.0)."""
+    rows = np.ascontiguousarray(params).reshape(-1, params.shape[-1])
+    if not rows.size:  # no rows, or rows of no numbers (one, empty, stands for them)
+        return rows[:1]
+    whole = np.dtype((np.void, rows.dtype.itemsize * rows.shape[1]))
+    return np.unique(rows.view(whole)).view(rows.dtype).reshape(-1, rows.shape[1])
 
 
 class _Soil:
@@ -388,12 +399,15 @@ def _dof_keys(variants) -> list[tuple[int, int]]:
     return sorted({key for ex in variants for key in ex.dofs or [(i, 0) for i in range(nodes)]})
 
 
-def _per_key(ex: Expanded, keys, values: np.ndarray, fallback: dict) -> np.ndarray:
+def _per_key(ex: Expanded, keys, values: np.ndarray, fallback=dict) -> np.ndarray:
     """A member's per-DOF values on the batch's DOFs: its own where it has them, else
-    ``fallback`` (a mass: another member's) or 0."""
+    ``fallback()``'s (a dict; a mass: another member's) or 0."""
     own = ex.dofs or [(i, 0) for i in range(len(ex.node_names))]
+    if len(own) == len(keys) and list(own) == list(keys):  # its own DOFs: its own values
+        return np.array(values, dtype=float)
     mine = dict(zip(own, np.asarray(values, dtype=float)))
-    return np.array([mine.get(key, fallback.get(key, 0.0)) for key in keys])
+    other = fallback()
+    return np.array([mine.get(key, other.get(key, 0.0)) for key in keys])
 
 
 def assemble(expanded: Expanded) -> Plan:
@@ -508,9 +522,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         more_channels=(np.array([_channels(ex) for ex in variants])
                        if len(first.channels) > 1 else None),
         initial_displacement=np.array([np.concatenate([_per_key(
-            ex, node_keys, ex.initial_displacement, {}), pad])[order] for ex in variants]),
+            ex, node_keys, ex.initial_displacement), pad])[order] for ex in variants]),
         initial_velocity=np.array([np.concatenate([_per_key(
-            ex, node_keys, ex.initial_velocity, {}), pad])[order] for ex in variants]),
+            ex, node_keys, ex.initial_velocity), pad])[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
         link_names=tuple(column(first.links, "name")),
@@ -579,9 +593,12 @@ def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]
     """Each variant's mass (or inertia) on each DOF key: the nodes', a DOF a variant lacks
     taking another's (a batch's union of DOFs), then the foundations'."""
     nodes = len(variants[0].node_names)
-    known = {key: m for ex in variants for key, m in zip(
-        ex.dofs or [(i, 0) for i in range(nodes)],
-        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+
+    def known() -> dict:
+        return {key: m for ex in variants for key, m in zip(
+            ex.dofs or [(i, 0) for i in range(nodes)],
+            ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+
     return [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
                                      else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
                             if soil.count else np.zeros(0)]) for ex in variants]

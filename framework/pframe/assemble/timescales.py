@@ -34,6 +34,7 @@ from pframe.assemble.modes import (
     scaled_triplets,
     spring_matrix,
 )
+from pframe.model.rows import column
 
 #: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
 STEPS_PER_PERIOD = 20
@@ -199,8 +200,8 @@ def _buildings(plan, ex, member: int, h: float, coefficients, findings, plausibl
         mode = count  # the highest (shortest) of the carrying modes
         shortest = 2.0 * math.pi / float(omega[count - 1])
         steps = shortest / h
-        yielding = any(not ex.stories[s].law.linear
-                       for s in np.flatnonzero(ex.story_building == b))
+        laws = column(ex.stories, "law")
+        yielding = any(not laws[s].linear for s in np.flatnonzero(ex.story_building == b))
         elastic = " (elastic: its storeys' initial stiffness)" if yielding else ""
         if steps < STEPS_PER_PERIOD:
             carried = (f"mode {mode}, the shortest of the modes 1-{mode} that carry "

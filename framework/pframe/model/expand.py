@@ -246,8 +246,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         excitation_frequency = scene.excitation.frequency
     initial = _initial_conditions(scene, resolver)
     geometries = contact_sides(scene, resolver, stories,
-                               [math.nan if s.height is None else s.height
-                                for s in floors.stories])
+                               [math.nan if h is None else h
+                                for h in column(floors.stories, "height")])
     springs = stories + tuple(e for e, *_ in p_delta)
     dofs = dof_table.active(floors, Rows([g.element if isinstance(g.element, Run)
                                           else (g.element,) for g in geometries]
