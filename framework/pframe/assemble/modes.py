@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pframe.model.rows import column
+from pframe.model.rows import column, column_array
 
 #: a storey whose post-yield stiffness is at most this many times below that of every storey
 #: above it is an isolator (see the module's docstring)
@@ -74,8 +74,8 @@ def post_yield(ex, k0: np.ndarray) -> np.ndarray:
     tangent ``k0`` where the law declares none, and never above it."""
     post = per_law(ex.stories, lambda law, packed: law.post_yield_stiffness(
         np.asarray(packed, dtype=float)))
-    return np.array([k if p is None else min(float(p), k) for k, p in zip(k0, post)],
-                    dtype=float)
+    return np.array([k if p is None else min(float(p), k)
+                     for k, p in zip(np.asarray(k0, dtype=float).tolist(), post)], dtype=float)
 
 
 def storey_stiffness(ex) -> tuple[np.ndarray, np.ndarray]:
@@ -125,6 +125,31 @@ def scaled_triplets(springs, scale):
             cols += [il, iu, il]
             vals += [k * scale[il] ** 2, off, off]
     return vals, (rows, cols)
+
+
+def scaled_band(springs, scale: np.ndarray, width: int) -> np.ndarray:
+    """(width + 1, n) the lower band of M^-1/2 K M^-1/2 (``scale`` = M^-1/2, n of them),
+    band[d, j] = A[j + d, j], from springs ``(i, j, k)`` between DOFs i and j (i = -1: the
+    ground). Each entry sums its springs' terms in the springs' order, as a loop over them
+    would (np.add.at accumulates index by index, in order): the same bits, at numpy's pace
+    (a tall building has tens of thousands of storeys)."""
+    n = len(scale)
+    band = np.zeros((width + 1) * n)
+    if not len(springs):
+        return band.reshape(width + 1, n)
+    table = np.array(springs, dtype=float).reshape(-1, 3)
+    il, iu, k = table[:, 0].astype(np.int64), table[:, 1].astype(np.int64), table[:, 2]
+    # numpy's pow on each scalar, as before (inf, not OverflowError, if huge)
+    square = np.array([float(v ** 2) for v in scale], dtype=float)
+    grounded = il < 0
+    at = np.column_stack([iu, np.where(grounded, -1, il)]).ravel()
+    terms = np.column_stack([k * square[iu], k * square[np.maximum(il, 0)]]).ravel()
+    keep = at >= 0
+    np.add.at(band, at[keep], terms[keep])
+    both = ~grounded
+    lo, hi = np.minimum(il, iu)[both], np.maximum(il, iu)[both]
+    np.add.at(band, (hi - lo) * n + lo, -(k[both] * scale[il[both]] * scale[iu[both]]))
+    return band.reshape(width + 1, n)
 
 
 def building_keys(ex, b: int) -> tuple[list, np.ndarray]:
@@ -215,7 +240,7 @@ def building_springs(ex, b: int, k: np.ndarray):
     local = np.full(len(ex.node_building) + 1, -1, dtype=np.int64)  # [-1]: the ground
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
-    ends = local[np.array(column(ex.stories, "nodes"), dtype=np.int64).reshape(-1, 2)[mine]]
+    ends = local[column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)[mine]]
     return nodes, list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(),
                            np.asarray(k, dtype=float)[mine].tolist()))
 
@@ -238,7 +263,7 @@ def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     local = np.full(len(ex.node_names), -1)
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
-    ends = np.array(column(ex.stories, "nodes"), dtype=np.int64).reshape(-1, 2)[mine]
+    ends = column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)[mine]
     upper = local[ends[:, 1]]
     lower = np.where(ends[:, 0] >= 0, local[np.maximum(ends[:, 0], 0)], -1)
     phi = np.asarray(phi, dtype=float).reshape(len(nodes), -1)
@@ -304,17 +329,7 @@ def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
         return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
     from scipy.linalg import eig_banded, eigh_tridiagonal
 
-    # lower form: band[d, j] = A[j + d, j]; summed in Python floats (the same IEEE operations
-    # as on numpy's scalars, without their overhead: a tall building has tens of thousands)
-    band, root = [[0.0] * n for _ in range(width + 1)], scale.tolist()
-    square = [float(v ** 2) for v in scale]  # numpy's pow: inf, not OverflowError, if huge
-    for il, iu, kk in springs:
-        band[0][iu] += kk * square[iu]
-        if il >= 0:
-            band[0][il] += kk * square[il]
-            lo, hi = min(il, iu), max(il, iu)
-            band[hi - lo][lo] -= kk * root[il] * root[iu]
-    band = np.array(band, dtype=float).reshape(width + 1, n)
+    band = scaled_band(springs, scale, width)
     last = min(count, n) - 1
     with one_blas_thread() if vectors else contextlib.nullcontext():
         if width <= 1:
@@ -352,6 +367,9 @@ class Isolation:
 def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     """For each storey, the smallest post-yield stiffness of the storeys above it (those
     reached upward from its upper node; inf: none), in one pass however tall."""
+    chains = _chains_min_above(ex, k_post)
+    if chains is not None:
+        return chains
     ends = column(ex.stories, "nodes")
     upper = [u for _, u in ends]
     k_post = k_post.tolist()
@@ -363,8 +381,13 @@ def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
         # every storey declared after the storeys below it (a building of the shorthand):
         # one pass from the last down gives each node its value once those above have theirs
         for u in reversed(upper):
+            above = starting.get(u, ())
+            if len(above) == 1:  # a chain of storeys: the same min(), without its lists
+                t = above[0]
+                below_top[u] = min(math.inf, min(k_post[t], below_top.get(upper[t], math.inf)))
+                continue
             below_top[u] = min([math.inf] + [min(k_post[t], below_top.get(upper[t], math.inf))
-                                             for t in starting.get(u, ())])
+                                             for t in above])
         return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
     for start in set(upper):
         if start in below_top:
@@ -384,6 +407,34 @@ def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
             todo.append((node, True))
             todo += [(upper[s], False) for s in starting.get(node, ())]
     return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
+
+
+def _chains_min_above(ex, k_post: np.ndarray) -> np.ndarray | None:
+    """:func:`_min_above` of storeys that stand in chains declared bottom up (each storey's
+    upper node the lower node of the next storey only, or of none: a building of the
+    shorthand), as a running minimum down each chain; None for any other layout, or a NaN
+    stiffness (whose min() depends on its place)."""
+    k_post = np.asarray(k_post, dtype=float)
+    ends = column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)
+    n = len(ends)
+    if not n or np.isnan(k_post).any():
+        return None
+    lower, upper = ends[:, 0], ends[:, 1]
+    starts = lower[lower >= 0]
+    if len(np.unique(starts)) != len(starts):
+        return None  # a node that several storeys stand on: a tree, not a chain
+    first = np.full(max(int(ends.max()) + 1, 1), -1, dtype=np.int64)
+    first[starts] = np.flatnonzero(lower >= 0)
+    following = first[upper]  # the storey standing on each storey's upper node (-1: none)
+    if not np.all((following == np.arange(n) + 1) | (following < 0)):
+        return None
+    out = np.full(n, math.inf)
+    start = 0
+    for last in np.flatnonzero(following < 0).tolist():  # each chain: start .. last
+        # above storey s: the storeys s + 1 .. last; min() of exact floats, in any order
+        out[start:last] = np.minimum.accumulate(k_post[last:start:-1])[::-1]
+        start = last + 1
+    return out
 
 
 def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:

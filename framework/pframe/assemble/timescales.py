@@ -31,6 +31,7 @@ import numpy as np
 from pframe.assemble.modes import (
     building_springs,
     one_blas_thread,
+    scaled_band,
     scaled_triplets,
     spring_matrix,
 )
@@ -113,15 +114,8 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                 (vectors[:, order].T @ root) ** 2 / total)
     from scipy.linalg import eigh_tridiagonal
 
-    # summed in Python floats: the same IEEE operations as on numpy's scalars, faster
-    diagonal, off, s = [0.0] * n, [0.0] * max(n - 1, 0), scale.tolist()
-    square = [float(v ** 2) for v in scale]  # numpy's pow: inf, not OverflowError, if huge
-    for il, iu, k in springs:
-        diagonal[iu] += k * square[iu]
-        if il >= 0:
-            diagonal[il] += k * square[il]
-            off[min(il, iu)] -= k * s[il] * s[iu]
-    diagonal, off = np.array(diagonal, dtype=float), np.array(off, dtype=float)
+    band = scaled_band(springs, scale, 1)
+    diagonal, off = band[0], band[1][:max(n - 1, 0)]
     omegas, shares = [], []
     for first in range(0, min(LOWEST_MODES, n), MODES_AT_A_TIME):
         last = min(first + MODES_AT_A_TIME, LOWEST_MODES, n) - 1

@@ -16,6 +16,8 @@ from bisect import bisect_right
 from collections.abc import Sequence
 from itertools import chain
 
+import numpy as np
+
 
 def like(prototype, **changes):
     """A copy of the frozen dataclass instance ``prototype`` with ``changes`` to its fields:
@@ -84,6 +86,7 @@ class Rows(Sequence):
         for part in self.parts:
             self._starts.append(self._starts[-1] + len(part))
         self._items = None  # the instances, once iterated: read again at a tuple's cost
+        self._arrays: dict = {}  # (field, dtype) -> its column as an array (array())
 
     def __len__(self) -> int:
         return self._starts[-1]
@@ -136,6 +139,15 @@ class Rows(Sequence):
                     else [getattr(x, name) for x in part])
         return out
 
+    def array(self, name: str, dtype) -> np.ndarray:
+        """:meth:`column` as a read-only array, made once (the instances do not change)."""
+        key = (name, np.dtype(dtype))
+        found = self._arrays.get(key)
+        if found is None:
+            found = self._arrays[key] = np.array(self.column(name), dtype=dtype)
+            found.setflags(write=False)
+        return found
+
     def __getstate__(self):
         return self.parts
 
@@ -148,3 +160,10 @@ def column(items, name: str) -> list:
     if isinstance(items, Rows):
         return items.column(name)
     return [getattr(x, name) for x in items]
+
+
+def column_array(items, name: str, dtype) -> np.ndarray:
+    """:func:`column` as an array (read-only: of :class:`Rows`, made once)."""
+    if isinstance(items, Rows):
+        return items.array(name, dtype)
+    return np.array(column(items, name), dtype=dtype)
