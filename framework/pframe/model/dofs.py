@@ -11,6 +11,7 @@ with what turns it).
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -30,21 +31,35 @@ class Dofs:
 
     table: tuple[tuple[int, int], ...]
     mass: np.ndarray
-    #: (node, component) -> why it moves (for the messages)
-    reasons: dict
+    #: () -> the reasons (:attr:`reasons`), worded only when a message asks
+    explain: object = dict
 
     @property
     def planar(self) -> bool:
         """Only u_x of every node: today's planar scene."""
         return all(c == 0 for _, c in self.table)
 
+    @functools.cached_property
+    def reasons(self) -> dict:
+        """(node, component) -> why it moves (for the messages)."""
+        return self.explain()
+
+
+def _parts(elements):
+    """The parts of a sequence of elements (:class:`Rows`' runs and tuples, or itself)."""
+    return elements.parts if isinstance(elements, Rows) else (elements,)
+
+
+def _plain_run(part) -> bool:
+    """Whether ``part`` is a run of plain elements (u_x of each node, pframe.model.elements)."""
+    return isinstance(part, Run) and part.template.sides is None and "sides" not in part.fields
+
 
 def _reasons(elements, channels, initial) -> dict:
     """(node, component) -> why it moves (the first element, load or initial value)."""
     why: dict = {}
-    for part in elements.parts if isinstance(elements, Rows) else (elements,):
-        if isinstance(part, Run) and part.template.sides is None and "sides" not in part.fields:
-            # a run of plain elements: u_x of each node (not the ground), read off its columns
+    for part in _parts(elements):
+        if _plain_run(part):  # u_x of each node (not the ground), read off its columns
             for name, ends in zip(part.column("name"), part.column("nodes")):
                 for i in ends:
                     if i >= 0 and (i, 0) not in why:
@@ -62,16 +77,51 @@ def _reasons(elements, channels, initial) -> dict:
         k: v for k, v in channels.items() if k not in why}
 
 
+def _moving(count: int, elements, channels, initial) -> tuple[tuple[int, int], ...]:
+    """The keys of :func:`_reasons`, sorted (node, then component), without wording them: a
+    mask of the nodes' components (a run of plain elements marks its nodes' u_x at once)."""
+    moves = np.zeros((count, len(COMPONENTS)), dtype=bool)
+    for axis in channels:
+        moves[:, COMPONENTS.index(axis)] = True
+    odd = set()  # a key outside the floors' components (kept as the dictionary would)
+    for part in _parts(elements):
+        if _plain_run(part):
+            ends = np.array(part.column("nodes"), dtype=np.int64).ravel()
+            moves[ends[ends >= 0], 0] = True
+            continue
+        for e in part:
+            for node, component, *_ in (((i, 0) for i in e.nodes if i >= 0)
+                                        if e.sides is None else
+                                        (t for terms in e.sides for t in terms)):
+                if 0 <= node < count and 0 <= component < len(COMPONENTS):
+                    moves[node, component] = True
+                else:
+                    odd.add((node, component))
+    for node, component in initial:
+        if 0 <= node < count and 0 <= component < len(COMPONENTS):
+            moves[node, component] = True
+        else:
+            odd.add((node, component))
+    nodes, components = np.nonzero(moves)
+    table = tuple(zip(nodes.tolist(), components.tolist()))
+    return tuple(sorted(set(table) | odd)) if odd else table
+
+
 def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
     """The scene's degrees of freedom (see the module) from its floors, every element, the
     site's axes the ground motion loads (``channels``: 'x', 'y') and the initial values given
     ((node, component) -> value)."""
-    said = [(COMPONENTS.index(axis), f"the ground motion's {axis} component loads it")
-            for axis in channels]
-    loads = {(i, c): why for i in range(len(floors.nodes)) for c, why in said}
-    given = {key: "an initial condition sets it" for key, value in initial.items() if value}
-    why = _reasons(elements, loads, given)
-    table = tuple(sorted(why))
+    count = len(floors.nodes)
+
+    def explain() -> dict:
+        said = [(COMPONENTS.index(axis), f"the ground motion's {axis} component loads it")
+                for axis in channels]
+        loads = {(i, c): why for i in range(count) for c, why in said}
+        given = {key: "an initial condition sets it" for key, value in initial.items()
+                 if value}
+        return _reasons(elements, loads, given)
+
+    table = _moving(count, elements, channels, {k: v for k, v in initial.items() if v})
     masses = []
     mass, inertia = column(floors.nodes, "mass"), column(floors.nodes, "inertia")
     for node, component in table:
@@ -81,12 +131,12 @@ def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
         if inertia[node] is None:
             floor = floors.nodes[node]
             raise ModelError(floor.building_path, f"floor {floor.name} turns "
-                             f"({why[(node, component)]}: it acts off the floor's centre of "
-                             "mass) but its polar moment of inertia is unknown: give "
+                             f"({explain()[(node, component)]}: it acts off the floor's "
+                             "centre of mass) but its polar moment of inertia is unknown: give "
                              "polar_inertia (kg m^2), or the plan (size or outline) for a "
                              "uniform slab's")
         masses.append(inertia[node])
-    return Dofs(table, np.array(masses, dtype=float), why)
+    return Dofs(table, np.array(masses, dtype=float), explain)
 
 
 def check_storeys(floors, resolver, storeys, dofs: Dofs) -> None:
