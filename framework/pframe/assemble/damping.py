@@ -58,7 +58,9 @@ class Fit:
 def stiffness_damped(ex, isolator: np.ndarray) -> np.ndarray:
     """(s,) True where the stiffness-proportional term acts: what a storey says
     (``stiffness_damping``), else every storey but the isolators."""
-    said = ex.story_stiffness_damping or (None,) * len(ex.stories)
+    if not ex.story_stiffness_damping:  # none said: every storey but the isolators
+        return ~np.asarray(isolator, dtype=bool)[:len(ex.stories)]
+    said = ex.story_stiffness_damping
     return np.array([not isolator[s] if said[s] is None else bool(said[s])
                      for s in range(len(ex.stories))], dtype=bool)
 

@@ -158,7 +158,8 @@ def building_keys(ex, b: int) -> tuple[list, np.ndarray]:
     DOF the scene moves in plan."""
     if ex.dofs is None:
         nodes = np.flatnonzero(ex.node_building == b)
-        return [(int(i), 0) for i in nodes], np.asarray(ex.masses, dtype=float)[nodes]
+        return (list(zip(nodes.tolist(), [0] * len(nodes))),
+                np.asarray(ex.masses, dtype=float)[nodes])
     mine = [p for p, (node, _) in enumerate(ex.dofs) if ex.node_building[node] == b]
     return [ex.dofs[p] for p in mine], np.asarray(ex.dof_mass, dtype=float)[mine]
 
@@ -445,15 +446,18 @@ def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     # storey above one
     stiff = k0 > 0.0
     above = _min_above(ex, np.where(stiff, k_post, math.inf))
-    # in Python floats (the same comparisons, without numpy's scalars: tall buildings)
-    looks = np.array([s_ and (bool(law.isolator)
-                              or (math.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
-                      for law, kp, m, s_ in zip(column(ex.stories, "law"),
-                                                np.asarray(k_post, dtype=float)
-                                              .tolist(), above.tolist(), stiff.tolist())],
-                     dtype=bool)
-    isolator = np.array([look if says is None else bool(says)
-                         for look, says in zip(looks.tolist(), said)], dtype=bool)
+    laws = column(ex.stories, "law")
+    bearing = {law: bool(law.isolator) for law in set(laws)}
+    k_post = np.asarray(k_post, dtype=float)
+    # the comparisons of IEEE doubles, element by element (a NaN compares false)
+    with np.errstate(invalid="ignore", over="ignore"):
+        looks = stiff & (np.fromiter(map(bearing.__getitem__, laws), dtype=bool,
+                                     count=len(laws))
+                         | (np.isfinite(above) & (above > 0.0)
+                            & (k_post * ISOLATION_RATIO <= above)))
+    isolator = (looks.copy() if not ex.story_isolator else
+                np.array([look if says is None else bool(says)
+                          for look, says in zip(looks.tolist(), said)], dtype=bool))
     notes = []
     for s in np.flatnonzero(looks & np.array([x is None for x in said], dtype=bool)):
         e = ex.stories[s]

@@ -18,7 +18,7 @@ from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mcke
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
-from pframe.model.rows import column
+from pframe.model.rows import column, column_array
 
 #: the scene's ``damping.stiffness`` -> the kernel's slot
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
@@ -195,11 +195,25 @@ def _groups(elements, n_batch_values):
         laws.setdefault(law, []).append(i)
     groups = []
     for law, index in laws.items():
-        params = np.array([[values[i] for i in index] for values in n_batch_values], dtype=float)
+        params = np.array([_rows(values, index) for values in n_batch_values], dtype=float)
         state = np.zeros((params.shape[0], len(index), len(law.state_names)))
         state[:] = np.asarray(law.initial_state(), dtype=float)
         groups.append(LawGroup(law, np.array(index, dtype=np.int64), params, state))
     return tuple(groups)
+
+
+def _rows(values: list, index: list) -> np.ndarray:
+    """(len(index), n) the rows ``values[i]`` (tuples of n numbers), each distinct tuple
+    (by identity: a tall building's storeys share theirs) converted once."""
+    picked = [values[i] for i in index]
+    width = len(picked[0]) if picked else 0
+    ids = list(map(id, picked))
+    of_id = dict(zip(ids, picked))  # (every tuple of an id is that one tuple)
+    if len(of_id) == len(picked):
+        return np.array(picked, dtype=float).reshape(len(picked), width)
+    number = {i: k for k, i in enumerate(of_id)}
+    table = np.array(list(of_id.values()), dtype=float).reshape(len(of_id), width)
+    return table[list(map(number.__getitem__, ids))]
 
 
 def _spring_values(ex: Expanded, field: str, fill: float) -> np.ndarray:
@@ -431,6 +445,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     # foundation's sway and rocking
     keys = _dof_keys(variants) + soil.keys()
     key_index = {key: i for i, key in enumerate(keys)}
+    key_array = np.array(keys, dtype=np.int64).reshape(-1, 2)  # (node, component) each
     n = len(keys)
     # the kernel's spring elements: storeys (a first storey on soil stands on its foundation's
     # sway DOF), then links, then the soil's springs
@@ -439,10 +454,10 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     raw = (incidence.build(spring_sets, lambda node, c: key_index[(node, c)]),
            incidence.build([ex.contacts for ex in variants],
                            lambda node, c: key_index[(node, c)]))
-    principal = _principal(keys, nodes + 2 * len(first.foundations))
+    principal = _principal(key_array[:, 0], nodes + 2 * len(first.foundations))
 
     def node_dofs(elements):  # each side's node's first DOF (the plain element's DOFs)
-        ends = np.array(column(elements, "nodes"), dtype=np.int64).reshape(len(elements), 2)
+        ends = column_array(elements, "nodes", np.int64).reshape(len(elements), 2)
         return np.where(ends >= 0, principal[np.maximum(ends, 0)], -1)
 
     packed = [column(ex.stories + ex.links + soil.springs(ex), "packed") for ex in variants]
@@ -459,7 +474,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     # a building's modal damping couples all its DOFs
     modal = [(key_index[a], key_index[c]) for block in fitted.modal_keys
              for i, a in enumerate(block) for c in block[i + 1:]]
-    order = _node_order(keys, np.concatenate([edges, np.array(modal, dtype=np.int64)
+    order = _node_order(key_array[:, 0], np.concatenate([edges, np.array(modal, dtype=np.int64)
                                               .reshape(-1, 2)]))
     if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
         order = place_last(order, soil.rocking_groups(first, springs, key_index))
@@ -473,7 +488,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                                 dof_of_key[np.array(modal, dtype=np.int64).reshape(-1, 2)]])
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
     masses = _masses(variants, node_keys, soil)
-    node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
+    node_of_key = np.where(key_array[:, 0] < nodes, key_array[:, 0], -1)
     # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
     # foundation's (the soil's dashpots damp them)
     mass_damping = [(np.where(node_of_key >= 0, f.a0[np.clip(node_of_key, 0, None)], 0.0)
@@ -484,12 +499,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     planar = all(ex.dofs is None for ex in variants)
     history, envelope = _recorded(first, planar)
 
-    damping_codes = np.array(
-        [DAMPING_STIFFNESS[getattr(first.damping[b], "stiffness", "initial")]
-         for b in first.story_building]
-        + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
-        dtype=np.int64,  # no Rayleigh term (a1 = 0)
-    )
+    by_building = np.array([DAMPING_STIFFNESS[getattr(d, "stiffness", "initial")]
+                            for d in first.damping], dtype=np.int64).reshape(-1)
+    damping_codes = np.concatenate([
+        by_building[np.asarray(first.story_building, dtype=np.int64)],
+        np.full(len(springs) - len(first.stories), DampingStiffness.INITIAL,
+                dtype=np.int64)])  # links, soil: no Rayleigh term (a1 = 0)
     pad = np.zeros(2 * len(first.foundations))
     plan = Plan(
         node_names=first.node_names,
@@ -539,12 +554,12 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_sides=story_sides,
         contact_sides=contact_sides,
         channels=first.channels,
-        dof_channel=_dof_channels(first, keys, nodes, soil)[order],
+        dof_channel=_dof_channels(first, key_array, nodes, soil)[order],
         supports=first.supports,
         node_support=first.node_support,
         **grounds.ground_fields(variants, spring_sets, set(history) | set(envelope)),
         dof_node=node_of_key[order],
-        dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
+        dof_component=key_array[:, 1][order],
         planar=planar,
         node_extent=first.node_extent,
         **_gauges(variants, key_index, dof_of_key),
@@ -604,21 +619,34 @@ def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]
                             if soil.count else np.zeros(0)]) for ex in variants]
 
 
-def _dof_channels(first: Expanded, keys: list, nodes: int, soil) -> np.ndarray:
-    """The ground-motion channel that loads each DOF key (-1: none): a node's u_x and u_y
-    their support's along their site axis (pframe.assemble.grounds), a foundation's sway its
-    building's support's along x, a rotation or rocking none."""
-    return np.array([grounds.channel_index(first, node, c) if node < nodes and c < 2
-                     else soil.channel(first, node) for node, c in keys], dtype=np.int64)
+def _dof_channels(first: Expanded, keys: np.ndarray, nodes: int, soil) -> np.ndarray:
+    """The ground-motion channel that loads each DOF key ((node, component) rows; -1: none):
+    a node's u_x and u_y their support's along their site axis (pframe.assemble.grounds), a
+    foundation's sway its building's support's along x, a rotation or rocking none."""
+    node, component = keys[:, 0], keys[:, 1]
+    support = (np.asarray(first.node_support, dtype=np.int64)[np.minimum(node, nodes - 1)]
+               if first.node_support else np.zeros(len(node), dtype=np.int64))
+    # each (support, translation)'s channel, asked once of grounds.channel_index
+    table = {}
+    for s, c in set(zip(support[(node < nodes) & (component < 2)].tolist(),
+                        component[(node < nodes) & (component < 2)].tolist())):
+        at = int(np.flatnonzero((node < nodes) & (component == c) & (support == s))[0])
+        table[(s, c)] = grounds.channel_index(first, int(node[at]), c)
+    out = np.full(len(node), -1, dtype=np.int64)
+    for (s, c), channel in table.items():
+        out[(node < nodes) & (component == c) & (support == s)] = channel
+    for at in np.flatnonzero(node >= nodes).tolist():
+        out[at] = soil.channel(first, int(node[at]))
+    return out
 
 
-def _node_order(keys, edges) -> np.ndarray:
+def _node_order(node_of: np.ndarray, edges) -> np.ndarray:
     """The DOFs' order (new -> old key index): the nodes in reverse Cuthill-McKee order of the
     graph of nodes the elements join, each node's DOFs together (u_x, u_y, theta). A floor in
     plan then widens the band by its three DOFs, not by how far apart a DOF-level numbering
     may scatter them (the DOF graph's own RCM gave half-bandwidth 12 where this gives 8 on a
-    pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was."""
-    node_of = np.array([node for node, _ in keys], dtype=np.int64)
+    pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was.
+    ``node_of``: each DOF key's node."""
     nodes, local = np.unique(node_of, return_inverse=True)  # key -> its node's number
     pairs = np.array(edges, dtype=np.int64).reshape(-1, 2)
     node_order = reverse_cuthill_mckee(len(nodes), local[pairs[(pairs >= 0).all(axis=1)]])
@@ -628,11 +656,12 @@ def _node_order(keys, edges) -> np.ndarray:
     return np.argsort(rank[local.reshape(-1)], kind="stable").astype(np.int64)
 
 
-def _principal(keys, nodes: int) -> np.ndarray:
-    """(nodes,) each node's first DOF (its u_x in a planar scene) by key index."""
+def _principal(key_nodes: np.ndarray, nodes: int) -> np.ndarray:
+    """(nodes,) each node's first DOF (its u_x in a planar scene) by key index (-1: none),
+    from each key's node."""
     out = np.full(nodes, -1, dtype=np.int64)
-    for i, (node, _) in reversed(list(enumerate(keys))):
-        out[node] = i
+    found, first = np.unique(key_nodes, return_index=True)
+    out[found] = first
     return out
 
 
