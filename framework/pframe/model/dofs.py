@@ -34,10 +34,22 @@ class Dofs:
     #: () -> the reasons (:attr:`reasons`), worded only when a message asks
     explain: object = dict
 
+    @functools.cached_property
+    def keys(self) -> np.ndarray:
+        """(d, 2) the table as an array: each DOF's node and component."""
+        return np.array(self.table, dtype=np.int64).reshape(-1, 2)
+
     @property
     def planar(self) -> bool:
         """Only u_x of every node: today's planar scene."""
-        return all(c == 0 for _, c in self.table)
+        return not np.any(self.keys[:, 1])
+
+    def node_mass(self, count: int) -> np.ndarray:
+        """(count,) each node's u_x mass (kg; NaN: its u_x does not move)."""
+        out = np.full(count, np.nan)
+        along = self.keys[:, 1] == 0
+        out[self.keys[along, 0]] = self.mass[along]
+        return out
 
     @functools.cached_property
     def reasons(self) -> dict:

@@ -577,9 +577,10 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
         at=tuple(at))), level
 
 
-def pack_contacts(geometries, dof_mass, excitation_frequency):
+def pack_contacts(geometries, dof_mass, excitation_frequency, node_mass=None):
     """The contacts (:class:`Rows`) with their laws' numbers, from the masses their sides
-    move (``dof_mass(node, component)``), and the contacts a published damping formula
+    move (``dof_mass(node, component)``; ``node_mass``, each node's u_x mass, for the levels
+    of a contact at every level, at once), and the contacts a published damping formula
     rebounds differently from their restitution (key -> names)."""
     parts, rebounds, validated, packs = [], {}, {}, {}
     for g in geometries:
@@ -589,38 +590,66 @@ def pack_contacts(geometries, dof_mass, excitation_frequency):
         if params is None:  # once per contact of the scene, whatever its levels
             params = validated[id(contact)] = law.Params.model_validate(
                 contact.model_dump(include=set(law.Params.model_fields)))
-        once = (packs, rebounds, g, law, params)
         if isinstance(e, Run):  # levels of plain elements: their nodes' own masses
-            numbers = [_packed_once(*once, name, tuple(float(dof_mass(i, 0)) if i >= 0
-                                                       else math.inf for i in pair),
-                                    excitation_frequency)
-                       for name, pair in zip(e.column("name"), e.column("nodes"))]
+            names = e.column("name")
+            masses, level = _distinct_masses(e.column("nodes"), dof_mass, node_mass)
+        else:
+            # a wall is the ground: of infinite mass, the impact's effective mass is the
+            # floor's; a point of a floor or a column has the mass its displacement's
+            # weights give it
+            names, level = [e.name], [0]
+            if e.sides is None:  # the plain element's sides: its nodes' own masses
+                masses = [(tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf
+                                 for i in e.nodes), 0)]
+            else:
+                masses = [((side_mass(e.sides[0], dof_mass),
+                            side_mass(e.sides[1], dof_mass)), 0)]
+        # once per contact of the scene and masses (the levels alike share their numbers),
+        # in the order of the levels (a refusal names the first level of those masses)
+        found = []
+        for pair, first in masses:
+            key = (id(contact), pair)
+            if key not in packs:
+                packs[key] = _packed_contact(law, params, contact, g.path, names[first], pair,
+                                             excitation_frequency)
+            found.append(packs[key])
+        if any(published is not None for _, published in found):
+            for name, k in zip(names, level):
+                if found[k][1] is not None:
+                    rebounds.setdefault(found[k][1], []).append(name)
+        numbers = [found[k][0] for k in level]
+        if isinstance(e, Run):
             parts.append(Run(like(e.template, packed=numbers[0]), len(e),
                              dict(e.fields, packed=numbers)))
-            continue
-        # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
-        # a point of a floor or a column has the mass its displacement's weights give it
-        if e.sides is None:  # the plain element's sides: its nodes' own masses (side_mass)
-            masses = tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf for i in e.nodes)
         else:
-            masses = (side_mass(e.sides[0], dof_mass), side_mass(e.sides[1], dof_mass))
-        parts.append((like(e, packed=_packed_once(*once, e.name, masses,
-                                                  excitation_frequency)),))
+            parts.append((like(e, packed=numbers[0]),))
     return Rows(parts), rebounds
 
 
-def _packed_once(packs, rebounds, geometry, law, params, name, masses, frequency):
-    """The numbers of a contact (or a level of one) of ``masses``: found once per contact of
-    the scene and masses (``packs``), the levels alike; a published formula's rebound noted
-    under ``name`` (``rebounds``)."""
-    contact = geometry.contact
-    known = packs.get((id(contact), masses))
-    if known is None:
-        known = packs[(id(contact), masses)] = _packed_contact(
-            law, params, contact, geometry.path, name, masses, frequency)
-    if known[1] is not None:
-        rebounds.setdefault(known[1], []).append(name)
-    return known[0]
+def _distinct_masses(ends, dof_mass, node_mass):
+    """The distinct masses (kg) of the pairs of nodes ``ends`` along x (the ground: inf),
+    each with the first pair that has them, in the pairs' order, and each pair's (an index
+    into them): ``node_mass`` (each node's) at once, or else ``dof_mass(node, 0)``."""
+    if node_mass is None:
+        pairs = [tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf for i in pair)
+                 for pair in ends]
+        number = {}
+        level = [number.setdefault(pair, len(number)) for pair in pairs]
+        first = {}
+        for i, k in enumerate(level):
+            first.setdefault(k, i)
+        return [(pair, first[k]) for pair, k in number.items()], level
+    ends = np.array(ends, dtype=np.int64).reshape(-1, 2)
+    masses = np.ascontiguousarray(np.where(
+        ends >= 0, np.asarray(node_mass, dtype=float)[np.maximum(ends, 0)], math.inf))
+    # equal masses are equal doubles (no NaN, and a zero is refused before it matters)
+    _, first, inverse = np.unique(masses.view(np.dtype((np.void, 16))).ravel(),
+                                  return_index=True, return_inverse=True)
+    by_first = np.argsort(first, kind="stable")  # distinct masses in the levels' order
+    rank = np.empty(len(first), dtype=np.int64)
+    rank[by_first] = np.arange(len(first))
+    distinct = [(tuple(masses[i].tolist()), int(i)) for i in first[by_first].tolist()]
+    return distinct, rank[inverse.ravel()].tolist()
 
 
 def _packed_contact(law, params, contact, path, name, masses, excitation_frequency):

@@ -256,7 +256,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
     position = {key: i for i, key in enumerate(dofs.table)}
     contacts, rebounds = pack_contacts(geometries,
                                        lambda node, c: dofs.mass[position[(node, c)]],
-                                       excitation_frequency)
+                                       excitation_frequency,
+                                       dofs.node_mass(len(floors.nodes)))
     if supports.several:
         springs, links, contacts = _across(scene, supports, motion.axes, springs, links,
                                            contacts)
