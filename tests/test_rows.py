@@ -143,7 +143,10 @@ def test_the_scaled_band_sums_as_the_loop_over_the_springs(seed):
     springs = [springs[i] for i in rng.permutation(len(springs))]
     scale = 1.0 / np.sqrt(rng.uniform(10.0, 1e5, n))
     width = max(abs(i - j) for i, j, _ in springs if i >= 0)
-    assert modes.scaled_band(springs, scale, width).tobytes() == \
+    ends = np.array([(i, j) for i, j, _ in springs], dtype=np.int64)
+    stiffness = np.array([k for *_, k in springs])
+    assert modes.band_width(ends) == width
+    assert modes.scaled_band(ends, stiffness, scale, width).tobytes() == \
         _loop_band(springs, scale, width).tobytes()
 
 

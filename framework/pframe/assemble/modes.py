@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pframe.model.rows import column, column_array
+from pframe.model.rows import Rows, Run, column, column_array
 
 #: a storey whose post-yield stiffness is at most this many times below that of every storey
 #: above it is an isolator (see the module's docstring)
@@ -61,11 +61,19 @@ def per_law(elements, function) -> list:
     (the storeys of a tall building share theirs)."""
     known: dict = {}
     out = []
-    for law, packed in zip(column(elements, "law"), column(elements, "packed")):
-        key = (law, id(packed))
-        if key not in known:
-            known[key] = (function(law, packed), packed)  # (the numbers kept: id unique)
-        out.append(known[key][0])
+    for part in elements.parts if isinstance(elements, Rows) else (elements,):
+        if isinstance(part, Run) and "law" not in part.fields:  # one law: by the numbers' id
+            law, packed = part.template.law, part.column("packed")
+            ids = list(map(id, packed))
+            value = {i: known.setdefault((law, i), (function(law, p), p))[0]
+                     for i, p in dict(zip(ids, packed)).items()}
+            out += map(value.__getitem__, ids)
+            continue
+        for law, packed in zip(column(part, "law"), column(part, "packed")):
+            key = (law, id(packed))
+            if key not in known:
+                known[key] = (function(law, packed), packed)  # (the numbers kept: id unique)
+            out.append(known[key][0])
     return out
 
 
@@ -127,18 +135,19 @@ def scaled_triplets(springs, scale):
     return vals, (rows, cols)
 
 
-def scaled_band(springs, scale: np.ndarray, width: int) -> np.ndarray:
+def scaled_band(ends: np.ndarray, stiffness: np.ndarray, scale: np.ndarray,
+                width: int) -> np.ndarray:
     """(width + 1, n) the lower band of M^-1/2 K M^-1/2 (``scale`` = M^-1/2, n of them),
-    band[d, j] = A[j + d, j], from springs ``(i, j, k)`` between DOFs i and j (i = -1: the
-    ground). Each entry sums its springs' terms in the springs' order, as a loop over them
-    would (np.add.at accumulates index by index, in order): the same bits, at numpy's pace
-    (a tall building has tens of thousands of storeys)."""
+    band[d, j] = A[j + d, j], from springs between DOFs ``ends`` (m, 2) (i, j; i = -1: the
+    ground) of ``stiffness`` (m,). Each entry sums its springs' terms in the springs' order,
+    as a loop over them would (np.add.at accumulates index by index, in order): the same
+    bits, at numpy's pace (a tall building has tens of thousands of storeys)."""
     n = len(scale)
     band = np.zeros((width + 1) * n)
-    if not len(springs):
+    if not len(ends):
         return band.reshape(width + 1, n)
-    table = np.array(springs, dtype=float).reshape(-1, 3)
-    il, iu, k = table[:, 0].astype(np.int64), table[:, 1].astype(np.int64), table[:, 2]
+    il, iu = ends[:, 0].astype(np.int64), ends[:, 1].astype(np.int64)
+    k = np.asarray(stiffness, dtype=float)
     # numpy's pow on each scalar, as before (inf, not OverflowError, if huge)
     square = np.array([float(v ** 2) for v in scale], dtype=float)
     grounded = il < 0
@@ -234,16 +243,27 @@ def direction_names(components: np.ndarray, masses: np.ndarray, phi: np.ndarray)
     return out
 
 
-def building_springs(ex, b: int, k: np.ndarray):
-    """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
-    storey's stiffness taken from ``k`` (one per storey of the scene)."""
+def building_spring_arrays(ex, b: int, k: np.ndarray):
+    """(nodes of building b, (m, 2) its springs' ends local to it (-1: the ground), (m,)
+    their stiffnesses taken from ``k``, one per storey of the scene)."""
     nodes = np.flatnonzero(ex.node_building == b)
     local = np.full(len(ex.node_building) + 1, -1, dtype=np.int64)  # [-1]: the ground
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
     ends = local[column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)[mine]]
-    return nodes, list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(),
-                           np.asarray(k, dtype=float)[mine].tolist()))
+    return nodes, ends, np.asarray(k, dtype=float)[mine]
+
+
+def spring_list(ends: np.ndarray, stiffness: np.ndarray) -> list:
+    """Springs ``(i, j, k)`` (Python numbers) of ``ends`` (m, 2) and ``stiffness`` (m,)."""
+    return list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(), stiffness.tolist()))
+
+
+def band_width(ends: np.ndarray) -> int:
+    """The half-bandwidth max |i - j| of springs between ``ends`` (m, 2) (a spring to the
+    ground, i = -1, adds none)."""
+    joined = ends[ends[:, 0] >= 0]
+    return int(np.max(np.abs(joined[:, 0] - joined[:, 1]))) if len(joined) else 0
 
 
 def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -316,11 +336,12 @@ def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
 def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
     if ex.dofs is not None:
         return _plan_modes(ex, b, k, count, vectors)
-    nodes, springs = building_springs(ex, b, k)
+    nodes, ends, stiffness = building_spring_arrays(ex, b, k)
     n = len(nodes)
     scale = 1.0 / np.sqrt(ex.masses[nodes])
-    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
+    width = band_width(ends)
     if count is None or n <= DENSE_FLOORS or width > 64:
+        springs = spring_list(ends, stiffness)
         if count is not None and n > 4 * DENSE_FLOORS and width > 64:
             return _sparse_lowest(springs, scale, n, count, vectors)
         stiffness = spring_matrix(springs, n) * np.outer(scale, scale)
@@ -330,7 +351,7 @@ def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
         return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
     from scipy.linalg import eig_banded, eigh_tridiagonal
 
-    band = scaled_band(springs, scale, width)
+    band = scaled_band(ends, stiffness, scale, width)
     last = min(count, n) - 1
     with one_blas_thread() if vectors else contextlib.nullcontext():
         if width <= 1:

@@ -190,9 +190,14 @@ class Plan:
 
 def _groups(elements, n_batch_values):
     """Group elements by law; params stacked over the batch from ``n_batch_values``."""
-    laws: dict[type, list[int]] = {}
-    for i, law in enumerate(column(elements, "law")):
-        laws.setdefault(law, []).append(i)
+    every = column(elements, "law")
+    laws: dict[type, list[int]] = dict.fromkeys(every)
+    if len(laws) == 1:  # (a tall pair's storeys, its contacts)
+        laws[every[0]] = list(range(len(every)))
+    else:
+        laws = {}
+        for i, law in enumerate(every):
+            laws.setdefault(law, []).append(i)
     groups = []
     for law, index in laws.items():
         params = np.array([_rows(values, index) for values in n_batch_values], dtype=float)
@@ -413,9 +418,13 @@ def _dof_keys(variants) -> list[tuple[int, int]]:
     return sorted({key for ex in variants for key in ex.dofs or [(i, 0) for i in range(nodes)]})
 
 
-def _per_key(ex: Expanded, keys, values: np.ndarray, fallback=dict) -> np.ndarray:
+def _per_key(ex: Expanded, keys, values: np.ndarray, fallback=dict,
+             planar: bool = False) -> np.ndarray:
     """A member's per-DOF values on the batch's DOFs: its own where it has them, else
-    ``fallback()``'s (a dict; a mass: another member's) or 0."""
+    ``fallback()``'s (a dict; a mass: another member's) or 0. ``planar``: the batch's DOFs
+    are u_x of every node (:func:`_dof_keys`), a planar member's own."""
+    if planar and ex.dofs is None:
+        return np.array(values, dtype=float)
     own = ex.dofs or [(i, 0) for i in range(len(ex.node_names))]
     if len(own) == len(keys) and list(own) == list(keys):  # its own DOFs: its own values
         return np.array(values, dtype=float)
@@ -487,7 +496,8 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                                 incidence.edges(contact_dofs, contact_sides),
                                 dof_of_key[np.array(modal, dtype=np.int64).reshape(-1, 2)]])
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
-    masses = _masses(variants, node_keys, soil)
+    planar = all(ex.dofs is None for ex in variants)
+    masses = _masses(variants, node_keys, soil, planar)
     node_of_key = np.where(key_array[:, 0] < nodes, key_array[:, 0], -1)
     # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
     # foundation's (the soil's dashpots damp them)
@@ -496,7 +506,6 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
                   for f in fitted.fits]
 
-    planar = all(ex.dofs is None for ex in variants)
     history, envelope = _recorded(first, planar)
 
     by_building = np.array([DAMPING_STIFFNESS[getattr(d, "stiffness", "initial")]
@@ -537,9 +546,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         more_channels=(np.array([_channels(ex) for ex in variants])
                        if len(first.channels) > 1 else None),
         initial_displacement=np.array([np.concatenate([_per_key(
-            ex, node_keys, ex.initial_displacement), pad])[order] for ex in variants]),
+            ex, node_keys, ex.initial_displacement, planar=planar), pad])[order] for ex in variants]),
         initial_velocity=np.array([np.concatenate([_per_key(
-            ex, node_keys, ex.initial_velocity), pad])[order] for ex in variants]),
+            ex, node_keys, ex.initial_velocity, planar=planar), pad])[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
         link_names=tuple(column(first.links, "name")),
@@ -604,7 +613,8 @@ def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]
     return history, envelope
 
 
-def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]:
+def _masses(variants: list[Expanded], node_keys: list, soil,
+            planar: bool = False) -> list[np.ndarray]:
     """Each variant's mass (or inertia) on each DOF key: the nodes', a DOF a variant lacks
     taking another's (a batch's union of DOFs), then the foundations'."""
     nodes = len(variants[0].node_names)
@@ -615,7 +625,8 @@ def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]
             ex.dof_mass if ex.dof_mass is not None else ex.masses)}
 
     return [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
-                                     else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
+                                     else ex.masses, known, planar),
+                            soil.masses(ex)[-2 * soil.count:]
                             if soil.count else np.zeros(0)]) for ex in variants]
 
 

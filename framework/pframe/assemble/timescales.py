@@ -29,10 +29,12 @@ import math
 import numpy as np
 
 from pframe.assemble.modes import (
-    building_springs,
+    band_width,
+    building_spring_arrays,
     one_blas_thread,
     scaled_band,
     scaled_triplets,
+    spring_list,
     spring_matrix,
 )
 from pframe.model.rows import column
@@ -76,11 +78,6 @@ def period_error(coefficients, steps: float) -> float:
     return w / float(np.max(angles)) - 1.0
 
 
-def _building_matrix(ex, b: int, k0: np.ndarray):
-    """(nodes, springs (i, j, k) local to building b, i = -1 the ground, half-bandwidth)."""
-    nodes, springs = building_springs(ex, b, k0)
-    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
-    return nodes, springs, width
 
 
 def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -94,7 +91,9 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from pframe.assemble.modes import modes_and_shares
 
         return modes_and_shares(ex, b, k0)
-    nodes, springs, width = _building_matrix(ex, b, k0)
+    nodes, ends, stiffness = building_spring_arrays(ex, b, k0)
+    springs = spring_list(ends, stiffness) if len(nodes) <= DENSE_FLOORS or band_width(
+        ends) > 1 else None
     mass = ex.masses[nodes]
     n = len(nodes)
     root = np.sqrt(mass)
@@ -103,7 +102,7 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if n <= DENSE_FLOORS:
         values, vectors = np.linalg.eigh(spring_matrix(springs, n) * np.outer(scale, scale))
         return np.sqrt(np.clip(values, 0.0, None)), (vectors.T @ root) ** 2 / total
-    if width > 1:  # not a chain of storeys: a sparse shift-invert solve of the lowest modes
+    if springs is not None:  # not a chain of storeys: a sparse shift-invert solve of the lowest modes
         from scipy.sparse import coo_matrix
         from scipy.sparse.linalg import eigsh
 
@@ -114,7 +113,7 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                 (vectors[:, order].T @ root) ** 2 / total)
     from scipy.linalg import eigh_tridiagonal
 
-    band = scaled_band(springs, scale, 1)
+    band = scaled_band(ends, stiffness, scale, 1)
     diagonal, off = band[0], band[1][:max(n - 1, 0)]
     omegas, shares = [], []
     for first in range(0, min(LOWEST_MODES, n), MODES_AT_A_TIME):

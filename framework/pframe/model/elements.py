@@ -336,15 +336,16 @@ def _storey_run(run: Run, resolver, seen, shared, mass_above) -> Run | None:
     if any(i == j or (i >= 0 and (building_of[i] != building_of[j] or centre[i] != centre[j]))
            for i, j in zip(low, up)):
         return None
-    packed, first = [], {}  # packed per parameters' object, in the storeys' order
-    for params, upper in zip(run.column("params"), uppers):
-        known = first.get(id(params))
-        if known is None:
-            known, same = _storey_packed(spec, params, upper, shared, mass_above)
-            if not same:  # each storey's own numbers (its mass above): one by one
-                return None
-            first[id(params)] = known
-        packed.append(known)
+    params = run.column("params")
+    ids = list(map(id, params))
+    # parameters' object -> its first storey (the last written, going down)
+    first = dict(zip(reversed(ids), range(len(ids) - 1, -1, -1)))
+    known = {}  # parameters' object -> packed, packed at its first storey, in their order
+    for i, k in sorted(first.items(), key=lambda item: item[1]):
+        known[i], same = _storey_packed(spec, params[k], uppers[k], shared, mass_above)
+        if not same:  # each storey's own numbers (its mass above): one by one
+            return None
+    packed = list(map(known.__getitem__, ids))
     seen.update(dict.fromkeys(names, True))
     nodes = list(zip(low, up))
     return Run(like(PLAIN, name=names[0], nodes=nodes[0], law=spec.law, packed=packed[0]),
