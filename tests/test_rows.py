@@ -176,3 +176,12 @@ def test_the_storeys_above_an_isolator_are_found_alike_down_chains(scene, monkey
         monkeypatch.setattr(walk, "_chains_min_above", lambda ex, k: None)
         assert found.tobytes() == walk._min_above(ex, k).tobytes()
         monkeypatch.undo()
+
+
+def test_the_sorted_unique_of_the_ordering_is_numpys():
+    from pframe.assemble.ordering import sorted_unique
+
+    rng = np.random.default_rng(11)
+    for size in (0, 1, 7, 500):
+        values = rng.integers(-3, 40, size)
+        assert sorted_unique(values).tobytes() == np.unique(values).tobytes()

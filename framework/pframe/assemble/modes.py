@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pframe.assemble.ordering import sorted_unique
 from pframe.model.rows import Rows, Run, column, column_array
 
 #: a storey whose post-yield stiffness is at most this many times below that of every storey
@@ -443,7 +444,7 @@ def _chains_min_above(ex, k_post: np.ndarray) -> np.ndarray | None:
         return None
     lower, upper = ends[:, 0], ends[:, 1]
     starts = lower[lower >= 0]
-    if len(np.unique(starts)) != len(starts):
+    if len(sorted_unique(starts)) != len(starts):
         return None  # a node that several storeys stand on: a tree, not a chain
     first = np.full(max(int(ends.max()) + 1, 1), -1, dtype=np.int64)
     first[starts] = np.flatnonzero(lower >= 0)
