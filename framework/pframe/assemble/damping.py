@@ -96,7 +96,7 @@ def wanted_modes(ex, b: int, damping, k_fit) -> tuple[int, int]:
     among the building's modes by :func:`pframe.assemble.modes.directions`; a one-storey
     building's single mode twice for the default (1, 2)."""
     name = ex.buildings[b]
-    count = len(modes.building_keys(ex, b)[0])  # its modes (in plan: lateral-torsional)
+    count = modes.building_dofs(ex, b)  # its modes (in plan: lateral-torsional)
     asked = damping.modes
     if all(isinstance(m, int) for m in asked):
         if max(asked) <= count:
@@ -329,7 +329,7 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
                    for m in dict.fromkeys(wanted)]
         a0 = float(result.a0[ex.node_building == b][0])
         a1 = float(np.max(result.a1[mine]))
-        skipped = [ex.stories[s].name for s in mine if not damped[s]]
+        skipped = [ex.stories[s].name for s in mine[~damped[mine]].tolist()]
         without = (", not on " + ", ".join(skipped[:4]) + (" ..." if len(skipped) > 4 else "")
                    if skipped and a1 else "")
         out.append(f"building {name}: Rayleigh {100 * damping.ratio:.3g} % on mode"

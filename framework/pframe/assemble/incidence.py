@@ -60,7 +60,7 @@ def build(elements_of_members, dof_of) -> Sides:
     member's centre of mass does not turn that member's floor, but turns the others')."""
     first = elements_of_members[0]
     sides = [column(elements, "sides") for elements in elements_of_members]
-    if all(x is None for of_member in sides for x in of_member):
+    if all(of_member.count(None) == len(of_member) for of_member in sides):
         return empty(len(first), len(elements_of_members))  # all plain: no terms at all
     start, dofs = [0], []
     coefs = [[] for _ in elements_of_members]

@@ -83,6 +83,9 @@ def post_yield(ex, k0: np.ndarray) -> np.ndarray:
     tangent ``k0`` where the law declares none, and never above it."""
     post = per_law(ex.stories, lambda law, packed: law.post_yield_stiffness(
         np.asarray(packed, dtype=float)))
+    if None not in post:  # min(p, k) of each: p unless k is below it (a NaN compares false)
+        post, k0 = np.array(post, dtype=float), np.asarray(k0, dtype=float)
+        return np.where(k0 < post, k0, post)
     return np.array([k if p is None else min(float(p), k)
                      for k, p in zip(np.asarray(k0, dtype=float).tolist(), post)], dtype=float)
 
@@ -160,6 +163,13 @@ def scaled_band(ends: np.ndarray, stiffness: np.ndarray, scale: np.ndarray,
     lo, hi = np.minimum(il, iu)[both], np.maximum(il, iu)[both]
     np.add.at(band, (hi - lo) * n + lo, -(k[both] * scale[il[both]] * scale[iu[both]]))
     return band.reshape(width + 1, n)
+
+
+def building_dofs(ex, b: int) -> int:
+    """How many degrees of freedom building b's floors have (:func:`building_keys`)."""
+    if ex.dofs is None:
+        return int(np.count_nonzero(ex.node_building == b))
+    return len(building_keys(ex, b)[0])
 
 
 def building_keys(ex, b: int) -> tuple[list, np.ndarray]:

@@ -7,7 +7,6 @@ Arrays that differ between variants of a sweep carry a leading batch axis ``B``;
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -210,7 +209,7 @@ def _groups(elements, n_batch_values):
 def _rows(values: list, index: list) -> np.ndarray:
     """(len(index), n) the rows ``values[i]`` (tuples of n numbers), each distinct tuple
     (by identity: a tall building's storeys share theirs) converted once."""
-    picked = [values[i] for i in index]
+    picked = values if len(index) == len(values) else [values[i] for i in index]
     width = len(picked[0]) if picked else 0
     ids = list(map(id, picked))
     of_id = dict(zip(ids, picked))  # (every tuple of an id is that one tuple)
@@ -597,8 +596,8 @@ def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if any(not (math.isnan(a) and math.isnan(b)) for a, b in column(first.contacts, "at")) \
-            and "contact_force" not in envelope:  # (Element.column_side)
+    struck = ~np.isnan(column_array(first.contacts, "at", float).reshape(-1, 2)).all(axis=1)
+    if struck.any() and "contact_force" not in envelope:  # (Element.column_side)
         # the struck columns' shear: written (peak_column_shear) and checked on its peak
         envelope.append("contact_force")
     if first.point_names and not planar and "point_drift" not in envelope:
