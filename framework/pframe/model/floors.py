@@ -5,7 +5,9 @@ site (docs/plan.md). Every problem is reported at its YAML path (:class:`ModelEr
 
 from __future__ import annotations
 
+import operator
 from dataclasses import dataclass, field
+from itertools import repeat
 
 import numpy as np
 
@@ -149,9 +151,15 @@ def _storey_params(law, fields: dict, i: int, path, validated: dict | None = Non
 def _one_for_all(law, fields: dict, path):
     """The parameters every storey shares when no field varies over them (each list one value
     repeated, the shorthand's usual case: validated once, not once per storey), else None."""
-    if all(k == "material" or all(x is v[0] for x in v) for k, v in fields.items()):
+    if all(k == "material" or _one_object(v) for k, v in fields.items()):
         return _storey_params(law, fields, 0, path)
     return None
+
+
+def _one_object(values: list) -> bool:
+    """Whether every item of ``values`` is its first (one object repeated: a value given
+    once for every storey), at C's pace."""
+    return not values or all(map(operator.is_, values, repeat(values[0])))
 
 
 def _material_fields(properties, n: int, path) -> tuple[type, dict]:
@@ -226,6 +234,8 @@ def _building_geometry(building, n: int, path):
         inertias = [m * radius2 for m in masses]
     else:
         inertias = [None] * n
+    if _one_object(centres):  # one centre for every floor (the usual case)
+        return placement, plan, points, [tuple(map(float, centres[0]))] * n, inertias
     as_floats, last = [], None
     for c in centres:  # one tuple for a run of floors given one centre (placed once)
         as_floats.append(as_floats[-1] if as_floats and c is last else tuple(map(float, c)))
@@ -248,17 +258,21 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
         raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                          "height (m, one for all storeys or one per storey)")
     above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
-    placed, given, centre = [], None, None
-    for c in centres:  # placed once for a run of floors given one centre
-        if c is not given:
-            given, centre = c, placement.point(c)
-        placed.append(centre)
+    if _one_object(centres):  # one centre for every floor: placed once
+        placed = [placement.point(centres[0])] * n if n else []
+    else:
+        placed, given, centre = [], None, None
+        for c in centres:  # placed once for a run of floors given one centre
+            if c is not given:
+                given, centre = c, placement.point(c)
+            placed.append(centre)
     names = [f"{building.name}/{i + 1}" for i in range(n)]
     if n:  # one run: the first floor's placement, plan and points shared by every floor
         nodes.append(Run(Floor(names[0], masses[0], path + ("name",), placed[0], inertias[0],
                                placement, plan, points, path), n,
                          dict(name=names, mass=masses, centre=placed, inertia=inertias)))
-    gravity = [GRAVITY * float(above[i]) if building.p_delta else 0.0 for i in range(n)]
+    gravity = ([GRAVITY * float(above[i]) for i in range(n)] if building.p_delta
+               else [0.0] * n)
     if building.story is not None:
         if n:
             law, fields = _material_fields(building.story, n, path + ("story",))
