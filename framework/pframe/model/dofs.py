@@ -19,7 +19,7 @@ import numpy as np
 
 from pframe.model.load import ModelError
 from pframe.model.plan import COMPONENTS
-from pframe.model.rows import Rows, Run, column
+from pframe.model.rows import Rows, Run, column, column_array
 
 _AXIS_WORDS = {0: "along x", 1: "along y", 2: "in torsion (about the vertical)"}
 
@@ -33,10 +33,14 @@ class Dofs:
     mass: np.ndarray
     #: () -> the reasons (:attr:`reasons`), worded only when a message asks
     explain: object = dict
+    #: (d, 2) the table as an array (None: made from it when asked)
+    key_array: np.ndarray | None = None
 
     @functools.cached_property
     def keys(self) -> np.ndarray:
         """(d, 2) the table as an array: each DOF's node and component."""
+        if self.key_array is not None:
+            return self.key_array
         return np.array(self.table, dtype=np.int64).reshape(-1, 2)
 
     @property
@@ -89,16 +93,17 @@ def _reasons(elements, channels, initial) -> dict:
         k: v for k, v in channels.items() if k not in why}
 
 
-def _moving(count: int, elements, channels, initial) -> tuple[tuple[int, int], ...]:
+def _moving(count: int, elements, channels, initial) -> tuple[tuple, np.ndarray | None]:
     """The keys of :func:`_reasons`, sorted (node, then component), without wording them: a
-    mask of the nodes' components (a run of plain elements marks its nodes' u_x at once)."""
+    mask of the nodes' components (a run of plain elements marks its nodes' u_x at once);
+    and the same as an array (None: a key outside the floors')."""
     moves = np.zeros((count, len(COMPONENTS)), dtype=bool)
     for axis in channels:
         moves[:, COMPONENTS.index(axis)] = True
     odd = set()  # a key outside the floors' components (kept as the dictionary would)
     for part in _parts(elements):
         if _plain_run(part):
-            ends = np.array(part.column("nodes"), dtype=np.int64).ravel()
+            ends = part.array("nodes", np.int64).ravel()
             moves[ends[ends >= 0], 0] = True
             continue
         for e in part:
@@ -116,7 +121,9 @@ def _moving(count: int, elements, channels, initial) -> tuple[tuple[int, int], .
             odd.add((node, component))
     nodes, components = np.nonzero(moves)
     table = tuple(zip(nodes.tolist(), components.tolist()))
-    return tuple(sorted(set(table) | odd)) if odd else table
+    if odd:
+        return tuple(sorted(set(table) | odd)), None
+    return table, np.stack([nodes, components], axis=1).astype(np.int64)
 
 
 def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
@@ -133,7 +140,10 @@ def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
                  if value}
         return _reasons(elements, loads, given)
 
-    table = _moving(count, elements, channels, {k: v for k, v in initial.items() if v})
+    table, keys = _moving(count, elements, channels, {k: v for k, v in initial.items() if v})
+    if keys is not None and not keys[:, 1].any():  # u_x of each node: their masses
+        return Dofs(table, np.array(column_array(floors.nodes, "mass", float)[keys[:, 0]]),
+                    explain, keys)
     masses = []
     mass, inertia = column(floors.nodes, "mass"), column(floors.nodes, "inertia")
     for node, component in table:
@@ -148,7 +158,7 @@ def active(floors, elements, channels: tuple[str, ...], initial: dict) -> Dofs:
                              "polar_inertia (kg m^2), or the plan (size or outline) for a "
                              "uniform slab's")
         masses.append(inertia[node])
-    return Dofs(table, np.array(masses, dtype=float), explain)
+    return Dofs(table, np.array(masses, dtype=float), explain, keys)
 
 
 def check_storeys(floors, resolver, storeys, dofs: Dofs) -> None:

@@ -28,7 +28,7 @@ from pframe.model.elements import (
 from pframe.model.floors import floors as collect_floors
 from pframe.model.load import ModelError
 from pframe.model.motion import GroundMotion, ground_motion
-from pframe.model.rows import Rows, Run, column
+from pframe.model.rows import Rows, Run, column, column_array
 from pframe.model.scene import scene_motions
 from pframe.model.soil import FoundationSoil, foundation_soil
 from pframe.model.support_motion import support_motion
@@ -272,7 +272,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         buildings=resolver.buildings,
         node_names=tuple(column(floors.nodes, "name")),
         node_building=np.array([number[b] for b in resolver.building_of], dtype=np.int64),
-        masses=np.array(column(floors.nodes, "mass"), dtype=float),
+        masses=column_array(floors.nodes, "mass", float).copy(),
         stories=Rows((springs,)),
         story_building=np.array(story_building + [b for *_, b in p_delta], dtype=np.int64),
         contacts=Rows((contacts,)),
@@ -316,7 +316,7 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                  resolver.building_of),
         dofs=None if dofs.planar and len(dofs.table) == len(floors.nodes) else dofs.table,
         dof_mass=dofs.mass,
-        node_centre=np.array(column(floors.nodes, "centre"), dtype=float),
+        node_centre=column_array(floors.nodes, "centre", float).reshape(-1, 2).copy(),
         node_extent=np.array([extents[id(p)] if p is not None else np.nan for p in plans]),
         point_names=point_names,
         gauges=point_gauges,
@@ -395,8 +395,10 @@ def _storey_flags(specs, extra: int) -> dict:
     """Expanded.story_isolator and story_stiffness_damping: what each storey spring says
     (the P-delta springs of buildings in plan, ``extra``, say nothing); empty when none
     says anything."""
-    flags = list(zip(column(specs, "isolator"), column(specs, "stiffness_damping")))
-    flags += [(None, None)] * extra
+    isolator, stiffness_damping = column(specs, "isolator"), column(specs, "stiffness_damping")
+    if isolator.count(None) == len(isolator) == stiffness_damping.count(None):
+        return {}  # (at C's pace: a tall building says nothing)
+    flags = list(zip(isolator, stiffness_damping)) + [(None, None)] * extra
     if all(f == (None, None) for f in flags):
         return {}
     return dict(story_isolator=tuple(f[0] for f in flags),
@@ -442,8 +444,9 @@ def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
     by design (masses that strike each other or a wall): under a ground motion a warning says
     what they do (the ground moves under them), unless they are declared ``free``."""
     ground = len(nodes)  # the ground: the graph's last vertex
-    ends = np.array(column(stories, "nodes") + [e.nodes for e in links if not getattr(
-        e.law, "stiffness_free", False)], dtype=np.int64).reshape(-1, 2)
+    ends = np.concatenate([column_array(stories, "nodes", np.int64).reshape(-1, 2), np.array(
+        [e.nodes for e in links if not getattr(e.law, "stiffness_free", False)],
+        dtype=np.int64).reshape(-1, 2)])
     ends[ends < 0] = ground
     label = _components(ground + 1, ends)  # the same label: joined
     free = {n.name for n in scene.nodes if n.free}

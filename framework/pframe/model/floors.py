@@ -5,16 +5,14 @@ site (docs/plan.md). Every problem is reported at its YAML path (:class:`ModelEr
 
 from __future__ import annotations
 
-import operator
 from dataclasses import dataclass, field
-from itertools import repeat
 
 import numpy as np
 
 from pframe.laws import get_law
 from pframe.model.load import ModelError
 from pframe.model.plan import Placement, unit
-from pframe.model.rows import Rows, Run, column
+from pframe.model.rows import Rows, Run, column, one_object
 from pframe.model.scene import default_story_name
 
 #: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
@@ -151,15 +149,9 @@ def _storey_params(law, fields: dict, i: int, path, validated: dict | None = Non
 def _one_for_all(law, fields: dict, path):
     """The parameters every storey shares when no field varies over them (each list one value
     repeated, the shorthand's usual case: validated once, not once per storey), else None."""
-    if all(k == "material" or _one_object(v) for k, v in fields.items()):
+    if all(k == "material" or one_object(v) for k, v in fields.items()):
         return _storey_params(law, fields, 0, path)
     return None
-
-
-def _one_object(values: list) -> bool:
-    """Whether every item of ``values`` is its first (one object repeated: a value given
-    once for every storey), at C's pace."""
-    return not values or all(map(operator.is_, values, repeat(values[0])))
 
 
 def _material_fields(properties, n: int, path) -> tuple[type, dict]:
@@ -234,7 +226,7 @@ def _building_geometry(building, n: int, path):
         inertias = [m * radius2 for m in masses]
     else:
         inertias = [None] * n
-    if _one_object(centres):  # one centre for every floor (the usual case)
+    if one_object(centres):  # one centre for every floor (the usual case)
         return placement, plan, points, [tuple(map(float, centres[0]))] * n, inertias
     as_floats, last = [], None
     for c in centres:  # one tuple for a run of floors given one centre (placed once)
@@ -258,7 +250,7 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
         raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                          "height (m, one for all storeys or one per storey)")
     above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
-    if _one_object(centres):  # one centre for every floor: placed once
+    if one_object(centres):  # one centre for every floor: placed once
         placed = [placement.point(centres[0])] * n if n else []
     else:
         placed, given, centre = [], None, None

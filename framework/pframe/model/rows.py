@@ -12,9 +12,10 @@ when it is read.
 
 from __future__ import annotations
 
+import operator
 from bisect import bisect_right
 from collections.abc import Sequence
-from itertools import chain
+from itertools import chain, repeat
 
 import numpy as np
 
@@ -60,6 +61,16 @@ class Run:
         if values is None:
             return [getattr(self.template, name)] * self.length
         return list(values)
+
+    def array(self, name: str, dtype) -> np.ndarray:
+        """:meth:`column` as an array: one value repeated (the template's, or one object
+        in every row) converted once."""
+        values = self.fields.get(name)
+        if values is not None and not one_object(values):
+            return np.array(values, dtype=dtype)
+        one = np.asarray(getattr(self.template, name) if values is None else values[0],
+                         dtype=dtype)
+        return np.broadcast_to(one, (self.length,) + one.shape).copy()
 
     def __getstate__(self):
         return self.template, self.length, self.fields
@@ -144,8 +155,15 @@ class Rows(Sequence):
         key = (name, np.dtype(dtype))
         found = self._arrays.get(key)
         if found is None:
-            found = self._arrays[key] = np.array(self.column(name), dtype=dtype)
+            parts = [part.array(name, dtype) if isinstance(part, Run)
+                     else np.array([getattr(x, name) for x in part], dtype=dtype)
+                     for part in self.parts]
+            if parts and len({p.shape[1:] for p in parts}) == 1:
+                found = np.concatenate(parts)
+            else:  # none, or of several shapes: numpy's word on the whole column
+                found = np.array(self.column(name), dtype=dtype)
             found.setflags(write=False)
+            self._arrays[key] = found
         return found
 
     def __getstate__(self):
@@ -153,6 +171,12 @@ class Rows(Sequence):
 
     def __setstate__(self, parts):
         self.__init__(parts)
+
+
+def one_object(values) -> bool:
+    """Whether every item of ``values`` is its first (one object repeated: a value given once
+    for every storey), at C's pace."""
+    return not len(values) or all(map(operator.is_, values, repeat(values[0])))
 
 
 def column(items, name: str) -> list:
