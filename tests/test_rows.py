@@ -185,3 +185,23 @@ def test_the_sorted_unique_of_the_ordering_is_numpys():
     for size in (0, 1, 7, 500):
         values = rng.integers(-3, 40, size)
         assert sorted_unique(values).tobytes() == np.unique(values).tobytes()
+
+
+def test_the_contact_periods_found_once_per_distinct_row_are_each_contacts(monkeypatch):
+    """The stability check's contact stiffnesses and periods, found once per distinct
+    numbers and effective mass, are those of the loop over the contacts, bit for bit (levels
+    of several masses, a wall, a power law)."""
+    stability = importlib.import_module("pframe.assemble.stability")
+    text = BUILDING + """\
+  - {name: B, floors: 4, mass: [500.0, 500.0, 450.0, 500.0],
+     story: {material: elastic, stiffness: 1.0e6}}
+contacts:
+  - {nodes: [A, B], gap: 0.01, law: hertzdamp, stiffness: 2.0e9, restitution: 0.6}
+  - {name: wall, nodes: [B, ground], gap: 0.02, law: linear, stiffness: 1.0e7}
+""" + REST
+    plan = assemble(parse_scene(text).expanded)
+    assert len(plan.contact_names) == 8
+    found = stability.highest_frequency(plan)
+    monkeypatch.setattr(stability, "_plain_mobility", lambda *args: None)
+    looped = stability.highest_frequency(plan)
+    assert found[0] == looped[0] and found[1].tobytes() == looped[1].tobytes()
