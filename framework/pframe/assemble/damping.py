@@ -58,7 +58,9 @@ class Fit:
 def stiffness_damped(ex, isolator: np.ndarray) -> np.ndarray:
     """(s,) True where the stiffness-proportional term acts: what a storey says
     (``stiffness_damping``), else every storey but the isolators."""
-    said = ex.story_stiffness_damping or (None,) * len(ex.stories)
+    if not ex.story_stiffness_damping:  # none said: every storey but the isolators
+        return ~np.asarray(isolator, dtype=bool)[:len(ex.stories)]
+    said = ex.story_stiffness_damping
     return np.array([not isolator[s] if said[s] is None else bool(said[s])
                      for s in range(len(ex.stories))], dtype=bool)
 
@@ -94,7 +96,7 @@ def wanted_modes(ex, b: int, damping, k_fit) -> tuple[int, int]:
     among the building's modes by :func:`pframe.assemble.modes.directions`; a one-storey
     building's single mode twice for the default (1, 2)."""
     name = ex.buildings[b]
-    count = len(modes.building_keys(ex, b)[0])  # its modes (in plan: lateral-torsional)
+    count = modes.building_dofs(ex, b)  # its modes (in plan: lateral-torsional)
     asked = damping.modes
     if all(isinstance(m, int) for m in asked):
         if max(asked) <= count:
@@ -327,7 +329,7 @@ def describe(ex, result: Fit, k0, k_post, isolator) -> tuple[str, ...]:
                    for m in dict.fromkeys(wanted)]
         a0 = float(result.a0[ex.node_building == b][0])
         a1 = float(np.max(result.a1[mine]))
-        skipped = [ex.stories[s].name for s in mine if not damped[s]]
+        skipped = [ex.stories[s].name for s in mine[~damped[mine]].tolist()]
         without = (", not on " + ", ".join(skipped[:4]) + (" ..." if len(skipped) > 4 else "")
                    if skipped and a1 else "")
         out.append(f"building {name}: Rayleigh {100 * damping.ratio:.3g} % on mode"

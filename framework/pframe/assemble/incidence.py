@@ -15,6 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pframe.model.rows import column
+
 
 @dataclass(frozen=True)
 class Sides:
@@ -57,12 +59,13 @@ def build(elements_of_members, dof_of) -> Sides:
     (in the order first met), a coefficient 0 where a member has none (a line through one
     member's centre of mass does not turn that member's floor, but turns the others')."""
     first = elements_of_members[0]
-    if all(e.sides is None for elements in elements_of_members for e in elements):
+    sides = [column(elements, "sides") for elements in elements_of_members]
+    if all(of_member.count(None) == len(of_member) for of_member in sides):
         return empty(len(first), len(elements_of_members))  # all plain: no terms at all
     start, dofs = [0], []
     coefs = [[] for _ in elements_of_members]
     for e in range(len(first)):
-        sided = any(elements[e].sides is not None for elements in elements_of_members)
+        sided = any(of_member[e] is not None for of_member in sides)
         for s in range(2):
             if sided:
                 members = [dict(((node, c), a) for node, c, a in elements[e].side_terms()[s])

@@ -30,6 +30,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pframe.assemble.ordering import sorted_unique
+from pframe.model.rows import Rows, Run, column, column_array
+
 #: a storey whose post-yield stiffness is at most this many times below that of every storey
 #: above it is an isolator (see the module's docstring)
 ISOLATION_RATIO = 10.0
@@ -54,18 +57,43 @@ def _initial_tangent(law, packed: bytes) -> float:
     return float(law.force(params, state.copy(), state, 0.0, 0.0)[1])
 
 
+def per_law(elements, function) -> list:
+    """``function(law, packed)`` of each element, computed once per law and packed numbers
+    (the storeys of a tall building share theirs)."""
+    known: dict = {}
+    out = []
+    for part in elements.parts if isinstance(elements, Rows) else (elements,):
+        if isinstance(part, Run) and "law" not in part.fields:  # one law: by the numbers' id
+            law, packed = part.template.law, part.column("packed")
+            ids = list(map(id, packed))
+            value = {i: known.setdefault((law, i), (function(law, p), p))[0]
+                     for i, p in dict(zip(ids, packed)).items()}
+            out += map(value.__getitem__, ids)
+            continue
+        for law, packed in zip(column(part, "law"), column(part, "packed")):
+            key = (law, id(packed))
+            if key not in known:
+                known[key] = (function(law, packed), packed)  # (the numbers kept: id unique)
+            out.append(known[key][0])
+    return out
+
+
 def post_yield(ex, k0: np.ndarray) -> np.ndarray:
     """(s,) the post-yield or sliding stiffness each storey's law declares (N/m): its initial
     tangent ``k0`` where the law declares none, and never above it."""
-    post = [e.law.post_yield_stiffness(np.asarray(e.packed, dtype=float)) for e in ex.stories]
-    return np.array([k if p is None else min(float(p), k) for k, p in zip(k0, post)],
-                    dtype=float)
+    post = per_law(ex.stories, lambda law, packed: law.post_yield_stiffness(
+        np.asarray(packed, dtype=float)))
+    if None not in post:  # min(p, k) of each: p unless k is below it (a NaN compares false)
+        post, k0 = np.array(post, dtype=float), np.asarray(k0, dtype=float)
+        return np.where(k0 < post, k0, post)
+    return np.array([k if p is None else min(float(p), k)
+                     for k, p in zip(np.asarray(k0, dtype=float).tolist(), post)], dtype=float)
 
 
 def storey_stiffness(ex) -> tuple[np.ndarray, np.ndarray]:
     """(k0, k_post) of every storey of an Expanded scene (N/m): the initial tangent and the
     post-yield or sliding stiffness (:func:`post_yield`)."""
-    k0 = np.array([initial_tangent(e.law, e.packed) for e in ex.stories], dtype=float)
+    k0 = np.array(per_law(ex.stories, initial_tangent), dtype=float)
     return k0, post_yield(ex, k0)
 
 
@@ -111,13 +139,47 @@ def scaled_triplets(springs, scale):
     return vals, (rows, cols)
 
 
+def scaled_band(ends: np.ndarray, stiffness: np.ndarray, scale: np.ndarray,
+                width: int) -> np.ndarray:
+    """(width + 1, n) the lower band of M^-1/2 K M^-1/2 (``scale`` = M^-1/2, n of them),
+    band[d, j] = A[j + d, j], from springs between DOFs ``ends`` (m, 2) (i, j; i = -1: the
+    ground) of ``stiffness`` (m,). Each entry sums its springs' terms in the springs' order,
+    as a loop over them would (np.add.at accumulates index by index, in order): the same
+    bits, at numpy's pace (a tall building has tens of thousands of storeys)."""
+    n = len(scale)
+    band = np.zeros((width + 1) * n)
+    if not len(ends):
+        return band.reshape(width + 1, n)
+    il, iu = ends[:, 0].astype(np.int64), ends[:, 1].astype(np.int64)
+    k = np.asarray(stiffness, dtype=float)
+    # numpy's pow on each scalar, as before (inf, not OverflowError, if huge)
+    square = np.array([float(v ** 2) for v in scale], dtype=float)
+    grounded = il < 0
+    at = np.column_stack([iu, np.where(grounded, -1, il)]).ravel()
+    terms = np.column_stack([k * square[iu], k * square[np.maximum(il, 0)]]).ravel()
+    keep = at >= 0
+    np.add.at(band, at[keep], terms[keep])
+    both = ~grounded
+    lo, hi = np.minimum(il, iu)[both], np.maximum(il, iu)[both]
+    np.add.at(band, (hi - lo) * n + lo, -(k[both] * scale[il[both]] * scale[iu[both]]))
+    return band.reshape(width + 1, n)
+
+
+def building_dofs(ex, b: int) -> int:
+    """How many degrees of freedom building b's floors have (:func:`building_keys`)."""
+    if ex.dofs is None:
+        return int(np.count_nonzero(ex.node_building == b))
+    return len(building_keys(ex, b)[0])
+
+
 def building_keys(ex, b: int) -> tuple[list, np.ndarray]:
     """The degrees of freedom of building b's floors, (node, component) in the scene's order,
     and their masses (kg; kg m^2 for a rotation): u_x of each floor in a planar scene, every
     DOF the scene moves in plan."""
     if ex.dofs is None:
         nodes = np.flatnonzero(ex.node_building == b)
-        return [(int(i), 0) for i in nodes], np.asarray(ex.masses, dtype=float)[nodes]
+        return (list(zip(nodes.tolist(), [0] * len(nodes))),
+                np.asarray(ex.masses, dtype=float)[nodes])
     mine = [p for p, (node, _) in enumerate(ex.dofs) if ex.node_building[node] == b]
     return [ex.dofs[p] for p in mine], np.asarray(ex.dof_mass, dtype=float)[mine]
 
@@ -192,16 +254,27 @@ def direction_names(components: np.ndarray, masses: np.ndarray, phi: np.ndarray)
     return out
 
 
-def building_springs(ex, b: int, k: np.ndarray):
-    """(nodes of building b, springs (i, j, k) local to it, i = -1 the ground) with each
-    storey's stiffness taken from ``k`` (one per storey of the scene)."""
+def building_spring_arrays(ex, b: int, k: np.ndarray):
+    """(nodes of building b, (m, 2) its springs' ends local to it (-1: the ground), (m,)
+    their stiffnesses taken from ``k``, one per storey of the scene)."""
     nodes = np.flatnonzero(ex.node_building == b)
     local = np.full(len(ex.node_building) + 1, -1, dtype=np.int64)  # [-1]: the ground
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
-    ends = local[np.array([ex.stories[s].nodes for s in mine], dtype=np.int64).reshape(-1, 2)]
-    return nodes, list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(),
-                           np.asarray(k, dtype=float)[mine].tolist()))
+    ends = local[column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)[mine]]
+    return nodes, ends, np.asarray(k, dtype=float)[mine]
+
+
+def spring_list(ends: np.ndarray, stiffness: np.ndarray) -> list:
+    """Springs ``(i, j, k)`` (Python numbers) of ``ends`` (m, 2) and ``stiffness`` (m,)."""
+    return list(zip(ends[:, 0].tolist(), ends[:, 1].tolist(), stiffness.tolist()))
+
+
+def band_width(ends: np.ndarray) -> int:
+    """The half-bandwidth max |i - j| of springs between ``ends`` (m, 2) (a spring to the
+    ground, i = -1, adds none)."""
+    joined = ends[ends[:, 0] >= 0]
+    return int(np.max(np.abs(joined[:, 0] - joined[:, 1]))) if len(joined) else 0
 
 
 def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -222,9 +295,9 @@ def stiffness_form(ex, b: int, k: np.ndarray, phi: np.ndarray) -> np.ndarray:
     local = np.full(len(ex.node_names), -1)
     local[nodes] = np.arange(len(nodes))
     mine = np.flatnonzero(ex.story_building == b)
-    upper = local[[ex.stories[s].nodes[1] for s in mine]]
-    lower = np.array([local[ex.stories[s].nodes[0]] if ex.stories[s].nodes[0] >= 0 else -1
-                      for s in mine], dtype=np.int64)
+    ends = column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)[mine]
+    upper = local[ends[:, 1]]
+    lower = np.where(ends[:, 0] >= 0, local[np.maximum(ends[:, 0], 0)], -1)
     phi = np.asarray(phi, dtype=float).reshape(len(nodes), -1)
     drift = phi[upper] - np.where(lower[:, None] >= 0, phi[np.maximum(lower, 0)], 0.0)
     return np.asarray(k, dtype=float)[mine] @ (drift * drift)
@@ -274,11 +347,12 @@ def lowest_modes(ex, b: int, k: np.ndarray, count: int | None = None,
 def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
     if ex.dofs is not None:
         return _plan_modes(ex, b, k, count, vectors)
-    nodes, springs = building_springs(ex, b, k)
+    nodes, ends, stiffness = building_spring_arrays(ex, b, k)
     n = len(nodes)
     scale = 1.0 / np.sqrt(ex.masses[nodes])
-    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
+    width = band_width(ends)
     if count is None or n <= DENSE_FLOORS or width > 64:
+        springs = spring_list(ends, stiffness)
         if count is not None and n > 4 * DENSE_FLOORS and width > 64:
             return _sparse_lowest(springs, scale, n, count, vectors)
         stiffness = spring_matrix(springs, n) * np.outer(scale, scale)
@@ -288,17 +362,7 @@ def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
         return np.sqrt(np.clip(values, 0, None)), shapes * scale[:, None]
     from scipy.linalg import eig_banded, eigh_tridiagonal
 
-    # lower form: band[d, j] = A[j + d, j]; summed in Python floats (the same IEEE operations
-    # as on numpy's scalars, without their overhead: a tall building has tens of thousands)
-    band, root = [[0.0] * n for _ in range(width + 1)], scale.tolist()
-    square = [float(v ** 2) for v in scale]  # numpy's pow: inf, not OverflowError, if huge
-    for il, iu, kk in springs:
-        band[0][iu] += kk * square[iu]
-        if il >= 0:
-            band[0][il] += kk * square[il]
-            lo, hi = min(il, iu), max(il, iu)
-            band[hi - lo][lo] -= kk * root[il] * root[iu]
-    band = np.array(band, dtype=float).reshape(width + 1, n)
+    band = scaled_band(ends, stiffness, scale, width)
     last = min(count, n) - 1
     with one_blas_thread() if vectors else contextlib.nullcontext():
         if width <= 1:
@@ -336,18 +400,27 @@ class Isolation:
 def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     """For each storey, the smallest post-yield stiffness of the storeys above it (those
     reached upward from its upper node; inf: none), in one pass however tall."""
-    upper = [e.nodes[1] for e in ex.stories]
+    chains = _chains_min_above(ex, k_post)
+    if chains is not None:
+        return chains
+    ends = column(ex.stories, "nodes")
+    upper = [u for _, u in ends]
     k_post = k_post.tolist()
     starting: dict[int, list[int]] = {}
-    for s, e in enumerate(ex.stories):
-        starting.setdefault(e.nodes[0], []).append(s)
+    for s, (lower, _) in enumerate(ends):
+        starting.setdefault(lower, []).append(s)
     below_top: dict[int, float] = {}  # node -> smallest k_post of the storeys above it
     if all(t > s for s, u in enumerate(upper) for t in starting.get(u, ())):
         # every storey declared after the storeys below it (a building of the shorthand):
         # one pass from the last down gives each node its value once those above have theirs
         for u in reversed(upper):
+            above = starting.get(u, ())
+            if len(above) == 1:  # a chain of storeys: the same min(), without its lists
+                t = above[0]
+                below_top[u] = min(math.inf, min(k_post[t], below_top.get(upper[t], math.inf)))
+                continue
             below_top[u] = min([math.inf] + [min(k_post[t], below_top.get(upper[t], math.inf))
-                                             for t in starting.get(u, ())])
+                                             for t in above])
         return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
     for start in set(upper):
         if start in below_top:
@@ -369,6 +442,34 @@ def _min_above(ex, k_post: np.ndarray) -> np.ndarray:
     return np.array([below_top.get(u, math.inf) for u in upper], dtype=float)
 
 
+def _chains_min_above(ex, k_post: np.ndarray) -> np.ndarray | None:
+    """:func:`_min_above` of storeys that stand in chains declared bottom up (each storey's
+    upper node the lower node of the next storey only, or of none: a building of the
+    shorthand), as a running minimum down each chain; None for any other layout, or a NaN
+    stiffness (whose min() depends on its place)."""
+    k_post = np.asarray(k_post, dtype=float)
+    ends = column_array(ex.stories, "nodes", np.int64).reshape(-1, 2)
+    n = len(ends)
+    if not n or np.isnan(k_post).any():
+        return None
+    lower, upper = ends[:, 0], ends[:, 1]
+    starts = lower[lower >= 0]
+    if len(sorted_unique(starts)) != len(starts):
+        return None  # a node that several storeys stand on: a tree, not a chain
+    first = np.full(max(int(ends.max()) + 1, 1), -1, dtype=np.int64)
+    first[starts] = np.flatnonzero(lower >= 0)
+    following = first[upper]  # the storey standing on each storey's upper node (-1: none)
+    if not np.all((following == np.arange(n) + 1) | (following < 0)):
+        return None
+    out = np.full(n, math.inf)
+    start = 0
+    for last in np.flatnonzero(following < 0).tolist():  # each chain: start .. last
+        # above storey s: the storeys s + 1 .. last; min() of exact floats, in any order
+        out[start:last] = np.minimum.accumulate(k_post[last:start:-1])[::-1]
+        start = last + 1
+    return out
+
+
 def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     """The isolators of a scene (see the module's docstring), with a note for each storey
     taken as one without the scene saying so."""
@@ -377,14 +478,18 @@ def isolation(ex, k0: np.ndarray, k_post: np.ndarray) -> Isolation:
     # storey above one
     stiff = k0 > 0.0
     above = _min_above(ex, np.where(stiff, k_post, math.inf))
-    # in Python floats (the same comparisons, without numpy's scalars: tall buildings)
-    looks = np.array([s_ and (bool(e.law.isolator)
-                              or (math.isfinite(m) and m > 0.0 and kp * ISOLATION_RATIO <= m))
-                      for e, kp, m, s_ in zip(ex.stories, np.asarray(k_post, dtype=float)
-                                              .tolist(), above.tolist(), stiff.tolist())],
-                     dtype=bool)
-    isolator = np.array([look if says is None else bool(says)
-                         for look, says in zip(looks.tolist(), said)], dtype=bool)
+    laws = column(ex.stories, "law")
+    bearing = {law: bool(law.isolator) for law in set(laws)}
+    k_post = np.asarray(k_post, dtype=float)
+    # the comparisons of IEEE doubles, element by element (a NaN compares false)
+    with np.errstate(invalid="ignore", over="ignore"):
+        looks = stiff & (np.fromiter(map(bearing.__getitem__, laws), dtype=bool,
+                                     count=len(laws))
+                         | (np.isfinite(above) & (above > 0.0)
+                            & (k_post * ISOLATION_RATIO <= above)))
+    isolator = (looks.copy() if not ex.story_isolator else
+                np.array([look if says is None else bool(says)
+                          for look, says in zip(looks.tolist(), said)], dtype=bool))
     notes = []
     for s in np.flatnonzero(looks & np.array([x is None for x in said], dtype=bool)):
         e = ex.stories[s]

@@ -17,6 +17,7 @@ from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mcke
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
+from pframe.model.rows import column, column_array
 
 #: the scene's ``damping.stiffness`` -> the kernel's slot
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
@@ -188,16 +189,35 @@ class Plan:
 
 def _groups(elements, n_batch_values):
     """Group elements by law; params stacked over the batch from ``n_batch_values``."""
-    laws: dict[type, list[int]] = {}
-    for i, element in enumerate(elements):
-        laws.setdefault(element.law, []).append(i)
+    every = column(elements, "law")
+    laws: dict[type, list[int]] = dict.fromkeys(every)
+    if len(laws) == 1:  # (a tall pair's storeys, its contacts)
+        laws[every[0]] = list(range(len(every)))
+    else:
+        laws = {}
+        for i, law in enumerate(every):
+            laws.setdefault(law, []).append(i)
     groups = []
     for law, index in laws.items():
-        params = np.array([[values[i] for i in index] for values in n_batch_values], dtype=float)
+        params = np.array([_rows(values, index) for values in n_batch_values], dtype=float)
         state = np.zeros((params.shape[0], len(index), len(law.state_names)))
         state[:] = np.asarray(law.initial_state(), dtype=float)
         groups.append(LawGroup(law, np.array(index, dtype=np.int64), params, state))
     return tuple(groups)
+
+
+def _rows(values: list, index: list) -> np.ndarray:
+    """(len(index), n) the rows ``values[i]`` (tuples of n numbers), each distinct tuple
+    (by identity: a tall building's storeys share theirs) converted once."""
+    picked = values if len(index) == len(values) else [values[i] for i in index]
+    width = len(picked[0]) if picked else 0
+    ids = list(map(id, picked))
+    of_id = dict(zip(ids, picked))  # (every tuple of an id is that one tuple)
+    if len(of_id) == len(picked):
+        return np.array(picked, dtype=float).reshape(len(picked), width)
+    number = {i: k for k, i in enumerate(of_id)}
+    table = np.array(list(of_id.values()), dtype=float).reshape(len(of_id), width)
+    return table[list(map(number.__getitem__, ids))]
 
 
 def _spring_values(ex: Expanded, field: str, fill: float) -> np.ndarray:
@@ -251,6 +271,8 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
     out = []
     for group in plan.story_groups:
         said: dict = {}  # the law's warnings on a row of parameters, once per distinct row
+        if not any(group.law.parameter_warnings(row) for row in _distinct_rows(group.params)):
+            continue  # (a tall building's storeys share a few rows: none says anything)
         for j, e in enumerate(group.index):
             if e >= nl:  # the soil's springs: their values are checked as the scene's
                 continue
@@ -266,6 +288,15 @@ def _material_warnings(plan: Plan) -> tuple[str, ...]:
             for message in dict.fromkeys(messages):
                 out.append(f"{name}: {message}")
     return tuple(out)
+
+
+def _distinct_rows(params: np.ndarray) -> np.ndarray:
+    """The distinct rows of ``params`` (..., n), bit for bit (-0.0 is not 0.0)."""
+    rows = np.ascontiguousarray(params).reshape(-1, params.shape[-1])
+    if not rows.size:  # no rows, or rows of no numbers (one, empty, stands for them)
+        return rows[:1]
+    whole = np.dtype((np.void, rows.dtype.itemsize * rows.shape[1]))
+    return np.unique(rows.view(whole)).view(rows.dtype).reshape(-1, rows.shape[1])
 
 
 class _Soil:
@@ -361,9 +392,10 @@ def batch_key(ex: Expanded) -> tuple:
     numbers only (masses, stiffnesses, gaps, law parameters, excitation, dt)."""
     return (
         ex.node_names,
-        tuple((e.name, e.nodes, e.law) for e in ex.stories),
-        tuple((e.name, e.nodes, e.law, e.lower) for e in ex.contacts),
-        tuple((e.name, e.nodes, e.law) for e in ex.links),
+        *(tuple(zip(*(column(elements, f) for f in fields))) for elements, fields in (
+            (ex.stories, ("name", "nodes", "law")),
+            (ex.contacts, ("name", "nodes", "law", "lower")),
+            (ex.links, ("name", "nodes", "law")))),
         ex.channels,
         ex.point_names,
         ex.steps,
@@ -385,12 +417,19 @@ def _dof_keys(variants) -> list[tuple[int, int]]:
     return sorted({key for ex in variants for key in ex.dofs or [(i, 0) for i in range(nodes)]})
 
 
-def _per_key(ex: Expanded, keys, values: np.ndarray, fallback: dict) -> np.ndarray:
+def _per_key(ex: Expanded, keys, values: np.ndarray, fallback=dict,
+             planar: bool = False) -> np.ndarray:
     """A member's per-DOF values on the batch's DOFs: its own where it has them, else
-    ``fallback`` (a mass: another member's) or 0."""
+    ``fallback()``'s (a dict; a mass: another member's) or 0. ``planar``: the batch's DOFs
+    are u_x of every node (:func:`_dof_keys`), a planar member's own."""
+    if planar and ex.dofs is None:
+        return np.array(values, dtype=float)
     own = ex.dofs or [(i, 0) for i in range(len(ex.node_names))]
+    if len(own) == len(keys) and list(own) == list(keys):  # its own DOFs: its own values
+        return np.array(values, dtype=float)
     mine = dict(zip(own, np.asarray(values, dtype=float)))
-    return np.array([mine.get(key, fallback.get(key, 0.0)) for key in keys])
+    other = fallback()
+    return np.array([mine.get(key, other.get(key, 0.0)) for key in keys])
 
 
 def assemble(expanded: Expanded) -> Plan:
@@ -414,6 +453,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     # foundation's sway and rocking
     keys = _dof_keys(variants) + soil.keys()
     key_index = {key: i for i, key in enumerate(keys)}
+    key_array = np.array(keys, dtype=np.int64).reshape(-1, 2)  # (node, component) each
     n = len(keys)
     # the kernel's spring elements: storeys (a first storey on soil stands on its foundation's
     # sway DOF), then links, then the soil's springs
@@ -422,15 +462,16 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     raw = (incidence.build(spring_sets, lambda node, c: key_index[(node, c)]),
            incidence.build([ex.contacts for ex in variants],
                            lambda node, c: key_index[(node, c)]))
-    principal = _principal(keys, nodes + 2 * len(first.foundations))
+    principal = _principal(key_array[:, 0], nodes + 2 * len(first.foundations))
 
     def node_dofs(elements):  # each side's node's first DOF (the plain element's DOFs)
-        ends = np.array([e.nodes for e in elements], dtype=np.int64).reshape(len(elements), 2)
+        ends = column_array(elements, "nodes", np.int64).reshape(len(elements), 2)
         return np.where(ends >= 0, principal[np.maximum(ends, 0)], -1)
 
-    packed = [[e.packed for e in ex.stories + ex.links + soil.springs(ex)] for ex in variants]
-    k0 = np.array([[modes.initial_tangent(e.law, p) for e, p in zip(springs, row)]
-                   for row in packed])
+    packed = [column(ex.stories + ex.links + soil.springs(ex), "packed") for ex in variants]
+    # each member's laws are the first's (batch_key)
+    k0 = np.array([modes.per_law(ex.stories + ex.links + soil.springs(ex),
+                                 modes.initial_tangent) for ex in variants])
     k0 = k0.reshape(len(variants), len(springs))
     fitted = damping.BatchDamping(variants, k0[:, :len(first.stories)])
     rocking = {key_index[(sway + 1, 0)] for sway in soil.sway.values()}
@@ -441,7 +482,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     # a building's modal damping couples all its DOFs
     modal = [(key_index[a], key_index[c]) for block in fitted.modal_keys
              for i, a in enumerate(block) for c in block[i + 1:]]
-    order = _node_order(keys, np.concatenate([edges, np.array(modal, dtype=np.int64)
+    order = _node_order(key_array[:, 0], np.concatenate([edges, np.array(modal, dtype=np.int64)
                                               .reshape(-1, 2)]))
     if first.foundations:  # each rocking DOF couples to every floor of its building: last in it
         order = place_last(order, soil.rocking_groups(first, springs, key_index))
@@ -454,8 +495,9 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
                                 incidence.edges(contact_dofs, contact_sides),
                                 dof_of_key[np.array(modal, dtype=np.int64).reshape(-1, 2)]])
     node_keys = keys[:len(keys) - 2 * len(first.foundations)]
-    masses = _masses(variants, node_keys, soil)
-    node_of_key = np.array([key[0] if key[0] < nodes else -1 for key in keys])
+    planar = all(ex.dofs is None for ex in variants)
+    masses = _masses(variants, node_keys, soil, planar)
+    node_of_key = np.where(key_array[:, 0] < nodes, key_array[:, 0], -1)
     # a0 m on every DOF of a building's floors (translations and rotations alike), none on a
     # foundation's (the soil's dashpots damp them)
     mass_damping = [(np.where(node_of_key >= 0, f.a0[np.clip(node_of_key, 0, None)], 0.0)
@@ -463,21 +505,20 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
     story_beta = [np.concatenate([f.a1, np.zeros(len(springs) - len(first.stories))])
                   for f in fitted.fits]
 
-    planar = all(ex.dofs is None for ex in variants)
     history, envelope = _recorded(first, planar)
 
-    damping_codes = np.array(
-        [DAMPING_STIFFNESS[getattr(first.damping[b], "stiffness", "initial")]
-         for b in first.story_building]
-        + [DampingStiffness.INITIAL] * (len(springs) - len(first.stories)),  # links, soil:
-        dtype=np.int64,  # no Rayleigh term (a1 = 0)
-    )
+    by_building = np.array([DAMPING_STIFFNESS[getattr(d, "stiffness", "initial")]
+                            for d in first.damping], dtype=np.int64).reshape(-1)
+    damping_codes = np.concatenate([
+        by_building[np.asarray(first.story_building, dtype=np.int64)],
+        np.full(len(springs) - len(first.stories), DampingStiffness.INITIAL,
+                dtype=np.int64)])  # links, soil: no Rayleigh term (a1 = 0)
     pad = np.zeros(2 * len(first.foundations))
     plan = Plan(
         node_names=first.node_names,
         node_dof=dof_of_key[principal[:nodes]],
-        story_names=tuple(e.name for e in first.stories),
-        contact_names=tuple(e.name for e in first.contacts),
+        story_names=tuple(column(first.stories, "name")),
+        contact_names=tuple(column(first.contacts, "name")),
         buildings=first.buildings,
         steps=first.steps,
         bandwidth=int(bandwidth(all_edges, np.arange(n))),
@@ -496,37 +537,37 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         story_damping_stiffness=damping_codes,
         story_groups=_groups(springs, packed),
         contact_dofs=contact_dofs,
-        contact_gap=np.array([[e.gap for e in ex.contacts] for ex in variants]).reshape(
+        contact_gap=np.array([column(ex.contacts, "gap") for ex in variants]).reshape(
             len(variants), len(first.contacts)),
         contact_groups=_groups(first.contacts,
-                               [[e.packed for e in ex.contacts] for ex in variants]),
+                               [column(ex.contacts, "packed") for ex in variants]),
         ground_acceleration=np.array([_channels(ex)[0] for ex in variants]),
         more_channels=(np.array([_channels(ex) for ex in variants])
                        if len(first.channels) > 1 else None),
         initial_displacement=np.array([np.concatenate([_per_key(
-            ex, node_keys, ex.initial_displacement, {}), pad])[order] for ex in variants]),
+            ex, node_keys, ex.initial_displacement, planar=planar), pad])[order] for ex in variants]),
         initial_velocity=np.array([np.concatenate([_per_key(
-            ex, node_keys, ex.initial_velocity, {}), pad])[order] for ex in variants]),
+            ex, node_keys, ex.initial_velocity, planar=planar), pad])[order] for ex in variants]),
         history=tuple(history.items()),
         envelope=tuple(envelope),
-        link_names=tuple(e.name for e in first.links),
+        link_names=tuple(column(first.links, "name")),
         story_height=np.array([soil.pad(_spring_values(ex, "story_height", np.nan), np.nan)
                                for ex in variants]),
         story_kg=np.array([soil.pad(_geometric_stiffness(ex), 0.0) for ex in variants]),
-        contact_share=np.array([[e.share for e in ex.contacts] for ex in variants],
+        contact_share=np.array([column(ex.contacts, "share") for ex in variants],
                                dtype=float).reshape(len(variants), len(first.contacts), 2),
-        contact_capacity=np.array([np.nan if e.shear_capacity is None else e.shear_capacity
-                                   for e in first.contacts], dtype=float),
+        contact_capacity=np.array([np.nan if c is None else c for c in
+                                   column(first.contacts, "shear_capacity")], dtype=float),
         **soil.plan_fields(first, lambda node, c: int(dof_of_key[key_index[(node, c)]])),
         story_sides=story_sides,
         contact_sides=contact_sides,
         channels=first.channels,
-        dof_channel=_dof_channels(first, keys, nodes, soil)[order],
+        dof_channel=_dof_channels(first, key_array, nodes, soil)[order],
         supports=first.supports,
         node_support=first.node_support,
         **grounds.ground_fields(variants, spring_sets, set(history) | set(envelope)),
         dof_node=node_of_key[order],
-        dof_component=np.array([c for _, c in keys], dtype=np.int64)[order],
+        dof_component=key_array[:, 1][order],
         planar=planar,
         node_extent=first.node_extent,
         **_gauges(variants, key_index, dof_of_key),
@@ -555,8 +596,8 @@ def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]
                 history[q] = rec.every
             elif q not in envelope:
                 envelope.append(q)
-    if any(e.column_side is not None for e in first.contacts) and \
-            "contact_force" not in envelope:
+    struck = ~np.isnan(column_array(first.contacts, "at", float).reshape(-1, 2)).all(axis=1)
+    if struck.any() and "contact_force" not in envelope:  # (Element.column_side)
         # the struck columns' shear: written (peak_column_shear) and checked on its peak
         envelope.append("contact_force")
     if first.point_names and not planar and "point_drift" not in envelope:
@@ -571,33 +612,51 @@ def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]
     return history, envelope
 
 
-def _masses(variants: list[Expanded], node_keys: list, soil) -> list[np.ndarray]:
+def _masses(variants: list[Expanded], node_keys: list, soil,
+            planar: bool = False) -> list[np.ndarray]:
     """Each variant's mass (or inertia) on each DOF key: the nodes', a DOF a variant lacks
     taking another's (a batch's union of DOFs), then the foundations'."""
     nodes = len(variants[0].node_names)
-    known = {key: m for ex in variants for key, m in zip(
-        ex.dofs or [(i, 0) for i in range(nodes)],
-        ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+
+    def known() -> dict:
+        return {key: m for ex in variants for key, m in zip(
+            ex.dofs or [(i, 0) for i in range(nodes)],
+            ex.dof_mass if ex.dof_mass is not None else ex.masses)}
+
     return [np.concatenate([_per_key(ex, node_keys, ex.dof_mass if ex.dof_mass is not None
-                                     else ex.masses, known), soil.masses(ex)[-2 * soil.count:]
+                                     else ex.masses, known, planar),
+                            soil.masses(ex)[-2 * soil.count:]
                             if soil.count else np.zeros(0)]) for ex in variants]
 
 
-def _dof_channels(first: Expanded, keys: list, nodes: int, soil) -> np.ndarray:
-    """The ground-motion channel that loads each DOF key (-1: none): a node's u_x and u_y
-    their support's along their site axis (pframe.assemble.grounds), a foundation's sway its
-    building's support's along x, a rotation or rocking none."""
-    return np.array([grounds.channel_index(first, node, c) if node < nodes and c < 2
-                     else soil.channel(first, node) for node, c in keys], dtype=np.int64)
+def _dof_channels(first: Expanded, keys: np.ndarray, nodes: int, soil) -> np.ndarray:
+    """The ground-motion channel that loads each DOF key ((node, component) rows; -1: none):
+    a node's u_x and u_y their support's along their site axis (pframe.assemble.grounds), a
+    foundation's sway its building's support's along x, a rotation or rocking none."""
+    node, component = keys[:, 0], keys[:, 1]
+    support = (np.asarray(first.node_support, dtype=np.int64)[np.minimum(node, nodes - 1)]
+               if first.node_support else np.zeros(len(node), dtype=np.int64))
+    # each (support, translation)'s channel, asked once of grounds.channel_index
+    table = {}
+    for s, c in set(zip(support[(node < nodes) & (component < 2)].tolist(),
+                        component[(node < nodes) & (component < 2)].tolist())):
+        at = int(np.flatnonzero((node < nodes) & (component == c) & (support == s))[0])
+        table[(s, c)] = grounds.channel_index(first, int(node[at]), c)
+    out = np.full(len(node), -1, dtype=np.int64)
+    for (s, c), channel in table.items():
+        out[(node < nodes) & (component == c) & (support == s)] = channel
+    for at in np.flatnonzero(node >= nodes).tolist():
+        out[at] = soil.channel(first, int(node[at]))
+    return out
 
 
-def _node_order(keys, edges) -> np.ndarray:
+def _node_order(node_of: np.ndarray, edges) -> np.ndarray:
     """The DOFs' order (new -> old key index): the nodes in reverse Cuthill-McKee order of the
     graph of nodes the elements join, each node's DOFs together (u_x, u_y, theta). A floor in
     plan then widens the band by its three DOFs, not by how far apart a DOF-level numbering
     may scatter them (the DOF graph's own RCM gave half-bandwidth 12 where this gives 8 on a
-    pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was."""
-    node_of = np.array([node for node, _ in keys], dtype=np.int64)
+    pair of buildings in plan). A planar scene (one DOF per node) is numbered as it was.
+    ``node_of``: each DOF key's node."""
     nodes, local = np.unique(node_of, return_inverse=True)  # key -> its node's number
     pairs = np.array(edges, dtype=np.int64).reshape(-1, 2)
     node_order = reverse_cuthill_mckee(len(nodes), local[pairs[(pairs >= 0).all(axis=1)]])
@@ -607,11 +666,12 @@ def _node_order(keys, edges) -> np.ndarray:
     return np.argsort(rank[local.reshape(-1)], kind="stable").astype(np.int64)
 
 
-def _principal(keys, nodes: int) -> np.ndarray:
-    """(nodes,) each node's first DOF (its u_x in a planar scene) by key index."""
+def _principal(key_nodes: np.ndarray, nodes: int) -> np.ndarray:
+    """(nodes,) each node's first DOF (its u_x in a planar scene) by key index (-1: none),
+    from each key's node."""
     out = np.full(nodes, -1, dtype=np.int64)
-    for i, (node, _) in reversed(list(enumerate(keys))):
-        out[node] = i
+    found, first = np.unique(key_nodes, return_index=True)
+    out[found] = first
     return out
 
 

@@ -60,21 +60,63 @@ def _springs(plan, member: int, velocity: float, matrix: bool = True):
     periods = np.full(len(plan.contact_names), np.inf)
     stiffness = np.zeros(len(plan.contact_names))
     for group in plan.contact_groups:
+        plain = _plain_mobility(plan, member, mass, group.index)
+        if plain is not None:  # each distinct (numbers, mass) once: a tall pair's levels
+            _distinct_contacts(group, member, 1.0 / plain, velocity, stiffness, periods)
+            continue
         for j, c in enumerate(group.index):
             mobility = sum(side_mobility(plan.contact_dofs, plan.contact_sides, member, mass,
                                          int(c), s) for s in range(2))
             m_eff = 1.0 / mobility
-            k = contact_stiffness(group.law, group.params[member, j], m_eff, velocity)
-            stiffness[c] = k
-            # a stiffness that vanishes (an impact too slow to compress a power law) has no
-            # finite period: it limits nothing
-            periods[c] = 2.0 * math.pi * math.sqrt(float(m_eff) / k) if k > 0.0 else math.inf
+            stiffness[c], periods[c] = _contact_period(group.law, group.params[member, j],
+                                                       m_eff, velocity)
     if matrix and len(plan.contact_names):
         from scipy.sparse import diags
 
         contacts = incidence(plan.contact_dofs, plan.contact_sides, member, n, contact=True)
         K = K + contacts.T @ diags(stiffness) @ contacts
     return K, periods
+
+
+def _contact_period(law, params, m_eff: float, velocity: float) -> tuple[float, float]:
+    """A contact's linear stiffness (:func:`contact_stiffness`) and period (s) for the
+    effective mass ``m_eff``."""
+    k = contact_stiffness(law, params, m_eff, velocity)
+    # a stiffness that vanishes (an impact too slow to compress a power law) has no finite
+    # period: it limits nothing
+    return k, 2.0 * math.pi * math.sqrt(float(m_eff) / k) if k > 0.0 else math.inf
+
+
+def _plain_mobility(plan, member: int, mass: np.ndarray, index) -> np.ndarray | None:
+    """(g,) 1/m_left + 1/m_right (1/kg; the ground's 0) of contacts ``index`` when each is
+    plain (its two DOFs) and the sum is positive and finite (None otherwise: each is then
+    taken on its own, as :func:`pframe.assemble.incidence.side_mobility` does)."""
+    index = np.asarray(index, dtype=np.int64)
+    sides = plan.contact_sides
+    if len(sides.start) > 1 and np.any(sides.general()[index]):
+        return None
+    dofs = np.asarray(plan.contact_dofs, dtype=np.int64).reshape(-1, 2)[index]
+    with np.errstate(all="ignore"):
+        mobility = np.where(dofs >= 0, 1.0 / mass[np.maximum(dofs, 0)], 0.0)
+    total = mobility[:, 0] + mobility[:, 1]
+    if not np.all(np.isfinite(mobility)) or not np.all(total > 0.0):
+        return None
+    return total
+
+
+def _distinct_contacts(group, member, m_eff, velocity, stiffness, periods) -> None:
+    """:func:`_contact_period` of each contact of ``group`` (its effective masses
+    ``m_eff``), computed once per distinct numbers and mass, into ``stiffness`` and
+    ``periods``."""
+    table = np.ascontiguousarray(np.column_stack([group.params[member], m_eff]))
+    whole = np.dtype((np.void, table.dtype.itemsize * table.shape[1]))
+    rows, inverse = np.unique(table.view(whole).ravel(), return_inverse=True)
+    rows = rows.view(table.dtype).reshape(-1, table.shape[1])
+    found = np.array([_contact_period(group.law, row[:-1], float(row[-1]), velocity)
+                      for row in rows]).reshape(-1, 2)
+    index = np.asarray(group.index, dtype=np.int64)
+    stiffness[index] = found[inverse.ravel(), 0]
+    periods[index] = found[inverse.ravel(), 1]
 
 
 #: above this many degrees of freedom w_max is bounded (Gershgorin), not computed

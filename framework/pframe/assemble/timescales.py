@@ -29,11 +29,15 @@ import math
 import numpy as np
 
 from pframe.assemble.modes import (
-    building_springs,
+    band_width,
+    building_spring_arrays,
     one_blas_thread,
+    scaled_band,
     scaled_triplets,
+    spring_list,
     spring_matrix,
 )
+from pframe.model.rows import column
 
 #: steps per period below which dt is warned about (Newmark's period error 0.8 % there)
 STEPS_PER_PERIOD = 20
@@ -74,11 +78,6 @@ def period_error(coefficients, steps: float) -> float:
     return w / float(np.max(angles)) - 1.0
 
 
-def _building_matrix(ex, b: int, k0: np.ndarray):
-    """(nodes, springs (i, j, k) local to building b, i = -1 the ground, half-bandwidth)."""
-    nodes, springs = building_springs(ex, b, k0)
-    width = max([abs(i - j) for i, j, _ in springs if i >= 0], default=0)
-    return nodes, springs, width
 
 
 def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -92,7 +91,9 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         from pframe.assemble.modes import modes_and_shares
 
         return modes_and_shares(ex, b, k0)
-    nodes, springs, width = _building_matrix(ex, b, k0)
+    nodes, ends, stiffness = building_spring_arrays(ex, b, k0)
+    springs = spring_list(ends, stiffness) if len(nodes) <= DENSE_FLOORS or band_width(
+        ends) > 1 else None
     mass = ex.masses[nodes]
     n = len(nodes)
     root = np.sqrt(mass)
@@ -101,7 +102,7 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if n <= DENSE_FLOORS:
         values, vectors = np.linalg.eigh(spring_matrix(springs, n) * np.outer(scale, scale))
         return np.sqrt(np.clip(values, 0.0, None)), (vectors.T @ root) ** 2 / total
-    if width > 1:  # not a chain of storeys: a sparse shift-invert solve of the lowest modes
+    if springs is not None:  # not a chain of storeys: a sparse shift-invert solve of the lowest modes
         from scipy.sparse import coo_matrix
         from scipy.sparse.linalg import eigsh
 
@@ -112,15 +113,8 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
                 (vectors[:, order].T @ root) ** 2 / total)
     from scipy.linalg import eigh_tridiagonal
 
-    # summed in Python floats: the same IEEE operations as on numpy's scalars, faster
-    diagonal, off, s = [0.0] * n, [0.0] * max(n - 1, 0), scale.tolist()
-    square = [float(v ** 2) for v in scale]  # numpy's pow: inf, not OverflowError, if huge
-    for il, iu, k in springs:
-        diagonal[iu] += k * square[iu]
-        if il >= 0:
-            diagonal[il] += k * square[il]
-            off[min(il, iu)] -= k * s[il] * s[iu]
-    diagonal, off = np.array(diagonal, dtype=float), np.array(off, dtype=float)
+    band = scaled_band(ends, stiffness, scale, 1)
+    diagonal, off = band[0], band[1][:max(n - 1, 0)]
     omegas, shares = [], []
     for first in range(0, min(LOWEST_MODES, n), MODES_AT_A_TIME):
         last = min(first + MODES_AT_A_TIME, LOWEST_MODES, n) - 1
@@ -199,8 +193,8 @@ def _buildings(plan, ex, member: int, h: float, coefficients, findings, plausibl
         mode = count  # the highest (shortest) of the carrying modes
         shortest = 2.0 * math.pi / float(omega[count - 1])
         steps = shortest / h
-        yielding = any(not ex.stories[s].law.linear
-                       for s in np.flatnonzero(ex.story_building == b))
+        laws = column(ex.stories, "law")
+        yielding = any(not laws[s].linear for s in np.flatnonzero(ex.story_building == b))
         elastic = " (elastic: its storeys' initial stiffness)" if yielding else ""
         if steps < STEPS_PER_PERIOD:
             carried = (f"mode {mode}, the shortest of the modes 1-{mode} that carry "

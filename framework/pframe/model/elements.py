@@ -19,9 +19,9 @@ import numpy as np
 from pframe.errors import InputError
 from pframe.laws import ContactContext, StoreyContext, get_law
 from pframe.laws.restitution import published_rebound
-from pframe.model.floors import like
 from pframe.model.load import ModelError
 from pframe.model.plan import coefficients, normalised
+from pframe.model.rows import Rows, Run, column, like
 from pframe.model.scene import contact_levels, default_link_name
 
 #: a side: ((node index, component, coefficient), ...); () is the ground
@@ -172,14 +172,32 @@ class Resolver:
 
     def __init__(self, floors):
         self.floors = floors
-        self.index = {}
-        for i, floor in enumerate(floors.nodes):
-            if floor.name in self.index:
-                raise ModelError(floor.path, f"node {floor.name!r} is defined twice (building "
-                                             "shorthand and nodes, or twice in nodes)")
-            self.index[floor.name] = i
-        self.building_of = [f.building for f in floors.nodes]
+        self.names = names = column(floors.nodes, "name")  # of each node, in order
+        self.index = dict(zip(names, range(len(names))))
+        if len(self.index) != len(names):
+            seen = set()
+            for name, path in zip(names, column(floors.nodes, "path")):
+                if name in seen:
+                    raise ModelError(path, f"node {name!r} is defined twice (building "
+                                           "shorthand and nodes, or twice in nodes)")
+                seen.add(name)
+        self.building_of = [name.split("/")[0] for name in names]  # Floor.building
         self.buildings = tuple(dict.fromkeys(self.building_of))
+        self._centres = None
+        self._with_ground = None
+
+    def indices(self, names) -> list:
+        """Each name's node index (-1: the ground; None: no such node), as :meth:`node`
+        resolves them, at a dictionary's pace (a run of storeys or contact levels)."""
+        if self._with_ground is None:
+            self._with_ground = {**self.index, "ground": -1}
+        return list(map(self._with_ground.get, names))
+
+    def centres(self) -> list:
+        """Each floor's centre of mass (site, m): the floors' column, read once."""
+        if self._centres is None:
+            self._centres = column(self.floors.nodes, "centre")
+        return self._centres
 
     def node(self, name, path) -> int:
         if name == "ground":
@@ -211,63 +229,127 @@ class Resolver:
         return self.floor(i).point(ref, path)
 
 
-def storey_elements(floors, resolver) -> tuple[list[Element], list[int], dict]:
-    """The storey springs as elements, each one's building index, and the names seen."""
+def storey_elements(floors, resolver) -> tuple[Rows, list[int], dict]:
+    """The storey springs as elements, each one's building index, and the names seen. A run
+    of storeys (a building of the shorthand) is resolved as one (:func:`_storey_run`)."""
     from pframe.model.floors import masses_above
 
     carried: dict = {}
-    masses = [f.mass for f in floors.nodes]
+    masses = column(floors.nodes, "mass")
 
     def mass_above(upper: str) -> float:  # computed for every storey at the first request
         if not carried:
             carried.update(masses_above(floors.stories, resolver.index, masses))
         return carried[upper]
 
-    out, building, seen = [], [], {}
+    parts, building, seen = [], [], {}
     shared: dict = {}  # (law, parameters) -> packed, for laws that do not ask the mass above
     number = {name: i for i, name in enumerate(resolver.buildings)}
-    for spec in floors.stories:
-        lower, upper = spec.nodes
-        up = resolver.node_at(upper, spec.path, "nodes", 1)
-        low = resolver.node_at(lower, spec.path, "nodes", 0)
-        if low >= 0 and resolver.building_of[low] != resolver.building_of[up]:
-            raise ModelError(spec.path + ("nodes",), f"a storey joins floors of one building; "
-                                                     f"{lower!r} and {upper!r} are in two")
-        if low == up:
-            raise ModelError(spec.path + ("nodes",), "a storey needs two different nodes")
-        if spec.name in seen:
-            raise ModelError(spec.path, f"storey name {spec.name!r} is used twice")
-        seen[spec.name] = True
-        key = (spec.law, id(spec.params))
-        packed = shared.get(key)
-        if packed is None:
-            context = StoreyContext(lambda u=upper: mass_above(u))
-            try:
-                packed = finite(spec.law.pack(spec.params, context), spec.path)
-            except InputError as exc:
-                raise ModelError(spec.path, str(exc)) from None
-            if callable(context._mass_above):  # not asked: the same for equal parameters
-                shared[key] = packed
-        centre = resolver.floor(up).centre
-        if (spec.position is None and spec.direction == (1.0, 0.0)
-                and (low < 0 or resolver.floor(low).centre == centre)):
-            # the planar storey (u_x of both floors: what side() and element() conclude),
-            # without building its sides: a tall building has tens of thousands
-            out.append(like(PLAIN, name=spec.name, nodes=(low, up), law=spec.law,
-                            packed=packed))
-        else:
-            point = spec.position if spec.position is not None else centre
-            sides = (side(low, resolver.floor(low), point, spec.direction),
-                     side(up, resolver.floor(up), point, spec.direction))
-            out.append(element(spec.name, (low, up), spec.law, packed, sides))
-        building.append(number[resolver.building_of[up]])
-    for spec in floors.stories:
-        if getattr(spec.law, "stiffness_free", False):
+    for part in floors.stories.parts:
+        run = (_storey_run(part, resolver, seen, shared, mass_above)
+               if isinstance(part, Run) else None)
+        if run is not None:
+            parts.append(run)
+            building += [number[resolver.building_of[up]] for _, up in run.fields["nodes"]]
+            continue
+        out = []
+        for spec in part:
+            element = _storey(spec, resolver, seen, shared, mass_above)
+            out.append(element)
+            building.append(number[resolver.building_of[element.nodes[1]]])
+        parts.append(tuple(out))
+    laws = column(floors.stories, "law")
+    free = {law for law in set(laws) if getattr(law, "stiffness_free", False)}
+    for i, law in enumerate(laws if free else ()):
+        if law in free:
+            spec = floors.stories[i]
             raise ModelError(spec.path + ("material",), f"storey {spec.name!r}: a "
                              f"{spec.law.name} has no stiffness and cannot carry a storey; "
                              "put it in links (a damper across the storey: nodes [lower, "
                              "upper])")
-    return out, building, seen
+    return Rows(parts), building, seen
+
+
+def _storey_packed(spec, params, upper: str, shared, mass_above):
+    """The numbers of storey ``spec``'s law with ``params`` under the floor ``upper``: once
+    per (law, parameters) for laws that do not ask the mass above; and whether they are
+    those (False: the storey's own, from its mass above)."""
+    key = (spec.law, id(params))
+    packed = shared.get(key)
+    if packed is not None:
+        return packed, True
+    context = StoreyContext(lambda u=upper: mass_above(u))
+    try:
+        packed = finite(spec.law.pack(params, context), spec.path)
+    except InputError as exc:
+        raise ModelError(spec.path, str(exc)) from None
+    if callable(context._mass_above):  # not asked: the same for equal parameters
+        shared[key] = packed
+        return packed, True
+    return packed, False
+
+
+def _storey(spec, resolver, seen, shared, mass_above) -> Element:
+    """One storey spring resolved to its nodes, numbers and sides."""
+    lower, upper = spec.nodes
+    up = resolver.node_at(upper, spec.path, "nodes", 1)
+    low = resolver.node_at(lower, spec.path, "nodes", 0)
+    if low >= 0 and resolver.building_of[low] != resolver.building_of[up]:
+        raise ModelError(spec.path + ("nodes",), f"a storey joins floors of one building; "
+                                                 f"{lower!r} and {upper!r} are in two")
+    if low == up:
+        raise ModelError(spec.path + ("nodes",), "a storey needs two different nodes")
+    if spec.name in seen:
+        raise ModelError(spec.path, f"storey name {spec.name!r} is used twice")
+    seen[spec.name] = True
+    packed, _ = _storey_packed(spec, spec.params, upper, shared, mass_above)
+    centre = resolver.centres()[up]
+    if (spec.position is None and spec.direction == (1.0, 0.0)
+            and (low < 0 or resolver.centres()[low] == centre)):
+        # the planar storey (u_x of both floors: what side() and element() conclude),
+        # without building its sides: a tall building has tens of thousands
+        return like(PLAIN, name=spec.name, nodes=(low, up), law=spec.law, packed=packed)
+    point = spec.position if spec.position is not None else centre
+    sides = (side(low, resolver.floor(low), point, spec.direction),
+             side(up, resolver.floor(up), point, spec.direction))
+    return element(spec.name, (low, up), spec.law, packed, sides)
+
+
+def _storey_run(run: Run, resolver, seen, shared, mass_above) -> Run | None:
+    """A run of storeys (one storey description repeated up a building) resolved as one run
+    of planar elements: what :func:`_storey` gives each, its checks made on the run's
+    columns. None when the run is not that simple (a storey off the centres of mass or out
+    of x, a law that asks each storey's mass above, a name or node to refuse): then each
+    storey is resolved on its own, and refused where it is."""
+    spec = run.template
+    if spec.position is not None or spec.direction != (1.0, 0.0) or "law" in run.fields:
+        return None
+    building_of = resolver.building_of
+    names = run.column("name")
+    ends = run.column("nodes")
+    lowers, uppers = [a for a, _ in ends], [b for _, b in ends]  # (not zip(*): 30,000 args)
+    up, low = resolver.indices(uppers), resolver.indices(lowers)
+    if None in up or None in low or -1 in up or len(set(names)) != len(names) or any(
+            n in seen for n in names):
+        return None
+    centre = resolver.centres()
+    if any(i == j or (i >= 0 and (building_of[i] != building_of[j] or centre[i] != centre[j]))
+           for i, j in zip(low, up)):
+        return None
+    params = run.column("params")
+    ids = list(map(id, params))
+    # parameters' object -> its first storey (the last written, going down)
+    first = dict(zip(reversed(ids), range(len(ids) - 1, -1, -1)))
+    known = {}  # parameters' object -> packed, packed at its first storey, in their order
+    for i, k in sorted(first.items(), key=lambda item: item[1]):
+        known[i], same = _storey_packed(spec, params[k], uppers[k], shared, mass_above)
+        if not same:  # each storey's own numbers (its mass above): one by one
+            return None
+    packed = list(map(known.__getitem__, ids))
+    seen.update(dict.fromkeys(names, True))
+    nodes = list(zip(low, up))
+    return Run(like(PLAIN, name=names[0], nodes=nodes[0], law=spec.law, packed=packed[0]),
+               len(names), dict(name=names, nodes=nodes, packed=packed))
 
 
 def p_delta_elements(floors, resolver, seen) -> list[tuple[Element, float, float, int]]:
@@ -347,7 +429,9 @@ class ContactGeometry:
 
     path: tuple
     contact: object  # the scene's contact definition
-    element: Element  # packed () until pack_contacts
+    #: packed () until pack_contacts; a Run of plain elements: further levels of a contact at
+    #: every level
+    element: Element | Run
 
 
 def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
@@ -367,10 +451,15 @@ def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
         except ValueError:  # refused where its sides are resolved, at its YAML path
             unit = None
         first = None
-        for nodes, name in levels:
+        for k, (nodes, name) in enumerate(levels):
             if first is not None and _plain(contact, unit):
-                # a further level of a contact at every level between floors' centres: its
-                # buildings checked at the first, the first's element with its name and nodes
+                # the further levels of a contact at every level between floors' centres: its
+                # buildings checked at the first, the first's element with their names and
+                # nodes, as one run
+                run = _level_run(first, levels[k:], resolver, seen)
+                if run is not None:
+                    out.append(run)
+                    break
                 _claim(seen, name, path)
                 out.append(like(first, element=like(first.element, name=name, nodes=(
                     resolver.node_at(nodes[0], path, "nodes", 0),
@@ -381,6 +470,21 @@ def contact_sides(scene, resolver, stories, heights) -> list[ContactGeometry]:
             out.append(geometry)
             first = first or geometry
     return out
+
+
+def _level_run(first: ContactGeometry, levels, resolver, seen) -> ContactGeometry | None:
+    """The further ``levels`` ((nodes, name) each) of a plain contact at every level as one
+    geometry whose element is a :class:`Run` like ``first``'s; None when a name is taken or
+    a node unknown (each level is then resolved, and refused, on its own)."""
+    names = [name for _, name in levels]
+    left = resolver.indices([pair[0] for pair, _ in levels])
+    right = resolver.indices([pair[1] for pair, _ in levels])
+    if (len(set(names)) != len(names) or any(n in seen for n in names)
+            or None in left or None in right):
+        return None
+    seen.update(dict.fromkeys(names, True))
+    return like(first, element=Run(first.element, len(names), dict(
+        name=names, nodes=list(zip(left, right)))))
 
 
 def _plain(contact, unit) -> bool:
@@ -474,55 +578,107 @@ def _contact(contact, nodes, name, law, path, resolver, seen, stories, heights, 
         at=tuple(at))), level
 
 
-def pack_contacts(geometries, dof_mass, excitation_frequency):
-    """The contacts with their laws' numbers, from the masses their sides move
-    (``dof_mass(node, component)``), and the contacts a published damping formula rebounds
-    differently from their restitution (key -> names)."""
-    out, rebounds, validated, packs = [], {}, {}, {}
+def pack_contacts(geometries, dof_mass, excitation_frequency, node_mass=None):
+    """The contacts (:class:`Rows`) with their laws' numbers, from the masses their sides
+    move (``dof_mass(node, component)``; ``node_mass``, each node's u_x mass, for the levels
+    of a contact at every level, at once), and the contacts a published damping formula
+    rebounds differently from their restitution (key -> names)."""
+    parts, rebounds, validated, packs = [], {}, {}, {}
     for g in geometries:
-        e, contact, path = g.element, g.contact, g.path
-        law = e.law
+        e, contact = g.element, g.contact
+        law = (e.template if isinstance(e, Run) else e).law
         params = validated.get(id(contact))
         if params is None:  # once per contact of the scene, whatever its levels
             params = validated[id(contact)] = law.Params.model_validate(
                 contact.model_dump(include=set(law.Params.model_fields)))
-        # a wall is the ground: of infinite mass, the impact's effective mass is the floor's;
-        # a point of a floor or a column has the mass its displacement's weights give it
-        if e.sides is None:  # the plain element's sides: its nodes' own masses (side_mass)
-            masses = tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf for i in e.nodes)
+        if isinstance(e, Run):  # levels of plain elements: their nodes' own masses
+            names = e.column("name")
+            masses, level = _distinct_masses(e.column("nodes"), dof_mass, node_mass)
         else:
-            masses = (side_mass(e.sides[0], dof_mass), side_mass(e.sides[1], dof_mass))
-        known = packs.get((id(contact), masses))
-        if known is not None:  # another level of a contact at every level, the same masses
-            out.append(like(e, packed=known[0]))
-            if known[1] is not None:
-                rebounds[known[1]].append(e.name)
-            continue
-        context = ContactContext(masses[0], masses[1], excitation_frequency)
-        try:
-            effective = context.effective_mass
-        except ArithmeticError:  # both sides of no mass (underflowed)
-            effective = 0.0
-        if not (effective > 0.0 and math.isfinite(effective)):
-            raise ModelError(path, f"contact {e.name!r}: the masses its sides present to an "
-                             f"impact ({masses[0]:.4g} and {masses[1]:.4g} kg) give an impact "
-                             f"mass of {effective:.4g} kg: the masses span more than floating "
-                             "point carries (check the units of the masses)")
-        try:
-            with np.errstate(all="ignore"):
-                packed = finite(law.pack(params, context), path)
-        except InputError as exc:
-            raise ModelError(path, str(exc)) from None
-        out.append(like(e, packed=packed))
-        obtained = published_rebound(law, params)
-        published = None
-        if obtained is not None:
-            chosen = "calibration" in contact.model_fields_set
-            published = (chosen, contact.law, law.published_source(params), params.restitution,
-                         obtained)
-            rebounds.setdefault(published, []).append(e.name)
-        packs[(id(contact), masses)] = (packed, published)
-    return out, rebounds
+            # a wall is the ground: of infinite mass, the impact's effective mass is the
+            # floor's; a point of a floor or a column has the mass its displacement's
+            # weights give it
+            names, level = [e.name], [0]
+            if e.sides is None:  # the plain element's sides: its nodes' own masses
+                masses = [(tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf
+                                 for i in e.nodes), 0)]
+            else:
+                masses = [((side_mass(e.sides[0], dof_mass),
+                            side_mass(e.sides[1], dof_mass)), 0)]
+        # once per contact of the scene and masses (the levels alike share their numbers),
+        # in the order of the levels (a refusal names the first level of those masses)
+        found = []
+        for pair, first in masses:
+            key = (id(contact), pair)
+            if key not in packs:
+                packs[key] = _packed_contact(law, params, contact, g.path, names[first], pair,
+                                             excitation_frequency)
+            found.append(packs[key])
+        if any(published is not None for _, published in found):
+            for name, k in zip(names, level):
+                if found[k][1] is not None:
+                    rebounds.setdefault(found[k][1], []).append(name)
+        numbers = [found[k][0] for k in level]
+        if isinstance(e, Run):
+            parts.append(Run(like(e.template, packed=numbers[0]), len(e),
+                             dict(e.fields, packed=numbers)))
+        else:
+            parts.append((like(e, packed=numbers[0]),))
+    return Rows(parts), rebounds
+
+
+def _distinct_masses(ends, dof_mass, node_mass):
+    """The distinct masses (kg) of the pairs of nodes ``ends`` along x (the ground: inf),
+    each with the first pair that has them, in the pairs' order, and each pair's (an index
+    into them): ``node_mass`` (each node's) at once, or else ``dof_mass(node, 0)``."""
+    if node_mass is None:
+        pairs = [tuple(float(dof_mass(i, 0)) if i >= 0 else math.inf for i in pair)
+                 for pair in ends]
+        number = {}
+        level = [number.setdefault(pair, len(number)) for pair in pairs]
+        first = {}
+        for i, k in enumerate(level):
+            first.setdefault(k, i)
+        return [(pair, first[k]) for pair, k in number.items()], level
+    ends = np.array(ends, dtype=np.int64).reshape(-1, 2)
+    masses = np.ascontiguousarray(np.where(
+        ends >= 0, np.asarray(node_mass, dtype=float)[np.maximum(ends, 0)], math.inf))
+    # equal masses are equal doubles (no NaN, and a zero is refused before it matters)
+    _, first, inverse = np.unique(masses.view(np.dtype((np.void, 16))).ravel(),
+                                  return_index=True, return_inverse=True)
+    by_first = np.argsort(first, kind="stable")  # distinct masses in the levels' order
+    rank = np.empty(len(first), dtype=np.int64)
+    rank[by_first] = np.arange(len(first))
+    distinct = [(tuple(masses[i].tolist()), int(i)) for i in first[by_first].tolist()]
+    return distinct, rank[inverse.ravel()].tolist()
+
+
+def _packed_contact(law, params, contact, path, name, masses, excitation_frequency):
+    """A contact's law's numbers for the masses its sides present, and what a published
+    damping formula rebounds with (the key of pack_contacts' rebounds; None: its
+    restitution)."""
+    context = ContactContext(masses[0], masses[1], excitation_frequency)
+    try:
+        effective = context.effective_mass
+    except ArithmeticError:  # both sides of no mass (underflowed)
+        effective = 0.0
+    if not (effective > 0.0 and math.isfinite(effective)):
+        raise ModelError(path, f"contact {name!r}: the masses its sides present to an "
+                         f"impact ({masses[0]:.4g} and {masses[1]:.4g} kg) give an impact "
+                         f"mass of {effective:.4g} kg: the masses span more than floating "
+                         "point carries (check the units of the masses)")
+    try:
+        with np.errstate(all="ignore"):
+            packed = finite(law.pack(params, context), path)
+    except InputError as exc:
+        raise ModelError(path, str(exc)) from None
+    obtained = published_rebound(law, params)
+    published = None
+    if obtained is not None:
+        chosen = "calibration" in contact.model_fields_set
+        published = (chosen, contact.law, law.published_source(params), params.restitution,
+                     obtained)
+    return packed, published
 
 
 def _struck_column(contact, path, ends, stories, level, index) -> tuple[int, int, float]:
@@ -596,9 +752,10 @@ def gauges(floors, resolver, active) -> tuple[tuple[str, ...], tuple, tuple]:
     in ``active`` (a DOF the scene does not move adds nothing); and each point's position in
     its building's axes (m)."""
     names, moves, drifts, positions = [], [], [], []
-    for i, floor in enumerate(floors.nodes):
-        if not floor.points:
+    for i, points in enumerate(column(floors.nodes, "points")):
+        if not points:
             continue
+        floor = floors.nodes[i]
         storey, level = floor.name.rsplit("/", 1)
         below = resolver.index.get(f"{storey}/{int(level) - 1}", -1) if level.isdigit() else -1
         axes = (floor.placement.vector((1.0, 0.0)), floor.placement.vector((0.0, 1.0)))

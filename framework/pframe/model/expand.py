@@ -28,6 +28,7 @@ from pframe.model.elements import (
 from pframe.model.floors import floors as collect_floors
 from pframe.model.load import ModelError
 from pframe.model.motion import GroundMotion, ground_motion
+from pframe.model.rows import Rows, Run, column, column_array
 from pframe.model.scene import scene_motions
 from pframe.model.soil import FoundationSoil, foundation_soil
 from pframe.model.support_motion import support_motion
@@ -245,32 +246,36 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         excitation_frequency = scene.excitation.frequency
     initial = _initial_conditions(scene, resolver)
     geometries = contact_sides(scene, resolver, stories,
-                               [math.nan if s.height is None else s.height
-                                for s in floors.stories])
-    springs = stories + [e for e, *_ in p_delta]
-    dofs = dof_table.active(floors, [g.element for g in geometries] + links + springs,
-                            motion.axes, initial)
+                               [math.nan if h is None else h
+                                for h in column(floors.stories, "height")])
+    springs = stories + tuple(e for e, *_ in p_delta)
+    dofs = dof_table.active(floors, Rows([g.element if isinstance(g.element, Run)
+                                          else (g.element,) for g in geometries]
+                                         + [tuple(links), springs]), motion.axes, initial)
     dof_table.check_storeys(floors, resolver, springs, dofs)
     position = {key: i for i, key in enumerate(dofs.table)}
     contacts, rebounds = pack_contacts(geometries,
                                        lambda node, c: dofs.mass[position[(node, c)]],
-                                       excitation_frequency)
+                                       excitation_frequency,
+                                       dofs.node_mass(len(floors.nodes)))
     if supports.several:
         springs, links, contacts = _across(scene, supports, motion.axes, springs, links,
                                            contacts)
     reference = _reference(scene, resolver.buildings)
     point_names, point_gauges, point_positions = gauges(floors, resolver, position)
-    heights = [s.height for s in floors.stories] + [h for *_, h, _ in p_delta]
-    gravity = [s.gravity for s in floors.stories] + [g for _, g, *_ in p_delta]
+    heights = column(floors.stories, "height") + [h for *_, h, _ in p_delta]
+    gravity = column(floors.stories, "gravity") + [g for _, g, *_ in p_delta]
+    number = {name: b for b, name in enumerate(resolver.buildings)}
+    plans = column(floors.nodes, "plan")
+    extents = {id(p): p.extent() for p in plans if p is not None}  # once per plan
     return Expanded(
         buildings=resolver.buildings,
-        node_names=tuple(f.name for f in floors.nodes),
-        node_building=np.array([resolver.buildings.index(b) for b in resolver.building_of],
-                               dtype=np.int64),
-        masses=np.array([f.mass for f in floors.nodes], dtype=float),
-        stories=tuple(springs),
+        node_names=tuple(column(floors.nodes, "name")),
+        node_building=np.array([number[b] for b in resolver.building_of], dtype=np.int64),
+        masses=column_array(floors.nodes, "mass", float).copy(),
+        stories=Rows((springs,)),
         story_building=np.array(story_building + [b for *_, b in p_delta], dtype=np.int64),
-        contacts=tuple(contacts),
+        contacts=Rows((contacts,)),
         links=tuple(links),
         story_height=np.array([np.nan if h is None else float(h) for h in heights]),
         story_gravity=np.array([float(g) for g in gravity]),
@@ -289,8 +294,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
         motions=scene_motions(scene),
         support_motions=getattr(motion, "motions", ()),
         ground_given=tuple(motion.given),
-        initial_displacement=np.array([initial.get(k, (0.0, 0.0))[0] for k in dofs.table]),
-        initial_velocity=np.array([initial.get(k, (0.0, 0.0))[1] for k in dofs.table]),
+        initial_displacement=_initial(initial, dofs.table, 0),
+        initial_velocity=_initial(initial, dofs.table, 1),
         dt=float(analysis.dt),
         steps=steps,
         integrator=analysis.integrator,
@@ -311,9 +316,8 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
                                  resolver.building_of),
         dofs=None if dofs.planar and len(dofs.table) == len(floors.nodes) else dofs.table,
         dof_mass=dofs.mass,
-        node_centre=np.array([f.centre for f in floors.nodes], dtype=float),
-        node_extent=np.array([f.plan.extent() if f.plan is not None else np.nan
-                              for f in floors.nodes]),
+        node_centre=column_array(floors.nodes, "centre", float).reshape(-1, 2).copy(),
+        node_extent=np.array([extents[id(p)] if p is not None else np.nan for p in plans]),
         point_names=point_names,
         gauges=point_gauges,
         point_positions=point_positions,
@@ -379,11 +383,22 @@ def _across(scene, supports, axes, springs, links, contacts):
             [with_ground("contacts", e, True) for e in contacts])
 
 
+def _initial(initial: dict, table, slot: int) -> np.ndarray:
+    """The initial displacement (``slot`` 0) or velocity (1) of each degree of freedom of
+    ``table`` ((node, component) -> (displacement, velocity) given, 0 elsewhere)."""
+    if not initial:
+        return np.zeros(len(table))
+    return np.array([initial.get(k, (0.0, 0.0))[slot] for k in table])
+
+
 def _storey_flags(specs, extra: int) -> dict:
     """Expanded.story_isolator and story_stiffness_damping: what each storey spring says
     (the P-delta springs of buildings in plan, ``extra``, say nothing); empty when none
     says anything."""
-    flags = [(s.isolator, s.stiffness_damping) for s in specs] + [(None, None)] * extra
+    isolator, stiffness_damping = column(specs, "isolator"), column(specs, "stiffness_damping")
+    if isolator.count(None) == len(isolator) == stiffness_damping.count(None):
+        return {}  # (at C's pace: a tall building says nothing)
+    flags = list(zip(isolator, stiffness_damping)) + [(None, None)] * extra
     if all(f == (None, None) for f in flags):
         return {}
     return dict(story_isolator=tuple(f[0] for f in flags),
@@ -429,8 +444,9 @@ def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
     by design (masses that strike each other or a wall): under a ground motion a warning says
     what they do (the ground moves under them), unless they are declared ``free``."""
     ground = len(nodes)  # the ground: the graph's last vertex
-    ends = np.array([e.nodes for e in stories] + [e.nodes for e in links if not getattr(
-        e.law, "stiffness_free", False)], dtype=np.int64).reshape(-1, 2)
+    ends = np.concatenate([column_array(stories, "nodes", np.int64).reshape(-1, 2), np.array(
+        [e.nodes for e in links if not getattr(e.law, "stiffness_free", False)],
+        dtype=np.int64).reshape(-1, 2)])
     ends[ends < 0] = ground
     label = _components(ground + 1, ends)  # the same label: joined
     free = {n.name for n in scene.nodes if n.free}

@@ -12,6 +12,7 @@ import numpy as np
 from pframe.laws import get_law
 from pframe.model.load import ModelError
 from pframe.model.plan import Placement, unit
+from pframe.model.rows import Rows, Run, column, one_object
 from pframe.model.scene import default_story_name
 
 #: standard gravity (m/s^2), for the storeys' gravity loads under P-delta
@@ -89,24 +90,14 @@ class StoreySpec:
 class Floors:
     """What :func:`floors` collects, in declaration order."""
 
-    nodes: tuple[Floor, ...]
-    stories: tuple[StoreySpec, ...]
+    nodes: Rows  # of Floor (a run per building of the shorthand: pframe.model.rows)
+    stories: Rows  # of StoreySpec
     damping: dict  # building name -> its damping definition (or None)
     foundations: tuple  # (building index in scene.buildings, FoundationSoil)
     #: storey (its upper floor) -> (its lower floor, the gravity load P (N), the load's
     #: centre (site, m), r^2 = J / m of the load (m^2), the height h (m), the YAML path) of
     #: each storey of a building in plan with P-delta (pframe.model.elements)
     gravity_centres: dict = field(default_factory=dict)
-
-
-def like(prototype, **changes):
-    """A copy of the frozen dataclass instance ``prototype`` with ``changes`` to its fields:
-    ``dataclasses.replace`` without the per-field ``__init__`` (a fraction of its cost: what
-    every storey of a tall building repeats is built tens of thousands of times). Only for
-    classes without ``__post_init__``; ``changes`` must name their fields."""
-    out = object.__new__(type(prototype))
-    out.__dict__.update(prototype.__dict__, **changes)
-    return out
 
 
 def _validation_message(exc: Exception) -> str:
@@ -158,7 +149,7 @@ def _storey_params(law, fields: dict, i: int, path, validated: dict | None = Non
 def _one_for_all(law, fields: dict, path):
     """The parameters every storey shares when no field varies over them (each list one value
     repeated, the shorthand's usual case: validated once, not once per storey), else None."""
-    if all(k == "material" or all(x is v[0] for x in v) for k, v in fields.items()):
+    if all(k == "material" or one_object(v) for k, v in fields.items()):
         return _storey_params(law, fields, 0, path)
     return None
 
@@ -235,6 +226,8 @@ def _building_geometry(building, n: int, path):
         inertias = [m * radius2 for m in masses]
     else:
         inertias = [None] * n
+    if one_object(centres):  # one centre for every floor (the usual case)
+        return placement, plan, points, [tuple(map(float, centres[0]))] * n, inertias
     as_floats, last = [], None
     for c in centres:  # one tuple for a run of floors given one centre (placed once)
         as_floats.append(as_floats[-1] if as_floats and c is last else tuple(map(float, c)))
@@ -257,34 +250,36 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
         raise ModelError(path + ("p_delta",), "P-delta needs the storey heights: give "
                          "height (m, one for all storeys or one per storey)")
     above = np.cumsum(np.asarray(masses, dtype=float)[::-1])[::-1]  # floors i..n
-    given, centre, first = None, None, None
-    for i in range(n):
-        if centres[i] is not given:  # placed once for a run of floors given one centre
-            given, centre = centres[i], placement.point(centres[i])
-        if first is None:
-            first = Floor(f"{building.name}/1", masses[0], path + ("name",), centre,
-                          inertias[0], placement, plan, points, path)
-            nodes.append(first)
-        else:  # the first floor's placement, plan and points: its fields shared
-            nodes.append(like(first, name=f"{building.name}/{i + 1}", mass=masses[i],
-                              centre=centre, inertia=inertias[i]))
-    gravity = [GRAVITY * float(above[i]) if building.p_delta else 0.0 for i in range(n)]
+    if one_object(centres):  # one centre for every floor: placed once
+        placed = [placement.point(centres[0])] * n if n else []
+    else:
+        placed, given, centre = [], None, None
+        for c in centres:  # placed once for a run of floors given one centre
+            if c is not given:
+                given, centre = c, placement.point(c)
+            placed.append(centre)
+    names = [f"{building.name}/{i + 1}" for i in range(n)]
+    if n:  # one run: the first floor's placement, plan and points shared by every floor
+        nodes.append(Run(Floor(names[0], masses[0], path + ("name",), placed[0], inertias[0],
+                               placement, plan, points, path), n,
+                         dict(name=names, mass=masses, centre=placed, inertia=inertias)))
+    gravity = ([GRAVITY * float(above[i]) for i in range(n)] if building.p_delta
+               else [0.0] * n)
     if building.story is not None:
-        law, fields = _material_fields(building.story, n, path + ("story",))
-        same, validated = _one_for_all(law, fields, path + ("story",)), {}
-        first = None
-        for i in range(n):
-            name = f"{building.name}/{i + 1}"
-            lower = "ground" if i == 0 else f"{building.name}/{i}"
-            params = same or _storey_params(law, fields, i, path + ("story",), validated)
-            if first is None:
-                first = StoreySpec(name, (lower, name), law, params, path + ("story",),
-                                   heights[i], gravity[i],
-                                   direction=placement.vector((1.0, 0.0)), storey=name)
-                stories.append(first)
-            else:  # the first storey's law, path and direction: fields shared
-                stories.append(like(first, name=name, nodes=(lower, name), params=params,
-                                    height=heights[i], gravity=gravity[i], storey=name))
+        if n:
+            law, fields = _material_fields(building.story, n, path + ("story",))
+            same, validated = _one_for_all(law, fields, path + ("story",)), {}
+            params = ([same] * n if same is not None else
+                      [_storey_params(law, fields, i, path + ("story",), validated)
+                       for i in range(n)])
+            lowers = ["ground", *names[:-1]]
+            # one run: the first storey's law, path and direction shared by every storey
+            stories.append(Run(StoreySpec(names[0], (lowers[0], names[0]), law, params[0],
+                                          path + ("story",), heights[0], gravity[0],
+                                          direction=placement.vector((1.0, 0.0)),
+                                          storey=names[0]), n,
+                               dict(name=names, nodes=list(zip(lowers, names)), params=params,
+                                    height=heights, gravity=gravity, storey=names)))
         return
     for j, line in enumerate(building.lines):
         lpath = path + ("lines", j)
@@ -299,10 +294,11 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
         for i in range(first - 1, last):
             storey = f"{building.name}/{i + 1}"
             lower = "ground" if i == 0 else f"{building.name}/{i}"
-            stories.append(StoreySpec(f"{storey}/{line.name}", (lower, storey), law,
-                                      same or _storey_params(law, fields, i, lpath, validated),
-                                      lpath, heights[i], 0.0, position, direction, storey,
-                                      line.isolator, line.stiffness_damping))
+            stories.append((StoreySpec(f"{storey}/{line.name}", (lower, storey), law,
+                                       same or _storey_params(law, fields, i, lpath,
+                                                              validated),
+                                       lpath, heights[i], 0.0, position, direction, storey,
+                                       line.isolator, line.stiffness_damping),))
     if building.p_delta:
         # the gravity loads P of each storey stand at the centre of mass of the floors above
         # it, spread over their plan (r^2 = J / m): the P-delta elements of the storey
@@ -324,8 +320,8 @@ def floors(scene) -> Floors:
     first, then the generic nodes and storeys); the foundations on soil."""
     from pframe.model.soil import foundation_soil
 
-    nodes: list[Floor] = []
-    stories: list[StoreySpec] = []
+    nodes: list = []  # parts of Rows: a run per building of the shorthand, else one by one
+    stories: list = []
     damping: dict = {}
     foundations: list = []
     gravity_centres: dict = {}
@@ -349,9 +345,9 @@ def floors(scene) -> Floors:
         damping[building.name] = building.damping
         _shorthand(scene, b, building, nodes, stories, gravity_centres)
     for i, node in enumerate(scene.nodes):
-        nodes.append(Floor(node.name, node.mass, ("nodes", i, "name"),
+        nodes.append((Floor(node.name, node.mass, ("nodes", i, "name"),
                            tuple(map(float, node.centre_of_mass)), node.polar_inertia,
-                           building_path=("nodes", i)))
+                           building_path=("nodes", i)),))
     for s, story in enumerate(scene.stories):
         law = get_law("material", story.material)
         params = law.Params.model_validate(story.model_dump(include=set(law.Params.model_fields)))
@@ -363,11 +359,11 @@ def floors(scene) -> Floors:
                              "ultimate drift (m), not a list")
         position = None if story.position is None else tuple(map(float, story.position))
         name = story.name or default_story_name(story.nodes)
-        stories.append(StoreySpec(name, story.nodes, law, params, ("stories", s), story.height,
-                                  float(story.gravity_load or 0.0), position,
-                                  unit(story.direction), story.nodes[1], story.isolator,
-                                  story.stiffness_damping))
-    return Floors(tuple(nodes), tuple(stories), damping, tuple(foundations), gravity_centres)
+        stories.append((StoreySpec(name, story.nodes, law, params, ("stories", s),
+                                   story.height, float(story.gravity_load or 0.0), position,
+                                   unit(story.direction), story.nodes[1], story.isolator,
+                                   story.stiffness_damping),))
+    return Floors(Rows(nodes), Rows(stories), damping, tuple(foundations), gravity_centres)
 
 
 def masses_above(stories, index, masses) -> dict:
@@ -376,12 +372,12 @@ def masses_above(stories, index, masses) -> dict:
     buildings are). One pass over the storeys, whatever the height. Unknown names are left to
     the caller's check; a storey loop (refused elsewhere) is cut where it closes."""
     upward: dict[str, list[str]] = {}
-    for story in stories:
-        lower, upper = story.nodes
+    ends = column(stories, "nodes")
+    for lower, upper in ends:
         if upper not in upward.get(lower, ()):  # the lines of one storey: one way up
             upward.setdefault(lower, []).append(upper)
     carried: dict[str, float] = {}
-    for start in {story.nodes[1] for story in stories}:
+    for start in {upper for _, upper in ends}:
         if start in carried:
             continue
         todo, open_ = [(start, False)], set()

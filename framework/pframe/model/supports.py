@@ -120,7 +120,7 @@ def _carried(scene, resolver, names, declared, support) -> None:
                 raise ModelError(("stories", i, "support"), "support names what a storey's "
                                  "ground end stands on; this storey's lower end is a node")
             upward.setdefault(lower, []).append(upper)
-    todo = [resolver.floors.nodes[i].name for i in support]
+    todo = [resolver.names[i] for i in support]
     while todo:
         name = todo.pop()
         for upper in upward.get(name, ()):
