@@ -65,6 +65,8 @@ class Writer:
         # dimension -> its length (0 for an unlimited one until resized): h5netcdf finds an
         # unlimited dimension's length by scanning every variable along it
         self._sizes: dict[str, int] = {}
+        # name -> its HDF5 dataset: h5netcdf finds one by a lookup in the file each time
+        self._datasets: dict = {}
 
     # -- structure --------------------------------------------------------------------------
     def dimension(self, name: str, size: int | None) -> None:
@@ -78,7 +80,7 @@ class Writer:
         if name not in self.file.dimensions:
             self.dimension(name, len(values))
         var = self.file.create_variable(name, (name,), data=values)
-        _put(var.attrs, var._h5ds.attrs, attrs)
+        self._put(name, var, attrs)
         return var
 
     def labels(self, dimension: str, name: str, strings, **attrs):
@@ -97,9 +99,9 @@ class Writer:
         if width not in self.file.dimensions:
             self.dimension(width, chars.shape[-1])
         var = self.file.create_variable(name, tuple(dims) + (width,), data=chars)
-        _put(var.attrs, var._h5ds.attrs, {"_Encoding": "utf-8"})
+        self._put(name, var, {"_Encoding": "utf-8"})
         self._place(name, var, tuple(dims), auxiliary)
-        _put(var.attrs, var._h5ds.attrs, attrs)
+        self._put(name, var, attrs)
         return var
 
     def _place(self, name: str, var, dims: tuple[str, ...], auxiliary: bool,
@@ -112,7 +114,7 @@ class Writer:
         named = [c for d in dims for c in self._coordinates.get(d, ())]
         named += [c for c in coordinates if c not in named]
         if named:
-            _put(var.attrs, var._h5ds.attrs, {"coordinates": " ".join(named)})
+            self._put(name, var, {"coordinates": " ".join(named)})
 
     def variable(self, name: str, dims: tuple[str, ...], data=None, *, dtype="f8",
                  fill=None, chunk_rows: bool = False, coordinates: tuple[str, ...] = (),
@@ -139,8 +141,13 @@ class Writer:
         var = self.file.create_variable(name, dims, dtype=dtype, data=data, fillvalue=fill,
                                         **kwargs)
         self._place(name, var, dims, auxiliary, coordinates)
-        _put(var.attrs, var._h5ds.attrs, {k: v for k, v in attrs.items() if v is not None})
+        self._put(name, var, {k: v for k, v in attrs.items() if v is not None})
         return var
+
+    def _put(self, name: str, var, values: dict) -> None:
+        """Set attributes of variable ``var`` (see :func:`_put`)."""
+        if values:
+            _put(_Lazy(lambda: var.attrs), self.rows(name).attrs, values)
 
     def resize(self, dimension: str, size: int) -> None:
         """Set the length of an unlimited dimension (and of every variable along it)."""
@@ -155,8 +162,11 @@ class Writer:
         variable finds its shape by scanning every variable of an unlimited dimension on each
         access, which costs more than the writing for a streamed history (the variable's
         layout and attributes are h5netcdf's; only the values go this way)."""
-        var = self.file[name]
-        return getattr(var, "_h5ds", var)
+        dataset = self._datasets.get(name)
+        if dataset is None:
+            var = self.file[name]
+            dataset = self._datasets[name] = getattr(var, "_h5ds", var)
+        return dataset
 
     def values(self, name: str) -> np.ndarray:
         """The values written so far of ``name`` (read back: a history the file holds)."""
@@ -361,6 +371,19 @@ def _objects(group):
             yield from _objects(item)
         else:
             yield item
+
+
+class _Lazy:
+    """A mapping made when first written to (h5netcdf's attributes of a variable cost a
+    lookup of the variable in the file: only numbers and arrays go through them)."""
+
+    def __init__(self, make):
+        self._make, self._made = make, None
+
+    def __setitem__(self, name: str, value) -> None:
+        if self._made is None:
+            self._made = self._make()
+        self._made[name] = value
 
 
 def _put(attrs, h5attrs, values: dict) -> None:
