@@ -157,6 +157,39 @@ def test_console_script_runs(scene_file):
     assert run.returncode == 0 and ": valid;" in run.stdout
 
 
+#: the ``pframe`` command with its work replaced by printing what it runs in
+ENVIRONMENT_PROBE = """
+import os, sys
+from pframe import cli
+def probe(argv=None):
+    print(os.environ.get("OPENBLAS_THREAD_TIMEOUT"), "numpy" in sys.modules)
+    return 0
+cli.main = probe
+sys.argv = ["pframe", *sys.argv[1:]]
+sys.exit(cli.console_main())
+"""
+
+
+@pytest.mark.parametrize(("command", "given", "runs_with"), [
+    ("solve", None, "4 False"), ("validate", None, "4 False"), ("solve", "28", "28 False"),
+    ("sweep", None, "None False"), ("plot", None, "None False")])
+def test_a_short_command_puts_idle_blas_threads_to_sleep_unless_told(command, given,
+                                                                     runs_with):
+    """numpy's OpenBLAS threads spin about 0.1 s before they sleep (about 30 ms of CPU of
+    numpy's import): a short command has them sleep at once, set before numpy is imported;
+    a value the user set, or a long command (a sweep), keeps the library's own."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_THREAD_TIMEOUT"}
+    if given is not None:
+        env["OPENBLAS_THREAD_TIMEOUT"] = given
+    done = subprocess.run([sys.executable, "-c", ENVIRONMENT_PROBE, command, "scene.yaml"],
+                          capture_output=True, text=True, timeout=60,
+                          env=env | {"PYTHONPATH": str(REPO / "framework")})
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == runs_with
+
+
 def test_schema_check_passes_on_the_committed_schema(monkeypatch, capsys):
     monkeypatch.chdir(REPO)
     assert main(["schema", "--check"]) == 0, capsys.readouterr().err

@@ -293,3 +293,31 @@ def test_memory_stays_bounded(tmp_path):
     assert streamed < allowance + held / 2, (
         f"peak {streamed / 2**20:.0f} MiB, short run {allowance / 2**20:.0f} MiB, "
         f"histories {held / 2**20:.0f} MiB")
+
+
+@pytest.mark.slow
+def test_a_result_file_is_the_one_h5netcdf_writes_alone(tmp_path, monkeypatch):
+    """The writer finds each HDF5 object once (record.netcdf._Found), where h5netcdf looks
+    it up again at every use: the file is the one h5netcdf writes alone, object for object,
+    attribute for attribute, though h5netcdf replaces each time coordinate's placeholder (a
+    deletion a kept lookup must not outlive)."""
+    import h5netcdf
+
+    from pframe.record import netcdf
+
+    loaded = load_scene(_scene(tmp_path, _pi_with_strides()))
+    result = simulate(assemble(loaded.expanded))
+    found = write_result(tmp_path / "found.nc", result, loaded)
+
+    def alone(target):
+        f = h5netcdf.File.__new__(h5netcdf.File)
+        f._closed = True
+        f.__init__(target, "w", track_order=True)
+        return f
+
+    monkeypatch.setattr(netcdf, "_open", alone)
+    reference = write_result(tmp_path / "alone.nc", result, loaded)
+    _assert_same_file(found, reference, ignore={"date_created", "history"})
+    with h5py.File(found, "r") as f:
+        assert {"t", "t_every_3", "t_every_7"} <= set(f)
+        assert f["t_every_3"].is_scale and f["t_every_3"][1] > 0  # the values written

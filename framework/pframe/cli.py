@@ -132,14 +132,27 @@ def _broken_pipe() -> int:
 _SHORT = {"solve", "validate", "compile", "schema", "pi", "expand", "scale"}
 
 
+#: the environment of a short command where the user has not set it. numpy's OpenBLAS starts
+#: a thread per core when it is imported, and an idle thread spins 2^28 cycles (about 0.1 s)
+#: before it sleeps: a third of numpy's import, about 30 ms of CPU a short command spends on
+#: nothing. 2^4 cycles, OpenBLAS's least, puts them to sleep at once. Their number is kept:
+#: it decides how a threaded routine splits its sums (a dense eigen-solve of 300 DOFs differs
+#: in the last bits between one thread and two), so results stay those of numpy's defaults
+_SHORT_ENVIRONMENT = {"OPENBLAS_THREAD_TIMEOUT": "4"}
+
+
 def console_main() -> int:
     """The installed ``pframe`` command: :func:`main`, with the garbage collector off for short
     commands and the objects alive at the end frozen, so that leaving the interpreter does not
-    examine them (about 0.2 s of a warm ``pframe solve``)."""
+    examine them (about 0.2 s of a warm ``pframe solve``), and OpenBLAS's idle threads asleep
+    at once (:data:`_SHORT_ENVIRONMENT`, set before numpy is imported)."""
     import gc
+    import os
 
     if next((a for a in sys.argv[1:] if not a.startswith("-")), None) in _SHORT:
         gc.disable()
+        for name, value in _SHORT_ENVIRONMENT.items():
+            os.environ.setdefault(name, value)
     try:
         try:
             code = main()

@@ -14,10 +14,8 @@ from typing import Annotated, Literal, Union, get_args
 from pydantic import (
     BaseModel,
     ConfigDict,
-    Discriminator,
     Field,
     PrivateAttr,
-    Tag,
     create_model,
     model_validator,
 )
@@ -27,6 +25,7 @@ from pframe.integrators import ALL_INTEGRATORS, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.model.plan import Direction, FloorPlan, Point
+from pframe.model.tagged import tagged
 from pframe.objects import Frozen, describe, dotted
 from pframe.quantities import QUANTITIES as _QUANTITIES
 from pframe.units import NAMES
@@ -764,7 +763,7 @@ class Stochastic(Base):
                                     "Kanai-Tajimi.")
     filter_damping: float = Field(0.6, gt=0, allow_inf_nan=False,
                                   description="clough_penzien: zeta_f.")
-    envelope: Annotated[Union[Jennings, GammaShape], Field(discriminator="kind")] | None = Field(  # noqa: UP007
+    envelope: tagged([Jennings, GammaShape], "kind") | None = Field(
         None, description="clough_penzien: modulating function (none: stationary for "
                           "duration).")
     duration: Positive | None = Field(None, description="clough_penzien without envelope: the "
@@ -803,8 +802,7 @@ class Stochastic(Base):
 
 
 #: one ground motion along one direction
-Motion = Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic],  # noqa: UP007
-                   Field(discriminator="kind")]
+Motion = tagged([Sine, Record, Cycloidal, Ricker, Stochastic], "kind")
 
 
 class Components(Base):
@@ -839,8 +837,7 @@ class WavePassage(Base):
     support the waves reach first."""
 
     kind: Literal["wave_passage"] = "wave_passage"
-    motion: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic, Components],  # noqa: UP007
-                      Field(discriminator="kind")] = Field(
+    motion: tagged([Sine, Record, Cycloidal, Ricker, Stochastic, Components], "kind") = Field(
         description="The motion as the waves bring it (at the support they reach first).")
     velocity: Positive = Field(description="The apparent velocity v_app of the waves along "
                                "the ground surface (m/s), typically 200 to 2000 m/s.")
@@ -928,8 +925,8 @@ class Support(Base):
     name: SupportName = Field(description="Its name (buildings and elements name it).")
     position: Point = Field((0.0, 0.0), description="[x, y]: where it is on the site (m): the "
                             "wave passage's delays.")
-    excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
-                                Components], Field(discriminator="kind")] | None = Field(
+    excitation: tagged([Sine, Record, Cycloidal, Ricker, Stochastic, Components],
+                       "kind") | None = Field(
         None, description="Its own motion; none: the scene's excitation (the same motion, or "
         "the wave passage's at this support).")
     site: SiteColumn | None = Field(None, description="The soil column under it, which "
@@ -980,17 +977,11 @@ _integrator_tag = tag_reader("type", "newmark")
 
 
 #: the scene's integrator: one of pframe.integrators' table, tagged by its ``type``
-Integrator = Annotated[
-    Union[tuple(Annotated[cls, Tag(cls.type_name())] for cls in ALL_INTEGRATORS)],  # noqa: UP007
-    Discriminator(_integrator_tag),
-]
+Integrator = tagged({cls.type_name(): cls for cls in ALL_INTEGRATORS}, _integrator_tag)
 _INTEGRATOR_TYPES = [cls.type_name() for cls in ALL_INTEGRATORS]
 
 
-Damping = Annotated[
-    Union[Annotated[Rayleigh, Tag("rayleigh")], Annotated[Modal, Tag("modal")]],  # noqa: UP007
-    Discriminator(tag_reader("kind", "rayleigh")),
-]
+Damping = tagged({"rayleigh": Rayleigh, "modal": Modal}, tag_reader("kind", "rayleigh"))
 
 
 class Newton(Base):
@@ -1181,10 +1172,6 @@ def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseMo
     )
 
 
-def _union(models: list[type[BaseModel]], tag: str):
-    if len(models) == 1:
-        return models[0]
-    return Annotated[Union[tuple(models)], Field(discriminator=tag)]  # noqa: UP007
 
 
 def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] = ()):
@@ -1227,10 +1214,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
                                                 "'<name>/1' .. '<name>/<floors>'.")
         floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
-        story: _union(storey_models, "material") | None = Field(
+        story: tagged(storey_models, "material") | None = Field(
             None, description="Storey properties: one storey spring along x through the "
             "floors' centres of mass (a planar building); or give lines.")
-        lines: list[_union(line_models, "material")] | None = Field(
+        lines: list[tagged(line_models, "material")] | None = Field(
             None, min_length=1, description="Lines of resistance (frames, walls, isolators) "
             "of every storey, each at a plan point along a direction with its material "
             "(docs/plan.md); instead of story.")
@@ -1297,11 +1284,11 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes (their "
                                   "buildings stand right of the shorthand's, in the order first "
                                   "named).")
-        stories: list[_union(story_models, "material")] = Field(
+        stories: list[tagged(story_models, "material")] = Field(
             default_factory=list, description="Generic storeys between nodes.")
-        contacts: list[_union(contact_models, "law")] = Field(
+        contacts: list[tagged(contact_models, "law")] = Field(
             default_factory=list, description="Contact elements between buildings.")
-        links: list[_union(link_models, "material")] = Field(
+        links: list[tagged(link_models, "material")] = Field(
             default_factory=list, description="Links: a material (viscous, kelvin_voigt, "
             "elastic, bilinear, ...) between two nodes or a node and the ground, in tension and "
             "compression (dampers, couplings, tuned masses).")
@@ -1311,9 +1298,8 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         supports: list[Support] = Field(
             default_factory=list, description="The pieces of ground structures stand on, each "
             "with its own motion (docs/supports.md); none: one ground under everything.")
-        excitation: Annotated[Union[Sine, Record, Cycloidal, Ricker, Stochastic,  # noqa: UP007
-                                    Components, WavePassage, Coherent],
-                              Field(discriminator="kind")] | None = Field(
+        excitation: tagged([Sine, Record, Cycloidal, Ricker, Stochastic, Components,
+                            WavePassage, Coherent], "kind") | None = Field(
             None, description="Ground motion along the site's x axis, or in two components "
             "(kind: components), or as the waves pass the supports (kind: wave_passage), or "
             "simulated at every support (kind: coherent); none: free vibration from initial "
@@ -1322,7 +1308,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             InitialConditions(), description="State at t = 0 (default: at rest).")
         analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "
                                    "duration (s), Newton settings.")
-        recorders: list[Annotated[Union[History, Envelope], Field(discriminator="kind")]] = Field(  # noqa: UP007
+        recorders: list[tagged([History, Envelope], "kind")] = Field(
             default_factory=lambda: [
                 Envelope(kind="envelope", quantities=["displacement", "story_drift", "contact_force"])
             ],

@@ -374,10 +374,13 @@ class ResultWriter:
             return
         rows = np.asarray(rows[:stop - first_row])
         if quantity in self.track:
-            # max |x| from the column extremes (no |rows| copy); NaN rows (not computed) are
-            # ignored, as by np.nanmax
-            peak = np.fmax(np.abs(np.fmax.reduce(rows, axis=0)),
-                           np.abs(np.fmin.reduce(rows, axis=0)))
+            # max |x| from the column extremes; NaN rows (not computed) are ignored, as by
+            # np.nanmax. Each column's values made contiguous first: numpy reduces a narrow
+            # block along its rows one row at a time, ten times slower than along a column
+            # (a third of the writing); extremes are exact, whatever the order
+            columns = np.ascontiguousarray(np.moveaxis(rows, 0, -1))
+            peak = np.fmax(np.abs(np.fmax.reduce(columns, axis=-1)),
+                           np.abs(np.fmin.reduce(columns, axis=-1)))
             seen = self.peaks.get(quantity)
             self.peaks[quantity] = peak if seen is None else np.fmax(seen, peak)
         for (name, units, long_name, _), values in zip(self._variables(quantity),

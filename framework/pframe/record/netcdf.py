@@ -20,9 +20,11 @@ from __future__ import annotations
 import datetime
 import platform
 import sys
+import weakref
 from pathlib import Path
 
 import h5netcdf
+import h5py
 import numpy as np
 
 CONVENTIONS = "CF-1.8"
@@ -42,13 +44,68 @@ def _encoded(strings) -> np.ndarray:
     return encoded.view("S1").reshape(values.shape + (width,))
 
 
+class _Found(h5py.File):
+    """An HDF5 file whose objects are each found once. h5netcdf looks a dataset up by its
+    path on every use of it (a variable's shape, each dimension's length, attaching a scale),
+    and each lookup makes a new h5py object: laying out a result file made about 400 of them,
+    most of its cost. A lookup by path is kept; deleting an object (h5netcdf replaces a
+    dimension's placeholder by its coordinate variable) forgets them all."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._found: dict = {}
+
+    def __getitem__(self, name):
+        if not isinstance(name, str):  # an object reference
+            return super().__getitem__(name)
+        found = self._found.get(name)
+        if found is None:
+            found = super().__getitem__(name)
+            if name == "/":  # the root group: what is deleted through it is seen
+                found = _FoundGroup(found.id, self)
+            self._found[name] = found
+        return found
+
+    def __delitem__(self, name):
+        self._found.clear()
+        super().__delitem__(name)
+
+
+class _FoundGroup(h5py.Group):
+    """The root group of a :class:`_Found` file: its lookups and deletions are the file's
+    (which it refers to weakly: the file keeps it)."""
+
+    def __init__(self, bind, file: _Found):
+        super().__init__(bind)
+        self._file = weakref.ref(file)
+
+    def __getitem__(self, name):
+        file = self._file()
+        if isinstance(name, str) and file is not None:
+            return file[name]
+        return super().__getitem__(name)
+
+    def __delitem__(self, name):
+        file = self._file()
+        if file is not None:
+            file._found.clear()
+        super().__delitem__(name)
+
+
 def _open(target):
-    """``h5netcdf.File(target, "w")``, safe against a signal inside its constructor: h5netcdf
-    marks a half-built file closed only when an ``Exception`` interrupts it, so a stop (Ctrl-C,
-    SIGTERM: ``BaseException``) there left a file whose destructor printed a traceback."""
-    f = h5netcdf.File.__new__(h5netcdf.File)
-    f._closed = True  # until the constructor says otherwise
-    f.__init__(target, "w", track_order=True)
+    """``h5netcdf.File(target, "w")`` on a :class:`_Found` file, safe against a signal inside
+    its constructor: h5netcdf marks a half-built file closed only when an ``Exception``
+    interrupts it, so a stop (Ctrl-C, SIGTERM: ``BaseException``) there left a file whose
+    destructor printed a traceback. h5netcdf closes a file it was given open only when told:
+    :meth:`Writer.close` does."""
+    h5 = _Found(target, "w", track_order=True)  # what h5netcdf opens a new file with
+    try:
+        f = h5netcdf.File.__new__(h5netcdf.File)
+        f._closed = True  # until the constructor says otherwise
+        f.__init__(h5, "w", track_order=True)
+    except BaseException:
+        h5.close()
+        raise
     return f
 
 
@@ -65,6 +122,8 @@ class Writer:
         # dimension -> its length (0 for an unlimited one until resized): h5netcdf finds an
         # unlimited dimension's length by scanning every variable along it
         self._sizes: dict[str, int] = {}
+        # name -> its HDF5 dataset: h5netcdf finds one by a lookup in the file each time
+        self._datasets: dict = {}
 
     # -- structure --------------------------------------------------------------------------
     def dimension(self, name: str, size: int | None) -> None:
@@ -77,8 +136,8 @@ class Writer:
         values = np.asarray(values)
         if name not in self.file.dimensions:
             self.dimension(name, len(values))
-        var = self.file.create_variable(name, (name,), data=values)
-        _put(var.attrs, var._h5ds.attrs, attrs)
+        var = self._create(name, (name,), data=values)
+        self._put(name, var, attrs)
         return var
 
     def labels(self, dimension: str, name: str, strings, **attrs):
@@ -96,10 +155,10 @@ class Writer:
         width = f"string{chars.shape[-1]}"
         if width not in self.file.dimensions:
             self.dimension(width, chars.shape[-1])
-        var = self.file.create_variable(name, tuple(dims) + (width,), data=chars)
-        _put(var.attrs, var._h5ds.attrs, {"_Encoding": "utf-8"})
+        var = self._create(name, tuple(dims) + (width,), data=chars)
+        self._put(name, var, {"_Encoding": "utf-8"})
         self._place(name, var, tuple(dims), auxiliary)
-        _put(var.attrs, var._h5ds.attrs, attrs)
+        self._put(name, var, attrs)
         return var
 
     def _place(self, name: str, var, dims: tuple[str, ...], auxiliary: bool,
@@ -112,7 +171,7 @@ class Writer:
         named = [c for d in dims for c in self._coordinates.get(d, ())]
         named += [c for c in coordinates if c not in named]
         if named:
-            _put(var.attrs, var._h5ds.attrs, {"coordinates": " ".join(named)})
+            self._put(name, var, {"coordinates": " ".join(named)})
 
     def variable(self, name: str, dims: tuple[str, ...], data=None, *, dtype="f8",
                  fill=None, chunk_rows: bool = False, coordinates: tuple[str, ...] = (),
@@ -136,11 +195,20 @@ class Writer:
                 max(1, s) for s in shape[1:])
             if self.compress:
                 kwargs.update(COMPRESSION)
-        var = self.file.create_variable(name, dims, dtype=dtype, data=data, fillvalue=fill,
-                                        **kwargs)
+        var = self._create(name, dims, dtype=dtype, data=data, fillvalue=fill, **kwargs)
         self._place(name, var, dims, auxiliary, coordinates)
-        _put(var.attrs, var._h5ds.attrs, {k: v for k, v in attrs.items() if v is not None})
+        self._put(name, var, {k: v for k, v in attrs.items() if v is not None})
         return var
+
+    def _create(self, name: str, dims, **kwargs):
+        # a variable named as a dimension replaces that dimension's placeholder dataset
+        self._datasets.pop(name, None)
+        return self.file.create_variable(name, dims, **kwargs)
+
+    def _put(self, name: str, var, values: dict) -> None:
+        """Set attributes of variable ``var`` (see :func:`_put`)."""
+        if values:
+            _put(_Lazy(lambda: var.attrs), self.rows(name).attrs, values)
 
     def resize(self, dimension: str, size: int) -> None:
         """Set the length of an unlimited dimension (and of every variable along it)."""
@@ -155,8 +223,11 @@ class Writer:
         variable finds its shape by scanning every variable of an unlimited dimension on each
         access, which costs more than the writing for a streamed history (the variable's
         layout and attributes are h5netcdf's; only the values go this way)."""
-        var = self.file[name]
-        return getattr(var, "_h5ds", var)
+        dataset = self._datasets.get(name)
+        if dataset is None:
+            var = self.file[name]
+            dataset = self._datasets[name] = getattr(var, "_h5ds", var)
+        return dataset
 
     def values(self, name: str) -> np.ndarray:
         """The values written so far of ``name`` (read back: a history the file holds)."""
@@ -175,7 +246,9 @@ class Writer:
                     self.file.flush()
                     fixed_length_text(self.file._h5file)
             finally:
-                self.file.close()
+                h5 = self.file._h5file
+                self.file.close()  # h5netcdf flushes; a file it was given stays open
+                h5.close()  # (not after a failed flush: see ResultWriter.abort)
                 self.file = None
 
 
@@ -361,6 +434,19 @@ def _objects(group):
             yield from _objects(item)
         else:
             yield item
+
+
+class _Lazy:
+    """A mapping made when first written to (h5netcdf's attributes of a variable cost a
+    lookup of the variable in the file: only numbers and arrays go through them)."""
+
+    def __init__(self, make):
+        self._make, self._made = make, None
+
+    def __setitem__(self, name: str, value) -> None:
+        if self._made is None:
+            self._made = self._make()
+        self._made[name] = value
 
 
 def _put(attrs, h5attrs, values: dict) -> None:

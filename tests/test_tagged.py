@@ -1,0 +1,109 @@
+"""The scene's tagged unions (a contact's law, a storey's material, a motion's kind, an
+integrator's type...), validated by the one model their tag names (pframe.model.tagged):
+the same objects and the same messages as pydantic's own union, and a scene's validator that
+holds only the models its unions are asked for."""
+
+from __future__ import annotations
+
+import typing
+
+import pytest
+from pydantic import BaseModel, TypeAdapter, ValidationError
+
+from pframe.model.scene import Node, scene_class
+from pframe.model.tagged import LazyUnion
+
+TAGS = ("law", "material", "kind", "type")
+
+
+def _unions(model: type[BaseModel]) -> dict[str, LazyUnion]:
+    """Every tagged union reachable from ``model``, by where it was first found."""
+    found: dict[str, LazyUnion] = {}
+    seen: set = set()
+
+    def visit(annotation, where: str):
+        if isinstance(annotation, LazyUnion):
+            found.setdefault(where, annotation)
+            return
+        if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+            if annotation in seen:
+                return
+            seen.add(annotation)
+            for name, info in annotation.model_fields.items():
+                for item in (info.annotation, *info.metadata):
+                    visit(item, f"{annotation.__name__}.{name}")
+            return
+        for arg in typing.get_args(annotation):
+            visit(arg, where)
+
+    visit(model, model.__name__)
+    return found
+
+
+UNIONS = _unions(scene_class())
+
+
+def _key(union: LazyUnion) -> str:
+    """The field that holds the tag."""
+    tag = next(iter(union.members))
+    return next(k for k in TAGS if union.tag({k: tag}) == tag)
+
+
+def _values(union: LazyUnion) -> list:
+    """Values a union must judge as pydantic's would: no tag, an unknown tag, a tag of
+    another type, each model with fields missing, an unknown field, a wrong type; objects."""
+    key = _key(union)
+    values = [None, "text", 3, [1, 2], {}, {key: "no_such"}, {key: ["a"]}, {key: 1},
+              Node.model_construct(name="A/1", mass=1.0)]
+    for tag, model in union.members.items():
+        values += [{key: tag}, {key: tag, "no_such_field": 1.0},
+                   {key: tag, **{name: "text" for name in model.model_fields if name != key}},
+                   model.model_construct()]
+    return values
+
+
+def _outcome(adapter: TypeAdapter, value):
+    try:
+        return adapter.validate_python(value)
+    except ValidationError as exc:
+        return exc.errors(include_url=False, include_context=False)
+    except AttributeError as exc:  # a model's own check of an object built without its fields
+        return repr(exc)
+
+
+def test_the_scene_has_its_tagged_unions():
+    """Contacts, storeys, lines, links, motions, damping, integrators, recorders."""
+    tags = {tag for union in UNIONS.values() for tag in union.members}
+    assert {"linear", "hertz", "bilinear", "record", "sine", "newmark", "rayleigh", "modal",
+            "history", "envelope", "components", "jennings"} <= tags
+    assert len(UNIONS) >= 10
+
+
+@pytest.mark.parametrize("where", sorted(UNIONS))
+def test_a_tagged_union_judges_every_value_as_pydantic_s_union(where):
+    union = UNIONS[where]
+    lazy = TypeAdapter(typing.Annotated[typing.Union[tuple(union.members.values())],  # noqa: UP007
+                                        union])
+    eager = TypeAdapter(union.union)
+    for value in _values(union):
+        assert _outcome(lazy, value) == _outcome(eager, value), value
+
+
+def test_a_valid_value_is_the_object_pydantic_s_union_makes():
+    union = UNIONS["Scene.contacts"]
+    lazy = TypeAdapter(typing.Annotated[typing.Union[tuple(union.members.values())],  # noqa: UP007
+                                        union])
+    data = {"law": "linear", "nodes": ["A/1", "B/1"], "gap": 0.01, "stiffness": 1e7}
+    made = lazy.validate_python(data)
+    assert type(made).__name__ == "Contact_linear"
+    assert made == TypeAdapter(union.union).validate_python(data)
+    assert made.model_fields_set == set(data)
+    assert lazy.validate_python(made) is made  # an object of the model is taken as it is
+
+
+def test_the_scene_validator_holds_no_model_of_a_union():
+    """The scene's own validator dispatches on the tag: it does not hold every law's model
+    (their validators are built when a scene uses them)."""
+    schema = repr(scene_class().__pydantic_core_schema__)
+    for name in ("Contact_hertz", "Story_bwbn", "Line_imk_peak", "Stochastic", "HHT"):
+        assert f"'{name}'" not in schema and f".{name}:" not in schema
