@@ -206,13 +206,11 @@ def _eigen(K, masses: np.ndarray, count: int | None):
             w2, shapes = np.linalg.eigh(K.toarray() * np.outer(scale, scale))
         else:
             from scipy.sparse import diags
-            from scipy.sparse.linalg import eigsh
+
+            from pframe.assemble.modes import sparse_lowest
 
             scaled = (diags(scale) @ K @ diags(scale)).tocsc()
-            w2, shapes = eigsh(scaled, k=min(count or SPARSE_MODES, n - 1), sigma=0,
-                               which="LM")
-            order = np.argsort(w2)
-            w2, shapes = w2[order], shapes[:, order]
+            w2, shapes = sparse_lowest(scaled, count or SPARSE_MODES)
     phi = shapes * scale[:, None]
     # a mode's sign is arbitrary: its largest component positive, so that outputs repeat
     big = np.argmax(np.abs(phi), axis=0)

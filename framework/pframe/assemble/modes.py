@@ -139,6 +139,20 @@ def scaled_triplets(springs, scale):
     return vals, (rows, cols)
 
 
+def sparse_lowest(matrix, count: int) -> tuple[np.ndarray, np.ndarray]:
+    """The ``count`` lowest eigenpairs (w^2 ascending, vectors) of a symmetric sparse matrix,
+    by ARPACK's shift-invert about 0, from a fixed start vector: ARPACK's own start is random
+    and advances from call to call, so the same matrix would give modes (and the Rayleigh
+    coefficients fitted on them) that differ in their last bits from run to run."""
+    from scipy.sparse.linalg import eigsh
+
+    n = matrix.shape[0]
+    start = np.random.default_rng(0).standard_normal(n)  # generic: no mode left out of it
+    values, vectors = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM", v0=start)
+    order = np.argsort(values)
+    return values[order], vectors[:, order]
+
+
 def scaled_band(ends: np.ndarray, stiffness: np.ndarray, scale: np.ndarray,
                 width: int) -> np.ndarray:
     """(width + 1, n) the lower band of M^-1/2 K M^-1/2 (``scale`` = M^-1/2, n of them),
@@ -222,14 +236,12 @@ def _plan_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
         w2, shapes = np.linalg.eigh(K)
         return np.sqrt(np.clip(w2, 0, None)), shapes * scale[:, None]
     from scipy.sparse import coo_matrix
-    from scipy.sparse.linalg import eigsh
 
     values = np.array(values) * scale[rows] * scale[cols]
     matrix = coo_matrix((values, (rows, cols)), shape=(n, n)).tocsc()
-    w2, shapes = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM")
-    order = np.argsort(w2)
-    omega = np.sqrt(np.clip(w2[order], 0, None))
-    return (omega, shapes[:, order] * scale[:, None]) if vectors else omega
+    w2, shapes = sparse_lowest(matrix, count)
+    omega = np.sqrt(np.clip(w2, 0, None))
+    return (omega, shapes * scale[:, None]) if vectors else omega
 
 
 def directions(ex, b: int, phi: np.ndarray) -> list[str]:
@@ -379,13 +391,11 @@ def _lowest_modes(ex, b: int, k: np.ndarray, count: int | None, vectors: bool):
 def _sparse_lowest(springs, scale, n: int, count: int, vectors: bool):
     """Lowest ``count`` modes of a large building that is not banded (sparse solver)."""
     from scipy.sparse import coo_matrix
-    from scipy.sparse.linalg import eigsh
 
     matrix = coo_matrix(scaled_triplets(springs, scale), shape=(n, n)).tocsc()
-    values, shapes = eigsh(matrix, k=min(count, n - 1), sigma=0, which="LM")
-    order = np.argsort(values)
-    omega = np.sqrt(np.clip(values[order], 0, None))
-    return (omega, shapes[:, order] * scale[:, None]) if vectors else omega
+    values, shapes = sparse_lowest(matrix, count)
+    omega = np.sqrt(np.clip(values, 0, None))
+    return (omega, shapes * scale[:, None]) if vectors else omega
 
 
 @dataclass(frozen=True)

@@ -34,6 +34,7 @@ from pframe.assemble.modes import (
     one_blas_thread,
     scaled_band,
     scaled_triplets,
+    sparse_lowest,
     spring_list,
     spring_matrix,
 )
@@ -104,13 +105,10 @@ def building_modes(ex, b: int, k0: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return np.sqrt(np.clip(values, 0.0, None)), (vectors.T @ root) ** 2 / total
     if springs is not None:  # not a chain of storeys: a sparse shift-invert solve of the lowest modes
         from scipy.sparse import coo_matrix
-        from scipy.sparse.linalg import eigsh
 
         matrix = coo_matrix(scaled_triplets(springs, scale), shape=(n, n)).tocsc()
-        values, vectors = eigsh(matrix, k=min(SPARSE_MODES, n - 1), sigma=0, which="LM")
-        order = np.argsort(values)
-        return (np.sqrt(np.clip(values[order], 0.0, None)),
-                (vectors[:, order].T @ root) ** 2 / total)
+        values, vectors = sparse_lowest(matrix, SPARSE_MODES)
+        return np.sqrt(np.clip(values, 0.0, None)), (vectors.T @ root) ** 2 / total
     from scipy.linalg import eigh_tridiagonal
 
     band = scaled_band(ends, stiffness, scale, 1)
