@@ -142,6 +142,7 @@ def child(study: Path, warm: Path, threads: int | None) -> None:
         "kernel": float(timings["solve_seconds"]), "parts": parts,
         "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         "load_before": load_before, "load_after": load_average(), "pounding": pounding,
+        "contact_runs": int(timings.get("contact_runs", 0)),
         "gap_mm": float(ds["gap_at_target"]) * 1e3 if "gap_at_target" in ds else float("nan"),
     }))
 
@@ -188,7 +189,9 @@ def main(argv: list[str] | None = None) -> int:
                   f"{p['file']:.1f}; {r['wall'] / r['variants'] * 1e3:.2f} ms/variant")
             print(f"  CPU {r['cpu']:.1f} s on {cpus} CPUs: busy {r['cpu'] / r['wall'] / cpus:.2f}"
                   f" of them; peak resident memory {r['rss_mb']:.0f} MB; "
-                  f"{r['pounding']:.0%} of the runs with contacts pound; gap at target "
+                  f"{r['pounding']:.0%} of the runs with contacts pound, "
+                  f"{r['contact_runs']} of them integrated (the others never close a gap: "
+                  "their runs without contacts are reused); gap at target "
                   f"{r['gap_mm']:.1f} mm; load average before {r['load_before']}, after "
                   f"{r['load_after']}")
     big = done[-1]

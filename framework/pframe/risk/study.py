@@ -399,7 +399,7 @@ def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=Non
     """One batch of variants (without contacts, and with them with ``pounding_runs``);
     ``uncertain``: (variables, their standard normals per variant). A pure function of its
     arguments: on a Dask cluster, a task."""
-    from pframe.risk.runs import run_batch
+    from pframe.risk.runs import run_batch, with_contacts
 
     scene_dt = float(inputs.loaded.expanded.dt)
     contact_steps = int(math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
@@ -408,14 +408,22 @@ def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=Non
         from pframe.risk.uncertain import scenes as variants_of
 
         scenes = variants_of(inputs.loaded, uncertain[0], uncertain[1])
-    free = run_batch(scenes, inputs.pairs, inputs.accelerations(variants), inputs.steps,
-                     inputs.dt, contacts=False, threads=threads, axes=inputs.channels)
+    ground = inputs.accelerations(variants)
+    free = run_batch(scenes, inputs.pairs, ground, inputs.steps, inputs.dt, contacts=False,
+                     threads=threads, axes=inputs.channels, reach=pounding_runs)
+    if pounding_runs:
+        if (contact_steps, scene_dt) != (inputs.steps, inputs.dt):
+            ground = None  # the runs with contacts read their motions on their own steps
+
+        def motions(index):
+            if ground is None:
+                return inputs.accelerations(variants[index], contact_steps, scene_dt)
+            return ground if len(index) == len(ground) else ground[index]
+
+        hit = with_contacts(scenes, inputs.pairs, free, (inputs.steps, inputs.dt), motions,
+                            contact_steps, scene_dt, threads=threads, axes=inputs.channels)
     arrays = {f"free_{k}": v for k, v in free.items()}
     if pounding_runs:
-        hit = run_batch(scenes, inputs.pairs,
-                        inputs.accelerations(variants, contact_steps, scene_dt),
-                        contact_steps, scene_dt, contacts=True, threads=threads,
-                        axes=inputs.channels)
         arrays.update({f"contact_{k}": v for k, v in hit.items()})
     return arrays
 
@@ -738,7 +746,9 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         timings.update(wall_seconds=time.perf_counter() - start,
                        variants=search.runs if search is not None else inputs.count,
                        solve_seconds=float(rows["free_solve_seconds"])
-                       + float(rows.get("contact_solve_seconds", 0.0)))
+                       + float(rows.get("contact_solve_seconds", 0.0)),
+                       # runs with contacts integrated (the others reused the runs without)
+                       contact_runs=int(np.sum(rows.get("contact_integrated", 0))))
     return ds
 
 
