@@ -16,6 +16,7 @@ stop goes on.
 
 from __future__ import annotations
 
+import functools
 import os
 import time
 from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
@@ -479,13 +480,16 @@ def _slice_recording(rec: Recording, lo: int, hi: int) -> Recording:
 POLL_SECONDS = 0.05
 
 
-def _wait(futures, stop: np.ndarray) -> None:
-    """Wait for the kernel's calls, with the main thread free for signals. On a stop (Ctrl-C,
+def _wait(futures, stop: np.ndarray, meanwhile=None) -> None:
+    """Wait for the kernel's calls, with the main thread free for signals (after running
+    ``meanwhile()``, the main thread's own work while the calls run). On a stop (Ctrl-C,
     SIGTERM: raised here by the signal's handler, or found by check_stop) or an error in one
-    call, the kernel is asked to stop (``stop[0] = 1``), which every call sees within one
-    evaluation of the residual, and the calls are awaited before the exception goes on: no
-    thread writes into the run's arrays after simulate has left."""
+    call or in ``meanwhile``, the kernel is asked to stop (``stop[0] = 1``), which every call
+    sees within one evaluation of the residual, and the calls are awaited before the
+    exception goes on: no thread writes into the run's arrays after simulate has left."""
     try:
+        if meanwhile is not None:
+            meanwhile()
         pending = set(futures)
         while pending:
             done, pending = wait(pending, timeout=POLL_SECONDS, return_when=FIRST_EXCEPTION)
@@ -565,9 +569,9 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             raise ZeroDivisionError("float division by zero")
         # RUN_STOPPED: the main thread asked for it and is raising the stop (see _wait)
 
-    def call(begin, end):
+    def call(begin, end, meanwhile=None):
         try:
-            return _call(begin, end)
+            return _call(begin, end, meanwhile)
         except (ZeroDivisionError, OverflowError, FloatingPointError) as exc:
             from pframe.errors import InputError
 
@@ -577,13 +581,13 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                 "are too small or too large for floating point arithmetic; check the units"
             ) from None
 
-    def _call(begin, end):
+    def _call(begin, end, meanwhile):
         rec = recorders.for_call(begin, end)
         # The kernel releases the GIL: contiguous slices of the batch run in threads, each
         # member on its own, so one slow member never holds up the others.
         futures = [pool.submit(kernel, piece, _slice_recording(rec, lo, hi), begin, end)
                    for piece, (lo, hi) in enumerate(pieces)]
-        _wait(futures, stop)
+        _wait(futures, stop, meanwhile)
         return rec
 
     try:
@@ -597,14 +601,17 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         # Calls last about chunk_seconds whatever the mode (progress shown or not), for the
         # progress bar and the streamed blocks; a stop does not wait for a call's end (_wait).
         size = min(total - 1, 500, limit)
+        # the sink takes a call's rows while the kernel runs the next call (the states are
+        # the kernel's, the rows a call's own buffers): two calls' rows at most are held
+        pending = None
         while done < total:
             end = min(total, done + size)
             tick = time.perf_counter()
-            rec = call(done, end)
+            rec = call(done, end, pending)
             elapsed = time.perf_counter() - tick
             solve += elapsed
-            recorders.deliver(rec, done, end)
-            rec = None  # the next call's buffers replace these, not join them
+            pending = functools.partial(recorders.deliver, rec, done, end)
+            rec = None  # the next call's buffers replace the last's, not join them
             check_stop()
             if progress is not None:
                 progress(end, total)
@@ -613,6 +620,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             done = end
             if np.all(st.status[:, StatusColumn.CODE] != Status.OK):
                 break
+        if pending is not None:
+            pending()
     finally:
         pool.shutdown()
     law_calls = {}
