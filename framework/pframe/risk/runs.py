@@ -41,6 +41,11 @@ def _owners(plan) -> tuple[np.ndarray, np.ndarray]:
     return of_dof, node_building[upper]
 
 
+def _peak(values: np.ndarray) -> np.ndarray:
+    """max |values| along the last axis, without a copy of |values|."""
+    return np.maximum(np.max(values, axis=-1), -np.min(values, axis=-1))
+
+
 def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarray:
     out = np.full((values.shape[0], count), np.nan)
     for b in range(count):
@@ -49,16 +54,23 @@ def _per_building(values: np.ndarray, owner: np.ndarray, count: int) -> np.ndarr
     return out
 
 
-def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
-              contacts: bool, threads: int | None = None, axes=None,
-              reach: bool = False) -> dict[str, np.ndarray]:
-    """One batch: a member per ground motion of ``accelerations`` (m/s^2; (B, steps + 1)
-    along x, or (B, C, steps + 1) along the site's x and y, or at each support along
-    ``axes``: pframe.gap.runs.axes_of). With ``reach`` (runs without contacts), also
-    ``reach``: each contact's bound on its closing at every point the run with contacts
-    would evaluate (:func:`_reach`)."""
+@dataclasses.dataclass
+class Batch:
+    """A batch assembled, ready to run (:func:`prepare`): its plan, the sink of its
+    displacements, its ground motions (B, C, steps + 1) and whether it has contacts."""
+
+    plan: object
+    sink: GapSink
+    accelerations: np.ndarray
+    contacts: bool
+    gaps: np.ndarray  # (B,) each member's smallest gap
+
+
+def prepare(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
+            contacts: bool, axes=None) -> Batch:
+    """The batch of :func:`run_batch`, assembled (a thread may prepare the next batch while
+    the kernel runs one: pframe.risk.study.run_variants)."""
     from pframe.assemble import assemble_batch
-    from pframe.kernel import simulate
 
     # ``loaded``: one scene, or one per member (uncertain parameters, docs/risk.md)
     members = list(loaded) if isinstance(loaded, (list, tuple)) else [loaded]
@@ -78,6 +90,23 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     # members of their own geometry (uncertain values): each its own contacts' sides
     sink = GapSink(plan, [contact_pairs(m) for m in members]
                    if isinstance(loaded, (list, tuple)) else pairs)
+    return Batch(plan, sink, accelerations, bool(contacts),
+                 np.broadcast_to(gaps, (plan.batch,)).copy())
+
+
+def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: float,
+              contacts: bool, threads: int | None = None, axes=None,
+              reach: bool = False, batch: Batch | None = None) -> dict[str, np.ndarray]:
+    """One batch: a member per ground motion of ``accelerations`` (m/s^2; (B, steps + 1)
+    along x, or (B, C, steps + 1) along the site's x and y, or at each support along
+    ``axes``: pframe.gap.runs.axes_of), or the ``batch`` :func:`prepare` assembled of them.
+    With ``reach`` (runs without contacts), also ``reach``: each contact's bound on its
+    closing at every point the run with contacts would evaluate (:func:`_reach`)."""
+    from pframe.kernel import simulate
+
+    if batch is None:
+        batch = prepare(loaded, pairs, accelerations, steps, dt, contacts, axes)
+    plan, sink, accelerations = batch.plan, batch.sink, batch.accelerations
     result = simulate(plan, threads=threads, sink=sink)
     of_dof, of_story = _owners(plan)
     nb = len(plan.buildings)
@@ -94,12 +123,12 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
         # scene in plan has lines of resistance and three DOFs per floor instead
         **({"drift_ratio_each": np.abs(result.envelope["story_drift_ratio"]),
             "acceleration_each": result.envelope["absolute_acceleration"][:, plan.node_dof],
-            "ground_acceleration": np.max(np.abs(accelerations[:, 0]), axis=-1)}
+            "ground_acceleration": _peak(accelerations[:, 0])}
            if plan.planar else {}),
-        "impacts": (result.impacts.astype(np.int32) if contacts and result.impacts is not None
+        "impacts": (result.impacts.astype(np.int32) if batch.contacts and result.impacts is not None
                     else np.zeros((plan.batch, len(pairs.names)), np.int32)),
         "complete": np.array([result.completed(b) for b in range(plan.batch)], dtype=np.int8),
-        "gap": np.broadcast_to(gaps, (plan.batch,)).copy(),  # the member's smallest gap
+        "gap": batch.gaps,  # the member's smallest gap
         "solve_seconds": np.float64(result.solve_seconds),
     }
     if reach:
@@ -127,7 +156,7 @@ def _reach(plan, sink: GapSink, result, accelerations: np.ndarray, pairs: Pairs)
         return out
     dof = dict(zip(plan.node_names, plan.node_dof))
     peak = result.envelope["absolute_acceleration"]
-    ground = np.max(np.abs(accelerations), axis=(1, 2))
+    ground = np.max(_peak(accelerations), axis=1)
     h = np.asarray(plan.dt, dtype=float)
     for c, (left, right) in enumerate(zip(pairs.left, pairs.right)):
         a = peak[:, dof[left]] + peak[:, dof[right]] + 2.0 * ground
