@@ -36,8 +36,9 @@ from pframe.errors import InputError
 
 G = 9.80665
 #: bytes per step of a run's ground motion while a batch runs (the copies the kernel and
-#: its caller hold, as pframe.resources counts them)
-GROUND_BYTES = 4 * 8.0
+#: its caller hold, as pframe.resources counts them, and the two of the next batch, which
+#: is assembled meanwhile: _here)
+GROUND_BYTES = 6 * 8.0
 #: the ground motions a batch of runs holds at most when the study gives no chunk (bytes):
 #: memory bounded whatever the number of variants
 BATCH_BYTES = 256 * 2**20
