@@ -364,6 +364,7 @@ class _Recorders:
             ns = len(plan.story_names)
             self.envelope[Recordable.STORY_DRIFT_RATIO][
                 np.isnan(plan.story_height[:, :ns])] = np.nan
+        self.spare = None
         self.whole = None if sink is not None else self._buffers(0, plan.steps + 1)
 
     def _rows(self, q: int, begin: int, end: int) -> tuple[int, int]:
@@ -372,14 +373,27 @@ class _Recorders:
 
     def _buffers(self, begin: int, end: int):
         B = self.plan.batch
+        spare, self.spare = self.spare, None
         out = []
         for q, width in enumerate(self.widths):
             if self.every[q]:
                 first, stop = self._rows(q, begin, end)
-                out.append(np.full((B, stop - first, width), np.nan))
+                size = B * (stop - first) * width
+                if spare is not None and spare[q].size >= size:  # filled while the kernel ran
+                    out.append(spare[q][:size].reshape(B, stop - first, width))
+                else:
+                    out.append(np.full((B, stop - first, width), np.nan))
             else:
                 out.append(np.zeros((B, 0, 0)))
         return tuple(out)
+
+    def stock(self, steps: int) -> None:
+        """NaN rows (what a member that has stopped leaves) for a next call of up to
+        ``steps`` steps, filled now, while the kernel runs a call, rather than between
+        calls while every CPU waits."""
+        if self.sink is not None:
+            self.spare = [np.full(self.plan.batch * (steps // e + 1) * w if e else 0, np.nan)
+                          for w, e in zip(self.widths, self.every)]
 
     def max_steps(self) -> int:
         """Steps per call that keep the streamed buffers under STREAM_BYTES."""
@@ -507,6 +521,14 @@ def _wait(futures, stop: np.ndarray, meanwhile=None) -> None:
         raise
 
 
+def _between(recorders: _Recorders, rec: Recording, begin: int, end: int, steps: int) -> None:
+    """The main thread's work while the kernel runs a call: the rows of states [begin,
+    end) of the call before to the sink, then the rows of the next call (of up to ``steps``
+    steps: a call grows at most eightfold) filled."""
+    recorders.deliver(rec, begin, end)
+    recorders.stock(steps)
+
+
 def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None,
              sink=None, announce=None) -> Result:
     """Integrate every member of the plan's batch over all its steps.
@@ -602,15 +624,17 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         # progress bar and the streamed blocks; a stop does not wait for a call's end (_wait).
         size = min(total - 1, 500, limit)
         # the sink takes a call's rows while the kernel runs the next call (the states are
-        # the kernel's, the rows a call's own buffers): two calls' rows at most are held
-        pending = None
+        # the kernel's, the rows a call's own buffers), and the rows of the call after are
+        # filled then: three calls' rows at most are held
+        last = None  # the last call's rows, first and end states
         while done < total:
             end = min(total, done + size)
             tick = time.perf_counter()
-            rec = call(done, end, pending)
+            rec = call(done, end, None if last is None else functools.partial(
+                _between, recorders, *last, min(limit, 8 * (end - done))))
             elapsed = time.perf_counter() - tick
             solve += elapsed
-            pending = functools.partial(recorders.deliver, rec, done, end)
+            last = rec, done, end
             rec = None  # the next call's buffers replace the last's, not join them
             check_stop()
             if progress is not None:
@@ -620,8 +644,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             done = end
             if np.all(st.status[:, StatusColumn.CODE] != Status.OK):
                 break
-        if pending is not None:
-            pending()
+        if last is not None:
+            recorders.deliver(*last)
     finally:
         pool.shutdown()
     law_calls = {}
