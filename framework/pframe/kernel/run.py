@@ -4,7 +4,8 @@ The plan's arrays are grouped into the kernel's named tuples (:mod:`pframe.kerne
 whose data pointers fill the C kernel's structs (:mod:`pframe.kernel.ckernel`); the kernel
 (``pframe_run`` in ``c/loop.c``) is called over consecutive ranges of steps, which gives the
 same bits as one call, so that a progress bar can be updated and histories can be handed to a
-``sink`` (a file being written) chunk by chunk instead of held whole in memory.
+``sink`` (a file being written) chunk by chunk instead of held whole in memory. The sink takes
+a call's rows while the kernel runs the next call.
 
 The kernel always runs in worker threads while the main thread waits, free to receive
 Ctrl-C, SIGTERM and SIGHUP; it then sets the model's ``stop`` flag, which the kernel reads at
