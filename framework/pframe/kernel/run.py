@@ -62,8 +62,10 @@ ALWAYS_REFACTOR = False
 #: take every implicit step of a nonlinear scene through the retry path, in sub-steps (a test
 #: shows that each path runs the scene's integrator)
 FORCE_SPLIT = False
-#: the history rows one call of the kernel may fill when streaming, in bytes
+#: the history rows held while streaming, in bytes: three calls' rows (the call the sink
+#: takes, the call the kernel fills, the next call's), each at most a third of it
 STREAM_BYTES = 32 * 2**20
+_HELD_CALLS = 3
 
 _SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5,
          "point": 6}
@@ -397,12 +399,13 @@ class _Recorders:
                           for w, e in zip(self.widths, self.every)]
 
     def max_steps(self) -> int:
-        """Steps per call that keep the streamed buffers under STREAM_BYTES."""
+        """Steps per call that keep the streamed buffers under STREAM_BYTES (three calls'
+        rows are held at once)."""
         if self.sink is None:
             return 1 << 62
         per_step = sum(8.0 * self.plan.batch * w / e
                        for w, e in zip(self.widths, self.every) if e)
-        return max(1, int(STREAM_BYTES / per_step)) if per_step else 1 << 62
+        return max(1, int(STREAM_BYTES / _HELD_CALLS / per_step)) if per_step else 1 << 62
 
     def for_call(self, begin: int, end: int) -> Recording:
         if self.whole is not None:
@@ -626,7 +629,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         size = min(total - 1, 500, limit)
         # the sink takes a call's rows while the kernel runs the next call (the states are
         # the kernel's, the rows a call's own buffers), and the rows of the call after are
-        # filled then: three calls' rows at most are held
+        # filled then: three calls' rows at most are held (STREAM_BYTES in all)
         last = None  # the last call's rows, first and end states
         while done < total:
             end = min(total, done + size)
