@@ -21,7 +21,8 @@ PAIR = REPO / "models" / "wu2021-eq14.yaml"
 DT = 0.002
 
 
-def _study(folder: Path, study_dt: float = DT, chunk: int | None = None) -> Path:
+def _study(folder: Path, study_dt: float = DT, chunk: int | None = None,
+           design: dict | None = None) -> Path:
     """The paper's pair on a 2 ms step under 6 Clough-Penzien motions at four PGA stripes:
     the weaker stripes never close a gap, the stronger pound."""
     scene = yaml.safe_load(PAIR.read_text(encoding="utf-8"))
@@ -31,14 +32,14 @@ def _study(folder: Path, study_dt: float = DT, chunk: int | None = None) -> Path
              "stochastic": {"model": "clough_penzien", "intensity": 0.02,
                             "ground_frequency": 15.0, "ground_damping": 0.6, "duration": 4.0,
                             "step": 0.01, "realisations": 6, "seed": 3},
-             "design": {"kind": "msa", "levels": [0.1, 0.3, 0.6, 1.2]},
+             "design": design or {"kind": "msa", "levels": [0.1, 0.3, 0.6, 1.2]},
              "dt": study_dt, "duration": 4.0, "pounding_runs": True,
              "limits": {"drift": {"LS": 0.05}, "acceleration": {"A": 1.0}},
              "hazard": {"power_law": {"k0": 1.0e-4, "k": 2.5}},
              "target": {"return_period": 475}, "bootstrap": 20}
     if chunk is not None:
         study["chunk"] = chunk
-    path = folder / f"study-{chunk}.yaml"
+    path = folder / f"study-{chunk}-{(design or {}).get('kind', 'msa')}.yaml"
     path.write_text(yaml.safe_dump(study, sort_keys=False), encoding="utf-8")
     return path
 
@@ -73,6 +74,23 @@ def test_a_study_reusing_open_runs_is_the_study_integrating_every_run(tmp_path, 
         same = (np.array_equal(a, b, equal_nan=True) if a.dtype.kind in "fc"
                 else np.array_equal(a, b))
         assert same, name
+
+
+@pytest.mark.slow
+def test_an_ida_hunt_reusing_open_runs_is_the_hunt_integrating_every_run(tmp_path,
+                                                                         monkeypatch):
+    """A hunt and fill whose limit is read in the runs with pounding: the same rounds, runs
+    and Dataset to the bit with the reuse and without it."""
+    design = {"kind": "ida", "hunt": {"start": 0.1, "step": 0.2, "growth": 1.5},
+              "resolution": 0.1, "limit": "LS", "condition": "with_pounding",
+              "max_level": 2.0}
+    path = _study(tmp_path, design=design)
+    reused, t_on = _risk(path, True, monkeypatch)
+    whole, t_off = _risk(path, False, monkeypatch)
+    assert t_on["variants"] == t_off["variants"] == t_off["contact_runs"] > t_on["contact_runs"]
+    for name in whole.variables:
+        assert np.array_equal(reused[name].values, whole[name].values,
+                              equal_nan=reused[name].dtype.kind in "fc"), name
 
 
 @pytest.mark.slow
