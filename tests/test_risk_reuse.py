@@ -79,15 +79,16 @@ def test_a_study_reusing_open_runs_is_the_study_integrating_every_run(tmp_path, 
 @pytest.mark.slow
 def test_an_ida_hunt_reusing_open_runs_is_the_hunt_integrating_every_run(tmp_path,
                                                                          monkeypatch):
-    """A hunt and fill whose limit is read in the runs with pounding: the same rounds, runs
-    and Dataset to the bit with the reuse and without it."""
+    """A hunt and fill up to pounding in the runs with contacts: the same rounds, runs and
+    Dataset to the bit with the reuse and without it."""
     design = {"kind": "ida", "hunt": {"start": 0.1, "step": 0.2, "growth": 1.5},
-              "resolution": 0.1, "limit": "LS", "condition": "with_pounding",
+              "resolution": 0.1, "limit": "pounding", "condition": "with_pounding",
               "max_level": 2.0}
     path = _study(tmp_path, design=design)
     reused, t_on = _risk(path, True, monkeypatch)
     whole, t_off = _risk(path, False, monkeypatch)
     assert t_on["variants"] == t_off["variants"] == t_off["contact_runs"] > t_on["contact_runs"]
+    assert int((whole["impact_count"].values.sum(axis=-1) > 0).sum()) > 0  # some pound
     for name in whole.variables:
         assert np.array_equal(reused[name].values, whole[name].values,
                               equal_nan=reused[name].dtype.kind in "fc"), name
