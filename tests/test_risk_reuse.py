@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import integrator_cases
 
 import pframe.risk.runs as runs
 from pframe.gap.runs import contact_pairs
@@ -151,3 +152,33 @@ def test_a_run_within_a_hair_of_a_gap_is_integrated_with_its_contacts():
     for key, value in direct.items():
         if key != "solve_seconds":
             assert np.array_equal(hit[key], value, equal_nan=True), key
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("integrator, facts", integrator_cases())
+def test_an_open_run_is_its_run_with_contacts_under_every_integrator(integrator, facts,
+                                                                    tmp_path):
+    """Under every integrator the reuse allows (each example, and on the event-aware path),
+    the runs of a batch whose contacts cannot close (reach below every gap) are their runs
+    with contacts to the bit: peaks, drifts, accelerations, the critical gap."""
+    scene = yaml.safe_load(PAIR.read_text(encoding="utf-8"))
+    scene["analysis"]["integrator"] = integrator
+    path = tmp_path / "scene.yaml"
+    path.write_text(yaml.safe_dump(scene, sort_keys=False), encoding="utf-8")
+    loaded = load_scene(path)
+    pairs = contact_pairs(loaded)
+    steps, dt = 1500, 0.001
+    if not runs.reusable(loaded, (steps, dt), steps, dt):
+        pytest.skip("the reuse is off for this integrator (it may step differently with "
+                    "contacts)")
+    t = np.arange(steps + 1) * dt
+    rng = np.random.default_rng(5)
+    amplitude, f = rng.uniform(1.0, 14.0, 12), rng.uniform(0.5, 3.0, 12)
+    motions = amplitude[:, None] * np.sin(2 * np.pi * f[:, None] * t) * np.exp(-t)
+    free = runs.run_batch(loaded, pairs, motions, steps, dt, contacts=False, reach=True)
+    hit = runs.run_batch(loaded, pairs, motions, steps, dt, contacts=True)
+    open_ = np.all(free["reach"] < pairs.gaps, axis=1)
+    assert open_.any() and not open_.all()
+    for key, value in free.items():
+        if key not in ("solve_seconds", "reach"):
+            assert np.array_equal(value[open_], hit[key][open_], equal_nan=True), key
