@@ -20,7 +20,8 @@ pframe
     run of 20 variants there (imports, the kernel loaded). Printed per size: the wall time
     of the whole call and of its parts (motions generated and the study opened; the runs;
     the fits, the gap curve and its bootstrap; the dataset and the file), the kernel's
-    time, the CPU time of the process (and of the processes it starts) and how busy that
+    time, the CPU time of the process (and of the processes it starts), whole and by part
+    (the measure that a loaded machine disturbs least), and how busy that
     keeps the CPUs (CPU / wall / CPUs: 1.0 is every CPU busy the whole time), peak resident
     memory, the load average before and after. Then 10^5 variants projected from the
     largest size: linearly (wall x 10^5 / N) and from the cost per variant between the two
@@ -105,16 +106,18 @@ def child(study: Path, warm: Path, threads: int | None) -> None:
     from pframe.risk import output as output_module
 
     parts = {"open": 0.0, "runs": 0.0, "fits": 0.0, "file": 0.0}
+    cpu_parts = dict(parts)
 
     def timed(module, name, part):
         original = getattr(module, name)
 
         def wrapper(*args, **kwargs):
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), _cpu()
             try:
                 return original(*args, **kwargs)
             finally:
                 parts[part] += time.perf_counter() - start
+                cpu_parts[part] += _cpu() - cpu
         setattr(module, name, wrapper)
 
     timed(study_module, "open_study", "open")
@@ -128,7 +131,7 @@ def child(study: Path, warm: Path, threads: int | None) -> None:
         warnings.simplefilter("ignore")
         study_module.risk(warm, output=warm.with_suffix(".nc"), overwrite=True, threads=threads)
         for key in parts:
-            parts[key] = 0.0
+            parts[key] = cpu_parts[key] = 0.0
         load_before = load_average()
         timings: dict = {}
         wall, cpu = time.perf_counter(), _cpu()
@@ -139,9 +142,10 @@ def child(study: Path, warm: Path, threads: int | None) -> None:
     pounding = float((impacts.sum(axis=-1) > 0).mean())
     print(json.dumps({
         "variants": int(timings["variants"]), "wall": wall, "cpu": cpu,
-        "kernel": float(timings["solve_seconds"]), "parts": parts,
+        "kernel": float(timings["solve_seconds"]), "parts": parts, "cpu_parts": cpu_parts,
         "rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
         "load_before": load_before, "load_after": load_average(), "pounding": pounding,
+        "contact_runs": int(timings.get("contact_runs", 0)),
         "gap_mm": float(ds["gap_at_target"]) * 1e3 if "gap_at_target" in ds else float("nan"),
     }))
 
@@ -186,9 +190,14 @@ def main(argv: list[str] | None = None) -> int:
                   f"{r['wall']:.1f} s wall = open (motions) {p['open']:.1f} + runs "
                   f"{p['runs']:.1f} (kernel {r['kernel']:.1f}) + fits {p['fits']:.1f} + file "
                   f"{p['file']:.1f}; {r['wall'] / r['variants'] * 1e3:.2f} ms/variant")
-            print(f"  CPU {r['cpu']:.1f} s on {cpus} CPUs: busy {r['cpu'] / r['wall'] / cpus:.2f}"
+            c = r["cpu_parts"]
+            print(f"  CPU {r['cpu']:.1f} s = open {c['open']:.1f} + runs {c['runs']:.1f} + fits "
+                  f"{c['fits']:.1f} + file {c['file']:.1f} on {cpus} CPUs: busy "
+                  f"{r['cpu'] / r['wall'] / cpus:.2f}"
                   f" of them; peak resident memory {r['rss_mb']:.0f} MB; "
-                  f"{r['pounding']:.0%} of the runs with contacts pound; gap at target "
+                  f"{r['pounding']:.0%} of the runs with contacts pound, "
+                  f"{r['contact_runs']} of them integrated (the others never close a gap: "
+                  "their runs without contacts are reused); gap at target "
                   f"{r['gap_mm']:.1f} mm; load average before {r['load_before']}, after "
                   f"{r['load_after']}")
     big = done[-1]

@@ -4,7 +4,8 @@ The plan's arrays are grouped into the kernel's named tuples (:mod:`pframe.kerne
 whose data pointers fill the C kernel's structs (:mod:`pframe.kernel.ckernel`); the kernel
 (``pframe_run`` in ``c/loop.c``) is called over consecutive ranges of steps, which gives the
 same bits as one call, so that a progress bar can be updated and histories can be handed to a
-``sink`` (a file being written) chunk by chunk instead of held whole in memory.
+``sink`` (a file being written) chunk by chunk instead of held whole in memory. The sink takes
+a call's rows while the kernel runs the next call.
 
 The kernel always runs in worker threads while the main thread waits, free to receive
 Ctrl-C, SIGTERM and SIGHUP; it then sets the model's ``stop`` flag, which the kernel reads at
@@ -16,6 +17,7 @@ stop goes on.
 
 from __future__ import annotations
 
+import functools
 import os
 import time
 from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
@@ -60,8 +62,10 @@ ALWAYS_REFACTOR = False
 #: take every implicit step of a nonlinear scene through the retry path, in sub-steps (a test
 #: shows that each path runs the scene's integrator)
 FORCE_SPLIT = False
-#: the history rows one call of the kernel may fill when streaming, in bytes
+#: the history rows held while streaming, in bytes: three calls' rows (the call the sink
+#: takes, the call the kernel fills, the next call's), each at most a third of it
 STREAM_BYTES = 32 * 2**20
+_HELD_CALLS = 3
 
 _SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 5,
          "point": 6}
@@ -363,6 +367,7 @@ class _Recorders:
             ns = len(plan.story_names)
             self.envelope[Recordable.STORY_DRIFT_RATIO][
                 np.isnan(plan.story_height[:, :ns])] = np.nan
+        self.spare = None
         self.whole = None if sink is not None else self._buffers(0, plan.steps + 1)
 
     def _rows(self, q: int, begin: int, end: int) -> tuple[int, int]:
@@ -371,22 +376,36 @@ class _Recorders:
 
     def _buffers(self, begin: int, end: int):
         B = self.plan.batch
+        spare, self.spare = self.spare, None
         out = []
         for q, width in enumerate(self.widths):
             if self.every[q]:
                 first, stop = self._rows(q, begin, end)
-                out.append(np.full((B, stop - first, width), np.nan))
+                size = B * (stop - first) * width
+                if spare is not None and spare[q].size >= size:  # filled while the kernel ran
+                    out.append(spare[q][:size].reshape(B, stop - first, width))
+                else:
+                    out.append(np.full((B, stop - first, width), np.nan))
             else:
                 out.append(np.zeros((B, 0, 0)))
         return tuple(out)
 
+    def stock(self, steps: int) -> None:
+        """NaN rows (what a member that has stopped leaves) for a next call of up to
+        ``steps`` steps, filled now, while the kernel runs a call, rather than between
+        calls while every CPU waits."""
+        if self.sink is not None:
+            self.spare = [np.full(self.plan.batch * (steps // e + 1) * w if e else 0, np.nan)
+                          for w, e in zip(self.widths, self.every)]
+
     def max_steps(self) -> int:
-        """Steps per call that keep the streamed buffers under STREAM_BYTES."""
+        """Steps per call that keep the streamed buffers under STREAM_BYTES (three calls'
+        rows are held at once)."""
         if self.sink is None:
             return 1 << 62
         per_step = sum(8.0 * self.plan.batch * w / e
                        for w, e in zip(self.widths, self.every) if e)
-        return max(1, int(STREAM_BYTES / per_step)) if per_step else 1 << 62
+        return max(1, int(STREAM_BYTES / _HELD_CALLS / per_step)) if per_step else 1 << 62
 
     def for_call(self, begin: int, end: int) -> Recording:
         if self.whole is not None:
@@ -479,13 +498,16 @@ def _slice_recording(rec: Recording, lo: int, hi: int) -> Recording:
 POLL_SECONDS = 0.05
 
 
-def _wait(futures, stop: np.ndarray) -> None:
-    """Wait for the kernel's calls, with the main thread free for signals. On a stop (Ctrl-C,
+def _wait(futures, stop: np.ndarray, meanwhile=None) -> None:
+    """Wait for the kernel's calls, with the main thread free for signals (after running
+    ``meanwhile()``, the main thread's own work while the calls run). On a stop (Ctrl-C,
     SIGTERM: raised here by the signal's handler, or found by check_stop) or an error in one
-    call, the kernel is asked to stop (``stop[0] = 1``), which every call sees within one
-    evaluation of the residual, and the calls are awaited before the exception goes on: no
-    thread writes into the run's arrays after simulate has left."""
+    call or in ``meanwhile``, the kernel is asked to stop (``stop[0] = 1``), which every call
+    sees within one evaluation of the residual, and the calls are awaited before the
+    exception goes on: no thread writes into the run's arrays after simulate has left."""
     try:
+        if meanwhile is not None:
+            meanwhile()
         pending = set(futures)
         while pending:
             done, pending = wait(pending, timeout=POLL_SECONDS, return_when=FIRST_EXCEPTION)
@@ -501,6 +523,14 @@ def _wait(futures, stop: np.ndarray) -> None:
             except BaseException:  # another signal while the calls return: the first one wins
                 continue
         raise
+
+
+def _between(recorders: _Recorders, rec: Recording, begin: int, end: int, steps: int) -> None:
+    """The main thread's work while the kernel runs a call: the rows of states [begin,
+    end) of the call before to the sink, then the rows of the next call (of up to ``steps``
+    steps: a call grows at most eightfold) filled."""
+    recorders.deliver(rec, begin, end)
+    recorders.stock(steps)
 
 
 def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None,
@@ -565,9 +595,9 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             raise ZeroDivisionError("float division by zero")
         # RUN_STOPPED: the main thread asked for it and is raising the stop (see _wait)
 
-    def call(begin, end):
+    def call(begin, end, meanwhile=None):
         try:
-            return _call(begin, end)
+            return _call(begin, end, meanwhile)
         except (ZeroDivisionError, OverflowError, FloatingPointError) as exc:
             from pframe.errors import InputError
 
@@ -577,13 +607,13 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
                 "are too small or too large for floating point arithmetic; check the units"
             ) from None
 
-    def _call(begin, end):
+    def _call(begin, end, meanwhile):
         rec = recorders.for_call(begin, end)
         # The kernel releases the GIL: contiguous slices of the batch run in threads, each
         # member on its own, so one slow member never holds up the others.
         futures = [pool.submit(kernel, piece, _slice_recording(rec, lo, hi), begin, end)
                    for piece, (lo, hi) in enumerate(pieces)]
-        _wait(futures, stop)
+        _wait(futures, stop, meanwhile)
         return rec
 
     try:
@@ -597,14 +627,19 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         # Calls last about chunk_seconds whatever the mode (progress shown or not), for the
         # progress bar and the streamed blocks; a stop does not wait for a call's end (_wait).
         size = min(total - 1, 500, limit)
+        # the sink takes a call's rows while the kernel runs the next call (the states are
+        # the kernel's, the rows a call's own buffers), and the rows of the call after are
+        # filled then: three calls' rows at most are held (STREAM_BYTES in all)
+        last = None  # the last call's rows, first and end states
         while done < total:
             end = min(total, done + size)
             tick = time.perf_counter()
-            rec = call(done, end)
+            rec = call(done, end, None if last is None else functools.partial(
+                _between, recorders, *last, min(limit, 8 * (end - done))))
             elapsed = time.perf_counter() - tick
             solve += elapsed
-            recorders.deliver(rec, done, end)
-            rec = None  # the next call's buffers replace these, not join them
+            last = rec, done, end
+            rec = None  # the next call's buffers replace the last's, not join them
             check_stop()
             if progress is not None:
                 progress(end, total)
@@ -613,6 +648,8 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
             done = end
             if np.all(st.status[:, StatusColumn.CODE] != Status.OK):
                 break
+        if last is not None:
+            recorders.deliver(*last)
     finally:
         pool.shutdown()
     law_calls = {}

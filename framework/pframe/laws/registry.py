@@ -131,6 +131,11 @@ class Law:
     state_names: ClassVar[tuple[str, ...]] = ()
     #: True when force = params-only constant tangent x deformation (no Newton needed).
     linear: ClassVar[bool] = False
+    #: contact laws: True when force and both tangents are exactly 0 at every penetration
+    #: <= 0 (an open gap), whatever the state: a run whose contacts never close is then the
+    #: run without them, to the bit, and a risk study reuses it (pframe.risk.runs.reusable;
+    #: tests/test_laws.py checks the claim of every law that makes it)
+    free_when_open: ClassVar[bool] = False
 
     # What the rest of pframe needs to know of a law, declared by the law (built-in and
     # plug-in alike; docs/contact-laws.md):

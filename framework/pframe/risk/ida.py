@@ -152,7 +152,7 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
     from pathlib import Path
 
     from pframe.risk.analysis import _ratios
-    from pframe.risk.runs import run_batch
+    from pframe.risk.runs import run_batch, with_contacts
 
     design = spec.design
     hunt = design.hunt
@@ -191,13 +191,13 @@ def run_hunt(inputs, spec, output, threads, restart: bool, progress=None):
             free = run_batch(inputs.loaded, inputs.pairs,
                              ground(which, ims, inputs.steps, inputs.dt), inputs.steps,
                              inputs.dt, contacts=False, threads=threads,
-                             axes=inputs.channels)
+                             axes=inputs.channels, reach=spec.pounding_runs)
+            hit = None if not spec.pounding_runs else with_contacts(
+                inputs.loaded, inputs.pairs, free, (inputs.steps, inputs.dt),
+                lambda index: ground(which[index], ims[index], contact_steps, scene_dt),
+                contact_steps, scene_dt, threads=threads, axes=inputs.channels)
             arrays = {f"free_{k}": v for k, v in free.items()}
-            if spec.pounding_runs:
-                hit = run_batch(inputs.loaded, inputs.pairs,
-                                ground(which, ims, contact_steps, scene_dt), contact_steps,
-                                scene_dt, contacts=True, threads=threads,
-                                axes=inputs.channels)
+            if hit is not None:
                 arrays.update({f"contact_{k}": v for k, v in hit.items()})
             arrays["ida_record"], arrays["ida_im"] = which, ims
             if parts is not None:

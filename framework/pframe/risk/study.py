@@ -36,8 +36,9 @@ from pframe.errors import InputError
 
 G = 9.80665
 #: bytes per step of a run's ground motion while a batch runs (the copies the kernel and
-#: its caller hold, as pframe.resources counts them)
-GROUND_BYTES = 4 * 8.0
+#: its caller hold, as pframe.resources counts them, and the two of the next batch, which
+#: is assembled meanwhile: _here)
+GROUND_BYTES = 6 * 8.0
 #: the ground motions a batch of runs holds at most when the study gives no chunk (bytes):
 #: memory bounded whatever the number of variants
 BATCH_BYTES = 256 * 2**20
@@ -395,27 +396,50 @@ class _Spec:
         self.count, self.chunks = count, -(-count // chunk)
 
 
-def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=None) -> dict:
-    """One batch of variants (without contacts, and with them with ``pounding_runs``);
-    ``uncertain``: (variables, their standard normals per variant). A pure function of its
-    arguments: on a Dask cluster, a task."""
-    from pframe.risk.runs import run_batch
+def free_batch(inputs, variants, uncertain=None) -> tuple:
+    """The scenes of ``variants`` (one per variant with ``uncertain``) and their batch
+    without contacts, assembled (pframe.risk.runs.prepare): the first half of
+    :func:`run_chunk`, which :func:`run_variants` prepares in a thread while the kernel runs
+    the chunk before."""
+    from pframe.risk.runs import prepare
 
-    scene_dt = float(inputs.loaded.expanded.dt)
-    contact_steps = int(math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
     scenes = inputs.loaded
     if uncertain is not None:
         from pframe.risk.uncertain import scenes as variants_of
 
         scenes = variants_of(inputs.loaded, uncertain[0], uncertain[1])
-    free = run_batch(scenes, inputs.pairs, inputs.accelerations(variants), inputs.steps,
-                     inputs.dt, contacts=False, threads=threads, axes=inputs.channels)
+    return scenes, prepare(scenes, inputs.pairs, inputs.accelerations(variants), inputs.steps,
+                           inputs.dt, contacts=False, axes=inputs.channels)
+
+
+def run_chunk(inputs, pounding_runs: bool, variants, uncertain=None, threads=None,
+              prepared=None) -> dict:
+    """One batch of variants (without contacts, and with them with ``pounding_runs``);
+    ``uncertain``: (variables, their standard normals per variant); ``prepared``: what
+    :func:`free_batch` gives of them, if it ran already. A pure function of its arguments:
+    on a Dask cluster, a task."""
+    from pframe.risk.runs import run_batch, with_contacts
+
+    scene_dt = float(inputs.loaded.expanded.dt)
+    contact_steps = int(math.ceil(inputs.steps * inputs.dt / scene_dt - 1e-9))
+    scenes, batch = prepared or free_batch(inputs, variants, uncertain)
+    ground = batch.accelerations
+    free = run_batch(scenes, inputs.pairs, ground, inputs.steps, inputs.dt, contacts=False,
+                     threads=threads, axes=inputs.channels, reach=pounding_runs, batch=batch)
+    del batch, prepared  # its plan: the runs with contacts assemble their own
+    if pounding_runs:
+        if (contact_steps, scene_dt) != (inputs.steps, inputs.dt):
+            ground = None  # the runs with contacts read their motions on their own steps
+
+        def motions(index):
+            if ground is None:
+                return inputs.accelerations(variants[index], contact_steps, scene_dt)
+            return ground if len(index) == len(ground) else ground[index]
+
+        hit = with_contacts(scenes, inputs.pairs, free, (inputs.steps, inputs.dt), motions,
+                            contact_steps, scene_dt, threads=threads, axes=inputs.channels)
     arrays = {f"free_{k}": v for k, v in free.items()}
     if pounding_runs:
-        hit = run_batch(scenes, inputs.pairs,
-                        inputs.accelerations(variants, contact_steps, scene_dt),
-                        contact_steps, scene_dt, contacts=True, threads=threads,
-                        axes=inputs.channels)
         arrays.update({f"contact_{k}": v for k, v in hit.items()})
     return arrays
 
@@ -437,6 +461,27 @@ def _on_cluster(address: str, inputs, pounding_runs, todo, chunk, uncertain, fin
                                   retries=2, pure=False)] = c
         for future in as_completed(list(futures)):
             finish(futures[future], future.result())
+
+
+def _here(inputs, pounding_runs, chunks, chunk, uncertain, threads, finish) -> None:
+    """The ``chunks`` on this machine, in order: each chunk's batch without contacts is
+    assembled in a thread while the kernel runs the chunk before (the assembly holds the
+    interpreter, the kernel does not), so a CPU no longer waits for it between chunks; two
+    chunks' batches are held at most."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    def part(c):
+        variants = np.arange(c * chunk, min(inputs.count, (c + 1) * chunk))
+        return variants, None if uncertain is None else (uncertain[0], uncertain[1][variants])
+
+    with ThreadPoolExecutor(1) as pool:
+        coming = pool.submit(free_batch, inputs, *part(chunks[0])) if chunks else None
+        for k, c in enumerate(chunks):
+            prepared = coming.result()
+            coming = (pool.submit(free_batch, inputs, *part(chunks[k + 1]))
+                      if k + 1 < len(chunks) else None)
+            finish(c, run_chunk(inputs, pounding_runs, *part(c), threads, prepared))
+            prepared = None
 
 
 def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, restart: bool,
@@ -468,12 +513,8 @@ def run_variants(inputs, pounding_runs: bool, chunk: int, output, threads, resta
         todo = [c for c in range(spec.chunks) if c not in done]
         if scheduler and todo:
             _on_cluster(scheduler, inputs, pounding_runs, todo, chunk, uncertain, finish)
-        for c in todo:
-            if c in done:
-                continue
-            variants = np.arange(c * chunk, min(count, (c + 1) * chunk))
-            part = None if uncertain is None else (uncertain[0], uncertain[1][variants])
-            finish(c, run_chunk(inputs, pounding_runs, variants, part, threads))
+        _here(inputs, pounding_runs, [c for c in todo if c not in done], chunk, uncertain,
+              threads, finish)
     finally:
         if parts is not None:
             parts.close()
@@ -738,7 +779,9 @@ def risk(study, *, output: str | Path | None = None, overwrite: bool = False,
         timings.update(wall_seconds=time.perf_counter() - start,
                        variants=search.runs if search is not None else inputs.count,
                        solve_seconds=float(rows["free_solve_seconds"])
-                       + float(rows.get("contact_solve_seconds", 0.0)))
+                       + float(rows.get("contact_solve_seconds", 0.0)),
+                       # runs with contacts integrated (the others reused the runs without)
+                       contact_runs=int(np.sum(rows.get("contact_integrated", 0))))
     return ds
 
 

@@ -62,6 +62,7 @@ class Bumper(HertzContact):
                                  "DesRoches 2006 formula chi = 3 (1 - e^2) / 4 (no damping "
                                  "formula was published for this composed law).")
 
+    free_when_open = True
     param_names = ("stiffness", "exponent", "chi", "inverse_effective_mass", "hard_stiffness",
                    "crush_depth")
     state_names = ("onset_velocity", "in_contact")

@@ -21,6 +21,7 @@ class Hertz(HertzContact):
         law: Literal["hertz"]
         stiffness: Positive = Field(description=HERTZ_STIFFNESS)
 
+    free_when_open = True
     param_names = ("stiffness",)
     branches = "gap"
     opensees = "Hertzdamp"  # without damping (pframe.peers.twins)

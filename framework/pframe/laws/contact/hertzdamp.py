@@ -54,6 +54,7 @@ class Hertzdamp(HertzContact):
         )
         calibration: Calibration = "published"
 
+    free_when_open = True
     param_names = PARAM_NAMES
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)

@@ -49,6 +49,7 @@ class HuntCrossley(Law):
         restitution: DampedRestitution
         calibration: Calibration = "published"
 
+    free_when_open = True
     param_names = PARAM_NAMES
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)

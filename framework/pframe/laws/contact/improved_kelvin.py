@@ -39,6 +39,7 @@ class ImprovedKelvin(SpringContact):
         restitution: DampedRestitution
         calibration: Calibration = "published"
 
+    free_when_open = True
     param_names = PARAM_NAMES
     state_names = STATE_NAMES
     force = staticmethod(hunt_crossley_force)

@@ -43,6 +43,7 @@ class Jankowski(HertzContact):
         restitution: DampedRestitution
         calibration: Calibration = "published"
 
+    free_when_open = True
     param_names = ("stiffness", "zeta", "effective_mass")
     branches = "jankowski"
     opensees = "JankowskiImpact"

@@ -43,6 +43,7 @@ class Kelvin(SpringContact):
         )
         calibration: Calibration = "published"
 
+    free_when_open = True
     param_names = ("stiffness", "damping", "keep_tension")
     branches = "kelvin"
     examples = ({"stiffness": 2.0e7, "restitution": 0.6},

@@ -18,6 +18,7 @@ class Linear(SpringContact):
     class Params(ContactStiffness):
         law: Literal["linear"]
 
+    free_when_open = True
     param_names = ("stiffness",)
     branches = "gap"
     opensees = "ElasticPPGap"
