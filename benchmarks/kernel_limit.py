@@ -120,10 +120,13 @@ def run_limit(binary: Path, data: Path, repeats: int) -> tuple[float, int, np.nd
 
 
 def compile_baseline(sources: Path, folder: Path) -> Path:
-    """The kernel library of the C sources in ``sources`` (kernel.c and what it includes)."""
+    """The kernel library of the C sources in ``sources`` (kernel.c and what it includes),
+    compiled as pip compiles the installed one: Python's flags, then setup.py's."""
     compiler = (sysconfig.get_config_var("CC") or "cc").split()[0]
+    python_flags = [*(sysconfig.get_config_var("CFLAGS") or "").split(),
+                    *(sysconfig.get_config_var("CCSHARED") or "-fPIC").split()]
     library = folder / "baseline_kernel.so"
-    subprocess.run([compiler, *FLAGS, "-fvisibility=hidden", "-fPIC", "-shared", "-o",
+    subprocess.run([compiler, *python_flags, *FLAGS, "-fvisibility=hidden", "-shared", "-o",
                     str(library), str(sources / "kernel.c"), "-lm"], check=True)
     return library
 
