@@ -2,7 +2,7 @@
 (benchmarks/kernel_limit.c) on the paper's pair, per step, peaks only.
 
     python benchmarks/kernel_limit.py [--scene models/wu2021-eq14.yaml] [--repeats 7]
-                                      [--rounds 5]
+                                      [--rounds 5] [--baseline FOLDER]
 
 The scene is models/wu2021-eq14.yaml (Wu et al. 2021 eq. 14: two 3-storey bilinear
 buildings, 3 improved Kelvin contacts, Rayleigh damping on the current stiffness, Newmark's
@@ -22,6 +22,13 @@ then its median, and the ratio of the two sides' best times over all rounds (goa
 1.3). On a shared machine another job slows either side at random, and only ever slows it:
 the best of many runs is the side's own cost, so the ratio of the bests is the figure to
 read when the per-round ratios scatter (the load average is printed with each round).
+
+``--baseline FOLDER``: a folder of the kernel's C sources from another revision (for example
+``git archive main framework/pframe/kernel/c | tar -x -C /tmp/main``, then
+``--baseline /tmp/main/framework/pframe/kernel/c``), compiled here with the same flags and run
+as a third side of each round (pframe.kernel.ckernel.baseline: the same interface and structs
+are required), so that a change to the kernel is measured against what it changes in one
+process, under the same load; its peaks are compared with the kernel's, bit for bit.
 Nothing is asserted.
 """
 
@@ -112,6 +119,18 @@ def run_limit(binary: Path, data: Path, repeats: int) -> tuple[float, int, np.nd
     return float(out[0]), int(out[1]), np.array([float(v) for v in out[2:]])
 
 
+def compile_baseline(sources: Path, folder: Path) -> Path:
+    """The kernel library of the C sources in ``sources`` (kernel.c and what it includes),
+    compiled as pip compiles the installed one: Python's flags, then setup.py's."""
+    compiler = (sysconfig.get_config_var("CC") or "cc").split()[0]
+    python_flags = [*(sysconfig.get_config_var("CFLAGS") or "").split(),
+                    *(sysconfig.get_config_var("CCSHARED") or "-fPIC").split()]
+    library = folder / "baseline_kernel.so"
+    subprocess.run([compiler, *python_flags, *FLAGS, "-fvisibility=hidden", "-shared", "-o",
+                    str(library), str(sources / "kernel.c"), "-lm"], check=True)
+    return library
+
+
 def run_kernel(plan, repeats: int) -> tuple[float, object]:
     from pframe.kernel import simulate
 
@@ -122,11 +141,20 @@ def run_kernel(plan, repeats: int) -> tuple[float, object]:
     return best / plan.steps * 1e9, result
 
 
+def run_baseline(plan, library: Path, repeats: int) -> tuple[float, object]:
+    from pframe.kernel import ckernel
+
+    with ckernel.baseline(library):
+        return run_kernel(plan, repeats)
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--scene", type=Path, default=KELVIN)
     parser.add_argument("--repeats", type=int, default=7)
     parser.add_argument("--rounds", type=int, default=5)
+    parser.add_argument("--baseline", type=Path, default=None,
+                        help="a folder of the kernel's C sources to run as a third side")
     args = parser.parse_args(argv)
     print_header()
     plan = peaks_plan(args.scene)
@@ -134,15 +162,22 @@ def main(argv: list[str] | None = None) -> int:
         data = Path(tmp) / "scene.bin"
         s_order, c_order = write_input(plan, data)
         binary = compile_limit(Path(tmp))
+        baseline = (None if args.baseline is None
+                    else compile_baseline(args.baseline, Path(tmp)))
         run_kernel(plan, 1)  # the kernel loaded before the clock
-        ratios, best_c, best_kernel = [], np.inf, np.inf
+        ratios, best_c, best_kernel, best_base = [], np.inf, np.inf, np.inf
         for k in range(args.rounds):
             c_ns, c_solves, c_peaks = run_limit(binary, data, args.repeats)
             k_ns, result = run_kernel(plan, args.repeats)
             ratios.append(k_ns / c_ns)
             best_c, best_kernel = min(best_c, c_ns), min(best_kernel, k_ns)
-            print(f"round {k + 1}: C {c_ns:.1f} ns/step, kernel {k_ns:.1f} ns/step, "
-                  f"kernel / C {k_ns / c_ns:.2f}; load average {load_average()}", flush=True)
+            line = (f"round {k + 1}: C {c_ns:.1f} ns/step, kernel {k_ns:.1f} ns/step, "
+                    f"kernel / C {k_ns / c_ns:.2f}")
+            if baseline is not None:
+                base_ns, base_result = run_baseline(plan, baseline, args.repeats)
+                best_base = min(best_base, base_ns)
+                line += f", baseline {base_ns:.1f} ns/step"
+            print(f"{line}; load average {load_average()}", flush=True)
     env = result.envelope
     ours = np.concatenate([env["displacement"][0], env["story_drift"][0][s_order],
                            env["contact_force"][0][c_order]])
@@ -156,6 +191,11 @@ def main(argv: list[str] | None = None) -> int:
           f"ns/step, C {best_c:.1f} ns/step, ratio {best_kernel / best_c:.2f} (goal: at most "
           f"1.3); {plan.steps} steps, {plan.n_dof} DOFs, {len(s_order)} storeys, "
           f"{len(c_order)} contacts")
+    if baseline is not None:
+        same = all(np.array_equal(env[q], base_result.envelope[q]) for q in env)
+        print(f"baseline ({args.baseline}): best {best_base:.1f} ns/step, baseline / C "
+              f"{best_base / best_c:.2f}, kernel / baseline {best_kernel / best_base:.3f}; "
+              f"peaks {'identical' if same else 'DIFFERENT'} to the bit")
     return 0
 
 

@@ -213,6 +213,33 @@ def test_every_law_and_integrator_share_one_compiled_kernel():
     assert ("numba" in sys.modules) == numba_before
 
 
+def test_a_baseline_kernel_stands_in_for_the_installed_one_and_gives_it_back():
+    """ckernel.baseline (benchmarks/kernel_limit.py --baseline) runs a process's simulations
+    with another build of the kernel's library, checked for its interface and structs, and
+    restores the installed one after, also when the block raises."""
+    import importlib.util
+
+    from pframe.kernel import ckernel
+
+    installed = ckernel.library()
+    plan = assemble(parse_scene(scene_text(
+        buildings=[{"name": "A", "floors": 2, "mass": 1000.0,
+                    "story": {"material": "bilinear", "stiffness": 1e6, "yield_force": 3e3,
+                              "alpha": 0.05}}],
+        excitation={"kind": "sine", "amplitude": 3.0, "frequency": 2.0},
+        analysis={"dt": 0.01, "duration": 1.0}, recorders=RECORDERS)).expanded)
+    own = simulate(plan)
+    path = importlib.util.find_spec("pframe.kernel._ckernel").origin
+    with pytest.raises(KeyError):
+        with ckernel.baseline(path):
+            assert ckernel.library() is not installed
+            other = simulate(plan)
+            raise KeyError("out of the block")
+    assert ckernel.library() is installed
+    for q, rows in own.history.items():
+        assert np.array_equal(other.history[q], rows), q
+
+
 def test_batches_and_single_runs_share_the_kernel():
     """A batch run in threads (a sweep's chunk) calls the same compiled kernel as single
     runs, and each member gives the bits of its single run."""

@@ -15,6 +15,8 @@ from __future__ import annotations
 import ctypes
 import hashlib
 import importlib.util
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from pframe.errors import EnvironmentFailure
@@ -81,26 +83,31 @@ def _load():
             "pframe's compiled kernel (the extension pframe.kernel._ckernel) is not built: "
             f"{REBUILD}. Installing from a wheel needs no compiler; building from source "
             "needs a C compiler and the Python headers (docs/architecture.md)")
-    library = ctypes.CDLL(spec.origin)
+    library = _checked(ctypes.CDLL(spec.origin), spec.origin)
+    built, here = library.pframe_source_hash().decode(), source_hash()
+    if here is not None and built != here:
+        raise EnvironmentFailure(f"pframe's compiled kernel ({spec.origin}) was built from other "
+                                 f"C sources than those in {C_FOLDER} (a stale build): {REBUILD}")
+    return library
+
+
+def _checked(library: ctypes.CDLL, origin: str) -> ctypes.CDLL:
+    """The library's functions typed, and its interface and struct sizes checked."""
     library.pframe_run.restype = ctypes.c_int64
     library.pframe_run.argtypes = [ctypes.c_void_p] * 6 + [ctypes.c_int64, ctypes.c_int64]
     library.pframe_interface.restype = ctypes.c_int64
     library.pframe_source_hash.restype = ctypes.c_char_p
     if library.pframe_interface() != INTERFACE:
-        raise EnvironmentFailure(f"pframe's compiled kernel ({spec.origin}) is of interface "
+        raise EnvironmentFailure(f"pframe's compiled kernel ({origin}) is of interface "
                                  f"{library.pframe_interface()}, this pframe needs {INTERFACE}: "
                                  f"{REBUILD}")
     sizes = (ctypes.c_int64 * len(STRUCTS))()
     library.pframe_layout(sizes)
     expected = [ctypes.sizeof(s) for s in STRUCTS]
     if list(sizes) != expected:
-        raise EnvironmentFailure(f"pframe's compiled kernel ({spec.origin}) has structs of "
+        raise EnvironmentFailure(f"pframe's compiled kernel ({origin}) has structs of "
                                  f"{list(sizes)} bytes, this pframe's state.py {expected}: "
                                  f"{REBUILD}")
-    built, here = library.pframe_source_hash().decode(), source_hash()
-    if here is not None and built != here:
-        raise EnvironmentFailure(f"pframe's compiled kernel ({spec.origin}) was built from other "
-                                 f"C sources than those in {C_FOLDER} (a stale build): {REBUILD}")
     return library
 
 
@@ -113,6 +120,20 @@ def library():
     if _library is None:
         _library = _load()
     return _library
+
+
+@contextmanager
+def baseline(path: Path) -> Iterator[None]:
+    """Run this process's simulations with the kernel library at ``path``, built from other C
+    sources of the same interface and structs (its source hash is not checked): a benchmark
+    alternates it with the installed kernel (benchmarks/kernel_limit.py --baseline)."""
+    global _library
+    other = _checked(ctypes.CDLL(str(path)), str(path))
+    kept, _library = library(), other
+    try:
+        yield
+    finally:
+        _library = kept
 
 
 def run(model, settings, st, rec, work, saved, begin: int, end: int) -> int:

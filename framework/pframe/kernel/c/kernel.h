@@ -39,6 +39,15 @@
 #define PFRAME_INLINE inline
 #endif
 
+/* a function kept out of its callers (a law group's loop: assembly.c) */
+#if defined(_MSC_VER)
+#define PFRAME_NOINLINE __declspec(noinline)
+#elif defined(__GNUC__)
+#define PFRAME_NOINLINE __attribute__((noinline))
+#else
+#define PFRAME_NOINLINE
+#endif
+
 /* the version of the interface between the driver (pframe/kernel/ckernel.py) and the kernel */
 #define PFRAME_KERNEL_INTERFACE 1
 

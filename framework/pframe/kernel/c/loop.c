@@ -64,6 +64,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
         const double h = m->dt[b];
         const int64_t first_step = imax(begin, 1);
         Loops loops;
+        Envelopes envelopes;
         int64_t due;
         if (stop_asked(m))
             return RUN_STOPPED;
@@ -71,6 +72,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             continue;
         reset_work(m, w, b);
         prepare_loops(m, st, w, b, &loops);
+        prepare_envelopes(m, st, rec, b, &envelopes);
         if (s->linear && !s->explicit && end > first_step) { /* factored once per call */
             if (!factor_linear(m, s, st, w, b, first_step, h, 0)) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)
@@ -105,8 +107,8 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             }
             if (k == due)
                 due = record_histories(m, st, rec, b, k);
-            if (rec->envelope_count)
-                record_envelopes(m, st, rec, b, k, NULL); /* the ground at step k itself */
+            if (envelopes.count)
+                step_envelopes(m, st, rec, b, k, &envelopes); /* the ground at step k itself */
         }
     }
     return RUN_OK;

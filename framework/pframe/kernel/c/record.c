@@ -164,28 +164,81 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
     return next_due(rec, k + 1);
 }
 
+/* The running peaks of enveloped quantity q (rec->envelope_list) with the committed state
+ * (values: its source; ag as in record_envelopes). */
+static void quantity_peaks(const Model *m, const Recording *rec, int64_t b, int64_t k,
+                           int64_t q, const double *values, const double *ag)
+{
+    const int64_t columns = rec->envelope_width[q];
+    double *peak = rec->envelope[q] + b * columns;
+    int64_t i;
+    if (as_stored(q)) /* most quantities: their committed values */
+        for (i = 0; i < columns; i++)
+            peak[i] = py_max(peak[i], fabs(values[i]));
+    else if (q == POINT_DISPLACEMENT || q == POINT_DRIFT) /* kept for every plan */
+        gauge_peaks(m, b, q == POINT_DRIFT ? 2 * m->points : 0, columns, values, peak);
+    else
+        for (i = 0; i < columns; i++)
+            peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
+}
+
 /* Update the running peaks of the enveloped quantities (rec->envelope_list) with step k (or a
  * sub-step of it, at whose end the ground accelerations are ag; NULL: step k's samples). */
 static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t b, int64_t k,
                              const double *ag)
 {
-    int64_t gathered = 0, j, i, width;
+    int64_t gathered = 0, j, width;
     for (j = 0; j < rec->envelope_count; j++) {
         const int64_t q = rec->envelope_list[j];
-        const int64_t columns = rec->envelope_width[q];
-        double *peak = rec->envelope[q] + b * columns;
-        const double *values = source(m, st, q, b, &width);
-        if (as_stored(q)) /* most quantities: their committed values */
-            for (i = 0; i < columns; i++)
-                peak[i] = py_max(peak[i], fabs(values[i]));
-        else if (q == POINT_DISPLACEMENT || q == POINT_DRIFT) /* kept for every plan */
-            gauge_peaks(m, b, q == POINT_DRIFT ? 2 * m->points : 0, columns, values, peak);
-        else
-            for (i = 0; i < columns; i++)
-                peak[i] = py_max(peak[i], fabs(value(m, q, values, b, k, i, ag)));
-        gathered += columns;
+        quantity_peaks(m, rec, b, k, q, source(m, st, q, b, &width), ag);
+        gathered += rec->envelope_width[q];
     }
     st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
+}
+
+/* The envelopes of member b as the time loop keeps them at each step: each quantity's source
+ * and peaks found once per call (the arrays stay in place through it), its values compared
+ * in one loop where they are stored as they are. */
+typedef struct {
+    int64_t count, gathered;
+    int64_t quantity[RECORDABLE_COUNT];
+    int64_t columns[RECORDABLE_COUNT]; /* 0: not as stored (quantity_peaks) */
+    const double *values[RECORDABLE_COUNT];
+    double *peak[RECORDABLE_COUNT];
+} Envelopes;
+
+static void prepare_envelopes(const Model *m, State *st, const Recording *rec, int64_t b,
+                              Envelopes *env)
+{
+    int64_t j, width;
+    env->count = rec->envelope_count;
+    env->gathered = 0;
+    for (j = 0; j < rec->envelope_count; j++) {
+        const int64_t q = rec->envelope_list[j];
+        env->quantity[j] = q;
+        env->values[j] = source(m, st, q, b, &width);
+        env->columns[j] = as_stored(q) ? rec->envelope_width[q] : 0;
+        env->peak[j] = rec->envelope[q] + b * rec->envelope_width[q];
+        env->gathered += rec->envelope_width[q];
+    }
+}
+
+/* record_envelopes at step k's end (the ground's samples of step k), from what
+ * prepare_envelopes found. */
+static void step_envelopes(const Model *m, State *st, const Recording *rec, int64_t b,
+                           int64_t k, const Envelopes *env)
+{
+    int64_t j, i;
+    for (j = 0; j < env->count; j++) {
+        const int64_t columns = env->columns[j];
+        const double *values = env->values[j];
+        double *peak = env->peak[j];
+        if (columns == 0)
+            quantity_peaks(m, rec, b, k, env->quantity[j], values, NULL);
+        for (i = 0; i < columns; i++)
+            peak[i] = py_max(peak[i], fabs(values[i]));
+    }
+    st->counters[b * COUNTER_SLOTS + GATHERS] += env->gathered;
 }
 
 /* Envelopes see the state committed at the end of every sub-step of step k (central
