@@ -340,31 +340,3 @@ def test_a_built_in_law_is_known_by_its_module_s_name_and_id():
         assert sorted(law.name for law in laws) == registry.builtin_names(kind)
         assert registry.builtin_count(kind) == len(laws)
         assert all(get_law(kind, law.name) is law for law in laws)
-
-
-@pytest.mark.slow
-def test_a_scene_loads_the_modules_of_its_own_laws_only():
-    """A run of bilinear storeys and linear contacts imports those two laws' modules, and
-    every law stays listed."""
-    import ast
-    import subprocess
-    import sys
-    from pathlib import Path
-
-    from pframe.laws.registry import builtin_names
-
-    scene = Path(__file__).parents[1] / "models" / "wu2021-eq14-linear.yaml"
-    code = ("import sys, pframe\n"
-            "from pframe.laws.registry import available_names\n"
-            f"pframe.solve({str(scene)!r}, progress=False)\n"
-            "print([m.split('.', 2)[2] for m in sorted(sys.modules)"
-            " if m.startswith(('pframe.laws.contact.', 'pframe.laws.material.'))])\n"
-            "print(available_names('contact'))\n")
-    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                         check=True).stdout.splitlines()
-    loaded = ast.literal_eval(out[0])
-    # set-up asks for elastic (P-delta) and kelvin_voigt (soil, which imports viscous) by name
-    assert "contact.linear" in loaded and "material.bilinear" in loaded
-    assert set(loaded) <= {"contact.linear", "material.bilinear", "material.elastic",
-                           "material.kelvin_voigt", "material.viscous"}
-    assert out[1] == str(builtin_names("contact"))
