@@ -154,3 +154,22 @@ def test_unfold_gives_a_lazy_union_s_every_member():
     assert [model.__name__ for model in choices] == [
         f"Contact_{name}" for name in builtin_names("contact")]
     assert unfold(int) is int and unfold(annotation) is not annotation
+
+
+def test_threads_asking_for_a_member_at_once_get_one_model():
+    """A member is made once, however many threads validate at once (each make here takes
+    long enough for every thread to ask before the first one is done)."""
+    import time
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pframe.model.tagged import on_demand, unfold
+
+    def make(tag):
+        time.sleep(0.05)
+        return type(f"Model_{tag}", (BaseModel,), {"__annotations__": {"kind": str}})
+
+    union = typing.get_args(unfold(on_demand(("a", "b"), make, "kind", BaseModel)))[1]
+    union._made.clear()  # unfold made them: start again
+    with ThreadPoolExecutor(8) as pool:
+        made = list(pool.map(lambda _: union.member("a"), range(8)))
+    assert all(model is made[0] for model in made)

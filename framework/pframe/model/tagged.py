@@ -16,11 +16,15 @@ Schema is the union's as well.
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Callable
 from typing import Annotated, Union, get_args, get_origin
 
 from pydantic import Discriminator, Field, Tag, TypeAdapter, ValidationError
 from pydantic_core import core_schema
+
+#: held while a union's member is made (a model made once, its law's module imported once)
+_MAKING = threading.RLock()
 
 
 class LazyUnion:
@@ -44,7 +48,10 @@ class LazyUnion:
         """The model of ``tag`` (built on first need), None for a tag of no member."""
         model = self._made.get(tag)
         if model is None and self._make is not None and tag in self._names:
-            model = self._made[tag] = self._make(tag)
+            with _MAKING:  # one model per tag, also when threads validate scenes at once
+                model = self._made.get(tag)
+                if model is None:
+                    model = self._made[tag] = self._make(tag)
         return model
 
     @property
