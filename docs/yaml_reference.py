@@ -18,6 +18,8 @@ import typing
 
 from pydantic import BaseModel
 
+from pframe.model.tagged import unfold
+
 REGENERATE = "python docs/yaml_reference.py > docs/yaml-reference.md"
 
 _INTRO = """\
@@ -104,7 +106,7 @@ def _models(root: type[BaseModel]) -> dict[str, type[BaseModel]]:
                 for info in annotation.model_fields.values():
                     visit(info.annotation)
             return
-        for arg in typing.get_args(annotation):
+        for arg in typing.get_args(unfold(annotation)):  # the laws' models made on demand
             visit(arg)
 
     visit(root)

@@ -328,3 +328,20 @@ def test_hunt_crossley_never_pulls(law):
     assert (f, kd, kr) == (0.0, 0.0, 0.0)
     f, _, _ = _call(law, packed, committed, 1e-3, -0.99 * V0 / chi)
     assert f > 0.0
+
+
+# ---------------------------------------------------------------------------------------------
+# the registry: a built-in law's module loaded when a scene names the law
+# ---------------------------------------------------------------------------------------------
+
+def test_a_built_in_law_is_known_by_its_module_s_name_and_id():
+    """builtin_names and builtin_id, which import no law module, agree with the laws the
+    modules register (the kernel's ids: the order of _BUILTIN_MODULES)."""
+    from pframe.laws import registry
+
+    for kind in ("contact", "material"):
+        laws = registry.builtin_laws(kind)
+        assert [registry.builtin_id(law) for law in laws] == list(range(len(laws)))
+        assert sorted(law.name for law in laws) == registry.builtin_names(kind)
+        assert registry.builtin_count(kind) == len(laws)
+        assert all(get_law(kind, law.name) is law for law in laws)

@@ -139,6 +139,19 @@ def test_text_attributes_are_fixed_length_characters(tmp_path):
         assert _fixed_length_text(h["u"].attrs, "_FillValue") is False
 
 
+def test_text_set_on_a_variable_handed_out_is_fixed_length_too(tmp_path):
+    """The writer's own methods write text fixed-length at once (and close scans nothing);
+    text set through a variable it hands out is h5netcdf's kind until close rewrites it."""
+    path = tmp_path / "handed.nc"
+    f = Writer(path)
+    f.coordinate("t", [0.0, 1.0], units="s")
+    f["t"].attrs["comment"] = "set afterwards"
+    f.close()
+    with h5py.File(path, "r") as h:
+        assert _fixed_length_text(h["t"].attrs, "comment")
+        assert list(h["t"].attrs).index("comment") > list(h["t"].attrs).index("units")
+
+
 @pytest.mark.slow
 @pytest.mark.filterwarnings("error::pytest.PytestUnraisableExceptionWarning")
 def test_a_stop_inside_the_file_constructor_leaves_no_traceback(tmp_path, monkeypatch, capsys):

@@ -15,6 +15,7 @@ from pydantic import BaseModel
 
 from pframe.cli import main
 from pframe.model.scene import scene_class
+from pframe.model.tagged import unfold
 from pframe.nondim.fields import scene_field_dimension
 
 #: fields whose numbers pframe scale does not take through SCENE_FIELDS: the laws' parameters
@@ -27,13 +28,13 @@ ELSEWHERE = ("soil", "recorders")
 def _numeric(annotation) -> bool:
     if annotation in (int, float):
         return True
-    return any(_numeric(a) for a in typing.get_args(annotation))
+    return any(_numeric(a) for a in typing.get_args(unfold(annotation)))
 
 
 def _models(annotation) -> list:
     if isinstance(annotation, type) and issubclass(annotation, BaseModel):
         return [annotation]
-    return [m for a in typing.get_args(annotation) for m in _models(a)]
+    return [m for a in typing.get_args(unfold(annotation)) for m in _models(a)]
 
 
 def _numeric_paths(cls, path=(), out=None):

@@ -107,3 +107,69 @@ def test_the_scene_validator_holds_no_model_of_a_union():
     schema = repr(scene_class().__pydantic_core_schema__)
     for name in ("Contact_hertz", "Story_bwbn", "Line_imk_peak", "Stochastic", "HHT"):
         assert f"'{name}'" not in schema and f".{name}:" not in schema
+
+
+# ---------------------------------------------------------------------------------------------
+# the laws' models, made when a scene names a law
+# ---------------------------------------------------------------------------------------------
+
+LAW_FIELDS = {"Scene.contacts": "law", "Scene.stories": "material", "Scene.links": "material",
+              "Building.story": "material", "Building.lines": "material"}
+
+
+def test_each_law_s_model_is_made_when_a_scene_first_names_it():
+    """A scene of bilinear storeys and linear contacts makes those two laws' models and no
+    other; its objects are those models', as pydantic's union of them all makes them."""
+    from pframe.model.scene import _scene_class
+
+    fresh = _scene_class.__wrapped__((), ())  # a class of its own, not the cached one
+    unions = _unions(fresh)
+    assert set(LAW_FIELDS) <= set(unions)
+    assert all(not unions[where]._made for where in LAW_FIELDS)
+    data = {"buildings": [{"name": "A", "floors": 1, "mass": 1e5,
+                           "story": {"material": "bilinear", "stiffness": 1e7,
+                                     "yield_drift": 0.01, "alpha": 0.1}},
+                          {"name": "B", "floors": 1, "mass": 1e5,
+                           "story": {"material": "elastic", "stiffness": 2e7}}],
+            "contacts": [{"law": "linear", "nodes": ["A/1", "B/1"], "gap": 0.01,
+                          "stiffness": 1e8}],
+            "analysis": {"dt": 0.01, "duration": 0.1}}
+    scene = fresh.model_validate(data)
+    made = {where: sorted(unions[where]._made) for where in LAW_FIELDS}
+    assert made == {"Scene.contacts": ["linear"], "Scene.stories": [], "Scene.links": [],
+                    "Building.story": ["bilinear", "elastic"], "Building.lines": []}
+    eager = TypeAdapter(unions["Scene.contacts"].union)  # every law's model made now
+    assert scene.contacts[0] == eager.validate_python(data["contacts"][0])
+    assert type(scene.contacts[0]) is unions["Scene.contacts"].member("linear")
+
+
+def test_unfold_gives_a_lazy_union_s_every_member():
+    from pframe.laws.registry import builtin_names
+    from pframe.model.tagged import unfold
+
+    scene = scene_class()
+    annotation = typing.get_args(scene.model_fields["contacts"].annotation)[0]
+    assert typing.get_args(annotation)[0].__name__ == "ContactBase"  # folded
+    choices = typing.get_args(typing.get_args(unfold(annotation))[0])
+    assert [model.__name__ for model in choices] == [
+        f"Contact_{name}" for name in builtin_names("contact")]
+    assert unfold(int) is int and unfold(annotation) is not annotation
+
+
+def test_threads_asking_for_a_member_at_once_get_one_model():
+    """A member is made once, however many threads validate at once (each make here takes
+    long enough for every thread to ask before the first one is done)."""
+    import time
+    from concurrent.futures import ThreadPoolExecutor
+
+    from pframe.model.tagged import on_demand, unfold
+
+    def make(tag):
+        time.sleep(0.05)
+        return type(f"Model_{tag}", (BaseModel,), {"__annotations__": {"kind": str}})
+
+    union = typing.get_args(unfold(on_demand(("a", "b"), make, "kind", BaseModel)))[1]
+    union._made.clear()  # unfold made them: start again
+    with ThreadPoolExecutor(8) as pool:
+        made = list(pool.map(lambda _: union.member("a"), range(8)))
+    assert all(model is made[0] for model in made)

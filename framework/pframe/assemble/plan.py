@@ -13,7 +13,12 @@ import numpy as np
 
 from pframe.assemble import damping, grounds, incidence, modes, stability, timescales
 from pframe.assemble.incidence import Sides
-from pframe.assemble.ordering import bandwidth, place_last, reverse_cuthill_mckee
+from pframe.assemble.ordering import (
+    bandwidth,
+    place_last,
+    reverse_cuthill_mckee,
+    sorted_unique,
+)
 from pframe.errors import InputError
 from pframe.kernel.state import DampingStiffness
 from pframe.model.expand import Expanded
@@ -296,7 +301,8 @@ def _distinct_rows(params: np.ndarray) -> np.ndarray:
     if not rows.size:  # no rows, or rows of no numbers (one, empty, stands for them)
         return rows[:1]
     whole = np.dtype((np.void, rows.dtype.itemsize * rows.shape[1]))
-    return np.unique(rows.view(whole)).view(rows.dtype).reshape(-1, rows.shape[1])
+    # np.unique's own would import numpy.ma (numpy 2.3 on), about 7 ms of a short run
+    return sorted_unique(rows.view(whole)).view(rows.dtype).reshape(-1, rows.shape[1])
 
 
 class _Soil:

@@ -30,7 +30,7 @@ from pathlib import Path
 
 from pframe.errors import InputError
 from pframe.laws import compiled as compiled_force
-from pframe.laws.registry import builtin_laws
+from pframe.laws.registry import builtin_count, builtin_id
 
 #: written into a plug-in folder once its laws have been compiled and cached
 MARKER = "compiled"
@@ -60,15 +60,18 @@ def _laws(plan):
 def law_ids(plan, announce=None) -> LawIds:
     """The ids of the plan's laws; plug-in laws compiled (or loaded from their cache) first,
     ``announce(message)`` before they are compiled."""
-    materials, contacts = builtin_laws("material"), builtin_laws("contact")
+    # the built-in laws' ids without importing the laws the plan does not use
+    materials, contacts = builtin_count("material"), builtin_count("contact")
     used_materials, used_contacts = _laws(plan)
-    extra_materials = tuple(sorted((m for m in used_materials if m not in materials),
+    extra_materials = tuple(sorted((m for m in used_materials if builtin_id(m) is None),
                                    key=lambda law: law.name))
-    extra_contacts = tuple(sorted((c for c in used_contacts if c not in contacts),
+    extra_contacts = tuple(sorted((c for c in used_contacts if builtin_id(c) is None),
                                   key=lambda law: law.name))
-    ids = {law: i for i, law in enumerate(materials + extra_materials)}
-    ids.update({law: i for i, law in enumerate(contacts + extra_contacts)})
-    count_m, count_c = len(materials) + len(extra_materials), len(contacts) + len(extra_contacts)
+    ids = {law: builtin_id(law) for law in used_materials + used_contacts
+           if builtin_id(law) is not None}
+    ids.update({law: materials + i for i, law in enumerate(extra_materials)})
+    ids.update({law: contacts + i for i, law in enumerate(extra_contacts)})
+    count_m, count_c = materials + len(extra_materials), contacts + len(extra_contacts)
     if not (extra_materials or extra_contacts):
         return LawIds(ids, count_m, count_c)
     module = compiled(extra_materials + extra_contacts, announce)

@@ -287,6 +287,14 @@ def _load_builtins(kind: str) -> None:
         _builtin_names_by_kind[kind] = frozenset(_registered[kind])
 
 
+def _load_builtin(kind: str, name: str) -> type[Law]:
+    """The built-in law ``name``, its module (``name`` is the last part of the module's
+    name: :func:`builtin_names`) imported alone: a scene of two laws loads two of the 16."""
+    module = _BUILTIN_MODULES[kind][_builtin_index[kind][name]]
+    importlib.import_module(module)
+    return _registered[kind][name]
+
+
 def builtin_laws(kind: str) -> tuple[type[Law], ...]:
     """The built-in laws of ``kind`` in the order of :data:`_BUILTIN_MODULES`: a law's kernel
     id is its index (plug-in laws get the ids after these)."""
@@ -295,9 +303,31 @@ def builtin_laws(kind: str) -> tuple[type[Law], ...]:
     return tuple(by_module[module] for module in _BUILTIN_MODULES[kind])
 
 
+#: kind -> built-in name -> its index in :data:`_BUILTIN_MODULES` (its kernel id): a
+#: built-in law's module is named after the law (``pframe.laws.contact.linear`` registers
+#: ``linear``; tests/test_registry.py checks every one), so the names are known unloaded
+_builtin_index = {kind: {module.rsplit(".", 1)[1]: i for i, module in enumerate(modules)}
+                  for kind, modules in _BUILTIN_MODULES.items()}
+
+
 def builtin_names(kind: str) -> list[str]:
-    _load_builtins(kind)
-    return sorted(_builtin_names_by_kind[kind])
+    """The names of the built-in laws of ``kind``, sorted (no law module is imported)."""
+    return sorted(_builtin_index[kind])
+
+
+def builtin_id(law: type[Law]) -> int | None:
+    """A built-in law's kernel id (its index in :data:`_BUILTIN_MODULES`); None for a
+    plug-in law. Only the law's own module is needed (unlike :func:`builtin_laws`)."""
+    kind = getattr(law, "kind", None)
+    index = _builtin_index.get(kind, {}).get(getattr(law, "name", None))
+    if index is None or _BUILTIN_MODULES[kind][index] != law.__module__:
+        return None
+    return index
+
+
+def builtin_count(kind: str) -> int:
+    """How many built-in laws of ``kind`` there are (plug-in ids come after them)."""
+    return len(_BUILTIN_MODULES[kind])
 
 
 def _entry_points(kind: str):
@@ -322,6 +352,8 @@ def available_names(kind: str) -> list[str]:
 
 def get_law(kind: str, name: str) -> type[Law]:
     """The law class registered as ``name``, loading a plug-in entry point if needed."""
+    if name in _builtin_index[kind]:
+        return _load_builtin(kind, name)
     _load_builtins(kind)
     table = _registered[kind]
     if name in table:

@@ -20,7 +20,6 @@ from pframe.excitation import ground_acceleration, read_record
 from pframe.excitation.characteristic import apply_record
 from pframe.excitation.describe import applied_motion, motion_warnings
 from pframe.excitation.records import RecordUnitsError
-from pframe.excitation.stochastic import stochastic_record, stochastic_warnings
 from pframe.model.load import ModelError
 
 
@@ -86,6 +85,8 @@ def _record(excitation, base_dir, path):
         except InputError as exc:
             raise ModelError(path + ("file",), str(exc)) from None
     if excitation.kind == "stochastic":
+        from pframe.excitation.stochastic import stochastic_record
+
         try:
             return stochastic_record(excitation)
         except ValueError as exc:
@@ -98,6 +99,16 @@ def _samples(excitation, record, steps: int, dt: float) -> np.ndarray:
         return _function_samples(excitation, steps, dt)
     return ground_acceleration(excitation, np.arange(steps + 1) * dt,
                                (record.times, record.acceleration))
+
+
+def _stochastic_warnings(excitation) -> list[str]:
+    """:func:`pframe.excitation.stochastic.stochastic_warnings`, its module imported for a
+    stochastic motion only (with json and its models, a few ms of every other run)."""
+    if excitation is None or excitation.kind != "stochastic":
+        return []
+    from pframe.excitation.stochastic import stochastic_warnings
+
+    return stochastic_warnings(excitation)
 
 
 def turn(angle: float) -> tuple[float, float]:
@@ -116,7 +127,7 @@ def ground_motion(excitation, base_dir, steps: int, dt: float,
     if excitation is None or excitation.kind != "components":
         record = _record(excitation, base_dir, path)
         warnings = (tuple(motion_warnings(applied_motion(excitation, record, duration)))
-                    + tuple(stochastic_warnings(excitation)))
+                    + tuple(_stochastic_warnings(excitation)))
         samples = _samples(excitation, record, steps, dt)
         given, more = _given(excitation, record, base_dir, path, samples, dt)
         return GroundMotion({"x": samples}, record,
@@ -139,7 +150,7 @@ def ground_motion(excitation, base_dir, steps: int, dt: float,
         values = _samples(motion, record, steps, dt)
         warnings += [f"component {axis}: {w}" for w in
                      motion_warnings(applied_motion(motion, record, duration))]
-        warnings += [f"component {axis}: {w}" for w in stochastic_warnings(motion)]
+        warnings += [f"component {axis}: {w}" for w in _stochastic_warnings(motion)]
         # component x acts along (cos, sin), component y along (-sin, cos)
         along = (cos, sin) if axis == "x" else (-sin, cos)
         for site, weight in zip(("x", "y"), along):

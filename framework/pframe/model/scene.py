@@ -25,7 +25,7 @@ from pframe.integrators import ALL_INTEGRATORS, Newmark
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.model.plan import Direction, FloorPlan, Point
-from pframe.model.tagged import tagged
+from pframe.model.tagged import on_demand, tagged
 from pframe.objects import Frozen, describe, dotted
 from pframe.quantities import QUANTITIES as _QUANTITIES
 from pframe.units import NAMES
@@ -1188,24 +1188,23 @@ UNIT_SYSTEMS = NAMES
 def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
     material_names = sorted(set(builtin_names("material")) | set(materials))
     contact_names = sorted(set(builtin_names("contact")) | set(contact_laws))
-    material_params = [get_law("material", n).Params for n in material_names]
-    contact_params = [get_law("contact", n).Params for n in contact_names]
 
-    story_models = [
-        create_model(f"Story_{n}", __base__=(StoryBase, p))
-        for n, p in zip(material_names, material_params)
-    ]
-    contact_models = [
-        create_model(f"Contact_{n}", __base__=(ContactBase, p))
-        for n, p in zip(contact_names, contact_params)
-    ]
-    link_models = [
-        create_model(f"Link_{n}", __base__=(LinkBase, p))
-        for n, p in zip(material_names, material_params)
-    ]
-    storey_models = [_broadcast(p, "material") for p in material_params]
-    line_models = [create_model(f"Line_{n}", __base__=(LineBase, m))
-                   for n, m in zip(material_names, storey_models)]
+    # one model per law and place, made when a scene first names the law (on_demand): the
+    # laws' modules are imported then too
+    def params(kind: str):
+        return lambda name: get_law(kind, name).Params
+
+    material_params, contact_params = params("material"), params("contact")
+    storeys = functools.cache(lambda n: _broadcast(material_params(n), "material"))
+    story_type = on_demand(material_names, lambda n: create_model(
+        f"Story_{n}", __base__=(StoryBase, material_params(n))), "material", StoryBase)
+    contact_type = on_demand(contact_names, lambda n: create_model(
+        f"Contact_{n}", __base__=(ContactBase, contact_params(n))), "law", ContactBase)
+    link_type = on_demand(material_names, lambda n: create_model(
+        f"Link_{n}", __base__=(LinkBase, material_params(n))), "material", LinkBase)
+    storeys_type = on_demand(material_names, storeys, "material", Base)
+    line_type = on_demand(material_names, lambda n: create_model(
+        f"Line_{n}", __base__=(LineBase, storeys(n))), "material", LineBase)
 
     class Building(Base):
         """Shorthand for one shear building: floors 1..n above ground, storey i below floor i."""
@@ -1214,10 +1213,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
                                                 "'<name>/1' .. '<name>/<floors>'.")
         floors: int | None = Field(None, ge=1, description="Number of floors (storeys).")
         mass: Positive | list[Positive] = Field(description="Floor masses (kg), bottom up.")
-        story: tagged(storey_models, "material") | None = Field(
+        story: storeys_type | None = Field(
             None, description="Storey properties: one storey spring along x through the "
             "floors' centres of mass (a planar building); or give lines.")
-        lines: list[tagged(line_models, "material")] | None = Field(
+        lines: list[line_type] | None = Field(
             None, min_length=1, description="Lines of resistance (frames, walls, isolators) "
             "of every storey, each at a plan point along a direction with its material "
             "(docs/plan.md); instead of story.")
@@ -1284,11 +1283,11 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         nodes: list[Node] = Field(default_factory=list, description="Generic floor nodes (their "
                                   "buildings stand right of the shorthand's, in the order first "
                                   "named).")
-        stories: list[tagged(story_models, "material")] = Field(
+        stories: list[story_type] = Field(
             default_factory=list, description="Generic storeys between nodes.")
-        contacts: list[tagged(contact_models, "law")] = Field(
+        contacts: list[contact_type] = Field(
             default_factory=list, description="Contact elements between buildings.")
-        links: list[tagged(link_models, "material")] = Field(
+        links: list[link_type] = Field(
             default_factory=list, description="Links: a material (viscous, kelvin_voigt, "
             "elastic, bilinear, ...) between two nodes or a node and the ground, in tension and "
             "compression (dampers, couplings, tuned masses).")

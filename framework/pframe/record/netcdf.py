@@ -124,6 +124,9 @@ class Writer:
         self._sizes: dict[str, int] = {}
         # name -> its HDF5 dataset: h5netcdf finds one by a lookup in the file each time
         self._datasets: dict = {}
+        # whether an h5netcdf variable was handed out (__getitem__): text set on its
+        # attributes is h5netcdf's variable-length kind, which close then rewrites
+        self._handed_out = False
 
     # -- structure --------------------------------------------------------------------------
     def dimension(self, name: str, size: int | None) -> None:
@@ -216,6 +219,7 @@ class Writer:
         self._sizes[dimension] = size
 
     def __getitem__(self, name: str):
+        self._handed_out = True
         return self.file[name]
 
     def rows(self, name: str):
@@ -244,7 +248,10 @@ class Writer:
             try:
                 if sys.exc_info()[0] is None:  # a whole file (not one being abandoned)
                     self.file.flush()
-                    fixed_length_text(self.file._h5file)
+                    # what the writer's own methods set is fixed-length already (_put): the
+                    # scan (3 ms of a short run) only when a variable was handed out
+                    if self._handed_out:
+                        fixed_length_text(self.file._h5file)
             finally:
                 h5 = self.file._h5file
                 self.file.close()  # h5netcdf flushes; a file it was given stays open
@@ -481,9 +488,10 @@ def fixed_length_text(f) -> None:
     variable-length string (netCDF's NC_STRING, which h5netcdf writes and which Octave's
     netcdf package, among others, cannot read) into a fixed-length one (NC_CHAR, what every
     netCDF reader reads). Attributes keep their order: from an object's first text
-    attribute on, all are rewritten. What :class:`Writer` writes is fixed-length already
-    (:func:`_put`); this finds the rest (set on a variable after it was made), and costs
-    a scan (about 7 ms for the paper's example) when there is none."""
+    attribute on, all are rewritten. What :class:`Writer`'s own methods write is
+    fixed-length already (:func:`_put`): it calls this (a scan, about 3 ms for the paper's
+    example) only when it handed out a variable, whose attributes may have been set through
+    h5netcdf."""
     for obj in _objects(f):
         attrs = obj.attrs
         text = _variable_text(attrs)

@@ -1,0 +1,51 @@
+"""What a ``pframe solve`` of a plain scene imports: the modules of the laws it names and not those of
+every law, nor what only another kind of scene needs (a stochastic motion's generator, numpy's
+masked arrays). Each was a few ms of every short ``pframe solve`` (benchmarks/opensees_speed.py)."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from pframe.laws.registry import builtin_names
+
+SCENE = Path(__file__).parents[1] / "models" / "wu2021-eq14-linear.yaml"
+
+
+@pytest.fixture(scope="module")
+def imported(tmp_path_factory) -> tuple[set, list]:
+    """The modules a ``pframe solve`` of the paper's linear scene (bilinear storeys, linear
+    contacts, a sine) holds at its end, and the contact laws it lists then."""
+    out = tmp_path_factory.mktemp("startup") / "out.nc"
+    code = ("import sys\n"
+            "from pframe.cli import main\n"
+            f"assert main(['solve', {str(SCENE)!r}, '-o', {str(out)!r}, '-q']) == 0\n"
+            "from pframe.laws.registry import available_names\n"
+            "print(sorted(sys.modules))\n"
+            "print(available_names('contact'))\n")
+    lines = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           check=True).stdout.splitlines()
+    return set(ast.literal_eval(lines[0])), ast.literal_eval(lines[1])
+
+
+@pytest.mark.slow
+def test_a_run_loads_the_modules_of_its_own_laws_only(imported):
+    modules, listed = imported
+    laws = {m.split(".", 2)[2] for m in modules
+            if m.startswith(("pframe.laws.contact.", "pframe.laws.material."))}
+    assert {"contact.linear", "material.bilinear"} <= laws
+    # set-up asks for elastic (P-delta) and kelvin_voigt (soil, which imports viscous) by name
+    assert laws <= {"contact.linear", "material.bilinear", "material.elastic",
+                    "material.kelvin_voigt", "material.viscous"}
+    assert listed == builtin_names("contact")  # every law still listed
+
+
+@pytest.mark.slow
+def test_a_run_of_a_sine_imports_no_stochastic_generator_nor_masked_arrays(imported):
+    modules, _ = imported
+    assert "pframe.excitation.stochastic" not in modules
+    assert "numpy.ma" not in modules
