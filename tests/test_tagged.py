@@ -8,6 +8,7 @@ from __future__ import annotations
 import typing
 
 import pytest
+from conftest import REPO
 from pydantic import BaseModel, TypeAdapter, ValidationError
 
 from pframe.model.scene import Node, scene_class
@@ -173,3 +174,21 @@ def test_threads_asking_for_a_member_at_once_get_one_model():
     with ThreadPoolExecutor(8) as pool:
         made = list(pool.map(lambda _: union.member("a"), range(8)))
     assert all(model is made[0] for model in made)
+
+
+def test_a_scene_ships_by_value_as_dask_sends_it_to_workers():
+    """Dask sends a study's scene to its workers with cloudpickle, which carries the scene's
+    classes (made per set of laws, not importable by name) by value. A law's storey model
+    cached inside the class's factory could not be carried, and a study on Dask stopped
+    before its first run; the scene now arrives equal to itself, and validates there."""
+    import pickle
+
+    import cloudpickle
+
+    from pframe.reader import load_scene
+
+    loaded = load_scene(str(REPO / "models" / "wu2021-pulse.yaml"))
+    arrived = pickle.loads(cloudpickle.dumps(loaded))
+    assert arrived.scene == loaded.scene
+    again = type(arrived.scene).model_validate(arrived.scene.model_dump())
+    assert again == loaded.scene

@@ -1174,6 +1174,14 @@ def _broadcast(params_model: type[BaseModel], discriminator: str) -> type[BaseMo
 
 
 
+@functools.cache
+def _storeys_model(material: str):
+    """The storey properties of a material, each field a value or one per storey (made once
+    per material; at module level, not cached inside the scene class's factory, so that
+    cloudpickle can ship a scene by value to Dask's workers)."""
+    return _broadcast(get_law("material", material).Params, "material")
+
+
 def scene_class(contact_laws: tuple[str, ...] = (), materials: tuple[str, ...] = ()):
     """The Scene model for the built-in laws plus the named plug-in laws (one class per set
     of laws, however they are passed: scenes of the same laws compare equal)."""
@@ -1195,7 +1203,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         return lambda name: get_law(kind, name).Params
 
     material_params, contact_params = params("material"), params("contact")
-    storeys = functools.cache(lambda n: _broadcast(material_params(n), "material"))
+    storeys = _storeys_model  # module level: a scene pickles (Dask ships it to workers)
     story_type = on_demand(material_names, lambda n: create_model(
         f"Story_{n}", __base__=(StoryBase, material_params(n))), "material", StoryBase)
     contact_type = on_demand(contact_names, lambda n: create_model(
