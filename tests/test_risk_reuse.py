@@ -169,8 +169,12 @@ def test_an_open_run_is_its_run_with_contacts_under_every_integrator(integrator,
     pairs = contact_pairs(loaded)
     steps, dt = 1500, 0.001
     if not runs.reusable(loaded, (steps, dt), steps, dt):
-        pytest.skip("the reuse is off for this integrator (it may step differently with "
-                    "contacts)")
+        # refused here for an explicit integrator only: it may take sub-steps for the
+        # contacts' stiffness, so its runs with contacts step differently
+        from pframe.assemble import assemble
+
+        assert assemble(loaded.expanded).integrator.explicit, integrator
+        return
     t = np.arange(steps + 1) * dt
     rng = np.random.default_rng(5)
     amplitude, f = rng.uniform(1.0, 14.0, 12), rng.uniform(0.5, 3.0, 12)
