@@ -561,6 +561,27 @@ static PFRAME_INLINE int check_finite(const Model *m, State *st, Work *w, int64_
     return fail(st, b, NOT_FINITE, k, kind, where);
 }
 
+/* check_finite for Newton's iterations, which also takes the residual's squared norm R . R
+ * into *norm_r (summed in the DOFs' order, as the convergence test reads it): one pass over R
+ * for both. A finite R . R means every R[i] is finite and below 1.4e154, so that their sum is
+ * finite too; otherwise (an R[i] not finite, or one whose square overflows) check_finite
+ * decides, so the same failure is reported, and a stop asked for is seen as there. */
+static PFRAME_INLINE int check_finite_norm(const Model *m, State *st, Work *w, int64_t b,
+                                           int64_t k, double *norm_r)
+{
+    const double *R = w->R;
+    double norm = 0.0;
+    int64_t i;
+    for (i = 0; i < m->dofs; i++)
+        norm += R[i] * R[i];
+    *norm_r = norm;
+    if (!isfinite(norm))
+        return check_finite(m, st, w, b, k);
+    if (stop_asked(m))
+        return fail(st, b, STOPPED, k, NODE, 0);
+    return 1;
+}
+
 /* Why the effective stiffness is not definite: the element (storey, link or contact) whose
  * effective tangent is the most negative, which a positive mass term could not outweigh;
  * without one (every tangent non-negative), the DOF of the first pivot that is not positive. */

@@ -48,7 +48,7 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
     int64_t *counters = st->counters + b * COUNTER_SLOTS;
     Weights c;
     const double *age = ag_new;
-    double norm_u = 0.0;
+    double norm_u = 0.0, norm_r;
     int converged = 0;
     int64_t i, it;
     if (!stage_weights(m, s, st, w, b, h, stage, &c))
@@ -63,7 +63,7 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
         age = evaluation_point(m, s, st, w, &c, b, ag_old, ag_new);
         if (evaluate(m, s, st, w, b, age, c.c1, c.wf, !s->linear))
             scalars[STALE] = 1.0;
-        if (!check_finite(m, st, w, b, k))
+        if (!check_finite_norm(m, st, w, b, k, &norm_r))
             return 0;
         if (!s->linear && it > 0 && !converged) {
             /* The next increment x = K^-1 R is bounded by |R| / (c0 wm min m) while the
@@ -71,9 +71,6 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
              * correction is negligible (a step whose laws stayed on one branch: R is
              * round-off), so skip it; otherwise iterate, so that results do not depend on the
              * tolerance. */
-            double norm_r = 0.0;
-            for (i = 0; i < n; i++)
-                norm_r += R[i] * R[i];
             converged = (sqrt(norm_r) * c.inv_c0_mmin
                          <= 1e-3 * (s->tolerance * sqrt(norm_u) + s->absolute_tolerance));
         }
