@@ -334,3 +334,24 @@ def test_a_resamples_fits_started_from_the_whole_samples_are_the_same_maxima():
                            warm=warm).gap(target)
                 == _gap_curve("msa", im[idx], g[idx], ok[idx], LEVELS, R, hazard).gap(target))
     assert started  # the case has fits to start from
+
+
+def test_the_distinct_count_rows_over_increasing_gaps_are_np_uniques():
+    """The rows of pounding counts the msa curve fits once each, found by comparing
+    neighbours over increasing gaps, are np.unique's rows (in another order), and every
+    gap's row is its own counts; gaps not increasing take np.unique itself."""
+    from pframe.risk.analysis import _distinct, _pounding_counts
+
+    g_req = _records(7, records=30)
+    R, L = g_req.shape
+    ok = np.ones(R * L, bool)
+    grid = np.unique(np.concatenate([g_req.ravel(), g_req.ravel()[:40] * 1.0000001]))
+    counts = _pounding_counts(grid, g_req.ravel(), ok, R)
+    rows, back = _distinct(counts, grid)
+    assert np.array_equal(rows[back], counts)
+    assert np.array_equal(np.unique(rows, axis=0), np.unique(counts, axis=0))
+    assert len(rows) == len(np.unique(counts, axis=0)) < len(grid)  # rows repeat: found
+    shuffled = np.random.default_rng(0).permutation(len(grid))
+    rows, back = _distinct(counts[shuffled], grid[shuffled])
+    assert np.array_equal(rows[back], counts[shuffled])
+    assert len(rows) == len(np.unique(counts, axis=0))

@@ -229,8 +229,7 @@ def _msa_fits(grid, g_req, ok, levels, records, warm=None):
     lv = np.asarray(levels, float)
     n = ok.reshape(records, -1).sum(axis=0)
     counts = _pounding_counts(grid, g_req, ok, records)
-    rows, back = np.unique(counts, axis=0, return_inverse=True)
-    back = back.ravel()
+    rows, back = _distinct(counts, np.asarray(grid, float))
     keep = n > 0
     nn, zz = n[keep].astype(float), rows[:, keep].astype(float)
     none = zz.sum(axis=1) == 0
@@ -250,6 +249,19 @@ def _msa_fits(grid, g_req, ok, levels, records, warm=None):
             start[hit] = fits[where[hit]]
     c, good = probit_rows(np.log(lv[keep]), nn, zz[tried], start=start)
     return rows, back, none, tried, c, good
+
+
+def _distinct(counts: np.ndarray, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct rows of ``counts`` (one per gap of ``grid``) and each gap's row. Over
+    increasing gaps every count can only fall, so equal rows are neighbours: a comparison
+    with the row before finds them, without np.unique's sort of the rows (each row's fit
+    is its own, whatever rows are fitted beside it)."""
+    if counts.shape[0] < 2 or not np.all(np.diff(grid) > 0):
+        rows, back = np.unique(counts, axis=0, return_inverse=True)
+        return rows, back.ravel()
+    new = np.ones(counts.shape[0], bool)
+    new[1:] = np.any(counts[1:] != counts[:-1], axis=1)
+    return counts[new], np.cumsum(new) - 1
 
 
 def _warm_fits(g_req, ok, levels, records) -> tuple[np.ndarray, np.ndarray]:
