@@ -171,3 +171,61 @@ def test_a_batch_checks_each_members_contacts_as_alone(law):
         [True] * 3 if law == "improved_kelvin" else [False, True, False])
     batch_parts = check(plan, plan.integrator)[1]
     assert batch_parts.tolist() == [int(assemble(ex).event_parts[0]) for ex in variants]
+
+
+def _same(a, b) -> bool:
+    """Equal to the bit: arrays by dtype, shape and value (NaN where NaN), dataclasses and
+    containers field by field."""
+    import dataclasses
+
+    if isinstance(a, np.ndarray):
+        return (isinstance(b, np.ndarray) and a.dtype == b.dtype and a.shape == b.shape
+                and np.array_equal(a, b, equal_nan=a.dtype.kind == "f"))
+    if dataclasses.is_dataclass(a) and not isinstance(a, type):
+        return type(a) is type(b) and all(_same(getattr(a, f.name), getattr(b, f.name))
+                                          for f in dataclasses.fields(a))
+    if isinstance(a, (tuple, list)):
+        return (type(a) is type(b) and len(a) == len(b)
+                and all(_same(x, y) for x, y in zip(a, b)))
+    if isinstance(a, dict):
+        return a.keys() == b.keys() and all(_same(a[k], b[k]) for k in a)
+    if isinstance(a, float) and isinstance(b, float) and a != a:
+        return b != b
+    return a == b
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("model", ["wu2021-eq14.yaml", "ssi-pair.yaml", "damper-linked.yaml",
+                                   "plan-asymmetric-pair.yaml", "hust-4x3.yaml"])
+@pytest.mark.parametrize("contacts", [False, True])
+def test_members_under_other_motions_alone_are_assembled_once_to_the_bit(model, contacts):
+    """A batch of one scene under several ground motions (a risk study's, a gap audit's) is
+    assembled once and its rows repeated: every field of the plan, warnings included, is the
+    plan assembled member by member (the same members, each a copy, which the batch cannot
+    take for one scene's)."""
+    import dataclasses
+    from pathlib import Path
+
+    from pframe.assemble import assemble_batch
+    from pframe.assemble.plan import Plan, _motions_only
+    from pframe.gap.runs import axes_of, for_runs, on_channels, under
+    from pframe.reader import load_scene
+
+    loaded = load_scene(Path(__file__).parents[1] / "models" / model)
+    ex = loaded.expanded
+    rng = np.random.default_rng(3)
+    steps = 200
+    motions = on_channels(rng.standard_normal((4, len(ex.channels), steps + 1)))
+    # a step of 0.1 s: coarse for the buildings' periods, so the time-scale checks warn
+    base = dataclasses.replace(for_runs(loaded, axes_of(motions, None), contacts),
+                               steps=steps, dt=0.1)
+    members = under(base, motions)
+    assert _motions_only(members)
+    once = assemble_batch(members)
+    copies = [dataclasses.replace(m, masses=m.masses.copy()) for m in members]
+    assert not _motions_only(copies)
+    each = assemble_batch(copies)
+    assert once.warnings  # the case checks the warnings' member numbers
+    for field in dataclasses.fields(Plan):
+        assert _same(getattr(once, field.name), getattr(each, field.name)), field.name
+    assert not np.array_equal(once.ground_acceleration[0], once.ground_acceleration[1])

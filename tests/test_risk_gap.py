@@ -288,3 +288,70 @@ def test_a_study_warns_of_every_fit_it_leaves_out():
 def test_fitting_functions_refuse_what_is_not_data(call, says):
     with pytest.raises(InputError, match=says):
         call()
+
+
+def test_a_resamples_fits_started_from_the_whole_samples_are_the_same_maxima():
+    """A bootstrap resample's probit fits, started from the whole sample's fits at the same
+    gaps (Newton's steps), are the fits of the cold start (Fisher scoring from the
+    default): the same coefficients to the scoring's tolerance where the likelihood has an
+    interior maximum, a log-likelihood nowhere lower (beyond its rounding), and the same
+    rows fitted; the gap at target of each resample is the same."""
+    from scipy.special import log_ndtr
+
+    from pframe.risk.analysis import _gap_curve, _msa_fits, _warm_fits
+
+    g_req = _records(3, records=40)
+    g_req *= np.exp(0.2 * np.random.default_rng(4).standard_normal(g_req.shape))
+    R, L = g_req.shape
+    im, ok, g = np.tile(LEVELS, R), np.ones(R * L, bool), g_req.ravel()
+    warm = _warm_fits(g, ok, LEVELS, R)
+    hazard = HazardCurve.power_law(K0, K)
+    started = 0
+    for seed in range(4):
+        pick = np.random.default_rng(seed).integers(0, R, R)
+        idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
+        grid = np.unique(g[idx])
+        cold = _msa_fits(grid, g[idx], ok[idx], LEVELS, R)
+        hot = _msa_fits(grid, g[idx], ok[idx], LEVELS, R, warm)
+        rows, tried = cold[0], cold[3]
+        assert np.array_equal(hot[3], tried) and np.array_equal(hot[5], cold[5])
+        z = rows[tried].astype(float)
+
+        def loglik(c, z=z):
+            eta = c[:, :1] + c[:, 1:] * np.log(LEVELS)
+            return np.sum(z * log_ndtr(eta) + (R - z) * log_ndtr(-eta), axis=1)
+
+        assert np.all(loglik(hot[4]) >= loglik(cold[4]) - 1e-9)
+        # a slope c1 above 20 (a dispersion below 0.05) is a row the data nearly separate:
+        # its likelihood rises ever more slowly towards c1 -> inf, and where a scoring stops
+        # there depends on its start (above: the warm one's is no lower)
+        interior = cold[5] & (cold[4][:, 1] < 20) & (hot[4][:, 1] < 20)
+        assert interior.mean() > 0.8
+        np.testing.assert_allclose(hot[4][interior], cold[4][interior], rtol=1e-7, atol=1e-9)
+        started += int(np.isfinite(warm[1]).all(axis=1).sum())
+        target = 1 / 475
+        assert (_gap_curve("msa", im[idx], g[idx], ok[idx], LEVELS, R, hazard,
+                           warm=warm).gap(target)
+                == _gap_curve("msa", im[idx], g[idx], ok[idx], LEVELS, R, hazard).gap(target))
+    assert started  # the case has fits to start from
+
+
+def test_the_distinct_count_rows_over_increasing_gaps_are_np_uniques():
+    """The rows of pounding counts the msa curve fits once each, found by comparing
+    neighbours over increasing gaps, are np.unique's rows (in another order), and every
+    gap's row is its own counts; gaps not increasing take np.unique itself."""
+    from pframe.risk.analysis import _distinct, _pounding_counts
+
+    g_req = _records(7, records=30)
+    R, L = g_req.shape
+    ok = np.ones(R * L, bool)
+    grid = np.unique(np.concatenate([g_req.ravel(), g_req.ravel()[:40] * 1.0000001]))
+    counts = _pounding_counts(grid, g_req.ravel(), ok, R)
+    rows, back = _distinct(counts, grid)
+    assert np.array_equal(rows[back], counts)
+    assert np.array_equal(np.unique(rows, axis=0), np.unique(counts, axis=0))
+    assert len(rows) == len(np.unique(counts, axis=0)) < len(grid)  # rows repeat: found
+    shuffled = np.random.default_rng(0).permutation(len(grid))
+    rows, back = _distinct(counts[shuffled], grid[shuffled])
+    assert np.array_equal(rows[back], counts[shuffled])
+    assert len(rows) == len(np.unique(counts, axis=0))

@@ -443,9 +443,97 @@ def assemble(expanded: Expanded) -> Plan:
     return assemble_batch([expanded])
 
 
+#: the fields of an Expanded scene that its ground motion sets (Expanded.with_ground and
+#: with_supports change these alone)
+_MOTION_FIELDS = frozenset({"steps", "ground_acceleration", "ground_acceleration_y",
+                            "support_samples", "ground_given"})
+
+
 def assemble_batch(variants: list[Expanded]) -> Plan:
     """A plan for variants of one scene that differ only in numbers (masses, stiffnesses,
-    gaps, law parameters, excitation, dt), not in topology, laws, steps or recorders."""
+    gaps, law parameters, excitation, dt), not in topology, laws, steps or recorders.
+    Members that differ in their ground motion alone (one scene under many records, as a
+    risk study's) are assembled once: :func:`_broadcast`."""
+    if len(variants) > 2 and _motions_only(variants):
+        return _broadcast(variants)
+    plan, fit_warnings = _assembled(variants)
+    return _checked(plan, variants, fit_warnings)
+
+
+def _motions_only(variants: list[Expanded]) -> bool:
+    """Whether every member is the first but for its ground motion: each other field the
+    very object of the first's (members :func:`pframe.gap.runs.under` made of one scene)."""
+    first = variants[0]
+    names = [f.name for f in dataclasses.fields(first) if f.name not in _MOTION_FIELDS]
+    return all(ex.steps == first.steps and all(getattr(ex, n) is getattr(first, n)
+                                               for n in names) for ex in variants[1:])
+
+
+def _broadcast(variants: list[Expanded]) -> Plan:
+    """:func:`assemble_batch` of members that differ in their ground motion alone: the
+    plan of the first, each field that has a row per member (those whose shape a plan of two
+    members changes) repeated for every member, the ground motions each member's; then the
+    checks of the whole batch, as for any batch. The assembly is a function of each member's
+    numbers, the same in every member, so the plan is the one member by member, to the bit.
+    Not for members whose ground displacements the plan carries (several supports, ground
+    displacements recorded): those are assembled member by member."""
+    one, fit_warnings = _assembled(variants[:1])
+    if one.ground_motion is not None:
+        plan, fit_warnings = _assembled(variants)
+        return _checked(plan, variants, fit_warnings)
+    two, _ = _assembled(variants[:2])
+    changes = _per_member(one, two, len(variants), skip=("ground_acceleration",
+                                                         "more_channels"))
+    changes["ground_acceleration"] = np.array([_channels(ex)[0] for ex in variants])
+    if one.more_channels is not None:
+        changes["more_channels"] = np.array([_channels(ex) for ex in variants])
+    return _checked(dataclasses.replace(one, **changes), variants, fit_warnings)
+
+
+def _per_member(one, two, count: int, skip=()) -> dict:
+    """The fields of the dataclass ``one`` (of a plan of one member) that have a row per
+    member, each repeated ``count`` times: the arrays whose shape ``two`` (the same of two
+    members) changes, within fields that are dataclasses (a law group, the sides' terms) and
+    tuples of them too; not the fields named in ``skip``."""
+    changes = {}
+    for field in dataclasses.fields(one):
+        if field.name in skip:
+            continue
+        a, b = getattr(one, field.name), getattr(two, field.name)
+        if isinstance(a, np.ndarray):
+            if a.shape != b.shape:
+                changes[field.name] = np.repeat(a, count, axis=0)
+        elif _instance(a):
+            inner = _per_member(a, b, count)
+            if inner:  # (a dataclass rebuilt unchanged could recompute its derived fields)
+                changes[field.name] = dataclasses.replace(a, **inner)
+        elif isinstance(a, tuple) and a and _instance(a[0]):
+            inner = [_per_member(x, y, count) for x, y in zip(a, b)]
+            if any(inner):
+                changes[field.name] = tuple(dataclasses.replace(x, **c) if c else x
+                                            for x, c in zip(a, inner))
+    return changes
+
+
+def _instance(value) -> bool:
+    return dataclasses.is_dataclass(value) and not isinstance(value, type)
+
+
+def _checked(plan: Plan, variants: list[Expanded], fit_warnings: tuple) -> Plan:
+    """``plan`` with its sub-steps and the warnings of its checks (stability, P-delta, the
+    laws' parameters, the time scales), after the scene's and the damping fit's."""
+    first = variants[0]
+    cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
+    warnings = (warnings + fit_warnings + _p_delta_warnings(plan)
+                + _material_warnings(plan))
+    plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
+    return dataclasses.replace(plan, warnings=first.warnings + warnings
+                               + timescales.check(plan, variants))
+
+
+def _assembled(variants: list[Expanded]) -> tuple[Plan, tuple]:
+    """The plan of ``variants`` before its checks (:func:`_checked`), and the damping
+    fit's warnings."""
     first = variants[0]
     key = batch_key(first) if len(variants) > 1 else None
     for i, ex in enumerate(variants[1:], start=1):
@@ -579,12 +667,7 @@ def assemble_batch(variants: list[Expanded]) -> Plan:
         **_gauges(variants, key_index, dof_of_key),
         **fitted.plan_fields(lambda key: int(dof_of_key[key_index[key]])),
     )
-    cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
-    warnings = (warnings + fitted.warnings + _p_delta_warnings(plan)
-                + _material_warnings(plan))
-    plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
-    return dataclasses.replace(plan, warnings=first.warnings + warnings
-                               + timescales.check(plan, variants))
+    return plan, fitted.warnings
 
 
 def _recorded(first: Expanded, planar: bool) -> tuple[dict[str, int], list[str]]:

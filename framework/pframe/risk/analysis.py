@@ -129,9 +129,11 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
     return (value, float(low), float(high), above)
 
 
-def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCurve:
+def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
+               warm=None) -> GapCurve:
     """lambda(g) of pounding at a uniform gap g, the design's fit refitted at each g
-    (:mod:`pframe.risk.gapcurve`: its envelope from the right and the largest crossing)."""
+    (:mod:`pframe.risk.gapcurve`: its envelope from the right and the largest crossing);
+    ``warm``: the fits an msa curve computed at once starts from (:func:`_warm_fits`)."""
     known: dict = {}  # msa: lambda by the stripes' counts of pounding runs
 
     def rate(g):
@@ -170,7 +172,7 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
     many = None
     if kind == "msa":
         def many(grid, target=None):
-            return _msa_rates(grid, g_req, ok, levels, records, hazard, target)
+            return _msa_rates(grid, g_req, ok, levels, records, hazard, target, warm)
     return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
 
 
@@ -178,29 +180,22 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None) -> GapCu
 RATE_ROWS = 4096
 
 
-def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None) -> np.ndarray:
+def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None, warm=None) \
+        -> np.ndarray:
     """lambda(g) of the msa fit at every gap of ``grid`` at once: the numbers of rate_at in
     :func:`_gap_curve` (the same fit, the same integral, its fallbacks), with the probit fits
     of the distinct count rows in one vectorised Fisher scoring (a curve of hundreds of
     gaps, and one per bootstrap resample). With ``target``, a fit whose integral's bounds
     (:func:`_sides`) leave no doubt on which side of it lambda lies has that bound in place
-    of lambda: the numbers tell above or below the target, and nothing more."""
+    of lambda: the numbers tell above or below the target, and nothing more. ``warm``: the
+    fits the scoring starts from (:func:`_warm_fits`)."""
     from scipy.special import ndtr
 
-    from pframe.risk.fragility import probit_rows
-
     lv = np.asarray(levels, float)
-    n = ok.reshape(records, -1).sum(axis=0)
-    counts = _pounding_counts(grid, g_req, ok, records)
-    rows, back = np.unique(counts, axis=0, return_inverse=True)
-    keep = n > 0
-    nn, zz = n[keep].astype(float), rows[:, keep].astype(float)
-    none = zz.sum(axis=1) == 0
+    rows, back, none, tried, c, good = _msa_fits(grid, g_req, ok, levels, records, warm)
     fitted = np.zeros(len(rows), bool)
     out = np.where(none, 0.0, np.nan)
-    if keep.sum() >= 2:
-        tried = np.flatnonzero(~none & ~np.all((zz == 0) | (zz == nn), axis=1))
-        c, good = probit_rows(np.log(lv[keep]), nn, zz[tried])
+    if tried.size:
         x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
         lam = hazard.rate(x)
         middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
@@ -218,7 +213,67 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None) -> np.ndar
         step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
         value = float(hazard.rate(step))
         out[k] = value if math.isfinite(value) else math.nan
-    return out[back.ravel()]
+    return out[back]
+
+
+def _msa_fits(grid, g_req, ok, levels, records, warm=None):
+    """The probit fits of the msa curve at the gaps of ``grid``, one per distinct row of
+    pounding counts: ``rows`` (k, L) those counts, ``back`` (len(grid),) each gap's row,
+    ``none`` (k,) the rows where no run pounds, ``tried`` the rows fitted (two levels or more
+    with runs, not all-or-nothing), ``c`` (len(tried), 2) their coefficients and ``good``
+    which of them are interior maxima (:func:`pframe.risk.fragility.probit_rows`). ``warm``:
+    (gaps, coefficients) of fits at those gaps (NaN where none) that the scoring of a row
+    starts from, at the first gap of ``grid`` with that row."""
+    from pframe.risk.fragility import probit_rows
+
+    lv = np.asarray(levels, float)
+    n = ok.reshape(records, -1).sum(axis=0)
+    counts = _pounding_counts(grid, g_req, ok, records)
+    rows, back = _distinct(counts, np.asarray(grid, float))
+    keep = n > 0
+    nn, zz = n[keep].astype(float), rows[:, keep].astype(float)
+    none = zz.sum(axis=1) == 0
+    if keep.sum() < 2:
+        return rows, back, none, np.empty(0, np.int64), np.empty((0, 2)), np.empty(0, bool)
+    tried = np.flatnonzero(~none & ~np.all((zz == 0) | (zz == nn), axis=1))
+    start = None
+    if warm is not None and tried.size:
+        first = np.empty(len(rows), np.int64)
+        first[back[::-1]] = np.arange(back.size)[::-1]  # each row's first gap
+        gaps, fits = warm
+        at = np.asarray(grid, float)[first[tried]]
+        where = np.minimum(np.searchsorted(gaps, at), max(gaps.size - 1, 0))
+        start = np.full((tried.size, 2), np.nan)
+        if gaps.size:
+            hit = gaps[where] == at
+            start[hit] = fits[where[hit]]
+    c, good = probit_rows(np.log(lv[keep]), nn, zz[tried], start=start)
+    return rows, back, none, tried, c, good
+
+
+def _distinct(counts: np.ndarray, grid: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The distinct rows of ``counts`` (one per gap of ``grid``) and each gap's row. Over
+    increasing gaps every count can only fall, so equal rows are neighbours: a comparison
+    with the row before finds them, without np.unique's sort of the rows (each row's fit
+    is its own, whatever rows are fitted beside it)."""
+    if counts.shape[0] < 2 or not np.all(np.diff(grid) > 0):
+        rows, back = np.unique(counts, axis=0, return_inverse=True)
+        return rows, back.ravel()
+    new = np.ones(counts.shape[0], bool)
+    new[1:] = np.any(counts[1:] != counts[:-1], axis=1)
+    return counts[new], np.cumsum(new) - 1
+
+
+def _warm_fits(g_req, ok, levels, records) -> tuple[np.ndarray, np.ndarray]:
+    """The msa fits of the whole sample at each of its distinct critical gaps: (gaps,
+    coefficients (len(gaps), 2), NaN where there is no interior maximum). A bootstrap
+    resample's critical gaps are among them, and its fit at a gap is near the whole
+    sample's there: started from it, the scoring takes a few steps instead of a dozen."""
+    grid = np.unique(g_req[ok & np.isfinite(g_req) & (g_req > 0)])
+    rows, back, _, tried, c, good = _msa_fits(grid, g_req, ok, levels, records)
+    by_row = np.full((len(rows), 2), np.nan)
+    by_row[tried[good]] = c[good]
+    return grid, by_row[back]
 
 
 def _integrals(c, middle, weight) -> np.ndarray:
@@ -429,14 +484,16 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
 def _gaps_of(data, picks) -> list:
     """The gap at target of each resample of the records ``picks`` (record numbers, drawn
     with replacement); ``data``: (kind, im, g_req, ok, levels, records, hazard, used,
-    target) of the study."""
-    kind, im, g_req, ok, levels, R, hazard, used, target = data
+    target) of the study, and optionally the whole sample's fits (:func:`_warm_fits`) that
+    an msa resample's fits start from."""
+    kind, im, g_req, ok, levels, R, hazard, used, target = data[:9]
+    warm = data[9] if len(data) > 9 else None
     L = im.size // R
     out = []
     for pick in picks:
         idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
         out.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], levels, R, hazard,
-                              None if used is None else used[idx]).gap(target))
+                              None if used is None else used[idx], warm).gap(target))
     return out
 
 
@@ -446,9 +503,12 @@ def _resampled_gaps(data, picks: list, workers: int | None) -> list:
     resample's work is its own). Processes, not threads: the fits are many small numpy
     operations, each too short to run while another thread holds the interpreter. One
     process where a process cannot be forked (not on this platform, or inside a daemonic
-    worker, as a Dask worker's)."""
+    worker, as a Dask worker's). An msa study's fits at its own critical gaps are computed
+    once, here, for every resample's fits to start from."""
     import multiprocessing
 
+    if data[0] == "msa" and len(data) == 9:
+        data = (*data, _warm_fits(data[2], data[3], data[4], data[5]))
     workers = max(1, min(len(picks), workers or os.cpu_count() or 1))
     if (workers == 1 or "fork" not in multiprocessing.get_all_start_methods()
             or multiprocessing.current_process().daemon):
