@@ -38,9 +38,9 @@ def test_a_run_loads_the_modules_of_its_own_laws_only(imported):
     laws = {m.split(".", 2)[2] for m in modules
             if m.startswith(("pframe.laws.contact.", "pframe.laws.material."))}
     assert {"contact.linear", "material.bilinear"} <= laws
-    # set-up asks for elastic (P-delta) and kelvin_voigt (soil, which imports viscous) by name
-    assert laws <= {"contact.linear", "material.bilinear", "material.elastic",
-                    "material.kelvin_voigt", "material.viscous"}
+    # set-up asks for kelvin_voigt (soil, which imports viscous) by name
+    assert laws <= {"contact.linear", "material.bilinear", "material.kelvin_voigt",
+                    "material.viscous"}
     assert listed == builtin_names("contact")  # every law still listed
 
 
@@ -49,3 +49,11 @@ def test_a_run_of_a_sine_imports_no_stochastic_generator_nor_masked_arrays(impor
     modules, _ = imported
     assert "pframe.excitation.stochastic" not in modules
     assert "numpy.ma" not in modules
+
+
+@pytest.mark.slow
+def test_a_run_without_soil_or_p_delta_imports_neither(imported):
+    """The soil's cone model and the elastic law of P-delta in plan load for scenes with them."""
+    modules, _ = imported
+    assert "pframe.model.soil" not in modules
+    assert "pframe.laws.material.elastic" not in modules

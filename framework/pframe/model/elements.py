@@ -357,6 +357,8 @@ def p_delta_elements(floors, resolver, seen) -> list[tuple[Element, float, float
     their own per storey, along x and y through the centre of the gravity loads above and a
     twist of lever r (r^2 = J / m of the loads above), each softened by P / h (its geometric
     stiffness); returns (element, P, h, building index) per spring."""
+    if not floors.gravity_centres:
+        return []  # the elastic law's module is not loaded for a scene without P-delta in plan
     law = get_law("material", "elastic")
     out = []
     for storey, (lower, load, centre, r2, height, path) in floors.gravity_centres.items():

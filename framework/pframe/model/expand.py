@@ -30,12 +30,10 @@ from pframe.model.load import ModelError
 from pframe.model.motion import GroundMotion, ground_motion
 from pframe.model.rows import Rows, Run, column, column_array
 from pframe.model.scene import scene_motions
-from pframe.model.soil import FoundationSoil, foundation_soil
 from pframe.model.support_motion import support_motion
 from pframe.resources import check_floors, check_steps, steps_of
 
-__all__ = ["AT_TOLERANCE", "Element", "Expanded", "FoundationSoil", "column_share",
-           "elevations", "expand", "foundation_soil"]
+__all__ = ["AT_TOLERANCE", "Element", "Expanded", "column_share", "elevations", "expand"]
 
 
 @dataclass(frozen=True)
@@ -537,7 +535,7 @@ def _foundations(shorthand, scene, buildings, building_of) -> tuple:
                 raise ModelError(("nodes", i, "name"), f"building {name!r} stands on soil; "
                                  "its floors come from the building shorthand only (a generic "
                                  "node of it would not rock with its foundation)")
-        out.append(FoundationSoil(**{**soil.__dict__, "building": buildings.index(name)}))
+        out.append(dataclasses.replace(soil, building=buildings.index(name)))
     return tuple(out)
 
 

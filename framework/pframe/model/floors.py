@@ -318,8 +318,6 @@ def _shorthand(scene, b, building, nodes, stories, gravity_centres) -> None:
 def floors(scene) -> Floors:
     """The floors and storey springs of a scene, in declaration order (the building shorthand
     first, then the generic nodes and storeys); the foundations on soil."""
-    from pframe.model.soil import foundation_soil
-
     nodes: list = []  # parts of Rows: a run per building of the shorthand, else one by one
     stories: list = []
     damping: dict = {}
@@ -341,6 +339,8 @@ def floors(scene) -> Floors:
                                  "two directions and torsion of its foundation) is not "
                                  "modelled yet: give the building's storeys as story (a "
                                  "planar building) or leave out the soil")
+            from pframe.model.soil import foundation_soil  # only a scene with soil
+
             foundations.append((b, foundation_soil(building.soil, b)))
         damping[building.name] = building.damping
         _shorthand(scene, b, building, nodes, stories, gravity_centres)
