@@ -222,12 +222,12 @@ def test_a_python_scene_flows_one_way(given, tmp_path):
     out = tmp_path / "run.nc"
     counts = _calls_during({("pframe.model.load", "validated"), ("pframe.model.expand", "expand"),
                             ("pframe.yamltext", "compose"), ("yaml", "dump_all"),
-                            ("pframe.nondim.scene_variables", "reference_scales"),
+                            ("pframe.nondim.reference", "reference_scales"),
                             ("pframe.record.check", "check_file")},
                            lambda: pframe.solve(source, output=out).close())
     assert counts == {("pframe.model.load", "validated"): 1, ("pframe.model.expand", "expand"): 1,
                       ("pframe.yamltext", "compose"): 0, ("yaml", "dump_all"): 1,
-                      ("pframe.nondim.scene_variables", "reference_scales"): 1,
+                      ("pframe.nondim.reference", "reference_scales"): 1,
                       ("pframe.record.check", "check_file"): 0}
     with pframe.open(out) as ds:
         assert ds.attrs["input_yaml"] == scene.to_yaml()

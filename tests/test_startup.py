@@ -67,3 +67,13 @@ def test_a_run_parses_no_text_signature(imported):
     """Pydantic reads each default factory's signature; a builtin's is text that tokenize
     parses, compiling its patterns (about 2 ms): the Scene's defaults are plain functions."""
     assert imported[2] == 0
+
+
+@pytest.mark.slow
+def test_a_run_finds_its_reference_scales_without_the_variable_listing(imported):
+    """A result file's reference scales come from nondim.reference; the listing of every
+    governing variable (``pframe pi``) and its Buckingham machinery are not imported."""
+    modules, _, _ = imported
+    assert "pframe.nondim.reference" in modules
+    assert "pframe.nondim.scene_variables" not in modules
+    assert "pframe.nondim.buckingham" not in modules

@@ -39,7 +39,7 @@ class LoadedScene:
     given: dict | None = field(repr=False, default=None)
     given_text: str | None = field(repr=False, default=None)
     #: the reference scales m_b, a_p, w_p of the paper's dimensionless variables, or None for
-    #: a scene without them (:func:`pframe.nondim.scene_variables.reference_scales`)
+    #: a scene without them (:func:`pframe.nondim.reference.reference_scales`)
     reference: dict | None = field(repr=False, default=None)
     #: the units its result file is written in (:class:`pframe.nondim.output.OutputUnits`:
     #: SI, or the paper's dimensionless variables with the reference scales)
@@ -183,7 +183,7 @@ def _reference(scene, expanded, source: str, lines: dict) -> dict | None:
     """The scene's reference scales (m_b, a_p, w_p), found once: the result file's
     ``reference_*`` attributes, and its units when ``output.units`` is dimensionless, where
     a scene without them is refused now, naming ``output``, not after the run."""
-    from pframe.nondim.scene_variables import reference_scales
+    from pframe.nondim.reference import reference_scales
 
     try:
         return reference_scales(scene, expanded)

@@ -7,6 +7,7 @@ numba nor h5py).
 - :mod:`~pframe.nondim.dimensions`: exact M, L, T exponents; the quantities pframe uses.
 - :mod:`~pframe.nondim.buckingham`: Pi groups from a dimension matrix (exact Gauss-Jordan).
 - :mod:`~pframe.nondim.scene_variables`: the governing variables of any scene.
+- :mod:`~pframe.nondim.reference`: its reference scales (m_b, a_p, w_p).
 - :mod:`~pframe.nondim.scene_pi`: their Pi groups with the paper's names (``pframe pi``).
 - :mod:`~pframe.nondim.pi_form`: scenes written in Pi numbers, expanded to dimensional ones.
 - :mod:`~pframe.nondim.similitude`: scale ratios of scale models; scaling a scene.
@@ -30,8 +31,9 @@ if TYPE_CHECKING:  # what the names below are, for type checkers and editors
     from pframe.nondim.dimensions import QUANTITY, Dimension, parse_units
     from pframe.nondim.output import OutputUnits, output_units
     from pframe.nondim.pi_form import PiScene, expand_pi, is_pi_form
+    from pframe.nondim.reference import reference_scales
     from pframe.nondim.scene_pi import PiReport, scene_pi
-    from pframe.nondim.scene_variables import reference_scales, scene_variables
+    from pframe.nondim.scene_variables import scene_variables
     from pframe.nondim.similitude import Ratio, Similitude, SimilitudeError, scale_scene, similitude
 
 #: public name -> the submodule defining it, imported when the name is first used (PEP 562),
@@ -53,7 +55,7 @@ _SOURCES = {
     "is_pi_form": "pi_form",
     "PiReport": "scene_pi",
     "scene_pi": "scene_pi",
-    "reference_scales": "scene_variables",
+    "reference_scales": "reference",
     "scene_variables": "scene_variables",
     "Ratio": "similitude",
     "Similitude": "similitude",
@@ -90,7 +92,7 @@ __all__ = [
 
 
 #: the submodules, also reachable as attributes (``pframe.nondim.buckingham``) without an import
-_SUBMODULES = frozenset(("buckingham", "dimensions", "emit", "fields", "output", "pi_form",
+_SUBMODULES = frozenset(("buckingham", "dimensions", "emit", "fields", "output", "pi_form", "reference",
                          "scene_pi", "scene_variables", "similitude"))
 
 

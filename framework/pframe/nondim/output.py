@@ -136,6 +136,6 @@ def output_units(scene, expanded) -> OutputUnits:
     output = getattr(scene, "output", None)
     if output is None or output.units != "dimensionless":
         return OutputUnits()
-    from pframe.nondim.scene_variables import reference_scales
+    from pframe.nondim.reference import reference_scales
 
     return OutputUnits(reference_scales(scene, expanded))

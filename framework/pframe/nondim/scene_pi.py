@@ -16,12 +16,8 @@ import numpy as np
 
 from pframe.errors import InputError
 from pframe.nondim.buckingham import Group, Variable, check_groups, pi_groups
-from pframe.nondim.scene_variables import (
-    building_tag,
-    join_suffix,
-    reference_building,
-    scene_variables,
-)
+from pframe.nondim.reference import reference_building
+from pframe.nondim.scene_variables import building_tag, join_suffix, scene_variables
 
 
 def _group_name(root: str, suffix: str) -> str:
