@@ -409,7 +409,7 @@ def _storey_flags(specs, extra: int) -> dict:
 _GRAPH_LIBRARY_ABOVE = 5000
 
 
-def _components(count: int, ends: np.ndarray) -> np.ndarray:
+def components(count: int, ends: np.ndarray) -> np.ndarray:
     """A label per vertex of the undirected graph of ``count`` vertices and edges ``ends``
     ((m, 2) vertex pairs): equal labels, joined by a chain of edges."""
     if count > _GRAPH_LIBRARY_ABOVE:
@@ -446,7 +446,7 @@ def _check_held(scene, nodes, stories, links) -> tuple[str, ...]:
         [e.nodes for e in links if not getattr(e.law, "stiffness_free", False)],
         dtype=np.int64).reshape(-1, 2)])
     ends[ends < 0] = ground
-    label = _components(ground + 1, ends)  # the same label: joined
+    label = components(ground + 1, ends)  # the same label: joined
     free = {n.name for n in scene.nodes if n.free}
     loose = [i for i in np.flatnonzero(label[:ground] != label[ground]).tolist()
              if nodes[i].name not in free]

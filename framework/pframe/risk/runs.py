@@ -208,23 +208,14 @@ def _joined(plan, names) -> list[set]:
     """The groups of node names the plan's storeys and links join (its buildings, or
     buildings a link joins)."""
     from pframe.assemble.incidence import edges
+    from pframe.model.expand import components
 
-    parent = list(range(plan.n_dof))
-
-    def root(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
-        return i
-
-    pairs = (plan.story_dofs if plan.story_sides is None
-             else edges(plan.story_dofs, plan.story_sides))
-    for a, b in np.asarray(pairs).reshape(-1, 2):
-        if a >= 0 and b >= 0:
-            parent[root(a)] = root(b)
+    pairs = np.asarray(plan.story_dofs if plan.story_sides is None
+                       else edges(plan.story_dofs, plan.story_sides)).reshape(-1, 2)
+    labels = components(plan.n_dof, pairs[(pairs >= 0).all(axis=1)])
     groups: dict[int, set] = {}
-    for i in range(plan.n_dof):
-        groups.setdefault(root(i), set()).add(names[i])
+    for i, label in enumerate(labels.tolist()):
+        groups.setdefault(label, set()).add(names[i])
     return list(groups.values())
 
 
