@@ -205,3 +205,30 @@ contacts:
     monkeypatch.setattr(stability, "_plain_mobility", lambda *args: None)
     looped = stability.highest_frequency(plan)
     assert found[0] == looped[0] and found[1].tobytes() == looped[1].tobytes()
+
+
+def test_place_last_moves_each_key_just_after_its_groups_last_vertex():
+    """The linear ``place_last`` against the list search it replaced, on random orders and
+    groups (groups sharing their last vertex, groups naming keys placed before them)."""
+    from pframe.assemble.ordering import place_last
+
+    def searched(order, groups):  # the definition, one list search per member
+        rest = [int(v) for v in order if int(v) not in groups]
+        for vertex, members in groups.items():
+            rest.insert(max(rest.index(v) for v in members) + 1, vertex)
+        return rest
+
+    rng = np.random.default_rng(5)
+    for n in (3, 8, 40, 200):
+        for _ in range(30):
+            order = rng.permutation(n)
+            keys = rng.choice(n, size=rng.integers(1, max(2, n // 4)), replace=False).tolist()
+            others = [v for v in range(n) if v not in keys]
+            groups = {}
+            for i, key in enumerate(keys):
+                pool = others + keys[:i]
+                groups[key] = set(rng.choice(pool, size=rng.integers(1, len(pool) + 1),
+                                             replace=False).tolist())
+            assert place_last(order, groups).tolist() == searched(order, groups)
+    with pytest.raises(ValueError):
+        place_last(np.arange(4), {3: {2}, 2: {0}})  # 3's group names key 2, not yet placed

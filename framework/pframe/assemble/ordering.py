@@ -62,9 +62,34 @@ def bandwidth(edges, position: np.ndarray) -> int:
 def place_last(order: np.ndarray, groups: dict[int, set[int]]) -> np.ndarray:
     """``order`` (new -> old) with each key of ``groups`` moved just after the last of its
     group's vertices: a vertex coupled to a whole group (a foundation's rocking DOF, coupled
-    to every storey of its building) then widens the band by the group's span only."""
-    rest = [int(v) for v in order if int(v) not in groups]
+    to every storey of its building) then widens the band by the group's span only.
+
+    The keys are placed one after another in the dict's order, each just after the last of
+    its members where the vertices stand by then (a member may be a key placed before it).
+    Linear in the vertices: a position is (the place of a vertex that is no key, the slot in
+    the keys placed just after it; 0 for the vertex itself), so no list is searched."""
+    order = np.asarray(order, dtype=np.int64)
+    keys = np.fromiter(groups, dtype=np.int64, count=len(groups))
+    rest = order[~np.isin(order, keys)]
+    place = np.full(int(max(order.max(initial=-1), keys.max(initial=-1))) + 1, -1,
+                    dtype=np.int64)
+    place[rest] = np.arange(len(rest))
+    after: dict[int, list[int]] = {}  # place in rest -> the keys just after it, in order
+    slot: dict[int, tuple[int, int]] = {}  # a key placed -> (place in rest, slot >= 1)
     for vertex, members in groups.items():
-        last = max(rest.index(v) for v in members)
-        rest.insert(last + 1, vertex)
-    return np.array(rest, dtype=np.int64)
+        members = np.fromiter(members, dtype=np.int64, count=len(members))
+        placed = [slot[m] for m in members.tolist() if m in slot]
+        plain = members[~np.isin(members, list(slot))]
+        found = place[plain[plain < len(place)]] if plain.size else plain
+        if not members.size or (plain.size and (found.size < plain.size or found.min() < 0)):
+            raise ValueError(f"vertex {vertex}'s group names a vertex not in the order")
+        anchor = max(placed + ([(int(found.max()), 0)] if plain.size else []))
+        row = after.setdefault(anchor[0], [])
+        row.insert(anchor[1], int(vertex))
+        for s, key in enumerate(row):
+            slot[key] = (anchor[0], s + 1)
+    pieces, start = [], 0
+    for at in sorted(after):
+        pieces += [rest[start:at + 1], np.array(after[at], dtype=np.int64)]
+        start = at + 1
+    return np.concatenate(pieces + [rest[start:]])
