@@ -524,41 +524,55 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
     return stale;
 }
 
+/* The residual's part of DOF i at the evaluation point, -m_i (a_g + ae_i) - c_i ve_i, with a_g
+ * the ground acceleration that loads it (dof_ground; evaluate and end_point_residual, which
+ * takes it with the stage's end point); modal damping's -C ve is added after. */
+static PFRAME_INLINE double dof_residual(double mass, double damping, double ag, double ae,
+                                         double ve)
+{
+    return -mass * (ag + ae) - damping * ve;
+}
+
+/* The element forces at the evaluation point subtracted from the residual, whose DOF part
+ * (dof_residual, modal damping's) is in w->R. With tangent, each element's effective tangent
+ * (k_t + c1 (k_r + beta k_d)) wf is compared with the one in the current factorisation;
+ * returns 1 when one changed (the factorisation is then stale). Each law group runs as one
+ * loop calling its law's function (spring_run, contact_run). */
+static int evaluate_elements(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                             const double *age, double c1, double wf, int tangent)
+{
+    /* the laws' committed state: the step start's, or in a stage after the first the end of
+     * the stage before (newton.c, keep_stage) */
+    const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
+    int stale;
+    st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
+    stale = m->stories ? evaluate_springs(m, s, w, age, from_stage, c1, wf, tangent) : 0;
+    if (m->contacts && evaluate_contacts(m, s, w, age, from_stage, c1, wf, tangent))
+        stale = 1;
+    return stale;
+}
+
 /* Element forces and the residual at the evaluation point, ground accelerations age (one per
- * channel).
- *
- * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
- * with the one in the current factorisation; returns 1 when one changed (the factorisation is
- * then stale). Each law group runs as one loop calling its law's function (spring_run,
- * contact_run). */
+ * channel); returns 1 when an effective tangent changed (evaluate_elements). */
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                     const double *age, double c1, double wf, int tangent)
 {
     const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
     const double *ve = w->ve, *ae = w->ae;
-    /* the laws' committed state: the step start's, or in a stage after the first the end of
-     * the stage before (newton.c, keep_stage) */
-    const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
     double *R = w->R;
-    int stale;
     int64_t i;
     if (((const Loops *)w->loops)->one_channel) {
         const double g = age[0];
         for (i = 0; i < n; i++)
-            R[i] = -mass[i] * (g + ae[i]) - damping[i] * ve[i];
+            R[i] = dof_residual(mass[i], damping[i], g, ae[i], ve[i]);
     } else {
         for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
-            R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+            R[i] = dof_residual(mass[i], damping[i], dof_ground(m, i, age), ae[i], ve[i]);
     }
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
-    st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
-
-    stale = m->stories ? evaluate_springs(m, s, w, age, from_stage, c1, wf, tangent) : 0;
-    if (m->contacts && evaluate_contacts(m, s, w, age, from_stage, c1, wf, tangent))
-        stale = 1;
-    return stale;
+    return evaluate_elements(m, s, st, w, b, age, c1, wf, tangent);
 }
 
 /* The driver asked the kernel to stop (Ctrl-C, SIGTERM): another thread sets m->stop[0]
