@@ -285,6 +285,12 @@ static PFRAME_INLINE int contact_run(const ContactLoop *L, int64_t from, int64_t
 MATERIAL_LAWS(SPRING_GROUP_FUNCTION)
 #undef SPRING_GROUP_FUNCTION
 
+/* the group functions by law id */
+typedef int (*SpringGroup)(const SpringLoop *, int64_t, int64_t);
+#define SPRING_GROUP_ENTRY(id, function) [id] = spring_group_##id,
+static const SpringGroup SPRING_GROUPS[BUILTIN_MATERIALS] = {MATERIAL_LAWS(SPRING_GROUP_ENTRY)};
+#undef SPRING_GROUP_ENTRY
+
 /* in_order: the contacts in their own order, none held (see evaluate_contacts) */
 #define CONTACT_GROUP_FUNCTION(id, function) \
     static PFRAME_NOINLINE int contact_group_##id(const ContactLoop *L, int64_t from, \
@@ -297,6 +303,11 @@ MATERIAL_LAWS(SPRING_GROUP_FUNCTION)
     }
 CONTACT_LAWS(CONTACT_GROUP_FUNCTION)
 #undef CONTACT_GROUP_FUNCTION
+
+typedef int (*ContactGroup)(const ContactLoop *, int64_t, int64_t, int);
+#define CONTACT_GROUP_ENTRY(id, function) [id] = contact_group_##id,
+static const ContactGroup CONTACT_GROUPS[BUILTIN_CONTACT_LAWS] = {CONTACT_LAWS(CONTACT_GROUP_ENTRY)};
+#undef CONTACT_GROUP_ENTRY
 
 /* The end of the law group that starts at order[from] (elements of one law are consecutive
  * in the plan's order). */
@@ -321,6 +332,12 @@ typedef struct {
     /* the fast paths' weights of the step length weights_h (integrator.c, step_weights): the
      * divisions once per step length, not once per step */
     double weights_h, c0, c1, inv_c0_mmin;
+    /* every spring (contact) of one built-in law, whose group function is then found once per
+     * call: evaluate calls it without the law groups' loop and switch (about 3 % of a step
+     * of the paper's pair); NULL otherwise */
+    SpringGroup spring_group;
+    ContactGroup contact_group;
+    int64_t spring_law, contact_law;
 } Loops;
 
 /* Member b's loops, what of them holds for a whole call (evaluate sets the rest), in loops,
@@ -394,6 +411,16 @@ static void prepare_loops(const Model *m, State *st, Work *w, int64_t b, Loops *
     cl->R = w->R;
     cl->Q = m->contact_width;
     cl->T = m->contact_states;
+    loops->spring_group = NULL;
+    loops->spring_law = ns ? m->story_law[m->story_order[0]] : -1;
+    if (ns && loops->spring_law < BUILTIN_MATERIALS
+        && group_end(m->story_order, m->story_law, 0, ns) == ns)
+        loops->spring_group = SPRING_GROUPS[loops->spring_law];
+    loops->contact_group = NULL;
+    loops->contact_law = nc ? m->contact_law[m->contact_order[0]] : -1;
+    if (nc && loops->contact_law < BUILTIN_CONTACT_LAWS
+        && group_end(m->contact_order, m->contact_law, 0, nc) == nc)
+        loops->contact_group = CONTACT_GROUPS[loops->contact_law];
     loops->weights_h = NAN; /* none yet: reset_work took this member's smallest mass */
     loops->one_channel = m->dofs > 0; /* channel 0 then exists */
     for (e = 0; e < m->dofs; e++)
@@ -408,6 +435,7 @@ static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Wor
                             int from_stage, double c1, double wf, int tangent)
 {
     const int64_t ns = m->stories;
+    const Loops *loops = (const Loops *)w->loops;
     SpringLoop *L = &((Loops *)w->loops)->springs;
     const int terms = L->terms, grounded = L->grounded;
     int stale = 0;
@@ -420,6 +448,10 @@ static PFRAME_INLINE int evaluate_springs(const Model *m, const Settings *s, Wor
     L->c1 = c1;
     L->wf = wf;
     L->tangent = tangent;
+    if (loops->spring_group != NULL) { /* one group */
+        L->calls[loops->spring_law] += ns;
+        return loops->spring_group(L, 0, ns);
+    }
     for (j = 0; j < ns; j = to) {
         const int64_t law = m->story_law[m->story_order[j]];
         to = group_end(m->story_order, m->story_law, j, ns);
@@ -445,6 +477,7 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
                              int from_stage, double c1, double wf, int tangent)
 {
     const int64_t nc = m->contacts;
+    const Loops *loops = (const Loops *)w->loops;
     ContactLoop *L = &((Loops *)w->loops)->contacts;
     const int terms = L->terms, grounded = L->grounded;
     int stale = 0, in_order;
@@ -468,6 +501,10 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
     L->hold_start = tangent && s->events && s->beyond;
     /* the elements in their own order, none held: the plain loop */
     in_order = L->in_order && L->held < 0 && !L->hold_start;
+    if (loops->contact_group != NULL) { /* one group */
+        L->calls[loops->contact_law] += nc;
+        return loops->contact_group(L, 0, nc, in_order);
+    }
     for (j = 0; j < nc; j = to) {
         const int64_t law = m->contact_law[m->contact_order[j]];
         to = group_end(m->contact_order, m->contact_law, j, nc);
@@ -487,41 +524,55 @@ static PFRAME_INLINE int evaluate_contacts(const Model *m, const Settings *s, Wo
     return stale;
 }
 
+/* The residual's part of DOF i at the evaluation point, -m_i (a_g + ae_i) - c_i ve_i, with a_g
+ * the ground acceleration that loads it (dof_ground; evaluate and end_point_residual, which
+ * takes it with the stage's end point); modal damping's -C ve is added after. */
+static PFRAME_INLINE double dof_residual(double mass, double damping, double ag, double ae,
+                                         double ve)
+{
+    return -mass * (ag + ae) - damping * ve;
+}
+
+/* The element forces at the evaluation point subtracted from the residual, whose DOF part
+ * (dof_residual, modal damping's) is in w->R. With tangent, each element's effective tangent
+ * (k_t + c1 (k_r + beta k_d)) wf is compared with the one in the current factorisation;
+ * returns 1 when one changed (the factorisation is then stale). Each law group runs as one
+ * loop calling its law's function (spring_run, contact_run). */
+static int evaluate_elements(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
+                             const double *age, double c1, double wf, int tangent)
+{
+    /* the laws' committed state: the step start's, or in a stage after the first the end of
+     * the stage before (newton.c, keep_stage) */
+    const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
+    int stale;
+    st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
+    stale = m->stories ? evaluate_springs(m, s, w, age, from_stage, c1, wf, tangent) : 0;
+    if (m->contacts && evaluate_contacts(m, s, w, age, from_stage, c1, wf, tangent))
+        stale = 1;
+    return stale;
+}
+
 /* Element forces and the residual at the evaluation point, ground accelerations age (one per
- * channel).
- *
- * With tangent, each element's effective tangent (k_t + c1 (k_r + beta k_d)) wf is compared
- * with the one in the current factorisation; returns 1 when one changed (the factorisation is
- * then stale). Each law group runs as one loop calling its law's function (spring_run,
- * contact_run). */
+ * channel); returns 1 when an effective tangent changed (evaluate_elements). */
 static int evaluate(const Model *m, const Settings *s, State *st, Work *w, int64_t b,
                     const double *age, double c1, double wf, int tangent)
 {
     const int64_t n = m->dofs;
     const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
     const double *ve = w->ve, *ae = w->ae;
-    /* the laws' committed state: the step start's, or in a stage after the first the end of
-     * the stage before (newton.c, keep_stage) */
-    const int from_stage = w->scalars[LAWS_FROM_STAGE] != 0.0;
     double *R = w->R;
-    int stale;
     int64_t i;
     if (((const Loops *)w->loops)->one_channel) {
         const double g = age[0];
         for (i = 0; i < n; i++)
-            R[i] = -mass[i] * (g + ae[i]) - damping[i] * ve[i];
+            R[i] = dof_residual(mass[i], damping[i], g, ae[i], ve[i]);
     } else {
         for (i = 0; i < n; i++) /* influence: 1, or 0 on a foundation's rocking DOF */
-            R[i] = -mass[i] * (dof_ground(m, i, age) + ae[i]) - damping[i] * ve[i];
+            R[i] = dof_residual(mass[i], damping[i], dof_ground(m, i, age), ae[i], ve[i]);
     }
     if (m->modal_blocks)
         modal_add(m, b, ve, -1.0, R);
-    st->counters[b * COUNTER_SLOTS + EVALUATIONS] += 1;
-
-    stale = m->stories ? evaluate_springs(m, s, w, age, from_stage, c1, wf, tangent) : 0;
-    if (m->contacts && evaluate_contacts(m, s, w, age, from_stage, c1, wf, tangent))
-        stale = 1;
-    return stale;
+    return evaluate_elements(m, s, st, w, b, age, c1, wf, tangent);
 }
 
 /* The driver asked the kernel to stop (Ctrl-C, SIGTERM): another thread sets m->stop[0]

@@ -229,6 +229,37 @@ static void end_point(const Settings *s, int64_t n, const Weights *c, const doub
     }
 }
 
+/* A fast path's end_point without s->alpha, where the stage is evaluated (w->ue, ve, ae are
+ * w->u, v, a; the ground's accelerations are ag_new's), and the DOFs' part of the residual
+ * there (evaluate's, assembly.c) in the same pass: the same numbers as end_point, then
+ * evaluate's loop over the DOFs, without a second pass over them. */
+static void end_point_residual(const Model *m, int64_t b, const Weights *c, const double *U,
+                               const double *V, const double *A, Work *w,
+                               const double *ag_new)
+{
+    const int64_t n = m->dofs;
+    const double *mass = m->mass + b * n, *damping = m->mass_damping + b * n;
+    const double *a = w->a, h = c->h;
+    double *u = w->u, *v = w->v, *R = w->R;
+    int64_t i;
+    if (((const Loops *)w->loops)->one_channel) {
+        const double g = ag_new[0];
+        for (i = 0; i < n; i++) {
+            u[i] = U[i] + (h * V[i] + c->u_A * A[i] + c->u_a * a[i]);
+            v[i] = V[i] + c->v_A * A[i] + c->v_a * a[i];
+            R[i] = dof_residual(mass[i], damping[i], g, a[i], v[i]);
+        }
+    } else {
+        for (i = 0; i < n; i++) {
+            u[i] = U[i] + (h * V[i] + c->u_A * A[i] + c->u_a * a[i]);
+            v[i] = V[i] + c->v_A * A[i] + c->v_a * a[i];
+            R[i] = dof_residual(mass[i], damping[i], dof_ground(m, i, ag_new), a[i], v[i]);
+        }
+    }
+    if (m->modal_blocks)
+        modal_add(m, b, v, -1.0, R);
+}
+
 /* Move the evaluation point (w->ue, ve, ae) to where the stage imposes equilibrium, from the
  * points before it and the stage's end in w->u, v, a; return the ground accelerations there
  * (linear in the step's samples, extrapolated past its end: w->age, or ag_new itself). Without

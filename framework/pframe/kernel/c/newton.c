@@ -59,9 +59,17 @@ static int solve_stage(const Model *m, const Settings *s, State *st, Work *w, in
     if (stage == 0) /* a later stage starts from the acceleration of the one before */
         predict(n, A, a);
     for (it = 0; it < s->max_iterations + 1; it++) {
-        end_point(s, n, &c, U, V, A, a, u, v);
-        age = evaluation_point(m, s, st, w, &c, b, ag_old, ag_new);
-        if (evaluate(m, s, st, w, b, age, c.c1, c.wf, !s->linear))
+        int stale;
+        if (s->scheme != TABLEAU && !s->alpha) { /* evaluated at the end: one pass for both */
+            end_point_residual(m, b, &c, U, V, A, w, ag_new);
+            age = ag_new;
+            stale = evaluate_elements(m, s, st, w, b, age, c.c1, c.wf, !s->linear);
+        } else {
+            end_point(s, n, &c, U, V, A, a, u, v);
+            age = evaluation_point(m, s, st, w, &c, b, ag_old, ag_new);
+            stale = evaluate(m, s, st, w, b, age, c.c1, c.wf, !s->linear);
+        }
+        if (stale)
             scalars[STALE] = 1.0;
         if (!check_finite_norm(m, st, w, b, k, &norm_r))
             return 0;
