@@ -159,14 +159,8 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
         exceed = (g_req > g) & ok
         if not exceed.any():
             return 0.0
-        if kind == "msa":  # all-or-nothing stripes: the likelihood's limit beta -> 0, a step
-            # between the highest level where none pound and the lowest where all do
-            z = exceed.reshape(records, -1).sum(axis=0)
-            lv = np.asarray(levels, float)
-            first = int(np.argmax(z > 0))
-            step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
-            value = hazard.rate(step)
-            return float(value) if np.isfinite(value) else math.nan
+        if kind == "msa":
+            return _step_rate(exceed.reshape(records, -1).sum(axis=0), levels, hazard)
         return math.nan
 
     many = None
@@ -209,11 +203,20 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None, warm=None)
         out[tried[good]] = inside + above
         fitted[tried[good]] = True
     for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
-        first = int(np.argmax(rows[k] > 0))
-        step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
-        value = float(hazard.rate(step))
-        out[k] = value if math.isfinite(value) else math.nan
+        out[k] = _step_rate(rows[k], lv, hazard)
     return out[back]
+
+
+def _step_rate(z, levels, hazard) -> float:
+    """lambda of msa stripes without a fit (all or nothing, or separated: none pounding below
+    a level and all above it, pframe.risk.fragility.separated), as the likelihood's limit
+    beta -> 0 takes them: a step between the highest level below the first where a run
+    pounds and that level (at the lowest level when it is the first)."""
+    lv = np.asarray(levels, float)
+    first = int(np.argmax(np.asarray(z) > 0))
+    step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
+    value = float(hazard.rate(step))
+    return value if math.isfinite(value) else math.nan
 
 
 def _msa_fits(grid, g_req, ok, levels, records, warm=None):
@@ -563,8 +566,9 @@ def _say_what_the_gap_rests_on(out, kind, im, g_req, ok, levels, R, hazard, used
     if not frag.fitted:
         out.warnings.append(
             f"the gap at target ({1000 * out.gap:.1f} mm) rests on stripes that are all or "
-            "nothing there (the likelihood's limit, a step in the intensity): add levels "
-            "between the stripes where pounding starts")
+            "nothing there, or where none pounds below a level and all do above it (the "
+            "likelihood's limit, a step in the intensity): add levels between the stripes "
+            "where pounding starts")
         return
     why = unfixed(frag)
     if why:

@@ -184,7 +184,8 @@ def fit_msa(levels, trials, exceeded) -> Fragility:
     """Baker's binomial MLE over stripes: ``trials[j]`` runs at ``levels[j]`` (> 0, g),
     ``exceeded[j]`` of them (0 to ``trials[j]``) exceed the limit. Absent (NaN, with the
     reason in ``note``) when the data cannot fix both parameters: fewer than two levels with
-    runs, no exceedance at all, every level all or nothing (a perfect separation), or a
+    runs, no exceedance at all, every level all or nothing (a perfect separation), none
+    exceeding below a level and all above it (:func:`separated`: no finite maximum), or a
     likelihood too flat at its maximum (:func:`unfixed`). Raises
     :class:`~pframe.errors.InputError` for arguments that are not stripes."""
     from pframe.errors import InputError
@@ -215,7 +216,28 @@ def msa_fit(x, n, z) -> Fragility:
     if np.all((z == 0) | (z == n)):
         return _absent("msa", "every level is all-or-nothing: the median lies between two "
                        "levels and the dispersion is not determined (add levels there)")
+    if separated(np.log(x), n, z):
+        return _absent("msa", SEPARATED)
     return _probit(np.log(x), n, z)
+
+
+#: why a fit of data :func:`separated` is absent
+SEPARATED = ("the data do not fix the fit: the likelihood has no interior maximum (no run "
+             "exceeds the limit below one level and every run above it does: the median is at "
+             "that level and the dispersion goes to 0; add levels around it)")
+
+
+def separated(lx, n, z) -> np.ndarray:
+    """Whether the binomial data (``z`` (L,) or (m, L) exceedances of the ``n`` runs at the
+    levels ``lx``) are separated along the intensity: every level with a run that does not
+    exceed lies at or below every level with one that does. Then the probit likelihood has no
+    maximum at a finite slope (it rises towards c1 -> infinity, where the curve becomes a
+    step at that level: quasi-complete separation, Albert & Anderson 1984), and a scoring
+    stops wherever it grows too slowly to go on."""
+    lx, n, z = np.asarray(lx, float), np.asarray(n, float), np.asarray(z, float)
+    below = np.where((z < n) & (n > 0), lx, -np.inf).max(axis=-1)  # the highest non-exceedance
+    above = np.where(z > 0, lx, np.inf).min(axis=-1)  # the lowest exceedance
+    return below <= above
 
 
 # The normal distribution's functions as scipy.stats.norm computes them (the same special
@@ -324,7 +346,8 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
         warm = np.isfinite(start).all(axis=1) & (start[:, 1] > 1e-2) & (start[:, 1] < STEEP)
         c[warm] = start[warm]
     current = loglik(c, np.arange(m))
-    active = np.ones(m, bool)
+    apart = separated(lx, n, z)  # no maximum to find: not scored, not fitted
+    active = ~apart
     for _ in range(200):
         rows = np.flatnonzero(active)
         if not rows.size:
@@ -367,7 +390,7 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
         done = ((np.max(np.abs(scale[:, None] * step), axis=1) < 1e-10) | (moved < 1e-13)
                 | (trial[:, 1] > 1e3))
         active[rows[done]] = False
-    return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current)
+    return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current) & ~apart
 
 
 def fit_capacities(capacities, censored=None) -> Fragility:
