@@ -306,7 +306,8 @@ SIDE_BLOCK = 16
 def _sides(c, middle, weight, above, target: float) -> tuple[np.ndarray, np.ndarray]:
     """Bounds of :func:`_integrals` from a point in ``SIDE_BLOCK``: with c1 > 0 (a fitted
     probit) Phi grows along the increasing ``middle``, so with weights >= 0 each block's
-    sum lies between its weight times Phi at its first point and at its last. Returns the
+    sum lies between its weight times Phi at its first point and at the next block's first
+    (the last block's: at its last point), Phi taken once at each of those points. Returns the
     integrals (the lower bound where even it puts lambda = integral + ``above`` above
     ``target``, the upper where even it puts lambda at or below; NaN elsewhere) and the
     rows left to integrate (those the bounds do not decide, and any without c1 > 0). The
@@ -314,10 +315,9 @@ def _sides(c, middle, weight, above, target: float) -> tuple[np.ndarray, np.ndar
     from scipy.special import ndtr
 
     starts = np.arange(0, middle.size, SIDE_BLOCK)
-    ends = np.append(starts[1:], middle.size) - 1
     w = np.add.reduceat(weight, starts)
-    low = ndtr(c[:, :1] + c[:, 1:] * middle[starts]) @ w
-    high = ndtr(c[:, :1] + c[:, 1:] * middle[ends]) @ w
+    edges = ndtr(c[:, :1] + c[:, 1:] * middle[np.append(starts, middle.size - 1)])
+    low, high = edges[:, :-1] @ w, edges[:, 1:] @ w
     rising = np.isfinite(c).all(axis=1) & (c[:, 1] > 0)
     over = rising & ((low + above) * (1 - 1e-9) > target)
     under = rising & ((high + above) * (1 + 1e-9) <= target)

@@ -314,6 +314,10 @@ def _probit(lx, n, z) -> Fragility:
     return Fragility(math.exp(-c[0] / c[1]), float(1.0 / c[1]), jac @ cov_c @ jac.T, "msa")
 
 
+#: |eta| beyond which :func:`probit_rows` takes log Phi(+-eta) from log_ndtr rather than the
+#: log of Phi (which is then within 3e-7 of 0 or 1: its log would lose digits)
+_FAR = 5.0
+
 #: the steepest start :func:`probit_rows` takes (c1 = 1 / beta: a dispersion of 0.05): a
 #: steeper fit is one the data nearly separate, whose likelihood is flat towards c1 -> inf,
 #: and where its scoring stops then depends on where it starts
@@ -333,10 +337,19 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
     or a change of the log-likelihood below 1e-13): fewer steps, not another answer."""
     z = np.atleast_2d(np.asarray(z, float))
     m = z.shape[0]
+    lost = n - z  # the runs that do not exceed
 
     def loglik(c, rows):
+        """The log-likelihood of rows ``rows`` at ``c``, and Phi(eta), Phi(-eta) there
+        (the next step's p and q when the step is taken)."""
         eta = c[:, :1] + c[:, 1:] * lx
-        return np.sum(z[rows] * log_ndtr(eta) + (n - z[rows]) * log_ndtr(-eta), axis=1)
+        p, q = _cdf(eta), _sf(eta)
+        with np.errstate(divide="ignore"):
+            log_p, log_q = np.log(p), np.log(q)
+        far = np.abs(eta) > _FAR  # where Phi is too near 0 or 1 for its log
+        if far.any():
+            log_p[far], log_q[far] = log_ndtr(eta[far]), log_ndtr(-eta[far])
+        return np.sum(z[rows] * log_p + lost[rows] * log_q, axis=1), p, q
 
     mid = np.argmin(np.abs(z / n - 0.5), axis=1)
     beta0 = max(float(np.std(lx)), 0.3)
@@ -345,7 +358,7 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
     if start is not None:
         warm = np.isfinite(start).all(axis=1) & (start[:, 1] > 1e-2) & (start[:, 1] < STEEP)
         c[warm] = start[warm]
-    current = loglik(c, np.arange(m))
+    current, at_p, at_q = loglik(c, np.arange(m))
     apart = separated(lx, n, z)  # no maximum to find: not scored, not fitted
     active = ~apart
     for _ in range(200):
@@ -353,16 +366,23 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
         if not rows.size:
             break
         eta = c[rows, :1] + c[rows, 1:] * lx
-        p = np.clip(_cdf(eta), 1e-300, 1 - 1e-16)
-        q = np.clip(_sf(eta), 1e-300, 1 - 1e-16)
+        p = np.clip(at_p[rows], 1e-300, 1 - 1e-16)
+        q = np.clip(at_q[rows], 1e-300, 1 - 1e-16)
         phi = _pdf(eta)
-        w = (z[rows] - n * p) * phi / (p * q)
+        zr, pq = z[rows], p * q
+        w = (zr - n * p) * phi / pq
         score = np.stack([w.sum(axis=1), (w * lx).sum(axis=1)], axis=1)
-        weight = n * phi * phi / (p * q)  # Fisher's expected information
         near = warm[rows]
-        if near.any():  # the observed one (Newton's method): from a near start, fewer steps
-            ratio_p, ratio_q, zr, e = phi[near] / p[near], phi[near] / q[near], z[rows[near]], eta[near]
-            weight[near] = zr * ratio_p * (e + ratio_p) + (n - zr) * ratio_q * (ratio_q - e)
+        # the observed information (Newton's method) from a near start (fewer steps),
+        # Fisher's expected one from the default start
+        if near.all():
+            ratio_p, ratio_q = phi / p, phi / q
+            weight = zr * ratio_p * (eta + ratio_p) + lost[rows] * ratio_q * (ratio_q - eta)
+        else:
+            weight = n * phi * phi / pq
+            if near.any():
+                ratio_p, ratio_q, zn, e = phi[near] / p[near], phi[near] / q[near], zr[near], eta[near]
+                weight[near] = zn * ratio_p * (e + ratio_p) + (n - zn) * ratio_q * (ratio_q - e)
         a, b, d = weight.sum(axis=1), (weight * lx).sum(axis=1), (weight * lx * lx).sum(axis=1)
         det = a * d - b * b
         solvable = np.isfinite(det) & (np.abs(det) > 1e-300)
@@ -372,7 +392,7 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
                          a * score[:, 1] - b * score[:, 0]], axis=1) / det[:, None]
         scale = np.ones(rows.size)
         trial = c[rows] + step
-        value = loglik(trial, rows)
+        value, trial_p, trial_q = loglik(trial, rows)
         worse = value < current[rows] - 1e-12
         # from a warm start, a step already below the stopping tolerance is not halved: at
         # the maximum the log-likelihood's rounding can make any step look worse
@@ -383,10 +403,10 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
             worse &= scale > 1e-6
             worse &= ~near | (np.max(np.abs(scale[:, None] * step), axis=1) >= 1e-10)
             trial[worse] = c[rows[worse]] + scale[worse, None] * step[worse]
-            value[worse] = loglik(trial[worse], rows[worse])
+            value[worse], trial_p[worse], trial_q[worse] = loglik(trial[worse], rows[worse])
             worse &= value < current[rows] - 1e-12
         moved = np.abs(value - current[rows])
-        c[rows], current[rows] = trial, value
+        c[rows], current[rows], at_p[rows], at_q[rows] = trial, value, trial_p, trial_q
         done = ((np.max(np.abs(scale[:, None] * step), axis=1) < 1e-10) | (moved < 1e-13)
                 | (trial[:, 1] > 1e3))
         active[rows[done]] = False
