@@ -355,3 +355,45 @@ def test_the_distinct_count_rows_over_increasing_gaps_are_np_uniques():
     rows, back = _distinct(counts[shuffled], grid[shuffled])
     assert np.array_equal(rows[back], counts[shuffled])
     assert len(rows) == len(np.unique(counts, axis=0))
+
+
+@pytest.mark.slow
+def test_a_resamples_scoring_stopped_once_its_side_is_settled_finds_the_same_gap(monkeypatch):
+    """A resample's fits from the whole sample's stop once a Newton step is small and the
+    rate is on one side of the target by more than 1e-3 (analysis.SETTLED): the gap found
+    is the one of the same curve with every fit taken to its stopping tolerance, for
+    targets at every fourth value of that curve (where the side is in most doubt) and an
+    ulp either side; and the search did stop some fits early."""
+    from pframe.risk import fragility
+    from pframe.risk.analysis import _gap_curve, _warm_fits
+
+    g_req = _records(3, records=40)
+    g_req *= np.exp(0.2 * np.random.default_rng(4).standard_normal(g_req.shape))
+    R, L = g_req.shape
+    im, ok, g = np.tile(LEVELS, R), np.ones(R * L, bool), g_req.ravel()
+    warm = _warm_fits(g, ok, LEVELS, R)
+    hazard = HazardCurve.power_law(K0, K)
+    settled = []
+    probit_rows = fragility.probit_rows
+
+    def counted(*args, **kwargs):  # probit_rows, counting the rows it stops early
+        ask = kwargs.get("settled")
+        if ask is not None:
+            kwargs["settled"] = lambda c: settled.append(ask(c)) or settled[-1]
+        return probit_rows(*args, **kwargs)
+
+    monkeypatch.setattr(fragility, "probit_rows", counted)
+    for seed in range(2):
+        pick = np.random.default_rng(seed).integers(0, R, R)
+        idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
+
+        def curve(idx=idx):
+            return _gap_curve("msa", im[idx], g[idx], ok[idx], LEVELS, R, hazard, warm=warm)
+
+        whole = curve()
+        values = whole.values  # every fit to its tolerance (no target: nothing settles)
+        picked = values[np.isfinite(values) & (values > 0)][::4]
+        for target in [*picked, *np.nextafter(picked, 0.0), *np.nextafter(picked, 1.0)]:
+            found = curve().gap(target)
+            assert found == whole.gap(target) or math.isnan(whole.gap(target))
+    assert sum(int(np.sum(s)) for s in settled)  # fits did stop early

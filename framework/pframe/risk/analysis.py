@@ -186,18 +186,27 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None, warm=None)
     from scipy.special import ndtr
 
     lv = np.asarray(levels, float)
-    rows, back, none, tried, c, good = _msa_fits(grid, g_req, ok, levels, records, warm)
+    x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
+    lam = hazard.rate(x)
+    middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
+    sided = target is not None and bool(np.all(weight >= 0))
+
+    def above_table(c):
+        return np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
+
+    def settled(c):  # rows whose side of the target no last step of the scoring can change
+        return ~np.isnan(_sides(c, middle, weight, above_table(c), target, SETTLED)[0])
+
+    rows, back, none, tried, c, good = _msa_fits(grid, g_req, ok, levels, records, warm,
+                                                 settled if sided and warm is not None else None)
     fitted = np.zeros(len(rows), bool)
     out = np.where(none, 0.0, np.nan)
     if tried.size:
-        x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
-        lam = hazard.rate(x)
-        middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
         c = c[good]
-        above = np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
+        above = above_table(c)
         inside = np.full(len(c), np.nan)
         todo = np.arange(len(c))
-        if target is not None and np.all(weight >= 0):
+        if sided:
             inside, todo = _sides(c, middle, weight, above, target)
         inside[todo] = _integrals(c[todo], middle, weight)
         out[tried[good]] = inside + above
@@ -219,14 +228,20 @@ def _step_rate(z, levels, hazard) -> float:
     return value if math.isfinite(value) else math.nan
 
 
-def _msa_fits(grid, g_req, ok, levels, records, warm=None):
+#: the relative margin by which a bootstrap resample's rate must clear the target, on the
+#: bounds of :func:`_sides`, for its probit scoring to stop before its stopping tolerance
+#: (:func:`pframe.risk.fragility.probit_rows`' ``settled``)
+SETTLED = 1e-3
+
+
+def _msa_fits(grid, g_req, ok, levels, records, warm=None, settled=None):
     """The probit fits of the msa curve at the gaps of ``grid``, one per distinct row of
     pounding counts: ``rows`` (k, L) those counts, ``back`` (len(grid),) each gap's row,
     ``none`` (k,) the rows where no run pounds, ``tried`` the rows fitted (two levels or more
     with runs, not all-or-nothing), ``c`` (len(tried), 2) their coefficients and ``good``
     which of them are interior maxima (:func:`pframe.risk.fragility.probit_rows`). ``warm``:
     (gaps, coefficients) of fits at those gaps (NaN where none) that the scoring of a row
-    starts from, at the first gap of ``grid`` with that row."""
+    starts from, at the first gap of ``grid`` with that row; ``settled``: probit_rows'."""
     from pframe.risk.fragility import probit_rows
 
     lv = np.asarray(levels, float)
@@ -250,7 +265,7 @@ def _msa_fits(grid, g_req, ok, levels, records, warm=None):
         if gaps.size:
             hit = gaps[where] == at
             start[hit] = fits[where[hit]]
-    c, good = probit_rows(np.log(lv[keep]), nn, zz[tried], start=start)
+    c, good = probit_rows(np.log(lv[keep]), nn, zz[tried], start=start, settled=settled)
     return rows, back, none, tried, c, good
 
 
@@ -299,30 +314,38 @@ def _integrals(c, middle, weight) -> np.ndarray:
     return inside
 
 
-#: points of the midpoint rule in each block of :func:`_sides`'s bounds
-SIDE_BLOCK = 16
+#: points of the midpoint rule in each block of :func:`_sides`'s bounds, coarse first (the
+#: rows the coarse bounds decide, most of a resample's, take no finer ones)
+SIDE_BLOCKS = (64, 16)
 
 
-def _sides(c, middle, weight, above, target: float) -> tuple[np.ndarray, np.ndarray]:
-    """Bounds of :func:`_integrals` from a point in ``SIDE_BLOCK``: with c1 > 0 (a fitted
-    probit) Phi grows along the increasing ``middle``, so with weights >= 0 each block's
-    sum lies between its weight times Phi at its first point and at the next block's first
-    (the last block's: at its last point), Phi taken once at each of those points. Returns the
-    integrals (the lower bound where even it puts lambda = integral + ``above`` above
-    ``target``, the upper where even it puts lambda at or below; NaN elsewhere) and the
-    rows left to integrate (those the bounds do not decide, and any without c1 > 0). The
-    margin of 1e-9 covers the rounding of both sums (a relative 1e-13 over 800 terms)."""
+def _sides(c, middle, weight, above, target: float, margin: float = 1e-9) \
+        -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of :func:`_integrals` from a point in each block of ``SIDE_BLOCKS`` points:
+    with c1 > 0 (a fitted probit) Phi grows along the increasing ``middle``, so with weights
+    >= 0 each block's sum lies between its weight times Phi at its first point and at the
+    next block's first (the last block's: at its last point). Returns the integrals (the
+    lower bound where even it puts lambda = integral + ``above`` above ``target``, the upper
+    where even it puts lambda at or below; NaN elsewhere) and the rows left to integrate
+    (those the finest bounds do not decide, and any without c1 > 0). The ``margin`` of 1e-9
+    covers the rounding of both sums (a relative 1e-13 over 800 terms)."""
     from scipy.special import ndtr
 
-    starts = np.arange(0, middle.size, SIDE_BLOCK)
-    w = np.add.reduceat(weight, starts)
-    edges = ndtr(c[:, :1] + c[:, 1:] * middle[np.append(starts, middle.size - 1)])
-    low, high = edges[:, :-1] @ w, edges[:, 1:] @ w
-    rising = np.isfinite(c).all(axis=1) & (c[:, 1] > 0)
-    over = rising & ((low + above) * (1 - 1e-9) > target)
-    under = rising & ((high + above) * (1 + 1e-9) <= target)
-    inside = np.where(over, low, np.where(under, high, np.nan))
-    return inside, np.flatnonzero(~(over | under))
+    inside = np.full(len(c), np.nan)
+    todo = np.flatnonzero(np.isfinite(c).all(axis=1) & (c[:, 1] > 0))
+    for size in SIDE_BLOCKS:
+        if not todo.size:
+            break
+        starts = np.arange(0, middle.size, size)
+        w = np.add.reduceat(weight, starts)
+        ct = c[todo]
+        edges = ndtr(ct[:, :1] + ct[:, 1:] * middle[np.append(starts, middle.size - 1)])
+        low, high = edges[:, :-1] @ w, edges[:, 1:] @ w
+        over = (low + above[todo]) * (1 - margin) > target
+        under = (high + above[todo]) * (1 + margin) <= target
+        inside[todo[over]], inside[todo[under]] = low[over], high[under]
+        todo = todo[~(over | under)]
+    return inside, np.flatnonzero(np.isnan(inside))
 
 
 def _pounding_counts(grid, g_req, ok, records) -> np.ndarray:

@@ -318,13 +318,17 @@ def _probit(lx, n, z) -> Fragility:
 #: log of Phi (which is then within 3e-7 of 0 or 1: its log would lose digits)
 _FAR = 5.0
 
+#: the last Newton step (in c) below which :func:`probit_rows` asks whether a row is settled:
+#: the steps left move c by about its square (quadratic convergence), 1e-8 here
+SETTLING = 1e-3
+
 #: the steepest start :func:`probit_rows` takes (c1 = 1 / beta: a dispersion of 0.05): a
 #: steeper fit is one the data nearly separate, whose likelihood is flat towards c1 -> inf,
 #: and where its scoring stops then depends on where it starts
 STEEP = 20.0
 
 
-def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
+def probit_rows(lx, n, z, start=None, settled=None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_probit` for many rows of counts at once: ``z`` (m, L) exceedances of the
     ``n`` (L,) runs at the levels ``lx`` (L,, log); the same Fisher scoring with step halving,
     row by row in lockstep (the gap's curve fits one row per gap). Returns the coefficients
@@ -334,7 +338,11 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
     start (a fit of nearby counts: a bootstrap resample's from the whole sample's at the
     same gap). The log-likelihood is concave in c (log Phi is, Pratt 1981), so the scoring
     reaches the same maximum from any start, to its stopping tolerance (a step below 1e-10
-    or a change of the log-likelihood below 1e-13): fewer steps, not another answer."""
+    or a change of the log-likelihood below 1e-13): fewer steps, not another answer.
+    ``settled(c)``: for rows of a warm start whose last Newton step was below
+    :data:`SETTLING` (the steps left then move c by about its square), whether the caller
+    has all it needs of them at ``c`` (a bootstrap resample's rate clearly on one side of
+    the target): those stop there."""
     z = np.atleast_2d(np.asarray(z, float))
     m = z.shape[0]
     lost = n - z  # the runs that do not exceed
@@ -407,9 +415,13 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
             worse &= value < current[rows] - 1e-12
         moved = np.abs(value - current[rows])
         c[rows], current[rows], at_p[rows], at_q[rows] = trial, value, trial_p, trial_q
-        done = ((np.max(np.abs(scale[:, None] * step), axis=1) < 1e-10) | (moved < 1e-13)
-                | (trial[:, 1] > 1e3))
+        taken = np.max(np.abs(scale[:, None] * step), axis=1)
+        done = (taken < 1e-10) | (moved < 1e-13) | (trial[:, 1] > 1e3)
         active[rows[done]] = False
+        if settled is not None:
+            ask = rows[~done & near & (taken < SETTLING)]
+            if ask.size:
+                active[ask[settled(c[ask])]] = False
     return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current) & ~apart
 
 
