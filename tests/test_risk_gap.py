@@ -114,17 +114,19 @@ def test_the_gap_searched_block_by_block_is_the_gap_of_the_whole_curve(monkeypat
     down, a block of gaps at a time, each rate only bounded where the bound tells its side
     of the target: the gap found is the one of the curve computed at every gap, for targets
     at each of the non-monotone curve's values (where a bound's side is in doubt), an ulp
-    either side, and past both ends."""
+    either side, and past both ends, wherever the search is told to expect it (which sizes
+    its blocks)."""
     from pframe.risk import gapcurve
     from pframe.risk.analysis import _gap_curve
 
     monkeypatch.setattr(gapcurve, "SCAN", 3)  # blocks of 3 of its 40 gaps
+    monkeypatch.setattr(gapcurve, "WIDE", 7)  # and of 7 above where it is told to expect it
     g_req = _records(55)
     R, L = g_req.shape
 
-    def curve():
+    def curve(near=None):
         return _gap_curve("msa", np.tile(LEVELS, R), g_req.ravel(), np.ones(R * L, bool),
-                          LEVELS, R, HazardCurve.power_law(K0, K))
+                          LEVELS, R, HazardCurve.power_law(K0, K), near=near)
 
     whole = curve()
     values = whole.values
@@ -132,10 +134,12 @@ def test_the_gap_searched_block_by_block_is_the_gap_of_the_whole_curve(monkeypat
     picked = values[np.isfinite(values) & (values > 0)][::6]
     targets = [*picked, *np.nextafter(picked, 0.0), *np.nextafter(picked, 1.0),
                0.5 * np.nanmin(values), 2 * np.nanmax(values)]
+    grid = whole.grid
     for target in targets:
-        fresh = curve()
-        assert fresh.gap(target) == whole.gap(target) or math.isnan(whole.gap(target))
-        assert fresh._values is None  # the search alone did not compute the curve
+        for near in (None, grid[0] / 2, grid[5], grid[20], grid[-3], 2 * grid[-1], math.nan):
+            fresh = curve(near)
+            assert fresh.gap(target) == whole.gap(target) or math.isnan(whole.gap(target))
+            assert fresh._values is None  # the search alone did not compute the curve
 
 
 def test_the_bootstrap_resamples_shared_among_processes_give_the_loops_gaps_in_order():

@@ -130,10 +130,11 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
 
 
 def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
-               warm=None) -> GapCurve:
+               warm=None, near=None) -> GapCurve:
     """lambda(g) of pounding at a uniform gap g, the design's fit refitted at each g
     (:mod:`pframe.risk.gapcurve`: its envelope from the right and the largest crossing);
-    ``warm``: the fits an msa curve computed at once starts from (:func:`_warm_fits`)."""
+    ``warm``: the fits an msa curve computed at once starts from (:func:`_warm_fits`);
+    ``near``: where its search expects the crossing (GapCurve's)."""
     known: dict = {}  # msa: lambda by the stripes' counts of pounding runs
 
     def rate(g):
@@ -167,7 +168,8 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
     if kind == "msa":
         def many(grid, target=None):
             return _msa_rates(grid, g_req, ok, levels, records, hazard, target, warm)
-    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
+    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many,
+                    near=near)
 
 
 #: fits whose integrals over the hazard are taken at once (the hazard's 800 points each)
@@ -491,7 +493,7 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
     if spec.bootstrap and kind != "cloud":
         picks = [rng.integers(0, R, R) for _ in range(spec.bootstrap)]
         found = np.array(_resampled_gaps((kind, im, g_req, ok, inputs.levels, R, hazard, used,
-                                          target), picks, threads))
+                                          target), picks, threads, near=out.gap))
         if np.isfinite(found).sum() >= 0.9 * len(found):
             out.gap_low, out.gap_high = (float(v) for v in np.nanpercentile(found, [5, 95]))
         else:
@@ -507,11 +509,12 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
     _rules_at_target(out, kind, inputs, rows, im, ok, hunted, spec)
 
 
-def _gaps_of(data, picks) -> list:
+def _gaps_of(data, picks, near=None) -> list:
     """The gap at target of each resample of the records ``picks`` (record numbers, drawn
     with replacement); ``data``: (kind, im, g_req, ok, levels, records, hazard, used,
     target) of the study, and optionally the whole sample's fits (:func:`_warm_fits`) that
-    an msa resample's fits start from."""
+    an msa resample's fits start from; ``near``: the whole sample's gap, near which each
+    resample's is expected (its search's blocks are sized by it, GapCurve's)."""
     kind, im, g_req, ok, levels, R, hazard, used, target = data[:9]
     warm = data[9] if len(data) > 9 else None
     L = im.size // R
@@ -519,11 +522,11 @@ def _gaps_of(data, picks) -> list:
     for pick in picks:
         idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
         out.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], levels, R, hazard,
-                              None if used is None else used[idx], warm).gap(target))
+                              None if used is None else used[idx], warm, near).gap(target))
     return out
 
 
-def _resampled_gaps(data, picks: list, workers: int | None) -> list:
+def _resampled_gaps(data, picks: list, workers: int | None, near=None) -> list:
     """:func:`_gaps_of` shared among ``workers`` processes (default: one per CPU), each a
     contiguous share of the resamples; the numbers are those of one process, in order (each
     resample's work is its own). Processes, not threads: the fits are many small numpy
@@ -538,13 +541,13 @@ def _resampled_gaps(data, picks: list, workers: int | None) -> list:
     workers = max(1, min(len(picks), workers or os.cpu_count() or 1))
     if (workers == 1 or "fork" not in multiprocessing.get_all_start_methods()
             or multiprocessing.current_process().daemon):
-        return _gaps_of(data, picks)
+        return _gaps_of(data, picks, near)
     from concurrent.futures import ProcessPoolExecutor
     from functools import partial
 
     share = -(-len(picks) // workers)
     with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
-        parts = pool.map(partial(_gaps_of, data),
+        parts = pool.map(partial(_gaps_of, data, near=near),
                          [picks[lo:lo + share] for lo in range(0, len(picks), share)])
         return [value for part in parts for value in part]
 
