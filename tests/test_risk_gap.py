@@ -74,8 +74,11 @@ def _raw(g_req, levels, g):
         return mean_annual_frequency(f.probability, HazardCurve.power_law(K0, K), 800)[0]
     if not z.any():
         return 0.0
+    # the likelihood's limit, a step: at the first level where a run pounds if some of its
+    # runs do not (separated stripes), else between it and the level below
     first = int(np.argmax(z > 0))
-    x = levels[0] if first == 0 else math.sqrt(levels[first - 1] * levels[first])
+    x = (levels[first] if first == 0 or z[first] < R
+         else math.sqrt(levels[first - 1] * levels[first]))
     return K0 * x ** -K
 
 

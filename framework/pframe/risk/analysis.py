@@ -161,7 +161,8 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
         if not exceed.any():
             return 0.0
         if kind == "msa":
-            return _step_rate(exceed.reshape(records, -1).sum(axis=0), levels, hazard)
+            return _step_rate(exceed.reshape(records, -1).sum(axis=0),
+                              ok.reshape(records, -1).sum(axis=0), levels, hazard)
         return math.nan
 
     many = None
@@ -213,19 +214,23 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None, warm=None)
         inside[todo] = _integrals(c[todo], middle, weight)
         out[tried[good]] = inside + above
         fitted[tried[good]] = True
+    n = ok.reshape(records, -1).sum(axis=0)
     for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
-        out[k] = _step_rate(rows[k], lv, hazard)
+        out[k] = _step_rate(rows[k], n, lv, hazard)
     return out[back]
 
 
-def _step_rate(z, levels, hazard) -> float:
-    """lambda of msa stripes without a fit (all or nothing, or separated: none pounding below
-    a level and all above it, pframe.risk.fragility.separated), as the likelihood's limit
-    beta -> 0 takes them: a step between the highest level below the first where a run
-    pounds and that level (at the lowest level when it is the first)."""
+def _step_rate(z, n, levels, hazard) -> float:
+    """lambda of msa stripes without a fit, as the likelihood's limit beta -> 0 takes them:
+    a step in the intensity from none pounding to all, at the first level where a run pounds
+    when some of its runs do not (separated stripes, pframe.risk.fragility.separated: the
+    likelihood rises towards that step, the stripe's share at its level), between that level
+    and the one below (at the lowest level when it is the first) when all its runs pound
+    (all-or-nothing stripes: any step between them has the likelihood 1)."""
     lv = np.asarray(levels, float)
     first = int(np.argmax(np.asarray(z) > 0))
-    step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
+    step = (lv[first] if first == 0 or z[first] < n[first]
+            else math.sqrt(lv[first - 1] * lv[first]))
     value = float(hazard.rate(step))
     return value if math.isfinite(value) else math.nan
 
