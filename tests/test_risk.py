@@ -415,3 +415,23 @@ def test_pframe_plot_draws_the_figure_set(pulse, tmp_path):
     assert main(["plot", str(folder / "risk.nc"), "-o", str(tmp_path / "risk.png"), "-q"]) == 0
     assert sorted(p.name for p in tmp_path.glob("risk-*.png")) == [
         "risk-fragility.png", "risk-gap.png", "risk-hazard.png"]
+
+
+def test_msa_data_separated_at_one_level_have_no_fit():
+    """997 of 1000 runs exceed at the lowest level and all at the others: the likelihood
+    rises towards a step at that level (c1 -> infinity) and has no maximum, so no fit is
+    reported, one row at a time or many at once; two mixed levels still fit."""
+    from pframe.risk.fragility import msa_fit, probit_rows
+
+    levels = [0.2, 0.4, 0.6, 0.8]
+    n = np.full(4, 1000)
+    separated = [(997, 1000, 1000, 1000), (0, 0, 3, 1000), (0, 0, 1, 1000)]
+    mixed = [(0, 2, 995, 1000), (990, 999, 1000, 1000)]
+    for z in separated:
+        assert not msa_fit(levels, n, z).fitted, z  # as the gap's curve fits (unchecked)
+        assert not fit_msa(levels, n, z).fitted, z
+        assert "no interior maximum" in fit_msa(levels, n, z).note
+    for z in mixed:
+        assert fit_msa(levels, n, z).fitted, z
+    c, good = probit_rows(np.log(levels), n.astype(float), np.array(separated + mixed, float))
+    assert list(good) == [False] * len(separated) + [True] * len(mixed)

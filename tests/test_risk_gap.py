@@ -74,8 +74,11 @@ def _raw(g_req, levels, g):
         return mean_annual_frequency(f.probability, HazardCurve.power_law(K0, K), 800)[0]
     if not z.any():
         return 0.0
+    # the likelihood's limit, a step: at the first level where a run pounds if some of its
+    # runs do not (separated stripes), else between it and the level below
     first = int(np.argmax(z > 0))
-    x = levels[0] if first == 0 else math.sqrt(levels[first - 1] * levels[first])
+    x = (levels[first] if first == 0 or z[first] < R
+         else math.sqrt(levels[first - 1] * levels[first]))
     return K0 * x ** -K
 
 
@@ -114,17 +117,19 @@ def test_the_gap_searched_block_by_block_is_the_gap_of_the_whole_curve(monkeypat
     down, a block of gaps at a time, each rate only bounded where the bound tells its side
     of the target: the gap found is the one of the curve computed at every gap, for targets
     at each of the non-monotone curve's values (where a bound's side is in doubt), an ulp
-    either side, and past both ends."""
+    either side, and past both ends, wherever the search is told to expect it (which sizes
+    its blocks)."""
     from pframe.risk import gapcurve
     from pframe.risk.analysis import _gap_curve
 
     monkeypatch.setattr(gapcurve, "SCAN", 3)  # blocks of 3 of its 40 gaps
+    monkeypatch.setattr(gapcurve, "WIDE", 7)  # and of 7 above where it is told to expect it
     g_req = _records(55)
     R, L = g_req.shape
 
-    def curve():
+    def curve(near=None):
         return _gap_curve("msa", np.tile(LEVELS, R), g_req.ravel(), np.ones(R * L, bool),
-                          LEVELS, R, HazardCurve.power_law(K0, K))
+                          LEVELS, R, HazardCurve.power_law(K0, K), near=near)
 
     whole = curve()
     values = whole.values
@@ -132,10 +137,12 @@ def test_the_gap_searched_block_by_block_is_the_gap_of_the_whole_curve(monkeypat
     picked = values[np.isfinite(values) & (values > 0)][::6]
     targets = [*picked, *np.nextafter(picked, 0.0), *np.nextafter(picked, 1.0),
                0.5 * np.nanmin(values), 2 * np.nanmax(values)]
+    grid = whole.grid
     for target in targets:
-        fresh = curve()
-        assert fresh.gap(target) == whole.gap(target) or math.isnan(whole.gap(target))
-        assert fresh._values is None  # the search alone did not compute the curve
+        for near in (None, grid[0] / 2, grid[5], grid[20], grid[-3], 2 * grid[-1], math.nan):
+            fresh = curve(near)
+            assert fresh.gap(target) == whole.gap(target) or math.isnan(whole.gap(target))
+            assert fresh._values is None  # the search alone did not compute the curve
 
 
 def test_the_bootstrap_resamples_shared_among_processes_give_the_loops_gaps_in_order():
@@ -355,3 +362,45 @@ def test_the_distinct_count_rows_over_increasing_gaps_are_np_uniques():
     rows, back = _distinct(counts[shuffled], grid[shuffled])
     assert np.array_equal(rows[back], counts[shuffled])
     assert len(rows) == len(np.unique(counts, axis=0))
+
+
+@pytest.mark.slow
+def test_a_resamples_scoring_stopped_once_its_side_is_settled_finds_the_same_gap(monkeypatch):
+    """A resample's fits from the whole sample's stop once a Newton step is small and the
+    rate is on one side of the target by more than 1e-3 (analysis.SETTLED): the gap found
+    is the one of the same curve with every fit taken to its stopping tolerance, for
+    targets at every fourth value of that curve (where the side is in most doubt) and an
+    ulp either side; and the search did stop some fits early."""
+    from pframe.risk import fragility
+    from pframe.risk.analysis import _gap_curve, _warm_fits
+
+    g_req = _records(3, records=40)
+    g_req *= np.exp(0.2 * np.random.default_rng(4).standard_normal(g_req.shape))
+    R, L = g_req.shape
+    im, ok, g = np.tile(LEVELS, R), np.ones(R * L, bool), g_req.ravel()
+    warm = _warm_fits(g, ok, LEVELS, R)
+    hazard = HazardCurve.power_law(K0, K)
+    settled = []
+    probit_rows = fragility.probit_rows
+
+    def counted(*args, **kwargs):  # probit_rows, counting the rows it stops early
+        ask = kwargs.get("settled")
+        if ask is not None:
+            kwargs["settled"] = lambda c: settled.append(ask(c)) or settled[-1]
+        return probit_rows(*args, **kwargs)
+
+    monkeypatch.setattr(fragility, "probit_rows", counted)
+    for seed in range(2):
+        pick = np.random.default_rng(seed).integers(0, R, R)
+        idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
+
+        def curve(idx=idx):
+            return _gap_curve("msa", im[idx], g[idx], ok[idx], LEVELS, R, hazard, warm=warm)
+
+        whole = curve()
+        values = whole.values  # every fit to its tolerance (no target: nothing settles)
+        picked = values[np.isfinite(values) & (values > 0)][::4]
+        for target in [*picked, *np.nextafter(picked, 0.0), *np.nextafter(picked, 1.0)]:
+            found = curve().gap(target)
+            assert found == whole.gap(target) or math.isnan(whole.gap(target))
+    assert sum(int(np.sum(s)) for s in settled)  # fits did stop early

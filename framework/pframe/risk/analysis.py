@@ -130,10 +130,11 @@ def _maf(frag: Fragility, hazard: HazardCurve, rng, draws: int = 200):
 
 
 def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
-               warm=None) -> GapCurve:
+               warm=None, near=None) -> GapCurve:
     """lambda(g) of pounding at a uniform gap g, the design's fit refitted at each g
     (:mod:`pframe.risk.gapcurve`: its envelope from the right and the largest crossing);
-    ``warm``: the fits an msa curve computed at once starts from (:func:`_warm_fits`)."""
+    ``warm``: the fits an msa curve computed at once starts from (:func:`_warm_fits`);
+    ``near``: where its search expects the crossing (GapCurve's)."""
     known: dict = {}  # msa: lambda by the stripes' counts of pounding runs
 
     def rate(g):
@@ -159,21 +160,17 @@ def _gap_curve(kind, im, g_req, ok, levels, records, hazard, used=None,
         exceed = (g_req > g) & ok
         if not exceed.any():
             return 0.0
-        if kind == "msa":  # all-or-nothing stripes: the likelihood's limit beta -> 0, a step
-            # between the highest level where none pound and the lowest where all do
-            z = exceed.reshape(records, -1).sum(axis=0)
-            lv = np.asarray(levels, float)
-            first = int(np.argmax(z > 0))
-            step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
-            value = hazard.rate(step)
-            return float(value) if np.isfinite(value) else math.nan
+        if kind == "msa":
+            return _step_rate(exceed.reshape(records, -1).sum(axis=0),
+                              ok.reshape(records, -1).sum(axis=0), levels, hazard)
         return math.nan
 
     many = None
     if kind == "msa":
         def many(grid, target=None):
             return _msa_rates(grid, g_req, ok, levels, records, hazard, target, warm)
-    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many)
+    return GapCurve(rate, np.where(ok, g_req, np.nan), step=(kind == "msa"), many=many,
+                    near=near)
 
 
 #: fits whose integrals over the hazard are taken at once (the hazard's 800 points each)
@@ -192,38 +189,66 @@ def _msa_rates(grid, g_req, ok, levels, records, hazard, target=None, warm=None)
     from scipy.special import ndtr
 
     lv = np.asarray(levels, float)
-    rows, back, none, tried, c, good = _msa_fits(grid, g_req, ok, levels, records, warm)
+    x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
+    lam = hazard.rate(x)
+    middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
+    sided = target is not None and bool(np.all(weight >= 0))
+
+    def above_table(c):
+        return np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
+
+    def settled(c):  # rows whose side of the target no last step of the scoring can change
+        return ~np.isnan(_sides(c, middle, weight, above_table(c), target, SETTLED)[0])
+
+    rows, back, none, tried, c, good = _msa_fits(grid, g_req, ok, levels, records, warm,
+                                                 settled if sided and warm is not None else None)
     fitted = np.zeros(len(rows), bool)
     out = np.where(none, 0.0, np.nan)
     if tried.size:
-        x = np.geomspace(hazard.im[0], hazard.im[-1], 800)
-        lam = hazard.rate(x)
-        middle, weight = np.log(np.sqrt(x[1:] * x[:-1])), lam[:-1] - lam[1:]
         c = c[good]
-        above = np.nan_to_num(ndtr(c[:, 0] + c[:, 1] * math.log(x[-1]))) * lam[-1]
+        above = above_table(c)
         inside = np.full(len(c), np.nan)
         todo = np.arange(len(c))
-        if target is not None and np.all(weight >= 0):
+        if sided:
             inside, todo = _sides(c, middle, weight, above, target)
         inside[todo] = _integrals(c[todo], middle, weight)
         out[tried[good]] = inside + above
         fitted[tried[good]] = True
+    n = ok.reshape(records, -1).sum(axis=0)
     for k in np.flatnonzero(~none & ~fitted):  # the likelihood's limit: a step (rate_at)
-        first = int(np.argmax(rows[k] > 0))
-        step = lv[0] if first == 0 else math.sqrt(lv[first - 1] * lv[first])
-        value = float(hazard.rate(step))
-        out[k] = value if math.isfinite(value) else math.nan
+        out[k] = _step_rate(rows[k], n, lv, hazard)
     return out[back]
 
 
-def _msa_fits(grid, g_req, ok, levels, records, warm=None):
+def _step_rate(z, n, levels, hazard) -> float:
+    """lambda of msa stripes without a fit, as the likelihood's limit beta -> 0 takes them:
+    a step in the intensity from none pounding to all, at the first level where a run pounds
+    when some of its runs do not (separated stripes, pframe.risk.fragility.separated: the
+    likelihood rises towards that step, the stripe's share at its level), between that level
+    and the one below (at the lowest level when it is the first) when all its runs pound
+    (all-or-nothing stripes: any step between them has the likelihood 1)."""
+    lv = np.asarray(levels, float)
+    first = int(np.argmax(np.asarray(z) > 0))
+    step = (lv[first] if first == 0 or z[first] < n[first]
+            else math.sqrt(lv[first - 1] * lv[first]))
+    value = float(hazard.rate(step))
+    return value if math.isfinite(value) else math.nan
+
+
+#: the relative margin by which a bootstrap resample's rate must clear the target, on the
+#: bounds of :func:`_sides`, for its probit scoring to stop before its stopping tolerance
+#: (:func:`pframe.risk.fragility.probit_rows`' ``settled``)
+SETTLED = 1e-3
+
+
+def _msa_fits(grid, g_req, ok, levels, records, warm=None, settled=None):
     """The probit fits of the msa curve at the gaps of ``grid``, one per distinct row of
     pounding counts: ``rows`` (k, L) those counts, ``back`` (len(grid),) each gap's row,
     ``none`` (k,) the rows where no run pounds, ``tried`` the rows fitted (two levels or more
     with runs, not all-or-nothing), ``c`` (len(tried), 2) their coefficients and ``good``
     which of them are interior maxima (:func:`pframe.risk.fragility.probit_rows`). ``warm``:
     (gaps, coefficients) of fits at those gaps (NaN where none) that the scoring of a row
-    starts from, at the first gap of ``grid`` with that row."""
+    starts from, at the first gap of ``grid`` with that row; ``settled``: probit_rows'."""
     from pframe.risk.fragility import probit_rows
 
     lv = np.asarray(levels, float)
@@ -247,7 +272,7 @@ def _msa_fits(grid, g_req, ok, levels, records, warm=None):
         if gaps.size:
             hit = gaps[where] == at
             start[hit] = fits[where[hit]]
-    c, good = probit_rows(np.log(lv[keep]), nn, zz[tried], start=start)
+    c, good = probit_rows(np.log(lv[keep]), nn, zz[tried], start=start, settled=settled)
     return rows, back, none, tried, c, good
 
 
@@ -296,30 +321,38 @@ def _integrals(c, middle, weight) -> np.ndarray:
     return inside
 
 
-#: points of the midpoint rule in each block of :func:`_sides`'s bounds
-SIDE_BLOCK = 16
+#: points of the midpoint rule in each block of :func:`_sides`'s bounds, coarse first (the
+#: rows the coarse bounds decide, most of a resample's, take no finer ones)
+SIDE_BLOCKS = (64, 16)
 
 
-def _sides(c, middle, weight, above, target: float) -> tuple[np.ndarray, np.ndarray]:
-    """Bounds of :func:`_integrals` from a point in ``SIDE_BLOCK``: with c1 > 0 (a fitted
-    probit) Phi grows along the increasing ``middle``, so with weights >= 0 each block's
-    sum lies between its weight times Phi at its first point and at its last. Returns the
-    integrals (the lower bound where even it puts lambda = integral + ``above`` above
-    ``target``, the upper where even it puts lambda at or below; NaN elsewhere) and the
-    rows left to integrate (those the bounds do not decide, and any without c1 > 0). The
-    margin of 1e-9 covers the rounding of both sums (a relative 1e-13 over 800 terms)."""
+def _sides(c, middle, weight, above, target: float, margin: float = 1e-9) \
+        -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of :func:`_integrals` from a point in each block of ``SIDE_BLOCKS`` points:
+    with c1 > 0 (a fitted probit) Phi grows along the increasing ``middle``, so with weights
+    >= 0 each block's sum lies between its weight times Phi at its first point and at the
+    next block's first (the last block's: at its last point). Returns the integrals (the
+    lower bound where even it puts lambda = integral + ``above`` above ``target``, the upper
+    where even it puts lambda at or below; NaN elsewhere) and the rows left to integrate
+    (those the finest bounds do not decide, and any without c1 > 0). The ``margin`` of 1e-9
+    covers the rounding of both sums (a relative 1e-13 over 800 terms)."""
     from scipy.special import ndtr
 
-    starts = np.arange(0, middle.size, SIDE_BLOCK)
-    ends = np.append(starts[1:], middle.size) - 1
-    w = np.add.reduceat(weight, starts)
-    low = ndtr(c[:, :1] + c[:, 1:] * middle[starts]) @ w
-    high = ndtr(c[:, :1] + c[:, 1:] * middle[ends]) @ w
-    rising = np.isfinite(c).all(axis=1) & (c[:, 1] > 0)
-    over = rising & ((low + above) * (1 - 1e-9) > target)
-    under = rising & ((high + above) * (1 + 1e-9) <= target)
-    inside = np.where(over, low, np.where(under, high, np.nan))
-    return inside, np.flatnonzero(~(over | under))
+    inside = np.full(len(c), np.nan)
+    todo = np.flatnonzero(np.isfinite(c).all(axis=1) & (c[:, 1] > 0))
+    for size in SIDE_BLOCKS:
+        if not todo.size:
+            break
+        starts = np.arange(0, middle.size, size)
+        w = np.add.reduceat(weight, starts)
+        ct = c[todo]
+        edges = ndtr(ct[:, :1] + ct[:, 1:] * middle[np.append(starts, middle.size - 1)])
+        low, high = edges[:, :-1] @ w, edges[:, 1:] @ w
+        over = (low + above[todo]) * (1 - margin) > target
+        under = (high + above[todo]) * (1 + margin) <= target
+        inside[todo[over]], inside[todo[under]] = low[over], high[under]
+        todo = todo[~(over | under)]
+    return inside, np.flatnonzero(np.isnan(inside))
 
 
 def _pounding_counts(grid, g_req, ok, records) -> np.ndarray:
@@ -465,7 +498,7 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
     if spec.bootstrap and kind != "cloud":
         picks = [rng.integers(0, R, R) for _ in range(spec.bootstrap)]
         found = np.array(_resampled_gaps((kind, im, g_req, ok, inputs.levels, R, hazard, used,
-                                          target), picks, threads))
+                                          target), picks, threads, near=out.gap))
         if np.isfinite(found).sum() >= 0.9 * len(found):
             out.gap_low, out.gap_high = (float(v) for v in np.nanpercentile(found, [5, 95]))
         else:
@@ -481,11 +514,12 @@ def _at_target(out: Analysis, spec, inputs, rows, hazard: HazardCurve, im, rng,
     _rules_at_target(out, kind, inputs, rows, im, ok, hunted, spec)
 
 
-def _gaps_of(data, picks) -> list:
+def _gaps_of(data, picks, near=None) -> list:
     """The gap at target of each resample of the records ``picks`` (record numbers, drawn
     with replacement); ``data``: (kind, im, g_req, ok, levels, records, hazard, used,
     target) of the study, and optionally the whole sample's fits (:func:`_warm_fits`) that
-    an msa resample's fits start from."""
+    an msa resample's fits start from; ``near``: the whole sample's gap, near which each
+    resample's is expected (its search's blocks are sized by it, GapCurve's)."""
     kind, im, g_req, ok, levels, R, hazard, used, target = data[:9]
     warm = data[9] if len(data) > 9 else None
     L = im.size // R
@@ -493,11 +527,11 @@ def _gaps_of(data, picks) -> list:
     for pick in picks:
         idx = (pick[:, None] * L + np.arange(L)[None, :]).ravel()
         out.append(_gap_curve(kind, im[idx], g_req[idx], ok[idx], levels, R, hazard,
-                              None if used is None else used[idx], warm).gap(target))
+                              None if used is None else used[idx], warm, near).gap(target))
     return out
 
 
-def _resampled_gaps(data, picks: list, workers: int | None) -> list:
+def _resampled_gaps(data, picks: list, workers: int | None, near=None) -> list:
     """:func:`_gaps_of` shared among ``workers`` processes (default: one per CPU), each a
     contiguous share of the resamples; the numbers are those of one process, in order (each
     resample's work is its own). Processes, not threads: the fits are many small numpy
@@ -512,13 +546,13 @@ def _resampled_gaps(data, picks: list, workers: int | None) -> list:
     workers = max(1, min(len(picks), workers or os.cpu_count() or 1))
     if (workers == 1 or "fork" not in multiprocessing.get_all_start_methods()
             or multiprocessing.current_process().daemon):
-        return _gaps_of(data, picks)
+        return _gaps_of(data, picks, near)
     from concurrent.futures import ProcessPoolExecutor
     from functools import partial
 
     share = -(-len(picks) // workers)
     with ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork")) as pool:
-        parts = pool.map(partial(_gaps_of, data),
+        parts = pool.map(partial(_gaps_of, data, near=near),
                          [picks[lo:lo + share] for lo in range(0, len(picks), share)])
         return [value for part in parts for value in part]
 
@@ -563,8 +597,9 @@ def _say_what_the_gap_rests_on(out, kind, im, g_req, ok, levels, R, hazard, used
     if not frag.fitted:
         out.warnings.append(
             f"the gap at target ({1000 * out.gap:.1f} mm) rests on stripes that are all or "
-            "nothing there (the likelihood's limit, a step in the intensity): add levels "
-            "between the stripes where pounding starts")
+            "nothing there, or where none pounds below a level and all do above it (the "
+            "likelihood's limit, a step in the intensity): add levels between the stripes "
+            "where pounding starts")
         return
     why = unfixed(frag)
     if why:

@@ -184,7 +184,8 @@ def fit_msa(levels, trials, exceeded) -> Fragility:
     """Baker's binomial MLE over stripes: ``trials[j]`` runs at ``levels[j]`` (> 0, g),
     ``exceeded[j]`` of them (0 to ``trials[j]``) exceed the limit. Absent (NaN, with the
     reason in ``note``) when the data cannot fix both parameters: fewer than two levels with
-    runs, no exceedance at all, every level all or nothing (a perfect separation), or a
+    runs, no exceedance at all, every level all or nothing (a perfect separation), none
+    exceeding below a level and all above it (:func:`separated`: no finite maximum), or a
     likelihood too flat at its maximum (:func:`unfixed`). Raises
     :class:`~pframe.errors.InputError` for arguments that are not stripes."""
     from pframe.errors import InputError
@@ -215,7 +216,28 @@ def msa_fit(x, n, z) -> Fragility:
     if np.all((z == 0) | (z == n)):
         return _absent("msa", "every level is all-or-nothing: the median lies between two "
                        "levels and the dispersion is not determined (add levels there)")
+    if separated(np.log(x), n, z):
+        return _absent("msa", SEPARATED)
     return _probit(np.log(x), n, z)
+
+
+#: why a fit of data :func:`separated` is absent
+SEPARATED = ("the data do not fix the fit: the likelihood has no interior maximum (no run "
+             "exceeds the limit below one level and every run above it does: the median is at "
+             "that level and the dispersion goes to 0; add levels around it)")
+
+
+def separated(lx, n, z) -> np.ndarray:
+    """Whether the binomial data (``z`` (L,) or (m, L) exceedances of the ``n`` runs at the
+    levels ``lx``) are separated along the intensity: every level with a run that does not
+    exceed lies at or below every level with one that does. Then the probit likelihood has no
+    maximum at a finite slope (it rises towards c1 -> infinity, where the curve becomes a
+    step at that level: quasi-complete separation, Albert & Anderson 1984), and a scoring
+    stops wherever it grows too slowly to go on."""
+    lx, n, z = np.asarray(lx, float), np.asarray(n, float), np.asarray(z, float)
+    below = np.where((z < n) & (n > 0), lx, -np.inf).max(axis=-1)  # the highest non-exceedance
+    above = np.where(z > 0, lx, np.inf).min(axis=-1)  # the lowest exceedance
+    return below <= above
 
 
 # The normal distribution's functions as scipy.stats.norm computes them (the same special
@@ -292,13 +314,21 @@ def _probit(lx, n, z) -> Fragility:
     return Fragility(math.exp(-c[0] / c[1]), float(1.0 / c[1]), jac @ cov_c @ jac.T, "msa")
 
 
+#: |eta| beyond which :func:`probit_rows` takes log Phi(+-eta) from log_ndtr rather than the
+#: log of Phi (which is then within 3e-7 of 0 or 1: its log would lose digits)
+_FAR = 5.0
+
+#: the last Newton step (in c) below which :func:`probit_rows` asks whether a row is settled:
+#: the steps left move c by about its square (quadratic convergence), 1e-8 here
+SETTLING = 1e-3
+
 #: the steepest start :func:`probit_rows` takes (c1 = 1 / beta: a dispersion of 0.05): a
 #: steeper fit is one the data nearly separate, whose likelihood is flat towards c1 -> inf,
 #: and where its scoring stops then depends on where it starts
 STEEP = 20.0
 
 
-def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
+def probit_rows(lx, n, z, start=None, settled=None) -> tuple[np.ndarray, np.ndarray]:
     """:func:`_probit` for many rows of counts at once: ``z`` (m, L) exceedances of the
     ``n`` (L,) runs at the levels ``lx`` (L,, log); the same Fisher scoring with step halving,
     row by row in lockstep (the gap's curve fits one row per gap). Returns the coefficients
@@ -308,13 +338,26 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
     start (a fit of nearby counts: a bootstrap resample's from the whole sample's at the
     same gap). The log-likelihood is concave in c (log Phi is, Pratt 1981), so the scoring
     reaches the same maximum from any start, to its stopping tolerance (a step below 1e-10
-    or a change of the log-likelihood below 1e-13): fewer steps, not another answer."""
+    or a change of the log-likelihood below 1e-13): fewer steps, not another answer.
+    ``settled(c)``: for rows of a warm start whose last Newton step was below
+    :data:`SETTLING` (the steps left then move c by about its square), whether the caller
+    has all it needs of them at ``c`` (a bootstrap resample's rate clearly on one side of
+    the target): those stop there."""
     z = np.atleast_2d(np.asarray(z, float))
     m = z.shape[0]
+    lost = n - z  # the runs that do not exceed
 
     def loglik(c, rows):
+        """The log-likelihood of rows ``rows`` at ``c``, and Phi(eta), Phi(-eta) there
+        (the next step's p and q when the step is taken)."""
         eta = c[:, :1] + c[:, 1:] * lx
-        return np.sum(z[rows] * log_ndtr(eta) + (n - z[rows]) * log_ndtr(-eta), axis=1)
+        p, q = _cdf(eta), _sf(eta)
+        with np.errstate(divide="ignore"):
+            log_p, log_q = np.log(p), np.log(q)
+        far = np.abs(eta) > _FAR  # where Phi is too near 0 or 1 for its log
+        if far.any():
+            log_p[far], log_q[far] = log_ndtr(eta[far]), log_ndtr(-eta[far])
+        return np.sum(z[rows] * log_p + lost[rows] * log_q, axis=1), p, q
 
     mid = np.argmin(np.abs(z / n - 0.5), axis=1)
     beta0 = max(float(np.std(lx)), 0.3)
@@ -323,23 +366,31 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
     if start is not None:
         warm = np.isfinite(start).all(axis=1) & (start[:, 1] > 1e-2) & (start[:, 1] < STEEP)
         c[warm] = start[warm]
-    current = loglik(c, np.arange(m))
-    active = np.ones(m, bool)
+    current, at_p, at_q = loglik(c, np.arange(m))
+    apart = separated(lx, n, z)  # no maximum to find: not scored, not fitted
+    active = ~apart
     for _ in range(200):
         rows = np.flatnonzero(active)
         if not rows.size:
             break
         eta = c[rows, :1] + c[rows, 1:] * lx
-        p = np.clip(_cdf(eta), 1e-300, 1 - 1e-16)
-        q = np.clip(_sf(eta), 1e-300, 1 - 1e-16)
+        p = np.clip(at_p[rows], 1e-300, 1 - 1e-16)
+        q = np.clip(at_q[rows], 1e-300, 1 - 1e-16)
         phi = _pdf(eta)
-        w = (z[rows] - n * p) * phi / (p * q)
+        zr, pq = z[rows], p * q
+        w = (zr - n * p) * phi / pq
         score = np.stack([w.sum(axis=1), (w * lx).sum(axis=1)], axis=1)
-        weight = n * phi * phi / (p * q)  # Fisher's expected information
         near = warm[rows]
-        if near.any():  # the observed one (Newton's method): from a near start, fewer steps
-            ratio_p, ratio_q, zr, e = phi[near] / p[near], phi[near] / q[near], z[rows[near]], eta[near]
-            weight[near] = zr * ratio_p * (e + ratio_p) + (n - zr) * ratio_q * (ratio_q - e)
+        # the observed information (Newton's method) from a near start (fewer steps),
+        # Fisher's expected one from the default start
+        if near.all():
+            ratio_p, ratio_q = phi / p, phi / q
+            weight = zr * ratio_p * (eta + ratio_p) + lost[rows] * ratio_q * (ratio_q - eta)
+        else:
+            weight = n * phi * phi / pq
+            if near.any():
+                ratio_p, ratio_q, zn, e = phi[near] / p[near], phi[near] / q[near], zr[near], eta[near]
+                weight[near] = zn * ratio_p * (e + ratio_p) + (n - zn) * ratio_q * (ratio_q - e)
         a, b, d = weight.sum(axis=1), (weight * lx).sum(axis=1), (weight * lx * lx).sum(axis=1)
         det = a * d - b * b
         solvable = np.isfinite(det) & (np.abs(det) > 1e-300)
@@ -349,7 +400,7 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
                          a * score[:, 1] - b * score[:, 0]], axis=1) / det[:, None]
         scale = np.ones(rows.size)
         trial = c[rows] + step
-        value = loglik(trial, rows)
+        value, trial_p, trial_q = loglik(trial, rows)
         worse = value < current[rows] - 1e-12
         # from a warm start, a step already below the stopping tolerance is not halved: at
         # the maximum the log-likelihood's rounding can make any step look worse
@@ -360,14 +411,18 @@ def probit_rows(lx, n, z, start=None) -> tuple[np.ndarray, np.ndarray]:
             worse &= scale > 1e-6
             worse &= ~near | (np.max(np.abs(scale[:, None] * step), axis=1) >= 1e-10)
             trial[worse] = c[rows[worse]] + scale[worse, None] * step[worse]
-            value[worse] = loglik(trial[worse], rows[worse])
+            value[worse], trial_p[worse], trial_q[worse] = loglik(trial[worse], rows[worse])
             worse &= value < current[rows] - 1e-12
         moved = np.abs(value - current[rows])
-        c[rows], current[rows] = trial, value
-        done = ((np.max(np.abs(scale[:, None] * step), axis=1) < 1e-10) | (moved < 1e-13)
-                | (trial[:, 1] > 1e3))
+        c[rows], current[rows], at_p[rows], at_q[rows] = trial, value, trial_p, trial_q
+        taken = np.max(np.abs(scale[:, None] * step), axis=1)
+        done = (taken < 1e-10) | (moved < 1e-13) | (trial[:, 1] > 1e3)
         active[rows[done]] = False
-    return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current)
+        if settled is not None:
+            ask = rows[~done & near & (taken < SETTLING)]
+            if ask.size:
+                active[ask[settled(c[ask])]] = False
+    return c, (c[:, 1] > 1e-2) & (c[:, 1] < 1e3) & np.isfinite(current) & ~apart
 
 
 def fit_capacities(capacities, censored=None) -> Fragility:

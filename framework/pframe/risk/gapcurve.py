@@ -35,8 +35,10 @@ from scipy.optimize import brentq
 #: and the largest; the crossing is then refined by Brent's method)
 GRID = 48
 #: a curve computed at once is searched for the gap at a target from its widest gap down,
-#: in blocks of SCAN gaps or a SCANS-th of its grid, whichever is more
-SCAN, SCANS = 512, 16
+#: in blocks of SCAN gaps or a SCANS-th of its grid, whichever is more; above a gap it is
+#: told the crossing is likely below (``near``), in blocks of WIDE gaps (the cost of a fit
+#: falls with the rows fitted together, and all of those are needed)
+SCAN, SCANS, WIDE = 512, 16, 4096
 
 
 class GapCurve:
@@ -46,10 +48,13 @@ class GapCurve:
     is constant between consecutive critical gaps (msa). ``many(grid)``: the numbers of
     ``rate_at`` at every gap of ``grid``, at once; ``many(grid, target)`` may put in place
     of a value any number on the same side of ``target`` (above, or at or below), which is
-    all the search for the gap at ``target`` reads of a curve not otherwise used."""
+    all the search for the gap at ``target`` reads of a curve not otherwise used. ``near``:
+    a gap near which the crossing is expected (a bootstrap resample's: the whole sample's
+    gap), which sizes the search's blocks, not what it finds."""
 
-    def __init__(self, rate_at, g_req: np.ndarray, step: bool, many=None):
-        self.rate_at, self.step, self.many = rate_at, step, many
+    def __init__(self, rate_at, g_req: np.ndarray, step: bool, many=None,
+                 near: float | None = None):
+        self.rate_at, self.step, self.many, self.near = rate_at, step, many, near
         g = np.unique(g_req[np.isfinite(g_req) & (g_req > 0)])
         self.grid = g if step or g.size < 2 else np.geomspace(g[0] * 0.5, g[-1], GRID)
         self._values = self._right = None
@@ -116,8 +121,10 @@ class GapCurve:
         if self._values is None and self.many is not None:
             end, known = self.grid.size, np.empty(0)
             size = max(SCAN, -(-end // SCANS))
+            wide = (int(np.searchsorted(self.grid, self.near)) if self.near is not None
+                    and math.isfinite(self.near) else end)
             while end > 0:
-                lo = max(0, end - size)
+                lo = max(wide, end - max(size, WIDE)) if end > wide else max(0, end - size)
                 known = np.concatenate([np.asarray(self.many(self.grid[lo:end], target),
                                                    float), known])
                 if self._last(known, target)[0] >= 0:

@@ -75,11 +75,13 @@ def prepare(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: flo
     # ``loaded``: one scene, or one per member (uncertain parameters, docs/risk.md)
     members = list(loaded) if isinstance(loaded, (list, tuple)) else [loaded]
     # the kernel keeps the peaks (the absolute acceleration's with the ground at every
-    # sub-step); only the displacements stream out, for the critical gap's running maximum
-    recorders = (Envelope(kind="envelope", quantities=["displacement", "story_drift",
-                                                       "story_drift_ratio",
-                                                       "absolute_acceleration"]),
-                 History(kind="history", quantities=["displacement"]))
+    # sub-step); only the displacements stream out, for the critical gap's running maximum.
+    # A storey without a height has no drift ratio (its peak is NaN): where no storey of any
+    # member has one, the kernel is not asked for them (run_batch gives the NaN)
+    ratios = any(np.isfinite(np.asarray(m.expanded.story_height, float)).any() for m in members)
+    recorders = (Envelope(kind="envelope", quantities=[
+        "displacement", "story_drift", *(["story_drift_ratio"] if ratios else []),
+        "absolute_acceleration"]), History(kind="history", quantities=["displacement"]))
     accelerations = on_channels(accelerations)
     channels = axes_of(accelerations, axes)
     bases = [dataclasses.replace(for_runs(m, channels, contacts), steps=int(steps),
@@ -111,17 +113,19 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     of_dof, of_story = _owners(plan)
     nb = len(plan.buildings)
     drift = np.abs(result.envelope["story_drift"])
+    ratio = np.abs(result.envelope["story_drift_ratio"]) if "story_drift_ratio" in \
+        result.envelope else np.full(drift.shape[:1] + (len(plan.story_names),), np.nan)
     left, right = sink.peaks(result.envelope["displacement"])
     out = {
         "g_req": sink.gap,
         "peak_left": left, "peak_right": right,
         "drift": _per_building(drift, of_story, nb),
         # NaN for a building without storey heights (a drift-ratio limit needs them)
-        "drift_ratio": _per_building(np.abs(result.envelope["story_drift_ratio"]), of_story, nb),
+        "drift_ratio": _per_building(ratio, of_story, nb),
         "acceleration": _per_building(result.envelope["absolute_acceleration"], of_dof, nb),
         # each storey and floor of a planar scene (pframe.risk.pelicun's demand table): a
         # scene in plan has lines of resistance and three DOFs per floor instead
-        **({"drift_ratio_each": np.abs(result.envelope["story_drift_ratio"]),
+        **({"drift_ratio_each": ratio,
             "acceleration_each": result.envelope["absolute_acceleration"][:, plan.node_dof],
             "ground_acceleration": _peak(accelerations[:, 0])}
            if plan.planar else {}),
