@@ -67,8 +67,25 @@ def test_the_law_acts_before_its_gap_closes():
     assert EarlyKelvin.free_when_open  # inherited from ImprovedKelvin
 
 
-@pytest.mark.xfail(strict=True, reason="reusable() trusts free_when_open inherited from a "
-                   "built-in law whose force the plug-in replaced: runs that the law would "
-                   "push apart before the gap closes are reused as runs without contacts")
 def test_a_plug_in_that_replaces_a_built_in_force_is_not_reused(early_scene):
+    assert not EarlyKelvin.claims_free_when_open()
     assert not runs.reusable(early_scene, (1500, 0.001), 1500, 0.001)
+
+
+def test_every_built_in_contact_law_and_a_plain_subclass_keep_their_claim():
+    """The rule refuses only a replaced force: a subclass that keeps the force (or declares
+    the claim again beside its own force) still claims it, and every built-in law does."""
+    laws = registry.all_contact_laws()
+    assert laws and all(law.claims_free_when_open() for law in laws)
+
+    class Renamed(ImprovedKelvin):
+        pass
+
+    class OwnForce(ImprovedKelvin):  # its own force, free while open, and its own claim
+        free_when_open = True
+
+        @staticmethod
+        def force(params, committed, trial, deformation, rate):
+            return ImprovedKelvin.force(params, committed, trial, deformation, rate)
+
+    assert Renamed.claims_free_when_open() and OwnForce.claims_free_when_open()

@@ -137,6 +137,17 @@ class Law:
     #: tests/test_laws.py checks the claim of every law that makes it)
     free_when_open: ClassVar[bool] = False
 
+    @classmethod
+    def claims_free_when_open(cls) -> bool:
+        """``free_when_open`` as a claim about this law's own ``force``: declared by the class
+        that defines the force or by one below it. A subclass that replaces a law's force
+        (a plug-in written on a built-in law) does not inherit the claim it never made."""
+        if not cls.free_when_open:
+            return False
+        owner = next((c for c in cls.__mro__ if "force" in vars(c)), Law)
+        claim = next(c for c in cls.__mro__ if "free_when_open" in vars(c))
+        return issubclass(claim, owner)
+
     # What the rest of pframe needs to know of a law, declared by the law (built-in and
     # plug-in alike; docs/contact-laws.md):
     #: field -> what it measures: a quantity of ``pframe.nondim.dimensions.QUANTITY``

@@ -180,7 +180,8 @@ def reusable(loaded, free: tuple[int, float], steps: int, dt: float) -> bool:
     """Whether a run without contacts of ``loaded`` (``free``: its steps and step, s) is the
     run with its contacts (``steps`` of ``dt``) of any member whose contacts stay open at
     every point the kernel evaluates. That needs the same steps, step and motions, contact
-    laws that exert no force and no tangent while open (their ``free_when_open``), a scene
+    laws that exert no force and no tangent while open (their ``free_when_open``,
+    declared beside their force: ``Law.claims_free_when_open``), a scene
     that does not step differently for having contacts (an explicit integrator may take
     sub-steps for their stiffness; a linear scene without them takes one solve a step, with
     them Newton's), and the same order of every DOF within each group the storeys and links
@@ -192,7 +193,7 @@ def reusable(loaded, free: tuple[int, float], steps: int, dt: float) -> bool:
     ex = loaded.expanded
     if (not _REUSE_OPEN or (int(free[0]), float(free[1])) != (int(steps), float(dt))
             or ex.dofs is not None or loaded.scene.supports or not ex.contacts
-            or not all(getattr(c.law, "free_when_open", False) for c in ex.contacts)):
+            or not all(c.law.claims_free_when_open() for c in ex.contacts)):
         return False
     plans = [assemble(for_runs(loaded, ("x",), contacts).first_steps(1, recorders=()))
              for contacts in (False, True)]
