@@ -40,10 +40,9 @@ def test_a_run_loads_the_modules_of_its_own_laws_only(imported):
     modules, listed, _ = imported
     laws = {m.split(".", 2)[2] for m in modules
             if m.startswith(("pframe.laws.contact.", "pframe.laws.material."))}
-    assert {"contact.linear", "material.bilinear"} <= laws
-    # set-up asks for kelvin_voigt (soil, which imports viscous) by name
-    assert laws <= {"contact.linear", "material.bilinear", "material.kelvin_voigt",
-                    "material.viscous"}
+    # the soil's springs (kelvin_voigt, which imports viscous) are looked up for a scene on
+    # soil only
+    assert laws == {"contact.linear", "material.bilinear"}
     assert listed == builtin_names("contact")  # every law still listed
 
 
@@ -60,6 +59,14 @@ def test_a_run_without_soil_or_p_delta_imports_neither(imported):
     modules, _, _ = imported
     assert "pframe.model.soil" not in modules
     assert "pframe.laws.material.elastic" not in modules
+
+
+@pytest.mark.slow
+def test_a_run_without_limits_imports_no_limit_check(imported):
+    """pframe.limits (the drift and acceleration limits of ASCE 7) loads for a scene that
+    states limits."""
+    modules, _, _ = imported
+    assert "pframe.limits" not in modules
 
 
 @pytest.mark.slow

@@ -346,7 +346,10 @@ class _Soil:
         return tuple(out)
 
     def springs(self, ex: Expanded) -> tuple:
-        """The soil's Kelvin-Voigt springs to the ground: sway, then rocking, per foundation."""
+        """The soil's Kelvin-Voigt springs to the ground: sway, then rocking, per foundation
+        (the law's module imported for a scene on soil only)."""
+        if not ex.foundations:
+            return ()
         from pframe.laws import get_law
         from pframe.model.expand import Element
 

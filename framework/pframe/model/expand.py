@@ -325,11 +325,14 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
 
 def _limit_recorders(scene) -> tuple:
     """The envelopes the scene's limits are checked on (pframe.limits), recorded with its
-    own recorders."""
+    own recorders (pframe.limits imported for a scene with limits only)."""
+    limits = getattr(scene, "limits", None)
+    if limits is None:
+        return ()
     from pframe.limits import recorded
     from pframe.model.scene import Envelope
 
-    needed = recorded(getattr(scene, "limits", None))
+    needed = recorded(limits)
     return (Envelope(kind="envelope", quantities=list(needed)),) if needed else ()
 
 
