@@ -54,6 +54,14 @@ def test_a_run_of_a_sine_imports_no_stochastic_generator_nor_masked_arrays(impor
 
 
 @pytest.mark.slow
+def test_a_run_of_a_sine_imports_no_record_reading(imported):
+    """A function of time reads no record: pframe.excitation.records (its parsers and their
+    patterns) loads for a scene with a record."""
+    modules, _, _ = imported
+    assert "pframe.excitation.records" not in modules
+
+
+@pytest.mark.slow
 def test_a_run_without_soil_or_p_delta_imports_neither(imported):
     """The soil's cone model and the elastic law of P-delta in plan load for scenes with them."""
     modules, _, _ = imported

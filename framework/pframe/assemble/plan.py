@@ -38,7 +38,10 @@ class LawGroup:
     state: np.ndarray  # (B, g, n_state)
 
 
-@dataclass(frozen=True)
+# eq=False: a plan holds numpy arrays, whose == is elementwise, so a generated __eq__ (and
+# the __hash__ of its fields) could only raise; without them a plan compares and hashes by
+# identity, and the start of every run compiles two functions of 67 fields less
+@dataclass(frozen=True, eq=False)
 class Plan:
     """A scene as flat arrays, DOFs numbered for a narrow band. See ``docs/theory.md``."""
 

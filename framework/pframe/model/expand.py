@@ -36,7 +36,9 @@ from pframe.resources import check_floors, check_steps, steps_of
 __all__ = ["AT_TOLERANCE", "Element", "Expanded", "column_share", "elevations", "expand"]
 
 
-@dataclass(frozen=True)
+# eq=False: as pframe.assemble.plan.Plan, it holds numpy arrays (== elementwise): a
+# generated __eq__ and __hash__ could only raise, and cost compiling at every start
+@dataclass(frozen=True, eq=False)
 class Expanded:
     """A scene resolved to numbers, in declaration order (no DOF numbering yet)."""
 
