@@ -62,6 +62,14 @@ def test_a_run_of_a_sine_imports_no_record_reading(imported):
 
 
 @pytest.mark.slow
+def test_a_run_of_a_sine_makes_no_model_of_another_motion(imported):
+    """The scene's models of records, pulses, stochastic and combined motions (a third of the
+    scene module's fields) are made when a scene names one of them."""
+    modules, _, _ = imported
+    assert "pframe.model.scene_motions" not in modules
+
+
+@pytest.mark.slow
 def test_a_run_without_soil_or_p_delta_imports_neither(imported):
     """The soil's cone model and the elastic law of P-delta in plan load for scenes with them."""
     modules, _, _ = imported
