@@ -70,6 +70,14 @@ def test_a_run_of_a_sine_makes_no_model_of_another_motion(imported):
 
 
 @pytest.mark.slow
+def test_a_run_without_soil_limits_or_damage_index_makes_none_of_their_models(imported):
+    """Soil, a foundation, limits and a Park-Ang index are made when a scene gives one: their
+    fields are made on demand (model.tagged.lazy_model)."""
+    modules, _, _ = imported
+    assert "pframe.model.scene_options" not in modules
+
+
+@pytest.mark.slow
 def test_a_run_without_soil_or_p_delta_imports_neither(imported):
     """The soil's cone model and the elastic law of P-delta in plan load for scenes with them."""
     modules, _, _ = imported

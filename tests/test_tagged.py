@@ -198,3 +198,49 @@ def test_a_scene_ships_by_value_as_dask_sends_it_to_workers():
     assert arrived.scene == loaded.scene
     again = type(arrived.scene).model_validate(arrived.scene.model_dump())
     assert again == loaded.scene
+
+
+def test_a_model_made_on_demand_validates_and_describes_itself_as_the_model():
+    """A field made by lazy_model makes its model at the first value, and judges every value
+    as the field of the model itself does: the same objects, the same errors (type, place,
+    message), the same JSON Schema."""
+    from pydantic import ConfigDict, Field, ValidationError
+
+    from pframe.model.tagged import lazy_model, unfold
+
+    made = []
+
+    class Inner(BaseModel):
+        model_config = ConfigDict(extra="forbid", defer_build=True)
+        a: float = Field(gt=0)
+        b: int = 1
+
+    def make():
+        made.append(Inner)
+        return Inner
+
+    lazy = lazy_model(make, BaseModel)
+
+    class Lazy(BaseModel):
+        one: lazy | None = Field(None, description="one")
+        many: list[lazy] = []
+
+    class Eager(BaseModel):
+        one: Inner | None = Field(None, description="one")
+        many: list[Inner] = []
+
+    assert not made  # the class is built, its field's model is not
+    values = [{}, {"one": {"a": 1.0}}, {"one": {"a": -1, "c": 2}}, {"one": 3},
+              {"many": [{"a": 2.0, "b": 3}, {"a": "x", "b": "y"}]}, {"many": [Inner(a=1.0)]}]
+    for value in values:
+        outcomes = []
+        for model in (Lazy, Eager):
+            try:
+                outcomes.append(model.model_validate(value).model_dump())
+            except ValidationError as exc:
+                outcomes.append(exc.errors(include_url=False))
+        assert outcomes[0] == outcomes[1], value
+    assert made == [Inner]  # made once
+    schemas = [m.model_json_schema() for m in (Lazy, Eager)]
+    assert schemas[0] == {**schemas[1], "title": "Lazy"}
+    assert typing.get_args(unfold(lazy))[0] is Inner

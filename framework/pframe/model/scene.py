@@ -36,7 +36,7 @@ from pframe.model.parts import (
     shown_items,
 )
 from pframe.model.plan import Direction, FloorPlan, Point
-from pframe.model.tagged import on_demand, tagged
+from pframe.model.tagged import lazy_model, on_demand, tagged
 from pframe.objects import Frozen, describe, dotted
 from pframe.quantities import QUANTITIES as _QUANTITIES
 from pframe.units import NAMES
@@ -156,17 +156,23 @@ ContactEnd = Annotated[
 ]
 
 
-class ParkAng(Base):
-    """The Park-Ang damage index of a building's storeys, DI = d_max / d_u + beta E_h /
-    (F_y d_u) (Park & Ang 1985; pframe summary): d_max the peak storey drift, E_h the storey's
-    hysteretic energy, F_y its yield force (from its material)."""
+#: every name pframe.model.scene_options defines that this module gives too
+_OPTION_NAMES = frozenset({"ParkAng", "Foundation", "Soil", "CodeDriftLimit", "Limits",
+                           "SOIL_PROPERTIES", "SOIL_VALUES"})
 
-    ultimate_drift: Positive | list[Positive] = Field(
-        description="d_u: the storey's ultimate drift under monotonic loading (m), one for all "
-        "storeys or one per storey, bottom up.")
-    beta: float = Field(ge=0, allow_inf_nan=False, description="beta: the weight of the "
-                        "hysteretic energy (Park & Ang 1985 give 0.05 as a typical value for "
-                        "reinforced concrete members).")
+
+def _option(name: str):
+    """A field holding the model ``name`` of pframe.model.scene_options, made (and the module
+    imported) when a scene first gives one (:func:`pframe.model.tagged.lazy_model`)."""
+    def make():
+        from pframe.model import scene_options
+
+        return getattr(scene_options, name)
+
+    return lazy_model(make, Base)
+
+
+_PARK_ANG, _SOIL, _LIMITS = _option("ParkAng"), _option("Soil"), _option("Limits")
 
 
 class StoryBase(Base):
@@ -181,7 +187,7 @@ class StoryBase(Base):
     gravity_load: float | None = Field(None, ge=0, allow_inf_nan=False,
                                        description="Axial (gravity) load P the storey carries "
                                        "(N): P-delta, a geometric stiffness -P/h (needs height).")
-    park_ang: ParkAng | None = Field(
+    park_ang: _PARK_ANG | None = Field(
         None, description="Ultimate drift (one value) and beta of the storey's Park-Ang "
         "damage index (pframe summary); none: no damage index.")
     position: Point | None = Field(
@@ -387,80 +393,6 @@ class Modal(Base):
         return self
 
 
-class Foundation(Base):
-    """A building's rigid foundation on soil: its size, mass and rotational inertia."""
-
-    width: Positive | None = Field(None, description="Width b (m) along the shaking (the "
-                                   "row of buildings).")
-    length: Positive | None = Field(None, description="Length l (m) across the shaking "
-                                    "(default: the width).")
-    radius: Positive | None = Field(None, description="Radius (m) of a circular foundation "
-                                    "(instead of width and length).")
-    mass: Positive = Field(description="Foundation mass m_f (kg): the sway DOF's mass.")
-    rotational_inertia: Positive | None = Field(
-        None, description="Mass moment of inertia I_f (kg m^2) about the rocking axis (default: "
-        "a thin slab's, m_f b^2 / 12, or m_f r^2 / 4 for a disk); add the floors' own "
-        "rotational inertias here if they matter (the floors' translation with the rocking is "
-        "already in their masses).")
-
-    @model_validator(mode="after")
-    def _size(self):
-        if self.radius is not None and (self.width is not None or self.length is not None):
-            raise ValueError("give radius (a circular foundation) or width and length, not both")
-        if self.length is not None and self.width is None:
-            raise ValueError("length needs width (the size along the shaking)")
-        if self.rotational_inertia is None and self.radius is None and self.width is None:
-            raise ValueError("give rotational_inertia (kg m^2), or the foundation's size "
-                             "(width, or radius) to take a slab's")
-        return self
-
-
-#: the soil given by its properties (Wolf's cone model) or by its four springs and dashpots
-SOIL_PROPERTIES = ("shear_wave_velocity", "poisson", "density")
-SOIL_VALUES = ("sway_stiffness", "sway_damping", "rocking_stiffness", "rocking_damping")
-
-
-class Soil(Base):
-    """Soil under a building: sway and rocking springs and dashpots under its foundation, from
-    the soil's properties (Wolf's cone model of a surface disk; docs/soil.md) or given."""
-
-    shear_wave_velocity: Positive | None = Field(None, description="V_s (m/s).")
-    poisson: float | None = Field(None, ge=0, le=0.5, description="Poisson's ratio nu "
-                                  "(0 .. 0.5).")
-    density: Positive | None = Field(None, description="rho (kg/m^3).")
-    sway_stiffness: Positive | None = Field(None, description="K_h (N/m), instead of the "
-                                            "soil's properties.")
-    sway_damping: float | None = Field(None, ge=0, allow_inf_nan=False,
-                                       description="C_h (N s/m).")
-    rocking_stiffness: Positive | None = Field(None, description="K_r (N m/rad).")
-    rocking_damping: float | None = Field(None, ge=0, allow_inf_nan=False,
-                                          description="C_r (N m s/rad).")
-    foundation: Foundation = Field(description="The foundation.")
-
-    @model_validator(mode="after")
-    def _one_way(self):
-        props = [getattr(self, k) is not None for k in SOIL_PROPERTIES]
-        values = [getattr(self, k) is not None for k in SOIL_VALUES]
-        if any(props) and any(values):
-            raise ValueError("give the soil's properties (shear_wave_velocity, poisson, "
-                             "density) or its springs and dashpots (sway_stiffness, "
-                             "sway_damping, rocking_stiffness, rocking_damping), not both")
-        if any(props) and not all(props):
-            missing = [k for k, on in zip(SOIL_PROPERTIES, props) if not on]
-            raise ValueError(f"the cone model needs {', '.join(missing)} as well")
-        if any(values) and not all(values):
-            missing = [k for k, on in zip(SOIL_VALUES, values) if not on]
-            raise ValueError(f"give {', '.join(missing)} as well (all four values)")
-        if not any(props) and not any(values):
-            raise ValueError("give the soil's properties (shear_wave_velocity, poisson, "
-                             "density) or its four springs and dashpots (sway_stiffness, "
-                             "sway_damping, rocking_stiffness, rocking_damping)")
-        if all(props) and self.foundation.radius is None and self.foundation.width is None:
-            raise ValueError("the cone model needs the foundation's size: width (and length) "
-                             "or radius")
-        return self
-
-
 #: the motions of pframe.model.scene_motions: kind -> class name (the module is imported
 #: when a scene first names one of them; a sine, the common case, is this module's)
 _MOTIONS = {"record": "Record", "cycloidal": "Cycloidal", "ricker": "Ricker",
@@ -614,54 +546,6 @@ class InitialConditions(Base):
     velocity: dict[NodeName, float | tuple[float, float, float]] = Field(
         default_factory=dict, description="(m/s) along x, or [v_x (m/s), v_y (m/s), "
         "theta' (rad/s)] of a floor in plan.")
-
-
-class CodeDriftLimit(Base):
-    """A building code's allowable storey drift: ASCE/SEI 7-22 Table 12.12-1 (section
-    12.12.1), by risk category and structure (pframe.limits)."""
-
-    code: Literal["asce7-22"] = Field("asce7-22", description="The code (ASCE/SEI 7-22).")
-    risk_category: Literal["I", "II", "III", "IV"] = Field(
-        description="Risk category (ASCE 7-22 Table 1.5-1): I or II 0.020 h_sx, III 0.015, "
-        "IV 0.010 for all other structures.")
-    structure: Literal["low_rise", "masonry_cantilever", "masonry_other", "other"] = Field(
-        "other", description="The table's row: low_rise (other than masonry shear wall, 4 "
-        "storeys or less, walls and partitions designed to accommodate the drifts: 0.025, "
-        "0.020, 0.015 h_sx; a taller building takes 'other'), masonry_cantilever (0.010), "
-        "masonry_other (0.007) or other (all other structures).")
-    redundancy: float = Field(1.0, ge=1.0, allow_inf_nan=False, description="rho: the "
-                              "limit is divided by it for moment frames in Seismic Design "
-                              "Categories D to F (12.12.1.1).")
-    factor: Positive = Field(1.0, description="A multiple of the table's limit (ASCE 7's "
-                             "nonlinear response history procedure, chapter 16, holds the mean "
-                             "over a suite to a multiple of it).")
-
-
-class Limits(Base):
-    """Limits on each storey's peak drift ratio and each floor's peak absolute acceleration:
-    the summary, the result file and the Dataset give each demand's margin and utilisation
-    (docs/modes.md#limits)."""
-
-    drift_ratio: float | None = Field(None, gt=0, le=1, allow_inf_nan=False, description=
-                                      "Allowed peak storey drift ratio (drift over the "
-                                      "storey's height; 0.02 is 2 %); needs heights.")
-    code: CodeDriftLimit | None = Field(None, description="A code's allowable storey drift "
-                                        "instead of drift_ratio.")
-    acceleration: Positive | None = Field(None, description="Allowed peak absolute floor "
-                                          "acceleration (m/s^2).")
-    acceleration_g: Positive | None = Field(None, description="The same in g (9.80665 "
-                                            "m/s^2), instead of acceleration.")
-
-    @model_validator(mode="after")
-    def _one_of_each(self):
-        if self.drift_ratio is not None and self.code is not None:
-            raise ValueError("give drift_ratio or code, not both")
-        if self.acceleration is not None and self.acceleration_g is not None:
-            raise ValueError("give acceleration (m/s^2) or acceleration_g (g), not both")
-        if all(v is None for v in (self.drift_ratio, self.code, self.acceleration,
-                                   self.acceleration_g)):
-            raise ValueError("give drift_ratio or code, acceleration or acceleration_g")
-        return self
 
 
 class OutputScales(Base):
@@ -845,10 +729,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         support: SupportName | None = Field(
             None, description="The support the building stands on (docs/supports.md); "
             "default: the scene's only support.")
-        soil: Soil | None = Field(
+        soil: _SOIL | None = Field(
             None, description="Soil under the building (default: a fixed base): a foundation "
             "that sways and rocks on springs and dashpots (needs height; docs/soil.md).")
-        park_ang: ParkAng | None = Field(
+        park_ang: _PARK_ANG | None = Field(
             None, description="Ultimate drift and beta of the Park-Ang damage index of its "
             "storeys (pframe summary); none: no damage index.")
 
@@ -906,7 +790,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
                         "envelope); default: the peaks of displacement, story_drift and "
                         "contact_force.")
         output: Output = Field(Output(), description="Units of the result file.")
-        limits: Limits | None = Field(None, description="Limits on the peak storey drift "
+        limits: _LIMITS | None = Field(None, description="Limits on the peak storey drift "
                                       "ratio and floor acceleration, checked after the run "
                                       "(docs/modes.md#limits).")
 
@@ -937,8 +821,12 @@ def __getattr__(name: str):
         from pframe.model import scene_motions
 
         return getattr(scene_motions, name)
+    if name in _OPTION_NAMES:  # made apart (pframe.model.scene_options)
+        from pframe.model import scene_options
+
+        return getattr(scene_options, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | {"Scene"} | _MOTION_NAMES)
+    return sorted(set(globals()) | {"Scene"} | _MOTION_NAMES | _OPTION_NAMES)
