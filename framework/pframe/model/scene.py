@@ -175,6 +175,13 @@ def _option(name: str):
 _PARK_ANG, _SOIL, _LIMITS = _option("ParkAng"), _option("Soil"), _option("Limits")
 
 
+def _deferred(model: type):
+    """A field of ``model`` (made already) whose validator is built at the field's first
+    value, not with the scene's: generic nodes, supports, a floor plan and output scales
+    are left out of most scenes (:func:`pframe.model.tagged.lazy_model`)."""
+    return lazy_model(lambda: model, model)
+
+
 class StoryBase(Base):
     """A storey shear spring between two nodes, or a node and the ground."""
 
@@ -564,7 +571,7 @@ class Output(Base):
         "SI", description="SI or dimensionless. Left out, a dimensional file is in the "
         "scene's units (docs/units.md); SI given writes a scene of another unit system's "
         "results in SI.")
-    scales: OutputScales | None = Field(
+    scales: _deferred(OutputScales) | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
     reference: BuildingName | None = Field(
@@ -701,7 +708,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         angle: float = Field(0.0, allow_inf_nan=False, description="The angle of the "
                              "building's x axis from the site's x axis (degrees, "
                              "counter-clockwise).")
-        plan: FloorPlan | None = Field(None, description="The floors' plan (size or outline, "
+        plan: _deferred(FloorPlan) | None = Field(None, description="The floors' plan (size or outline, "
                                        "building axes): the default centre of mass and polar "
                                        "inertia, the named corners, where contact points may "
                                        "be.")
@@ -756,9 +763,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             "quantity in that system's units (a stiffness N/m is kN/m in kN-m-t).")
         buildings: list[Building] = Field(default_factory=_no_items, description="Shear buildings, "
                                           "from left to right.")
-        nodes: list[Node] = Field(default_factory=_no_items, description="Generic floor nodes (their "
-                                  "buildings stand right of the shorthand's, in the order first "
-                                  "named).")
+        nodes: list[_deferred(Node)] = Field(
+            default_factory=_no_items, description="Generic floor nodes (their buildings "
+            "stand right of the shorthand's, in the order first named).")
         stories: list[story_type] = Field(
             default_factory=_no_items, description="Generic storeys between nodes.")
         contacts: list[contact_type] = Field(
@@ -770,7 +777,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         damping: Damping = Field(Rayleigh(), description="Default damping of every building: "
                                  "Rayleigh (kind: rayleigh, the default) or modal (kind: "
                                  "modal).")
-        supports: list[Support] = Field(
+        supports: list[_deferred(Support)] = Field(
             default_factory=_no_items, description="The pieces of ground structures stand on, each "
             "with its own motion (docs/supports.md); none: one ground under everything.")
         excitation: _SCENE_MOTION | None = Field(
