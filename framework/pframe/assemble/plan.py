@@ -28,7 +28,9 @@ from pframe.model.rows import column, column_array
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class LawGroup:
     """Elements of one law: their indices, packed parameters and initial state."""
 

@@ -21,7 +21,9 @@ from pframe.excitation.sample import ground_acceleration
 from pframe.model.load import ModelError
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class GroundMotion:
     """``samples``: site axis ('x', 'y') -> a_g at t_n = n dt, n = 0..steps (m/s^2), the
     axes the motion loads; ``record`` the applied record of a one-record scene (else None),
