@@ -32,9 +32,10 @@ def imported(tmp_path_factory) -> tuple[set, list, int, list]:
             "import tokenize\n"
             "print(tokenize._compile.cache_info().currsize)\n"
             "from pframe.model.plan import FloorPlan\n"
-            "from pframe.model.scene import Node, OutputScales, SiteColumn, Support\n"
-            "print([m.__name__ for m in (Node, Support, SiteColumn, FloorPlan, OutputScales)\n"
-            "       if m.__pydantic_complete__])\n")
+            "from pframe.model.scene import (InitialConditions, Node, Output, OutputScales,\n"
+            "                                SiteColumn, Support)\n"
+            "print([m.__name__ for m in (Node, Support, SiteColumn, FloorPlan, OutputScales,\n"
+            "                            InitialConditions, Output) if m.__pydantic_complete__])\n")
     lines = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                            check=True).stdout.splitlines()
     return (set(ast.literal_eval(lines[0])), ast.literal_eval(lines[1]), int(lines[2]),
@@ -118,7 +119,8 @@ def test_a_run_finds_its_reference_scales_without_the_variable_listing(imported)
 
 @pytest.mark.slow
 def test_a_scene_without_nodes_supports_or_plans_builds_none_of_their_validators(imported):
-    """Generic nodes, supports (and their soil columns), a floor plan and output scales are
-    validated by their models' validators, built at a field's first value (lazy_model), not
-    with every scene's."""
+    """Generic nodes, supports (and their soil columns), a floor plan, output scales, initial
+    conditions and output units are validated by their models' validators, built at a
+    field's first value (lazy_model), not with every scene's; the defaults of the last two
+    are made without them."""
     assert imported[3] == []

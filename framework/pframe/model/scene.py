@@ -580,6 +580,13 @@ class Output(Base):
         "only one.")
 
 
+#: the defaults of a scene's initial conditions and output: the models' own defaults, made
+#: without their validators (model_construct), which a scene that gives neither (most do)
+#: never builds (their fields are deferred; neither model has a validator of its own)
+_AT_REST = InitialConditions.model_construct()
+_SI_OUTPUT = Output.model_construct()
+
+
 #: fields that say which kind of object a mapping is: written even when left at their default
 
 
@@ -785,8 +792,8 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             "(kind: components), or as the waves pass the supports (kind: wave_passage), or "
             "simulated at every support (kind: coherent); none: free vibration from initial "
             "conditions.")
-        initial_conditions: InitialConditions = Field(
-            InitialConditions(), description="State at t = 0 (default: at rest).")
+        initial_conditions: _deferred(InitialConditions) = Field(
+            _AT_REST, description="State at t = 0 (default: at rest).")
         analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "
                                    "duration (s), Newton settings.")
         recorders: list[tagged([History, Envelope], "kind")] = Field(
@@ -796,7 +803,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             description="What the result file keeps: histories (kind: history) and peaks (kind: "
                         "envelope); default: the peaks of displacement, story_drift and "
                         "contact_force.")
-        output: Output = Field(Output(), description="Units of the result file.")
+        output: _deferred(Output) = Field(_SI_OUTPUT, description="Units of the result file.")
         limits: _LIMITS | None = Field(None, description="Limits on the peak storey drift "
                                       "ratio and floor acceleration, checked after the run "
                                       "(docs/modes.md#limits).")
