@@ -124,3 +124,13 @@ def test_a_scene_without_nodes_supports_or_plans_builds_none_of_their_validators
     field's first value (lazy_model), not with every scene's; the defaults of the last two
     are made without them."""
     assert imported[3] == []
+
+
+@pytest.mark.slow
+def test_a_run_loads_the_module_of_its_own_integrator_only(imported):
+    """The kernel's schemes are listed from pframe.integrators.SCHEME and the scene's
+    integrator union makes a model when a scene names it: the other five integrators'
+    modules are not imported."""
+    modules, _, _, _ = imported
+    loaded = {m.rsplit(".", 1)[1] for m in modules if m.startswith("pframe.integrators.")}
+    assert loaded == {"_base", "coefficients", "tableau", "newmark"}

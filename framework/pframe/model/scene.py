@@ -18,8 +18,10 @@ from pydantic import (
     model_validator,
 )
 
+from pframe import integrators
 from pframe.errors import InputError
-from pframe.integrators import ALL_INTEGRATORS, Newmark
+from pframe.integrators import Newmark
+from pframe.integrators._base import IntegratorParams
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
 from pframe.model.parts import (
@@ -500,9 +502,14 @@ def tag_reader(key: str, default: str):
 _integrator_tag = tag_reader("type", "newmark")
 
 
-#: the scene's integrator: one of pframe.integrators' table, tagged by its ``type``
-Integrator = tagged({cls.type_name(): cls for cls in ALL_INTEGRATORS}, _integrator_tag)
-_INTEGRATOR_TYPES = [cls.type_name() for cls in ALL_INTEGRATORS]
+def _integrator_model(name: str) -> type:
+    return getattr(integrators, integrators.TABLE[name])
+
+
+#: the scene's integrator: one of pframe.integrators' table, tagged by its ``type``, each
+#: model made (its module imported) when a scene first names it
+Integrator = on_demand(integrators.TABLE, _integrator_model, _integrator_tag, IntegratorParams)
+_INTEGRATOR_TYPES = list(integrators.TABLE)
 
 
 Damping = tagged({"rayleigh": Rayleigh, "modal": Modal}, tag_reader("kind", "rayleigh"))

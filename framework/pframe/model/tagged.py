@@ -176,16 +176,17 @@ def tagged(members, discriminator: str | Callable):
     return Annotated[lazy.choices, lazy]
 
 
-def on_demand(names, make: Callable, discriminator: str, base: type):
+def on_demand(names, make: Callable, discriminator: str | Callable, base: type):
     """A tagged union of one model per name in ``names``, each model made by ``make(name)``
-    when a value first names it (its field ``discriminator`` holds the literal ``name``):
+    when a value first names it (its field ``discriminator`` holds the literal ``name``, or
+    ``discriminator`` is a function reading the tag of a value, as for :func:`tagged`):
     ``Annotated[base, LazyUnion]``, ``base`` the members' common base.
 
     A scene names two or three of the laws' 40 models: making them all took about 20 ms of a
     whole ``pframe solve``. A reader of a model's fields who wants the members calls
     :func:`unfold` on each annotation it meets."""
-    return Annotated[base, LazyUnion(_key_reader(discriminator), tuple(names), discriminator,
-                                     make)]
+    tag = _key_reader(discriminator) if isinstance(discriminator, str) else discriminator
+    return Annotated[base, LazyUnion(tag, tuple(names), discriminator, make)]
 
 
 def unfold(annotation):
