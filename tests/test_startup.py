@@ -118,6 +118,14 @@ def test_a_run_finds_its_reference_scales_without_the_variable_listing(imported)
 
 
 @pytest.mark.slow
+def test_a_run_in_si_parses_no_units(imported):
+    """A file in SI writes each quantity's SI units as they are: the parser of units
+    (pframe.nondim.dimensions) loads for a file in another unit system."""
+    modules, _, _, _ = imported
+    assert "pframe.nondim.dimensions" not in modules
+
+
+@pytest.mark.slow
 def test_a_scene_without_nodes_supports_or_plans_builds_none_of_their_validators(imported):
     """Generic nodes, supports (and their soil columns), a floor plan, output scales, initial
     conditions and output units are validated by their models' validators, built at a
