@@ -157,37 +157,58 @@ def test_console_script_runs(scene_file):
     assert run.returncode == 0 and ": valid;" in run.stdout
 
 
-#: the ``pframe`` command with its work replaced by printing what it runs in
+#: the ``pframe`` command with its work replaced by printing what it runs in: the value of
+#: the environment variable named first on the command line (repr), and whether the module named
+#: second is imported (before the command's work)
 ENVIRONMENT_PROBE = """
 import os, sys
 from pframe import cli
+variable, module = sys.argv[1:3]
 def probe(argv=None):
-    print(os.environ.get("OPENBLAS_THREAD_TIMEOUT"), "numpy" in sys.modules)
+    print(repr(os.environ.get(variable)), module in sys.modules)
     return 0
 cli.main = probe
-sys.argv = ["pframe", *sys.argv[1:]]
+sys.argv = ["pframe", *sys.argv[3:]]
 sys.exit(cli.console_main())
 """
 
 
+def _probe(variable: str, module: str, command: str, given: str | None) -> str:
+    """What :data:`ENVIRONMENT_PROBE` prints for ``pframe COMMAND scene.yaml`` run with
+    ``variable`` set to ``given`` (None: unset)."""
+    import os
+
+    env = {k: v for k, v in os.environ.items() if k != variable}
+    if given is not None:
+        env[variable] = given
+    done = subprocess.run([sys.executable, "-c", ENVIRONMENT_PROBE, variable, module, command,
+                           "scene.yaml"], capture_output=True, text=True, timeout=60,
+                          env=env | {"PYTHONPATH": str(REPO / "framework")})
+    assert done.returncode == 0, done.stderr
+    return done.stdout.strip()
+
+
 @pytest.mark.parametrize(("command", "given", "runs_with"), [
-    ("solve", None, "4 False"), ("validate", None, "4 False"), ("solve", "28", "28 False"),
+    ("solve", None, "'4' False"), ("validate", None, "'4' False"),
+    ("solve", "28", "'28' False"),
     ("sweep", None, "None False"), ("plot", None, "None False")])
 def test_a_short_command_puts_idle_blas_threads_to_sleep_unless_told(command, given,
                                                                      runs_with):
     """numpy's OpenBLAS threads spin about 0.1 s before they sleep (about 30 ms of CPU of
     numpy's import): a short command has them sleep at once, set before numpy is imported;
     a value the user set, or a long command (a sweep), keeps the library's own."""
-    import os
+    assert _probe("OPENBLAS_THREAD_TIMEOUT", "numpy", command, given) == runs_with
 
-    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_THREAD_TIMEOUT"}
-    if given is not None:
-        env["OPENBLAS_THREAD_TIMEOUT"] = given
-    done = subprocess.run([sys.executable, "-c", ENVIRONMENT_PROBE, command, "scene.yaml"],
-                          capture_output=True, text=True, timeout=60,
-                          env=env | {"PYTHONPATH": str(REPO / "framework")})
-    assert done.returncode == 0, done.stderr
-    assert done.stdout.strip() == runs_with
+
+@pytest.mark.parametrize(("command", "given", "runs_with"), [
+    ("solve", None, "'__all__' False"), ("validate", None, "'__all__' False"),
+    ("solve", "", "'' False"), ("solve", "logfire", "'logfire' False"),
+    ("sweep", None, "None False")])
+def test_a_short_command_skips_pydantic_plugins_unless_told(command, given, runs_with):
+    """Pydantic reads every installed package's entry points for plug-ins at its first
+    validator (about 5 ms of a short command): a short command turns them off before pydantic
+    is imported; a value the user set (empty: every plug-in) or a long command keeps them."""
+    assert _probe("PYDANTIC_DISABLE_PLUGINS", "pydantic", command, given) == runs_with
 
 
 def test_schema_check_passes_on_the_committed_schema(monkeypatch, capsys):

@@ -90,19 +90,28 @@ def test_the_kernel_reads_the_tableau_as_python_writes_it():
 
 
 def test_every_list_follows_the_table():
-    """ALL_INTEGRATORS, SCHEMES, the kernel's Scheme, the scene's union and the classes pframe
-    exports all follow pframe.integrators.TABLE."""
+    """ALL_INTEGRATORS, SCHEMES, the kernel's Scheme, the classes' schemes, the scene's union
+    (made on demand: unfolded, as every reader does) and the classes pframe exports all
+    follow pframe.integrators.TABLE and SCHEME."""
     import typing
+    from typing import Annotated
 
     from pydantic import Tag
 
     import pframe
+    from pframe.integrators import SCHEME
     from pframe.model.scene import Analysis
+    from pframe.model.tagged import LazyUnion, unfold
 
     assert [cls.__name__ for cls in ALL_INTEGRATORS] == list(TABLE.values())
     assert [cls.type_name() for cls in ALL_INTEGRATORS] == list(TABLE)
     assert [s.name.lower() for s in Scheme] == list(SCHEMES)
-    union = typing.get_args(Analysis.model_fields["integrator"].annotation)
+    assert list(SCHEME) == list(TABLE)
+    assert [cls.scheme for cls in ALL_INTEGRATORS] == list(SCHEME.values())
+    assert SCHEMES == tuple(dict.fromkeys(s for s in SCHEME.values() if s is not None))
+    field = Analysis.model_fields["integrator"]  # pydantic keeps the union in its metadata
+    lazy = next(item for item in field.metadata if isinstance(item, LazyUnion))
+    union = typing.get_args(typing.get_args(unfold(Annotated[field.annotation, lazy]))[0])
     assert [typing.get_args(member) for member in union] == [
         (cls, Tag(cls.type_name())) for cls in ALL_INTEGRATORS]
     for cls in ALL_INTEGRATORS:

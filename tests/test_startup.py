@@ -17,10 +17,11 @@ SCENE = Path(__file__).parents[1] / "models" / "wu2021-eq14-linear.yaml"
 
 
 @pytest.fixture(scope="module")
-def imported(tmp_path_factory) -> tuple[set, list, int]:
+def imported(tmp_path_factory) -> tuple[set, list, int, list]:
     """The modules a ``pframe solve`` of the paper's linear scene (bilinear storeys, linear
-    contacts, a sine) holds at its end, the contact laws it lists then, and how many of
-    tokenize's patterns it compiled."""
+    contacts, a sine) holds at its end, the contact laws it lists then, how many of
+    tokenize's patterns it compiled, and which of the scene's optional models have their
+    validators built."""
     out = tmp_path_factory.mktemp("startup") / "out.nc"
     code = ("import sys\n"
             "from pframe.cli import main\n"
@@ -29,37 +30,74 @@ def imported(tmp_path_factory) -> tuple[set, list, int]:
             "print(sorted(sys.modules))\n"
             "print(available_names('contact'))\n"
             "import tokenize\n"
-            "print(tokenize._compile.cache_info().currsize)\n")
+            "print(tokenize._compile.cache_info().currsize)\n"
+            "from pframe.model.plan import FloorPlan\n"
+            "from pframe.model.scene import (InitialConditions, Node, Output, OutputScales,\n"
+            "                                SiteColumn, Support)\n"
+            "print([m.__name__ for m in (Node, Support, SiteColumn, FloorPlan, OutputScales,\n"
+            "                            InitialConditions, Output) if m.__pydantic_complete__])\n")
     lines = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                            check=True).stdout.splitlines()
-    return set(ast.literal_eval(lines[0])), ast.literal_eval(lines[1]), int(lines[2])
+    return (set(ast.literal_eval(lines[0])), ast.literal_eval(lines[1]), int(lines[2]),
+            ast.literal_eval(lines[3]))
 
 
 @pytest.mark.slow
 def test_a_run_loads_the_modules_of_its_own_laws_only(imported):
-    modules, listed, _ = imported
+    modules, listed, _, _ = imported
     laws = {m.split(".", 2)[2] for m in modules
             if m.startswith(("pframe.laws.contact.", "pframe.laws.material."))}
-    assert {"contact.linear", "material.bilinear"} <= laws
-    # set-up asks for kelvin_voigt (soil, which imports viscous) by name
-    assert laws <= {"contact.linear", "material.bilinear", "material.kelvin_voigt",
-                    "material.viscous"}
+    # the soil's springs (kelvin_voigt, which imports viscous) are looked up for a scene on
+    # soil only
+    assert laws == {"contact.linear", "material.bilinear"}
     assert listed == builtin_names("contact")  # every law still listed
 
 
 @pytest.mark.slow
 def test_a_run_of_a_sine_imports_no_stochastic_generator_nor_masked_arrays(imported):
-    modules, _, _ = imported
+    modules, _, _, _ = imported
     assert "pframe.excitation.stochastic" not in modules
     assert "numpy.ma" not in modules
 
 
 @pytest.mark.slow
+def test_a_run_of_a_sine_imports_no_record_reading(imported):
+    """A function of time reads no record: pframe.excitation.records (its parsers and their
+    patterns) loads for a scene with a record."""
+    modules, _, _, _ = imported
+    assert "pframe.excitation.records" not in modules
+
+
+@pytest.mark.slow
+def test_a_run_of_a_sine_makes_no_model_of_another_motion(imported):
+    """The scene's models of records, pulses, stochastic and combined motions (a third of the
+    scene module's fields) are made when a scene names one of them."""
+    modules, _, _, _ = imported
+    assert "pframe.model.scene_motions" not in modules
+
+
+@pytest.mark.slow
+def test_a_run_without_soil_limits_or_damage_index_makes_none_of_their_models(imported):
+    """Soil, a foundation, limits and a Park-Ang index are made when a scene gives one: their
+    fields are made on demand (model.tagged.lazy_model)."""
+    modules, _, _, _ = imported
+    assert "pframe.model.scene_options" not in modules
+
+
+@pytest.mark.slow
 def test_a_run_without_soil_or_p_delta_imports_neither(imported):
     """The soil's cone model and the elastic law of P-delta in plan load for scenes with them."""
-    modules, _, _ = imported
+    modules, _, _, _ = imported
     assert "pframe.model.soil" not in modules
     assert "pframe.laws.material.elastic" not in modules
+
+
+@pytest.mark.slow
+def test_a_run_without_limits_imports_no_limit_check(imported):
+    """pframe.limits (the drift and acceleration limits of ASCE 7) loads for a scene that
+    states limits."""
+    modules, _, _, _ = imported
+    assert "pframe.limits" not in modules
 
 
 @pytest.mark.slow
@@ -73,7 +111,34 @@ def test_a_run_parses_no_text_signature(imported):
 def test_a_run_finds_its_reference_scales_without_the_variable_listing(imported):
     """A result file's reference scales come from nondim.reference; the listing of every
     governing variable (``pframe pi``) and its Buckingham machinery are not imported."""
-    modules, _, _ = imported
+    modules, _, _, _ = imported
     assert "pframe.nondim.reference" in modules
     assert "pframe.nondim.scene_variables" not in modules
     assert "pframe.nondim.buckingham" not in modules
+
+
+@pytest.mark.slow
+def test_a_run_in_si_parses_no_units(imported):
+    """A file in SI writes each quantity's SI units as they are: the parser of units
+    (pframe.nondim.dimensions) loads for a file in another unit system."""
+    modules, _, _, _ = imported
+    assert "pframe.nondim.dimensions" not in modules
+
+
+@pytest.mark.slow
+def test_a_scene_without_nodes_supports_or_plans_builds_none_of_their_validators(imported):
+    """Generic nodes, supports (and their soil columns), a floor plan, output scales, initial
+    conditions and output units are validated by their models' validators, built at a
+    field's first value (lazy_model), not with every scene's; the defaults of the last two
+    are made without them."""
+    assert imported[3] == []
+
+
+@pytest.mark.slow
+def test_a_run_loads_the_module_of_its_own_integrator_only(imported):
+    """The kernel's schemes are listed from pframe.integrators.SCHEME and the scene's
+    integrator union makes a model when a scene names it: the other five integrators'
+    modules are not imported."""
+    modules, _, _, _ = imported
+    loaded = {m.rsplit(".", 1)[1] for m in modules if m.startswith("pframe.integrators.")}
+    assert loaded == {"_base", "coefficients", "tableau", "newmark"}

@@ -17,12 +17,18 @@ from pframe.model.tagged import LazyUnion
 TAGS = ("law", "material", "kind", "type")
 
 
-def _unions(model: type[BaseModel]) -> dict[str, LazyUnion]:
-    """Every tagged union reachable from ``model``, by where it was first found."""
+def _unions(model: type[BaseModel], made: bool = True) -> dict[str, LazyUnion]:
+    """Every tagged union reachable from ``model``, by where it was first found; through the
+    members of a union made on demand too (``made``: they are unfolded, as every reader does;
+    else only those of the unions made whole)."""
+    from pframe.model.tagged import unfold
+
     found: dict[str, LazyUnion] = {}
     seen: set = set()
 
     def visit(annotation, where: str):
+        if made:
+            annotation = unfold(annotation)
         if isinstance(annotation, LazyUnion):
             found.setdefault(where, annotation)
             return
@@ -124,7 +130,7 @@ def test_each_law_s_model_is_made_when_a_scene_first_names_it():
     from pframe.model.scene import _scene_class
 
     fresh = _scene_class.__wrapped__((), ())  # a class of its own, not the cached one
-    unions = _unions(fresh)
+    unions = _unions(fresh, made=False)
     assert set(LAW_FIELDS) <= set(unions)
     assert all(not unions[where]._made for where in LAW_FIELDS)
     data = {"buildings": [{"name": "A", "floors": 1, "mass": 1e5,
@@ -192,3 +198,49 @@ def test_a_scene_ships_by_value_as_dask_sends_it_to_workers():
     assert arrived.scene == loaded.scene
     again = type(arrived.scene).model_validate(arrived.scene.model_dump())
     assert again == loaded.scene
+
+
+def test_a_model_made_on_demand_validates_and_describes_itself_as_the_model():
+    """A field made by lazy_model makes its model at the first value, and judges every value
+    as the field of the model itself does: the same objects, the same errors (type, place,
+    message), the same JSON Schema."""
+    from pydantic import ConfigDict, Field, ValidationError
+
+    from pframe.model.tagged import lazy_model, unfold
+
+    made = []
+
+    class Inner(BaseModel):
+        model_config = ConfigDict(extra="forbid", defer_build=True)
+        a: float = Field(gt=0)
+        b: int = 1
+
+    def make():
+        made.append(Inner)
+        return Inner
+
+    lazy = lazy_model(make, BaseModel)
+
+    class Lazy(BaseModel):
+        one: lazy | None = Field(None, description="one")
+        many: list[lazy] = []
+
+    class Eager(BaseModel):
+        one: Inner | None = Field(None, description="one")
+        many: list[Inner] = []
+
+    assert not made  # the class is built, its field's model is not
+    values = [{}, {"one": {"a": 1.0}}, {"one": {"a": -1, "c": 2}}, {"one": 3},
+              {"many": [{"a": 2.0, "b": 3}, {"a": "x", "b": "y"}]}, {"many": [Inner(a=1.0)]}]
+    for value in values:
+        outcomes = []
+        for model in (Lazy, Eager):
+            try:
+                outcomes.append(model.model_validate(value).model_dump())
+            except ValidationError as exc:
+                outcomes.append(exc.errors(include_url=False))
+        assert outcomes[0] == outcomes[1], value
+    assert made == [Inner]  # made once
+    schemas = [m.model_json_schema() for m in (Lazy, Eager)]
+    assert schemas[0] == {**schemas[1], "title": "Lazy"}
+    assert typing.get_args(unfold(lazy))[0] is Inner

@@ -137,15 +137,21 @@ _SHORT = {"solve", "validate", "compile", "schema", "pi", "expand", "scale"}
 #: before it sleeps: a third of numpy's import, about 30 ms of CPU a short command spends on
 #: nothing. 2^4 cycles, OpenBLAS's least, puts them to sleep at once. Their number is kept:
 #: it decides how a threaded routine splits its sums (a dense eigen-solve of 300 DOFs differs
-#: in the last bits between one thread and two), so results stay those of numpy's defaults
-_SHORT_ENVIRONMENT = {"OPENBLAS_THREAD_TIMEOUT": "4"}
+#: in the last bits between one thread and two), so results stay those of numpy's defaults.
+#: Pydantic looks for plug-ins (packages that observe every validation, as a tracer does)
+#: by reading the entry points of every installed package when it builds its first
+#: validator: about 5 ms with a hundred packages, for observers of the scene's validation
+#: alone. ``PYDANTIC_DISABLE_PLUGINS`` (pydantic's documented switch) skips the scan; a value
+#: the user set, even empty (every plug-in), is kept
+_SHORT_ENVIRONMENT = {"OPENBLAS_THREAD_TIMEOUT": "4", "PYDANTIC_DISABLE_PLUGINS": "__all__"}
 
 
 def console_main() -> int:
     """The installed ``pframe`` command: :func:`main`, with the garbage collector off for short
     commands and the objects alive at the end frozen, so that leaving the interpreter does not
     examine them (about 0.2 s of a warm ``pframe solve``), and OpenBLAS's idle threads asleep
-    at once (:data:`_SHORT_ENVIRONMENT`, set before numpy is imported)."""
+    at once and pydantic's scan for plug-ins skipped (:data:`_SHORT_ENVIRONMENT`, set before
+    numpy and pydantic are imported)."""
     import gc
     import os
 

@@ -22,6 +22,8 @@ from fractions import Fraction
 #: one inch in metres and one pound-force in newtons, exactly (NIST SP 811, appendix B)
 INCH = Fraction("0.0254")
 POUND_FORCE = Fraction("4.4482216152605")
+#: standard gravity, m/s^2 (CGPM 1901; NIST SP 811): what "in g" means (PEER records, a PGA)
+STANDARD_GRAVITY = 9.80665
 
 
 @dataclass(frozen=True)

@@ -43,7 +43,9 @@ INITIAL_OVER_POST = 4.0
 OVERDAMPED = 1.5
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class Fit:
     """The damping of a scene: a0 per node (1/s: on every DOF of the node's floor), a1 per
     storey (s), and the modal blocks (the DOFs of a building, (node, component), and its

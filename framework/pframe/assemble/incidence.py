@@ -18,7 +18,9 @@ import numpy as np
 from pframe.model.rows import column
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class Sides:
     """The terms of the sides of a kind of element (see the module); empty when every
     element of the kind is plain."""

@@ -398,7 +398,9 @@ def _sparse_lowest(springs, scale, n: int, count: int, vectors: bool):
     return (omega, shapes * scale[:, None]) if vectors else omega
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class Isolation:
     """Which storeys of a scene are isolators, and why."""
 

@@ -28,7 +28,9 @@ from pframe.model.rows import column, column_array
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class LawGroup:
     """Elements of one law: their indices, packed parameters and initial state."""
 
@@ -38,7 +40,10 @@ class LawGroup:
     state: np.ndarray  # (B, g, n_state)
 
 
-@dataclass(frozen=True)
+# eq=False: a plan holds numpy arrays, whose == is elementwise, so a generated __eq__ (and
+# the __hash__ of its fields) could only raise; without them a plan compares and hashes by
+# identity, and the start of every run compiles two functions of 67 fields less
+@dataclass(frozen=True, eq=False)
 class Plan:
     """A scene as flat arrays, DOFs numbered for a narrow band. See ``docs/theory.md``."""
 
@@ -346,7 +351,10 @@ class _Soil:
         return tuple(out)
 
     def springs(self, ex: Expanded) -> tuple:
-        """The soil's Kelvin-Voigt springs to the ground: sway, then rocking, per foundation."""
+        """The soil's Kelvin-Voigt springs to the ground: sway, then rocking, per foundation
+        (the law's module imported for a scene on soil only)."""
+        if not ex.foundations:
+            return ()
         from pframe.laws import get_law
         from pframe.model.expand import Element
 

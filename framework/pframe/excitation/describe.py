@@ -22,7 +22,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from pframe.excitation.records import MAX_RECORD_BYTES, UNIT_NAMES, G, read_record_file
+from pframe.units import STANDARD_GRAVITY as G
 from pframe.yamltext import read_bounded_bytes
 
 #: how the two formats are named in messages
@@ -99,6 +99,8 @@ def describe_record(path: str | Path, format: str = "auto", units: str | None = 
     FileNotFoundError, ValueError
         As :func:`pframe.excitation.records.read_record`.
     """
+    from pframe.excitation.records import MAX_RECORD_BYTES, read_record_file
+
     path = Path(path)
     content = read_bounded_bytes(path, "record", MAX_RECORD_BYTES)  # a FIFO is never read
     kind = record_format(path, format)
@@ -144,6 +146,8 @@ def describe_record(path: str | Path, format: str = "auto", units: str | None = 
 
 
 def _units_clause(facts: dict) -> str:
+    from pframe.excitation.records import UNIT_NAMES
+
     name = UNIT_NAMES.get(facts["units"], facts["units"])
     where = facts.get("units_from", "default")
     if where.startswith("header"):
@@ -164,6 +168,8 @@ def _g(value: float) -> str:
 def describe_line(facts: dict, duration: float | None = None) -> str:
     """One line of :func:`describe_record`'s facts; with the analysed ``duration`` (s), what
     part of the record the analysis covers."""
+    from pframe.excitation.records import UNIT_NAMES
+
     step = f"dt = {facts['step']:.6g} s" if facts["uniform"] else \
         f"uneven steps (mean {facts['step']:.6g} s)"
     units = "g" if facts["units"] == "g" else UNIT_NAMES.get(facts["units"], facts["units"])

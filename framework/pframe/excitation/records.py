@@ -17,9 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from pframe.units import STANDARD_GRAVITY as G  # PEER records are in g
 from pframe.yamltext import read_bounded
 
-G = 9.80665  # standard gravity (m/s^2): PEER records are in g
 #: the largest record file read: a PEER record is under 1 MiB; an hour at 200 Hz in two text
 #: columns is about 16 MiB. Larger files are refused before they are read
 MAX_RECORD_BYTES = 16 * 2**20

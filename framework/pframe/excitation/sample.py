@@ -23,7 +23,9 @@ def sine_end(excitation) -> float:
     return np.inf
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class Motion:
     """a_g(t) (m/s^2) for a scalar or an array t (s), smooth between ``breakpoints`` (s),
     zero after ``end`` (s; inf for a sine without end)."""

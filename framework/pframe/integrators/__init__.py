@@ -18,10 +18,12 @@ path in the kernel; Bathe's composite method is two. Central difference is expli
 solve: the mass matrix is diagonal). The amplification matrix follows from the tableau, and
 the dt checks take each integrator's period error from it.
 
-:data:`TABLE` is the one list: :data:`ALL_INTEGRATORS`, :data:`SCHEMES` (and from them the
+:data:`TABLE` is the one list, with :data:`SCHEME` (the kernel's scheme of each, which each
+class reads as its ``scheme``): :data:`ALL_INTEGRATORS`, :data:`SCHEMES` (and from them the
 kernel's ``Scheme``), the scene's integrator union, the schemas, the classes ``pframe``
-exports and the integrators the tests run all follow from it. It names modules and classes
-only, so that ``import pframe`` reads it without loading them (they load on first use).
+exports and the integrators the tests run all follow from it. It names modules, classes and
+schemes only, so that ``import pframe`` and the kernel's tables read it without loading them
+(each loads on first use: a scene loads the module of the integrator it names).
 """
 
 import importlib
@@ -36,6 +38,18 @@ TABLE = {
     "bathe": "Bathe",
 }
 
+#: the kernel's scheme that runs each integrator of :data:`TABLE` (None: explicit, no scheme);
+#: each class's ``scheme`` is read from here, so the kernel's schemes are listed without
+#: loading the integrators' modules
+SCHEME = {
+    "newmark": "alpha_family",
+    "hht": "alpha_family",
+    "generalized_alpha": "alpha_family",
+    "wilson_theta": "wilson_theta",
+    "central_difference": None,
+    "bathe": "tableau",
+}
+
 #: names of this package defined in its modules (loaded on first use)
 _MODULES = {"Coefficients": "coefficients", "Tableau": "tableau", "Stage": "tableau",
             "Facts": "_base", "PATHS": "_base",
@@ -48,8 +62,7 @@ def _all_integrators() -> tuple:
 
 def _schemes() -> tuple:
     """The kernel's implicit schemes, in the order of their first integrator in the table."""
-    return tuple(dict.fromkeys(cls.scheme for cls in __getattr__("ALL_INTEGRATORS")
-                               if cls.scheme is not None))
+    return tuple(dict.fromkeys(SCHEME[name] for name in TABLE if SCHEME[name] is not None))
 
 
 def __getattr__(name: str):

@@ -60,7 +60,8 @@ class Facts:
 class IntegratorParams(Frozen):
     """An integrator's parameters: frozen, unknown fields refused, misuse an InputError."""
 
-    #: the kernel's scheme that runs it (pframe.integrators.SCHEMES); None: explicit
+    #: the kernel's scheme that runs it (pframe.integrators.SCHEME, by its type); None:
+    #: explicit
     scheme: ClassVar[str | None] = None
     #: what the generic tests check (see Facts)
     facts: ClassVar[Facts] = Facts()
@@ -69,6 +70,15 @@ class IntegratorParams(Frozen):
     def type_name(cls) -> str:
         """The YAML ``type`` (the tag of the scene's integrator union)."""
         return cls.model_fields["type"].default
+
+    @classmethod
+    def __pydantic_init_subclass__(cls, **kwargs):
+        super().__pydantic_init_subclass__(**kwargs)
+        from pframe.integrators import SCHEME
+
+        field = cls.model_fields.get("type")
+        if field is not None and field.default in SCHEME:  # an integrator of the table
+            cls.scheme = SCHEME[field.default]
 
 
 class Implicit(IntegratorParams):

@@ -49,7 +49,6 @@ class Bathe(Implicit):
                          description="The first sub-step's share of the step, in (0, 1): "
                          "2 - sqrt 2 (default: one factorisation for both sub-steps) or 0.5 "
                          "(Bathe's original).")
-    scheme: ClassVar[str] = "tableau"
     facts: ClassVar[Facts] = Facts(
         order=2, paths=frozenset({"events", "retry"}),
         examples={"bathe": {"type": "bathe"}, "bathe-0.5": {"type": "bathe", "gamma": 0.5}},

@@ -20,7 +20,6 @@ class GeneralizedAlpha(Implicit):
     """Chung-Hulbert generalised-alpha with full Newton iterations."""
 
     type: Literal["generalized_alpha"] = "generalized_alpha"
-    scheme: ClassVar[str] = "alpha_family"
     facts: ClassVar[Facts] = Facts(
         order=2, paths=frozenset({"events", "retry"}),
         examples={"generalized_alpha": {"type": "generalized_alpha", "rho_infinity": 0.6}},

@@ -18,7 +18,6 @@ class HHT(Implicit):
     """HHT-alpha with full Newton iterations."""
 
     type: Literal["hht"] = "hht"
-    scheme: ClassVar[str] = "alpha_family"
     facts: ClassVar[Facts] = Facts(
         order=2, paths=frozenset({"events", "retry"}),
         examples={"hht": {"type": "hht", "alpha": 0.1}},

@@ -14,7 +14,6 @@ class Newmark(Implicit):
     """Newmark's method with full Newton iterations."""
 
     type: Literal["newmark"] = "newmark"
-    scheme: ClassVar[str] = "alpha_family"
     facts: ClassVar[Facts] = Facts(
         order=2, paths=frozenset({"events", "retry"}),
         examples={"average_acceleration": {"type": "newmark"},

@@ -29,7 +29,6 @@ class WilsonTheta(Implicit):
     """Wilson-theta with full Newton iterations."""
 
     type: Literal["wilson_theta"] = "wilson_theta"
-    scheme: ClassVar[str] = "wilson_theta"
     facts: ClassVar[Facts] = Facts(
         order=2, paths=frozenset({"events", "retry"}),
         examples={"wilson_theta": {"type": "wilson_theta", "theta": 1.4}},

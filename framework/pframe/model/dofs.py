@@ -24,7 +24,9 @@ from pframe.model.rows import Rows, Run, column, column_array
 _AXIS_WORDS = {0: "along x", 1: "along y", 2: "in torsion (about the vertical)"}
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class Dofs:
     """The degrees of freedom of a scene: ``table`` of (node, component) in node order, then
     component order (x, y, theta), and the mass of each (kg; kg m^2 for theta)."""

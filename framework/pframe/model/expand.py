@@ -36,7 +36,9 @@ from pframe.resources import check_floors, check_steps, steps_of
 __all__ = ["AT_TOLERANCE", "Element", "Expanded", "column_share", "elevations", "expand"]
 
 
-@dataclass(frozen=True)
+# eq=False: as pframe.assemble.plan.Plan, it holds numpy arrays (== elementwise): a
+# generated __eq__ and __hash__ could only raise, and cost compiling at every start
+@dataclass(frozen=True, eq=False)
 class Expanded:
     """A scene resolved to numbers, in declaration order (no DOF numbering yet)."""
 
@@ -325,11 +327,14 @@ def expand(scene, base_dir: Path | str = ".") -> Expanded:
 
 def _limit_recorders(scene) -> tuple:
     """The envelopes the scene's limits are checked on (pframe.limits), recorded with its
-    own recorders."""
+    own recorders (pframe.limits imported for a scene with limits only)."""
+    limits = getattr(scene, "limits", None)
+    if limits is None:
+        return ()
     from pframe.limits import recorded
     from pframe.model.scene import Envelope
 
-    needed = recorded(getattr(scene, "limits", None))
+    needed = recorded(limits)
     return (Envelope(kind="envelope", quantities=list(needed)),) if needed else ()
 
 

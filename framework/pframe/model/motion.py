@@ -16,14 +16,14 @@ from pathlib import Path
 import numpy as np
 
 from pframe.errors import InputError
-from pframe.excitation import ground_acceleration, read_record
-from pframe.excitation.characteristic import apply_record
 from pframe.excitation.describe import applied_motion, motion_warnings
-from pframe.excitation.records import RecordUnitsError
+from pframe.excitation.sample import ground_acceleration
 from pframe.model.load import ModelError
 
 
-@dataclass(frozen=True)
+# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
+# could only raise, and would be compiled at every start
+@dataclass(frozen=True, eq=False)
 class GroundMotion:
     """``samples``: site axis ('x', 'y') -> a_g at t_n = n dt, n = 0..steps (m/s^2), the
     axes the motion loads; ``record`` the applied record of a one-record scene (else None),
@@ -68,6 +68,10 @@ def _record(excitation, base_dir, path):
     if excitation is None:
         return None
     if excitation.kind == "record":
+        # the reading of records imported for a record only (a function of time reads none)
+        from pframe.excitation.characteristic import apply_record
+        from pframe.excitation.records import RecordUnitsError, read_record
+
         file = Path(base_dir) / excitation.file
         try:
             record = read_record(file, excitation.format, excitation.units, within=base_dir)

@@ -7,7 +7,6 @@ package is validated exactly like a built-in one (:func:`scene_class`).
 
 
 import functools
-import math
 import os
 from typing import Annotated, Literal, Union, get_args
 
@@ -15,31 +14,35 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
-    PrivateAttr,
     create_model,
     model_validator,
 )
 
+from pframe import integrators
 from pframe.errors import InputError
-from pframe.integrators import ALL_INTEGRATORS, Newmark
+from pframe.integrators import Newmark
+from pframe.integrators._base import IntegratorParams
 from pframe.laws import get_law
 from pframe.laws.registry import builtin_names
+from pframe.model.parts import (
+    TAGS,
+    Base,
+    BuildingName,
+    NodeName,
+    Positive,
+    Sine,
+    SupportName,
+    brief,
+    public_name,
+    shown_fields,
+    shown_items,
+)
 from pframe.model.plan import Direction, FloorPlan, Point
-from pframe.model.tagged import on_demand, tagged
+from pframe.model.tagged import lazy_model, on_demand, tagged
 from pframe.objects import Frozen, describe, dotted
 from pframe.quantities import QUANTITIES as _QUANTITIES
 from pframe.units import NAMES
 
-Positive = Annotated[float, Field(gt=0, allow_inf_nan=False)]
-NodeName = Annotated[
-    str,
-    Field(
-        pattern=r"^[A-Za-z0-9_.-]+/[A-Za-z0-9_.-]+$",
-        description="'<building>/<floor>', e.g. 'A/1' for the first floor above ground of A.",
-    ),
-]
-BuildingName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
-SupportName = Annotated[str, Field(pattern=r"^[A-Za-z0-9_.-]+$")]
 QUANTITIES = tuple(_QUANTITIES)
 Quantity = Literal[QUANTITIES]
 
@@ -51,88 +54,13 @@ def _no_items() -> list:
     return []
 
 
-class Base(Frozen):
-    """A part of a scene: frozen, unknown fields refused, misuse an InputError
-    (:mod:`pframe.objects`)."""
-
-    @classmethod
-    def public_name(cls) -> str:
-        return _public_name(cls)
-
-    def __repr__(self) -> str:
-        return brief(self)
-
-    __str__ = __repr__
-
-
-# -- how a scene and its parts print (repr): the fields given, under their public names --------
-
-#: fields shown first (which object, which nodes), then the others in the model's order
-_FIRST = ("kind", "type", "law", "material", "name", "nodes", "gap")
-#: items of a list shown in full; a longer list shows its first and last ones
-_LIST_ITEMS = 8
-
-
-def _public_name(cls) -> str:
-    """The name a user builds the object with: ``Contact`` (not ``Contact_improved_kelvin``),
-    ``Story``, ``StoryProperties``, else the class name."""
-    name = cls.__name__
-    if name.startswith("Contact_"):
-        return "Contact"
-    if name.startswith("Story_"):
-        return "Story"
-    if name.startswith("Link_"):
-        return "Link"
-    if name.endswith("Storeys"):
-        return "StoryProperties"
-    return name
-
-
-def _shown_fields(model) -> list[str]:
-    """The fields given and the tags that say what the object is (not ``kind``/``type``
-    where the class says it: ``Sine``, ``Newmark``)."""
-    info = type(model).model_fields
-    fields = [n for n in info if (n in model.model_fields_set or n in TAGS) and not (
-        n in ("kind", "type") and not info[n].is_required())]
-    return sorted(fields, key=lambda n: (_FIRST.index(n) if n in _FIRST else len(_FIRST)))
-
-
-def _items(values, show) -> list[str]:
-    values = list(values)
-    if len(values) <= _LIST_ITEMS:
-        return [show(v) for v in values]
-    return ([show(v) for v in values[:3]] + [f"... {len(values) - 5} more ..."]
-            + [show(v) for v in values[-2:]])
-
-
-def brief(value) -> str:
-    """One line: ``Contact(law='improved_kelvin', name='floor-1', nodes=('A/1', 'B/1'),
-    gap=0.124245, ...)``: the fields that were given (and the tags), numbers to 6 digits,
-    long lists cut in the middle; what ``pframe.Contact(...)`` etc. would be called with."""
-    if isinstance(value, BaseModel):
-        args = ", ".join(f"{n}={brief(getattr(value, n))}" for n in _shown_fields(value))
-        return f"{_public_name(type(value))}({args})"
-    if isinstance(value, bool) or value is None:
-        return repr(value)
-    if isinstance(value, float):
-        return f"{value:.6g}"
-    if isinstance(value, (list, tuple)):
-        inner = ", ".join(_items(value, brief))
-        return f"({inner}{',' if len(value) == 1 else ''})" if isinstance(value, tuple) \
-            else f"[{inner}]"
-    if isinstance(value, dict):
-        return "{" + ", ".join(_items(value.items(), lambda kv: f"{kv[0]!r}: {brief(kv[1])}"))\
-            + "}"
-    return repr(value)
-
-
 def _scene_lines(scene) -> list[tuple[str, list[str]]]:
     """(field, one line per item) of the fields a scene was given, in the model's order."""
     out = []
-    for name in _shown_fields(scene):
+    for name in shown_fields(scene):
         value = getattr(scene, name)
         if isinstance(value, list):
-            out.append((name, _items(value, brief)))
+            out.append((name, shown_items(value, brief)))
         else:
             out.append((name, [brief(value)]))
     return out
@@ -230,17 +158,30 @@ ContactEnd = Annotated[
 ]
 
 
-class ParkAng(Base):
-    """The Park-Ang damage index of a building's storeys, DI = d_max / d_u + beta E_h /
-    (F_y d_u) (Park & Ang 1985; pframe summary): d_max the peak storey drift, E_h the storey's
-    hysteretic energy, F_y its yield force (from its material)."""
+#: every name pframe.model.scene_options defines that this module gives too
+_OPTION_NAMES = frozenset({"ParkAng", "Foundation", "Soil", "CodeDriftLimit", "Limits",
+                           "SOIL_PROPERTIES", "SOIL_VALUES"})
 
-    ultimate_drift: Positive | list[Positive] = Field(
-        description="d_u: the storey's ultimate drift under monotonic loading (m), one for all "
-        "storeys or one per storey, bottom up.")
-    beta: float = Field(ge=0, allow_inf_nan=False, description="beta: the weight of the "
-                        "hysteretic energy (Park & Ang 1985 give 0.05 as a typical value for "
-                        "reinforced concrete members).")
+
+def _option(name: str):
+    """A field holding the model ``name`` of pframe.model.scene_options, made (and the module
+    imported) when a scene first gives one (:func:`pframe.model.tagged.lazy_model`)."""
+    def make():
+        from pframe.model import scene_options
+
+        return getattr(scene_options, name)
+
+    return lazy_model(make, Base)
+
+
+_PARK_ANG, _SOIL, _LIMITS = _option("ParkAng"), _option("Soil"), _option("Limits")
+
+
+def _deferred(model: type):
+    """A field of ``model`` (made already) whose validator is built at the field's first
+    value, not with the scene's: generic nodes, supports, a floor plan and output scales
+    are left out of most scenes (:func:`pframe.model.tagged.lazy_model`)."""
+    return lazy_model(lambda: model, model)
 
 
 class StoryBase(Base):
@@ -255,7 +196,7 @@ class StoryBase(Base):
     gravity_load: float | None = Field(None, ge=0, allow_inf_nan=False,
                                        description="Axial (gravity) load P the storey carries "
                                        "(N): P-delta, a geometric stiffness -P/h (needs height).")
-    park_ang: ParkAng | None = Field(
+    park_ang: _PARK_ANG | None = Field(
         None, description="Ultimate drift (one value) and beta of the storey's Park-Ang "
         "damage index (pframe summary); none: no damage index.")
     position: Point | None = Field(
@@ -461,424 +402,36 @@ class Modal(Base):
         return self
 
 
-class Foundation(Base):
-    """A building's rigid foundation on soil: its size, mass and rotational inertia."""
-
-    width: Positive | None = Field(None, description="Width b (m) along the shaking (the "
-                                   "row of buildings).")
-    length: Positive | None = Field(None, description="Length l (m) across the shaking "
-                                    "(default: the width).")
-    radius: Positive | None = Field(None, description="Radius (m) of a circular foundation "
-                                    "(instead of width and length).")
-    mass: Positive = Field(description="Foundation mass m_f (kg): the sway DOF's mass.")
-    rotational_inertia: Positive | None = Field(
-        None, description="Mass moment of inertia I_f (kg m^2) about the rocking axis (default: "
-        "a thin slab's, m_f b^2 / 12, or m_f r^2 / 4 for a disk); add the floors' own "
-        "rotational inertias here if they matter (the floors' translation with the rocking is "
-        "already in their masses).")
-
-    @model_validator(mode="after")
-    def _size(self):
-        if self.radius is not None and (self.width is not None or self.length is not None):
-            raise ValueError("give radius (a circular foundation) or width and length, not both")
-        if self.length is not None and self.width is None:
-            raise ValueError("length needs width (the size along the shaking)")
-        if self.rotational_inertia is None and self.radius is None and self.width is None:
-            raise ValueError("give rotational_inertia (kg m^2), or the foundation's size "
-                             "(width, or radius) to take a slab's")
-        return self
-
-
-#: the soil given by its properties (Wolf's cone model) or by its four springs and dashpots
-SOIL_PROPERTIES = ("shear_wave_velocity", "poisson", "density")
-SOIL_VALUES = ("sway_stiffness", "sway_damping", "rocking_stiffness", "rocking_damping")
-
-
-class Soil(Base):
-    """Soil under a building: sway and rocking springs and dashpots under its foundation, from
-    the soil's properties (Wolf's cone model of a surface disk; docs/soil.md) or given."""
-
-    shear_wave_velocity: Positive | None = Field(None, description="V_s (m/s).")
-    poisson: float | None = Field(None, ge=0, le=0.5, description="Poisson's ratio nu "
-                                  "(0 .. 0.5).")
-    density: Positive | None = Field(None, description="rho (kg/m^3).")
-    sway_stiffness: Positive | None = Field(None, description="K_h (N/m), instead of the "
-                                            "soil's properties.")
-    sway_damping: float | None = Field(None, ge=0, allow_inf_nan=False,
-                                       description="C_h (N s/m).")
-    rocking_stiffness: Positive | None = Field(None, description="K_r (N m/rad).")
-    rocking_damping: float | None = Field(None, ge=0, allow_inf_nan=False,
-                                          description="C_r (N m s/rad).")
-    foundation: Foundation = Field(description="The foundation.")
-
-    @model_validator(mode="after")
-    def _one_way(self):
-        props = [getattr(self, k) is not None for k in SOIL_PROPERTIES]
-        values = [getattr(self, k) is not None for k in SOIL_VALUES]
-        if any(props) and any(values):
-            raise ValueError("give the soil's properties (shear_wave_velocity, poisson, "
-                             "density) or its springs and dashpots (sway_stiffness, "
-                             "sway_damping, rocking_stiffness, rocking_damping), not both")
-        if any(props) and not all(props):
-            missing = [k for k, on in zip(SOIL_PROPERTIES, props) if not on]
-            raise ValueError(f"the cone model needs {', '.join(missing)} as well")
-        if any(values) and not all(values):
-            missing = [k for k, on in zip(SOIL_VALUES, values) if not on]
-            raise ValueError(f"give {', '.join(missing)} as well (all four values)")
-        if not any(props) and not any(values):
-            raise ValueError("give the soil's properties (shear_wave_velocity, poisson, "
-                             "density) or its four springs and dashpots (sway_stiffness, "
-                             "sway_damping, rocking_stiffness, rocking_damping)")
-        if all(props) and self.foundation.radius is None and self.foundation.width is None:
-            raise ValueError("the cone model needs the foundation's size: width (and length) "
-                             "or radius")
-        return self
-
-
-class Sine(Base):
-    """Ground acceleration a_p sin(w_p t), optionally limited to some cycles or a duration."""
-
-    kind: Literal["sine"] = "sine"
-    amplitude: float = Field(allow_inf_nan=False, description="a_p (m/s^2).")
-    frequency: Positive = Field(description="Circular frequency w_p (rad/s).")
-    cycles: Positive | None = Field(None, description="Number of cycles, then zero.")
-    duration: Positive | None = Field(None, description="Duration (s), then zero.")
-
-    @model_validator(mode="after")
-    def _not_both(self):
-        if self.cycles is not None and self.duration is not None:
-            raise ValueError("give cycles or duration, not both")
-        return self
-
-
-class Baseline(Base):
-    """A polynomial a_c(t) = c_0 + ... + c_p t^p removed from a record's acceleration, its
-    velocity and displacement integrated from rest as the record's are
-    (pframe.excitation.kinematics.baseline_correct; Boore & Bommer 2005)."""
-
-    fit: Literal["velocity", "displacement", "rest"] = Field(
-        "velocity", description="What a_c is fitted to: the velocity or the displacement "
-        "(least squares over the record), or rest (the record ends at rest: final velocity "
-        "and displacement 0).")
-    degree: int = Field(1, ge=0, le=5, description="p, the polynomial's degree (rest: 1 or "
-                        "more); 1 with fit velocity: a quadratic velocity baseline through 0.")
-
-
-class Record(Base):
-    """A recorded ground acceleration read from a file (path relative to the YAML file)."""
-
-    kind: Literal["record"] = "record"
-    file: str = Field(description="Two columns (time s, acceleration) or a PEER NGA .AT2 file "
-                      "(from the PEER NGA-West2 database), relative to the YAML file.")
-    format: Literal["auto", "columns", "at2"] = Field(
-        "auto", description="File format; auto: PEER for the suffix .AT2 in any case (.AT2, "
-                            ".at2, .At2), else two columns. pframe validate prints how the "
-                            "file was read.")
-    units: Literal["g", "m/s2", "cm/s2", "gal", "mm/s2", "in/s2", "ft/s2"] | None = Field(
-        None, description="Acceleration units of the file's values. Default: the units its "
-        "header states (PEER: 'UNITS OF G', 'UNITS OF CM/SEC/SEC'; two columns: a comment "
-        "'# units: cm/s2'), else g for .AT2 and m/s2 otherwise. Units that contradict the "
-        "header are refused.")
-    scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the record.")
-    pga: Positive | None = Field(
-        None, description="Scale the record to this peak ground acceleration, in m/s^2 (not g: "
-        "0.4 g is 3.92); instead of scale. pframe validate and solve print the PGA applied, in "
-        "m/s^2 and g.")
-    period: Literal["mean", "predominant"] | Positive = Field(
-        "mean", description="The record's characteristic period T, which sets w_p = 2 pi / T of "
-        "its Pi groups and dimensionless output: mean (the mean period T_m of Rathje et al. "
-        "1998, 2004, over 0.25-20 Hz), predominant (the period T_p of the peak of the 5%-damped "
-        "acceleration spectrum) or a period in seconds of the record as in its file.")
-    frequency: Positive | None = Field(
-        None, description="Compress or stretch the record's time axis so that its "
-        "characteristic circular frequency 2 pi / T is this (rad/s); default: as in the file.")
-    displacement: str | None = Field(
-        None, description="The record's ground displacement: a PEER .DT2 file (units its "
-        "header states, cm) or two columns (time s, displacement m), relative to the YAML "
-        "file; the displacement of the supports it moves, instead of the acceleration "
-        "integrated twice (checked against it, docs/supports.md#displacements-from-a-record).")
-    velocity: str | None = Field(
-        None, description="The record's ground velocity with its displacement: a PEER .VT2 "
-        "file (cm/s) or two columns (time s, velocity m/s).")
-    baseline: Baseline | None = Field(
-        None, description="A baseline correction of the record's acceleration (on its own "
-        "step, before any scaling; docs/supports.md#displacements-from-a-record); none: the "
-        "record as read, its displacement drifting as its acceleration integrates.")
-
-    @model_validator(mode="after")
-    def _scale_or_pga(self):
-        if self.pga is not None and "scale" in self.model_fields_set:
-            raise ValueError("give scale (a factor) or pga (a target peak), not both")
-        if self.velocity is not None and self.displacement is None:
-            raise ValueError("velocity comes with displacement (the record's two files)")
-        if self.displacement is not None and self.baseline is not None:
-            raise ValueError("a displacement file is the record's displacement as its "
-                             "provider corrected it: give no baseline with it")
-        return self
-
-    # The absolute folder ``file`` is relative to, set when the record is read from a scene
-    # file: a copy of the scene (model_copy, with or without update) keeps it, so the copy
-    # reads the same record from any current folder. Not a field: not in the YAML, the
-    # schema or equality.
-    _folder: str | None = PrivateAttr(None)
-
-    def __eq__(self, other):
-        if not isinstance(other, Record):
-            return NotImplemented
-        return self.__dict__ == other.__dict__
-
-
-class _Pulse(Base):
-    """Shared by the pulse excitations: amplitude a_p and period T_p (w_p = 2 pi / T_p)."""
-
-    amplitude: float = Field(allow_inf_nan=False, description="Acceleration amplitude a_p "
-                             "(m/s^2).")
-    period: Positive = Field(description="Pulse period T_p (s); w_p = 2 pi / T_p.")
-
-    @property
-    def frequency(self) -> float:
-        """The pulse's circular frequency w_p = 2 pi / T_p (rad/s)."""
-        return 2.0 * math.pi / self.period
-
-    @property
-    def characteristic_acceleration(self) -> float:
-        """a_p (m/s^2), the acceleration scale of Pi numbers built on the pulse."""
-        return abs(float(self.amplitude))
-
-    @property
-    def characteristic_frequency(self) -> float:
-        """w_p (rad/s), the frequency scale of Pi numbers built on the pulse."""
-        return self.frequency
-
-
-class Cycloidal(_Pulse):
-    """A cycloidal pulse (Makris 1997; Makris & Black 2004): type A a_p sin(w_p t) and type B
-    a_p cos(w_p t) for one period, type C_n a_p cos(w_p t + phi) for n + 1/2 - phi/pi periods
-    (phi returns the ground to its start); zero afterwards. See docs/gap-audit.md#pulses."""
-
-    kind: Literal["cycloidal"] = "cycloidal"
-    type: Literal["A", "B", "C"] = Field(description="A (forward), B (forward and back) or "
-                                         "C (n main cycles).")
-    n: int = Field(1, ge=1, description="Main cycles of a type-C pulse (C_n); only for type C.")
-
-    @model_validator(mode="after")
-    def _n_for_c(self):
-        if self.type != "C" and self.n != 1:
-            raise ValueError("n (the cycles of a type-C pulse) applies to type C only")
-        return self
-
-
-class Ricker(_Pulse):
-    """The Ricker wavelet a_p (1 - 2 pi^2 s^2 / T_p^2) exp(-pi^2 s^2 / T_p^2), s = t - t_0,
-    zero after t = 2 t_0. See docs/gap-audit.md#pulses."""
-
-    kind: Literal["ricker"] = "ricker"
-    center: Positive | None = Field(None, description="Time t_0 of the central peak (s); "
-                                    "default 1.5 T_p (the wavelet is below 1e-8 a_p at t = 0).")
-
-
-class StochasticParameters(Base):
-    """The six parameters of the Rezaeian & Der Kiureghian model, given directly."""
-
-    arias: Positive = Field(description="Expected Arias intensity I_a (m/s; 1 s g = 9.81 m/s).")
-    d595: Positive = Field(description="Significant duration D5-95 (s): 5 % to 95 % of I_a.")
-    tmid: Positive = Field(description="t_mid (s): when 45 % of I_a is reached.")
-    frequency: Positive = Field(description="f_mid (Hz): the filter frequency at t_mid.")
-    slope: float = Field(0.0, allow_inf_nan=False, description="f' (Hz/s): the rate of change "
-                         "of the filter frequency.")
-    damping: float = Field(gt=0, lt=1, allow_inf_nan=False, description="The filter's damping "
-                           "ratio zeta_f.")
-
-    @model_validator(mode="after")
-    def _feasible(self):
-        from pframe.excitation.stochastic import envelope_feasible
-
-        if not envelope_feasible(self.d595, self.tmid):
-            raise ValueError(f"d595 {self.d595:g} s and tmid {self.tmid:g} s: no gamma-form "
-                             "modulating function has them (d595 / tmid must be below 4.93; "
-                             "tmid is counted from the start of the motion)")
-        return self
-
-
-class Jennings(Base):
-    """Jennings, Housner & Tsai (1968): (t/t_1)^2 rise, 1 to t_2, then exp(-c (t - t_2))."""
-
-    kind: Literal["jennings"] = "jennings"
-    rise: Positive = Field(description="t_1 (s): end of the rise.")
-    plateau: Positive = Field(description="t_2 (s): end of the strong phase (>= t_1).")
-    decay: Positive = Field(description="c (1/s): the decay rate; the motion ends when the "
-                            "envelope is 0.001.")
-
-    @model_validator(mode="after")
-    def _order(self):
-        if self.plateau < self.rise:
-            raise ValueError("plateau (t_2) must not be before rise (t_1)")
-        return self
-
-
-class GammaShape(Base):
-    """The gamma form t^(alpha_2 - 1) exp(-alpha_3 t) with peak 1, from D5-95 and t_mid."""
-
-    kind: Literal["gamma"] = "gamma"
-    d595: Positive = Field(description="Significant duration D5-95 (s) of the envelope's energy.")
-    tmid: Positive = Field(description="t_mid (s): when 45 % of the envelope's energy is reached.")
-
-    @model_validator(mode="after")
-    def _feasible(self):
-        from pframe.excitation.stochastic import envelope_feasible
-
-        if not envelope_feasible(self.d595, self.tmid):
-            raise ValueError(f"d595 {self.d595:g} s and tmid {self.tmid:g} s: no gamma form has "
-                             "them (d595 / tmid must be below 4.93)")
-        return self
-
-
-_SITE_FIELDS = ("magnitude", "distance", "vs30")
-_CP_FIELDS = ("intensity", "ground_frequency", "ground_damping")
-
-
-class Stochastic(Base):
-    """A simulated ground motion, seeded and reproducible (docs/stochastic-motions.md):
-    rezaeian2010 (a site-based modulated filtered white noise, its parameters sampled from
-    magnitude, distance, Vs30 and mechanism, or given) or clough_penzien (filtered white
-    noise with a modulating function, parameters given)."""
-
-    kind: Literal["stochastic"] = "stochastic"
-    model: Literal["rezaeian2010", "clough_penzien"] = Field(
-        description="rezaeian2010 (Rezaeian & Der Kiureghian 2008, 2010) or clough_penzien "
-                    "(Kanai-Tajimi with filter_frequency 0).")
-    seed: int = Field(0, ge=0, description="Seed of the random numbers: the same seed gives "
-                      "the same motion.")
-    magnitude: Positive | None = Field(None, description="rezaeian2010: moment magnitude M.")
-    distance: Positive | None = Field(None, description="rezaeian2010: rupture distance R_rup "
-                                      "(km).")
-    vs30: Positive | None = Field(None, description="rezaeian2010: Vs30 of the site (m/s).")
-    mechanism: Literal["strike_slip", "reverse"] = Field(
-        "strike_slip", description="rezaeian2010: faulting mechanism (F = 0 or 1).")
-    parameters: StochasticParameters | None = Field(
-        None, description="rezaeian2010: the six parameters given (instead of the site).")
-    highpass: bool = Field(True, description="rezaeian2010: the 0.2 Hz critically damped "
-                           "high-pass post-filter, run on 7.96 s (10 / w_c) past the modulated "
-                           "motion until it is at rest: no residual velocity or displacement "
-                           "(below 1e-3 of their peaks); the motion is that much longer.")
-    intensity: Positive | None = Field(None, description="clough_penzien: white-noise "
-                                       "intensity S_0 (m^2/s^3), of the two-sided PSD.")
-    ground_frequency: Positive | None = Field(None, description="clough_penzien: w_g (rad/s).")
-    ground_damping: Positive | None = Field(None, description="clough_penzien: zeta_g.")
-    filter_frequency: float = Field(0.0, ge=0, allow_inf_nan=False, description="clough_penzien:"
-                                    " w_f (rad/s) of the high-pass second filter; 0: "
-                                    "Kanai-Tajimi.")
-    filter_damping: float = Field(0.6, gt=0, allow_inf_nan=False,
-                                  description="clough_penzien: zeta_f.")
-    envelope: tagged([Jennings, GammaShape], "kind") | None = Field(
-        None, description="clough_penzien: modulating function (none: stationary for "
-                          "duration).")
-    duration: Positive | None = Field(None, description="clough_penzien without envelope: the "
-                                      "motion's length (s).")
-    step: Positive = Field(0.01, description="Time step of the simulated motion (s); the "
-                           "analysis interpolates it linearly.")
-    scale: float = Field(1.0, allow_inf_nan=False, description="Factor on the motion.")
-
-    @model_validator(mode="after")
-    def _fields_of_model(self):
-        given = self.model_fields_set
-        if self.model == "rezaeian2010":
-            site = [n for n in _SITE_FIELDS if getattr(self, n) is not None]
-            if self.parameters is not None and site:
-                raise ValueError(f"give the site ({', '.join(_SITE_FIELDS)}) or parameters, not "
-                                 "both")
-            if self.parameters is None and len(site) < 3:
-                missing = [n for n in _SITE_FIELDS if n not in site]
-                raise ValueError(f"rezaeian2010 needs magnitude, distance and vs30 (missing: "
-                                 f"{', '.join(missing)}) or parameters")
-            other = [n for n in (*_CP_FIELDS, "filter_frequency", "filter_damping", "envelope",
-                                 "duration") if n in given]
-        else:
-            missing = [n for n in _CP_FIELDS if getattr(self, n) is None]
-            if missing:
-                raise ValueError(f"clough_penzien needs {', '.join(missing)}")
-            if self.envelope is None and self.duration is None:
-                raise ValueError("clough_penzien needs an envelope or a duration")
-            if self.envelope is not None and self.duration is not None:
-                raise ValueError("give an envelope or a duration, not both")
-            other = [n for n in (*_SITE_FIELDS, "mechanism", "parameters", "highpass")
-                     if n in given]
-        if other:
-            raise ValueError(f"{', '.join(other)} do not apply to model {self.model}")
-        return self
-
-
-#: one ground motion along one direction
-Motion = tagged([Sine, Record, Cycloidal, Ricker, Stochastic], "kind")
-
-
-class Components(Base):
-    """A ground motion in two horizontal components (docs/plan.md): any motion along x and
-    any along y, the pair turned by ``angle`` on the site (the incidence). A pair of PEER
-    records of one station is read as a pair: the same event and station, time step and
-    length are checked."""
-
-    kind: Literal["components"] = "components"
-    x: Motion | None = Field(None, description="The motion along the pair's x axis.")
-    y: Motion | None = Field(None, description="The motion along the pair's y axis (at "
-                             "angle + 90 degrees).")
-    angle: float = Field(0.0, allow_inf_nan=False, description="The angle of the pair's x "
-                         "axis from the site's x axis (degrees, counter-clockwise): the "
-                         "angle of incidence.")
-
-    @model_validator(mode="after")
-    def _one_at_least(self):
-        if self.x is None and self.y is None:
-            raise ValueError("give the motion along x, along y, or both")
-        return self
-
-    def motions(self) -> tuple:
-        """(axis, motion) of the components given: 'x', then 'y'."""
-        return tuple((axis, m) for axis, m in (("x", self.x), ("y", self.y)) if m is not None)
-
-
-class WavePassage(Base):
-    """One motion reaching each support later as the waves pass (docs/supports.md): at
-    support s it is a(t - tau_s), tau_s = (p_s - p_first) . (cos phi, sin phi) / v_app, the
-    supports' positions p projected on the direction of propagation phi, counted from the
-    support the waves reach first."""
-
-    kind: Literal["wave_passage"] = "wave_passage"
-    motion: tagged([Sine, Record, Cycloidal, Ricker, Stochastic, Components], "kind") = Field(
-        description="The motion as the waves bring it (at the support they reach first).")
-    velocity: Positive = Field(description="The apparent velocity v_app of the waves along "
-                               "the ground surface (m/s), typically 200 to 2000 m/s.")
-    direction: float = Field(0.0, allow_inf_nan=False, description="The direction the waves "
-                             "travel, degrees from the site's x axis (counter-clockwise).")
-
-
-class Coherency(Base):
-    """How alike the motions of two supports are, frequency by frequency, apart from the
-    waves' delay (the lagged coherency |gamma(w, d)|; docs/supports.md)."""
-
-    model: Literal["luco_wong", "harichandran_vanmarcke"] = Field(
-        description="luco_wong (Luco & Wong 1986) or harichandran_vanmarcke (Harichandran & "
-        "Vanmarcke 1986).")
-    incoherence: float | None = Field(None, ge=0, allow_inf_nan=False, description="luco_wong: "
-                                      "alpha, about 0.1 to 0.5.")
-    shear_velocity: Positive | None = Field(None, description="luco_wong: v_s of the ground "
-                                            "(m/s).")
-    amplitude: float = Field(0.736, ge=0, le=1, allow_inf_nan=False,
-                             description="harichandran_vanmarcke: A.")
-    alpha: Positive = Field(0.147, description="harichandran_vanmarcke: alpha.")
-    k: Positive = Field(5210.0, description="harichandran_vanmarcke: k (m).")
-    f0: Positive = Field(1.09, description="harichandran_vanmarcke: f0 (Hz).")
-    b: Positive = Field(2.78, description="harichandran_vanmarcke: b.")
-
-    @model_validator(mode="after")
-    def _parameters(self):
-        if self.model == "luco_wong" and (self.incoherence is None
-                                          or self.shear_velocity is None):
-            raise ValueError("luco_wong needs incoherence and shear_velocity")
-        if self.model == "harichandran_vanmarcke" and (self.incoherence is not None
-                                                       or self.shear_velocity is not None):
-            raise ValueError("incoherence and shear_velocity are luco_wong's")
-        return self
+#: the motions of pframe.model.scene_motions: kind -> class name (the module is imported
+#: when a scene first names one of them; a sine, the common case, is this module's)
+_MOTIONS = {"record": "Record", "cycloidal": "Cycloidal", "ricker": "Ricker",
+            "stochastic": "Stochastic", "components": "Components",
+            "wave_passage": "WavePassage", "coherent": "Coherent"}
+#: every name pframe.model.scene_motions defines that this module gives too
+_MOTION_NAMES = frozenset({*_MOTIONS.values(), "Baseline", "StochasticParameters", "Jennings",
+                           "GammaShape", "Coherency", "Motion"})
+
+
+def _motion_model(kind: str) -> type:
+    if kind == "sine":
+        return Sine
+    from pframe.model import scene_motions
+
+    return getattr(scene_motions, _MOTIONS[kind])
+
+
+def motions(*kinds: str):
+    """The tagged union (on ``kind``) of the motions of ``kinds``, in that order: each model
+    made, and pframe.model.scene_motions imported, when a value first names its kind
+    (:func:`pframe.model.tagged.on_demand`; a reader of the fields unfolds it)."""
+    return on_demand(kinds, _motion_model, "kind", Base)
+
+
+#: one motion along one direction, or two components (a support's own motion)
+_SUPPORT_MOTION = motions("sine", "record", "cycloidal", "ricker", "stochastic", "components")
+#: a scene's excitation
+_SCENE_MOTION = motions("sine", "record", "cycloidal", "ricker", "stochastic", "components",
+                        "wave_passage", "coherent")
 
 
 class SiteColumn(Base):
@@ -892,39 +445,6 @@ class SiteColumn(Base):
                                            "Kramer 1996).")
 
 
-class Coherent(Base):
-    """Motions simulated at every support (docs/supports.md): one stochastic motion's
-    spectrum and modulating function, made partly incoherent between supports by a coherency
-    model, delayed by the waves' passage, filtered by each support's soil column; seeded and
-    reproducible. With ``record`` at support ``at``, the others are simulated conditioned on
-    it (Konakli & Der Kiureghian 2012)."""
-
-    kind: Literal["coherent"] = "coherent"
-    motion: Stochastic = Field(description="The firm-ground motion whose spectrum and "
-                               "modulating function every support shares (kind: stochastic: "
-                               "clough_penzien, or rezaeian2010 at its mid-time filter).")
-    coherency: Coherency | None = Field(None, description="The lagged coherency; none: fully "
-                                        "coherent (the supports differ by their delays and "
-                                        "soil only).")
-    velocity: Positive | None = Field(None, description="The waves' apparent velocity (m/s): "
-                                      "each support's motion delayed as they reach it; none: "
-                                      "no delay.")
-    direction: float = Field(0.0, allow_inf_nan=False, description="The direction the waves "
-                             "travel (degrees from the site's x axis).")
-    seed: int = Field(0, ge=0, description="Seed of the random numbers: the same seed gives "
-                      "the same motions.")
-    record: Record | None = Field(None, description="A record the motions are conditioned on: "
-                                  "it is the motion of support 'at'.")
-    at: SupportName | None = Field(None, description="The support where the record was taken.")
-
-    @model_validator(mode="after")
-    def _record_at(self):
-        if (self.record is None) != (self.at is None):
-            raise ValueError("give record and at together (the record and the support it "
-                             "was taken at), or neither")
-        return self
-
-
 class Support(Base):
     """A piece of ground that moves as one (docs/supports.md): what buildings, walls and the
     ground ends of storeys and links stand on, with its own motion."""
@@ -932,8 +452,7 @@ class Support(Base):
     name: SupportName = Field(description="Its name (buildings and elements name it).")
     position: Point = Field((0.0, 0.0), description="[x, y]: where it is on the site (m): the "
                             "wave passage's delays.")
-    excitation: tagged([Sine, Record, Cycloidal, Ricker, Stochastic, Components],
-                       "kind") | None = Field(
+    excitation: _SUPPORT_MOTION | None = Field(
         None, description="Its own motion; none: the scene's excitation (the same motion, or "
         "the wave passage's at this support).")
     site: SiteColumn | None = Field(None, description="The soil column under it, which "
@@ -983,9 +502,14 @@ def tag_reader(key: str, default: str):
 _integrator_tag = tag_reader("type", "newmark")
 
 
-#: the scene's integrator: one of pframe.integrators' table, tagged by its ``type``
-Integrator = tagged({cls.type_name(): cls for cls in ALL_INTEGRATORS}, _integrator_tag)
-_INTEGRATOR_TYPES = [cls.type_name() for cls in ALL_INTEGRATORS]
+def _integrator_model(name: str) -> type:
+    return getattr(integrators, integrators.TABLE[name])
+
+
+#: the scene's integrator: one of pframe.integrators' table, tagged by its ``type``, each
+#: model made (its module imported) when a scene first names it
+Integrator = on_demand(integrators.TABLE, _integrator_model, _integrator_tag, IntegratorParams)
+_INTEGRATOR_TYPES = list(integrators.TABLE)
 
 
 Damping = tagged({"rayleigh": Rayleigh, "modal": Modal}, tag_reader("kind", "rayleigh"))
@@ -1038,54 +562,6 @@ class InitialConditions(Base):
         "theta' (rad/s)] of a floor in plan.")
 
 
-class CodeDriftLimit(Base):
-    """A building code's allowable storey drift: ASCE/SEI 7-22 Table 12.12-1 (section
-    12.12.1), by risk category and structure (pframe.limits)."""
-
-    code: Literal["asce7-22"] = Field("asce7-22", description="The code (ASCE/SEI 7-22).")
-    risk_category: Literal["I", "II", "III", "IV"] = Field(
-        description="Risk category (ASCE 7-22 Table 1.5-1): I or II 0.020 h_sx, III 0.015, "
-        "IV 0.010 for all other structures.")
-    structure: Literal["low_rise", "masonry_cantilever", "masonry_other", "other"] = Field(
-        "other", description="The table's row: low_rise (other than masonry shear wall, 4 "
-        "storeys or less, walls and partitions designed to accommodate the drifts: 0.025, "
-        "0.020, 0.015 h_sx; a taller building takes 'other'), masonry_cantilever (0.010), "
-        "masonry_other (0.007) or other (all other structures).")
-    redundancy: float = Field(1.0, ge=1.0, allow_inf_nan=False, description="rho: the "
-                              "limit is divided by it for moment frames in Seismic Design "
-                              "Categories D to F (12.12.1.1).")
-    factor: Positive = Field(1.0, description="A multiple of the table's limit (ASCE 7's "
-                             "nonlinear response history procedure, chapter 16, holds the mean "
-                             "over a suite to a multiple of it).")
-
-
-class Limits(Base):
-    """Limits on each storey's peak drift ratio and each floor's peak absolute acceleration:
-    the summary, the result file and the Dataset give each demand's margin and utilisation
-    (docs/modes.md#limits)."""
-
-    drift_ratio: float | None = Field(None, gt=0, le=1, allow_inf_nan=False, description=
-                                      "Allowed peak storey drift ratio (drift over the "
-                                      "storey's height; 0.02 is 2 %); needs heights.")
-    code: CodeDriftLimit | None = Field(None, description="A code's allowable storey drift "
-                                        "instead of drift_ratio.")
-    acceleration: Positive | None = Field(None, description="Allowed peak absolute floor "
-                                          "acceleration (m/s^2).")
-    acceleration_g: Positive | None = Field(None, description="The same in g (9.80665 "
-                                            "m/s^2), instead of acceleration.")
-
-    @model_validator(mode="after")
-    def _one_of_each(self):
-        if self.drift_ratio is not None and self.code is not None:
-            raise ValueError("give drift_ratio or code, not both")
-        if self.acceleration is not None and self.acceleration_g is not None:
-            raise ValueError("give acceleration (m/s^2) or acceleration_g (g), not both")
-        if all(v is None for v in (self.drift_ratio, self.code, self.acceleration,
-                                   self.acceleration_g)):
-            raise ValueError("give drift_ratio or code, acceleration or acceleration_g")
-        return self
-
-
 class OutputScales(Base):
     """Reference scales of dimensionless output (Wu et al. 2021, eq. 6)."""
 
@@ -1102,7 +578,7 @@ class Output(Base):
         "SI", description="SI or dimensionless. Left out, a dimensional file is in the "
         "scene's units (docs/units.md); SI given writes a scene of another unit system's "
         "results in SI.")
-    scales: OutputScales | None = Field(
+    scales: _deferred(OutputScales) | None = Field(
         None, description="m_b, a_p, w_p of dimensionless output; default: the first floor mass "
         "of the second building and the excitation's amplitude and frequency.")
     reference: BuildingName | None = Field(
@@ -1111,8 +587,14 @@ class Output(Base):
         "only one.")
 
 
+#: the defaults of a scene's initial conditions and output: the models' own defaults, made
+#: without their validators (model_construct), which a scene that gives neither (most do)
+#: never builds (their fields are deferred; neither model has a validator of its own)
+_AT_REST = InitialConditions.model_construct()
+_SI_OUTPUT = Output.model_construct()
+
+
 #: fields that say which kind of object a mapping is: written even when left at their default
-TAGS = ("kind", "type", "law", "material")
 
 
 def given_fields(value, where: str | None = None, path: tuple = ()):
@@ -1124,7 +606,7 @@ def given_fields(value, where: str | None = None, path: tuple = ()):
     :class:`InputError` naming ``where`` (the call; default: the object's public name) and
     its key."""
     if where is None:
-        where = f"pframe.{_public_name(type(value))}" if isinstance(value, BaseModel) \
+        where = f"pframe.{public_name(type(value))}" if isinstance(value, BaseModel) \
             else "the scene"
     if type(value).__module__ == "numpy":  # before float: numpy's float64 is one
         kind = value.dtype.kind if hasattr(value, "dtype") else ""
@@ -1240,7 +722,7 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         angle: float = Field(0.0, allow_inf_nan=False, description="The angle of the "
                              "building's x axis from the site's x axis (degrees, "
                              "counter-clockwise).")
-        plan: FloorPlan | None = Field(None, description="The floors' plan (size or outline, "
+        plan: _deferred(FloorPlan) | None = Field(None, description="The floors' plan (size or outline, "
                                        "building axes): the default centre of mass and polar "
                                        "inertia, the named corners, where contact points may "
                                        "be.")
@@ -1268,10 +750,10 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         support: SupportName | None = Field(
             None, description="The support the building stands on (docs/supports.md); "
             "default: the scene's only support.")
-        soil: Soil | None = Field(
+        soil: _SOIL | None = Field(
             None, description="Soil under the building (default: a fixed base): a foundation "
             "that sways and rocks on springs and dashpots (needs height; docs/soil.md).")
-        park_ang: ParkAng | None = Field(
+        park_ang: _PARK_ANG | None = Field(
             None, description="Ultimate drift and beta of the Park-Ang damage index of its "
             "storeys (pframe summary); none: no damage index.")
 
@@ -1295,9 +777,9 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             "quantity in that system's units (a stiffness N/m is kN/m in kN-m-t).")
         buildings: list[Building] = Field(default_factory=_no_items, description="Shear buildings, "
                                           "from left to right.")
-        nodes: list[Node] = Field(default_factory=_no_items, description="Generic floor nodes (their "
-                                  "buildings stand right of the shorthand's, in the order first "
-                                  "named).")
+        nodes: list[_deferred(Node)] = Field(
+            default_factory=_no_items, description="Generic floor nodes (their buildings "
+            "stand right of the shorthand's, in the order first named).")
         stories: list[story_type] = Field(
             default_factory=_no_items, description="Generic storeys between nodes.")
         contacts: list[contact_type] = Field(
@@ -1309,17 +791,16 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
         damping: Damping = Field(Rayleigh(), description="Default damping of every building: "
                                  "Rayleigh (kind: rayleigh, the default) or modal (kind: "
                                  "modal).")
-        supports: list[Support] = Field(
+        supports: list[_deferred(Support)] = Field(
             default_factory=_no_items, description="The pieces of ground structures stand on, each "
             "with its own motion (docs/supports.md); none: one ground under everything.")
-        excitation: tagged([Sine, Record, Cycloidal, Ricker, Stochastic, Components,
-                            WavePassage, Coherent], "kind") | None = Field(
+        excitation: _SCENE_MOTION | None = Field(
             None, description="Ground motion along the site's x axis, or in two components "
             "(kind: components), or as the waves pass the supports (kind: wave_passage), or "
             "simulated at every support (kind: coherent); none: free vibration from initial "
             "conditions.")
-        initial_conditions: InitialConditions = Field(
-            InitialConditions(), description="State at t = 0 (default: at rest).")
+        initial_conditions: _deferred(InitialConditions) = Field(
+            _AT_REST, description="State at t = 0 (default: at rest).")
         analysis: Analysis = Field(description="Time integration: integrator, step dt (s), "
                                    "duration (s), Newton settings.")
         recorders: list[tagged([History, Envelope], "kind")] = Field(
@@ -1329,8 +810,8 @@ def _scene_class(contact_laws: tuple[str, ...], materials: tuple[str, ...]):
             description="What the result file keeps: histories (kind: history) and peaks (kind: "
                         "envelope); default: the peaks of displacement, story_drift and "
                         "contact_force.")
-        output: Output = Field(Output(), description="Units of the result file.")
-        limits: Limits | None = Field(None, description="Limits on the peak storey drift "
+        output: _deferred(Output) = Field(_SI_OUTPUT, description="Units of the result file.")
+        limits: _LIMITS | None = Field(None, description="Limits on the peak storey drift "
                                       "ratio and floor acceleration, checked after the run "
                                       "(docs/modes.md#limits).")
 
@@ -1357,8 +838,16 @@ def __getattr__(name: str):
     # scene file builds the class it needs through scene_class(contact_laws, materials)
     if name == "Scene":
         return scene_class()
+    if name in _MOTION_NAMES:  # made apart (pframe.model.scene_motions)
+        from pframe.model import scene_motions
+
+        return getattr(scene_motions, name)
+    if name in _OPTION_NAMES:  # made apart (pframe.model.scene_options)
+        from pframe.model import scene_options
+
+        return getattr(scene_options, name)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 def __dir__() -> list[str]:
-    return sorted(set(globals()) | {"Scene"})
+    return sorted(set(globals()) | {"Scene"} | _MOTION_NAMES | _OPTION_NAMES)

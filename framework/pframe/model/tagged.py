@@ -103,6 +103,51 @@ class LazyUnion:
         return f"LazyUnion({', '.join(self._names)})"
 
 
+class LazyModel:
+    """Pydantic metadata of ``Annotated[base, LazyModel(make)]``: a field of the model that
+    ``make()`` returns, made (and its module imported) when a value of the field is first
+    validated, for the parts of a scene that most scenes leave out (soil, limits). The value
+    is validated by that model's own validator, whose errors are the nested model's, word
+    for word; the JSON Schema is the model's. A reader of the fields calls :func:`unfold`."""
+
+    def __init__(self, make: Callable):
+        self._make = make
+        self._model: type | None = None
+
+    @property
+    def model(self) -> type:
+        """The model (made on first need)."""
+        if self._model is None:
+            with _MAKING:
+                if self._model is None:
+                    self._model = self._make()
+        return self._model
+
+    def validate(self, value, _handler=None):
+        return self.model.__pydantic_validator__.validate_python(value)
+
+    def __get_pydantic_core_schema__(self, source, handler):
+        # a wrap validator that never calls the schema it wraps: that schema (anything, with a
+        # ref) only stands for the model to come, so that the field's JSON Schema is that of
+        # a field of the model itself (pydantic titles a field unless its schema has a ref)
+        return core_schema.no_info_wrap_validator_function(
+            self.validate, core_schema.any_schema(ref=f"pframe-lazy-model-{id(self)}"))
+
+    def __get_pydantic_json_schema__(self, schema, handler):
+        # the model as a choice (a union of one): a $ref to its definition, as a field of the
+        # model has, not the definition written in place
+        return handler(core_schema.union_schema([TypeAdapter(self.model).core_schema]))
+
+    def __repr__(self) -> str:
+        return f"LazyModel({self._model.__name__ if self._model else '...'})"
+
+
+def lazy_model(make: Callable, base: type):
+    """A field of the model ``make()`` returns, made when a value first needs it:
+    ``Annotated[base, LazyModel(make)]``, ``base`` a base class of the model."""
+    return Annotated[base, LazyModel(make)]
+
+
 def _key_reader(key: str):
     def tag(value):
         return value.get(key) if isinstance(value, dict) else getattr(value, key, None)
@@ -131,23 +176,28 @@ def tagged(members, discriminator: str | Callable):
     return Annotated[lazy.choices, lazy]
 
 
-def on_demand(names, make: Callable, discriminator: str, base: type):
+def on_demand(names, make: Callable, discriminator: str | Callable, base: type):
     """A tagged union of one model per name in ``names``, each model made by ``make(name)``
-    when a value first names it (its field ``discriminator`` holds the literal ``name``):
+    when a value first names it (its field ``discriminator`` holds the literal ``name``, or
+    ``discriminator`` is a function reading the tag of a value, as for :func:`tagged`):
     ``Annotated[base, LazyUnion]``, ``base`` the members' common base.
 
     A scene names two or three of the laws' 40 models: making them all took about 20 ms of a
     whole ``pframe solve``. A reader of a model's fields who wants the members calls
     :func:`unfold` on each annotation it meets."""
-    return Annotated[base, LazyUnion(_key_reader(discriminator), tuple(names), discriminator,
-                                     make)]
+    tag = _key_reader(discriminator) if isinstance(discriminator, str) else discriminator
+    return Annotated[base, LazyUnion(tag, tuple(names), discriminator, make)]
 
 
 def unfold(annotation):
     """``annotation`` with a union made by :func:`on_demand` as the union of its members
-    (``Annotated[Union[...], LazyUnion]``, every member built); anything else as it is."""
+    (``Annotated[Union[...], LazyUnion]``, every member built) and a model made by
+    :func:`lazy_model` as that model (``Annotated[model, LazyModel]``); anything else as it
+    is."""
     if get_origin(annotation) is Annotated:
         for item in annotation.__metadata__:
             if isinstance(item, LazyUnion) and item._make is not None:
                 return Annotated[item.choices, item]
+            if isinstance(item, LazyModel):
+                return Annotated[item.model, item]
     return annotation

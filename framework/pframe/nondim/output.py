@@ -18,7 +18,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from pframe.nondim.dimensions import parse_units
 from pframe.units import SI, UnitSystem, describe
 
 #: SI units of a recorded quantity -> (symbol of the dimensionless variable, its divisor)
@@ -57,6 +56,9 @@ class OutputUnits:
         """(units, SI value of one of them) of a quantity of SI units ``si_units``."""
         if self.system.si:
             return si_units, 1.0
+        # the parser of units (pframe.nondim.dimensions) imported by a file in another system
+        from pframe.nondim.dimensions import parse_units
+
         mass, length, time = parse_units(si_units).exponents
         if not mass and not length:
             return si_units, 1.0
