@@ -72,7 +72,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             continue;
         reset_work(m, w, b);
         prepare_loops(m, st, w, b, &loops);
-        prepare_envelopes(m, st, rec, b, &envelopes);
+        prepare_envelopes(m, st, rec, w, b, &envelopes);
         if (s->linear && !s->explicit && end > first_step) { /* factored once per call */
             if (!factor_linear(m, s, st, w, b, first_step, h, 0)) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)
