@@ -129,28 +129,53 @@ static int as_stored(int64_t q)
            && q != CONTACT_GROUND_DISPLACEMENT;
 }
 
-/* The first step at or after k at which a history is due (NEVER if none is). */
-static int64_t next_due(const Recording *rec, int64_t k)
+/* The recorded histories of a call: the quantities with an `every`, listed once per call
+ * (the loop's test each step was a pass over every recordable quantity, twice). */
+typedef struct {
+    int64_t count;
+    int every_step; /* every history is due at every step */
+    int64_t quantity[RECORDABLE_COUNT];
+    int64_t every[RECORDABLE_COUNT];
+} Histories;
+
+static void prepare_histories(const Recording *rec, Histories *hist)
 {
-    int64_t due = NEVER, q;
+    int64_t q;
+    hist->count = 0;
+    hist->every_step = 1;
     for (q = 0; q < RECORDABLE_COUNT; q++) {
-        const int64_t every = rec->every[q];
-        if (every > 0) {
-            const int64_t step = (k + every - 1) / every * every;
-            if (step < due)
-                due = step;
+        if (rec->every[q] > 0) {
+            hist->quantity[hist->count] = q;
+            hist->every[hist->count] = rec->every[q];
+            hist->every_step &= rec->every[q] == 1;
+            hist->count += 1;
         }
+    }
+}
+
+/* The first step at or after k at which a history is due (NEVER if none is). */
+static int64_t next_due(const Histories *hist, int64_t k)
+{
+    int64_t due = NEVER, j;
+    if (hist->count && hist->every_step)
+        return k;
+    for (j = 0; j < hist->count; j++) {
+        const int64_t every = hist->every[j];
+        const int64_t step = (k + every - 1) / every * every;
+        if (step < due)
+            due = step;
     }
     return due;
 }
 
 /* Gather the histories due at step k; returns the next step one is due. */
-static int64_t record_histories(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+static int64_t record_histories(const Model *m, State *st, Recording *rec,
+                                const Histories *hist, int64_t b, int64_t k)
 {
-    int64_t gathered = 0, q, i, width;
-    for (q = 0; q < RECORDABLE_COUNT; q++) {
-        const int64_t every = rec->every[q];
-        if (every > 0 && k % every == 0) {
+    int64_t gathered = 0, j, i, width;
+    for (j = 0; j < hist->count; j++) {
+        const int64_t q = hist->quantity[j], every = hist->every[j];
+        if (k % every == 0) {
             const int64_t columns = rec->history_width[q];
             const int64_t row = k / every - rec->first_row[q];
             double *history = rec->history[q] + (b * rec->history_rows[q] + row) * columns;
@@ -165,7 +190,7 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec, int64
         }
     }
     st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
-    return next_due(rec, k + 1);
+    return next_due(hist, k + 1);
 }
 
 /* The running peaks of enveloped quantity q (rec->envelope_list) with the committed state
