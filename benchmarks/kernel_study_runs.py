@@ -15,8 +15,8 @@ between calls and the sink are left out), per member and step; each side the bes
 
 ``--baseline FOLDER``: the kernel's C sources of another revision (as in
 benchmarks/kernel_limit.py), run alternately with the installed kernel in each round, in this
-process under the same load; its envelopes and streamed histories are compared with the
-kernel's, bit for bit (NaN alike: the drift ratios of storeys without a height). Nothing is
+process under the same load; its envelopes, streamed histories, energy terms and counters are
+compared with the kernel's, bit for bit (NaN alike: the drift ratios of storeys without a height). Nothing is
 asserted.
 """
 
@@ -76,7 +76,8 @@ def run_side(batch, repeats: int) -> tuple[float, dict]:
             rows: list[np.ndarray] = []
             result = simulate(plan, threads=1, sink=functools.partial(_keep, rows))
             best = min(best, timed.seconds / (plan.batch * plan.steps) * 1e9)
-            out = {**result.envelope, "history": np.concatenate(rows, axis=1)}
+            out = {**result.envelope, "history": np.concatenate(rows, axis=1),
+                   "energy": result.energy, "counters": result.counters}
     finally:
         ckernel.run = timed.original
     return best, out
@@ -115,7 +116,7 @@ def main(argv: list[str] | None = None) -> int:
     if library is not None:
         same = all(np.array_equal(ours[q], theirs[q], equal_nan=True) for q in ours)
         print(f"baseline ({args.baseline}): best {best_base:.1f} ns/step, kernel / baseline "
-              f"{best / best_base:.3f}; envelopes and histories "
+              f"{best / best_base:.3f}; envelopes, histories, energies and counters "
               f"{'identical' if same else 'DIFFERENT'} to the bit")
     return 0
 
