@@ -1,14 +1,17 @@
 """Cost per time step against the number of floors: a row of buildings, every adjacent pair in
 contact at every level.
 
-    python benchmarks/scaling.py [--steps 8000] [--repeats 3]
+    python benchmarks/scaling.py [--steps 8000] [--repeats 3] [--baseline FOLDER]
 
 Scenes of 2 x 3, 10 x 6 and 10 x 60 buildings x storeys (6, 60 and 600 floors), then rows of
 a fixed width made taller (2 x 30, 2 x 300, 10 x 30, 10 x 120): bilinear storeys, improved
 Kelvin contacts (gap 2 mm) between every adjacent pair at every floor level ((b - 1) x n
 contacts), Newmark average acceleration with full Newton. One variant, one thread, the
 kernel's own time (``simulate(plan).solve_seconds``, best of ``--repeats`` after a warm-up that
-compiles it). pframe only: nothing is compared with another program.
+compiles it). pframe only: nothing is compared with another program. ``--baseline FOLDER``:
+the kernel's C sources of another revision (as in benchmarks/kernel_limit.py), its runs
+alternated with the installed kernel's on each scene, in this process (best of ``--repeats``
+each): its ns per step and the ratio kernel / baseline are printed too.
 
 The scenes must pound, or the benchmark times elastic-like buildings with idle contacts. The
 ground acceleration is -6 sin(4 pi t) m/s^2: a sine starting from rest drives the ground one
@@ -34,8 +37,11 @@ import argparse
 import json
 import math
 import sys
+import tempfile
+from pathlib import Path
 
 from _common import load_average, print_header, table
+from kernel_limit import compile_baseline
 
 #: the issue's three scenes (6, 60, 600 floors), then rows of a fixed width made taller
 SCENES = ((2, 3), (10, 6), (10, 60))
@@ -70,19 +76,40 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--steps", type=int, default=8000, help="steps per run (default 8000)")
     parser.add_argument("--repeats", type=int, default=3, help="timed runs, best kept")
+    parser.add_argument("--baseline", type=Path, default=None,
+                        help="a folder of the kernel's C sources to time after the kernel")
     args = parser.parse_args(argv)
+    print_header()
+    with tempfile.TemporaryDirectory(prefix="pframe-scaling-") as tmp:
+        library = None if args.baseline is None else compile_baseline(args.baseline, Path(tmp))
+        return _measure(args, library)
 
+
+def _best(plan, repeats: int, library=None) -> tuple[float, float]:
+    """The best solve_seconds of ``repeats`` runs of the kernel and, with ``library``, of
+    the baseline kernel there (inf without), the two alternated run by run."""
+    from pframe.kernel import ckernel, simulate
+
+    ours, theirs = math.inf, math.inf
+    for _ in range(repeats):
+        ours = min(ours, simulate(plan, threads=1).solve_seconds)
+        if library is not None:
+            with ckernel.baseline(library):
+                theirs = min(theirs, simulate(plan, threads=1).solve_seconds)
+    return ours, theirs
+
+
+def _measure(args, library) -> int:
     from pframe.assemble import assemble
     from pframe.kernel import simulate
     from pframe.reader import parse_scene
 
-    print_header()
     rows = []
     for buildings, storeys in SCENES + TALLER:
         plan = assemble(parse_scene(row_scene(buildings, storeys, args.steps)).expanded)
         warm = simulate(plan, threads=1)
         assert warm.completed(0), warm.describe_failure(0)
-        best = min(simulate(plan, threads=1).solve_seconds for _ in range(args.repeats))
+        best, base = _best(plan, args.repeats, library)
         floors, contacts = plan.n_dof, len(plan.contact_names)
         per_step = best / plan.steps * 1e9
         solves = warm.iterations[0] / plan.steps
@@ -94,6 +121,10 @@ def main(argv: list[str] | None = None) -> int:
               f"{plan.bandwidth}: {per_step:,.0f} ns per step ({per_step / floors:,.0f} ns per "
               f"step and floor), {solves:.2f} Newton solves per step, {int(impacts.sum())} "
               f"impacts, {closed} of {contacts} contacts closed at least once", flush=True)
+        if library is not None:
+            base = base / plan.steps * 1e9
+            print(f"    baseline {base:,.0f} ns per step: kernel / baseline "
+                  f"{per_step / base:.3f}", flush=True)
     print(f"\nsummary ({args.steps} steps, one thread, kernel time, best of {args.repeats}):")
     header = ("buildings x storeys", "floors", "contacts", "band", "ns/step", "ns/step/floor",
               "solves/step", "impacts", "contacts closed")

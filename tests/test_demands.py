@@ -47,6 +47,20 @@ def test_absolute_acceleration_is_the_inertia_of_the_storey_force():
     np.testing.assert_allclose(a, -STIFFNESS / MASS * u, rtol=0, atol=1e-9 * np.abs(a).max())
 
 
+def test_absolute_acceleration_envelope_is_the_inertia_of_the_storey_force():
+    """The envelope the time loop keeps at each step end (Newmark, whole steps): m a_abs =
+    -k u at every committed state of an undamped elastic SDOF, so the peak absolute
+    acceleration is k/m times the peak displacement, with the ground of the step's own
+    sample (one sample off, the peaks would differ by about the ground's step change)."""
+    plan, result = _sdof({"type": "newmark", "gamma": 0.5, "beta": 0.25}, 1e-3, 2.0,
+                         [{"kind": "envelope", "quantities": ["displacement",
+                                                              "absolute_acceleration"]}])
+    peak_u = result.envelope["displacement"][0, 0]
+    peak_a = result.envelope["absolute_acceleration"][0, 0]
+    assert peak_a > 1.0
+    assert peak_a == pytest.approx(STIFFNESS / MASS * peak_u, rel=1e-9)
+
+
 def test_absolute_acceleration_envelope_sees_substeps_with_their_ground():
     """Central difference in sub-steps: each committed sub-step is in equilibrium,
     m a_abs = -k u, with the ground interpolated to the sub-step. The envelope of the absolute

@@ -20,8 +20,10 @@ whole (``params``, ``committed``, ``trial``: a helper may write ``trial[i]`` whe
 
 ``python -m pframe.kernel.translate`` writes the two generated files of the C kernel:
 
-- ``c/laws.c``: each built-in law's force as a static C function, and the switches
-  ``material_force`` and ``contact_force`` over the law ids of the one ordered registry
+- ``c/laws.c``: each built-in law's force as a static C function, the lists
+  ``MATERIAL_LAWS`` and ``CONTACT_LAWS`` (id, function) from which assembly.c makes each
+  law group's loop, and the switches ``material_force`` and ``contact_force`` (one law's
+  force, for the laws' tests) over the law ids of the one ordered registry
   (:func:`pframe.laws.registry.builtin_laws`); ids after the built-in ones call plug-in laws
   through the function pointers in the kernel's Settings;
 - ``c/state.h``: the structs and slot names of :mod:`pframe.kernel.state`.
@@ -665,8 +667,9 @@ def laws_c() -> str:
         macro = "BUILTIN_MATERIALS" if kind == "material" else "BUILTIN_CONTACT_LAWS"
         lines += [f"#define {macro} {len(laws)}", "",
                   f"/* (force, d force / d {deformation}, d force / d rate) of {kind} law `law`"
-                  f" into out: ids in registry order, then the plug-ins; inlined where the"
-                  " element loops call it, so that a law's result stays in registers */",
+                  f" into out: ids in registry order, then the plug-ins; for one law's"
+                  " force (pframe_law_force, the tests of each law's C translation): the"
+                  " element loops call their law's own function (below), not this switch */",
                   f"static PFRAME_INLINE void {function}(const Settings *s, int64_t law,",
                   "                                      const double *params, "
                   "const double *committed,",

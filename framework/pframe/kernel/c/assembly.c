@@ -2,10 +2,15 @@
  *
  * The residual is R = P - M (a_g + a) - C_m v - sum of element forces, at the point held in
  * w->ue, w->ve, w->ae (the step end for Newmark, the alpha point for HHT and
- * generalised-alpha). Storeys and contacts are visited in the plan's order (grouped by law);
- * a DOF of -1 is the ground (a storey's base, a wall's side of a contact);
- * each calls its law through the law-id switch of laws.c. A scene without contacts has no
- * contact elements, so the contact loop does not run.
+ * generalised-alpha). Storeys and contacts are visited in the plan's order, grouped by law;
+ * a DOF of -1 is the ground (a storey's base, a wall's side of a contact). Each law group is
+ * one loop that calls its law's function directly: a built-in law's group function
+ * (spring_group_<id>, contact_group_<id>: the law inlined in it) is found by the law's id
+ * once per group, or once per call when every element has one law (prepare_loops); a
+ * plug-in law's group calls it through its function pointer. No element goes through a
+ * switch on its law (laws.c's material_force and contact_force serve the tests of single
+ * laws, pframe_law_force). A scene without contacts has no contact elements, so the contact
+ * loop does not run.
  */
 
 /* where a contact held closed is evaluated once its penetration is below it: the smallest

@@ -1256,7 +1256,7 @@ static PFRAME_INLINE void material_bwbn(const double *params, const double *comm
 
 #define BUILTIN_MATERIALS 8
 
-/* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins; inlined where the element loops call it, so that a law's result stays in registers */
+/* (force, d force / d drift, d force / d rate) of material law `law` into out: ids in registry order, then the plug-ins; for one law's force (pframe_law_force, the tests of each law's C translation): the element loops call their law's own function (below), not this switch */
 static PFRAME_INLINE void material_force(const Settings *s, int64_t law,
                                       const double *params, const double *committed,
                                       double *trial, double drift, double rate, double *out)
@@ -1556,7 +1556,7 @@ static PFRAME_INLINE void contact_bumper(const double *params, const double *com
 
 #define BUILTIN_CONTACT_LAWS 8
 
-/* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins; inlined where the element loops call it, so that a law's result stays in registers */
+/* (force, d force / d penetration, d force / d rate) of contact law `law` into out: ids in registry order, then the plug-ins; for one law's force (pframe_law_force, the tests of each law's C translation): the element loops call their law's own function (below), not this switch */
 static PFRAME_INLINE void contact_force(const Settings *s, int64_t law,
                                       const double *params, const double *committed,
                                       double *trial, double penetration, double rate, double *out)

@@ -59,7 +59,9 @@ static int initial_state(const Model *m, const Settings *s, State *st, Work *w, 
 PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, Recording *rec,
                                  Work *w, Saved *sv, int64_t begin, int64_t end)
 {
+    Histories histories; /* the same for every member */
     int64_t b, k;
+    prepare_histories(rec, &histories);
     for (b = 0; b < m->batch; b++) {
         const double h = m->dt[b];
         const int64_t first_step = imax(begin, 1);
@@ -72,7 +74,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             continue;
         reset_work(m, w, b);
         prepare_loops(m, st, w, b, &loops);
-        prepare_envelopes(m, st, rec, b, &envelopes);
+        prepare_envelopes(m, st, rec, w, b, &envelopes);
         if (s->linear && !s->explicit && end > first_step) { /* factored once per call */
             if (!factor_linear(m, s, st, w, b, first_step, h, 0)) {
                 if (w->scalars[ZERO_DIVISION] != 0.0)
@@ -80,7 +82,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
                 continue;
             }
         }
-        due = next_due(rec, begin);
+        due = next_due(&histories, begin);
         for (k = begin; k < end; k++) {
             int ok;
             if (k == 0) {
@@ -106,7 +108,7 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
                 break;
             }
             if (k == due)
-                due = record_histories(m, st, rec, b, k);
+                due = record_histories(m, st, rec, &histories, b, k);
             if (envelopes.count)
                 step_envelopes(m, st, rec, b, k, &envelopes); /* the ground at step k itself */
         }

@@ -129,39 +129,68 @@ static int as_stored(int64_t q)
            && q != CONTACT_GROUND_DISPLACEMENT;
 }
 
-/* The first step at or after k at which a history is due (NEVER if none is). */
-static int64_t next_due(const Recording *rec, int64_t k)
+/* The recorded histories of a call: the quantities with an `every`, listed once per call
+ * (the loop's test each step was a pass over every recordable quantity, twice). */
+typedef struct {
+    int64_t count;
+    int every_step; /* every history is due at every step */
+    int64_t quantity[RECORDABLE_COUNT];
+    int64_t every[RECORDABLE_COUNT];
+} Histories;
+
+static void prepare_histories(const Recording *rec, Histories *hist)
 {
-    int64_t due = NEVER, q;
+    int64_t q;
+    hist->count = 0;
+    hist->every_step = 1;
     for (q = 0; q < RECORDABLE_COUNT; q++) {
-        const int64_t every = rec->every[q];
-        if (every > 0) {
-            const int64_t step = (k + every - 1) / every * every;
-            if (step < due)
-                due = step;
+        if (rec->every[q] > 0) {
+            hist->quantity[hist->count] = q;
+            hist->every[hist->count] = rec->every[q];
+            hist->every_step &= rec->every[q] == 1;
+            hist->count += 1;
         }
+    }
+}
+
+/* The first step at or after k at which a history is due (NEVER if none is). */
+static int64_t next_due(const Histories *hist, int64_t k)
+{
+    int64_t due = NEVER, j;
+    if (hist->count && hist->every_step)
+        return k;
+    for (j = 0; j < hist->count; j++) {
+        const int64_t every = hist->every[j];
+        const int64_t step = (k + every - 1) / every * every;
+        if (step < due)
+            due = step;
     }
     return due;
 }
 
 /* Gather the histories due at step k; returns the next step one is due. */
-static int64_t record_histories(const Model *m, State *st, Recording *rec, int64_t b, int64_t k)
+static int64_t record_histories(const Model *m, State *st, Recording *rec,
+                                const Histories *hist, int64_t b, int64_t k)
 {
-    int64_t gathered = 0, q, i, width;
-    for (q = 0; q < RECORDABLE_COUNT; q++) {
-        const int64_t every = rec->every[q];
-        if (every > 0 && k % every == 0) {
+    int64_t gathered = 0, j, i, width;
+    for (j = 0; j < hist->count; j++) {
+        const int64_t q = hist->quantity[j], every = hist->every[j];
+        if (k % every == 0) {
             const int64_t columns = rec->history_width[q];
             const int64_t row = k / every - rec->first_row[q];
             double *history = rec->history[q] + (b * rec->history_rows[q] + row) * columns;
             const double *values = source(m, st, q, b, &width); /* once per quantity */
-            for (i = 0; i < columns; i++)
-                history[i] = value(m, q, values, b, k, i, NULL);
+            if (as_stored(q)) /* most quantities: a copy, without value()'s tests per value */
+                for (i = 0; i < columns; i++)
+                    history[i] = values[i];
+            else
+                for (i = 0; i < columns; i++)
+                    history[i] = value(m, q, values, b, k, i, NULL);
             gathered += columns;
         }
     }
     st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
-    return next_due(rec, k + 1);
+    return next_due(hist, k + 1);
 }
 
 /* The running peaks of enveloped quantity q (rec->envelope_list) with the committed state
@@ -196,28 +225,48 @@ static void record_envelopes(const Model *m, State *st, Recording *rec, int64_t 
     st->counters[b * COUNTER_SLOTS + GATHERS] += gathered;
 }
 
+/* How step_envelopes takes an enveloped quantity's values: as they are stored; the absolute
+ * acceleration of a scene whose every DOF the ground's channel 0 loads (A[i] plus the
+ * step's sample, added once per step); the storey drift ratio (drift over height); or by
+ * quantity_peaks (value() per value: the rest). The same sums as value() gives: the same
+ * bits. */
+enum { PEAKS_STORED, PEAKS_ABSOLUTE, PEAKS_RATIO, PEAKS_OTHER };
+
 /* The envelopes of member b as the time loop keeps them at each step: each quantity's source
  * and peaks found once per call (the arrays stay in place through it), its values compared
- * in one loop where they are stored as they are. */
+ * in one loop of their own kind (the paper's pair's study runs envelope the absolute
+ * accelerations and drift ratios, which value()'s tests per value made about a fifth of
+ * the kernel's time there). */
 typedef struct {
     int64_t count, gathered;
     int64_t quantity[RECORDABLE_COUNT];
-    int64_t columns[RECORDABLE_COUNT]; /* 0: not as stored (quantity_peaks) */
+    int64_t kind[RECORDABLE_COUNT];
+    int64_t columns[RECORDABLE_COUNT];
     const double *values[RECORDABLE_COUNT];
+    const double *height; /* member b's storey heights (PEAKS_RATIO) */
+    const double *ground; /* member b's channel 0 samples (PEAKS_ABSOLUTE) */
     double *peak[RECORDABLE_COUNT];
 } Envelopes;
 
-static void prepare_envelopes(const Model *m, State *st, const Recording *rec, int64_t b,
-                              Envelopes *env)
+/* Member b's Envelopes, once its loops are prepared (prepare_loops: their one_channel). */
+static void prepare_envelopes(const Model *m, State *st, const Recording *rec, const Work *w,
+                              int64_t b, Envelopes *env)
 {
+    const int one_channel = ((const Loops *)w->loops)->one_channel;
     int64_t j, width;
     env->count = rec->envelope_count;
     env->gathered = 0;
+    env->height = m->story_height + b * m->stories;
+    env->ground = one_channel ? m->ground + b * m->ground_series * m->ground_width : NULL;
     for (j = 0; j < rec->envelope_count; j++) {
         const int64_t q = rec->envelope_list[j];
         env->quantity[j] = q;
         env->values[j] = source(m, st, q, b, &width);
-        env->columns[j] = as_stored(q) ? rec->envelope_width[q] : 0;
+        env->columns[j] = rec->envelope_width[q];
+        env->kind[j] = as_stored(q)                                 ? PEAKS_STORED
+                       : q == ABSOLUTE_ACCELERATION && one_channel ? PEAKS_ABSOLUTE
+                       : q == STORY_DRIFT_RATIO                    ? PEAKS_RATIO
+                                                                   : PEAKS_OTHER;
         env->peak[j] = rec->envelope[q] + b * rec->envelope_width[q];
         env->gathered += rec->envelope_width[q];
     }
@@ -233,10 +282,24 @@ static void step_envelopes(const Model *m, State *st, const Recording *rec, int6
         const int64_t columns = env->columns[j];
         const double *values = env->values[j];
         double *peak = env->peak[j];
-        if (columns == 0)
+        switch (env->kind[j]) {
+        case PEAKS_STORED:
+            for (i = 0; i < columns; i++)
+                peak[i] = py_max(peak[i], fabs(values[i]));
+            break;
+        case PEAKS_ABSOLUTE: {
+            const double g = env->ground[k]; /* absolute_acceleration's, channel 0 */
+            for (i = 0; i < columns; i++)
+                peak[i] = py_max(peak[i], fabs(values[i] + g));
+            break;
+        }
+        case PEAKS_RATIO:
+            for (i = 0; i < columns; i++)
+                peak[i] = py_max(peak[i], fabs(values[i] / env->height[i]));
+            break;
+        default:
             quantity_peaks(m, rec, b, k, env->quantity[j], values, NULL);
-        for (i = 0; i < columns; i++)
-            peak[i] = py_max(peak[i], fabs(values[i]));
+        }
     }
     st->counters[b * COUNTER_SLOTS + GATHERS] += env->gathered;
 }
