@@ -176,6 +176,9 @@ def _storey_count(building, path) -> int:
     n = building.floors or (max(lengths) if lengths else None)
     if n is None:
         raise ModelError(path, "give floors (the number of storeys) or per-floor lists")
+    if n == 0:  # floors is at least 1: every per-floor list given is empty
+        raise ModelError(path, "its per-floor lists are empty: give floors (the number of "
+                               "storeys) or a value for each floor in them")
     return n
 
 
