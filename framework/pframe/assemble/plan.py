@@ -495,7 +495,8 @@ def _broadcast(variants: list[Expanded]) -> Plan:
     changes["ground_acceleration"] = np.array([_channels(ex)[0] for ex in variants])
     if one.more_channels is not None:
         changes["more_channels"] = np.array([_channels(ex) for ex in variants])
-    return _checked(dataclasses.replace(one, **changes), variants, fit_warnings)
+    return _checked(dataclasses.replace(one, **changes), variants, fit_warnings,
+                    motions_only=True)
 
 
 def _per_member(one, two, count: int, skip=()) -> dict:
@@ -527,16 +528,18 @@ def _instance(value) -> bool:
     return dataclasses.is_dataclass(value) and not isinstance(value, type)
 
 
-def _checked(plan: Plan, variants: list[Expanded], fit_warnings: tuple) -> Plan:
+def _checked(plan: Plan, variants: list[Expanded], fit_warnings: tuple,
+             motions_only: bool = False) -> Plan:
     """``plan`` with its sub-steps and the warnings of its checks (stability, P-delta, the
-    laws' parameters, the time scales), after the scene's and the damping fit's."""
+    laws' parameters, the time scales), after the scene's and the damping fit's;
+    ``motions_only``: members that differ in their ground motion alone (:func:`_broadcast`)."""
     first = variants[0]
     cd_parts, event_parts, warnings = stability.check(plan, first.integrator)
     warnings = (warnings + fit_warnings + _p_delta_warnings(plan)
                 + _material_warnings(plan))
     plan = dataclasses.replace(plan, cd_parts=cd_parts, event_parts=event_parts)
     return dataclasses.replace(plan, warnings=first.warnings + warnings
-                               + timescales.check(plan, variants))
+                               + timescales.check(plan, variants, motions_only))
 
 
 def _assembled(variants: list[Expanded]) -> tuple[Plan, tuple]:

@@ -322,9 +322,12 @@ def _one_record(plan, record, scale: float, member: int, dt: float, findings):
                  "fraction of it)")
 
 
-def check(plan, variants) -> tuple[str, ...]:
+def check(plan, variants, motions_only: bool = False) -> tuple[str, ...]:
     """Warnings of a plan whose step is coarse for one of its time scales, or whose buildings
-    no building has (``variants``: the expanded scenes of its batch members)."""
+    no building has (``variants``: the expanded scenes of its batch members). With
+    ``motions_only`` (members that differ in their ground motion alone: the same buildings,
+    stiffnesses and step), the first member's buildings stand for every member's: each
+    member would find the same, and the first of equal findings is the one kept."""
     findings = _Findings(plan.batch)
     coefficients = plan.integrator
     modes: dict = {}
@@ -334,7 +337,8 @@ def check(plan, variants) -> tuple[str, ...]:
         h = dt / parts if coefficients.explicit else dt
         unit = set(ex.unit_scales)
         plausible = None if "w_p" in unit else ("m_b" not in unit)
-        _buildings(plan, ex, member, h, coefficients, findings, plausible, modes)
+        if member == 0 or not motions_only:
+            _buildings(plan, ex, member, h, coefficients, findings, plausible, modes)
         _excitation(plan, ex, member, dt, coefficients, findings)
         _record(plan, ex, member, dt, findings)
     return findings.texts()

@@ -164,6 +164,8 @@ def recording(rec) -> Recording:
         every=_pointer(rec.every), first_row=_pointer(rec.first_row),
         envelope=pointers(*[_pointer(e) for e in rec.envelope]),
         enveloped=_pointer(rec.enveloped),
+        closing_dofs=_pointer(rec.closing_dofs), closing=_pointer(rec.closing),
+        closings=rec.closing_dofs.shape[0],
         history_rows=sizes(*[h.shape[1] for h in rec.history]),
         history_width=sizes(*[h.shape[2] for h in rec.history]),
         envelope_width=sizes(*[e.shape[1] for e in rec.envelope]),

@@ -85,6 +85,7 @@ class Result:
     counters: np.ndarray = None  # (B, len(Counter)): solves, factorisations, evaluations,
     # split steps, gathered values
     law_calls: dict = field(default_factory=dict)  # law name -> (B,) evaluations of that law
+    closing: np.ndarray = None  # (B, P) max over the steps of u_i - u_j of each pair asked
     solve_seconds: float = 0.0
     compile_seconds: float = 0.0  # the first call (state t = 0): loading the kernel, and
     # compiling plug-in laws the first time
@@ -349,9 +350,12 @@ def _state(plan, story_state, contact_state, n_materials: int, n_contact_laws: i
 class _Recorders:
     """The history buffers of each call (or of the whole run) and the envelopes."""
 
-    def __init__(self, plan, sink):
+    def __init__(self, plan, sink, closing=None):
         B = plan.batch
         self.plan, self.sink = plan, sink
+        self.closing_dofs = np.ascontiguousarray(
+            np.zeros((0, 2)) if closing is None else closing, dtype=np.int64).reshape(-1, 2)
+        self.closing = np.full((B, len(self.closing_dofs)), -np.inf)
         sizes = (plan.n_dof, len(plan.story_names), len(plan.contact_names), len(plan.channels),
                  len(plan.link_names), len(plan.foundations), 2 * len(plan.point_names))
         self.widths = [sizes[_SIZE[QUANTITIES[q][0]]] for q in RECORDABLE]
@@ -414,7 +418,8 @@ class _Recorders:
             history = self._buffers(begin, end)
             first = np.array([self._rows(q, begin, end)[0] if e else 0
                               for q, e in enumerate(self.every)], dtype=np.int64)
-        return Recording(history, self.every, first, self.envelope, self.enveloped)
+        return Recording(history, self.every, first, self.envelope, self.enveloped,
+                         self.closing_dofs, self.closing)
 
     def deliver(self, rec: Recording, begin: int, done: int) -> None:
         """Hand the rows of states [begin, done) to the sink."""
@@ -491,7 +496,8 @@ def _slice(group, lo: int, hi: int):
 
 def _slice_recording(rec: Recording, lo: int, hi: int) -> Recording:
     return rec._replace(history=tuple(h[lo:hi] for h in rec.history),
-                        envelope=tuple(e[lo:hi] for e in rec.envelope))
+                        envelope=tuple(e[lo:hi] for e in rec.envelope),
+                        closing=rec.closing[lo:hi])
 
 
 #: how often the main thread looks for a stop that a destructor swallowed while it waits (s)
@@ -534,7 +540,7 @@ def _between(recorders: _Recorders, rec: Recording, begin: int, end: int, steps:
 
 
 def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None,
-             sink=None, announce=None) -> Result:
+             sink=None, announce=None, closing=None) -> Result:
     """Integrate every member of the plan's batch over all its steps.
 
     ``progress(done, total)`` is called between chunks when given. ``sink(quantity,
@@ -542,7 +548,9 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     computed, and the result then holds no histories: memory stays bounded whatever the
     duration. ``announce(message)`` is called before plug-in laws are compiled (once per set
     of plug-in laws; built-in laws are in the compiled kernel). A batch runs in ``threads``
-    threads (default: one per CPU).
+    threads (default: one per CPU). ``closing`` ((P, 2) DOF indices): the result's
+    ``closing`` (B, P) holds each pair's running maximum of u_i - u_j over the steps (a
+    gap's closing, pframe.gap.runs.GapSink's, with no history streamed for it).
     """
     from pframe.kernel import ckernel
     from pframe.kernel.plugins import law_ids
@@ -555,7 +563,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
     stop = model.stop  # shared by every piece of the batch (_SHARED)
     settings = _settings(plan, laws)
     st = _state(plan, story_state, contact_state, laws.materials, laws.contact_laws)
-    recorders = _Recorders(plan, sink)
+    recorders = _Recorders(plan, sink, closing)
 
     pieces = _pieces(plan.batch, threads)
     # always a pool, even of one thread: the main thread waits and receives the signals
@@ -668,5 +676,6 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         law_calls=law_calls,
         solve_seconds=solve,
         compile_seconds=compile_seconds,
+        closing=recorders.closing if closing is not None else None,
     )
 

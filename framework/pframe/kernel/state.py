@@ -340,6 +340,10 @@ Recording = namedtuple("Recording", [
     "first_row",   # (len(Recordable),) the row of the whole history held in row 0 of this call's buffer
     "envelope",    # arrays (B, width), one per Recordable slot; (B, 0) if unrecorded
     "enveloped",   # (len(Recordable),) 1 where the envelope is recorded
+    # the running maximum of u[i] - u[j] over the committed steps (a gap's closing, signed:
+    # pframe.gap.runs.GapSink's without a history streamed) of each pair (i, j):
+    "closing_dofs",  # (P, 2) the DOFs of each pair
+    "closing",       # (B, P) the running maxima (-inf before the first step)
 ])
 
 Work = namedtuple("Work", [
@@ -393,7 +397,8 @@ C_TYPES = {
               "material_calls": "int64_t *", "contact_calls": "int64_t *"},
     "Recording": {"history": "double *[RECORDABLE_COUNT]", "every": "int64_t *",
                   "first_row": "int64_t *", "envelope": "double *[RECORDABLE_COUNT]",
-                  "enveloped": "int64_t *", "history_rows": "int64_t[RECORDABLE_COUNT]",
+                  "enveloped": "int64_t *", "closing_dofs": "int64_t *",
+                  "closings": "int64_t", "history_rows": "int64_t[RECORDABLE_COUNT]",
                   "history_width": "int64_t[RECORDABLE_COUNT]",
                   "envelope_width": "int64_t[RECORDABLE_COUNT]",
                   "envelope_count": "int64_t", "envelope_list": "int64_t[RECORDABLE_COUNT]"},
@@ -405,9 +410,10 @@ C_TYPES = {
 WORK_PREPARED = ("loops",)
 #: Recording's sizes (C only: the Python group holds the arrays, which carry their shapes),
 #: and the enveloped quantities listed (their count, then their slots in order: the kernel
-#: updates the envelopes every step and sub-step, without a pass over every quantity)
+#: updates the envelopes every step and sub-step, without a pass over every quantity), and the
+#: number of pairs of closing_dofs
 RECORDING_SIZES = ("history_rows", "history_width", "envelope_width", "envelope_count",
-                   "envelope_list")
+                   "envelope_list", "closings")
 
 #: copies of one member's committed arrays of State, which a failed attempt at a step restores
 Saved = namedtuple("Saved", [

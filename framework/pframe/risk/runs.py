@@ -2,8 +2,10 @@
 intensity level), twice: the scene without its contacts (on the study's step: the critical
 gap, the buildings' peak displacements and demands without pounding) and, optionally, the
 scene with its contacts at their gaps (on the scene's step: impacts and demands with
-pounding). The kernel keeps the peaks (envelopes); a sink keeps the running maximum of
-u_left - u_right over the streamed displacements, so memory stays bounded whatever the steps.
+pounding). The kernel keeps the peaks (envelopes) and, for contacts between floors (each side
+one DOF), the running maximum of u_left - u_right; a sink keeps it over the streamed
+displacements otherwise (pframe.gap.runs.GapSink.run), so memory stays bounded whatever the
+steps.
 
 Demands per variant: peak |storey drift| over each building's storeys (m), peak absolute floor
 acceleration |a_rel + a_g| over each building's floors (m/s^2), the number of impacts; for a
@@ -75,7 +77,8 @@ def prepare(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: flo
     # ``loaded``: one scene, or one per member (uncertain parameters, docs/risk.md)
     members = list(loaded) if isinstance(loaded, (list, tuple)) else [loaded]
     # the kernel keeps the peaks (the absolute acceleration's with the ground at every
-    # sub-step); only the displacements stream out, for the critical gap's running maximum.
+    # sub-step); the displacements are recorded for the critical gap's running maximum
+    # alone, which the kernel keeps itself where it can (GapSink.run: no history then).
     # A storey without a height has no drift ratio (its peak is NaN): where no storey of any
     # member has one, the kernel is not asked for them (run_batch gives the NaN)
     ratios = any(np.isfinite(np.asarray(m.expanded.story_height, float)).any() for m in members)
@@ -104,12 +107,10 @@ def run_batch(loaded, pairs: Pairs, accelerations: np.ndarray, steps: int, dt: f
     ``axes``: pframe.gap.runs.axes_of), or the ``batch`` :func:`prepare` assembled of them.
     With ``reach`` (runs without contacts), also ``reach``: each contact's bound on its
     closing at every point the run with contacts would evaluate (:func:`_reach`)."""
-    from pframe.kernel import simulate
-
     if batch is None:
         batch = prepare(loaded, pairs, accelerations, steps, dt, contacts, axes)
     plan, sink, accelerations = batch.plan, batch.sink, batch.accelerations
-    result = simulate(plan, threads=threads, sink=sink)
+    result = sink.run(plan, threads=threads)
     of_dof, of_story = _owners(plan)
     nb = len(plan.buildings)
     drift = np.abs(result.envelope["story_drift"])

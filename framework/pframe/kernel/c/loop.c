@@ -109,6 +109,8 @@ PFRAME_EXPORT int64_t pframe_run(const Model *m, const Settings *s, State *st, R
             }
             if (k == due)
                 due = record_histories(m, st, rec, &histories, b, k);
+            if (rec->closings)
+                record_closings(st, rec, m->dofs, b);
             if (envelopes.count)
                 step_envelopes(m, st, rec, b, k, &envelopes); /* the ground at step k itself */
         }

@@ -193,6 +193,20 @@ static int64_t record_histories(const Model *m, State *st, Recording *rec,
     return next_due(hist, k + 1);
 }
 
+/* The running maximum of each pair's closing U[i] - U[j] (rec->closing_dofs) at committed step
+ * k, as the gap's sink finds it from the displacements' history (pframe.gap.runs.GapSink: the
+ * same subtraction of the same doubles, and max keeps the larger, as numpy's): the study's
+ * runs need no history streamed for it. */
+static void record_closings(const State *st, const Recording *rec, int64_t n, int64_t b)
+{
+    const double *U = st->U + b * n;
+    const int64_t *dofs = rec->closing_dofs;
+    double *peak = rec->closing + b * rec->closings;
+    int64_t p;
+    for (p = 0; p < rec->closings; p++)
+        peak[p] = py_max(peak[p], U[dofs[2 * p]] - U[dofs[2 * p + 1]]);
+}
+
 /* The running peaks of enveloped quantity q (rec->envelope_list) with the committed state
  * (values: its source; ag as in record_envelopes). */
 static void quantity_peaks(const Model *m, const Recording *rec, int64_t b, int64_t k,

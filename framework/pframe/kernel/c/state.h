@@ -249,11 +249,14 @@ typedef struct Recording {
     int64_t *first_row;
     double *envelope[RECORDABLE_COUNT];
     int64_t *enveloped;
+    int64_t *closing_dofs;
+    double *closing;
     int64_t history_rows[RECORDABLE_COUNT];
     int64_t history_width[RECORDABLE_COUNT];
     int64_t envelope_width[RECORDABLE_COUNT];
     int64_t envelope_count;
     int64_t envelope_list[RECORDABLE_COUNT];
+    int64_t closings;
 } Recording;
 
 typedef struct Work {
