@@ -36,7 +36,9 @@ from pframe.laws.registry import builtin_count, builtin_id
 MARKER = "compiled"
 
 
-@dataclass(frozen=True)
+# eq=False: nothing compares two (their dicts and ctypes tables would not hash); each
+# generated function is compiled at every start
+@dataclass(frozen=True, eq=False)
 class LawIds:
     """The law ids of a plan and the plug-in laws' function pointers."""
 

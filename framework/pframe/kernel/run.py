@@ -71,7 +71,9 @@ _SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 
          "point": 6}
 
 
-@dataclass
+# eq=False: it holds numpy arrays (== elementwise), so a generated __eq__ could only raise
+# (and would be compiled at every start); results compare by identity
+@dataclass(eq=False)
 class Result:
     """What a run produced, batch axis first. Node columns are in DOF order."""
 
