@@ -206,6 +206,36 @@ def test_run_that_stops_early_streams_the_states_computed(tmp_path, monkeypatch,
                                        np.arange(rows) * every * ds.attrs["dtau"], rtol=1e-12)
 
 
+@pytest.mark.slow
+def test_rows_after_a_stop_are_nan_held_and_streamed(tmp_path, monkeypatch):
+    """The kernel leaves the rows of the states after a member's stop unwritten (the history
+    buffers are not filled beforehand): they are NaN, in the histories held in memory and in
+    the rows streamed to a sink, and every row before the stop is finite."""
+    loaded = load_scene(_failing(tmp_path))
+    plan = assemble(loaded.expanded)
+    held = simulate(plan)
+    done = held.states_done()
+    assert not held.completed() and 0 < done < plan.steps
+    monkeypatch.setattr(kernel_run, "STREAM_BYTES", 10_007)  # it stops inside a call
+    streamed = {}
+
+    def sink(quantity, first, rows):
+        streamed.setdefault(quantity, []).append((first, rows.copy()))
+
+    simulate(plan, sink=sink)
+    for q, every in plan.history:
+        rows = held.history[q][0]
+        computed = (done - 1) // every + 1  # rows of the states 0 .. done - 1
+        assert rows.shape[0] == plan.steps // every + 1
+        assert np.all(np.isfinite(rows[:computed])) and np.all(np.isnan(rows[computed:]))
+        pieces = streamed[q]
+        assert [first for first, _ in pieces] == list(
+            np.cumsum([0] + [p.shape[1] for _, p in pieces[:-1]]))
+        joined = np.concatenate([p[0] for _, p in pieces])
+        assert joined.shape[0] > computed  # the call it stopped in went on past its stop
+        np.testing.assert_array_equal(joined, rows[:joined.shape[0]])
+
+
 def test_interrupted_run_leaves_nothing(tmp_path, monkeypatch, capsys):
     model = _scene(tmp_path, WU2021.read_text(encoding="utf-8"))
     out = tmp_path / "result.h5"

@@ -5,6 +5,7 @@ masked arrays). Each was a few ms of every short ``pframe solve`` (benchmarks/op
 from __future__ import annotations
 
 import ast
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -142,3 +143,49 @@ def test_a_run_loads_the_module_of_its_own_integrator_only(imported):
     modules, _, _, _ = imported
     loaded = {m.rsplit(".", 1)[1] for m in modules if m.startswith("pframe.integrators.")}
     assert loaded == {"_base", "coefficients", "tableau", "newmark"}
+
+
+@pytest.mark.slow
+def test_the_pframe_command_imports_no_package_metadata(tmp_path):
+    """Package metadata (importlib.metadata, with the email package that parses it, about
+    15 ms) is read by neither pydantic's plug-in loader, left out while
+    PYDANTIC_DISABLE_PLUGINS is ``__all__`` (what a short command sets), nor the file's
+    provenance, which reads numba's version from its .dist-info as importlib.metadata would:
+    the file states the same version. Nor is tempfile, imported where a folder is made (a
+    sweep without an output, the records of a loaded result, the plug-in laws' cache)."""
+    out = tmp_path / "out.nc"
+    code = ("import sys\n"
+            "from pframe.cli import console_main\n"
+            f"sys.argv = ['pframe', 'solve', {str(SCENE)!r}, '-o', {str(out)!r}, '-q']\n"
+            "assert console_main() == 0\n"
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('email', 'tempfile')\n"
+            "             or m.startswith('importlib.metadata')))\n"
+            "from pydantic.plugin._loader import PYDANTIC_ENTRY_POINT_GROUP, get_plugins\n"
+            "print(list(get_plugins()), PYDANTIC_ENTRY_POINT_GROUP)\n")
+    lines = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                           check=True, env={**os.environ, "PYDANTIC_DISABLE_PLUGINS": "__all__"}
+                           ).stdout.splitlines()
+    assert lines[0] == "[]"
+    assert lines[1] == "[] pydantic"  # the loader's other names: the real module's
+    from importlib.metadata import version
+
+    import h5py
+
+    with h5py.File(out, "r") as f:
+        software = f.attrs["software"]
+    software = software.decode() if isinstance(software, bytes) else software
+    assert f"numba {version('numba')};" in software
+
+
+@pytest.mark.parametrize("name", ["numba", "numpy", "PyYAML", "typing-extensions",
+                                  "pydantic_core", "pframe", "no-such-distribution"])
+def test_installed_version_is_importlib_metadata_s(name):
+    from importlib.metadata import PackageNotFoundError, version
+
+    from pframe.record.netcdf import installed_version
+
+    try:
+        expected = version(name)
+    except PackageNotFoundError:
+        expected = "not installed"
+    assert installed_version(name) == expected

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 import shutil
-import tempfile
 import warnings
 import weakref
 from pathlib import Path
@@ -279,6 +278,7 @@ def _restored_records(records, path) -> Path:
     loaded scene, which read the record again, find it for as long as the process runs."""
     import atexit
     import hashlib
+    import tempfile  # with random: imported by the calls that make a folder only
 
     depth = max(sum(1 for part in relative.parts if part == "..") for relative, _ in records)
     if not _RECORDS:
@@ -445,6 +445,8 @@ def sweep(definition, *, output: str | Path | None = None, overwrite: bool = Fal
     loaded = load_sweep(definition, chunk=chunk)
     folder = None
     if output is None:
+        import tempfile
+
         folder = tempfile.TemporaryDirectory(prefix="pframe-sweep-")
         out = Path(folder.name) / "sweep.nc"
     else:

@@ -142,7 +142,8 @@ _SHORT = {"solve", "validate", "compile", "schema", "pi", "expand", "scale"}
 #: by reading the entry points of every installed package when it builds its first
 #: validator: about 5 ms with a hundred packages, for observers of the scene's validation
 #: alone. ``PYDANTIC_DISABLE_PLUGINS`` (pydantic's documented switch) skips the scan; a value
-#: the user set, even empty (every plug-in), is kept
+#: the user set, even empty (every plug-in), is kept. With it ``__all__``, the loader's module
+#: itself is left out (:func:`_without_plugin_loader`)
 _SHORT_ENVIRONMENT = {"OPENBLAS_THREAD_TIMEOUT": "4", "PYDANTIC_DISABLE_PLUGINS": "__all__"}
 
 
@@ -159,6 +160,8 @@ def console_main() -> int:
         gc.disable()
         for name, value in _SHORT_ENVIRONMENT.items():
             os.environ.setdefault(name, value)
+        if os.environ["PYDANTIC_DISABLE_PLUGINS"] == "__all__":
+            _without_plugin_loader()
     try:
         try:
             code = main()
@@ -182,6 +185,34 @@ def console_main() -> int:
 
         os._exit(code)
     return code
+
+
+def _without_plugin_loader() -> None:
+    """Pydantic's plug-in loader (``pydantic.plugin._loader``, imported when pydantic builds
+    its first validator) imports importlib.metadata, and with it the email package that
+    parses metadata (about 15 ms of a short command), for ``get_plugins`` to return no
+    plug-in when ``PYDANTIC_DISABLE_PLUGINS`` is ``__all__``. In its place: a module whose
+    ``get_plugins`` returns that same nothing, and which loads the real module for any other
+    name pydantic may ask it for."""
+    import types
+
+    name = "pydantic.plugin._loader"
+    if name in sys.modules:
+        return
+    stand_in = types.ModuleType(name)
+    stand_in.get_plugins = tuple  # () -> (): no plug-in, as pydantic's own under "__all__"
+
+    def real(attribute: str):
+        import importlib
+
+        if attribute.startswith("__"):  # what the import system asks a module (__path__, ...)
+            raise AttributeError(attribute)
+        if sys.modules.get(name) is stand_in:
+            del sys.modules[name]
+        return getattr(importlib.import_module(name), attribute)
+
+    stand_in.__getattr__ = real
+    sys.modules[name] = stand_in
 
 
 def _leaving() -> None:

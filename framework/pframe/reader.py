@@ -21,7 +21,9 @@ from pframe.yamltext import compose, dump, where
 Path_ = tuple  # a path into the YAML data: keys and list indices
 
 
-@dataclass(frozen=True)
+# eq=False: nothing compares two loaded scenes (their dicts would not hash); each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False)
 class LoadedScene:
     """A validated scene with where it came from.
 

@@ -186,7 +186,9 @@ def check_floors(floors: int, elements: int | None = None, steps: float | None =
             f"fewer floors or contacts, or set PFRAME_MAX_FLOORS={elements} to run it")
 
 
-@dataclass(frozen=True)
+# eq=False: estimates are read, never compared or hashed; each generated function is compiled
+# at every start
+@dataclass(frozen=True, eq=False)
 class Estimate:
     """What a run needs: memory (bytes, at the peak), result file (bytes), time (s)."""
 

@@ -52,7 +52,9 @@ class AccuracyWarning(UserWarning):
     """A run whose result may be wrong: its step, its energy balance or its inputs say so."""
 
 
-@dataclass(frozen=True)
+# eq=False: verdicts are read, never compared or hashed; each generated function is compiled
+# at every start
+@dataclass(frozen=True, eq=False)
 class Verdict:
     """What a run's energy evidence says: ``level`` is :data:`TRUSTED`, :data:`IN_DOUBT` or
     :data:`UNTRUSTED`; ``warnings`` say why and what to change."""

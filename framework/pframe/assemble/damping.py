@@ -43,9 +43,10 @@ INITIAL_OVER_POST = 4.0
 OVERDAMPED = 1.5
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class Fit:
     """The damping of a scene: a0 per node (1/s: on every DOF of the node's floor), a1 per
     storey (s), and the modal blocks (the DOFs of a building, (node, component), and its

@@ -18,9 +18,10 @@ import numpy as np
 from pframe.model.rows import column
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class Sides:
     """The terms of the sides of a kind of element (see the module); empty when every
     element of the kind is plain."""

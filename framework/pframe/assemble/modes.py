@@ -398,9 +398,10 @@ def _sparse_lowest(springs, scale, n: int, count: int, vectors: bool):
     return (omega, shapes * scale[:, None]) if vectors else omega
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class Isolation:
     """Which storeys of a scene are isolators, and why."""
 

@@ -28,9 +28,10 @@ from pframe.model.rows import column, column_array
 DAMPING_STIFFNESS = {mode.name.lower(): mode for mode in DampingStiffness}
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class LawGroup:
     """Elements of one law: their indices, packed parameters and initial state."""
 
@@ -40,10 +41,11 @@ class LawGroup:
     state: np.ndarray  # (B, g, n_state)
 
 
-# eq=False: a plan holds numpy arrays, whose == is elementwise, so a generated __eq__ (and
-# the __hash__ of its fields) could only raise; without them a plan compares and hashes by
-# identity, and the start of every run compiles two functions of 67 fields less
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: a plan holds numpy arrays, whose == is elementwise, so a generated
+# __eq__ (and the __hash__ of its fields) could only raise, and a __repr__ would print every
+# array; without them a plan compares and hashes by identity, and the start of every run
+# compiles three functions of 67 fields less
+@dataclass(frozen=True, eq=False, repr=False)
 class Plan:
     """A scene as flat arrays, DOFs numbered for a narrow band. See ``docs/theory.md``."""
 

@@ -24,7 +24,6 @@ import hashlib
 import importlib.util
 import os
 import sys
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -36,7 +35,9 @@ from pframe.laws.registry import builtin_count, builtin_id
 MARKER = "compiled"
 
 
-@dataclass(frozen=True)
+# eq=False: nothing compares two (their dicts and ctypes tables would not hash); each
+# generated function is compiled at every start
+@dataclass(frozen=True, eq=False)
 class LawIds:
     """The law ids of a plan and the plug-in laws' function pointers."""
 
@@ -92,6 +93,8 @@ def root() -> Path:
 def folder(key: str) -> Path:
     """The cache folder for ``key``, created; a temporary one if it cannot be written (the
     plug-ins are then compiled again by the next process, which is slower but never wrong)."""
+    import tempfile  # here and in compiled: a run of built-in laws makes no file
+
     path = root() / "plugins" / key
     try:
         path.mkdir(parents=True, exist_ok=True)
@@ -194,6 +197,8 @@ def _check(law) -> None:
 
 def compiled(laws, announce=None):
     """The generated module of these plug-in laws, compiled (or loaded from numba's cache)."""
+    import tempfile
+
     key = _key(laws)
     if key in _loaded:
         return _loaded[key]

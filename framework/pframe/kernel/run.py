@@ -62,8 +62,8 @@ ALWAYS_REFACTOR = False
 #: take every implicit step of a nonlinear scene through the retry path, in sub-steps (a test
 #: shows that each path runs the scene's integrator)
 FORCE_SPLIT = False
-#: the history rows held while streaming, in bytes: three calls' rows (the call the sink
-#: takes, the call the kernel fills, the next call's), each at most a third of it
+#: the history rows held while streaming, in bytes: the rows of the call the sink takes and
+#: of the call the kernel fills, each at most a third of it
 STREAM_BYTES = 32 * 2**20
 _HELD_CALLS = 3
 
@@ -71,7 +71,9 @@ _SIZE = {"node": 0, "story": 1, "contact": 2, None: 3, "link": 4, "foundation": 
          "point": 6}
 
 
-@dataclass
+# eq=False: it holds numpy arrays (== elementwise), so a generated __eq__ could only raise
+# (and would be compiled at every start); results compare by identity
+@dataclass(eq=False)
 class Result:
     """What a run produced, batch axis first. Node columns are in DOF order."""
 
@@ -371,7 +373,6 @@ class _Recorders:
             ns = len(plan.story_names)
             self.envelope[Recordable.STORY_DRIFT_RATIO][
                 np.isnan(plan.story_height[:, :ns])] = np.nan
-        self.spare = None
         self.whole = None if sink is not None else self._buffers(0, plan.steps + 1)
 
     def _rows(self, q: int, begin: int, end: int) -> tuple[int, int]:
@@ -379,28 +380,31 @@ class _Recorders:
         return -(-begin // every), -(-end // every)
 
     def _buffers(self, begin: int, end: int):
+        # left unfilled: the kernel writes every row of a member that has not stopped, and
+        # those of a stopped member are filled with NaN after the call (unwritten)
         B = self.plan.batch
-        spare, self.spare = self.spare, None
         out = []
         for q, width in enumerate(self.widths):
             if self.every[q]:
                 first, stop = self._rows(q, begin, end)
-                size = B * (stop - first) * width
-                if spare is not None and spare[q].size >= size:  # filled while the kernel ran
-                    out.append(spare[q][:size].reshape(B, stop - first, width))
-                else:
-                    out.append(np.full((B, stop - first, width), np.nan))
+                out.append(np.empty((B, stop - first, width)))
             else:
                 out.append(np.zeros((B, 0, 0)))
         return tuple(out)
 
-    def stock(self, steps: int) -> None:
-        """NaN rows (what a member that has stopped leaves) for a next call of up to
-        ``steps`` steps, filled now, while the kernel runs a call, rather than between
-        calls while every CPU waits."""
-        if self.sink is not None:
-            self.spare = [np.full(self.plan.batch * (steps // e + 1) * w if e else 0, np.nan)
-                          for w, e in zip(self.widths, self.every)]
+    def unwritten(self, rec: Recording, begin: int, end: int, status: np.ndarray) -> None:
+        """NaN in the history rows that the kernel left unwritten in a call of states [begin,
+        end): those of a member that has stopped (``status``, read while no call runs), from
+        the state it stopped at (Result.states_done) on. The whole run's buffers are filled
+        to their end in the call the member stops in (no later call writes them)."""
+        for b in np.flatnonzero(status[:, StatusColumn.CODE] != Status.OK):
+            done = int(status[b, StatusColumn.STEP])
+            if self.whole is not None and not begin <= done < end:
+                continue
+            for q, history in enumerate(rec.history):
+                if self.every[q]:
+                    first = 0 if self.whole is not None else self._rows(q, begin, end)[0]
+                    history[b, self._rows(q, max(begin, done), end)[0] - first:] = np.nan
 
     def max_steps(self) -> int:
         """Steps per call that keep the streamed buffers under STREAM_BYTES (three calls'
@@ -531,12 +535,10 @@ def _wait(futures, stop: np.ndarray, meanwhile=None) -> None:
         raise
 
 
-def _between(recorders: _Recorders, rec: Recording, begin: int, end: int, steps: int) -> None:
+def _between(recorders: _Recorders, rec: Recording, begin: int, end: int) -> None:
     """The main thread's work while the kernel runs a call: the rows of states [begin,
-    end) of the call before to the sink, then the rows of the next call (of up to ``steps``
-    steps: a call grows at most eightfold) filled."""
+    end) of the call before to the sink."""
     recorders.deliver(rec, begin, end)
-    recorders.stock(steps)
 
 
 def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | None = None,
@@ -622,6 +624,7 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         futures = [pool.submit(kernel, piece, _slice_recording(rec, lo, hi), begin, end)
                    for piece, (lo, hi) in enumerate(pieces)]
         _wait(futures, stop, meanwhile)
+        recorders.unwritten(rec, begin, end, st.status)
         return rec
 
     try:
@@ -636,14 +639,14 @@ def simulate(plan, progress=None, chunk_seconds: float = 0.25, threads: int | No
         # progress bar and the streamed blocks; a stop does not wait for a call's end (_wait).
         size = min(total - 1, 500, limit)
         # the sink takes a call's rows while the kernel runs the next call (the states are
-        # the kernel's, the rows a call's own buffers), and the rows of the call after are
-        # filled then: three calls' rows at most are held (STREAM_BYTES in all)
+        # the kernel's, the rows a call's own buffers): three calls' rows at most are held
+        # (STREAM_BYTES in all)
         last = None  # the last call's rows, first and end states
         while done < total:
             end = min(total, done + size)
             tick = time.perf_counter()
             rec = call(done, end, None if last is None else functools.partial(
-                _between, recorders, *last, min(limit, 8 * (end - done))))
+                _between, recorders, *last))
             elapsed = time.perf_counter() - tick
             solve += elapsed
             last = rec, done, end

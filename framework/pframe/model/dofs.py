@@ -24,9 +24,10 @@ from pframe.model.rows import Rows, Run, column, column_array
 _AXIS_WORDS = {0: "along x", 1: "along y", 2: "in torsion (about the vertical)"}
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class Dofs:
     """The degrees of freedom of a scene: ``table`` of (node, component) in node order, then
     component order (x, y, theta), and the mass of each (kg; kg m^2 for theta)."""

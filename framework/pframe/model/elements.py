@@ -424,7 +424,9 @@ def _sides(resolver, nodes, points, direction, path, field) -> tuple[Side, Side]
     return tuple(out)
 
 
-@dataclass(frozen=True)
+# eq=False: nothing compares two (the scene's contact would not hash); each generated function
+# is compiled at every start
+@dataclass(frozen=True, eq=False)
 class ContactGeometry:
     """A contact resolved but not packed: what its law's numbers wait for are the masses its
     sides move (the degrees of freedom of the whole scene)."""

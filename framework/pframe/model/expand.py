@@ -36,9 +36,10 @@ from pframe.resources import check_floors, check_steps, steps_of
 __all__ = ["AT_TOLERANCE", "Element", "Expanded", "column_share", "elevations", "expand"]
 
 
-# eq=False: as pframe.assemble.plan.Plan, it holds numpy arrays (== elementwise): a
-# generated __eq__ and __hash__ could only raise, and cost compiling at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: as pframe.assemble.plan.Plan, it holds numpy arrays (== elementwise):
+# a generated __eq__ and __hash__ could only raise, a __repr__ would print every array, and
+# each costs compiling at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class Expanded:
     """A scene resolved to numbers, in declaration order (no DOF numbering yet)."""
 

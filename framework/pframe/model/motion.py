@@ -21,9 +21,10 @@ from pframe.excitation.sample import ground_acceleration
 from pframe.model.load import ModelError
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class GroundMotion:
     """``samples``: site axis ('x', 'y') -> a_g at t_n = n dt, n = 0..steps (m/s^2), the
     axes the motion loads; ``record`` the applied record of a one-record scene (else None),

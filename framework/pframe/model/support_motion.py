@@ -22,9 +22,10 @@ from pframe.model.load import ModelError
 from pframe.model.motion import GroundMotion, ground_motion
 
 
-# eq=False: it holds numpy arrays (== elementwise): a generated __eq__ and __hash__
-# could only raise, and would be compiled at every start
-@dataclass(frozen=True, eq=False)
+# eq=False, repr=False: it holds numpy arrays: a generated __eq__ and __hash__ could only
+# raise (== is elementwise), a __repr__ would print every array, and each generated
+# function is compiled at every start
+@dataclass(frozen=True, eq=False, repr=False)
 class SupportMotion:
     """``samples`` channel name -> a_g at the steps (m/s^2): one channel per support and axis
     of the motion ('<support>:x', ...); ``axes`` the axes the motions load; ``delays`` each
