@@ -119,11 +119,6 @@ def test_plugin_law_runs_inside_the_kernel(run_pframe, tmp_path):
         assert [b"".join(row).decode() for row in f["contact_name"][:]] == ["c"]
         delta = f["contact_penetration"][:, 0]
         force = f["contact_force"][:, 0]
-        software = f.attrs["software"]
-    from importlib.metadata import version
-
-    software = software.decode() if isinstance(software, bytes) else software
-    assert f"numba {version('numba')};" in software  # numba compiled the law: its version
     closed = delta > 0.0
     assert closed.sum() > 50  # the impact lasts many steps
     expected = STIFFNESS * delta * (1.0 + (delta / REFERENCE_PENETRATION) ** 2)

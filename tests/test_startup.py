@@ -150,8 +150,8 @@ def test_the_pframe_command_imports_no_package_metadata(tmp_path):
     """Package metadata (importlib.metadata, with the email package that parses it, about
     15 ms) is read by neither pydantic's plug-in loader, left out while
     PYDANTIC_DISABLE_PLUGINS is ``__all__`` (what a short command sets), nor the file's
-    provenance, which states numba's version where the run imported it (a plug-in law) and
-    ``not used`` otherwise. Nor is tempfile, imported where a folder is made (a
+    provenance, which reads numba's version from its .dist-info as importlib.metadata would:
+    the file states the same version. Nor is tempfile, imported where a folder is made (a
     sweep without an output, the records of a loaded result, the plug-in laws' cache)."""
     out = tmp_path / "out.nc"
     code = ("import sys\n"
@@ -167,9 +167,25 @@ def test_the_pframe_command_imports_no_package_metadata(tmp_path):
                            ).stdout.splitlines()
     assert lines[0] == "[]"
     assert lines[1] == "[] pydantic"  # the loader's other names: the real module's
+    from importlib.metadata import version
+
     import h5py
 
     with h5py.File(out, "r") as f:
         software = f.attrs["software"]
     software = software.decode() if isinstance(software, bytes) else software
-    assert "numba not used;" in software  # no plug-in law: numba compiled nothing
+    assert f"numba {version('numba')};" in software
+
+
+@pytest.mark.parametrize("name", ["numba", "numpy", "PyYAML", "typing-extensions",
+                                  "pydantic_core", "pframe", "no-such-distribution"])
+def test_installed_version_is_importlib_metadata_s(name):
+    from importlib.metadata import PackageNotFoundError, version
+
+    from pframe.record.netcdf import installed_version
+
+    try:
+        expected = version(name)
+    except PackageNotFoundError:
+        expected = "not installed"
+    assert installed_version(name) == expected

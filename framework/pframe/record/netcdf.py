@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import datetime
 import platform
+import re
 import sys
 import weakref
 from pathlib import Path
@@ -263,11 +264,12 @@ def provenance(call: str | None = None) -> dict:
     """Global attributes that say when and by what a file was written: ``date_created``
     (ISO 8601, UTC), ``history`` (CF: the date and the command line or API call), the
     versions of pframe (and of its compiled kernel's sources), Python, numpy and numba (which
-    compiles plug-in laws: :func:`numba_used`), and the platform."""
+    compiles plug-in laws: read from the installed metadata, never imported), and the
+    platform."""
     import pframe
     from pframe.kernel.ckernel import library
 
-    numba_version = numba_used()
+    numba_version = installed_version("numba")
     now = datetime.datetime.now(datetime.timezone.utc).replace(microsecond=0)
     stamp = now.isoformat().replace("+00:00", "Z")
     if call is None:
@@ -285,13 +287,55 @@ def provenance(call: str | None = None) -> dict:
     }
 
 
-def numba_used() -> str:
-    """numba's version where this process imported it (a plug-in law is compiled by it:
-    ``pframe.kernel.plugins`` imports it, whether it compiles or loads its cache), else ``not
-    used``: what compiled the run, never the installed package's metadata (reading it,
-    importlib.metadata with the email package, costs a short command about 15 ms)."""
-    numba = sys.modules.get("numba")
-    return str(getattr(numba, "__version__", None) or "not used")
+def installed_version(name: str) -> str:
+    """The version of the installed distribution ``name`` as ``importlib.metadata.version``
+    gives it, or ``"not installed"``.
+
+    importlib.metadata finds the first ``<name>-<version>.dist-info`` (or ``.egg-info``)
+    folder along ``sys.path`` and reads the ``Version`` field of its metadata with the email
+    package: importing the two costs a short command about 15 ms. The common case, that
+    folder a ``.dist-info`` in a directory on the path, is read here as importlib.metadata
+    reads it (the same names, in the same order of the path and of each directory's
+    listing); anything else (an ``.egg-info``, an archive on the path, no such folder) is
+    left to importlib.metadata itself."""
+    import os
+
+    def normalized(text: str) -> str:  # importlib.metadata.Prepared.normalize
+        return re.sub(r"[-_.]+", "-", text).lower().replace("-", "_")
+
+    wanted = normalized(name)
+    for entry in sys.path:
+        folder = entry or "."
+        if not os.path.isdir(folder) or folder.lower().endswith(".egg"):
+            if os.path.exists(folder):
+                break  # an archive or an egg on the path: importlib.metadata's to read
+            continue
+        try:
+            children = os.listdir(folder)
+        except OSError:
+            break
+        found = next((c for c in children if c.lower().endswith((".dist-info", ".egg-info"))
+                      and normalized(c.lower().rpartition(".")[0].partition("-")[0]) == wanted),
+                     None)
+        if found is None:
+            continue
+        if found.lower().endswith(".dist-info"):
+            try:
+                text = Path(folder, found, "METADATA").read_text(encoding="utf-8")
+            except OSError:
+                break
+            header = text.split("\n\n", 1)[0].splitlines()
+            version = next((line.partition(":")[2].strip() for line in header
+                            if line.partition(":")[0] == "Version"), None)
+            if version:
+                return version
+        break
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version(name)
+    except PackageNotFoundError:
+        return "not installed"
 
 
 #: the unit of each numeric global attribute that has one. CF gives attributes no units, so
