@@ -1,7 +1,7 @@
 """``pframe schema [--check]``: write or check the JSON Schemas of the input files.
 
-Five files (``pframe.schema``): the scene schema (``-o``, default ``schemas/model.schema.json``;
-a folder: ``model.schema.json`` in it) and, next to it, ``pi-scene.schema.json``,
+Five files (``pframe.schema``): the scene schema (``-o``, default ``schemas/model.schema.json``)
+and, next to it, ``pi-scene.schema.json``,
 ``sweep.schema.json``, ``suite.schema.json`` and ``risk.schema.json``.
 The package ships the same files (``pframe/schemas/``); in a source checkout ``pframe schema``
 rewrites those too, and ``--check`` fails when either copy is stale.
@@ -42,10 +42,10 @@ def _schema(args) -> int:
 
         raise InputError("-o '': the schema file needs a name")
     path = Path(args.output)
-    if path.is_dir() or args.output.endswith(("/", "\\")) or path.name in ("", ".", ".."):
-        path = path / "model.schema.json"  # a folder: the schemas go into it
     generated = texts()
-    files = [(path if name == "model.schema.json" else path.with_name(name), text)
+    # beside it: parent / name, not with_name, which raises on '.' (a folder, refused below
+    # as every command's output folder is)
+    files = [(path if name == "model.schema.json" else path.parent / name, text)
              for name, text in generated.items()]
     if (args.check or _source_checkout()) and packaged().resolve() != path.parent.resolve():
         files += [(packaged() / name, text) for name, text in generated.items()]
@@ -81,7 +81,6 @@ def register(sub) -> None:
                         help="replace existing files that are not pframe schemas (a file "
                              "holding one of pframe's schemas is refreshed without it)")
     schema.add_argument("-o", "--output", default="schemas/model.schema.json",
-                        help="the scene schema (a folder: model.schema.json in it); "
-                             "pi-scene.schema.json, sweep.schema.json and suite.schema.json "
-                             "are written next to it")
+                        help="the scene schema; pi-scene.schema.json, sweep.schema.json, "
+                             "suite.schema.json and risk.schema.json are written next to it")
     schema.set_defaults(run=_schema)
